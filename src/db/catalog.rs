@@ -1,0 +1,140 @@
+//! `catalog-nk.yml`: shelves → books → pages, with dividers (SPEC §1).
+
+use serde_yaml::Value;
+
+/// One page of the catalog, identified as `shelf/book/page`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CatalogPage {
+    pub shelf: String,
+    pub book: String,
+    pub page: String,
+    /// The catalog's display names.
+    pub shelf_name: String,
+    pub book_name: String,
+    pub page_name: String,
+    /// The data file, relative to `database/data/`.
+    pub data: String,
+    /// The nearest DIVIDER above the page inside its book (e.g. "Experimental data: bulk").
+    pub divider: Option<String>,
+}
+
+impl CatalogPage {
+    pub fn id(&self) -> String {
+        format!("{}/{}/{}", self.shelf, self.book, self.page)
+    }
+}
+
+/// The whole catalog, pages in file order.
+#[derive(Clone, Debug, Default)]
+pub struct Catalog {
+    pub pages: Vec<CatalogPage>,
+}
+
+fn field(map: &Value, key: &str) -> Option<String> {
+    match map.get(key)? {
+        Value::String(s) => Some(s.clone()),
+        Value::Number(n) => Some(n.to_string()),
+        Value::Bool(b) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
+fn items(map: &Value) -> &[Value] {
+    map.get("content").and_then(Value::as_sequence).map(Vec::as_slice).unwrap_or(&[])
+}
+
+impl Catalog {
+    /// Parse the catalog text. Entries missing an id or a data path are reported in the
+    /// returned list of problems (the caller records them); they never panic.
+    pub fn parse(yaml: &str) -> Result<(Catalog, Vec<String>), serde_yaml::Error> {
+        let root: Value = serde_yaml::from_str(yaml)?;
+        let mut catalog = Catalog::default();
+        let mut problems = Vec::new();
+        for shelf in root.as_sequence().map(Vec::as_slice).unwrap_or(&[]) {
+            let Some(shelf_id) = field(shelf, "SHELF") else { continue };
+            let shelf_name = field(shelf, "name").unwrap_or_else(|| shelf_id.clone());
+            for book in items(shelf) {
+                let Some(book_id) = field(book, "BOOK") else { continue };
+                let book_name = field(book, "name").unwrap_or_else(|| book_id.clone());
+                let mut divider = None;
+                for page in items(book) {
+                    if let Some(d) = field(page, "DIVIDER") {
+                        divider = Some(d);
+                        continue;
+                    }
+                    let Some(page_id) = field(page, "PAGE") else { continue };
+                    let Some(data) = field(page, "data") else {
+                        problems.push(format!("{shelf_id}/{book_id}/{page_id}: no data file"));
+                        continue;
+                    };
+                    catalog.pages.push(CatalogPage {
+                        shelf: shelf_id.clone(),
+                        book: book_id.clone(),
+                        page: page_id.clone(),
+                        shelf_name: shelf_name.clone(),
+                        book_name: book_name.clone(),
+                        page_name: field(page, "name").unwrap_or_else(|| page_id.clone()),
+                        data,
+                        divider: divider.clone(),
+                    });
+                }
+            }
+        }
+        Ok((catalog, problems))
+    }
+
+    pub fn find(&self, id: &str) -> Option<&CatalogPage> {
+        self.pages.iter().find(|p| p.id() == id)
+    }
+
+    pub fn shelves(&self) -> Vec<String> {
+        let mut shelves: Vec<String> = Vec::new();
+        for page in &self.pages {
+            if !shelves.contains(&page.shelf) {
+                shelves.push(page.shelf.clone());
+            }
+        }
+        shelves
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_shelves_books_pages_and_dividers() {
+        let text = r#"
+- DIVIDER: "Research data"
+- SHELF: main
+  name: "MAIN"
+  content:
+    - DIVIDER: "Au - Gold"
+    - BOOK: Au
+      name: "Au (Gold)"
+      content:
+        - DIVIDER: "Experimental"
+        - PAGE: Johnson
+          name: "Johnson and Christy"
+          data: main/Au/nk/Johnson.yml
+        - PAGE: Broken
+          name: "no data"
+- SHELF: 3d
+  name: "3D"
+  content:
+    - BOOK: metals
+      content:
+        - PAGE: gold
+          data: main/Au/nk/Johnson.yml
+"#;
+        let (catalog, problems) = Catalog::parse(text).unwrap();
+        assert_eq!(catalog.pages.len(), 2);
+        assert_eq!(catalog.pages[0].id(), "main/Au/Johnson");
+        assert_eq!(catalog.pages[0].divider.as_deref(), Some("Experimental"));
+        assert_eq!(catalog.pages[1].id(), "3d/metals/gold");
+        assert_eq!(catalog.pages[1].book_name, "metals");
+        assert_eq!(catalog.pages[0].data, catalog.pages[1].data);
+        assert_eq!(problems, vec!["main/Au/Broken: no data file".to_string()]);
+        assert_eq!(catalog.shelves(), vec!["main", "3d"]);
+    }
+}

@@ -1,0 +1,95 @@
+//! Named errors for bad data (SPEC §2 reason codes). Every excluded page carries one.
+
+use std::fmt;
+
+/// Why a page was excluded. `code()` is the stable string written to `excluded.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Reason {
+    MissingFile,
+    ParseError,
+    UnknownBlockType,
+    BadRow,
+    NonMonotonicWavelengths,
+    TooFewCoefficients,
+    TooManyCoefficients,
+    FormulaOutOfRange,
+    NegativeN,
+    NegativeK,
+    NoData,
+    NoVisibleCoverage,
+}
+
+impl Reason {
+    pub const ALL: [Reason; 12] = [
+        Reason::MissingFile,
+        Reason::ParseError,
+        Reason::UnknownBlockType,
+        Reason::BadRow,
+        Reason::NonMonotonicWavelengths,
+        Reason::TooFewCoefficients,
+        Reason::TooManyCoefficients,
+        Reason::FormulaOutOfRange,
+        Reason::NegativeN,
+        Reason::NegativeK,
+        Reason::NoData,
+        Reason::NoVisibleCoverage,
+    ];
+
+    pub fn code(self) -> &'static str {
+        match self {
+            Reason::MissingFile => "missing-file",
+            Reason::ParseError => "parse-error",
+            Reason::UnknownBlockType => "unknown-block-type",
+            Reason::BadRow => "bad-row",
+            Reason::NonMonotonicWavelengths => "non-monotonic-wavelengths",
+            Reason::TooFewCoefficients => "too-few-coefficients",
+            Reason::TooManyCoefficients => "too-many-coefficients",
+            Reason::FormulaOutOfRange => "formula-out-of-range",
+            Reason::NegativeN => "negative-n",
+            Reason::NegativeK => "negative-k",
+            Reason::NoData => "no-data",
+            Reason::NoVisibleCoverage => "no-visible-coverage",
+        }
+    }
+
+    /// What each code means, for the README and the report.
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Reason::MissingFile => "the catalog names a data file that does not exist or cannot be read",
+            Reason::ParseError => "the file is not valid YAML or its DATA section has the wrong shape",
+            Reason::UnknownBlockType => "a DATA block type other than tabulated nk/n/k or formula 1-9",
+            Reason::BadRow => "a tabulated row is short, long or not numeric",
+            Reason::NonMonotonicWavelengths => "tabulated wavelengths do not strictly increase",
+            Reason::TooFewCoefficients => "a formula has no coefficients or no valid wavelength_range",
+            Reason::TooManyCoefficients => "a formula has more coefficients than its definition uses",
+            Reason::FormulaOutOfRange => "a wavelength outside the data's range was asked for",
+            Reason::NegativeN => "n <= 0 (or n^2 < 0 from a formula) where it is evaluated",
+            Reason::NegativeK => "k < 0 where it is evaluated",
+            Reason::NoData => "the page has no n data",
+            Reason::NoVisibleCoverage => "the n (or k) data do not cover 390-700 nm",
+        }
+    }
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.code())
+    }
+}
+
+/// A data error: the reason, the data file (relative to `database/data/`), the line in
+/// that file where there is one, and a human-readable detail.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{reason} in {file}{}: {detail}", line.map(|l| format!(" line {l}")).unwrap_or_default())]
+pub struct DataError {
+    pub reason: Reason,
+    pub file: String,
+    pub line: Option<usize>,
+    pub detail: String,
+}
+
+impl DataError {
+    pub fn new(reason: Reason, file: &str, line: Option<usize>, detail: impl Into<String>) -> Self {
+        Self { reason, file: file.to_string(), line, detail: detail.into() }
+    }
+}

@@ -1,0 +1,207 @@
+//! The ingest stage: catalog → every named data file (each parsed once, in parallel) →
+//! visible-range filter and channel indices → `materials.*` and `excluded.csv`.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{bail, Result};
+use rayon::prelude::*;
+
+use crate::db::{CatalogPage, DataError, Database, Reason};
+use crate::output::Table;
+use crate::spectrum::{self, Channels, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
+
+/// Which pages to ingest. Empty `shelves` and `pages` mean the whole catalog.
+#[derive(Clone, Debug, Default)]
+pub struct Selection {
+    pub shelves: Vec<String>,
+    pub pages: Vec<String>,
+}
+
+impl Selection {
+    pub fn shelf(name: &str) -> Self {
+        Self { shelves: vec![name.to_string()], pages: vec![] }
+    }
+
+    fn includes(&self, page: &CatalogPage) -> bool {
+        (self.shelves.is_empty() && self.pages.is_empty())
+            || self.shelves.iter().any(|s| *s == page.shelf)
+            || self.pages.iter().any(|p| *p == page.id())
+    }
+}
+
+/// A page that passed the filter.
+#[derive(Clone, Debug)]
+pub struct KeptPage {
+    pub page: CatalogPage,
+    /// Material names from the book's `about.yml`, else the catalog's book name.
+    pub names: Vec<String>,
+    /// Shared by every page pointing at the same data file (evaluated once).
+    pub material: Arc<Material>,
+    /// Other selected page ids that use the same data file.
+    pub shared_with: Vec<String>,
+}
+
+impl KeptPage {
+    pub fn id(&self) -> String {
+        self.page.id()
+    }
+}
+
+/// A page that did not pass, with its named error.
+#[derive(Clone, Debug)]
+pub struct Excluded {
+    pub page: String,
+    pub error: DataError,
+}
+
+/// The result of an ingest: every selected page is in exactly one of the two lists.
+#[derive(Clone, Debug, Default)]
+pub struct Ingest {
+    pub selected: usize,
+    pub kept: Vec<KeptPage>,
+    pub excluded: Vec<Excluded>,
+    /// Catalog entries that could not become pages (e.g. no data file named).
+    pub catalog_problems: Vec<String>,
+}
+
+impl Ingest {
+    pub fn find(&self, id: &str) -> Option<&KeptPage> {
+        self.kept.iter().find(|p| p.id() == id)
+    }
+
+    /// Excluded pages counted by reason code.
+    pub fn excluded_by_reason(&self) -> BTreeMap<&'static str, usize> {
+        let mut counts = BTreeMap::new();
+        for e in &self.excluded {
+            *counts.entry(e.error.reason.code()).or_insert(0) += 1;
+        }
+        counts
+    }
+
+    /// Under `--strict` every exclusion other than `no-visible-coverage` is fatal.
+    pub fn check_strict(&self) -> Result<()> {
+        let fatal: Vec<String> = self
+            .excluded
+            .iter()
+            .filter(|e| e.error.reason != Reason::NoVisibleCoverage)
+            .map(|e| format!("{}: {}", e.page, e.error))
+            .collect();
+        if !fatal.is_empty() {
+            bail!("--strict: {} page(s) have data errors:\n  {}", fatal.len(), fatal.join("\n  "));
+        }
+        Ok(())
+    }
+}
+
+/// Read, filter and evaluate the selected pages. Data errors are recorded, never fatal.
+pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Result<Ingest> {
+    let (catalog, catalog_problems) = db.catalog()?;
+    for wanted in &selection.pages {
+        if catalog.find(wanted).is_none() {
+            bail!("unknown page {wanted:?} (ids look like main/Au/Johnson or 3d/metals/gold)");
+        }
+    }
+    let known_shelves = catalog.shelves();
+    for shelf in &selection.shelves {
+        if !known_shelves.contains(shelf) {
+            bail!("unknown shelf {shelf:?}; the catalog has {}", known_shelves.join(", "));
+        }
+    }
+    let pages: Vec<CatalogPage> = catalog.pages.into_iter().filter(|p| selection.includes(p)).collect();
+
+    // Each data file once, in parallel.
+    let mut files: Vec<&str> = pages.iter().map(|p| p.data.as_str()).collect();
+    files.sort_unstable();
+    files.dedup();
+    let bar = crate::progress::bar(files.len(), "ingest");
+    let evaluated: HashMap<&str, (Result<Arc<Material>, DataError>, Option<Vec<String>>)> = files
+        .par_iter()
+        .map(|&file| {
+            let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, channels)).map(Arc::new);
+            let names = result.is_ok().then(|| db.book_names(file)).flatten();
+            bar.inc(1);
+            (file, (result, names))
+        })
+        .collect();
+    bar.finish_and_clear();
+
+    let mut ids_by_file: HashMap<&str, Vec<String>> = HashMap::new();
+    for page in &pages {
+        ids_by_file.entry(page.data.as_str()).or_default().push(page.id());
+    }
+    let mut result = Ingest { selected: pages.len(), catalog_problems, ..Default::default() };
+    for page in &pages {
+        let id = page.id();
+        match &evaluated[page.data.as_str()] {
+            (Ok(material), names) => result.kept.push(KeptPage {
+                names: names.clone().unwrap_or_else(|| vec![page.book_name.clone()]),
+                material: material.clone(),
+                shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).cloned().collect(),
+                page: page.clone(),
+            }),
+            (Err(error), _) => result.excluded.push(Excluded { page: id, error: error.clone() }),
+        }
+    }
+    Ok(result)
+}
+
+/// `materials.*`: one row per kept page.
+pub fn materials_table(ingest: &Ingest, channels: &Channels) -> Table {
+    let kept = &ingest.kept;
+    let text = |f: &dyn Fn(&KeptPage) -> String| kept.iter().map(f).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text("page", "page id shelf/book/page", text(&|p| p.id()))
+        .text("shelf", "catalog shelf id", text(&|p| p.page.shelf.clone()))
+        .text("book", "catalog book id", text(&|p| p.page.book.clone()))
+        .text("page_name", "catalog page id within the book", text(&|p| p.page.page.clone()))
+        .text("names", "material names, '; '-separated (about.yml NAMES, else the catalog book name)", text(&|p| p.names.join("; ")))
+        .text("catalog_name", "the catalog's display name of the page", text(&|p| p.page.page_name.clone()))
+        .text("data_file", "data file relative to database/data/", text(&|p| p.page.data.clone()))
+        .text("shared_with", "other page ids using the same data file, '; '-separated", text(&|p| p.shared_with.join("; ")))
+        .text("kind", "conductor (k >= 1 somewhere in 390-700 nm) or dielectric", text(&|p| p.material.kind.as_str().into()));
+    for (c, (name, nm)) in CHANNEL_NAMES.iter().zip(channels.nanometres()).enumerate() {
+        table.float(&format!("n_{name}"), &format!("refractive index n at {nm} nm"), kept.iter().map(|p| p.material.channels[c].n).collect());
+        table.float(&format!("k_{name}"), &format!("extinction coefficient k at {nm} nm"), kept.iter().map(|p| p.material.channels[c].k).collect());
+    }
+    table
+        .float("lambda_min_nm", "shortest wavelength covered by n and k data (nm)", kept.iter().map(|p| p.material.range_nm.0).collect())
+        .float("lambda_max_nm", "longest wavelength covered by n and k data (nm)", kept.iter().map(|p| p.material.range_nm.1).collect())
+        .optional_float(
+            "max_visible_gap_nm",
+            "largest spacing between tabulated rows over 390-700 nm (nm); empty for a formula",
+            kept.iter().map(|p| p.material.max_visible_gap_nm).collect(),
+        )
+        .boolean(
+            "sparse",
+            &format!("max_visible_gap_nm > {SPARSE_GAP_NM} nm"),
+            kept.iter().map(|p| p.material.max_visible_gap_nm.is_some_and(|g| g > SPARSE_GAP_NM)).collect(),
+        )
+        .text("reference", "first line of the data file's REFERENCES", text(&|p| p.material.data.reference.clone()));
+    table
+}
+
+/// `excluded.csv`: one row per dropped page.
+pub fn excluded_table(ingest: &Ingest) -> Table {
+    let rows = &ingest.excluded;
+    let mut table = Table::new();
+    table
+        .text("page", "page id", rows.iter().map(|e| e.page.clone()).collect())
+        .text("data_file", "data file relative to database/data/", rows.iter().map(|e| e.error.file.clone()).collect())
+        .text("reason", "reason code", rows.iter().map(|e| e.error.reason.code().to_string()).collect())
+        .optional_float("line", "line in the data file, where the error has one", rows.iter().map(|e| e.error.line.map(|l| l as f64)).collect())
+        .text("detail", "what was wrong", rows.iter().map(|e| e.error.detail.clone()).collect());
+    table
+}
+
+/// Write `materials.{csv,parquet,json}` and `excluded.csv` under `out`.
+pub fn write_tables(ingest: &Ingest, channels: &Channels, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut written = materials_table(ingest, channels).write(out, "materials", true)?;
+    let excluded = excluded_table(ingest);
+    let path = out.join("excluded.csv");
+    crate::output::write_atomic(&path, &excluded.to_csv()?)?;
+    written.push(path);
+    Ok(written)
+}

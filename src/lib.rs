@@ -1,0 +1,16 @@
+//! nklut: refractiveindex.info → per-channel complex indices, spectral reference colours,
+//! Fresnel methods with their measured error, and lookup textures for engines.
+//!
+//! Modules follow the data through the pipeline:
+//! `db` (catalog, pages, formulas) → `spectrum` (n, k at λ; channels; visible filter) →
+//! `ingest` (the whole database into tables) → `color` (CIE, sRGB) → `fresnel`
+//! (methods) → `validate` (errors) → `bake` (textures, manifest) → `report`;
+//! `output` writes files atomically at the edge, `cli` holds shared arguments.
+
+pub mod cli;
+pub mod db;
+pub mod fresnel;
+pub mod ingest;
+pub mod output;
+pub mod progress;
+pub mod spectrum;

@@ -1,0 +1,249 @@
+//! File output at the edge of the pipeline: atomic writes (temp file + rename) so an
+//! interrupted run never leaves a half-written file, and the tables every stage writes
+//! (CSV, Parquet through polars, JSON) from one column-oriented description.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+
+/// Write `bytes` to `path` atomically: the bytes go to `path.tmp-<pid>` in the same
+/// folder, are flushed, then renamed over `path`. A crash leaves either the old file or
+/// the new one, plus at worst a stray `.tmp-` file, never a truncated `path`.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    fs::create_dir_all(dir).with_context(|| format!("creating folder {}", dir.display()))?;
+    let tmp = temp_path(path);
+    let result = (|| -> Result<()> {
+        let mut file = fs::File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
+        file.write_all(bytes).with_context(|| format!("writing {}", tmp.display()))?;
+        file.sync_all().ok();
+        fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// The temporary name `write_atomic` uses for `path`.
+pub fn temp_path(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// One column of a table: a name, a unit or meaning for the manifest, and the values.
+#[derive(Clone, Debug)]
+pub struct Column {
+    pub name: String,
+    pub description: String,
+    pub values: Values,
+}
+
+/// Column values. `None` in an optional float column is written as an empty CSV cell,
+/// a Parquet null and a JSON null.
+#[derive(Clone, Debug)]
+pub enum Values {
+    Text(Vec<String>),
+    Float(Vec<Option<f64>>),
+    Integer(Vec<i64>),
+    Boolean(Vec<bool>),
+}
+
+impl Values {
+    fn len(&self) -> usize {
+        match self {
+            Values::Text(v) => v.len(),
+            Values::Float(v) => v.len(),
+            Values::Integer(v) => v.len(),
+            Values::Boolean(v) => v.len(),
+        }
+    }
+
+    fn cell(&self, row: usize) -> String {
+        match self {
+            Values::Text(v) => v[row].clone(),
+            Values::Float(v) => v[row].map(format_float).unwrap_or_default(),
+            Values::Integer(v) => v[row].to_string(),
+            Values::Boolean(v) => v[row].to_string(),
+        }
+    }
+
+    fn json(&self, row: usize) -> serde_json::Value {
+        match self {
+            Values::Text(v) => serde_json::Value::from(v[row].clone()),
+            Values::Float(v) => v[row]
+                .filter(|x| x.is_finite())
+                .map(serde_json::Value::from)
+                .unwrap_or(serde_json::Value::Null),
+            Values::Integer(v) => serde_json::Value::from(v[row]),
+            Values::Boolean(v) => serde_json::Value::from(v[row]),
+        }
+    }
+}
+
+/// Shortest text that reads back to the same f64 (Rust's `Display` is round-trip exact).
+pub fn format_float(x: f64) -> String {
+    format!("{x}")
+}
+
+/// A column-oriented table, built column by column, written as CSV, Parquet and JSON.
+#[derive(Clone, Debug, Default)]
+pub struct Table {
+    pub columns: Vec<Column>,
+}
+
+impl Table {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn rows(&self) -> usize {
+        self.columns.first().map(|c| c.values.len()).unwrap_or(0)
+    }
+
+    fn push(&mut self, name: &str, description: &str, values: Values) -> &mut Self {
+        assert!(
+            self.columns.is_empty() || values.len() == self.rows(),
+            "column {name} has {} rows, table has {}",
+            values.len(),
+            self.rows()
+        );
+        self.columns.push(Column { name: name.into(), description: description.into(), values });
+        self
+    }
+
+    pub fn text(&mut self, name: &str, description: &str, values: Vec<String>) -> &mut Self {
+        self.push(name, description, Values::Text(values))
+    }
+
+    pub fn float(&mut self, name: &str, description: &str, values: Vec<f64>) -> &mut Self {
+        self.push(name, description, Values::Float(values.into_iter().map(Some).collect()))
+    }
+
+    pub fn optional_float(&mut self, name: &str, description: &str, values: Vec<Option<f64>>) -> &mut Self {
+        self.push(name, description, Values::Float(values))
+    }
+
+    pub fn integer(&mut self, name: &str, description: &str, values: Vec<i64>) -> &mut Self {
+        self.push(name, description, Values::Integer(values))
+    }
+
+    pub fn boolean(&mut self, name: &str, description: &str, values: Vec<bool>) -> &mut Self {
+        self.push(name, description, Values::Boolean(values))
+    }
+
+    /// Look a column up by name.
+    pub fn column(&self, name: &str) -> Option<&Column> {
+        self.columns.iter().find(|c| c.name == name)
+    }
+
+    pub fn to_csv(&self) -> Result<Vec<u8>> {
+        let mut writer = csv::Writer::from_writer(Vec::new());
+        writer.write_record(self.columns.iter().map(|c| c.name.as_str()))?;
+        for row in 0..self.rows() {
+            writer.write_record(self.columns.iter().map(|c| c.values.cell(row)))?;
+        }
+        Ok(writer.into_inner().context("flushing CSV")?)
+    }
+
+    pub fn to_json(&self) -> Result<Vec<u8>> {
+        let rows: Vec<serde_json::Value> = (0..self.rows())
+            .map(|row| {
+                let object = self.columns.iter().map(|c| (c.name.clone(), c.values.json(row))).collect();
+                serde_json::Value::Object(object)
+            })
+            .collect();
+        let mut bytes = serde_json::to_vec_pretty(&rows)?;
+        bytes.push(b'\n');
+        Ok(bytes)
+    }
+
+    pub fn to_parquet(&self) -> Result<Vec<u8>> {
+        use polars::prelude::*;
+        let columns: Vec<polars::prelude::Column> = self
+            .columns
+            .iter()
+            .map(|c| {
+                let name = PlSmallStr::from(c.name.as_str());
+                let series = match &c.values {
+                    Values::Text(v) => Series::new(name, v.as_slice()),
+                    Values::Float(v) => Series::new(name, v.as_slice()),
+                    Values::Integer(v) => Series::new(name, v.as_slice()),
+                    Values::Boolean(v) => Series::new(name, v.as_slice()),
+                };
+                series.into()
+            })
+            .collect();
+        let mut frame = DataFrame::new(self.rows(), columns).map_err(|e| anyhow::anyhow!("building the polars DataFrame: {e}"))?;
+        let mut bytes = Vec::new();
+        ParquetWriter::new(&mut bytes).finish(&mut frame).map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
+        Ok(bytes)
+    }
+
+    /// Write `<dir>/<stem>.csv` and `<dir>/<stem>.parquet` (and `.json` when asked),
+    /// each atomically. Returns the paths written.
+    pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        let csv_path = dir.join(format!("{stem}.csv"));
+        write_atomic(&csv_path, &self.to_csv()?)?;
+        written.push(csv_path);
+        let parquet_path = dir.join(format!("{stem}.parquet"));
+        write_atomic(&parquet_path, &self.to_parquet()?)?;
+        written.push(parquet_path);
+        if json {
+            let json_path = dir.join(format!("{stem}.json"));
+            write_atomic(&json_path, &self.to_json()?)?;
+            written.push(json_path);
+        }
+        Ok(written)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Table {
+        let mut table = Table::new();
+        table
+            .text("page", "page id", vec!["main/Au/Johnson".into(), "a,b".into()])
+            .optional_float("n", "refractive index", vec![Some(0.25), None])
+            .integer("count", "count", vec![3, -1])
+            .boolean("flag", "flag", vec![true, false]);
+        table
+    }
+
+    #[test]
+    fn csv_quotes_and_leaves_missing_floats_empty() {
+        let text = String::from_utf8(sample().to_csv().unwrap()).unwrap();
+        assert_eq!(text, "page,n,count,flag\nmain/Au/Johnson,0.25,3,true\n\"a,b\",,-1,false\n");
+    }
+
+    #[test]
+    fn json_writes_null_for_missing() {
+        let value: serde_json::Value = serde_json::from_slice(&sample().to_json().unwrap()).unwrap();
+        assert_eq!(value[0]["n"], 0.25);
+        assert!(value[1]["n"].is_null());
+        assert_eq!(value[1]["page"], "a,b");
+    }
+
+    #[test]
+    fn parquet_starts_and_ends_with_magic() {
+        let bytes = sample().to_parquet().unwrap();
+        assert_eq!(&bytes[..4], b"PAR1");
+        assert_eq!(&bytes[bytes.len() - 4..], b"PAR1");
+    }
+
+    #[test]
+    fn atomic_write_replaces_and_leaves_no_temp() {
+        let dir = std::env::temp_dir().join(format!("nklut-output-test-{}", std::process::id()));
+        let path = dir.join("x.txt");
+        write_atomic(&path, b"one").unwrap();
+        write_atomic(&path, b"two").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"two");
+        assert!(!temp_path(&path).exists());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}
