@@ -79,6 +79,8 @@ impl Kind {
     }
 }
 
+/// Negative k above −K_NOISE is rounding noise in the data and read as 0.
+pub const K_NOISE: f64 = 1e-12;
 /// The k threshold of the conductor rule.
 pub const CONDUCTOR_K: f64 = 1.0;
 /// A visible-range sample spacing above this (nm) flags a page as sparse.
@@ -130,6 +132,8 @@ fn check_index(data: &PageData, nm: f64, n: f64, k: f64) -> Result<Index, DataEr
     if !(n > 0.0) {
         return Err(DataError::new(Reason::NegativeN, &data.file, None, format!("n = {n} at {nm} nm")));
     }
+    // Rounding noise such as k = −5.9e−18 (main/CdS/Treharne) counts as k = 0.
+    let k = if (-K_NOISE..0.0).contains(&k) { 0.0 } else { k };
     if !(k >= 0.0) {
         return Err(DataError::new(Reason::NegativeK, &data.file, None, format!("k = {k} at {nm} nm")));
     }

@@ -277,6 +277,9 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
             let wavelengths_um = column(&rows, 0);
             let tabulated = |i| Curve::Tabulated { wavelengths_um: wavelengths_um.clone(), values: column(&rows, i) };
             match kind {
+                // A formula n followed by tabulated nk (e.g. organic/PVP/Konig): the
+                // formula stays the n source and the table supplies k, as on the site.
+                "tabulated nk" if matches!(n, Some(Curve::Formula(_))) => set(&mut k, tabulated(2), "k")?,
                 "tabulated nk" => {
                     set(&mut n, tabulated(1), "n")?;
                     set(&mut k, tabulated(2), "k")?;
