@@ -64,6 +64,9 @@ pub struct Ingest {
     pub excluded: Vec<Excluded>,
     /// Catalog entries that could not become pages (e.g. no data file named).
     pub catalog_problems: Vec<String>,
+    /// Selected page ids the catalog lists more than once with the same data file
+    /// (kept once).
+    pub listed_twice: Vec<String>,
 }
 
 impl Ingest {
@@ -109,7 +112,7 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
             bail!("unknown shelf {shelf:?}; the catalog has {}", known_shelves.join(", "));
         }
     }
-    let pages: Vec<CatalogPage> = catalog.pages.into_iter().filter(|p| selection.includes(p)).collect();
+    let pages: Vec<CatalogPage> = catalog.pages.iter().filter(|p| selection.includes(p)).cloned().collect();
 
     // Each data file once, in parallel.
     let mut files: Vec<&str> = pages.iter().map(|p| p.data.as_str()).collect();
@@ -132,6 +135,23 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
         ids_by_file.entry(page.data.as_str()).or_default().push(page.id());
     }
     let mut result = Ingest { selected: pages.len(), catalog_problems, ..Default::default() };
+    for duplicate in catalog.duplicates.iter().filter(|p| selection.includes(p)) {
+        let first = catalog.find(&duplicate.id()).map(|p| p.data.as_str());
+        if first == Some(duplicate.data.as_str()) {
+            result.listed_twice.push(duplicate.id());
+        } else {
+            result.selected += 1;
+            result.excluded.push(Excluded {
+                page: duplicate.id(),
+                error: DataError::new(
+                    Reason::DuplicatePageId,
+                    &duplicate.data,
+                    None,
+                    format!("page id already used for {}", first.unwrap_or("?")),
+                ),
+            });
+        }
+    }
     for page in &pages {
         let id = page.id();
         match &evaluated[page.data.as_str()] {

@@ -54,6 +54,12 @@ fn run(cli: Cli) -> Result<()> {
                 result.excluded.len(),
                 result.excluded_by_reason()
             );
+            if !result.listed_twice.is_empty() {
+                eprintln!("  {} page ids are listed twice in the catalog with the same file (kept once): {}", result.listed_twice.len(), result.listed_twice.join(", "));
+            }
+            for problem in &result.catalog_problems {
+                eprintln!("  catalog: {problem}");
+            }
             for path in written {
                 eprintln!("  wrote {}", path.display());
             }

@@ -24,10 +24,14 @@ impl CatalogPage {
     }
 }
 
-/// The whole catalog, pages in file order.
+/// The whole catalog, pages in file order, each id once.
 #[derive(Clone, Debug, Default)]
 pub struct Catalog {
     pub pages: Vec<CatalogPage>,
+    /// Later entries whose id was already listed (the real catalog lists some glass pages
+    /// under two dividers). Same data file: the same page, listed once in `pages`.
+    /// Another data file: excluded as `duplicate-page-id` by the ingest.
+    pub duplicates: Vec<CatalogPage>,
 }
 
 fn field(map: &Value, key: &str) -> Option<String> {
@@ -50,6 +54,7 @@ impl Catalog {
         let root: Value = serde_yaml::from_str(yaml)?;
         let mut catalog = Catalog::default();
         let mut problems = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for shelf in root.as_sequence().map(Vec::as_slice).unwrap_or(&[]) {
             let Some(shelf_id) = field(shelf, "SHELF") else { continue };
             let shelf_name = field(shelf, "name").unwrap_or_else(|| shelf_id.clone());
@@ -67,7 +72,7 @@ impl Catalog {
                         problems.push(format!("{shelf_id}/{book_id}/{page_id}: no data file"));
                         continue;
                     };
-                    catalog.pages.push(CatalogPage {
+                    let entry = CatalogPage {
                         shelf: shelf_id.clone(),
                         book: book_id.clone(),
                         page: page_id.clone(),
@@ -76,7 +81,12 @@ impl Catalog {
                         page_name: field(page, "name").unwrap_or_else(|| page_id.clone()),
                         data,
                         divider: divider.clone(),
-                    });
+                    };
+                    if seen.insert(entry.id()) {
+                        catalog.pages.push(entry);
+                    } else {
+                        catalog.duplicates.push(entry);
+                    }
                 }
             }
         }
@@ -119,6 +129,9 @@ mod tests {
           data: main/Au/nk/Johnson.yml
         - PAGE: Broken
           name: "no data"
+        - DIVIDER: "Again"
+        - PAGE: Johnson
+          data: main/Au/nk/Johnson.yml
 - SHELF: 3d
   name: "3D"
   content:
@@ -135,6 +148,8 @@ mod tests {
         assert_eq!(catalog.pages[1].book_name, "metals");
         assert_eq!(catalog.pages[0].data, catalog.pages[1].data);
         assert_eq!(problems, vec!["main/Au/Broken: no data file".to_string()]);
+        assert_eq!(catalog.duplicates.len(), 1);
+        assert_eq!(catalog.duplicates[0].divider.as_deref(), Some("Again"));
         assert_eq!(catalog.shelves(), vec!["main", "3d"]);
     }
 }

@@ -17,10 +17,11 @@ pub enum Reason {
     NegativeK,
     NoData,
     NoVisibleCoverage,
+    DuplicatePageId,
 }
 
 impl Reason {
-    pub const ALL: [Reason; 12] = [
+    pub const ALL: [Reason; 13] = [
         Reason::MissingFile,
         Reason::ParseError,
         Reason::UnknownBlockType,
@@ -33,6 +34,7 @@ impl Reason {
         Reason::NegativeK,
         Reason::NoData,
         Reason::NoVisibleCoverage,
+        Reason::DuplicatePageId,
     ];
 
     pub fn code(self) -> &'static str {
@@ -49,6 +51,7 @@ impl Reason {
             Reason::NegativeK => "negative-k",
             Reason::NoData => "no-data",
             Reason::NoVisibleCoverage => "no-visible-coverage",
+            Reason::DuplicatePageId => "duplicate-page-id",
         }
     }
 
@@ -67,6 +70,7 @@ impl Reason {
             Reason::NegativeK => "k < 0 where it is evaluated",
             Reason::NoData => "the page has no n data",
             Reason::NoVisibleCoverage => "the n (or k) data do not cover 390-700 nm",
+            Reason::DuplicatePageId => "the catalog lists this page id again with a different data file",
         }
     }
 }
