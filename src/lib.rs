@@ -13,4 +13,5 @@ pub mod fresnel;
 pub mod ingest;
 pub mod output;
 pub mod progress;
+pub mod report;
 pub mod spectrum;

@@ -1,0 +1,70 @@
+//! The report reads the tables the other stages wrote (CSV), so every number it shows
+//! is the number in a file a user can open.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+/// A CSV table held as text, with typed accessors.
+#[derive(Clone, Debug, Default)]
+pub struct CsvTable {
+    pub headers: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+    index: HashMap<String, usize>,
+}
+
+impl CsvTable {
+    pub fn parse(bytes: &[u8]) -> Result<Self> {
+        let mut reader = csv::Reader::from_reader(bytes);
+        let headers: Vec<String> = reader.headers()?.iter().map(str::to_string).collect();
+        let rows = reader
+            .records()
+            .map(|r| r.map(|r| r.iter().map(str::to_string).collect()))
+            .collect::<Result<Vec<Vec<String>>, _>>()?;
+        let index = headers.iter().enumerate().map(|(i, h)| (h.clone(), i)).collect();
+        Ok(Self { headers, rows, index })
+    }
+
+    /// Read `path`; `Ok(None)` when the file does not exist (that stage has not run).
+    pub fn load(path: &Path) -> Result<Option<Self>> {
+        match std::fs::read(path) {
+            Ok(bytes) => Ok(Some(Self::parse(&bytes).with_context(|| format!("reading {}", path.display()))?)),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(e).with_context(|| format!("reading {}", path.display())),
+        }
+    }
+
+    pub fn has(&self, column: &str) -> bool {
+        self.index.contains_key(column)
+    }
+
+    /// The text of `column` in `row` ("" when the column is absent).
+    pub fn text<'a>(&'a self, row: &'a [String], column: &str) -> &'a str {
+        self.index.get(column).and_then(|&i| row.get(i)).map(String::as_str).unwrap_or("")
+    }
+
+    /// The number in `column` of `row`, `None` when empty or not a number.
+    pub fn number(&self, row: &[String], column: &str) -> Option<f64> {
+        self.text(row, column).parse().ok()
+    }
+
+    /// Rows whose `column` equals `value`.
+    pub fn rows_where<'a>(&'a self, column: &'a str, value: &'a str) -> impl Iterator<Item = &'a Vec<String>> + 'a {
+        self.rows.iter().filter(move |r| self.text(r, column) == value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_quoted_fields_and_numbers() {
+        let table = CsvTable::parse(b"page,x\n\"a,b\",1.5\nc,\n").unwrap();
+        assert_eq!(table.text(&table.rows[0], "page"), "a,b");
+        assert_eq!(table.number(&table.rows[0], "x"), Some(1.5));
+        assert_eq!(table.number(&table.rows[1], "x"), None);
+        assert_eq!(table.rows_where("page", "c").count(), 1);
+    }
+}
