@@ -248,6 +248,7 @@ fn summaries(b: &mut Builder, inputs: &Inputs) {
             table.row(vec![method, variant, pages[0].0.clone(), percent(pages[0].1), cell(1), cell(2)]);
         }
         b.table(&table, "worst");
+        b.heading(3, "fallback", "Pages where compensated Schlick falls back");
         if errors.has("fallback") {
             let mut fallback: Vec<String> = errors
                 .rows
@@ -256,7 +257,6 @@ fn summaries(b: &mut Builder, inputs: &Inputs) {
                 .map(|r| format!("{} ({})", errors.text(r, "page"), errors.text(r, "channel")))
                 .collect();
             fallback.dedup();
-            b.heading(3, "fallback", "Pages where compensated Schlick falls back");
             b.paragraph(&format!(
                 "{} page-channels have no real exponent that makes compensated Schlick exact at 84.26°: {}",
                 fallback.len(),
@@ -265,6 +265,8 @@ fn summaries(b: &mut Builder, inputs: &Inputs) {
         }
     } else {
         b.paragraph("errors.csv is missing: run `nklut validate`.");
+        b.heading(3, "fallback", "Pages where compensated Schlick falls back");
+        b.paragraph("Not measured yet: run `nklut validate`.");
     }
     let sparse: Vec<&Vec<String>> = inputs.materials.rows_where("sparse", "true").collect();
     b.heading(3, "sparse", "Sparse data");
@@ -380,4 +382,20 @@ pub fn write(report: &Report, out: &Path) -> Result<Vec<PathBuf>> {
     write_atomic(&html, report.html.as_bytes())?;
     write_atomic(&markdown, report.markdown.as_bytes())?;
     Ok(vec![html, markdown])
+}
+
+/// The stages whose tables the report reads, in the order they run.
+pub const STAGES: [&str; 1] = ["ingest"];
+
+/// Per-page columns the report shows, by file: tests check each value is on the page.
+pub const TRACED_COLUMNS: &[(&str, &[&str])] = &[("materials.csv", &["n_red", "k_red", "n_green", "k_green", "n_blue", "k_blue"])];
+
+/// How the report writes the value of `column`: error columns (fractions) as percentages,
+/// everything else with `html::number`.
+pub fn shown(column: &str, value: f64) -> String {
+    if column.contains("error") && !column.contains("abs") && !column.starts_with("delta_e") {
+        percent(value)
+    } else {
+        number(value)
+    }
 }
