@@ -6,7 +6,8 @@
 //!   r⊥ = (c − w)/(c + w),   r∥ = (η²c − w)/(η²c + w),   F = (|r⊥|² + |r∥|²)/2.
 //! [`exact_complex`] rationalises the numerators so that it stays accurate as η → 1:
 //!   c − w = (1 − η²)/(c + w),   η²c − w = (η² − 1)(η²c² − s²)/(η²c + w),
-//! with η² − 1 = (n − 1)(n + 1) − k² + 2ink. [`exact_complex_textbook`] is the plain form.
+//! with η² − 1 = (n − 1)(n + 1) − k² + 2ink, and Re(η² − s²) summed in twice the working
+//! precision. [`exact_complex_textbook`] is the plain form.
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Complex {
@@ -63,6 +64,35 @@ impl Complex {
     }
 }
 
+/// x² as an unevaluated sum hi + lo (exact: fma error-free transformation).
+fn square(x: f64) -> (f64, f64) {
+    let hi = x * x;
+    (hi, x.mul_add(x, -hi))
+}
+
+trait Negate {
+    fn neg(self) -> Self;
+}
+
+impl Negate for (f64, f64) {
+    fn neg(self) -> Self {
+        (-self.0, -self.1)
+    }
+}
+
+/// Σ of (hi, lo) pairs as if in twice the working precision, then rounded (Ogita, Rump &
+/// Oishi 2005, "Accurate sum and dot product", Algorithm 4.4 `Sum2`).
+fn accurate_sum(terms: &[(f64, f64)]) -> f64 {
+    let (mut sum, mut error) = (0.0f64, 0.0f64);
+    for &x in terms.iter().flat_map(|(hi, lo)| [hi, lo]) {
+        let t = sum + x;
+        let z = t - sum;
+        error += (sum - (t - z)) + (x - z);
+        sum = t;
+    }
+    sum + error
+}
+
 /// Unpolarised reflectance of η = n + ik at cosθ in complex arithmetic, rationalised
 /// (see the module doc). n = 1, k = 0 gives 0; a vanishing denominator (grazing onto a
 /// totally reflecting or η = 0 surface) gives 1.
@@ -75,8 +105,9 @@ pub fn exact_complex(n: f64, k: f64, cos_theta: f64) -> f64 {
     let eta2 = eta.mul(eta);
     let eta2_minus_1 = Complex::new((n - 1.0) * (n + 1.0) - k * k, 2.0 * n * k);
     let sin2 = (1.0 - c) * (1.0 + c);
-    // η² − s² = (η² − 1) + c²: no cancellation of n² against s² near grazing as n → 1.
-    let w = eta2_minus_1.add(Complex::real(c * c)).sqrt();
+    // Re(η² − s²) = n² − k² − 1 + c² in twice the working precision: accurate both for
+    // gases at grazing (n² ≈ s²) and for tiny n at normal incidence (n² ≈ 1 − 1 + n²).
+    let w = Complex::new(accurate_sum(&[square(n), square(k).neg(), (-1.0, 0.0), square(c)]), 2.0 * n * k).sqrt();
     let c_plus_w = Complex::real(c).add(w);
     let perp = Complex::new(-eta2_minus_1.re, -eta2_minus_1.im).ratio_norm_squared(c_plus_w.mul(c_plus_w));
     let eta2c_plus_w = eta2.mul(Complex::real(c)).add(w);
