@@ -21,6 +21,8 @@ const SQUARE_SAFE: f64 = 1e100;
 pub struct ExactTerms {
     /// a₀ = (n − 1)(n + 1) − k²: A at grazing incidence, exact in n − 1 for gases.
     a0: f64,
+    /// n² − k²: A at normal incidence, exact for small n.
+    n2_minus_k2: f64,
     /// (nk)².
     nk_squared: f64,
     /// 4(nk)².
@@ -38,6 +40,7 @@ impl ExactTerms {
         let nk = n * k;
         Self {
             a0: (n - 1.0) * (n + 1.0) - k * k,
+            n2_minus_k2: n * n - k * k,
             nk_squared: nk * nk,
             four_nk_squared: 4.0 * nk * nk,
             vacuum: n == 1.0 && k == 0.0,
@@ -57,7 +60,8 @@ impl ExactTerms {
             return 0.0;
         }
         let sin2 = (1.0 - c) * (1.0 + c);
-        let big_a = self.a0 + c * c;
+        let c2 = c * c;
+        let big_a = if c2 > 0.5 { self.n2_minus_k2 - sin2 } else { self.a0 + c2 };
         let r = if self.huge { big_a.hypot(self.four_nk_squared.sqrt()) } else { (big_a * big_a + self.four_nk_squared).sqrt() };
         let larger = 0.5 * (r + big_a.abs());
         let smaller = if larger > 0.0 { self.nk_squared / larger } else { 0.0 };
@@ -68,7 +72,7 @@ impl ExactTerms {
         let s_num = a_minus_c * a_minus_c + b2;
         let s_den = a_plus_c * a_plus_c + b2;
         let ac = a * c;
-        let b2c2 = b2 * c * c;
+        let b2c2 = b2 * c2;
         let p_num = (ac - sin2) * (ac - sin2) + b2c2;
         let p_den = (ac + sin2) * (ac + sin2) + b2c2;
         let denominator = 2.0 * s_den * p_den;
@@ -91,7 +95,7 @@ pub fn exact(n: f64, k: f64, cos_theta: f64) -> f64 {
 }
 
 /// `exact` in f32 with the operation order of the WGSL shader (no hypot, no fma):
-///   a0 = (n − 1)(n + 1) − k²; A = a0 + c²; r = sqrt(A·A + 4·(nk)²);
+///   a0 = (n − 1)(n + 1) − k²; A = (n² − k²) − s² if c² > ½ else a0 + c²; r = sqrt(A·A + 4·(nk)²);
 ///   larger = 0.5(r + |A|); smaller = (nk)²/larger; select a², b² by sign(A);
 ///   a − c = (a0 + b²)/(a + c) when A ≥ 0 else a − c;
 ///   F = ((a−c)² + b²)((ac+s²)² + b²c² + (ac−s²)² + b²c²) / (2((a+c)² + b²)((ac+s²)² + b²c²)).
@@ -110,7 +114,8 @@ pub fn exact_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
     let nk2 = nk * nk;
     let a0 = (n - 1.0) * (n + 1.0) - k * k;
     let sin2 = (1.0 - c) * (1.0 + c);
-    let big_a = a0 + c * c;
+    let c2 = c * c;
+    let big_a = if c2 > 0.5 { (n * n - k * k) - sin2 } else { a0 + c2 };
     let r = (big_a * big_a + 4.0 * nk2).sqrt();
     let larger = 0.5 * (r + big_a.abs());
     let smaller = if larger > 0.0 { nk2 / larger } else { 0.0 };
@@ -121,7 +126,7 @@ pub fn exact_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
     let s_num = a_minus_c * a_minus_c + b2;
     let s_den = a_plus_c * a_plus_c + b2;
     let ac = a * c;
-    let b2c2 = b2 * c * c;
+    let b2c2 = b2 * c2;
     let p_num = (ac - sin2) * (ac - sin2) + b2c2;
     let p_den = (ac + sin2) * (ac + sin2) + b2c2;
     let denominator = 2.0 * s_den * p_den;
