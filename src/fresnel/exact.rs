@@ -49,6 +49,8 @@ impl ExactTerms {
     }
 
     /// F(cosθ) for this channel. Stable over the whole domain:
+    /// - A is (n² − k²) − s² for c² > ½ (exact for small n near normal incidence) and
+    ///   a₀ + c² otherwise (exact in n − 1 for gases near grazing);
     /// - the larger of a², b² is (r + |A|)/2 and the other n²k²/that (no r + A cancellation
     ///   when A ≪ 0);
     /// - a − c is (a₀ + b²)/(a + c) when A ≥ 0, exact in n − 1 as n → 1 (gases);
