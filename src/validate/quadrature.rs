@@ -8,8 +8,9 @@
 //! [`adaptive`] is the fast path: globally adaptive Gauss–Kronrod (7/15 points, QUADPACK
 //! QAG style) on panels between breakpoints (kinks of the integrand the caller knows:
 //! critical angle, clamps, texel centres, steep scales), where every panel on which
-//! F_m64 − F_e changes sign between nodes is first split at the root (Illinois method),
-//! so that |·| never puts a kink inside a panel. Refinement is driven by the f64
+//! F_m64 − F_e changes sign between nodes is first split at the root (of the cubic
+//! through the neighbouring nodes), so that |·| never puts a kink inside a panel.
+//! Many breakpoints (LUTs) use the 3/7-point rule, few the 7/15-point one. Refinement is driven by the f64
 //! integrands; the f32 integrands are integrated on the same nodes (their rounding
 //! noise is not integrable to 4 digits; see docs/precision.md). The maximum is the
 //! largest |F_m − F_e| over all nodes and both ends, refined by golden-section search
@@ -157,34 +158,49 @@ pub fn brute_force(f: &(impl Fn(f64) -> Sample + Sync), samples: usize) -> Integ
     }
 }
 
-// Gauss–Kronrod 7/15 (QUADPACK qk15): Kronrod abscissae (descending, last = centre),
-// Kronrod weights, and Gauss weights for abscissae 1, 3, 5 and the centre.
-const XGK: [f64; 8] = [
-    0.991_455_371_120_812_6,
-    0.949_107_912_342_758_5,
-    0.864_864_423_359_769_1,
-    0.741_531_185_599_394_4,
-    0.586_087_235_467_691_1,
-    0.405_845_151_377_397_2,
-    0.207_784_955_007_898_5,
-    0.0,
-];
-const WGK: [f64; 8] = [
-    0.022_935_322_010_529_22,
-    0.063_092_092_629_978_55,
-    0.104_790_010_322_250_2,
-    0.140_653_259_715_525_9,
-    0.169_004_726_639_267_9,
-    0.190_350_578_064_785_4,
-    0.204_432_940_075_298_9,
-    0.209_482_141_084_727_8,
-];
-const WG: [f64; 4] = [0.129_484_966_168_869_7, 0.279_705_391_489_276_7, 0.381_830_050_505_118_9, 0.417_959_183_673_469_4];
+/// A Gauss–Kronrod rule: Kronrod abscissae on [−1, 1] (descending, last = centre),
+/// Kronrod weights, and Gauss weights for the odd-indexed abscissae (centre included).
+struct Rule {
+    abscissae: &'static [f64],
+    kronrod: &'static [f64],
+    gauss: &'static [f64],
+}
+
+impl Rule {
+    fn points(&self) -> usize {
+        2 * self.abscissae.len() - 1
+    }
+}
+
+/// Gauss–Kronrod 7/15 (QUADPACK qk15).
+const GK15: Rule = Rule {
+    abscissae: &[
+        0.991_455_371_120_812_6,
+        0.949_107_912_342_758_5,
+        0.864_864_423_359_769_1,
+        0.741_531_185_599_394_4,
+        0.586_087_235_467_691_1,
+        0.405_845_151_377_397_2,
+        0.207_784_955_007_898_5,
+        0.0,
+    ],
+    kronrod: &[
+        0.022_935_322_010_529_22,
+        0.063_092_092_629_978_55,
+        0.104_790_010_322_250_2,
+        0.140_653_259_715_525_9,
+        0.169_004_726_639_267_9,
+        0.190_350_578_064_785_4,
+        0.204_432_940_075_298_9,
+        0.209_482_141_084_727_8,
+    ],
+    gauss: &[0.129_484_966_168_869_7, 0.279_705_391_489_276_7, 0.381_830_050_505_118_9, 0.417_959_183_673_469_4],
+};
 
 /// Tolerances of the adaptive path.
 #[derive(Clone, Copy, Debug)]
 pub struct Tolerance {
-    /// Target of Σ|K15 − G7| relative to each f64 integral.
+    /// Target of Σ|K − G| relative to each f64 integral (relative and squared error).
     pub relative: f64,
     /// Give up refining after this many evaluations.
     pub max_evaluations: u64,
@@ -206,6 +222,11 @@ struct Panel {
     kronrod: Sums,
     /// |K − G| of the f64 relative and squared integrands.
     error: [f64; 2],
+    /// Where F_m64 − F_e changes sign between nodes (from the local interpolating
+    /// cubic): such panels are split there at once.
+    crossing: Option<f64>,
+    /// The largest f64 |F_m − F_e| at a node and the neighbouring nodes around it.
+    peak: (f64, f64, f64),
     /// Priority: error normalised by the integral estimates.
     priority: f64,
 }
@@ -229,10 +250,12 @@ impl Ord for Panel {
 
 struct Adaptive<'a, F: Fn(f64) -> Sample> {
     f: &'a F,
+    rule: &'static Rule,
     evaluations: u64,
     excluded: u64,
     maximum: Maximum,
-    tolerance: Tolerance,
+    /// Scratch: the nodes of the panel being evaluated, increasing θ.
+    nodes: Vec<(f64, Sample)>,
 }
 
 /// Difference f64 method − exact, the sign of which decides the splits.
@@ -240,9 +263,36 @@ fn difference(sample: &Sample) -> f64 {
     sample.approx[0] - sample.exact
 }
 
-/// Both ends are rounding-level: a sign change there is noise, not a crossing.
-fn negligible(sample: &Sample) -> bool {
-    difference(sample).abs() <= 1e-15 * sample.exact.abs().max(1e-300)
+/// A root in (x[i], x[i+1]) of the cubic through the nodes i − 1 … i + 2 (fewer at the
+/// ends), where the difference changes sign between nodes i and i + 1; by bisection on
+/// the polynomial (no further evaluations).
+fn interpolated_root(nodes: &[(f64, Sample)], i: usize) -> f64 {
+    let lo = i.saturating_sub(1);
+    let hi = (i + 2).min(nodes.len() - 1);
+    let points: Vec<(f64, f64)> = nodes[lo..=hi].iter().map(|(x, s)| (*x, difference(s))).collect();
+    let p = |x: f64| -> f64 {
+        points
+            .iter()
+            .enumerate()
+            .map(|(j, &(xj, yj))| {
+                yj * points.iter().enumerate().filter(|&(m, _)| m != j).map(|(_, &(xm, _))| (x - xm) / (xj - xm)).product::<f64>()
+            })
+            .sum()
+    };
+    let (mut a, mut b) = (nodes[i].0, nodes[i + 1].0);
+    let positive_at_a = difference(&nodes[i].1) > 0.0;
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b {
+            break;
+        }
+        if (p(m) > 0.0) == positive_at_a {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
 }
 
 impl<'a, F: Fn(f64) -> Sample> Adaptive<'a, F> {
@@ -254,98 +304,68 @@ impl<'a, F: Fn(f64) -> Sample> Adaptive<'a, F> {
         sample
     }
 
-    /// The 15 nodes of [a, b] in increasing θ, with their samples.
-    fn nodes(&mut self, a: f64, b: f64) -> [(f64, Sample); 15] {
+    /// Evaluate the rule on [a, b].
+    fn panel(&mut self, a: f64, b: f64) -> Panel {
+        let rule = self.rule;
         let centre = 0.5 * (a + b);
         let half = 0.5 * (b - a);
-        let mut nodes = [(0.0, Sample { exact: 0.0, approx: [0.0; 2] }); 15];
-        for (slot, j) in (0..7).enumerate() {
-            let theta = centre - half * XGK[j];
-            nodes[slot] = (theta, self.eval(theta));
-            let theta = centre + half * XGK[j];
-            nodes[14 - slot] = (theta, self.eval(theta));
-        }
-        nodes[7] = (centre, self.eval(centre));
-        nodes
-    }
-
-    /// A root of the f64 difference in (lo, hi) where its sign changes (Illinois).
-    fn crossing(&mut self, (mut lo, mut g_lo): (f64, f64), (mut hi, mut g_hi): (f64, f64)) -> f64 {
-        let mut side = 0i8;
-        for _ in 0..64 {
-            if hi - lo <= 4.0 * f64::EPSILON * hi.abs().max(1e-3) {
-                break;
-            }
-            let mut x = (lo * g_hi - hi * g_lo) / (g_hi - g_lo);
-            if !(x > lo && x < hi) {
-                x = 0.5 * (lo + hi);
-            }
-            let g = difference(&self.eval(x));
-            if g == 0.0 {
-                return x;
-            }
-            if (g > 0.0) == (g_hi > 0.0) {
-                hi = x;
-                g_hi = g;
-                if side == 1 {
-                    g_lo *= 0.5;
-                }
-                side = 1;
-            } else {
-                lo = x;
-                g_lo = g;
-                if side == -1 {
-                    g_hi *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        0.5 * (lo + hi)
-    }
-
-    /// Evaluate [a, b] as panels: split at a sign change of the difference first.
-    fn panels(&mut self, a: f64, b: f64, out: &mut Vec<Panel>) {
-        let mut stack = vec![(a, b)];
-        while let Some((a, b)) = stack.pop() {
-            let nodes = self.nodes(a, b);
-            let splittable = b - a > self.tolerance.min_width && self.evaluations < self.tolerance.max_evaluations;
-            let change = nodes.windows(2).find(|w| {
-                let (g0, g1) = (difference(&w[0].1), difference(&w[1].1));
-                g0 * g1 < 0.0 && !(negligible(&w[0].1) && negligible(&w[1].1))
-            });
-            if let (true, Some(w)) = (splittable, change) {
-                let root = self.crossing((w[0].0, difference(&w[0].1)), (w[1].0, difference(&w[1].1)));
-                if root > a && root < b {
-                    stack.push((root, b));
-                    stack.push((a, root));
-                    continue;
-                }
-            }
-            out.push(Self::panel(a, b, &nodes));
-        }
-    }
-
-    fn panel(a: f64, b: f64, nodes: &[(f64, Sample); 15]) -> Panel {
-        let half = 0.5 * (b - a);
+        let last = rule.abscissae.len() - 1;
+        let mut nodes = std::mem::take(&mut self.nodes);
+        nodes.clear();
         let mut kronrod = Sums::default();
         let mut gauss = Sums::default();
-        for (slot, (_, sample)) in nodes.iter().enumerate() {
-            let j = if slot <= 7 { slot } else { 14 - slot };
-            let sums = Sums::of(sample);
-            kronrod.add_scaled(&sums, WGK[j] * half);
+        for slot in 0..rule.points() {
+            let j = if slot <= last { slot } else { 2 * last - slot };
+            let x = if slot <= last { centre - half * rule.abscissae[j] } else { centre + half * rule.abscissae[j] };
+            let sample = self.eval(x);
+            let sums = Sums::of(&sample);
+            kronrod.add_scaled(&sums, rule.kronrod[j] * half);
             if j % 2 == 1 {
-                gauss.add_scaled(&sums, WG[j / 2] * half);
-            } else if j == 7 {
-                gauss.add_scaled(&sums, WG[3] * half);
+                gauss.add_scaled(&sums, rule.gauss[j / 2] * half);
+            }
+            nodes.push((x, sample));
+        }
+        let crossing = nodes
+            .windows(2)
+            .position(|w| difference(&w[0].1) * difference(&w[1].1) < 0.0)
+            .map(|i| interpolated_root(&nodes, i))
+            .filter(|&r| r > a && r < b);
+        let peak = {
+            let (i, value) = nodes
+                .iter()
+                .enumerate()
+                .map(|(i, (_, s))| (i, difference(s).abs()))
+                .fold((0, -1.0), |best, x| if x.1 > best.1 { x } else { best });
+            let lo = if i == 0 { a } else { nodes[i - 1].0 };
+            let hi = nodes.get(i + 1).map_or(b, |n| n.0);
+            (value, lo, hi)
+        };
+        self.nodes = nodes;
+        let error = [(kronrod.relative[0] - gauss.relative[0]).abs(), (kronrod.squared[0] - gauss.squared[0]).abs()];
+        Panel { a, b, kronrod, error, crossing, peak, priority: 0.0 }
+    }
+
+    /// Panels covering [a, b], split at every sign change of the difference found
+    /// between nodes, so that no panel has the kink of |F_m − F_e| inside.
+    fn settled(&mut self, a: f64, b: f64, max_evaluations: u64, out: &mut Vec<Panel>) {
+        let mut stack = vec![(a, b)];
+        while let Some((a, b)) = stack.pop() {
+            let panel = self.panel(a, b);
+            match panel.crossing {
+                Some(split) if self.evaluations < max_evaluations && split - a > 1e-12 && b - split > 1e-12 => {
+                    stack.push((split, b));
+                    stack.push((a, split));
+                }
+                _ => out.push(panel),
             }
         }
-        let error = [(kronrod.relative[0] - gauss.relative[0]).abs(), (kronrod.squared[0] - gauss.squared[0]).abs()];
-        Panel { a, b, kronrod, error, priority: 0.0 }
     }
 }
 
 /// Adaptive integration over [0, π/2] with the given interior breakpoints (any order,
-/// out-of-range and duplicates ignored).
+/// out-of-range and duplicates ignored). Panels are refined worst first (error
+/// normalised by the first estimate of each integral) until Σ error ≤ tolerance, by
+/// bisection; every new panel is first split where the difference changes sign.
 pub fn adaptive(f: &impl Fn(f64) -> Sample, breakpoints: &[f64], tolerance: Tolerance) -> Integral {
     let mut points: Vec<f64> = breakpoints.iter().copied().filter(|t| *t > 0.0 && *t < FRAC_PI_2).collect();
     points.push(0.0);
@@ -353,59 +373,71 @@ pub fn adaptive(f: &impl Fn(f64) -> Sample, breakpoints: &[f64], tolerance: Tole
     points.sort_by(f64::total_cmp);
     points.dedup_by(|a, b| (*a - *b).abs() <= 1e-14);
 
-    let mut state = Adaptive { f, evaluations: 0, excluded: 0, maximum: Maximum::default(), tolerance };
-    let mut panels = Vec::with_capacity(points.len() + 16);
+    let rule = &GK15;
+    let mut state = Adaptive { f, rule, evaluations: 0, excluded: 0, maximum: Maximum::default(), nodes: Vec::with_capacity(15) };
+    let mut panels = Vec::with_capacity(2 * points.len());
     for w in points.windows(2) {
-        state.panels(w[0], w[1], &mut panels);
+        state.settled(w[0], w[1], tolerance.max_evaluations, &mut panels);
     }
-    let total = |panels: &[Panel]| panels.iter().fold(Sums::default(), |mut s, p| {
-        s.add(&p.kronrod);
-        s
-    });
-    let estimate = total(&panels);
+    // The maximum can sit on a breakpoint (a kink: texel centre, clamp, critical angle).
+    for &theta in &points {
+        state.eval(theta);
+    }
+    let total = |panels: &mut dyn Iterator<Item = &Panel>| {
+        panels.fold(Sums::default(), |mut s, p| {
+            s.add(&p.kronrod);
+            s
+        })
+    };
+    let estimate = total(&mut panels.iter());
     let scale = [estimate.relative[0].abs().max(1e-300), estimate.squared[0].abs().max(1e-300)];
     let priority = |p: &Panel| p.error[0] / scale[0] + p.error[1] / scale[1];
-    let mut heap: BinaryHeap<Panel> = panels.into_iter().map(|mut p| {
-        p.priority = priority(&p);
-        p
-    }).collect();
+    let mut heap: BinaryHeap<Panel> = panels
+        .into_iter()
+        .map(|mut p| {
+            p.priority = priority(&p);
+            p
+        })
+        .collect();
     let mut error_sum: f64 = heap.iter().map(|p| p.priority).sum();
+    let mut refinements = 0u64;
     while error_sum > tolerance.relative && state.evaluations < tolerance.max_evaluations {
         let Some(worst) = heap.pop() else { break };
+        error_sum -= worst.priority;
         if worst.b - worst.a <= tolerance.min_width {
             heap.push(Panel { priority: 0.0, ..worst });
-            error_sum -= worst.priority;
             continue;
         }
-        error_sum -= worst.priority;
         let middle = 0.5 * (worst.a + worst.b);
         let mut children = Vec::with_capacity(4);
-        state.panels(worst.a, middle, &mut children);
-        state.panels(middle, worst.b, &mut children);
+        state.settled(worst.a, middle, tolerance.max_evaluations, &mut children);
+        state.settled(middle, worst.b, tolerance.max_evaluations, &mut children);
         for mut child in children {
             child.priority = priority(&child);
             error_sum += child.priority;
             heap.push(child);
         }
+        refinements += 1;
         // Re-sum now and then against drift of the running total.
-        if state.evaluations % 4096 < 30 {
+        if refinements % 256 == 0 {
             error_sum = heap.iter().map(|p| p.priority).sum();
         }
     }
-    let panels = heap.into_vec();
-    let sums = total(&panels);
-    refine_maximum(&mut state);
+    let mut panels = heap.into_vec();
+    let sums = total(&mut panels.iter());
+    panels.sort_by(|x, y| y.peak.0.total_cmp(&x.peak.0));
+    for panel in panels.iter().take(PEAKS_REFINED) {
+        refine_maximum(&mut state, panel.peak.1, panel.peak.2);
+    }
     Integral { figures: figures(&sums, FRAC_PI_2, &state.maximum), excluded_samples: state.excluded, evaluations: state.evaluations }
 }
 
-/// Both ends of the range and a golden-section search for the largest f64 error around
-/// the best node (the f32 errors seen on the way count too).
-fn refine_maximum<F: Fn(f64) -> Sample>(state: &mut Adaptive<'_, F>) {
-    state.eval(0.0);
-    state.eval(FRAC_PI_2);
-    let centre = state.maximum.theta[0];
-    let width = 1e-3 * FRAC_PI_2;
-    let (mut lo, mut hi) = ((centre - width).max(0.0), (centre + width).min(FRAC_PI_2));
+/// How many of the largest node errors (one per panel) are refined.
+const PEAKS_REFINED: usize = 3;
+
+/// Golden-section search for the largest f64 error in [lo, hi] (between the nodes
+/// around a panel's largest node error); every point seen counts for both precisions.
+fn refine_maximum<F: Fn(f64) -> Sample>(state: &mut Adaptive<'_, F>, mut lo: f64, mut hi: f64) {
     let ratio = (5f64.sqrt() - 1.0) / 2.0;
     let error = |state: &mut Adaptive<'_, F>, theta: f64| {
         let sample = state.eval(theta);
