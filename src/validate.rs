@@ -494,7 +494,7 @@ mod tests {
     ];
 
     /// The fast path agrees with the 10⁶-midpoint brute force of SPEC §6 to 1e-4
-    /// relative on the mean relative error (and the RMS), for every analytic method and
+    /// relative on the mean relative error (and the RMS), for every approximation and
     /// one LUT variant per page (rotating through the sweep), one channel per page
     /// (rotating), in f64. The maximum is a supremum on the fast path: never below the
     /// brute force's midpoint maximum, and above it by at most |dF/dθ|·h/2.
@@ -512,7 +512,9 @@ mod tests {
             .flat_map(|(i, page)| {
                 let prepared = Prepared::new(page.material.channels[i % 3]);
                 let spec = sweep[(7 * i) % sweep.len()];
-                Method::ALL.map(|method| (format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()), Model::from_prepared(prepared, method, spec)))
+                // exact (error 0) and schlick_nk (= schlick) add nothing here.
+                [Method::Schlick, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut]
+                    .map(|method| (format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()), Model::from_prepared(prepared, method, spec)))
             })
             .collect();
         let failures: Vec<String> = jobs

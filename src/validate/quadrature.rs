@@ -263,6 +263,12 @@ fn difference(sample: &Sample) -> f64 {
     sample.approx[0] - sample.exact
 }
 
+/// The difference is at the level of f64 rounding of F: its sign changes are noise,
+/// not crossings worth a split.
+fn rounding_level(sample: &Sample) -> bool {
+    difference(sample).abs() <= 1e-13 * sample.exact.abs().max(sample.approx[0].abs())
+}
+
 /// A root in (x[i], x[i+1]) of the cubic through the nodes i − 1 … i + 2 (fewer at the
 /// ends), where the difference changes sign between nodes i and i + 1; by bisection on
 /// the polynomial (no further evaluations).
@@ -314,6 +320,9 @@ impl<'a, F: Fn(f64) -> Sample> Adaptive<'a, F> {
         nodes.clear();
         let mut kronrod = Sums::default();
         let mut gauss = Sums::default();
+        // The ends carry no weight but close the sign check: a crossing between the outer
+        // node and the end would otherwise go unseen.
+        nodes.push((a, self.eval(a)));
         for slot in 0..rule.points() {
             let j = if slot <= last { slot } else { 2 * last - slot };
             let x = if slot <= last { centre - half * rule.abscissae[j] } else { centre + half * rule.abscissae[j] };
@@ -325,9 +334,10 @@ impl<'a, F: Fn(f64) -> Sample> Adaptive<'a, F> {
             }
             nodes.push((x, sample));
         }
+        nodes.push((b, self.eval(b)));
         let crossing = nodes
             .windows(2)
-            .position(|w| difference(&w[0].1) * difference(&w[1].1) < 0.0)
+            .position(|w| difference(&w[0].1) * difference(&w[1].1) < 0.0 && !(rounding_level(&w[0].1) && rounding_level(&w[1].1)))
             .map(|i| interpolated_root(&nodes, i))
             .filter(|&r| r > a && r < b);
         let peak = {
