@@ -15,3 +15,4 @@ pub mod output;
 pub mod progress;
 pub mod report;
 pub mod spectrum;
+pub mod validate;

@@ -47,6 +47,8 @@ enum Command {
         #[arg(long = "nm", required = true)]
         nm: Vec<f64>,
     },
+    /// Measure every Fresnel method's error against exact (SPEC §6); write errors.* and cost.*.
+    Validate(nklut::validate::ValidateArgs),
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -88,6 +90,11 @@ fn run(cli: Cli) -> Result<()> {
             for wavelength in nm {
                 let index = spectrum::index_at(&data, wavelength).map_err(|e| anyhow::anyhow!("{page}: {e}"))?;
                 println!("{wavelength} {} {}", index.n, index.k);
+            }
+        }
+        Command::Validate(args) => {
+            for path in nklut::validate::run(&args, Some(&db), &cli.paths.out)? {
+                eprintln!("  wrote {}", path.display());
             }
         }
     }

@@ -1,0 +1,184 @@
+//! `exact` (SPEC §5.1): unpolarised reflectance (Rs + Rp)/2 of η = n + ik, in f64 for
+//! the CPU and in f32 mirroring a shader.
+
+use super::{sanitise, unit_cos, unit_cos_f32};
+use crate::spectrum::Index;
+
+/// Largest |n|, k the fast square root `√(A² + 4n²k²)` handles without overflow; inputs
+/// beyond it take `hypot`.
+const SQUARE_SAFE: f64 = 1e100;
+
+/// Per-channel terms of `exact` that do not depend on the angle.
+///
+/// With s² = 1 − c², A = n² − k² − s² and a + ib = √(η² − s²) (a, b ≥ 0):
+///   A = a₀ + c² with a₀ = (n − 1)(n + 1) − k²,
+///   r = √(A² + 4n²k²), a² = (r + A)/2, b² = (r − A)/2, a²b² = n²k²,
+///   a² − c² = a₀ + b².
+/// Born & Wolf §14.2; the printed form of SPEC §5.1 rearranged without tanθ:
+///   Rs = ((a − c)² + b²) / ((a + c)² + b²)
+///   Rp = Rs · ((ac − s²)² + b²c²) / ((ac + s²)² + b²c²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactTerms {
+    /// a₀ = (n − 1)(n + 1) − k²: A at grazing incidence, exact in n − 1 for gases.
+    a0: f64,
+    /// n² − k²: A at normal incidence, exact for small n.
+    n2_minus_k2: f64,
+    /// (nk)².
+    nk_squared: f64,
+    /// 4(nk)².
+    four_nk_squared: f64,
+    /// n = 1, k = 0: no interface, F = 0 at every angle.
+    vacuum: bool,
+    /// |n| or k so large that A² could overflow.
+    huge: bool,
+}
+
+impl ExactTerms {
+    /// Terms for a sanitised index (see [`sanitise`]).
+    pub fn new(index: Index) -> Self {
+        let Index { n, k } = index;
+        let nk = n * k;
+        Self {
+            a0: (n - 1.0) * (n + 1.0) - k * k,
+            n2_minus_k2: n * n - k * k,
+            nk_squared: nk * nk,
+            four_nk_squared: 4.0 * nk * nk,
+            vacuum: n == 1.0 && k == 0.0,
+            huge: n > SQUARE_SAFE || k > SQUARE_SAFE,
+        }
+    }
+
+    /// F(cosθ) for this channel. Stable over the whole domain:
+    /// - A is (n² − k²) − s² for c² > ½ (exact for small n near normal incidence) and
+    ///   a₀ + c² otherwise (exact in n − 1 for gases near grazing);
+    /// - the larger of a², b² is (r + |A|)/2 and the other n²k²/that (no r + A cancellation
+    ///   when A ≪ 0);
+    /// - a − c is (a₀ + b²)/(a + c) when A ≥ 0, exact in n − 1 as n → 1 (gases);
+    /// - (Rs + Rp)/2 is formed with a single division.
+    #[inline]
+    pub fn reflectance(&self, cos_theta: f64) -> f64 {
+        let c = unit_cos(cos_theta);
+        if self.vacuum {
+            return 0.0;
+        }
+        let sin2 = (1.0 - c) * (1.0 + c);
+        let c2 = c * c;
+        let big_a = if c2 > 0.5 { self.n2_minus_k2 - sin2 } else { self.a0 + c2 };
+        let r = if self.huge { big_a.hypot(self.four_nk_squared.sqrt()) } else { (big_a * big_a + self.four_nk_squared).sqrt() };
+        let larger = 0.5 * (r + big_a.abs());
+        let smaller = if larger > 0.0 { self.nk_squared / larger } else { 0.0 };
+        let (a2, b2) = if big_a >= 0.0 { (larger, smaller) } else { (smaller, larger) };
+        let a = a2.sqrt();
+        let a_plus_c = a + c;
+        let a_minus_c = if big_a >= 0.0 && a_plus_c > 0.0 { (self.a0 + b2) / a_plus_c } else { a - c };
+        let s_num = a_minus_c * a_minus_c + b2;
+        let s_den = a_plus_c * a_plus_c + b2;
+        let ac = a * c;
+        let b2c2 = b2 * c2;
+        let p_num = (ac - sin2) * (ac - sin2) + b2c2;
+        let p_den = (ac + sin2) * (ac + sin2) + b2c2;
+        let denominator = 2.0 * s_den * p_den;
+        if !(denominator > 0.0) {
+            // a = b = c = 0 (grazing on η = 1 handled above) or η = 0 at normal incidence:
+            // every such limit is total reflection.
+            return 1.0;
+        }
+        (s_num * (p_den + p_num) / denominator).max(0.0).min(1.0)
+    }
+}
+
+/// `exact` (SPEC §5.1) for one channel: unpolarised reflectance of η = n + ik at cosθ.
+/// See [`ExactTerms`] for the formulas and the stable forms. k = 0 is the dielectric
+/// case (n < 1 gives total reflection beyond the critical angle, F = 1); n = 1, k = 0
+/// gives F = 0. Bad input (NaN, negative, infinite) is read as described in
+/// [`sanitise`] and never yields NaN.
+pub fn exact(n: f64, k: f64, cos_theta: f64) -> f64 {
+    ExactTerms::new(sanitise(Index::new(n, k))).reflectance(cos_theta)
+}
+
+/// `exact` in f32 with the operation order of the WGSL shader (no hypot, no fma):
+///   a0 = (n − 1)(n + 1) − k²; A = (n² − k²) − s² if c² > ½ else a0 + c²; r = sqrt(A·A + 4·(nk)²);
+///   larger = 0.5(r + |A|); smaller = (nk)²/larger; select a², b² by sign(A);
+///   a − c = (a0 + b²)/(a + c) when A ≥ 0 else a − c;
+///   F = ((a−c)² + b²)((ac+s²)² + b²c² + (ac−s²)² + b²c²) / (2((a+c)² + b²)((ac+s²)² + b²c²)).
+///
+/// Precision (see docs/precision.md): absolute error stays below ~1e-6 everywhere, but
+/// relative accuracy is lost where F is tiny because n itself is rounded to f32:
+/// as n → 1 (gases, n − 1 ≈ 3e-4) the relative error of F is ≈ 2·6e-8/(n − 1) ≈ 4e-4,
+/// and it grows without bound as n − 1 → 0. Water at normal incidence (F ≈ 0.02) keeps
+/// ~1e-6 relative accuracy.
+pub fn exact_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
+    let c = unit_cos_f32(cos_theta);
+    if n == 1.0 && k == 0.0 {
+        return 0.0;
+    }
+    let nk = n * k;
+    let nk2 = nk * nk;
+    let a0 = (n - 1.0) * (n + 1.0) - k * k;
+    let sin2 = (1.0 - c) * (1.0 + c);
+    let c2 = c * c;
+    let big_a = if c2 > 0.5 { (n * n - k * k) - sin2 } else { a0 + c2 };
+    let r = (big_a * big_a + 4.0 * nk2).sqrt();
+    let larger = 0.5 * (r + big_a.abs());
+    let smaller = if larger > 0.0 { nk2 / larger } else { 0.0 };
+    let (a2, b2) = if big_a >= 0.0 { (larger, smaller) } else { (smaller, larger) };
+    let a = a2.sqrt();
+    let a_plus_c = a + c;
+    let a_minus_c = if big_a >= 0.0 && a_plus_c > 0.0 { (a0 + b2) / a_plus_c } else { a - c };
+    let s_num = a_minus_c * a_minus_c + b2;
+    let s_den = a_plus_c * a_plus_c + b2;
+    let ac = a * c;
+    let b2c2 = b2 * c2;
+    let p_num = (ac - sin2) * (ac - sin2) + b2c2;
+    let p_den = (ac + sin2) * (ac + sin2) + b2c2;
+    let denominator = 2.0 * s_den * p_den;
+    if !(denominator > 0.0) {
+        return 1.0;
+    }
+    (s_num * (p_den + p_num) / denominator).max(0.0).min(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normal_incidence_matches_textbook_formula() {
+        // F0 = ((n−1)² + k²)/((n+1)² + k²); glass n = 1.5 → 0.04 exactly.
+        assert!((exact(1.5, 0.0, 1.0) - 0.04).abs() < 1e-15);
+        let (n, k) = (0.2, 3.5);
+        let f0 = ((n - 1.0f64).powi(2) + k * k) / ((n + 1.0f64).powi(2) + k * k);
+        assert!((exact(n, k, 1.0) - f0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn grazing_is_total_and_subcritical_total_reflection() {
+        assert_eq!(exact(1.5, 0.0, 0.0), 1.0);
+        assert_eq!(exact(0.8, 0.0, 0.3), 1.0); // sinθ = 0.954 > n
+        assert_eq!(exact(0.0, 0.0, 1.0), 1.0); // η = 0: perfect reflector
+        assert_eq!(exact(1.0, 0.0, 0.0), 0.0); // no interface
+    }
+
+    #[test]
+    fn glass_at_brewster_is_half_of_rs() {
+        // At tanθ_B = n, Rp = 0 and Rs = ((n² − 1)/(n² + 1))²: F = Rs/2.
+        let n: f64 = 1.5;
+        let c = 1.0 / (1.0 + n * n).sqrt();
+        let rs = ((n * n - 1.0) / (n * n + 1.0)).powi(2);
+        assert!((exact(n, 0.0, c) - rs / 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_input_is_never_nan() {
+        for n in [f64::NAN, -1.0, 0.0, f64::INFINITY, 1e300] {
+            for k in [f64::NAN, -1.0, 0.0, f64::INFINITY, 1e300] {
+                for c in [f64::NAN, -0.5, 0.0, 0.5, 1.0, 2.0] {
+                    let f = exact(n, k, c);
+                    assert!((0.0..=1.0).contains(&f), "exact({n}, {k}, {c}) = {f}");
+                    let g = exact_f32(n as f32, k as f32, c as f32);
+                    assert!((0.0..=1.0).contains(&g), "exact_f32({n}, {k}, {c}) = {g}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Fresnel reflectance methods (SPEC §5). Every method maps (n, k, cosθ) to F for one
+//! colour channel, outside medium air (a medium of index n₁ ≠ 1 uses n₂/n₁).
+//!
+//! Each method exists twice: in f64 for the CPU (the study's figures) and in f32 with the
+//! operation order a WGSL shader uses (`*_f32`), so GPU-precision error can be measured
+//! separately (docs/precision.md). Parameters that do not depend on the angle are
+//! computed once per material and channel ([`Prepared`]); a [`Model`] adds the texture
+//! of the `lut` method and evaluates any [`Method`].
+//!
+//! Public entry points for other stages:
+//! - [`exact`], [`exact_f32`] and the closed forms in [`approx`];
+//! - [`Prepared::new`] (F0, compensated λ with its [`CompensationFallback`], Lazányi a,
+//!   the nvidia fit), [`ShaderParams`] (the f32 uniforms a shader needs);
+//! - for textures: [`lut_texel_cos`], [`Encoding`] (`quantise`, `encode`, `decode`),
+//!   [`sample_lut`], [`sample_lut_f32`], [`Lut::bake`].
+
+pub mod approx;
+mod exact;
+pub mod lut;
+pub mod nvidia;
+pub mod reference;
+
+pub use approx::{
+    compensation, lazanyi, lazanyi_a, lazanyi_f32, schlick, schlick_compensated, schlick_compensated_f32, schlick_f0, schlick_f32,
+    schlick_nk, schlick_nk_f32, Compensation, CompensationFallback, COMPENSATION_COS, LAZANYI_COS,
+};
+pub use exact::{exact, exact_f32, ExactTerms};
+pub use lut::{lut_texel_cos, sample_lut, sample_lut_f32, Encoding, Lut, LutSpec, LUT_SIZES};
+pub use nvidia::{fit_nvidia, nvidia, nvidia_f32, NvidiaFit};
+
+use crate::spectrum::Index;
+
+/// The Fresnel methods of SPEC §5, in the order of the spec.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Method {
+    Exact,
+    Schlick,
+    SchlickNk,
+    SchlickCompensated,
+    Lazanyi,
+    Nvidia,
+    Lut,
+}
+
+impl Method {
+    pub const ALL: [Method; 7] =
+        [Method::Exact, Method::Schlick, Method::SchlickNk, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut];
+
+    /// The name used on the command line and in every table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Exact => "exact",
+            Method::Schlick => "schlick",
+            Method::SchlickNk => "schlick_nk",
+            Method::SchlickCompensated => "schlick_compensated",
+            Method::Lazanyi => "lazanyi",
+            Method::Nvidia => "nvidia",
+            Method::Lut => "lut",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The arithmetic a method is evaluated in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Precision {
+    /// f64 on the CPU.
+    F64,
+    /// f32 with the shader's operation order.
+    F32,
+}
+
+impl Precision {
+    pub const ALL: [Precision; 2] = [Precision::F64, Precision::F32];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F64 => "f64",
+            Precision::F32 => "f32",
+        }
+    }
+}
+
+/// Bad input never panics and never yields NaN: NaN n reads as 1 and NaN k as 0 (no
+/// interface), negative values as 0, and n, k are capped at 1e150 (beyond which every
+/// method is F = 1 to double precision anyway).
+pub fn sanitise(index: Index) -> Index {
+    const CAP: f64 = 1e150;
+    let n = if index.n.is_nan() { 1.0 } else { index.n.clamp(0.0, CAP) };
+    let k = if index.k.is_nan() { 0.0 } else { index.k.clamp(0.0, CAP) };
+    Index::new(n, k)
+}
+
+/// cosθ clamped to [0, 1]; NaN reads as 0 (grazing).
+#[inline]
+pub fn unit_cos(cos_theta: f64) -> f64 {
+    if cos_theta >= 0.0 {
+        cos_theta.min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// f32 twin of [`unit_cos`] (a shader's `clamp(c, 0.0, 1.0)`).
+#[inline]
+pub fn unit_cos_f32(cos_theta: f32) -> f32 {
+    if cos_theta >= 0.0 {
+        cos_theta.min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Everything the analytic methods need for one channel, computed once: SPEC §5.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prepared {
+    /// The sanitised index (see [`sanitise`]).
+    pub index: Index,
+    /// Normal-incidence reflectance F0 = ((n − 1)² + k²)/((n + 1)² + k²) (SPEC §5.2).
+    pub f0: f64,
+    /// Angle-independent terms of `exact`.
+    pub exact: ExactTerms,
+    /// λ of `schlick_compensated` and whether it fell back (SPEC §5.4).
+    pub compensation: Compensation,
+    /// a of `lazanyi` (SPEC §5.5).
+    pub lazanyi_a: f64,
+    /// bias, scale, power of `nvidia` (SPEC §5.6).
+    pub nvidia: NvidiaFit,
+}
+
+impl Prepared {
+    pub fn new(index: Index) -> Self {
+        let index = sanitise(index);
+        let exact = ExactTerms::new(index);
+        Self {
+            index,
+            f0: schlick_f0(index.n, index.k),
+            exact,
+            compensation: compensation(index, &exact),
+            lazanyi_a: lazanyi_a(index, &exact),
+            nvidia: fit_nvidia(&exact),
+        }
+    }
+
+    /// F of an analytic method at cosθ; `None` for [`Method::Lut`] (use a [`Model`]).
+    #[inline]
+    pub fn analytic(&self, method: Method, cos_theta: f64) -> Option<f64> {
+        let Index { n, k } = self.index;
+        Some(match method {
+            Method::Exact => self.exact.reflectance(cos_theta),
+            Method::Schlick => schlick(self.f0, cos_theta),
+            Method::SchlickNk => schlick_nk(n, k, cos_theta),
+            Method::SchlickCompensated => {
+                schlick_compensated(n, k, self.compensation.weight, self.compensation.lambda, cos_theta)
+            }
+            Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
+            Method::Nvidia => nvidia(self.nvidia.bias, self.nvidia.scale, self.nvidia.power, cos_theta),
+            Method::Lut => return None,
+        })
+    }
+
+    /// The f32 uniforms of a shader for this channel.
+    pub fn shader_params(&self) -> ShaderParams {
+        ShaderParams {
+            n: self.index.n as f32,
+            k: self.index.k as f32,
+            f0: self.f0 as f32,
+            compensation_weight: self.compensation.weight as f32,
+            compensation_lambda: self.compensation.lambda as f32,
+            lazanyi_a: self.lazanyi_a as f32,
+            nvidia_bias: self.nvidia.bias as f32,
+            nvidia_scale: self.nvidia.scale as f32,
+            nvidia_power: self.nvidia.power as f32,
+        }
+    }
+}
+
+/// The per-channel f32 parameters a shader receives (computed in f64 on the CPU, then
+/// rounded once). A compensated fallback is encoded as weight 0 (no correction term).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaderParams {
+    pub n: f32,
+    pub k: f32,
+    pub f0: f32,
+    pub compensation_weight: f32,
+    pub compensation_lambda: f32,
+    pub lazanyi_a: f32,
+    pub nvidia_bias: f32,
+    pub nvidia_scale: f32,
+    pub nvidia_power: f32,
+}
+
+impl ShaderParams {
+    /// F of an analytic method at cosθ in shader arithmetic; `None` for [`Method::Lut`].
+    #[inline]
+    pub fn analytic(&self, method: Method, cos_theta: f32) -> Option<f32> {
+        Some(match method {
+            Method::Exact => exact_f32(self.n, self.k, cos_theta),
+            Method::Schlick => schlick_f32(self.f0, cos_theta),
+            Method::SchlickNk => schlick_nk_f32(self.n, self.k, cos_theta),
+            Method::SchlickCompensated => {
+                schlick_compensated_f32(self.n, self.k, self.compensation_weight, self.compensation_lambda, cos_theta)
+            }
+            Method::Lazanyi => lazanyi_f32(self.f0, self.lazanyi_a, cos_theta),
+            Method::Nvidia => nvidia_f32(self.nvidia_bias, self.nvidia_scale, self.nvidia_power, cos_theta),
+            Method::Lut => return None,
+        })
+    }
+}
+
+/// One method ready to evaluate for one channel: the prepared parameters plus, for
+/// `lut`, the texture baked from `exact` with the given [`LutSpec`].
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub method: Method,
+    pub prepared: Prepared,
+    pub shader: ShaderParams,
+    pub lut: Option<Lut>,
+}
+
+impl Model {
+    /// `lut` is used only when `method` is [`Method::Lut`].
+    pub fn new(index: Index, method: Method, lut: LutSpec) -> Self {
+        Self::from_prepared(Prepared::new(index), method, lut)
+    }
+
+    pub fn from_prepared(prepared: Prepared, method: Method, lut: LutSpec) -> Self {
+        let lut = (method == Method::Lut).then(|| Lut::bake(lut, |c| prepared.exact.reflectance(c)));
+        Self { method, shader: prepared.shader_params(), prepared, lut }
+    }
+
+    /// F in f64.
+    #[inline]
+    pub fn reflectance(&self, cos_theta: f64) -> f64 {
+        match &self.lut {
+            Some(lut) => lut.sample(cos_theta),
+            None => self.prepared.analytic(self.method, cos_theta).unwrap_or(0.0),
+        }
+    }
+
+    /// F in shader f32 arithmetic.
+    #[inline]
+    pub fn reflectance_f32(&self, cos_theta: f32) -> f32 {
+        match &self.lut {
+            Some(lut) => lut.sample_f32(cos_theta),
+            None => self.shader.analytic(self.method, cos_theta).unwrap_or(0.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,553 @@
+//! `nklut validate`: the function error of every Fresnel method (SPEC §6) per material,
+//! method, variant and channel, and what accuracy costs (texture bytes, CPU ns per
+//! evaluation).
+//!
+//! Figures, per row (one material × method × variant × precision × channel):
+//! - `mean_rel_error`: mean over θ uniform in [0°, 90°] (not uniform in cosθ) of
+//!   |F_m − F_exact|/F_exact, a fraction. Points with F_exact = 0 (only n = 1, k = 0)
+//!   are excluded and counted in `excluded_samples`; when every point is excluded the
+//!   cell is empty.
+//! - `max_abs_error`: sup over [0°, 90°] of |F_m − F_exact|; `rms_abs_error`: RMS of the
+//!   same over θ.
+//! - `evaluations`, `seconds`: points evaluated (each: exact, the method in f64 and in
+//!   f32) and time taken, shared by the f64 and f32 rows of the same integration.
+//!
+//! The default (fast) path is adaptive quadrature (see [`quadrature`]); `--brute` takes
+//! the 10⁶ θ-midpoint mean of SPEC §6. The f64 figures of both agree to better than
+//! 1e-4 relative (tested on real pages). The f32 rows (the shader twin of each method
+//! against f64 exact) carry f32 rounding noise, which a quadrature can only sample:
+//! where that noise dominates (`exact` in f32, `lut` with f32 texels) the fast figure is
+//! a quadrature-weighted sample mean, not a 4-digit integral (docs/precision.md).
+
+pub mod quadrature;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use rayon::prelude::*;
+
+use crate::cli::{ChannelArgs, PageSelection};
+use crate::db::Database;
+use crate::fresnel::{CompensationFallback, LutSpec, Method, Model, Precision, Prepared};
+use crate::ingest;
+use crate::output::Table;
+use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
+
+use quadrature::{Integral, Sample, Tolerance, BRUTE_FORCE_SAMPLES};
+
+/// How the integrals are computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategy {
+    /// Adaptive Gauss–Kronrod with breakpoints (the default).
+    Fast,
+    /// θ-midpoint brute force with this many samples (SPEC §6: 10⁶).
+    Brute(usize),
+}
+
+impl Strategy {
+    pub fn name(self) -> &'static str {
+        match self {
+            Strategy::Fast => "adaptive",
+            Strategy::Brute(_) => "brute-force",
+        }
+    }
+}
+
+/// A method with its texture parameters: `lut` comes in one variant per [`LutSpec`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Variant {
+    pub method: Method,
+    pub lut: Option<LutSpec>,
+}
+
+impl Variant {
+    /// The `variant` column: "f64" / "f32" for analytic methods,
+    /// "N=256,unorm8,f64" for `lut`.
+    pub fn name(&self, precision: Precision) -> String {
+        match self.lut {
+            Some(spec) => format!("{},{}", spec.name(), precision.name()),
+            None => precision.name().to_string(),
+        }
+    }
+
+    pub fn texture_bytes(&self) -> usize {
+        self.lut.map_or(0, |spec| spec.texture_bytes())
+    }
+
+    /// Every variant of the given methods; `lut` expands to the sweep
+    /// [`crate::fresnel::LUT_SIZES`] × [`Encoding::ALL`].
+    pub fn expand(methods: &[Method]) -> Vec<Variant> {
+        let mut variants = Vec::new();
+        for &method in methods {
+            if method == Method::Lut {
+                variants.extend(LutSpec::sweep().into_iter().map(|spec| Variant { method, lut: Some(spec) }));
+            } else {
+                variants.push(Variant { method, lut: None });
+            }
+        }
+        variants
+    }
+}
+
+/// What to measure: a material's channel indices and the page ids that share them.
+#[derive(Clone, Debug)]
+pub struct Target {
+    pub pages: Vec<String>,
+    pub kind: String,
+    pub channels: ChannelIndex,
+}
+
+/// One integration: a target × variant × channel, both precisions.
+#[derive(Clone, Debug)]
+pub struct Measurement {
+    pub target: usize,
+    pub variant: Variant,
+    pub channel: usize,
+    pub index: Index,
+    pub integral: Integral,
+    pub seconds: f64,
+    pub fallback: Option<CompensationFallback>,
+    pub lambda: Option<f64>,
+}
+
+/// Interior breakpoints (θ, radians) of the error integrand of `model`: where it has
+/// kinks or changes on a scale much finer than [0, π/2].
+pub fn breakpoints(model: &Model) -> Vec<f64> {
+    let Index { n, k } = model.prepared.index;
+    let mut cosines = Vec::new();
+    // Critical angle of n < 1 (a kink for k = 0, a steep knee for small k).
+    if n < 1.0 {
+        cosines.push((1.0 - n * n).sqrt());
+    }
+    // Scales of exact near grazing: 1/|η| (metals' dip) and √|η² − 1| (gases' rise).
+    let modulus = n.hypot(k);
+    let rise = ((n - 1.0) * (n + 1.0) - k * k).abs().hypot(2.0 * n * k).sqrt();
+    for scale in [1.0 / modulus, rise] {
+        cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0].map(|j| j * scale));
+    }
+    match model.method {
+        Method::SchlickCompensated if model.prepared.compensation.fallback.is_none() => {
+            let lambda = model.prepared.compensation.lambda;
+            cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0].map(|j| j / lambda));
+        }
+        Method::Nvidia => {
+            let fit = model.prepared.nvidia;
+            cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0].map(|j| j / fit.power));
+            for level in [0.0, 1.0] {
+                let m = ((level - fit.bias) / fit.scale).powf(1.0 / fit.power);
+                cosines.push(1.0 - m);
+            }
+        }
+        Method::Lut => {
+            if let Some(lut) = &model.lut {
+                let count = lut.texels.len();
+                cosines.extend((0..count).map(|i| crate::fresnel::lut_texel_cos(i, count)));
+            }
+        }
+        _ => {}
+    }
+    cosines.into_iter().filter(|c| c.is_finite() && *c > 0.0 && *c < 1.0).map(f64::acos).collect()
+}
+
+/// The sample function of the integrals for `model`.
+fn sampler(model: &Model) -> impl Fn(f64) -> Sample + Sync + '_ {
+    move |theta: f64| {
+        let c = theta.cos();
+        let exact = model.prepared.exact.reflectance(c);
+        let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
+        let approx32 = model.reflectance_f32(c as f32) as f64;
+        Sample { exact, approx: [approx64, approx32] }
+    }
+}
+
+/// Measure one model.
+pub fn measure(model: &Model, strategy: Strategy) -> Integral {
+    let f = sampler(model);
+    match strategy {
+        Strategy::Fast => quadrature::adaptive(&f, &breakpoints(model), Tolerance::default()),
+        Strategy::Brute(samples) => quadrature::brute_force(&f, samples),
+    }
+}
+
+/// Measure every target × variant × channel, in parallel.
+pub fn measure_all(targets: &[Target], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
+    let prepared: Vec<[Prepared; 3]> = targets.par_iter().map(|t| t.channels.map(Prepared::new)).collect();
+    let jobs: Vec<(usize, usize, usize)> = (0..targets.len())
+        .flat_map(|t| (0..variants.len()).flat_map(move |v| (0..3).map(move |c| (t, v, c))))
+        .collect();
+    let bar = crate::progress::bar(jobs.len(), "validate");
+    let measurements = jobs
+        .par_iter()
+        .map(|&(target, v, channel)| {
+            let variant = variants[v];
+            let start = Instant::now();
+            let p = prepared[target][channel];
+            let model = Model::from_prepared(p, variant.method, variant.lut.unwrap_or_default());
+            let integral = measure(&model, strategy);
+            bar.inc(1);
+            let compensated = variant.method == Method::SchlickCompensated;
+            Measurement {
+                target,
+                variant,
+                channel,
+                index: p.index,
+                integral,
+                seconds: start.elapsed().as_secs_f64(),
+                fallback: if compensated { p.compensation.fallback } else { None },
+                lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
+            }
+        })
+        .collect();
+    bar.finish_and_clear();
+    measurements
+}
+
+/// `errors.*`: one row per page × method × variant × precision × channel.
+pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: &Channels, strategy: Strategy) -> Table {
+    struct Row<'a> {
+        page: &'a str,
+        m: &'a Measurement,
+        precision: Precision,
+    }
+    let rows: Vec<Row> = measurements
+        .iter()
+        .flat_map(|m| targets[m.target].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| Row { page, m, precision })))
+        .collect();
+    let nm = channels.nanometres();
+    let p = |r: &Row| if r.precision == Precision::F64 { 0 } else { 1 };
+    let mut table = Table::new();
+    table
+        .text("page", "page id shelf/book/page (or nk:... for --nk)", rows.iter().map(|r| r.page.to_string()).collect())
+        .text("kind", "conductor or dielectric (materials.csv); 'given' for --nk", rows.iter().map(|r| targets[r.m.target].kind.clone()).collect())
+        .text("method", "Fresnel method (SPEC §5)", rows.iter().map(|r| r.m.variant.method.name().to_string()).collect())
+        .text(
+            "variant",
+            "precision (f64 CPU, f32 shader arithmetic); for lut 'N=<texels>,<encoding>,<precision>'",
+            rows.iter().map(|r| r.m.variant.name(r.precision)).collect(),
+        )
+        .text("precision", "f64 or f32 (shader twin), both against f64 exact", rows.iter().map(|r| r.precision.name().to_string()).collect())
+        .optional_float("texels", "lut texel count N; empty for analytic methods", rows.iter().map(|r| r.m.variant.lut.map(|s| s.texels as f64)).collect())
+        .text("encoding", "lut texel encoding; empty for analytic methods", rows.iter().map(|r| r.m.variant.lut.map_or(String::new(), |s| s.encoding.name().into())).collect())
+        .integer("texture_bytes", "bytes of the RGB texture: N x 3 x bytes per channel; 0 for analytic", rows.iter().map(|r| r.m.variant.texture_bytes() as i64).collect())
+        .text("channel", "red, green or blue", rows.iter().map(|r| CHANNEL_NAMES[r.m.channel].to_string()).collect())
+        .float("wavelength_nm", "channel wavelength (nm)", rows.iter().map(|r| nm[r.m.channel]).collect())
+        .float("n", "refractive index of the channel", rows.iter().map(|r| r.m.index.n).collect())
+        .float("k", "extinction coefficient of the channel", rows.iter().map(|r| r.m.index.k).collect())
+        .optional_float(
+            "mean_rel_error",
+            "mean over theta uniform in [0,90] deg of |F_m - F_exact|/F_exact (fraction); samples with F_exact = 0 excluded; empty if all are",
+            rows.iter().map(|r| r.m.integral.figures[p(r)].mean_rel_error).collect(),
+        )
+        .float("max_abs_error", "max over theta of |F_m - F_exact|", rows.iter().map(|r| r.m.integral.figures[p(r)].max_abs_error).collect())
+        .float("rms_abs_error", "RMS over theta of F_m - F_exact", rows.iter().map(|r| r.m.integral.figures[p(r)].rms_abs_error).collect())
+        .integer(
+            "excluded_samples",
+            "evaluation points with F_exact = 0, left out of mean_rel_error (only n = 1, k = 0)",
+            rows.iter().map(|r| r.m.integral.excluded_samples as i64).collect(),
+        )
+        .integer("evaluations", "points evaluated (exact + method f64 + f32 each), shared by the f64/f32 rows", rows.iter().map(|r| r.m.integral.evaluations as i64).collect())
+        .float("seconds", "wall time of the integration (shared by the f64/f32 rows)", rows.iter().map(|r| r.m.seconds).collect())
+        .text(
+            "fallback",
+            "schlick_compensated without a real lambda: wrong-sign / no-decay / negligible (then = schlick_nk); empty otherwise",
+            rows.iter().map(|r| r.m.fallback.map_or(String::new(), |f| f.name().into())).collect(),
+        )
+        .optional_float("lambda", "schlick_compensated exponent lambda; empty otherwise or on fallback", rows.iter().map(|r| r.m.lambda).collect())
+        .text("strategy", "adaptive (quadrature) or brute-force (10^6 theta midpoints)", rows.iter().map(|_| strategy.name().to_string()).collect());
+    table
+}
+
+/// Measured CPU cost of one evaluation (ns), from `cargo bench --bench fresnel` (criterion,
+/// batch of 10⁶ cosines, one core; see BENCHMARKS-fresnel.md and benchmarks/cpu_cost.csv).
+/// `lut` is the same for every N and encoding on the CPU.
+pub const CPU_COST_NS: [(Method, Precision, f64); 14] = [
+    (Method::Exact, Precision::F64, f64::NAN),
+    (Method::Exact, Precision::F32, f64::NAN),
+    (Method::Schlick, Precision::F64, f64::NAN),
+    (Method::Schlick, Precision::F32, f64::NAN),
+    (Method::SchlickNk, Precision::F64, f64::NAN),
+    (Method::SchlickNk, Precision::F32, f64::NAN),
+    (Method::SchlickCompensated, Precision::F64, f64::NAN),
+    (Method::SchlickCompensated, Precision::F32, f64::NAN),
+    (Method::Lazanyi, Precision::F64, f64::NAN),
+    (Method::Lazanyi, Precision::F32, f64::NAN),
+    (Method::Nvidia, Precision::F64, f64::NAN),
+    (Method::Nvidia, Precision::F32, f64::NAN),
+    (Method::Lut, Precision::F64, f64::NAN),
+    (Method::Lut, Precision::F32, f64::NAN),
+];
+
+pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {
+    CPU_COST_NS.iter().find(|(m, p, _)| *m == method && *p == precision).map(|e| e.2).filter(|v| v.is_finite())
+}
+
+/// Material figure (SPEC §6): mean over the three channels of `mean_rel_error`, per
+/// target, variant and precision; `None` where a channel has none.
+pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, usize, usize), Option<f64>> {
+    let mut per: BTreeMap<(Variant, usize, usize), Vec<Option<f64>>> = BTreeMap::new();
+    for m in measurements {
+        for p in 0..2 {
+            per.entry((m.variant, p, m.target)).or_default().push(m.integral.figures[p].mean_rel_error);
+        }
+    }
+    per.into_iter()
+        .map(|(key, values)| {
+            let all: Option<Vec<f64>> = values.into_iter().collect();
+            (key, all.map(|v| v.iter().sum::<f64>() / v.len() as f64))
+        })
+        .collect()
+}
+
+/// Summary per variant and precision: (mean, median, max) over materials of the material
+/// figure, and how many materials had one.
+pub fn summary(measurements: &[Measurement]) -> BTreeMap<(Variant, usize), (f64, f64, f64, usize)> {
+    let mut per: BTreeMap<(Variant, usize), Vec<f64>> = BTreeMap::new();
+    for ((variant, p, _), value) in material_errors(measurements) {
+        if let Some(v) = value {
+            per.entry((variant, p)).or_default().push(v);
+        }
+    }
+    per.into_iter()
+        .map(|(key, mut v)| {
+            v.sort_by(f64::total_cmp);
+            let mean = v.iter().sum::<f64>() / v.len().max(1) as f64;
+            let median = v.get(v.len() / 2).copied().unwrap_or(f64::NAN);
+            (key, (mean, median, v.last().copied().unwrap_or(f64::NAN), v.len()))
+        })
+        .collect()
+}
+
+/// `cost.*`: what accuracy costs, one row per method × variant × precision.
+pub fn cost_table(measurements: &[Measurement]) -> Table {
+    let rows: Vec<((Variant, usize), (f64, f64, f64, usize))> = summary(measurements).into_iter().collect();
+    let precision = |p: usize| Precision::ALL[p];
+    let mut table = Table::new();
+    table
+        .text("method", "Fresnel method", rows.iter().map(|((v, _), _)| v.method.name().to_string()).collect())
+        .text("variant", "as in errors.csv", rows.iter().map(|((v, p), _)| v.name(precision(*p))).collect())
+        .optional_float(
+            "ns_per_eval",
+            "CPU ns per evaluation (criterion, 10^6 cosines, one core; empty if not benchmarked)",
+            rows.iter().map(|((v, p), _)| cpu_cost_ns(v.method, precision(*p))).collect(),
+        )
+        .integer("texture_bytes", "RGB texture bytes per material (lut), 0 otherwise", rows.iter().map(|((v, _), _)| v.texture_bytes() as i64).collect())
+        .float("mean_rel_error", "mean over materials of the material figure (mean of 3 channels)", rows.iter().map(|(_, s)| s.0).collect())
+        .float("median_rel_error", "median over materials of the material figure", rows.iter().map(|(_, s)| s.1).collect())
+        .float("max_rel_error", "largest material figure", rows.iter().map(|(_, s)| s.2).collect())
+        .integer("materials", "materials with a figure", rows.iter().map(|(_, s)| s.3 as i64).collect());
+    table
+}
+
+/// Parse `--nk "n,k;n,k;n,k"` (red;green;blue).
+pub fn parse_nk(text: &str) -> Result<ChannelIndex, String> {
+    let channels: Vec<Index> = text
+        .split(';')
+        .map(|pair| {
+            let values: Vec<f64> = pair.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
+            match values.as_slice() {
+                &[n, k] if n.is_finite() && k.is_finite() && n > 0.0 && k >= 0.0 => Ok(Index::new(n, k)),
+                _ => Err(format!("{pair:?}: expected n,k with n > 0 and k >= 0")),
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    channels.try_into().map_err(|_| "expected three n,k pairs red;green;blue, e.g. 0.23,3.94;0.57,2.18;1.39,1.72".to_string())
+}
+
+fn parse_method(text: &str) -> Result<Method, String> {
+    Method::from_name(text).ok_or_else(|| {
+        format!("unknown method {text:?}; one of {}", Method::ALL.map(Method::name).join(", "))
+    })
+}
+
+/// Arguments of `nklut validate`.
+#[derive(clap::Args, Clone, Debug)]
+pub struct ValidateArgs {
+    #[command(flatten)]
+    pub pages: PageSelection,
+    #[command(flatten)]
+    pub channels: ChannelArgs,
+    /// Explicit channel indices instead of pages: "n,k;n,k;n,k" (red;green;blue).
+    #[arg(long, value_name = "R;G;B", value_parser = parse_nk, allow_hyphen_values = true)]
+    pub nk: Option<ChannelIndex>,
+    /// A method to measure (repeatable; default: all). lut sweeps N x encodings.
+    #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
+    pub methods: Vec<Method>,
+    /// Use the 10^6-sample brute force instead of adaptive quadrature.
+    #[arg(long)]
+    pub brute: bool,
+}
+
+/// Targets from the kept pages of an ingest: one per data file (pages that share one are
+/// measured once and reported under each id).
+pub fn targets_from_ingest(result: &ingest::Ingest) -> Vec<Target> {
+    let mut targets: Vec<Target> = Vec::new();
+    let mut seen: Vec<(*const crate::spectrum::Material, usize)> = Vec::new();
+    for page in &result.kept {
+        let key = Arc::as_ptr(&page.material);
+        match seen.iter().find(|(p, _)| *p == key) {
+            Some(&(_, i)) => targets[i].pages.push(page.id()),
+            None => {
+                seen.push((key, targets.len()));
+                targets.push(Target { pages: vec![page.id()], kind: page.material.kind.as_str().into(), channels: page.material.channels });
+            }
+        }
+    }
+    targets
+}
+
+/// `nklut validate`: measure, write `errors.{csv,parquet}` and `cost.{csv,parquet}` under
+/// `out`, print a summary. Returns the paths written.
+pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Vec<PathBuf>> {
+    let channels = args.channels.channels;
+    let targets = match (&args.nk, db) {
+        (Some(indices), _) => {
+            let label = indices.iter().map(|i| format!("{},{}", i.n, i.k)).collect::<Vec<_>>().join(";");
+            vec![Target { pages: vec![format!("nk:{label}")], kind: "given".into(), channels: *indices }]
+        }
+        (None, Some(db)) => targets_from_ingest(&ingest::ingest(db, &args.pages.selection(), &channels)?),
+        (None, None) => bail!("no database: give --db DIR or --nk"),
+    };
+    if targets.is_empty() {
+        bail!("no kept pages selected");
+    }
+    let methods = if args.methods.is_empty() { Method::ALL.to_vec() } else { args.methods.clone() };
+    let variants = Variant::expand(&methods);
+    let strategy = if args.brute { Strategy::Brute(BRUTE_FORCE_SAMPLES) } else { Strategy::Fast };
+    let start = Instant::now();
+    let measurements = measure_all(&targets, &variants, strategy);
+    let seconds = start.elapsed().as_secs_f64();
+    let mut written = errors_table(&targets, &measurements, &channels, strategy).write(out, "errors", false)?;
+    written.extend(cost_table(&measurements).write(out, "cost", false)?);
+    print_summary(&targets, &measurements, strategy, seconds);
+    Ok(written)
+}
+
+fn print_summary(targets: &[Target], measurements: &[Measurement], strategy: Strategy, seconds: f64) {
+    let evaluations: u64 = measurements.iter().map(|m| m.integral.evaluations).sum();
+    println!(
+        "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s",
+        targets.len(),
+        targets.iter().map(|t| t.pages.len()).sum::<usize>(),
+        measurements.len(),
+        evaluations,
+        strategy = strategy.name(),
+    );
+    println!("{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes");
+    for ((variant, p), (mean, median, max, _)) in summary(measurements) {
+        // The lut sweep prints its f64 rows at N = 256 and 1024 only; errors.csv has all.
+        if variant.lut.is_some_and(|s| p == 1 || !(s.texels == 256 || s.texels == 1024)) {
+            continue;
+        }
+        println!(
+            "{:<20} {:<24} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
+            variant.method.name(),
+            variant.name(Precision::ALL[p]),
+            mean,
+            median,
+            max,
+            variant.texture_bytes()
+        );
+    }
+    let fallbacks = measurements.iter().filter(|m| m.fallback.is_some()).count();
+    let compensated = measurements.iter().filter(|m| m.variant.method == Method::SchlickCompensated).count();
+    if compensated > 0 {
+        let by_reason = |reason| measurements.iter().filter(|m| m.fallback == Some(reason)).count();
+        println!(
+            "schlick_compensated: {fallbacks} of {compensated} material channels have no real lambda (wrong-sign {}, no-decay {}, negligible {}) and use schlick_nk",
+            by_reason(CompensationFallback::WrongSign),
+            by_reason(CompensationFallback::NoDecay),
+            by_reason(CompensationFallback::Negligible)
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 20 real pages: metals (gold, platinum, silver, aluminium, copper, sodium, mercury),
+    /// dielectrics (water, diamond, glasses, silicon, a liquid, silk) and gases.
+    const PAGES: [&str; 20] = [
+        "3d/metals/gold",
+        "3d/metals/platinum",
+        "main/H2O/Hale",
+        "main/C/Phillip",
+        "other/air/Ciddor",
+        "main/H2/Peck",
+        "main/CO2/Bideau-Mehu",
+        "main/Ag/Johnson",
+        "main/Al/Rakic",
+        "main/Cu/Johnson",
+        "main/Au/Johnson",
+        "main/Si/Franta-350K",
+        "main/Na/Smith",
+        "3d/liquids/mercury",
+        "3d/glass/soda-lime-clear",
+        "specs/OHARA-optical/L-BAL35",
+        "specs/HOYA-optical/TAF2",
+        "specs/Cargille/acrylic_matching_liquid",
+        "main/Au/Hagemann-2",
+        "other/Bombyx_mori/Perotto-crystallized",
+    ];
+
+    /// The fast path agrees with the 10⁶-midpoint brute force of SPEC §6 to 1e-4
+    /// relative on the mean relative error (and the RMS), for every approximation and
+    /// one LUT variant per page (rotating through the sweep), one channel per page
+    /// (rotating), in f64. The maximum is a supremum on the fast path: never below the
+    /// brute force's midpoint maximum, and above it by at most |dF/dθ|·h/2.
+    #[test]
+    fn quadrature_agrees_with_brute_force_on_real_pages() {
+        let db = Database::open(None).expect("database at refractiveindex/database");
+        let selection = ingest::Selection { shelves: vec![], pages: PAGES.iter().map(|p| p.to_string()).collect() };
+        let result = ingest::ingest(&db, &selection, &Channels::default()).unwrap();
+        assert_eq!(result.kept.len(), PAGES.len(), "excluded: {:?}", result.excluded);
+        let sweep = LutSpec::sweep();
+        let jobs: Vec<(String, Model)> = result
+            .kept
+            .iter()
+            .enumerate()
+            .flat_map(|(i, page)| {
+                let prepared = Prepared::new(page.material.channels[i % 3]);
+                let spec = sweep[(7 * i) % sweep.len()];
+                // exact (error 0) and schlick_nk (= schlick) add nothing here.
+                [Method::Schlick, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut]
+                    .map(|method| (format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()), Model::from_prepared(prepared, method, spec)))
+            })
+            .collect();
+        let failures: Vec<String> = jobs
+            .par_iter()
+            .filter_map(|(label, model)| {
+                let fast = measure(model, Strategy::Fast).figures[0];
+                let brute = measure(model, Strategy::Brute(BRUTE_FORCE_SAMPLES)).figures[0];
+                let relative = |a: f64, b: f64| if b == 0.0 { a.abs() } else { (a / b - 1.0).abs() };
+                let mean = relative(fast.mean_rel_error.unwrap(), brute.mean_rel_error.unwrap());
+                let rms = relative(fast.rms_abs_error, brute.rms_abs_error);
+                let max_ok = fast.max_abs_error >= brute.max_abs_error * (1.0 - 1e-9)
+                    && fast.max_abs_error <= brute.max_abs_error * (1.0 + 5e-3) + 1e-12;
+                (mean > 1e-4 || rms > 1e-4 || !max_ok).then(|| format!("{label}: fast {fast:?} brute {brute:?}"))
+            })
+            .collect();
+        assert!(failures.is_empty(), "{} of {} disagree:\n{}", failures.len(), jobs.len(), failures.join("\n"));
+    }
+
+    #[test]
+    fn nk_argument_parses_and_rejects() {
+        let parsed = parse_nk("0.23,3.94;0.57,2.18;1.39,1.72").unwrap();
+        assert_eq!(parsed[1], Index::new(0.57, 2.18));
+        assert!(parse_nk("0.23,3.94;0.57,2.18").is_err());
+        assert!(parse_nk("0.23,3.94;0.57,x;1,1").is_err());
+        assert!(parse_nk("-1,0;1,0;1,0").is_err());
+    }
+
+    #[test]
+    fn vacuum_is_excluded_and_reported() {
+        let model = Model::new(Index::new(1.0, 0.0), Method::Schlick, LutSpec::default());
+        let integral = measure(&model, Strategy::Fast);
+        assert_eq!(integral.figures[0].mean_rel_error, None);
+        assert_eq!(integral.excluded_samples, integral.evaluations);
+        assert!((integral.figures[0].max_abs_error - 1.0).abs() < 1e-12); // schlick reaches 1 at grazing
+    }
+}
