@@ -111,6 +111,8 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
             .configure_mesh()
             .x_desc(cost_label)
             .y_desc("mean relative error")
+            .x_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style(("sans-serif", 11))
             .draw()
             .map_err(plot_error)?;

@@ -1,19 +1,33 @@
-//! The per-material Fresnel curves of the report, computed from the channel indices.
+//! The per-material Fresnel curves of the report, computed from the channel indices with
+//! the same `fresnel::Model` the validator measures.
 
 use super::charts::{Series, PALETTE};
-use crate::fresnel;
+use crate::fresnel::{Encoding, LutSpec, Method, Model};
 use crate::spectrum::ChannelIndex;
 
-/// θ grid of the plots: 0°, 1°, …, 90°.
+/// θ grid of the plots: `points` angles from 0° to 90°.
 pub fn theta_grid(points: usize) -> Vec<f64> {
     (0..points).map(|i| 90.0 * i as f64 / (points - 1) as f64).collect()
 }
 
-/// Exact curves per channel for the given indices; the first series is always `exact`.
+/// The LUT drawn in the plots: the default bake (256 texels, 8-bit sRGB-encoded).
+pub const PLOTTED_LUT: LutSpec = LutSpec::new(256, Encoding::Unorm8Srgb);
+
+/// Curves per channel of every method for the given indices; the first is `exact`.
+/// `schlick_nk` equals `schlick` (SPEC §5.3) and is not drawn twice.
 pub fn method_curves(index: &ChannelIndex, points: usize) -> Vec<Series> {
     let cosines: Vec<f64> = theta_grid(points).iter().map(|t| t.to_radians().cos()).collect();
-    let channel = |f: &dyn Fn(f64, f64, f64) -> f64| -> [Vec<f64>; 3] {
-        [0, 1, 2].map(|c| cosines.iter().map(|&cos| f(index[c].n, index[c].k, cos)).collect())
-    };
-    vec![Series { name: "exact".into(), color: PALETTE[0], dashed: false, values: channel(&fresnel::exact) }]
+    Method::ALL
+        .iter()
+        .filter(|m| **m != Method::SchlickNk)
+        .enumerate()
+        .map(|(i, &method)| {
+            let values = [0, 1, 2].map(|c| {
+                let model = Model::new(index[c], method, PLOTTED_LUT);
+                cosines.iter().map(|&cos| model.reflectance(cos)).collect()
+            });
+            let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
+            Series { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, values }
+        })
+        .collect()
 }

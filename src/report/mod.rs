@@ -140,52 +140,97 @@ fn overview(b: &mut Builder, inputs: &Inputs) {
     b.markdown.push_str("The full exclusion list, with file and line: [excluded.csv](../excluded.csv).\n\n");
 }
 
-/// Mean over materials of each (method, variant) from `cost.csv`, with the Pareto front.
+/// One row of `cost.csv`.
+struct CostRow {
+    method: String,
+    variant: String,
+    ns_per_eval: f64,
+    texture_bytes: f64,
+    mean: f64,
+    median: f64,
+}
+
+fn cost_rows(cost: &CsvTable) -> Vec<CostRow> {
+    cost.rows
+        .iter()
+        .map(|r| CostRow {
+            method: cost.text(r, "method").to_string(),
+            variant: cost.text(r, "variant").to_string(),
+            ns_per_eval: cost.number(r, "ns_per_eval").unwrap_or(f64::NAN),
+            texture_bytes: cost.number(r, "texture_bytes").unwrap_or(0.0),
+            mean: cost.number(r, "mean_rel_error").unwrap_or(f64::NAN),
+            median: cost.number(r, "median_rel_error").unwrap_or(f64::NAN),
+        })
+        .collect()
+}
+
+/// Pareto flags over (cost, error); points without a finite cost are never on the front.
+fn front(points: &[(f64, f64)]) -> Vec<bool> {
+    let finite: Vec<(f64, f64)> = points.iter().map(|&(c, e)| if c.is_finite() && e.is_finite() { (c, e) } else { (f64::INFINITY, f64::INFINITY) }).collect();
+    charts::pareto_front(&finite).into_iter().zip(points).map(|(on, p)| on && p.0.is_finite() && p.1.is_finite()).collect()
+}
+
+/// "What accuracy costs" (issue 6): analytic methods against CPU ns (and GPU ms when
+/// measured); LUTs against texture bytes. Errors are means over materials from cost.csv;
+/// medians beside them because a few near-zero-F materials (gases) dominate means.
 fn cost_section(b: &mut Builder, inputs: &Inputs) -> Result<()> {
     b.heading(2, "cost", "What accuracy costs");
     let Some(cost) = &inputs.cost else {
         b.paragraph("cost.csv is missing: run `nklut validate` to measure each method's error and cost.");
         return Ok(());
     };
+    let rows = cost_rows(cost);
     let gpu = gpu_medians(inputs);
-    let mut rows: Vec<(String, String, f64, f64, f64)> = cost
-        .rows
-        .iter()
-        .map(|r| {
-            (
-                cost.text(r, "method").to_string(),
-                cost.text(r, "variant").to_string(),
-                cost.number(r, "ns_per_eval").unwrap_or(f64::NAN),
-                cost.number(r, "texture_bytes").unwrap_or(0.0),
-                cost.number(r, "mean_rel_error").unwrap_or(f64::NAN),
-            )
-        })
-        .collect();
-    rows.sort_by(|a, b| a.4.total_cmp(&b.4));
-    let front = charts::pareto_front(&rows.iter().map(|r| (r.2, r.4)).collect::<Vec<_>>());
-    let mut table = TableText::new(&["method", "variant", "mean relative error", "CPU ns/eval", "texture bytes", "GPU ms (median)", "Pareto"]);
-    for (r, &on_front) in rows.iter().zip(&front) {
+    let methods: Vec<&CostRow> = rows.iter().filter(|r| r.method != "lut" || r.variant.starts_with("N=256,")).collect();
+    let flags = front(&methods.iter().map(|r| (r.ns_per_eval, r.mean)).collect::<Vec<_>>());
+    let mut table = TableText::new(&["method", "variant", "mean relative error", "median relative error", "CPU ns/eval", "GPU ms (median)", "Pareto (CPU)"]);
+    for (r, &on) in methods.iter().zip(&flags) {
         table.row(vec![
-            r.0.clone(),
-            r.1.clone(),
-            number(r.4),
-            number(r.2),
-            if r.3 > 0.0 { number(r.3) } else { "0".into() },
-            gpu.get(&r.0).map(|&ms| number(ms)).unwrap_or_else(|| "–".into()),
-            if on_front { "yes".into() } else { String::new() },
+            r.method.clone(),
+            r.variant.clone(),
+            number(r.mean),
+            number(r.median),
+            number(r.ns_per_eval),
+            gpu.get(&r.method).map(|&ms| number(ms)).unwrap_or_else(|| "–".into()),
+            if on { "yes".into() } else { String::new() },
         ]);
     }
-    let points: Vec<CostPoint> = rows
+    let points: Vec<CostPoint> = methods
         .iter()
-        .zip(&front)
-        .map(|(r, &pareto)| CostPoint { label: short_label(&r.0, &r.1), cost: r.2, error: r.4, pareto })
+        .zip(&flags)
+        .map(|(r, &pareto)| CostPoint { label: short_label(&r.method, &r.variant), cost: r.ns_per_eval, error: r.mean, pareto })
         .collect();
-    let svg = charts::cost_chart(&points, "CPU ns per evaluation", (900, 480))?;
-    b.figure(&svg, "Mean relative error over materials against CPU cost; the Pareto front is joined.");
+    if points.iter().any(|p| p.cost.is_finite()) {
+        b.figure(&charts::cost_chart(&points, "CPU ns per evaluation", (900, 460))?, "Mean relative error over materials against CPU cost per evaluation; the Pareto front is joined.");
+    } else {
+        b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and fill benchmarks/cpu_cost.csv).");
+    }
     b.table(&table, "cost");
     if gpu.is_empty() {
-        b.paragraph("GPU time: output/gpu_timing.csv is absent (run `make gpu` with the gpu feature).");
+        b.paragraph("GPU time: output/gpu_timing.csv is absent (run `make gpu`, which needs the gpu feature and a GPU).");
     }
+    lut_cost(b, &rows)
+}
+
+/// LUT size × encoding: error against texture bytes, Pareto front over bytes.
+fn lut_cost(b: &mut Builder, rows: &[CostRow]) -> Result<()> {
+    let luts: Vec<&CostRow> = rows.iter().filter(|r| r.method == "lut" && r.variant.ends_with(",f64")).collect();
+    if luts.is_empty() {
+        return Ok(());
+    }
+    b.heading(3, "lut-cost", "Lookup textures: error against texture size");
+    let flags = front(&luts.iter().map(|r| (r.texture_bytes, r.mean)).collect::<Vec<_>>());
+    let points: Vec<CostPoint> = luts
+        .iter()
+        .zip(&flags)
+        .map(|(r, &pareto)| CostPoint { label: r.variant.trim_end_matches(",f64").to_string(), cost: r.texture_bytes, error: r.mean, pareto })
+        .collect();
+    b.figure(&charts::cost_chart(&points, "texture bytes (N texels × 3 channels)", (900, 460))?, "LUT mean relative error over materials against texture bytes; the Pareto front is joined.");
+    let mut table = TableText::new(&["LUT (texels, encoding)", "texture bytes", "mean relative error", "median relative error", "Pareto (bytes)"]);
+    for (r, &on) in luts.iter().zip(&flags) {
+        table.row(vec![r.variant.trim_end_matches(",f64").to_string(), number(r.texture_bytes), number(r.mean), number(r.median), if on { "yes".into() } else { String::new() }]);
+    }
+    b.table(&table, "lut-cost");
     Ok(())
 }
 
@@ -240,7 +285,8 @@ fn summaries(b: &mut Builder, inputs: &Inputs) {
         }
         let mut table = TableText::new(&["method", "variant", "worst page", "mean relative error", "2nd", "3rd"]);
         for ((method, variant), mut pages) in by_method {
-            if method == "exact" {
+            // One line per method: f64 precision, LUTs at the default 256 texels.
+            if method == "exact" || variant.ends_with("f32") || (method == "lut" && !variant.starts_with("N=256,")) {
                 continue;
             }
             pages.sort_by(|a, b| b.1.total_cmp(&a.1));
