@@ -31,6 +31,8 @@ enum Command {
         #[arg(long)]
         strict: bool,
     },
+    /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
+    Bake(nklut::bake::BakeArgs),
     /// Print n and k of one page at the given wavelengths: one line "nm n k" each.
     Nk {
         /// Page id, e.g. main/Au/Johnson.
@@ -60,6 +62,10 @@ fn run(cli: Cli) -> Result<()> {
             if strict {
                 result.check_strict()?;
             }
+        }
+        Command::Bake(args) => {
+            let summary = nklut::bake::run(&db, &cli.paths.out, &args)?;
+            eprintln!("bake: {} rows, {} files, {} clamped texels -> {}", summary.rows, summary.files, summary.clamped_texels, summary.luts.display());
         }
         Command::Nk { page, nm } => {
             let (catalog, _) = db.catalog()?;
