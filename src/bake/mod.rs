@@ -456,3 +456,83 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     let luts = publish::publish(out, &files, before_write)?;
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Index;
+
+    fn plan(size: usize) -> Plan {
+        Plan { size, channels: Channels::default(), sources: vec![], encodings: vec![], layouts: vec![] }.normalise()
+    }
+
+    /// A glass row and a row above 1 (as the spectral source gives for gold's red).
+    fn rows(size: usize) -> Vec<Row> {
+        let glass = [Index::new(1.5, 0.0); 3];
+        let mut bright = exact_curve(&glass, size);
+        bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
+        vec![
+            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)] },
+            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright] },
+        ]
+    }
+
+    #[test]
+    fn every_file_decodes_to_the_curve_within_half_a_step() {
+        let (size, rows) = (16, rows(16));
+        let baked = bake(&rows, &plan(size)).unwrap();
+        assert_eq!(baked.files.len(), 5 * 3);
+        for file in &baked.files {
+            let encoding = Encoding::ALL.into_iter().find(|e| file.path.contains(&format!("/{}/", e.name()))).unwrap();
+            let decoded = files::decode(encoding, &file.bytes).unwrap();
+            let which: Vec<&Row> = if file.path.contains("atlas") { rows.iter().collect() } else { rows.iter().filter(|r| file.path.contains(&strip_stem(&r.page))).collect() };
+            assert_eq!((decoded.width, decoded.height), (size, which.len()), "{}", file.path);
+            let values = decoded.texels.decode(encoding);
+            for (r, row) in which.iter().enumerate() {
+                for i in 0..size {
+                    for c in 0..3 {
+                        let want = row.curves[0][c][i];
+                        let want = if encoding.is_float() { want } else { want.clamp(0.0, 1.0) };
+                        let got = values[3 * (r * size + i) + c];
+                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb { (texel::srgb_encode(got), texel::srgb_encode(want)) } else { (got, want) };
+                        assert!((got_s - want_s).abs() <= encoding.half_step(want_s) * (1.0 + 1e-9), "{} {r} {i} {c}: {got} vs {want}", file.path);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn clamps_are_counted_for_integers_only() {
+        let baked = bake(&rows(16), &plan(16)).unwrap();
+        for t in &baked.manifest.textures {
+            let want = if t.encoding.starts_with('f') { 0 } else { 3 };
+            assert_eq!((t.clamped_texels, t.rows[1].clamped_texels, t.rows[0].clamped_texels), (want, want, 0), "{}", t.encoding);
+        }
+    }
+
+    #[test]
+    fn strip_names_replace_slashes_and_escape_unsafe_characters() {
+        assert_eq!(strip_stem("3d/metals/gold"), "3d__metals__gold");
+        assert_eq!(strip_stem("main/Y/a:b%"), "main__Y__a%3Ab%25");
+        assert_eq!(strip_stem("other/C2ClF3_n - x/FDS90(P)"), "other__C2ClF3_n - x__FDS90(P)");
+    }
+
+    #[test]
+    fn bad_plans_and_rows_are_errors() {
+        for size in [0, MAX_SIZE + 1] {
+            let e = bake(&rows(4), &plan(size)).unwrap_err().to_string();
+            assert!(e.contains("--size"), "{e}");
+        }
+        let mut p = plan(4);
+        p.sources = vec![Source::Spectral];
+        assert!(bake(&rows(4), &p).unwrap_err().to_string().contains("not available"));
+        let mut bad = rows(4);
+        bad[0].curves[0][1][2] = f64::NAN;
+        assert!(bake(&bad, &plan(4)).unwrap_err().to_string().contains("non-finite"));
+        let mut twins = rows(4);
+        twins[1].page = twins[0].page.clone();
+        assert!(bake(&twins, &plan(4)).unwrap_err().to_string().contains("same strip file name"));
+        assert!(bake(&[], &plan(4)).is_err());
+    }
+}
