@@ -142,3 +142,13 @@ fn bad_arguments_fail_before_any_work() {
     assert_eq!(names, ["file"]);
     fs::remove_dir_all(&out).unwrap();
 }
+
+#[test]
+fn engine_notes_include_the_wgsl_snippet_verbatim() {
+    let docs = include_str!("../docs/engine-integration.md");
+    let wgsl = include_str!("../shaders/lut_sample.wgsl");
+    assert!(docs.contains(&format!("```wgsl\n{wgsl}```")), "docs/engine-integration.md must include shaders/lut_sample.wgsl verbatim");
+    for convention in ["u = cos_theta", "texel i centre = (i + 0.5) / N", "v = (row + 0.5) / rows"] {
+        assert!(docs.contains(convention), "{convention}");
+    }
+}
