@@ -148,7 +148,7 @@ fn engine_notes_include_the_wgsl_snippet_verbatim() {
     let docs = include_str!("../docs/engine-integration.md");
     let wgsl = include_str!("../shaders/lut_sample.wgsl");
     assert!(docs.contains(&format!("```wgsl\n{wgsl}```")), "docs/engine-integration.md must include shaders/lut_sample.wgsl verbatim");
-    for convention in ["u = cos_theta", "texel i centre = (i + 0.5) / N", "v = (row + 0.5) / rows"] {
+    for convention in ["u = cos_theta", "texel i centre = (i + 0.5)/N", "v = (row + 0.5)/rows"] {
         assert!(docs.contains(convention), "{convention}");
     }
 }
