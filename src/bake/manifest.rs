@@ -29,6 +29,9 @@ pub struct Manifest {
     pub encodings: Vec<EncodingInfo>,
     pub layouts: Vec<Described>,
     pub textures: Vec<TextureSet>,
+    /// Page ids the catalog lists more than once (same data); each is baked once, as the
+    /// first entry in catalog order.
+    pub duplicate_catalog_pages: Vec<String>,
     /// The tables next to `luts/` (written by `nklut ingest`), column by column.
     pub tables: Vec<TableDoc>,
 }
@@ -240,6 +243,9 @@ pub fn readme(manifest: &Manifest) -> String {
     }
     line(&format!("- N = {} texels per row.", manifest.size));
     line(&format!("- Rows (atlas) and strips: {}", manifest.row_order));
+    if !manifest.duplicate_catalog_pages.is_empty() {
+        line(&format!("- Listed twice in the catalog, baked once: {}", manifest.duplicate_catalog_pages.join(", ")));
+    }
     line("");
     line("## Channels");
     line("");

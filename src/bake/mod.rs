@@ -343,6 +343,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
         encodings: plan.encodings.iter().map(|&e| manifest::encoding_info(e)).collect(),
         layouts: plan.layouts.iter().map(|&l| manifest::layout_info(l)).collect(),
         textures,
+        duplicate_catalog_pages: Vec::new(),
         tables: Vec::new(),
     }
 }
@@ -402,9 +403,29 @@ fn check_named_pages_kept(ingest: &Ingest, named: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// The rows of the kept pages, curves computed per source.
-pub fn rows(kept: &[KeptPage], plan: &Plan) -> Result<Vec<Row>> {
-    kept.par_iter()
+/// The kept pages with each page id once (the catalog lists some pages twice, with the
+/// same data), in catalog order, and the ids that were listed more than once.
+pub fn unique_pages(kept: &[KeptPage]) -> (Vec<&KeptPage>, Vec<String>) {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut duplicates = std::collections::BTreeSet::new();
+    let unique = kept
+        .iter()
+        .filter(|p| {
+            let id = p.id();
+            let first = seen.insert(id.clone());
+            if !first {
+                duplicates.insert(id);
+            }
+            first
+        })
+        .collect();
+    (unique, duplicates.into_iter().collect())
+}
+
+/// The rows of `pages`, curves computed per source.
+pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Result<Vec<Row>> {
+    pages
+        .par_iter()
         .map(|page| {
             Ok(Row {
                 page: page.id(),
@@ -448,8 +469,10 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     publish::check_writable(out)?;
     let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
     check_named_pages_kept(&ingest, &args.pages.pages)?;
-    let rows = rows(&ingest.kept, &plan)?;
-    let baked = bake(&rows, &plan)?;
+    let (pages, duplicates) = unique_pages(&ingest.kept);
+    let rows = rows(&pages, &plan)?;
+    let mut baked = bake(&rows, &plan)?;
+    baked.manifest.duplicate_catalog_pages = duplicates;
     let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
     let mut files = baked.files;
     files.extend(documents(baked.manifest, &ingest, &plan.channels)?);
