@@ -152,3 +152,16 @@ fn engine_notes_include_the_wgsl_snippet_verbatim() {
         assert!(docs.contains(convention), "{convention}");
     }
 }
+
+#[test]
+fn a_page_the_catalog_lists_twice_is_baked_once() {
+    let out = scratch("twice");
+    let page = "specs/HIKARI-optical/Q-FK01S";
+    let mut one = args(&[page], 8);
+    one.encodings = vec![Encoding::Unorm8];
+    let summary = bake::run(&db(), &out, &one).unwrap();
+    assert_eq!(summary.rows, 1);
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["duplicate_catalog_pages"], serde_json::json!([page]));
+    fs::remove_dir_all(&out).unwrap();
+}
