@@ -221,8 +221,9 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
             ensure!(curve.len() == plan.size, "{}: curve of {} values for size {}", row.page, curve.len(), plan.size);
             ensure!(curve.iter().all(|v| v.is_finite()), "{}: curve has a non-finite value", row.page);
         }
-        if let Some(other) = stems.insert(strip_stem(&row.page), &row.page) {
-            bail!("pages {other:?} and {:?} map to the same strip file name", row.page);
+        // Unique ignoring case, so that the strips also survive case-insensitive file systems.
+        if let Some(other) = stems.insert(strip_stem(&row.page).to_lowercase(), &row.page) {
+            bail!("pages {other:?} and {:?} map to the same strip file name (ignoring case)", row.page);
         }
     }
     Ok(())
