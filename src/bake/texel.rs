@@ -228,12 +228,16 @@ pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
         return f64::NAN;
     }
     let x = cos_theta.clamp(0.0, 1.0) * n as f64 - 0.5;
-    let i = x.floor();
-    let f = x - i;
-    let last = (n - 1) as f64;
-    let lo = i.clamp(0.0, last) as usize;
-    let hi = (i + 1.0).clamp(0.0, last) as usize;
-    (1.0 - f) * texels[lo] + f * texels[hi]
+    if x <= 0.0 {
+        return texels[0]; // below the first centre: clamp-to-edge
+    }
+    // x > 0, so truncation is ⌊x⌋ (and avoids a libm floor call in the error loop).
+    let i = x as usize;
+    if i >= n - 1 {
+        return texels[n - 1]; // beyond the last centre
+    }
+    let f = x - i as f64;
+    (1.0 - f) * texels[i] + f * texels[i + 1]
 }
 
 #[cfg(test)]
@@ -271,5 +275,16 @@ mod tests {
         assert_eq!(sample_lut(&t, 0.0), 0.0);
         assert_eq!(sample_lut(&t, 1.0), 9.0);
         assert!((sample_lut(&t, 0.25) - 0.5).abs() < 1e-15); // halfway between centres 1/8 and 3/8
+        // The model as printed, with ⌊x⌋ and clamped indices.
+        let model = |c: f64| {
+            let x = c * 4.0 - 0.5;
+            let (i, f) = (x.floor(), x - x.floor());
+            let at = |j: f64| t[j.clamp(0.0, 3.0) as usize];
+            (1.0 - f) * at(i) + f * at(i + 1.0)
+        };
+        for k in 0..=1000 {
+            let c = k as f64 / 1000.0;
+            assert!((sample_lut(&t, c) - model(c)).abs() < 1e-12, "c = {c}");
+        }
     }
 }
