@@ -6,6 +6,11 @@ DB        := refractiveindex/database
 OUT       ?= output
 CARGO     ?= cargo
 NKLUT     := target/release/nklut
+# Bake settings of `make luts`: texels per row, and the sources (every encoding and both
+# layouts are baked by default).
+LUT_SIZE    ?= 256
+# TODO(merge): add `--source spectral` (and `--source effective`) once the color module is merged.
+LUT_SOURCES ?= --source three-channel
 # `make luts ALL=1` works on every kept page instead of the 3d shelf.
 ifeq ($(ALL),1)
 SELECT    := --all
@@ -35,6 +40,7 @@ $(NKLUT): build
 
 luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) ingest $(SELECT)
+	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
 
 test: db
 	$(CARGO) test

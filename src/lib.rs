@@ -7,6 +7,7 @@
 //! (methods) → `validate` (errors) → `bake` (textures, manifest) → `report`;
 //! `output` writes files atomically at the edge, `cli` holds shared arguments.
 
+pub mod bake;
 pub mod cli;
 pub mod db;
 pub mod fresnel;

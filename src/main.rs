@@ -39,6 +39,8 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
     },
+    /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
+    Bake(nklut::bake::BakeArgs),
     /// Print n and k of one page at the given wavelengths: one line "nm n k" each.
     Nk {
         /// Page id, e.g. main/Au/Johnson.
@@ -82,6 +84,10 @@ fn run(cli: Cli) -> Result<()> {
             for path in written {
                 eprintln!("  wrote {}", path.display());
             }
+        }
+        Command::Bake(args) => {
+            let summary = nklut::bake::run(&db, &cli.paths.out, &args)?;
+            eprintln!("bake: {} rows, {} files, {} clamped texels -> {}", summary.rows, summary.files, summary.clamped_texels, summary.luts.display());
         }
         Command::Nk { page, nm } => {
             let (catalog, _) = db.catalog()?;

@@ -1,0 +1,306 @@
+//! `luts/manifest.json` and `luts/README.md`: everything an engine needs to use the
+//! textures without this code (SPEC §7). Plain serde structs; `Vec`s only, so the JSON
+//! has a stable order, and no timestamps.
+
+use serde::Serialize;
+
+use crate::db::Reason;
+use crate::output::Table;
+use crate::spectrum::{Channels, CHANNEL_NAMES};
+
+use super::accuracy::LutError;
+use super::texel::Encoding;
+use super::{Layout, Source};
+
+/// Bumped when a field changes meaning or disappears.
+pub const FORMAT_VERSION: u32 = 1;
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Manifest {
+    pub format_version: u32,
+    pub generator: String,
+    /// N, texels per row (the texture width).
+    pub size: usize,
+    pub sampling: Sampling,
+    pub channels: Vec<ChannelInfo>,
+    pub row_order: String,
+    pub error: ErrorDefinition,
+    pub sources: Vec<Described>,
+    pub encodings: Vec<EncodingInfo>,
+    pub layouts: Vec<Described>,
+    pub textures: Vec<TextureSet>,
+    /// Page ids the catalog lists more than once (same data); each is baked once, as the
+    /// first entry in catalog order.
+    pub duplicate_catalog_pages: Vec<String>,
+    /// The tables next to `luts/` (written by `nklut ingest`), column by column.
+    pub tables: Vec<TableDoc>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Sampling {
+    pub convention: String,
+    pub u: String,
+    pub texel_centre: String,
+    pub atlas_v: String,
+    pub filter: String,
+    pub address_mode: String,
+    pub mipmaps: String,
+    pub image_origin: String,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ChannelInfo {
+    pub channel: String,
+    pub image_channel: String,
+    pub wavelength_nm: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ErrorDefinition {
+    pub definition: String,
+    pub samples: usize,
+    pub quadrature: String,
+    pub error_vs_exact: String,
+    pub error_vs_spectral: String,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Described {
+    pub name: String,
+    pub description: String,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct EncodingInfo {
+    pub name: String,
+    pub file_format: String,
+    pub bits_per_channel: u32,
+    pub color_space: String,
+    pub decode: String,
+    pub out_of_range: String,
+    pub gpu_formats: String,
+}
+
+/// One source × encoding: its files and the per-row figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct TextureSet {
+    pub source: String,
+    pub encoding: String,
+    pub color_space: String,
+    /// Texels clamped to [0, 1] over the whole set (0 for float encodings).
+    pub clamped_texels: usize,
+    pub atlas: Option<ImageFile>,
+    pub strips: Option<StripFolder>,
+    pub rows: Vec<RowEntry>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ImageFile {
+    /// Relative to the folder holding this manifest.
+    pub file: String,
+    pub width: usize,
+    pub height: usize,
+    pub clamped_texels: usize,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct StripFolder {
+    pub folder: String,
+    pub width: usize,
+    pub height: usize,
+    pub file_name_rule: String,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct RowEntry {
+    /// The atlas row (v = (row + 0.5)/rows).
+    pub row: usize,
+    pub page: String,
+    pub names: Vec<String>,
+    pub kind: String,
+    /// This page's strip, relative to the manifest; null without the strip layout.
+    pub strip_file: Option<String>,
+    /// Texels of this row with a channel clamped to [0, 1].
+    pub clamped_texels: usize,
+    pub error_vs_exact: LutError,
+    /// Null until the spectral reference is merged (see `error.error_vs_spectral`).
+    pub error_vs_spectral: Option<LutError>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct TableDoc {
+    /// Relative to the folder holding this manifest.
+    pub files: Vec<String>,
+    pub rows: String,
+    pub columns: Vec<Described>,
+    /// Reason codes and their meaning, for tables that have a `reason` column.
+    pub codes: Vec<Described>,
+}
+
+pub fn sampling() -> Sampling {
+    Sampling {
+        convention: "Each row is F(cos_theta) for one page: N texels over cos_theta in [0, 1], texel i holding F at its centre \
+                     cos_theta = (i + 0.5)/N. Sampling at u = cos_theta with linear filtering and clamp-to-edge reproduces the \
+                     LUT model (SPEC 5.7) exactly: between centres F is linear in cos_theta, beyond the outer centres it is held."
+            .into(),
+        u: "u = cos_theta".into(),
+        texel_centre: "texel i centre = (i + 0.5)/N".into(),
+        atlas_v: "v = (row + 0.5)/rows (exact row centres, so vertical filtering never mixes pages)".into(),
+        filter: "linear (magnification and minification)".into(),
+        address_mode: "clamp-to-edge in u and v".into(),
+        mipmaps: "none (sample level 0)".into(),
+        image_origin: "row 0 is the first row stored in the file (the top of the PNG/EXR); upload rows in file order, do not flip"
+            .into(),
+    }
+}
+
+pub fn channels(channels: &Channels) -> Vec<ChannelInfo> {
+    CHANNEL_NAMES
+        .iter()
+        .zip(["R", "G", "B"])
+        .zip(channels.nanometres())
+        .map(|((name, image), nm)| ChannelInfo { channel: name.to_string(), image_channel: image.into(), wavelength_nm: nm })
+        .collect()
+}
+
+pub fn error_definition(samples: usize) -> ErrorDefinition {
+    ErrorDefinition {
+        definition: "Per channel, with F_lut the LUT model on the decoded texels (decode, linear filtering, clamp-to-edge): \
+                     mean_relative = mean of |F_lut - F_ref| / F_ref over theta uniform in [0, 90] degrees (samples with \
+                     F_ref = 0 excluded and counted); max_absolute = max |F_lut - F_ref|. *_rgb: mean (relative) or max \
+                     (absolute) of the three channels (SPEC 6)."
+            .into(),
+        samples,
+        quadrature: format!("midpoint rule: theta_j = (j + 0.5) * 90 deg / {samples}, j = 0..{samples}-1 (M = clamp(32 N, 4096, 262144))"),
+        error_vs_exact: "F_ref = exact Fresnel (SPEC 5.1) of the page's three-channel (n, k) at the channel wavelengths; for \
+                         the three-channel source this is the sampling + quantisation error alone"
+            .into(),
+        error_vs_spectral: "null: the spectral reference colour (SPEC 4) is not wired into the bake yet".into(),
+    }
+}
+
+pub fn encoding_info(encoding: Encoding) -> EncodingInfo {
+    EncodingInfo {
+        name: encoding.name().into(),
+        file_format: if encoding.is_float() { "OpenEXR, RGB channels R G B, ZIP16 compression" } else { "PNG, RGB, no colour chunks" }.into(),
+        bits_per_channel: match encoding {
+            Encoding::Unorm8 | Encoding::Unorm8Srgb => 8,
+            Encoding::Unorm16 | Encoding::F16 => 16,
+            Encoding::F32 => 32,
+        },
+        color_space: encoding.color_space().into(),
+        decode: encoding.decode_rule().into(),
+        out_of_range: if encoding.is_float() {
+            "kept (F > 1 from the spectral source is stored as is)"
+        } else {
+            "clamped to [0, 1] before quantising (round to nearest); counted in clamped_texels"
+        }
+        .into(),
+        gpu_formats: encoding.gpu_formats().into(),
+    }
+}
+
+pub fn source_info(source: Source) -> Described {
+    Described { name: source.name().into(), description: source.description().into() }
+}
+
+pub fn layout_info(layout: Layout) -> Described {
+    Described { name: layout.name().into(), description: layout.description().into() }
+}
+
+/// A table's documentation from its own column descriptions (the names and units
+/// `nklut ingest` writes).
+pub fn table_doc(table: &Table, files: &[&str], rows: &str, codes: Vec<Described>) -> TableDoc {
+    TableDoc {
+        files: files.iter().map(|f| f.to_string()).collect(),
+        rows: rows.into(),
+        columns: table.columns.iter().map(|c| Described { name: c.name.clone(), description: c.description.clone() }).collect(),
+        codes,
+    }
+}
+
+/// The `excluded.csv` reason codes (SPEC §2).
+pub fn reason_codes() -> Vec<Described> {
+    Reason::ALL.iter().map(|r| Described { name: r.code().into(), description: r.meaning().into() }).collect()
+}
+
+/// `luts/README.md`: the manifest's conventions in prose, for people.
+pub fn readme(manifest: &Manifest) -> String {
+    let mut s = String::new();
+    let mut line = |text: &str| {
+        s.push_str(text);
+        s.push('\n');
+    };
+    line("# nklut Fresnel lookup textures");
+    line("");
+    line("Generated by `nklut bake`; `manifest.json` holds the same facts in machine-readable form, plus per-row errors.");
+    line("");
+    line("## Sampling");
+    line("");
+    let sm = &manifest.sampling;
+    for text in [&sm.convention, &sm.u, &sm.texel_centre, &sm.atlas_v, &sm.filter, &sm.address_mode, &sm.mipmaps, &sm.image_origin] {
+        line(&format!("- {text}"));
+    }
+    line(&format!("- N = {} texels per row.", manifest.size));
+    line(&format!("- Rows (atlas) and strips: {}", manifest.row_order));
+    if !manifest.duplicate_catalog_pages.is_empty() {
+        line(&format!("- Listed twice in the catalog, baked once: {}", manifest.duplicate_catalog_pages.join(", ")));
+    }
+    line("");
+    line("## Channels");
+    line("");
+    for c in &manifest.channels {
+        line(&format!("- {} = {} Fresnel reflectance at {} nm", c.image_channel, c.channel, c.wavelength_nm));
+    }
+    line("");
+    line("## Sources, encodings, layouts");
+    line("");
+    for d in manifest.sources.iter().chain(&manifest.layouts) {
+        line(&format!("- `{}`: {}", d.name, d.description));
+    }
+    for e in &manifest.encodings {
+        line(&format!(
+            "- `{}`: {} {}-bit, {}; decode {}; out of range: {}; GPU formats: {}",
+            e.name, e.file_format, e.bits_per_channel, e.color_space, e.decode, e.out_of_range, e.gpu_formats
+        ));
+    }
+    line("");
+    line("## Files");
+    line("");
+    for t in &manifest.textures {
+        let atlas = t.atlas.as_ref().map(|a| format!("atlas `{}` ({}×{})", a.file, a.width, a.height));
+        let strips = t.strips.as_ref().map(|f| format!("strips in `{}/` ({}×{} each)", f.folder, f.width, f.height));
+        let files: Vec<String> = atlas.into_iter().chain(strips).collect();
+        line(&format!("- {} / {}: {}; {} clamped texels", t.source, t.encoding, files.join(", "), t.clamped_texels));
+    }
+    line("");
+    line("## Error figures (manifest `rows[].error_vs_exact`)");
+    line("");
+    line(&manifest.error.definition);
+    line(&format!("Quadrature: {}.", manifest.error.quadrature));
+    line(&format!("Reference: {}.", manifest.error.error_vs_exact));
+    line(&format!("`error_vs_spectral`: {}.", manifest.error.error_vs_spectral));
+    line("");
+    line("## Tables (paths relative to this folder)");
+    for t in &manifest.tables {
+        line("");
+        line(&format!("### {}", t.files.join(", ")));
+        line("");
+        line(&format!("One row per {}.", t.rows));
+        line("");
+        line("| column | meaning and unit |");
+        line("|---|---|");
+        for c in &t.columns {
+            line(&format!("| `{}` | {} |", c.name, c.description));
+        }
+        if !t.codes.is_empty() {
+            line("");
+            line("| reason code | meaning |");
+            line("|---|---|");
+            for c in &t.codes {
+                line(&format!("| `{}` | {} |", c.name, c.description));
+            }
+        }
+    }
+    s
+}

@@ -1,0 +1,562 @@
+//! Fresnel lookup textures for engines (issue 5, SPEC §5.7, §7).
+//!
+//! A row is one page's F(cosθ) per colour channel at the texel centres
+//! c_i = (i + ½)/N, i = 0..N−1, so that a GPU's linear filter with clamp-to-edge at
+//! u = cosθ reproduces the LUT model of SPEC §5.7 exactly. `bake` is the pure core:
+//! rows (plain data) → encoded PNG/EXR bytes and the manifest, per source × encoding ×
+//! layout; `run` is the edge: arguments → ingest → curves → `bake` → `publish`.
+//!
+//! Layouts: one N×1 strip per page (`<source>/<encoding>/strips/<page id, '/' → '__'>.<ext>`)
+//! and one N×rows atlas per source × encoding (`<source>/<encoding>/atlas.<ext>`), row r =
+//! the r-th kept page in catalog order.
+
+pub mod accuracy;
+pub mod files;
+pub mod manifest;
+pub mod publish;
+pub mod texel;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, ensure, Result};
+use clap::{Args, ValueEnum};
+use rayon::prelude::*;
+
+use crate::cli::{ChannelArgs, PageSelection};
+use crate::db::Database;
+use crate::fresnel;
+use crate::ingest::{self, Ingest, KeptPage};
+use crate::spectrum::{ChannelIndex, Channels, Kind};
+
+use accuracy::LutError;
+use manifest::{Manifest, RowEntry, TextureSet};
+pub use publish::{BeforeWrite, OutFile};
+pub use texel::{Encoding, Texels};
+
+/// F per channel (red, green, blue) at the texel cosines c_i = (i + ½)/N.
+pub type ChannelCurve = [Vec<f64>; 3];
+
+/// The largest texture width a bake accepts (the WebGPU/Vulkan guaranteed 2D limit is
+/// 8192; 65536 is what 16-bit texel addressing and PNG tooling handle comfortably).
+pub const MAX_SIZE: usize = 65536;
+
+/// Where a row's curve comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
+pub enum Source {
+    /// `exact` Fresnel (SPEC §5.1) of the three-channel (n, k) (SPEC §3).
+    ThreeChannel,
+    /// `exact` Fresnel of the fitted effective indices (color module).
+    Effective,
+    /// The spectral reference colour RGB(θ) (SPEC §4), may exceed 1.
+    Spectral,
+}
+
+impl Source {
+    pub fn name(self) -> &'static str {
+        match self {
+            Source::ThreeChannel => "three-channel",
+            Source::Effective => "effective",
+            Source::Spectral => "spectral",
+        }
+    }
+
+    pub fn description(self) -> &'static str {
+        match self {
+            Source::ThreeChannel => "exact Fresnel (SPEC 5.1) of the page's (n, k) at the channel wavelengths (SPEC 3)",
+            Source::Effective => "exact Fresnel of the page's effective (n, k), fitted per channel to the spectral reference",
+            Source::Spectral => "the spectral reference colour RGB(theta) in linear sRGB (SPEC 4); may exceed 1",
+        }
+    }
+
+    /// Whether this build can compute the source; checked before any work starts.
+    pub fn check_available(self) -> Result<()> {
+        match self {
+            Source::ThreeChannel => Ok(()),
+            // TODO(merge): color::... — return Ok once `curve` computes these.
+            Source::Effective | Source::Spectral => Err(not_available(self)),
+        }
+    }
+}
+
+fn not_available(source: Source) -> anyhow::Error {
+    anyhow::anyhow!(
+        "source {:?} is not available yet: it needs the color module (spectral reference colours), which this \
+         build does not have; use --source three-channel",
+        source.name()
+    )
+}
+
+/// How rows are laid out in files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
+pub enum Layout {
+    /// One N×1 image per page.
+    Strip,
+    /// One N×rows image, row r = page r.
+    Atlas,
+}
+
+impl Layout {
+    pub fn name(self) -> &'static str {
+        match self {
+            Layout::Strip => "strip",
+            Layout::Atlas => "atlas",
+        }
+    }
+
+    pub fn description(self) -> &'static str {
+        match self {
+            Layout::Strip => "one N x 1 image per page, <source>/<encoding>/strips/<page id with '/' replaced by '__'>.<ext>",
+            Layout::Atlas => "one N x rows image per source and encoding, <source>/<encoding>/atlas.<ext>; row r is rows[r] of the texture set",
+        }
+    }
+}
+
+/// F of `source` for one kept page at the texel cosines of an N-texel LUT.
+pub fn curve(source: Source, page: &KeptPage, size: usize) -> Result<ChannelCurve> {
+    match source {
+        Source::ThreeChannel => Ok(exact_curve(&page.material.channels, size)),
+        // TODO(merge): color::effective index of `page` (fitted per channel), then exact_curve.
+        // TODO(merge): color::spectral reference RGB(θ) of `page` at texel_cosines(size).
+        Source::Effective | Source::Spectral => Err(not_available(source)),
+    }
+}
+
+/// `exact` (SPEC §5.1) per channel at c_i = (i + ½)/N.
+pub fn exact_curve(index: &ChannelIndex, size: usize) -> ChannelCurve {
+    let cosines = texel::texel_cosines(size);
+    index.map(|i| cosines.iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect())
+}
+
+/// One page to bake.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub page: String,
+    pub names: Vec<String>,
+    pub kind: Kind,
+    /// The three-channel (n, k): `exact` of it is the reference of `error_vs_exact`.
+    pub index: ChannelIndex,
+    /// One curve per source of the plan, in `Plan::sources` order.
+    pub curves: Vec<ChannelCurve>,
+}
+
+/// What to bake. Lists are kept in the given order; `normalise` sorts and dedups them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub size: usize,
+    pub channels: Channels,
+    pub sources: Vec<Source>,
+    pub encodings: Vec<Encoding>,
+    pub layouts: Vec<Layout>,
+}
+
+impl Plan {
+    /// Defaults for empty lists (every encoding, both layouts, three-channel), sorted, deduplicated.
+    pub fn normalise(mut self) -> Self {
+        fn tidy<T: Ord + Copy>(list: &mut Vec<T>, default: &[T]) {
+            if list.is_empty() {
+                list.extend_from_slice(default);
+            }
+            list.sort();
+            list.dedup();
+        }
+        tidy(&mut self.sources, &[Source::ThreeChannel]);
+        tidy(&mut self.encodings, &Encoding::ALL);
+        tidy(&mut self.layouts, &[Layout::Strip, Layout::Atlas]);
+        self
+    }
+
+    /// Everything that can be checked without data: size range, non-empty lists, sources
+    /// this build can compute.
+    pub fn validate(&self) -> Result<()> {
+        ensure!((1..=MAX_SIZE).contains(&self.size), "--size must be between 1 and {MAX_SIZE} texels, got {}", self.size);
+        ensure!(!self.sources.is_empty() && !self.encodings.is_empty() && !self.layouts.is_empty(), "nothing to bake: no source, encoding or layout");
+        self.sources.iter().try_for_each(|s| s.check_available())
+    }
+
+    /// The texture sets, source-major: (index into `sources`, encoding).
+    fn sets(&self) -> Vec<(usize, Encoding)> {
+        (0..self.sources.len()).flat_map(|s| self.encodings.iter().map(move |&e| (s, e))).collect()
+    }
+}
+
+/// A file-name stem from a page id: '/' → '__'; characters that are not allowed in
+/// Windows or POSIX file names (\ : * ? " < > | and controls) and '%' are written %XX (UTF-8 bytes).
+pub fn strip_stem(page: &str) -> String {
+    let mut stem = String::with_capacity(page.len() + 8);
+    for ch in page.chars() {
+        match ch {
+            '/' => stem.push_str("__"),
+            '\\' | ':' | '*' | '?' | '"' | '<' | '>' | '|' | '%' => stem.push_str(&format!("%{:02X}", ch as u32)),
+            c if c.is_control() => c.encode_utf8(&mut [0; 4]).bytes().for_each(|b| stem.push_str(&format!("%{b:02X}"))),
+            c => stem.push(c),
+        }
+    }
+    stem
+}
+
+fn set_folder(plan: &Plan, (source, encoding): (usize, Encoding)) -> String {
+    format!("{}/{}", plan.sources[source].name(), encoding.name())
+}
+
+/// The pure result of a bake: image files (relative paths) and the manifest (without tables).
+#[derive(Clone, Debug)]
+pub struct Baked {
+    pub files: Vec<OutFile>,
+    pub manifest: Manifest,
+}
+
+/// One row in one texture set: its stored texels and figures.
+struct Cell {
+    quantised: texel::Quantised,
+    error: LutError,
+}
+
+fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
+    ensure!(!rows.is_empty(), "nothing to bake: no rows");
+    let mut stems = BTreeMap::new();
+    for row in rows {
+        ensure!(row.curves.len() == plan.sources.len(), "{}: {} curves for {} sources", row.page, row.curves.len(), plan.sources.len());
+        for curve in row.curves.iter().flatten() {
+            ensure!(curve.len() == plan.size, "{}: curve of {} values for size {}", row.page, curve.len(), plan.size);
+            ensure!(curve.iter().all(|v| v.is_finite()), "{}: curve has a non-finite value", row.page);
+        }
+        // Unique ignoring case, so that the strips also survive case-insensitive file systems.
+        if let Some(other) = stems.insert(strip_stem(&row.page).to_lowercase(), &row.page) {
+            bail!("pages {other:?} and {:?} map to the same strip file name (ignoring case)", row.page);
+        }
+    }
+    Ok(())
+}
+
+/// Quantise every row in every set and measure its error against `exact` of its
+/// three-channel index (reference computed once per row).
+fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
+    let cosines = accuracy::error_cosines(accuracy::error_samples(plan.size));
+    rows.par_iter()
+        .map(|row| {
+            let reference = accuracy::exact_reference(&row.index, &cosines);
+            sets.iter()
+                .map(|&(source, encoding)| {
+                    let quantised = texel::quantise(encoding, &row.curves[source]);
+                    let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
+                    Cell { error: accuracy::lut_error(&decoded, &cosines, &reference), quantised }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Bake `rows` by `plan` (normalised or not, validated here): the pure core. Files are
+/// listed set by set (sources, then encodings, in plan order), atlas first, then strips
+/// in row order.
+pub fn bake(rows: &[Row], plan: &Plan) -> Result<Baked> {
+    plan.validate()?;
+    check_rows(rows, plan)?;
+    let sets = plan.sets();
+    let cells = cells(rows, plan, &sets);
+    let strips = plan.layouts.contains(&Layout::Strip);
+    let atlas = plan.layouts.contains(&Layout::Atlas);
+    // (set, None) = the set's atlas, (set, Some(row)) = a strip.
+    let jobs: Vec<(usize, Option<usize>)> = (0..sets.len())
+        .flat_map(|s| atlas.then_some((s, None)).into_iter().chain((0..rows.len()).filter(|_| strips).map(move |r| (s, Some(r)))))
+        .collect();
+    let files = jobs
+        .par_iter()
+        .map(|&(s, row)| {
+            let (_, encoding) = sets[s];
+            let folder = set_folder(plan, sets[s]);
+            match row {
+                None => {
+                    let texels = Texels::concat(encoding, cells.iter().map(|c| &c[s].quantised.texels));
+                    let bytes = files::encode(encoding, plan.size, rows.len(), &texels)?;
+                    Ok(OutFile { path: format!("{folder}/atlas.{}", encoding.extension()), bytes })
+                }
+                Some(r) => {
+                    let bytes = files::encode(encoding, plan.size, 1, &cells[r][s].quantised.texels)?;
+                    Ok(OutFile { path: strip_path(&folder, &rows[r].page, encoding), bytes })
+                }
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let manifest = build_manifest(rows, plan, &sets, &cells, strips, atlas);
+    Ok(Baked { files, manifest })
+}
+
+fn strip_path(folder: &str, page: &str, encoding: Encoding) -> String {
+    format!("{folder}/strips/{}.{}", strip_stem(page), encoding.extension())
+}
+
+fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: &[Vec<Cell>], strips: bool, atlas: bool) -> Manifest {
+    let textures = sets
+        .iter()
+        .enumerate()
+        .map(|(s, &(source, encoding))| {
+            let folder = set_folder(plan, (source, encoding));
+            let clamped: usize = cells.iter().map(|c| c[s].quantised.clamped).sum();
+            TextureSet {
+                source: plan.sources[source].name().into(),
+                encoding: encoding.name().into(),
+                color_space: encoding.color_space().into(),
+                clamped_texels: clamped,
+                atlas: atlas.then(|| manifest::ImageFile {
+                    file: format!("{folder}/atlas.{}", encoding.extension()),
+                    width: plan.size,
+                    height: rows.len(),
+                    clamped_texels: clamped,
+                }),
+                strips: strips.then(|| manifest::StripFolder {
+                    folder: format!("{folder}/strips"),
+                    width: plan.size,
+                    height: 1,
+                    file_name_rule: "page id with '/' replaced by '__' (and \\ : * ? \" < > | % and control characters as %XX), then the extension".into(),
+                }),
+                rows: rows
+                    .iter()
+                    .zip(cells)
+                    .enumerate()
+                    .map(|(r, (row, cell))| RowEntry {
+                        row: r,
+                        page: row.page.clone(),
+                        names: row.names.clone(),
+                        kind: row.kind.as_str().into(),
+                        strip_file: strips.then(|| strip_path(&folder, &row.page, encoding)),
+                        clamped_texels: cell[s].quantised.clamped,
+                        error_vs_exact: cell[s].error.clone(),
+                        // TODO(merge): color::spectral reference — lut_error against it.
+                        error_vs_spectral: None,
+                    })
+                    .collect(),
+            }
+        })
+        .collect();
+    Manifest {
+        format_version: manifest::FORMAT_VERSION,
+        generator: format!("nklut {} bake", env!("CARGO_PKG_VERSION")),
+        size: plan.size,
+        sampling: manifest::sampling(),
+        channels: manifest::channels(&plan.channels),
+        row_order: "catalog order (catalog-nk.yml order of shelves, books and pages) of the kept pages; the atlas row of a \
+                    page is its rows[].row"
+            .into(),
+        error: manifest::error_definition(accuracy::error_samples(plan.size)),
+        sources: plan.sources.iter().map(|&s| manifest::source_info(s)).collect(),
+        encodings: plan.encodings.iter().map(|&e| manifest::encoding_info(e)).collect(),
+        layouts: plan.layouts.iter().map(|&l| manifest::layout_info(l)).collect(),
+        textures,
+        duplicate_catalog_pages: Vec::new(),
+        tables: Vec::new(),
+    }
+}
+
+/// `nklut bake` arguments.
+#[derive(Args, Clone, Debug)]
+pub struct BakeArgs {
+    #[command(flatten)]
+    pub pages: PageSelection,
+    #[command(flatten)]
+    pub channels: ChannelArgs,
+    /// Texels per row N (1..=65536); texel i holds F at cosθ = (i + 0.5)/N.
+    #[arg(long, default_value_t = 256)]
+    pub size: usize,
+    /// Texel encoding (repeatable; default: all).
+    #[arg(long = "encoding", value_enum, value_name = "E")]
+    pub encodings: Vec<Encoding>,
+    /// Where F comes from (repeatable; default: three-channel).
+    #[arg(long = "source", value_enum, value_name = "S")]
+    pub sources: Vec<Source>,
+    /// File layout (repeatable; default: both).
+    #[arg(long = "layout", value_enum, value_name = "L")]
+    pub layouts: Vec<Layout>,
+}
+
+impl BakeArgs {
+    pub fn plan(&self) -> Plan {
+        Plan {
+            size: self.size,
+            channels: self.channels.channels,
+            sources: self.sources.clone(),
+            encodings: self.encodings.clone(),
+            layouts: self.layouts.clone(),
+        }
+        .normalise()
+    }
+}
+
+/// What `run` did.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    pub luts: PathBuf,
+    pub rows: usize,
+    pub files: usize,
+    pub clamped_texels: usize,
+}
+
+/// Every explicitly named page must have been kept.
+fn check_named_pages_kept(ingest: &Ingest, named: &[String]) -> Result<()> {
+    for id in named {
+        if ingest.find(id).is_none() {
+            let why = ingest.excluded.iter().find(|e| e.page == *id).map(|e| e.error.to_string()).unwrap_or_default();
+            bail!("page {id:?} was excluded by the visible-range filter and cannot be baked: {why}");
+        }
+    }
+    ensure!(!ingest.kept.is_empty(), "no page of the selection passed the visible-range filter; nothing to bake");
+    Ok(())
+}
+
+/// The kept pages with each page id once (the catalog lists some pages twice, with the
+/// same data), in catalog order, and the ids that were listed more than once.
+pub fn unique_pages(kept: &[KeptPage]) -> (Vec<&KeptPage>, Vec<String>) {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut duplicates = std::collections::BTreeSet::new();
+    let unique = kept
+        .iter()
+        .filter(|p| {
+            let id = p.id();
+            let first = seen.insert(id.clone());
+            if !first {
+                duplicates.insert(id);
+            }
+            first
+        })
+        .collect();
+    (unique, duplicates.into_iter().collect())
+}
+
+/// The rows of `pages`, curves computed per source.
+pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Result<Vec<Row>> {
+    pages
+        .par_iter()
+        .map(|page| {
+            Ok(Row {
+                page: page.id(),
+                names: page.names.clone(),
+                kind: page.material.kind,
+                index: page.material.channels,
+                curves: plan.sources.iter().map(|&s| curve(s, page, plan.size)).collect::<Result<_>>()?,
+            })
+        })
+        .collect()
+}
+
+/// The manifest and README as files, tables documented from ingest's own column descriptions.
+fn documents(mut manifest: Manifest, ingest: &Ingest, channels: &Channels) -> Result<Vec<OutFile>> {
+    manifest.tables = vec![
+        manifest::table_doc(
+            &ingest::materials_table(ingest, channels),
+            &["../materials.csv", "../materials.parquet", "../materials.json"],
+            "page kept by the visible-range filter (SPEC 2), in catalog order",
+            Vec::new(),
+        ),
+        manifest::table_doc(&ingest::excluded_table(ingest), &["../excluded.csv"], "page dropped by the filter", manifest::reason_codes()),
+    ];
+    let mut json = serde_json::to_vec_pretty(&manifest)?;
+    json.push(b'\n');
+    Ok(vec![
+        OutFile { path: "manifest.json".into(), bytes: json },
+        OutFile { path: "README.md".into(), bytes: manifest::readme(&manifest).into_bytes() },
+    ])
+}
+
+/// `nklut bake`: validate everything, ingest, bake, publish `<out>/luts` all or nothing.
+pub fn run(db: &Database, out: &Path, args: &BakeArgs) -> Result<Summary> {
+    run_with_hook(db, out, args, &|_, _| Ok(()))
+}
+
+/// `run` with a callback before each file is written (tests use it to inject failures).
+pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: BeforeWrite) -> Result<Summary> {
+    let plan = args.plan();
+    plan.validate()?;
+    publish::check_writable(out)?;
+    let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
+    check_named_pages_kept(&ingest, &args.pages.pages)?;
+    let (pages, duplicates) = unique_pages(&ingest.kept);
+    let rows = rows(&pages, &plan)?;
+    let mut baked = bake(&rows, &plan)?;
+    baked.manifest.duplicate_catalog_pages = duplicates;
+    let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
+    let mut files = baked.files;
+    files.extend(documents(baked.manifest, &ingest, &plan.channels)?);
+    let luts = publish::publish(out, &files, before_write)?;
+    Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Index;
+
+    fn plan(size: usize) -> Plan {
+        Plan { size, channels: Channels::default(), sources: vec![], encodings: vec![], layouts: vec![] }.normalise()
+    }
+
+    /// A glass row and a row above 1 (as the spectral source gives for gold's red).
+    fn rows(size: usize) -> Vec<Row> {
+        let glass = [Index::new(1.5, 0.0); 3];
+        let mut bright = exact_curve(&glass, size);
+        bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
+        vec![
+            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)] },
+            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright] },
+        ]
+    }
+
+    #[test]
+    fn every_file_decodes_to_the_curve_within_half_a_step() {
+        let (size, rows) = (16, rows(16));
+        let baked = bake(&rows, &plan(size)).unwrap();
+        assert_eq!(baked.files.len(), 5 * 3);
+        for file in &baked.files {
+            let encoding = Encoding::ALL.into_iter().find(|e| file.path.contains(&format!("/{}/", e.name()))).unwrap();
+            let decoded = files::decode(encoding, &file.bytes).unwrap();
+            let which: Vec<&Row> = if file.path.contains("atlas") { rows.iter().collect() } else { rows.iter().filter(|r| file.path.contains(&strip_stem(&r.page))).collect() };
+            assert_eq!((decoded.width, decoded.height), (size, which.len()), "{}", file.path);
+            let values = decoded.texels.decode(encoding);
+            for (r, row) in which.iter().enumerate() {
+                for i in 0..size {
+                    for c in 0..3 {
+                        let want = row.curves[0][c][i];
+                        let want = if encoding.is_float() { want } else { want.clamp(0.0, 1.0) };
+                        let got = values[3 * (r * size + i) + c];
+                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb { (texel::srgb_encode(got), texel::srgb_encode(want)) } else { (got, want) };
+                        assert!((got_s - want_s).abs() <= encoding.half_step(want_s) * (1.0 + 1e-9), "{} {r} {i} {c}: {got} vs {want}", file.path);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn clamps_are_counted_for_integers_only() {
+        let baked = bake(&rows(16), &plan(16)).unwrap();
+        for t in &baked.manifest.textures {
+            let want = if t.encoding.starts_with('f') { 0 } else { 3 };
+            assert_eq!((t.clamped_texels, t.rows[1].clamped_texels, t.rows[0].clamped_texels), (want, want, 0), "{}", t.encoding);
+        }
+    }
+
+    #[test]
+    fn strip_names_replace_slashes_and_escape_unsafe_characters() {
+        assert_eq!(strip_stem("3d/metals/gold"), "3d__metals__gold");
+        assert_eq!(strip_stem("main/Y/a:b%"), "main__Y__a%3Ab%25");
+        assert_eq!(strip_stem("other/C2ClF3_n - x/FDS90(P)"), "other__C2ClF3_n - x__FDS90(P)");
+    }
+
+    #[test]
+    fn bad_plans_and_rows_are_errors() {
+        for size in [0, MAX_SIZE + 1] {
+            let e = bake(&rows(4), &plan(size)).unwrap_err().to_string();
+            assert!(e.contains("--size"), "{e}");
+        }
+        let mut p = plan(4);
+        p.sources = vec![Source::Spectral];
+        assert!(bake(&rows(4), &p).unwrap_err().to_string().contains("not available"));
+        let mut bad = rows(4);
+        bad[0].curves[0][1][2] = f64::NAN;
+        assert!(bake(&bad, &plan(4)).unwrap_err().to_string().contains("non-finite"));
+        let mut twins = rows(4);
+        twins[1].page = twins[0].page.clone();
+        assert!(bake(&twins, &plan(4)).unwrap_err().to_string().contains("same strip file name"));
+        assert!(bake(&[], &plan(4)).is_err());
+    }
+}

