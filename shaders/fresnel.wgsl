@@ -185,18 +185,18 @@ struct MeshOut {
 }
 
 @vertex
-fn vs_mesh(vertex: MeshIn) -> MeshOut {
+fn vs_mesh(input: MeshIn) -> MeshOut {
     var out: MeshOut;
-    out.clip = view.view_proj * vec4<f32>(vertex.position, 1.0);
-    out.world = vertex.position;
-    out.normal = vertex.normal;
+    out.clip = view.view_proj * vec4<f32>(input.position, 1.0);
+    out.world = input.position;
+    out.normal = input.normal;
     return out;
 }
 
 // F for c = |N·V|, no lighting; alpha 1 marks the pixels the object covers.
 @fragment
-fn fs_mesh(fragment: MeshOut) -> @location(0) vec4<f32> {
-    let to_eye = normalize(view.eye.xyz - fragment.world);
-    let c = clamp(abs(dot(normalize(fragment.normal), to_eye)), 0.0, 1.0);
+fn fs_mesh(input: MeshOut) -> @location(0) vec4<f32> {
+    let to_eye = normalize(view.eye.xyz - input.world);
+    let c = clamp(abs(dot(normalize(input.normal), to_eye)), 0.0, 1.0);
     return vec4<f32>(shade(c), 1.0);
 }
