@@ -180,19 +180,22 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, 
     let mut stopwatch = Stopwatch::new(gpu);
     let burner = if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
-        "timing: {width}x{height}, {} warm-up + {} timed passes each, timer {}{}",
+        "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
         settings.warmup,
         settings.repeats,
         stopwatch.timer().name(),
         if settings.subtract { ", subtracting the burner pass" } else { "" }
     ));
+    let pairs = scene.material_methods();
+    let mut pipelines = Vec::new();
+    for (page, method) in &pairs {
+        gpu.queue.write_buffer(&bound[page].binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
+        pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Fullscreen(DISPLAY_TARGET))?.clone());
+    }
+    let draws: Vec<_> = pairs.iter().zip(&pipelines).map(|((page, _), pipeline)| (pipeline, &bound[page].binding.bind_group)).collect();
+    let samples = stopwatch.measure_interleaved(gpu, &target, &draws, burner.as_ref(), settings)?;
     let mut rows = Vec::new();
-    for (page, method) in scene.material_methods() {
-        let material = &bound[&page];
-        gpu.queue.write_buffer(&material.binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
-        let pipeline = renderer.pipeline(gpu, Shade::Method(method), Pass::Fullscreen(DISPLAY_TARGET))?.clone();
-        let group = &material.binding.bind_group;
-        let samples = stopwatch.measure(gpu, &target, (&pipeline, group), burner.as_ref().map(|b| (b, group)), settings)?;
+    for ((page, method), samples) in pairs.into_iter().zip(samples) {
         let (median_ms, spread_ms) = median_and_iqr(&samples);
         log(&format!("  {page} {method}: median {median_ms:.4} ms, IQR {spread_ms:.4} ms"));
         rows.push(TimingRow { material: page, method, timer: stopwatch.timer(), resolution: settings.resolution, repeats: settings.repeats, median_ms, spread_ms, relative_to_exact_dielectric: None });

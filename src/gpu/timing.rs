@@ -113,20 +113,29 @@ impl Stopwatch {
         }
     }
 
-    /// `settings.warmup` untimed and `settings.repeats` timed passes of `measured`; with
-    /// `burner`, each sample is time(burner, then measured on top) − time(burner alone).
-    pub fn measure(&mut self, gpu: &Gpu, target: &Target, measured: Draw<'_>, burner: Option<Draw<'_>>, settings: &TimingSettings) -> Result<Vec<f64>> {
-        let mut samples = Vec::with_capacity(settings.repeats as usize);
-        for i in 0..settings.warmup + settings.repeats {
-            let sample = match burner {
-                Some(burner) => {
-                    let alone = self.time(gpu, target, &[burner])?;
-                    self.time(gpu, target, &[burner, measured])? - alone
+    /// One sample of `measured`: its pass time, or with `burner` time(burner, then measured
+    /// on top) − time(burner alone).
+    pub fn sample(&mut self, gpu: &Gpu, target: &Target, measured: Draw<'_>, burner: Option<Draw<'_>>) -> Result<f64> {
+        Ok(match burner {
+            Some(burner) => {
+                let alone = self.time(gpu, target, &[burner])?;
+                self.time(gpu, target, &[burner, measured])? - alone
+            }
+            None => self.time(gpu, target, &[measured])?,
+        })
+    }
+
+    /// Samples of every configuration, interleaved: `settings.warmup` untimed rounds, then
+    /// `settings.repeats` rounds that each take one sample of every configuration in turn,
+    /// so a change in background load over the run affects all configurations alike.
+    pub fn measure_interleaved(&mut self, gpu: &Gpu, target: &Target, measured: &[Draw<'_>], burner: Option<&wgpu::RenderPipeline>, settings: &TimingSettings) -> Result<Vec<Vec<f64>>> {
+        let mut samples = vec![Vec::with_capacity(settings.repeats as usize); measured.len()];
+        for round in 0..settings.warmup + settings.repeats {
+            for (draw, out) in measured.iter().zip(&mut samples) {
+                let sample = self.sample(gpu, target, *draw, burner.map(|b| (b, draw.1)))?;
+                if round >= settings.warmup {
+                    out.push(sample);
                 }
-                None => self.time(gpu, target, &[measured])?,
-            };
-            if i >= settings.warmup {
-                samples.push(sample);
             }
         }
         Ok(samples)
