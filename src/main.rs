@@ -199,6 +199,9 @@ mod gpu_cli {
             /// Frames of the orbit (default: the scene's, 180).
             #[arg(long)]
             frames: Option<u32>,
+            /// Degrees between frames (default: the scene's, 1).
+            #[arg(long)]
+            degrees_per_frame: Option<f64>,
             /// Render target WxH.
             #[arg(long, value_parser = parse_resolution)]
             resolution: Option<[u32; 2]>,
@@ -240,10 +243,11 @@ mod gpu_cli {
                 scene.timing.resolution = resolution.unwrap_or(scene.timing.resolution);
                 (scene, adapter)
             }
-            GpuCommand::ImageError { scene, frames, resolution, adapter } => {
+            GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter } => {
                 let mut scene = Scene::load(&scene)?;
                 scene.measurements = vec![Measurement::ImageError];
                 scene.camera.frames = frames.unwrap_or(scene.camera.frames).max(1);
+                scene.camera.degrees_per_frame = degrees_per_frame.unwrap_or(scene.camera.degrees_per_frame);
                 scene.resolution = resolution.unwrap_or(scene.resolution);
                 (scene, adapter)
             }

@@ -54,6 +54,11 @@ pub fn compose(shade: Shade) -> String {
 pub enum Pass {
     /// `vs_fullscreen` + `fs_ramp`: c = (x + ½)/width over the whole target.
     Fullscreen(wgpu::TextureFormat),
+    /// The same, blended additively over what is there: the measured draw of the
+    /// `--subtract` timing. Without blending, a tiler that sees an opaque draw cover a whole
+    /// tile drops the draws before it (lavapipe does, as do mobile GPUs' hidden-surface
+    /// removal), and the expensive pass underneath would never run.
+    FullscreenOver(wgpu::TextureFormat),
     /// `vs_mesh` + `fs_mesh` into `FLOAT_TARGET` with a `DEPTH` buffer.
     Mesh,
 }
@@ -187,8 +192,14 @@ impl Renderer {
         let module = &self.modules[&shade];
         let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let mesh_buffers = [Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &mesh_attributes })];
+        let additive = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+        let mut blend = None;
         let (vertex_entry, fragment_entry, format, buffers, depth_stencil): (_, _, _, &[_], _) = match pass {
             Pass::Fullscreen(format) => ("vs_fullscreen", "fs_ramp", format, &[], None),
+            Pass::FullscreenOver(format) => {
+                blend = Some(wgpu::BlendState { color: additive, alpha: additive });
+                ("vs_fullscreen", "fs_ramp", format, &[], None)
+            }
             Pass::Mesh => (
                 "vs_mesh",
                 "fs_mesh",
@@ -214,7 +225,7 @@ impl Renderer {
                 module,
                 entry_point: Some(fragment_entry),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+                targets: &[Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })],
             }),
             multiview_mask: None,
             cache: None,

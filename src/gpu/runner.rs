@@ -2,7 +2,8 @@
 //!
 //! - Pages: only the scene's materials are ingested (`Selection { pages }`).
 //! - Pipelines (one per method and pass, compiled on first use):
-//!   `timing` → one fullscreen pipeline per named method (+ the `burner` with `subtract`);
+//!   `timing` → one fullscreen pipeline per named method (with `subtract`: blended over
+//!   the expensive `burner`, + the burner's own pipeline);
 //!   `image_error` → one mesh pipeline per named method + the `exact` mesh pipeline as the
 //!   reference (the same pipeline when `exact` is named).
 //! - Textures: a LUT is baked only for a material some object renders with `lut`.
@@ -187,10 +188,11 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, 
         if settings.subtract { ", subtracting the burner pass" } else { "" }
     ));
     let pairs = scene.material_methods();
+    let measured_pass = if settings.subtract { Pass::FullscreenOver(DISPLAY_TARGET) } else { Pass::Fullscreen(DISPLAY_TARGET) };
     let mut pipelines = Vec::new();
     for (page, method) in &pairs {
         gpu.queue.write_buffer(&bound[page].binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
-        pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Fullscreen(DISPLAY_TARGET))?.clone());
+        pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), measured_pass)?.clone());
     }
     let draws: Vec<_> = pairs.iter().zip(&pipelines).map(|((page, _), pipeline)| (pipeline, &bound[page].binding.bind_group)).collect();
     let samples = stopwatch.measure_interleaved(gpu, &target, &draws, burner.as_ref(), settings)?;
