@@ -6,6 +6,8 @@
 //! MERGE: use bake:: — the bake module owns LUT textures and their encodings; replace
 //! `texels` with its 1D row for one material and keep `upload`.
 
+// MERGE: use bake:: (texels at (i + ½)/N from fresnel::exact, rgba16float) once bake is merged.
+
 use half::f16;
 
 use super::context::Gpu;

@@ -6,6 +6,8 @@
 //! GPU runner can work before that module is merged. Dedupe by filling `MaterialUniform`
 //! from `fresnel::Prepared` and deleting `prepare_channel`.
 
+// MERGE: use fresnel::Prepared (compensated λ, lazanyi a, nvidia fit are computed here meanwhile).
+
 use bytemuck::{Pod, Zeroable};
 
 use crate::fresnel;
@@ -184,6 +186,7 @@ impl MaterialUniform {
 /// f32 CPU references, one per WGSL method, same operations in the same order.
 /// MERGE: fresnel::*_f32 — replace with the fresnel module's f32 methods once merged (they
 /// must keep matching the WGSL within 1e-5, which `tests/gpu.rs` checks).
+// MERGE: fresnel::*_f32 (these mirror shaders/fresnel.wgsl; tests/gpu.rs holds them to 1e-5).
 pub mod reference {
     use super::MaterialUniform;
     use crate::scene::Method;

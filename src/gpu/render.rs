@@ -374,3 +374,27 @@ pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Method, binding: &Bindin
     gpu.queue.submit([encoder.finish()]);
     Ok(target.decode(&gpu.read_buffer(&buffer)?))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn library_has_one_function_per_method_and_pipelines_add_one_line() {
+        for method in Method::ALL {
+            let signature = format!("fn method_{}(c: f32) -> vec3<f32>", method.name());
+            assert_eq!(LIBRARY.matches(&signature).count(), 1, "{signature}");
+            let composed = compose(Shade::Method(method));
+            assert!(composed.starts_with(LIBRARY));
+            assert_eq!(composed[LIBRARY.len()..].trim(), format!("fn shade(c: f32) -> vec3<f32> {{ return method_{}(c); }}", method.name()));
+        }
+        assert!(!LIBRARY.contains("\nfn shade("), "the library leaves shade() to the composition");
+    }
+
+    #[test]
+    fn readback_rows_are_256_byte_aligned() {
+        assert_eq!(padded_row_bytes(1024, 16), 16384);
+        assert_eq!(padded_row_bytes(100, 16), 1792);
+        assert_eq!(padded_row_bytes(1, 16), 256);
+    }
+}
