@@ -256,3 +256,21 @@ fn default_scene_parses_and_its_sculpture_loads() {
         }
     }
 }
+
+#[test]
+fn bad_scenes_are_named_errors_not_panics() {
+    let dir = std::env::temp_dir().join(format!("nklut-gpu-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bad.yaml");
+    std::fs::write(&file, "objects: [{mesh: cube, material: 3d/metals/gold, method: fastest}]\nmeasurements: [timing]\n").unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_nklut")).args(["gpu", "run"]).arg(&file).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("bad.yaml") && stderr.contains("unknown method \"fastest\""), "{stderr}");
+
+    // An unknown page is found before any GPU work, with the scene named.
+    let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
+    let error = gpu::runner::scene_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
+    assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

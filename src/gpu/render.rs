@@ -169,12 +169,11 @@ impl Renderer {
     pub fn pipeline(&mut self, gpu: &Gpu, shade: Shade, pass: Pass) -> Result<&wgpu::RenderPipeline> {
         if !self.pipelines.contains_key(&(shade, pass)) {
             let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            if !self.modules.contains_key(&shade) {
-                let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            if let std::collections::hash_map::Entry::Vacant(entry) = self.modules.entry(shade) {
+                entry.insert(gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&format!("fresnel library + {}", shade.name())),
                     source: wgpu::ShaderSource::Wgsl(compose(shade).into()),
-                });
-                self.modules.insert(shade, module);
+                }));
                 self.created.shader_modules += 1;
             }
             let pipeline = self.create_pipeline(gpu, shade, pass);

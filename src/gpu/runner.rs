@@ -92,6 +92,9 @@ pub struct RunReport {
     pub image_errors: Vec<ImageErrorRow>,
 }
 
+/// A scene material: page id, channel indices, conductor or dielectric.
+pub type MaterialEntry = (String, ChannelIndex, Kind);
+
 /// A material of the scene, ready to bind.
 struct SceneMaterial {
     kind: Kind,
@@ -106,7 +109,7 @@ struct GpuMesh {
 }
 
 /// The channel indices of the scene's materials: ingests exactly those pages.
-pub fn scene_materials(scene: &Scene, db: &Database, channels: &Channels) -> Result<(Vec<(String, ChannelIndex, Kind)>, usize)> {
+pub fn scene_materials(scene: &Scene, db: &Database, channels: &Channels) -> Result<(Vec<MaterialEntry>, usize)> {
     let pages = scene.materials();
     let selection = Selection { shelves: vec![], pages: pages.clone() };
     let result = ingest::ingest(db, &selection, channels).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
@@ -133,7 +136,7 @@ pub fn run(scene: &Scene, db: &Database, gpu: &Gpu, log: &mut dyn FnMut(&str)) -
 
 /// Run `scene` with the channel indices already known (`material` ids of the scene map to
 /// these entries; used by `run` and by tests).
-pub fn run_with_materials(scene: &Scene, materials: &[(String, ChannelIndex, Kind)], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
     let mut renderer = Renderer::new(gpu);
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
