@@ -5,15 +5,19 @@
 //! `db` (catalog, pages, formulas) → `spectrum` (n, k at λ; channels; visible filter) →
 //! `ingest` (the whole database into tables) → `color` (CIE, sRGB) → `fresnel`
 //! (methods) → `validate` (errors) → `bake` (textures, manifest) → `report`;
-//! `output` writes files atomically at the edge, `cli` holds shared arguments.
+//! `output` writes files atomically at the edge, `cli` holds shared arguments; `scene` and
+//! (feature `gpu`) `gpu` time and render every method with wgpu.
 
 pub mod bake;
 pub mod cli;
 pub mod db;
 pub mod fresnel;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod ingest;
 pub mod output;
 pub mod progress;
 pub mod report;
+pub mod scene;
 pub mod spectrum;
 pub mod validate;

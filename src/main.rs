@@ -51,11 +51,22 @@ enum Command {
     },
     /// Measure every Fresnel method's error against exact (SPEC §6); write errors.* and cost.*.
     Validate(nklut::validate::ValidateArgs),
+    /// Time and render the Fresnel methods on a GPU with wgpu (scene files, issue 7).
+    #[cfg(feature = "gpu")]
+    Gpu {
+        #[command(subcommand)]
+        command: gpu_cli::GpuCommand,
+    },
 }
 
 fn run(cli: Cli) -> Result<()> {
+    let command = match cli.command {
+        #[cfg(feature = "gpu")]
+        Command::Gpu { command } => return gpu_cli::run(command, &cli.paths),
+        other => other,
+    };
     let db = Database::open(cli.paths.db.as_deref())?;
-    match cli.command {
+    match command {
         Command::Ingest { pages, channels, strict } => {
             let result = ingest::ingest(&db, &pages.selection(), &channels.channels)?;
             let written = ingest::write_tables(&result, &channels.channels, &cli.paths.out)?;
@@ -103,6 +114,8 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("  wrote {}", path.display());
             }
         }
+        #[cfg(feature = "gpu")]
+        Command::Gpu { .. } => unreachable!("handled before the database is opened"),
     }
     Ok(())
 }
@@ -141,5 +154,126 @@ fn main() -> ExitCode {
             eprintln!("error: {error:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(feature = "gpu")]
+mod gpu_cli {
+    use std::path::PathBuf;
+
+    use anyhow::{bail, Result};
+    use clap::{Args, Subcommand};
+
+    use nklut::cli::Paths;
+    use nklut::db::Database;
+    use nklut::gpu;
+    use nklut::scene::{Measurement, Scene};
+
+    #[derive(Args, Clone, Debug)]
+    pub struct AdapterArg {
+        /// Use the adapter whose name contains this (case-insensitive); see `nklut gpu adapters`.
+        #[arg(long, value_name = "SUBSTRING")]
+        adapter: Option<String>,
+    }
+
+    #[derive(Subcommand)]
+    pub enum GpuCommand {
+        /// List the adapters wgpu sees (name, backend, type, driver).
+        Adapters,
+        /// Run a scene file: the measurements it names, for its objects, materials and methods.
+        Run {
+            scene: PathBuf,
+            #[command(flatten)]
+            adapter: AdapterArg,
+        },
+        /// Time each (material, method) of a scene in a fullscreen pass → gpu_timing.csv.
+        Bench {
+            #[arg(default_value = "scenes/default.yaml")]
+            scene: PathBuf,
+            /// The study's method: time an expensive pass alone and with the method on top.
+            #[arg(long)]
+            subtract: bool,
+            /// Timed passes per (material, method).
+            #[arg(long)]
+            repeats: Option<u32>,
+            /// Untimed passes first.
+            #[arg(long)]
+            warmup: Option<u32>,
+            /// Pass size WxH (default 1920x1080).
+            #[arg(long, value_parser = parse_resolution)]
+            resolution: Option<[u32; 2]>,
+            #[command(flatten)]
+            adapter: AdapterArg,
+        },
+        /// Render each object of a scene with its methods and exact → image_errors.csv.
+        ImageError {
+            #[arg(default_value = "scenes/default.yaml")]
+            scene: PathBuf,
+            /// Frames of the orbit (default: the scene's, 180).
+            #[arg(long)]
+            frames: Option<u32>,
+            /// Degrees between frames (default: the scene's, 1).
+            #[arg(long)]
+            degrees_per_frame: Option<f64>,
+            /// Render target WxH.
+            #[arg(long, value_parser = parse_resolution)]
+            resolution: Option<[u32; 2]>,
+            #[command(flatten)]
+            adapter: AdapterArg,
+        },
+    }
+
+    fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+        let parts: Vec<&str> = text.split(['x', 'X']).collect();
+        match parts.as_slice() {
+            [w, h] => match (w.trim().parse::<u32>(), h.trim().parse::<u32>()) {
+                (Ok(w), Ok(h)) if w > 0 && h > 0 => Ok([w, h]),
+                _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+            },
+            _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+        }
+    }
+
+    pub fn run(command: GpuCommand, paths: &Paths) -> Result<()> {
+        let (mut scene, adapter) = match command {
+            GpuCommand::Adapters => {
+                let adapters = gpu::adapters();
+                if adapters.is_empty() {
+                    bail!("no adapter found; without a GPU install a software Vulkan driver (apt-get install mesa-vulkan-drivers)");
+                }
+                for line in adapters {
+                    println!("{line}");
+                }
+                return Ok(());
+            }
+            GpuCommand::Run { scene, adapter } => (Scene::load(&scene)?, adapter),
+            GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter } => {
+                let mut scene = Scene::load(&scene)?;
+                scene.measurements = vec![Measurement::Timing];
+                scene.timing.subtract |= subtract;
+                scene.timing.repeats = repeats.unwrap_or(scene.timing.repeats).max(1);
+                scene.timing.warmup = warmup.unwrap_or(scene.timing.warmup);
+                scene.timing.resolution = resolution.unwrap_or(scene.timing.resolution);
+                (scene, adapter)
+            }
+            GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter } => {
+                let mut scene = Scene::load(&scene)?;
+                scene.measurements = vec![Measurement::ImageError];
+                scene.camera.frames = frames.unwrap_or(scene.camera.frames).max(1);
+                scene.camera.degrees_per_frame = degrees_per_frame.unwrap_or(scene.camera.degrees_per_frame);
+                scene.resolution = resolution.unwrap_or(scene.resolution);
+                (scene, adapter)
+            }
+        };
+        scene.measurements.dedup();
+        let db = Database::open(paths.db.as_deref())?;
+        let device = gpu::open(adapter.adapter.as_deref())?;
+        eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
+        let report = gpu::run(&scene, &db, &device, &mut |line| eprintln!("{line}"))?;
+        eprintln!("run: {}", report.stats);
+        for path in gpu::runner::write_tables(&report, &paths.out)? {
+            eprintln!("  wrote {}", path.display());
+        }
+        Ok(())
     }
 }

@@ -1,0 +1,119 @@
+//! Adapter choice and device creation, headless (no window, no surface). Vulkan is the one
+//! backend compiled in: every desktop GPU driver on Linux and Mesa's lavapipe (a CPU Vulkan
+//! rasteriser, what CI has) speak it.
+
+use std::fmt;
+
+use anyhow::{bail, Context, Result};
+
+/// What a result row records about the adapter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AdapterLine {
+    pub name: String,
+    pub backend: String,
+    pub driver: String,
+    pub device_type: String,
+}
+
+impl AdapterLine {
+    pub fn new(info: &wgpu::AdapterInfo) -> Self {
+        let driver = match (info.driver.is_empty(), info.driver_info.is_empty()) {
+            (false, false) => format!("{} {}", info.driver, info.driver_info),
+            (false, true) => info.driver.clone(),
+            _ => info.driver_info.clone(),
+        };
+        AdapterLine { name: info.name.clone(), backend: format!("{:?}", info.backend), driver, device_type: format!("{:?}", info.device_type) }
+    }
+}
+
+impl fmt::Display for AdapterLine {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} ({}, {}, driver {})", self.name, self.backend, self.device_type, self.driver)
+    }
+}
+
+/// An open device.
+pub struct Gpu {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub line: AdapterLine,
+    /// `Features::TIMESTAMP_QUERY` was available and enabled.
+    pub timestamps: bool,
+}
+
+fn instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+/// Every adapter the instance sees.
+pub fn adapters() -> Vec<AdapterLine> {
+    let instance = instance();
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all())).iter().map(|a| AdapterLine::new(&a.get_info())).collect()
+}
+
+/// Real GPUs first, CPU rasterisers last.
+fn preference(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    }
+}
+
+/// Open the adapter whose name contains `wanted` (case-insensitive), else the most capable
+/// one (discrete > integrated > virtual > other > CPU).
+pub fn open(wanted: Option<&str>) -> Result<Gpu> {
+    let instance = instance();
+    let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    if adapters.is_empty() {
+        bail!(
+            "no GPU adapter found (wgpu built with the Vulkan backend only). Without a GPU, install a software Vulkan driver: \
+             `apt-get install mesa-vulkan-drivers` (lavapipe)"
+        );
+    }
+    let names: Vec<String> = adapters.iter().map(|a| AdapterLine::new(&a.get_info()).to_string()).collect();
+    if let Some(wanted) = wanted {
+        let needle = wanted.to_lowercase();
+        adapters.retain(|a| a.get_info().name.to_lowercase().contains(&needle));
+        if adapters.is_empty() {
+            bail!("no adapter name contains {wanted:?}; adapters: {}", names.join("; "));
+        }
+    }
+    adapters.sort_by_key(|a| preference(a.get_info().device_type));
+    let adapter = adapters.swap_remove(0);
+    let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+    let required_features = if timestamps { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
+    let descriptor = wgpu::DeviceDescriptor {
+        label: Some("nklut"),
+        required_features,
+        required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+        ..Default::default()
+    };
+    let line = AdapterLine::new(&adapter.get_info());
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).with_context(|| format!("opening a device on {line}"))?;
+    Ok(Gpu { adapter, device, queue, line, timestamps })
+}
+
+impl Gpu {
+    /// Block until all submitted work has finished.
+    pub fn wait(&self) -> Result<()> {
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("waiting for the GPU: {e}"))?;
+        Ok(())
+    }
+
+    /// Map `buffer` for reading, wait, and copy its bytes out.
+    pub fn read_buffer(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+            let _ = sender.send(result);
+        });
+        self.wait()?;
+        receiver.recv().context("mapping a readback buffer")?.map_err(|e| anyhow::anyhow!("mapping a readback buffer: {e}"))?;
+        let bytes = buffer.get_mapped_range(..).map_err(|e| anyhow::anyhow!("reading a mapped buffer: {e:?}"))?.to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+}

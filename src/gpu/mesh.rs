@@ -1,0 +1,225 @@
+//! Triangle meshes for the image-error renders (SPEC §6): the built-in cube and sphere, and
+//! OBJ files (tobj), all normalised to fit the unit sphere. Pure CPU data.
+
+use std::path::{Path, PathBuf};
+
+use crate::scene::MeshSource;
+
+/// Indexed triangles with one normal per vertex.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub indices: Vec<u32>,
+}
+
+/// A mesh file that could not be used.
+#[derive(Debug, thiserror::Error)]
+#[error("mesh {}: {problem}", file.display())]
+pub struct MeshError {
+    pub file: PathBuf,
+    pub problem: String,
+}
+
+impl Mesh {
+    pub fn triangles(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Interleaved vertex data `position, normal` (6 f32 per vertex) for the GPU.
+    pub fn interleaved(&self) -> Vec<f32> {
+        self.positions.iter().zip(&self.normals).flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]]).collect()
+    }
+}
+
+/// Load a scene mesh; `path` resolves file paths.
+pub fn load(source: &MeshSource, path: impl Fn(&Path) -> PathBuf) -> Result<Mesh, MeshError> {
+    match source {
+        MeshSource::Cube => Ok(cube()),
+        MeshSource::Sphere => Ok(sphere(64, 32)),
+        MeshSource::File(file) => load_obj(&path(file)),
+    }
+}
+
+/// The cube with flat faces, corners on the unit sphere (half-size 1/√3).
+pub fn cube() -> Mesh {
+    let h = 1.0 / 3f32.sqrt();
+    let mut mesh = Mesh::default();
+    // (normal, two in-plane axes u, v with u × v = normal)
+    let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+        ([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+        ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
+    ];
+    for (normal, u, v) in faces {
+        let base = mesh.positions.len() as u32;
+        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            mesh.positions.push(std::array::from_fn(|i| h * (normal[i] + su * u[i] + sv * v[i])));
+            mesh.normals.push(normal);
+        }
+        mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    mesh
+}
+
+/// A UV sphere of radius 1 with exact normals: `segments` around, `rings` pole to pole.
+pub fn sphere(segments: u32, rings: u32) -> Mesh {
+    let mut mesh = Mesh::default();
+    for ring in 0..=rings {
+        let polar = std::f32::consts::PI * ring as f32 / rings as f32;
+        for segment in 0..=segments {
+            let azimuth = std::f32::consts::TAU * segment as f32 / segments as f32;
+            let p = [polar.sin() * azimuth.cos(), polar.cos(), polar.sin() * azimuth.sin()];
+            mesh.positions.push(p);
+            mesh.normals.push(p);
+        }
+    }
+    let row = segments + 1;
+    for ring in 0..rings {
+        for segment in 0..segments {
+            let a = ring * row + segment;
+            let b = a + row;
+            mesh.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
+        }
+    }
+    mesh
+}
+
+/// Read an OBJ file (all models merged, triangulated), normalise it to the unit sphere
+/// and, where the file has no normals, compute smooth area-weighted vertex normals.
+pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
+    let error = |problem: String| MeshError { file: file.into(), problem };
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    let (models, _) = tobj::load_obj(file, &options).map_err(|e| error(e.to_string()))?;
+    let mut mesh = Mesh::default();
+    let mut has_normals = true;
+    for model in &models {
+        let m = &model.mesh;
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        if m.normals.len() == m.positions.len() {
+            mesh.normals.extend(m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]));
+        } else {
+            has_normals = false;
+        }
+        mesh.indices.extend(m.indices.iter().map(|i| base + i));
+    }
+    if mesh.indices.is_empty() {
+        return Err(error("no triangles".into()));
+    }
+    if mesh.indices.iter().any(|&i| i as usize >= mesh.positions.len()) {
+        return Err(error("a face refers to a vertex that does not exist".into()));
+    }
+    if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(error("a vertex position is not finite".into()));
+    }
+    if !has_normals {
+        mesh.normals = smooth_normals(&mesh.positions, &mesh.indices);
+    }
+    normalise_to_unit_sphere(&mut mesh.positions);
+    Ok(mesh)
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn normalised(v: [f64; 3]) -> [f32; 3] {
+    let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if length > 0.0 {
+        [(v[0] / length) as f32, (v[1] / length) as f32, (v[2] / length) as f32]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// Smooth vertex normals: the sum of the adjacent faces' (b − a) × (c − a), whose length is
+/// twice the face area, so larger faces weigh more; then normalised.
+pub fn smooth_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> {
+    let mut sums = vec![[0.0f64; 3]; positions.len()];
+    for triangle in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|i| positions[triangle[i] as usize]);
+        let face = cross(sub(b, a), sub(c, a));
+        for &vertex in triangle {
+            for axis in 0..3 {
+                sums[vertex as usize][axis] += face[axis] as f64;
+            }
+        }
+    }
+    sums.into_iter().map(normalised).collect()
+}
+
+/// Centre on the bounding-box centre and scale so the farthest vertex lies on the unit sphere.
+pub fn normalise_to_unit_sphere(positions: &mut [[f32; 3]]) {
+    let mut low = [f32::INFINITY; 3];
+    let mut high = [f32::NEG_INFINITY; 3];
+    for p in positions.iter() {
+        for axis in 0..3 {
+            low[axis] = low[axis].min(p[axis]);
+            high[axis] = high[axis].max(p[axis]);
+        }
+    }
+    let centre: [f32; 3] = std::array::from_fn(|axis| 0.5 * (low[axis] + high[axis]));
+    let radius = positions.iter().map(|p| sub(*p, centre).iter().map(|x| x * x).sum::<f32>().sqrt()).fold(0.0f32, f32::max);
+    let scale = if radius > 0.0 { 1.0 / radius } else { 1.0 };
+    for p in positions.iter_mut() {
+        *p = std::array::from_fn(|axis| (p[axis] - centre[axis]) * scale);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn radius(mesh: &Mesh) -> f32 {
+        mesh.positions.iter().map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()).fold(0.0, f32::max)
+    }
+
+    #[test]
+    fn cube_faces_point_outwards_and_fit_the_unit_sphere() {
+        let mesh = cube();
+        assert_eq!(mesh.triangles(), 12);
+        assert!((radius(&mesh) - 1.0).abs() < 1e-6);
+        for triangle in mesh.indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize]);
+            let face = cross(sub(b, a), sub(c, a));
+            let normal = mesh.normals[triangle[0] as usize];
+            assert!(face.iter().zip(normal).map(|(f, n)| f * n).sum::<f32>() > 0.0, "counter-clockwise seen from outside");
+        }
+    }
+
+    #[test]
+    fn smooth_normals_of_a_tetrahedron_corner_weigh_by_area() {
+        // Two faces meeting at vertex 0: a big one in z = 0 and a small one in x = 0.
+        let positions = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 1.0]];
+        let indices = [0, 1, 2, 0, 2, 3];
+        let normals = smooth_normals(&positions, &indices);
+        let n = normals[0];
+        // face normals (0,0,16) and (4,0,0): sum (4,0,16) normalised
+        let expected = normalised([4.0, 0.0, 16.0]);
+        assert!(n.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6), "{n:?}");
+    }
+
+    #[test]
+    fn obj_without_normals_is_normalised_with_smooth_normals() {
+        let dir = std::env::temp_dir().join(format!("nklut-mesh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("quad.obj");
+        std::fs::write(&file, "v 10 10 0\nv 14 10 0\nv 14 13 0\nv 10 13 0\nf 1 2 3 4\n").unwrap();
+        let mesh = load_obj(&file).unwrap();
+        assert_eq!(mesh.triangles(), 2);
+        assert!((radius(&mesh) - 1.0).abs() < 1e-6);
+        assert!(mesh.normals.iter().all(|n| (n[2] - 1.0).abs() < 1e-6));
+        std::fs::write(&file, "v 0 0 0\n").unwrap();
+        assert!(load_obj(&file).unwrap_err().to_string().contains("no triangles"));
+        assert!(load_obj(&dir.join("missing.obj")).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,18 @@
+//! The wgpu runner (issue 7, `gpu` feature): every Fresnel method of SPEC §5 as WGSL
+//! (`shaders/fresnel.wgsl`), timed per material on any adapter, and rendered on a cube and
+//! a sculpture to measure image error (SPEC §6). Pure CPU parts (`params`, `mesh`,
+//! `camera`, `image_error`, `timing` statistics) take plain data; device I/O is in
+//! `context`, `render`, `lut::upload` and `runner`.
+
+pub mod camera;
+pub mod context;
+pub mod image_error;
+pub mod lut;
+pub mod mesh;
+pub mod params;
+pub mod render;
+pub mod runner;
+pub mod timing;
+
+pub use context::{adapters, open, AdapterLine, Gpu};
+pub use runner::{run, run_with_materials, RunReport, RunStats};

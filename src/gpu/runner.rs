@@ -1,0 +1,369 @@
+//! The scene runner: computes only what the scene names.
+//!
+//! - Pages: only the scene's materials are ingested (`Selection { pages }`).
+//! - Pipelines (one per method and pass, compiled on first use):
+//!   `timing` → one fullscreen pipeline per named method (with `subtract`: blended over
+//!   the expensive `burner`, + the burner's own pipeline);
+//!   `image_error` → one mesh pipeline per named method + the `exact` mesh pipeline as the
+//!   reference (the same pipeline when `exact` is named).
+//! - Textures: a LUT is baked only for a material some object renders with `lut`.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Result};
+use wgpu::util::DeviceExt;
+
+use super::camera;
+use super::context::{AdapterLine, Gpu};
+use super::image_error::{self, ErrorSummary};
+use super::lut;
+use super::mesh;
+use super::params::MaterialUniform;
+use super::render::{readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
+use super::timing::{median_and_iqr, Stopwatch, Timer};
+use crate::db::Database;
+use crate::ingest::{self, Selection};
+use crate::output::Table;
+use crate::scene::{Measurement, MeshSource, Method, Scene};
+use crate::spectrum::{ChannelIndex, Channels, Kind};
+
+/// What a run created and touched, and what it skipped.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunStats {
+    pub pipelines_compiled: usize,
+    pub shader_modules_compiled: usize,
+    /// Catalog pages ingested (only the scene's materials).
+    pub pages_touched: usize,
+    /// LUT textures baked (one per material rendered with `lut`).
+    pub textures_baked: usize,
+    /// Image-error frames rendered (each with the reference and every method).
+    pub frames_rendered: u64,
+    /// Timed passes, warm-up included.
+    pub timed_passes: u64,
+    pub skipped: Vec<String>,
+}
+
+impl fmt::Display for RunStats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} pipelines compiled ({} shader modules), {} pages touched, {} textures baked, {} frames rendered, {} passes timed",
+            self.pipelines_compiled, self.shader_modules_compiled, self.pages_touched, self.textures_baked, self.frames_rendered, self.timed_passes
+        )?;
+        for skipped in &self.skipped {
+            write!(f, "\n  skipped: {skipped}")?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimingRow {
+    pub material: String,
+    pub method: Method,
+    pub timer: Timer,
+    pub resolution: [u32; 2],
+    pub repeats: u32,
+    pub median_ms: f64,
+    pub spread_ms: f64,
+    pub relative_to_exact_dielectric: Option<f64>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageErrorRow {
+    pub material: String,
+    pub method: Method,
+    pub object: String,
+    pub frames: u32,
+    pub resolution: [u32; 2],
+    pub mean_rel_error: f64,
+    pub max_rel_error: f64,
+    pub pixels: u64,
+    pub skipped_zero_reference: u64,
+}
+
+pub struct RunReport {
+    pub adapter: AdapterLine,
+    pub measurements: Vec<Measurement>,
+    pub stats: RunStats,
+    pub timing: Vec<TimingRow>,
+    pub image_errors: Vec<ImageErrorRow>,
+}
+
+/// A scene material: page id, channel indices, conductor or dielectric.
+pub type MaterialEntry = (String, ChannelIndex, Kind);
+
+/// A material of the scene, ready to bind.
+struct SceneMaterial {
+    kind: Kind,
+    binding: Binding,
+}
+
+/// A mesh on the GPU.
+struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+/// The channel indices of the scene's materials: ingests exactly those pages.
+pub fn scene_materials(scene: &Scene, db: &Database, channels: &Channels) -> Result<(Vec<MaterialEntry>, usize)> {
+    let pages = scene.materials();
+    let selection = Selection { shelves: vec![], pages: pages.clone() };
+    let result = ingest::ingest(db, &selection, channels).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+    let mut materials = Vec::new();
+    for page in pages {
+        match result.find(&page) {
+            Some(kept) => materials.push((page, kept.material.channels, kept.material.kind)),
+            None => {
+                let why = result.excluded.iter().find(|e| e.page == page).map(|e| e.error.to_string()).unwrap_or_else(|| "not kept".into());
+                return Err(anyhow!("scene {}: material {page} cannot be used: {why}", scene.file.display()));
+            }
+        }
+    }
+    Ok((materials, result.selected))
+}
+
+/// Run `scene` on `gpu`. `log` receives progress lines.
+pub fn run(scene: &Scene, db: &Database, gpu: &Gpu, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+    let mut stats = RunStats::default();
+    let (materials, pages) = scene_materials(scene, db, &Channels::default())?;
+    stats.pages_touched = pages;
+    run_with_materials(scene, &materials, gpu, stats, log)
+}
+
+/// Run `scene` with the channel indices already known (`material` ids of the scene map to
+/// these entries; used by `run` and by tests).
+pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+    let mut renderer = Renderer::new(gpu);
+    let mut bound = HashMap::new();
+    let mut baked = Vec::new();
+    for (page, channels, kind) in materials {
+        let uniform = MaterialUniform::from_channels(channels);
+        let wants_lut = scene.objects.iter().any(|o| o.material == *page && o.methods.contains(&Method::Lut));
+        let lut_view = wants_lut.then(|| {
+            // MERGE: use bake:: for the texels and encoding.
+            let texture = lut::upload(gpu, &lut::texels(channels, scene.lut.size as usize), page);
+            stats.textures_baked += 1;
+            baked.push(page.clone());
+            texture.create_view(&Default::default())
+        });
+        bound.insert(page.clone(), SceneMaterial { kind: *kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
+    }
+    if baked.is_empty() {
+        stats.skipped.push("LUT bake: no object uses the lut method".into());
+    }
+    let unnamed: Vec<&str> = Method::ALL.iter().filter(|m| !scene.methods().contains(m)).map(|m| m.name()).collect();
+    if !unnamed.is_empty() {
+        stats.skipped.push(format!("methods not in the scene (no pipelines): {}", unnamed.join(", ")));
+    }
+
+    let mut timing = Vec::new();
+    if scene.wants(Measurement::Timing) {
+        timing = run_timing(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
+    } else {
+        stats.skipped.push("timing: not in the scene's measurements".into());
+    }
+    let mut image_errors = Vec::new();
+    if scene.wants(Measurement::ImageError) {
+        image_errors = run_image_error(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
+    } else {
+        stats.skipped.push("image_error: not in the scene's measurements".into());
+    }
+    stats.pipelines_compiled = renderer.created.pipelines;
+    stats.shader_modules_compiled = renderer.created.shader_modules;
+    Ok(RunReport { adapter: gpu.line.clone(), measurements: scene.measurements.clone(), stats, timing, image_errors })
+}
+
+fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
+    let settings = &scene.timing;
+    let [width, height] = settings.resolution;
+    let target = Target::new(gpu, width, height, DISPLAY_TARGET, false);
+    let mut stopwatch = Stopwatch::new(gpu);
+    let burner = if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
+    log(&format!(
+        "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
+        settings.warmup,
+        settings.repeats,
+        stopwatch.timer().name(),
+        if settings.subtract { ", subtracting the burner pass" } else { "" }
+    ));
+    let pairs = scene.material_methods();
+    let measured_pass = if settings.subtract { Pass::FullscreenOver(DISPLAY_TARGET) } else { Pass::Fullscreen(DISPLAY_TARGET) };
+    let mut pipelines = Vec::new();
+    for (page, method) in &pairs {
+        gpu.queue.write_buffer(&bound[page].binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
+        pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), measured_pass)?.clone());
+    }
+    let draws: Vec<_> = pairs.iter().zip(&pipelines).map(|((page, _), pipeline)| (pipeline, &bound[page].binding.bind_group)).collect();
+    let samples = stopwatch.measure_interleaved(gpu, &target, &draws, burner.as_ref(), settings)?;
+    let mut rows = Vec::new();
+    for ((page, method), samples) in pairs.into_iter().zip(samples) {
+        let (median_ms, spread_ms) = median_and_iqr(&samples);
+        log(&format!("  {page} {method}: median {median_ms:.4} ms, IQR {spread_ms:.4} ms"));
+        rows.push(TimingRow { material: page, method, timer: stopwatch.timer(), resolution: settings.resolution, repeats: settings.repeats, median_ms, spread_ms, relative_to_exact_dielectric: None });
+    }
+    stats.timed_passes += stopwatch.passes;
+    // The study's normalisation: exact on a dielectric material.
+    let reference = rows.iter().find(|r| r.method == Method::Exact && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
+    match reference {
+        Some(reference) => rows.iter_mut().for_each(|r| r.relative_to_exact_dielectric = Some(r.median_ms / reference)),
+        None => stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into()),
+    }
+    Ok(rows)
+}
+
+fn upload_mesh(gpu: &Gpu, mesh: &mesh::Mesh) -> GpuMesh {
+    let vertices = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mesh vertices"),
+        contents: bytemuck::cast_slice(&mesh.interleaved()),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let indices = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mesh indices"),
+        contents: bytemuck::cast_slice(&mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    GpuMesh { vertices, indices, index_count: mesh.indices.len() as u32 }
+}
+
+fn run_image_error(
+    scene: &Scene,
+    bound: &HashMap<String, SceneMaterial>,
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    stats: &mut RunStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<ImageErrorRow>> {
+    let [width, height] = scene.resolution;
+    let camera_path = &scene.camera;
+    log(&format!("image error: {width}x{height}, {} frames {}° apart around {:?} at {} m", camera_path.frames, camera_path.degrees_per_frame, camera_path.axis, camera_path.distance));
+    let mut meshes: HashMap<MeshSource, GpuMesh> = HashMap::new();
+    let mut rows = Vec::new();
+    for object in &scene.objects {
+        if !meshes.contains_key(&object.mesh) {
+            let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| anyhow!("scene {}: {e}", scene.file.display()))?;
+            log(&format!("  mesh {}: {} triangles", object.mesh.label(), mesh.triangles()));
+            meshes.insert(object.mesh.clone(), upload_mesh(gpu, &mesh));
+        }
+        let gpu_mesh = &meshes[&object.mesh];
+        let material = &bound[&object.material];
+        let reference = renderer.pipeline(gpu, Shade::Method(Method::Exact), Pass::Mesh)?.clone();
+        let mut pipelines = Vec::new();
+        for method in &object.methods {
+            pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Mesh)?.clone());
+        }
+        let targets: Vec<Target> = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect();
+        let image_bytes = targets[0].readback_bytes();
+        let buffer = readback_buffer(gpu, image_bytes * targets.len() as u64);
+        let mut summaries = vec![ErrorSummary::default(); pipelines.len()];
+        for frame in 0..camera_path.frames {
+            let view = ViewUniform::camera(&camera::frame(camera_path, frame, width, height), width, height);
+            gpu.queue.write_buffer(&material.binding.view, 0, bytemuck::bytes_of(&view));
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            for (i, (target, pipeline)) in targets.iter().zip(std::iter::once(&reference).chain(&pipelines)).enumerate() {
+                {
+                    let mut pass = target.begin(&mut encoder, None);
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &material.binding.bind_group, &[]);
+                    pass.set_vertex_buffer(0, gpu_mesh.vertices.slice(..));
+                    pass.set_index_buffer(gpu_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..gpu_mesh.index_count, 0, 0..1);
+                }
+                target.copy_out(&mut encoder, &buffer, image_bytes * i as u64);
+            }
+            gpu.queue.submit([encoder.finish()]);
+            let bytes = gpu.read_buffer(&buffer)?;
+            let image = |i: usize| targets[i].decode(&bytes[image_bytes as usize * i..image_bytes as usize * (i + 1)]);
+            let reference_image = image(0);
+            for (m, summary) in summaries.iter_mut().enumerate() {
+                summary.add(&image_error::compare(&image(m + 1), &reference_image));
+            }
+            stats.frames_rendered += 1;
+        }
+        for (method, summary) in object.methods.iter().zip(&summaries) {
+            log(&format!(
+                "  {} {} {}: mean relative error {:.3e}, max {:.3e} over {} pixels",
+                object.mesh.label(),
+                object.material,
+                method,
+                summary.mean_relative(),
+                summary.max_relative,
+                summary.pixels
+            ));
+            rows.push(ImageErrorRow {
+                material: object.material.clone(),
+                method: *method,
+                object: object.mesh.label(),
+                frames: summary.frames,
+                resolution: scene.resolution,
+                mean_rel_error: summary.mean_relative(),
+                max_rel_error: summary.max_relative,
+                pixels: summary.pixels,
+                skipped_zero_reference: summary.skipped_zero_reference,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+fn resolution_text([w, h]: [u32; 2]) -> String {
+    format!("{w}x{h}")
+}
+
+/// `gpu_timing.*`: one row per timed (material, method).
+pub fn timing_table(report: &RunReport) -> Table {
+    let rows = &report.timing;
+    let text = |f: &dyn Fn(&TimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let a = &report.adapter;
+    let mut table = Table::new();
+    table
+        .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
+        .text("backend", "wgpu backend", text(&|_| a.backend.clone()))
+        .text("driver", "driver name and version", text(&|_| a.driver.clone()))
+        .text("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
+        .text("method", "Fresnel method (SPEC §5) or baseline (constant, texture)", text(&|r| r.method.name().into()))
+        .text("material", "page id", text(&|r| r.material.clone()))
+        .text("resolution", "fullscreen pass size WxH in pixels", text(&|r| resolution_text(r.resolution)))
+        .integer("repeats", "timed passes (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
+        .float("median_ms", "median pass time (ms)", rows.iter().map(|r| r.median_ms).collect())
+        .float("spread_ms", "interquartile range of the pass times (ms)", rows.iter().map(|r| r.spread_ms).collect())
+        .optional_float(
+            "relative_to_exact_dielectric",
+            "median_ms / median_ms of exact on the first dielectric material timed (the study's normalisation); empty when the scene times none",
+            rows.iter().map(|r| r.relative_to_exact_dielectric).collect(),
+        );
+    table
+}
+
+/// `image_errors.*`: one row per (object, material, method).
+pub fn image_error_table(report: &RunReport) -> Table {
+    let rows = &report.image_errors;
+    let text = |f: &dyn Fn(&ImageErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text("material", "page id", text(&|r| r.material.clone()))
+        .text("method", "Fresnel method (SPEC §5) or baseline", text(&|r| r.method.name().into()))
+        .text("object", "mesh: cube, sphere or the OBJ file stem", text(&|r| r.object.clone()))
+        .integer("frames", "frames of the camera orbit", rows.iter().map(|r| r.frames as i64).collect())
+        .text("resolution", "render target WxH in pixels", text(&|r| resolution_text(r.resolution)))
+        .float("mean_rel_error", "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render)", rows.iter().map(|r| r.mean_rel_error).collect())
+        .float("max_rel_error", "largest |a - r| / r of any covered pixel and channel", rows.iter().map(|r| r.max_rel_error).collect())
+        .integer("pixels", "covered pixels summed over frames", rows.iter().map(|r| r.pixels as i64).collect())
+        .integer("skipped_zero_reference", "covered pixel channels with r = 0, left out of the error", rows.iter().map(|r| r.skipped_zero_reference as i64).collect());
+    table
+}
+
+/// Write the tables of the measurements the run took under `out`.
+pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    if report.measurements.contains(&Measurement::Timing) {
+        written.extend(timing_table(report).write(out, "gpu_timing", false)?);
+    }
+    if report.measurements.contains(&Measurement::ImageError) {
+        written.extend(image_error_table(report).write(out, "image_errors", false)?);
+    }
+    Ok(written)
+}

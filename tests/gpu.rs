@@ -1,0 +1,276 @@
+//! The wgpu runner on whatever adapter there is (lavapipe in CI): every method's shader
+//! against its CPU f32 reference on a cosθ ramp, image error sanity, and the runner's
+//! promise to compute only what the scene names.
+//!
+//! No adapter at all is a FAILURE (install `mesa-vulkan-drivers`), unless
+//! NKLUT_SKIP_GPU_TESTS=1, which skips these tests with a message.
+#![cfg(feature = "gpu")]
+
+use std::path::Path;
+use std::sync::{Mutex, OnceLock};
+
+use nklut::db::Database;
+use nklut::fresnel;
+use nklut::gpu::params::{reference, MaterialUniform};
+use nklut::gpu::render::{self, Renderer};
+use nklut::gpu::{self, lut, Gpu, RunStats};
+use nklut::scene::{Method, Scene};
+use nklut::spectrum::{ChannelIndex, Index, Kind};
+
+/// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
+fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
+    static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
+    let opened = GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
+    match opened {
+        Ok(gpu) => {
+            let guard = gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+            eprintln!("adapter: {}", guard.line);
+            Some(guard)
+        }
+        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+            eprintln!("GPU test skipped (NKLUT_SKIP_GPU_TESTS=1): {error}");
+            None
+        }
+        Err(error) => panic!(
+            "no GPU adapter for the GPU tests: {error}\n\
+             Install a software Vulkan driver (Debian: apt-get install mesa-vulkan-drivers) or set NKLUT_SKIP_GPU_TESTS=1 to skip."
+        ),
+    }
+}
+
+const GOLDISH: ChannelIndex = [Index::new(0.16, 3.8), Index::new(0.5, 2.3), Index::new(1.2, 1.8)];
+const WATER: ChannelIndex = [Index::new(1.331, 0.0), Index::new(1.336, 0.0), Index::new(1.338, 0.0)];
+const DIAMOND: ChannelIndex = [Index::new(2.409, 0.0), Index::new(2.424, 0.0), Index::new(2.432, 0.0)];
+/// A channel with no real compensated λ (schlick_nk below exact at 84.26°): the fallback.
+const MIXED: ChannelIndex = [Index::new(1.0, 0.0), Index::new(0.05, 0.5), Index::new(3.0, 4.0)];
+
+const RAMP_WIDTH: u32 = 1024;
+
+fn ramp_c(x: u32) -> f32 {
+    (x as f32 + 0.5) / RAMP_WIDTH as f32
+}
+
+/// The CPU LUT model: texel i at u = (i + ½)/N, linear between neighbouring centres,
+/// clamp-to-edge beyond the first and last centre. Returns the value and the two texels.
+fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
+    let n = texels.len() as i64;
+    let x = u * n as f32 - 0.5;
+    let i0 = x.floor();
+    let t = x - i0;
+    let at = |i: i64| texels[i.clamp(0, n - 1) as usize][channel];
+    let (a, b) = (at(i0 as i64), at(i0 as i64 + 1));
+    (a + (b - a) * t, a, b)
+}
+
+/// One step of half-float quantisation at `v` (the spacing of f16 values around it).
+fn half_step(v: f32) -> f32 {
+    let v = v.abs().max(6.1e-5); // smallest normal half
+    2f32.powi(v.log2().floor() as i32 - 10)
+}
+
+#[test]
+fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
+    let Some(gpu) = device() else { return };
+    let mut renderer = Renderer::new(&gpu);
+    const LUT_SIZE: usize = 32;
+    let mut worst = Vec::new();
+    for (name, channels) in [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED)] {
+        let uniform = MaterialUniform::from_channels(&channels);
+        let texels = lut::texels(&channels, LUT_SIZE);
+        let stored = lut::quantised(&texels);
+        let view = lut::upload(&gpu, &texels, name).create_view(&Default::default());
+        let binding = renderer.bind(&gpu, &uniform, Some(&view));
+        for method in Method::ALL {
+            let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
+            let mut max_error = 0.0f32;
+            for x in 0..RAMP_WIDTH {
+                let c = ramp_c(x);
+                for channel in 0..3 {
+                    let shader = pixels[x as usize * 4 + channel];
+                    assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
+                    let (expected, tolerance) = match method {
+                        Method::Lut => {
+                            let (model, a, b) = lut_model(&stored, channel, c);
+                            // One half-float step, plus the sub-texel weight precision a GPU may
+                            // use (8 bits on current hardware; a CPU rasteriser uses floats).
+                            (model, half_step(a.max(b)) + (b - a).abs() / 256.0)
+                        }
+                        Method::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
+                        _ => (reference::evaluate_f32(method, &uniform, channel, c).unwrap(), 1e-5),
+                    };
+                    let error = (shader - expected).abs();
+                    assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
+                    max_error = max_error.max(error);
+                }
+            }
+            worst.push(format!("{name} {method} {max_error:.2e}"));
+        }
+    }
+    eprintln!("largest |shader − cpu| per material and method:\n  {}", worst.join("\n  "));
+    assert_eq!(renderer.created.shader_modules, Method::ALL.len(), "one module per method, shared by all materials");
+}
+
+#[test]
+fn mixed_material_really_falls_back() {
+    let params = nklut::gpu::params::prepare(&MIXED);
+    assert!(params.iter().any(|p| p.compensation.fallback), "{params:?}");
+    let uniform = MaterialUniform::new(&params);
+    for i in 0..=100 {
+        for channel in 0..3 {
+            assert!(reference::evaluate_f32(Method::SchlickCompensated, &uniform, channel, i as f32 / 100.0).unwrap().is_finite());
+        }
+    }
+}
+
+fn scene(text: &str) -> Scene {
+    Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap()
+}
+
+/// Mean over θ ∈ [0°, 90°] (uniform) of |schlick − exact| / exact for one index, in f64.
+fn schlick_function_error(index: Index) -> f64 {
+    let f0 = nklut::gpu::params::f0(index);
+    let samples = 90_000;
+    (0..samples)
+        .map(|i| {
+            let c = ((i as f64 + 0.5) / samples as f64 * 90.0).to_radians().cos();
+            let exact = fresnel::exact(index.n, index.k, c);
+            (nklut::gpu::params::schlick(f0, c) - exact).abs() / exact
+        })
+        .sum::<f64>()
+        / samples as f64
+}
+
+#[test]
+fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() {
+    let Some(gpu) = device() else { return };
+    let scene = scene(
+        "resolution: [128, 128]\ncamera: {frames: 4, degrees_per_frame: 7}\n\
+         objects:\n  - {mesh: sphere, material: 3d/liquids/water, methods: [exact, schlick]}\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, schlick]}\n\
+         measurements: [image_error]\n",
+    );
+    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric)];
+    let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
+    let row = |object: &str, method: Method| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
+    for object in ["sphere", "cube"] {
+        let exact = row(object, Method::Exact);
+        assert_eq!(exact.frames, 4);
+        assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
+        assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
+        assert_eq!(exact.skipped_zero_reference, 0, "water reflects at every angle");
+    }
+    // The function error weighs every angle θ alike; an image weighs c = |N·V| by the screen
+    // area at that angle — on a sphere the projected area per dc is ∝ c, so near-normal
+    // incidence (where Schlick is nearly exact) dominates and grazing pixels (where it is
+    // worst) are few; a cube shows a handful of mid-range angles. Both are averages of the
+    // same |a − r|/r curve with different positive weights, so they must agree in order of
+    // magnitude (a factor 10 either way), and must not be zero.
+    let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
+    for object in ["sphere", "cube"] {
+        let image_error = row(object, Method::Schlick).mean_rel_error;
+        eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
+        assert!(image_error > 0.0);
+        assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
+    }
+}
+
+fn database() -> Database {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
+    Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
+}
+
+/// The rule: `image_error` compiles one mesh pipeline per named method plus the `exact`
+/// reference; `timing` one fullscreen pipeline per named method; pages = named materials.
+#[test]
+fn runner_compiles_and_touches_only_what_the_scene_names() {
+    let Some(gpu) = device() else { return };
+    let db = database();
+    let log = &mut |line: &str| eprintln!("{line}");
+
+    let image = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: sphere, material: 3d/liquids/water, method: schlick}]\nmeasurements: [image_error]\n");
+    let report = gpu::run(&image, &db, &gpu, log).unwrap();
+    eprintln!("{}", report.stats);
+    assert_eq!(report.stats.pipelines_compiled, 2, "schlick + the exact reference");
+    assert_eq!(report.stats.pages_touched, 1);
+    assert_eq!(report.stats.textures_baked, 0);
+    assert_eq!(report.stats.timed_passes, 0);
+    assert!(report.stats.skipped.iter().any(|s| s.starts_with("timing")));
+    assert_eq!(report.image_errors.len(), 1);
+
+    let exact_only = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: cube, material: 3d/liquids/water, method: exact}]\nmeasurements: [image_error]\n");
+    assert_eq!(gpu::run(&exact_only, &db, &gpu, log).unwrap().stats.pipelines_compiled, 1, "exact is its own reference");
+
+    let timing = scene(
+        "objects: [{mesh: cube, material: 3d/metals/gold, method: lut}]\nmeasurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3}\n",
+    );
+    let report = gpu::run(&timing, &db, &gpu, log).unwrap();
+    eprintln!("{}", report.stats);
+    assert_eq!(report.stats.pipelines_compiled, 1);
+    assert_eq!(report.stats.pages_touched, 1);
+    assert_eq!(report.stats.textures_baked, 1);
+    assert_eq!(report.stats.frames_rendered, 0);
+    assert_eq!(report.stats.timed_passes, 4);
+    let row = &report.timing[0];
+    assert_eq!((row.method, row.repeats), (Method::Lut, 3));
+    assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
+    assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
+}
+
+#[test]
+fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
+    let Some(gpu) = device() else { return };
+    let scene = scene(
+        "objects:\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, constant]}\n  - {mesh: cube, material: 3d/metals/gold, methods: [exact]}\n\
+         measurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3, subtract: true}\n",
+    );
+    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric), ("3d/metals/gold".to_string(), GOLDISH, Kind::Conductor)];
+    let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
+    assert_eq!(report.timing.len(), 3);
+    assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
+    assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Method::Exact).unwrap();
+    assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
+    assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
+    let table = gpu::runner::timing_table(&report);
+    let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["adapter", "backend", "driver", "timer", "method", "material", "resolution", "repeats", "median_ms", "spread_ms", "relative_to_exact_dielectric"]
+    );
+}
+
+#[test]
+fn default_scene_parses_and_its_sculpture_loads() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::load(&root.join("scenes/default.yaml")).unwrap();
+    assert!(scene.materials().len() >= 3);
+    for object in &scene.objects {
+        if let nklut::scene::MeshSource::File(path) = &object.mesh {
+            let resolved = root.join(path);
+            if resolved.exists() {
+                let mesh = gpu::mesh::load_obj(&resolved).unwrap();
+                assert!(mesh.triangles() > 50_000);
+                assert_eq!(mesh.normals.len(), mesh.positions.len());
+            } else {
+                eprintln!("{} not present; mesh load not checked", resolved.display());
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_scenes_are_named_errors_not_panics() {
+    let dir = std::env::temp_dir().join(format!("nklut-gpu-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bad.yaml");
+    std::fs::write(&file, "objects: [{mesh: cube, material: 3d/metals/gold, method: fastest}]\nmeasurements: [timing]\n").unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_nklut")).args(["gpu", "run"]).arg(&file).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("bad.yaml") && stderr.contains("unknown method \"fastest\""), "{stderr}");
+
+    // An unknown page is found before any GPU work, with the scene named.
+    let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
+    let error = gpu::runner::scene_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
+    assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
