@@ -8,6 +8,7 @@
 //! `output` writes files atomically at the edge, `cli` holds shared arguments.
 
 pub mod cli;
+pub mod color;
 pub mod db;
 pub mod fresnel;
 pub mod ingest;

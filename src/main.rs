@@ -39,6 +39,17 @@ enum Command {
         #[arg(long = "nm", required = true)]
         nm: Vec<f64>,
     },
+    /// Spectral reference colours, index-approximation errors and effective channel
+    /// indices per page; write colors.{csv,parquet}.
+    Colors {
+        #[command(flatten)]
+        pages: PageSelection,
+        #[command(flatten)]
+        channels: ChannelArgs,
+        /// LUT size whose texel centres (i + 0.5)/N are checked for out-of-gamut colours.
+        #[arg(long, default_value_t = 256)]
+        texels: usize,
+    },
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -68,6 +79,11 @@ fn run(cli: Cli) -> Result<()> {
             for wavelength in nm {
                 let index = spectrum::index_at(&data, wavelength).map_err(|e| anyhow::anyhow!("{page}: {e}"))?;
                 println!("{wavelength} {} {}", index.n, index.k);
+            }
+        }
+        Command::Colors { pages, channels, texels } => {
+            for path in nklut::color::command(&db, &pages.selection(), &channels.channels, &cli.paths.out, texels)? {
+                eprintln!("  wrote {}", path.display());
             }
         }
     }
