@@ -89,13 +89,17 @@ pub fn reflectance_spectrum_rgb(reflectance: &[f64]) -> [f64; 3] {
 
 /// The spectral reference colour (linear sRGB) at cosθ = `cos_theta` of a material whose
 /// index on the grid is `spectrum` (from [`sample_spectrum`]): SPEC §4 with R from
-/// [`fresnel::exact`].
+/// [`fresnel::exact`]. A run of equal indices (held ends) is evaluated once.
 pub fn reflectance_rgb(spectrum: &[Index], cos_theta: f64) -> [f64; 3] {
     let weights = spectral_weights();
     debug_assert_eq!(spectrum.len(), SPECTRAL_SAMPLES);
     let mut rgb = [0.0; 3];
+    let (mut previous, mut r) = (Index::new(f64::NAN, f64::NAN), 0.0);
     for (index, w) in spectrum.iter().zip(&weights.rgb[..weights.active]) {
-        let r = fresnel::exact(index.n, index.k, cos_theta);
+        if *index != previous {
+            r = fresnel::exact(index.n, index.k, cos_theta);
+            previous = *index;
+        }
         rgb[0] += r * w[0];
         rgb[1] += r * w[1];
         rgb[2] += r * w[2];
