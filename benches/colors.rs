@@ -69,7 +69,9 @@ fn whole_database(c: &mut Criterion) {
 }
 
 fn one_colour(c: &mut Criterion) {
-    let spectrum = vec![Index::new(0.2, 3.5); nklut::spectrum::SPECTRAL_SAMPLES];
+    // A gold-like spectrum with a different index at every wavelength (no held runs).
+    let spectrum: Vec<Index> =
+        (0..nklut::spectrum::SPECTRAL_SAMPLES).map(|i| Index::new(1.5 - 0.0028 * i as f64, 1.6 + 0.008 * i as f64)).collect();
     c.bench_function("reflectance_rgb (one cos, 421 active wavelengths)", |b| {
         b.iter(|| color::reflectance_rgb(black_box(&spectrum), black_box(0.5)))
     });
