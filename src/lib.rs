@@ -10,6 +10,7 @@
 
 pub mod bake;
 pub mod cli;
+pub mod color;
 pub mod db;
 pub mod fresnel;
 #[cfg(feature = "gpu")]

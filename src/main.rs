@@ -57,6 +57,17 @@ enum Command {
         #[command(subcommand)]
         command: gpu_cli::GpuCommand,
     },
+    /// Spectral reference colours, index-approximation errors and effective channel
+    /// indices per page; write colors.{csv,parquet}.
+    Colors {
+        #[command(flatten)]
+        pages: PageSelection,
+        #[command(flatten)]
+        channels: ChannelArgs,
+        /// LUT size whose texel centres (i + 0.5)/N are checked for out-of-gamut colours.
+        #[arg(long, default_value_t = 256)]
+        texels: usize,
+    },
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -116,6 +127,11 @@ fn run(cli: Cli) -> Result<()> {
         }
         #[cfg(feature = "gpu")]
         Command::Gpu { .. } => unreachable!("handled before the database is opened"),
+        Command::Colors { pages, channels, texels } => {
+            for path in nklut::color::command(&db, &pages.selection(), &channels.channels, &cli.paths.out, texels)? {
+                eprintln!("  wrote {}", path.display());
+            }
+        }
     }
     Ok(())
 }

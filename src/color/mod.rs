@@ -1,0 +1,25 @@
+//! Colour science for the reference colours (SPEC §4): the embedded CIE tables, XYZ →
+//! linear sRGB and the sRGB encoding (IEC 61966-2-1), CIELAB and CIEDE2000 (Sharma et
+//! al. 2005), the spectral reference colour of a page, the index-approximation error of
+//! the three-wavelength channels, and effective channel indices fitted over angle.
+//!
+//! For the bake: [`sample_spectrum`] once per page, then [`spectral_curve`] at the texel
+//! centres [`texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
+
+pub mod cie;
+pub mod command;
+pub mod fit;
+pub mod lab;
+pub mod page;
+pub mod quadrature;
+pub mod spectral;
+pub mod srgb;
+
+pub use command::{colors_table, command, compute, hex_swatch};
+pub use fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
+pub use lab::{delta_e2000, xyz_to_lab, Lab};
+pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
+pub use quadrature::{angle_quadrature, AngleQuadrature};
+pub use spectral::{
+    reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, texel_cosines, SpectralWeights,
+};

@@ -1,0 +1,92 @@
+//! XYZ ↔ linear sRGB and the sRGB transfer function (IEC 61966-2-1:1999).
+
+/// A 3×3 matrix, row-major.
+pub type Matrix3 = [[f64; 3]; 3];
+
+/// sRGB primaries (x, y), IEC 61966-2-1: red, green, blue.
+pub const SRGB_PRIMARIES: [(f64, f64); 3] = [(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)];
+
+/// The matrix printed in IEC 61966-2-1 (XYZ → linear sRGB, D65 white x = 0.3127,
+/// y = 0.3290), 4 decimals. It is not exactly the inverse of the primaries' matrix
+/// (its first entry is 3.2406 where the derivation gives 3.24097): the derivation is
+/// used, and this only checks it to within 5·10⁻⁴.
+pub const IEC_XYZ_TO_SRGB: Matrix3 = [[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]];
+
+pub fn multiply(m: &Matrix3, v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
+}
+
+/// Inverse by the adjugate; `None` for a singular matrix.
+pub fn invert(m: &Matrix3) -> Option<Matrix3> {
+    let cofactor = |r: usize, c: usize| {
+        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+        let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+        m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
+    };
+    let det = m[0][0] * cofactor(0, 0) + m[0][1] * cofactor(0, 1) + m[0][2] * cofactor(0, 2);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    // inverse[r][c] = cofactor(c, r) / det (transpose of the cofactor matrix).
+    Some([0, 1, 2].map(|r| [0, 1, 2].map(|c| cofactor(c, r) / det)))
+}
+
+/// Linear sRGB → XYZ for a given white: the columns are the primaries' XYZ (x/y, 1,
+/// (1 − x − y)/y) scaled so that RGB (1, 1, 1) maps to `white_xyz` (the derivation of
+/// IEC 61966-2-1 §5 and SMPTE RP 177). With the white of the spectral integration
+/// itself, a perfect reflector comes out as (1, 1, 1) to rounding (SPEC §4).
+pub fn rgb_to_xyz_matrix(white_xyz: [f64; 3]) -> Matrix3 {
+    let primary = |(x, y): (f64, f64)| [x / y, 1.0, (1.0 - x - y) / y];
+    let [r, g, b] = SRGB_PRIMARIES.map(primary);
+    let primaries: Matrix3 = [[r[0], g[0], b[0]], [r[1], g[1], b[1]], [r[2], g[2], b[2]]];
+    let scale = multiply(&invert(&primaries).expect("sRGB primaries are independent"), white_xyz);
+    [0, 1, 2].map(|row| [0, 1, 2].map(|col| primaries[row][col] * scale[col]))
+}
+
+/// The sRGB encoding (transfer function) of a linear value, IEC 61966-2-1:
+/// 12.92·L for L ≤ 0.0031308, else 1.055·L^(1/2.4) − 0.055. Negative values are
+/// encoded with the sign mirrored (the extended-range convention) so that out-of-gamut
+/// values stay visible instead of being clamped here.
+pub fn encode(linear: f64) -> f64 {
+    let magnitude = linear.abs();
+    let encoded = if magnitude <= 0.0031308 { 12.92 * magnitude } else { 1.055 * magnitude.powf(1.0 / 2.4) - 0.055 };
+    encoded.copysign(linear)
+}
+
+/// The inverse of [`encode`]: V/12.92 for V ≤ 0.04045, else ((V + 0.055)/1.055)^2.4.
+pub fn decode(encoded: f64) -> f64 {
+    let magnitude = encoded.abs();
+    let linear = if magnitude <= 0.04045 { magnitude / 12.92 } else { ((magnitude + 0.055) / 1.055).powf(2.4) };
+    linear.copysign(encoded)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derived_matrix_matches_the_printed_one() {
+        // Nominal D65 white from (x, y) = (0.3127, 0.3290).
+        let white = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
+        let to_rgb = invert(&rgb_to_xyz_matrix(white)).unwrap();
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!((to_rgb[r][c] - IEC_XYZ_TO_SRGB[r][c]).abs() < 5e-4, "[{r}][{c}] {}", to_rgb[r][c]);
+            }
+        }
+        let ones = multiply(&to_rgb, white);
+        assert!(ones.iter().all(|v| (v - 1.0).abs() < 1e-14), "{ones:?}");
+    }
+
+    #[test]
+    fn transfer_function_known_points() {
+        assert_eq!(encode(0.0), 0.0);
+        assert!((encode(1.0) - 1.0).abs() < 1e-15);
+        assert!((encode(0.0031308) - 0.040449936).abs() < 1e-8);
+        // Middle grey: linear 0.18 encodes to 0.4613561295...
+        assert!((encode(0.18) - 0.461356129500).abs() < 1e-9, "{}", encode(0.18));
+        for v in [-0.3, 0.001, 0.02, 0.5, 1.2] {
+            assert!((decode(encode(v)) - v).abs() < 1e-14);
+        }
+    }
+}
