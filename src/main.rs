@@ -35,9 +35,9 @@ enum Command {
     Report {
         #[command(flatten)]
         pages: PageSelection,
-        /// Leave out the per-material Fresnel plots (smaller HTML for --all).
-        #[arg(long)]
-        no_plots: bool,
+        /// Draw the Fresnel plots of at most this many materials (each adds ~100 kB).
+        #[arg(long, default_value_t = 60)]
+        max_plots: usize,
     },
     /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
     Bake(nklut::bake::BakeArgs),
@@ -101,8 +101,8 @@ fn run(cli: Cli) -> Result<()> {
                 result.check_strict()?;
             }
         }
-        Command::Report { pages, no_plots } => {
-            let written = report_command(&cli.paths.out, &pages, !no_plots)?;
+        Command::Report { pages, max_plots } => {
+            let written = nklut::report::command(&db, &cli.paths.out, &pages, max_plots)?;
             for path in written {
                 eprintln!("  wrote {}", path.display());
             }
@@ -134,33 +134,6 @@ fn run(cli: Cli) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The report details the selected pages (default: the 3d shelf) found in materials.csv.
-fn report_command(out: &std::path::Path, pages: &PageSelection, plots: bool) -> Result<Vec<std::path::PathBuf>> {
-    use nklut::report;
-    use nklut::spectrum::Index;
-    let inputs = report::Inputs::load(out)?;
-    let m = &inputs.materials;
-    let selection = if pages.all || !pages.pages.is_empty() || !pages.shelves.is_empty() {
-        pages.selection()
-    } else {
-        ingest::Selection::shelf("3d")
-    };
-    let all = selection.shelves.is_empty() && selection.pages.is_empty();
-    let chosen: Vec<String> = m
-        .rows
-        .iter()
-        .filter(|r| all || selection.shelves.iter().any(|s| s == m.text(r, "shelf")) || selection.pages.iter().any(|p| p == m.text(r, "page")))
-        .map(|r| m.text(r, "page").to_string())
-        .collect();
-    let curves = |page: &str| {
-        let row = m.rows_where("page", page).next()?;
-        let index = ["red", "green", "blue"].map(|c| Index::new(m.number(row, &format!("n_{c}")).unwrap_or(1.0), m.number(row, &format!("k_{c}")).unwrap_or(0.0)));
-        Some(report::curves::method_curves(&index, 91))
-    };
-    let built = report::build(&inputs, &report::Options { pages: chosen, plots }, &curves)?;
-    report::write(&built, out)
 }
 
 fn main() -> ExitCode {

@@ -14,7 +14,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
 
+use crate::cli::PageSelection;
+use crate::db::Database;
+use crate::ingest::{ingest, Ingest, Selection};
 use crate::output::write_atomic;
+use crate::spectrum::{Channels, Index};
 use charts::CostPoint;
 use csvdata::CsvTable;
 use html::{escape, number, percent, raw, TableText};
@@ -59,8 +63,8 @@ pub struct Report {
 pub struct Options {
     /// Page ids to detail (in order).
     pub pages: Vec<String>,
-    /// Draw per-material Fresnel plots (off makes `--all` reports small).
-    pub plots: bool,
+    /// Draw the Fresnel plots of the first `max_plots` pages only (HTML size).
+    pub max_plots: usize,
 }
 
 struct Builder {
@@ -355,7 +359,14 @@ fn materials_section(b: &mut Builder, inputs: &Inputs, options: &Options, curves
     b.html.push_str("</ul>\n");
     let errors_mean = inputs.errors.as_ref().map(|e| material_errors(e, "mean_rel_error"));
     let errors_max = inputs.errors.as_ref().map(|e| material_errors(e, "max_abs_error"));
-    for page in &options.pages {
+    if options.pages.len() > options.max_plots {
+        b.paragraph(&format!(
+            "Fresnel plots are drawn for the first {} of {} materials (pass --max-plots to draw more; each adds about 100 kB).",
+            options.max_plots,
+            options.pages.len()
+        ));
+    }
+    for (position, page) in options.pages.iter().enumerate() {
         let Some(row) = m.rows_where("page", page).next() else { continue };
         let key = escape(&format!("{} {}", page, m.text(row, "names")).to_lowercase());
         let _ = writeln!(b.html, "<section class=\"material\" data-key=\"{key}\">");
@@ -388,17 +399,18 @@ fn materials_section(b: &mut Builder, inputs: &Inputs, options: &Options, curves
             b.table(&colors, "colors");
             b.paragraph(&format!("CIEDE2000 between the spectral and three-wavelength F0: {}", number(c.number(r, "delta_e2000_f0").unwrap_or(f64::NAN))));
         }
-        if options.plots {
+        if position < options.max_plots {
             if let Some(series) = curves(page) {
                 let theta: Vec<f64> = (0..series[0].values[0].len()).map(|i| 90.0 * i as f64 / (series[0].values[0].len() - 1) as f64).collect();
+                let exact = series.iter().find(|s| s.name == "exact").unwrap_or(&series[0]);
                 if m.text(row, "kind") == "conductor" {
                     let minima: Vec<String> = (0..3)
                         .map(|ch| {
-                            let (i, f) = series[0].values[ch].iter().enumerate().fold((0, f64::INFINITY), |a, (i, &f)| if f < a.1 { (i, f) } else { a });
+                            let (i, f) = exact.values[ch].iter().enumerate().fold((0, f64::INFINITY), |a, (i, &f)| if f < a.1 { (i, f) } else { a });
                             format!("{} {}° (F = {})", crate::spectrum::CHANNEL_NAMES[ch], number(theta[i]), number(f))
                         })
                         .collect();
-                    b.paragraph(&format!("Reflectance minimum of the exact curve: {}", minima.join(", ")));
+                    b.paragraph(&format!("Reflectance minimum of the exact three-channel curve: {}", minima.join(", ")));
                 }
                 let svg = charts::fresnel_curves(&theta, &series, (960, 260))?;
                 b.figure(&svg, &format!("{page}: F against θ per channel, exact and each approximation"));
@@ -431,10 +443,28 @@ pub fn write(report: &Report, out: &Path) -> Result<Vec<PathBuf>> {
 }
 
 /// The stages whose tables the report reads, in the order they run.
-pub const STAGES: [&str; 1] = ["ingest"];
+pub const STAGES: [&str; 3] = ["ingest", "colors", "validate"];
 
 /// Per-page columns the report shows, by file: tests check each value is on the page.
-pub const TRACED_COLUMNS: &[(&str, &[&str])] = &[("materials.csv", &["n_red", "k_red", "n_green", "k_green", "n_blue", "k_blue"])];
+pub const TRACED_COLUMNS: &[(&str, &[&str])] = &[
+    ("materials.csv", &["n_red", "k_red", "n_green", "k_green", "n_blue", "k_blue"]),
+    (
+        "colors.csv",
+        &[
+            "f0_spectral_r",
+            "f0_spectral_g",
+            "f0_spectral_b",
+            "f0_three_channel_r",
+            "f0_three_channel_b",
+            "index_error_f0_r",
+            "index_error_angle_b",
+            "effective_n_g",
+            "effective_k_b",
+            "effective_error_r",
+            "delta_e2000_f0",
+        ],
+    ),
+];
 
 /// How the report writes the value of `column`: error columns (fractions) as percentages,
 /// everything else with `html::number`.
@@ -444,4 +474,35 @@ pub fn shown(column: &str, value: f64) -> String {
     } else {
         number(value)
     }
+}
+
+/// `nklut report`: the selected pages (default: the 3d shelf) that `materials.csv` lists,
+/// with Fresnel curves computed from the three-channel index, the effective index of
+/// `colors.csv` and the spectral reference of the page's data.
+pub fn command(db: &Database, out: &Path, pages: &PageSelection, max_plots: usize) -> Result<Vec<PathBuf>> {
+    let inputs = Inputs::load(out)?;
+    let m = &inputs.materials;
+    let explicit = pages.all || !pages.pages.is_empty() || !pages.shelves.is_empty();
+    let selection = if explicit { pages.selection() } else { Selection::shelf("3d") };
+    let everything = selection.shelves.is_empty() && selection.pages.is_empty();
+    let chosen: Vec<String> = m
+        .rows
+        .iter()
+        .filter(|r| everything || selection.shelves.iter().any(|s| s == m.text(r, "shelf")) || selection.pages.iter().any(|p| p == m.text(r, "page")))
+        .map(|r| m.text(r, "page").to_string())
+        .collect();
+    let plotted = Selection { shelves: vec![], pages: chosen.iter().take(max_plots).cloned().collect() };
+    let kept = if plotted.pages.is_empty() { Ingest::default() } else { ingest(db, &plotted, &Channels::default())? };
+    let curves = |page: &str| {
+        let kept_page = kept.find(page)?;
+        let effective = inputs.colors.as_ref().and_then(|c| {
+            let row = c.rows_where("page", page).next()?;
+            let n = channel_triple(c, row, "effective_n");
+            let k = channel_triple(c, row, "effective_k");
+            Some([0, 1, 2].map(|i| Index::new(n[i], k[i])))
+        });
+        Some(curves::material_curves(&kept_page.material, effective.as_ref(), 91))
+    };
+    let built = build(&inputs, &Options { pages: chosen, max_plots }, &curves)?;
+    write(&built, out)
 }
