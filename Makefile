@@ -38,17 +38,24 @@ build:
 
 $(NKLUT): build
 
+# The main job: tables, reference colours, method errors, textures, then the report.
 luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) ingest $(SELECT)
+	$(NKLUT) --db $(DB) --out $(OUT) colors $(SELECT)
+	$(NKLUT) --db $(DB) --out $(OUT) validate $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
+	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
 
 # The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers in CI); with
 # none they fail unless NKLUT_SKIP_GPU_TESTS=1.
 test: db
 	$(CARGO) test --features gpu
 
+# Every benchmark of BENCHMARKS.md: ingest (wall + peak RSS), Fresnel methods, colours.
 bench: db
 	$(CARGO) bench --bench ingest
+	$(CARGO) bench --bench fresnel -- --warm-up-time 1 --measurement-time 3
+	$(CARGO) bench --bench colors
 
 # The GPU measurements of scenes/default.yaml (timing + image error) → output/gpu_timing.csv,
 # output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.
