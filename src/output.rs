@@ -182,10 +182,27 @@ impl Table {
         Ok(bytes)
     }
 
-    /// Write `<dir>/<stem>.csv` and `<dir>/<stem>.parquet` (and `.json` when asked),
-    /// each atomically. Returns the paths written.
+    /// The columns' names and descriptions (units and meaning) as JSON, so that an engine
+    /// or a script can read what each column is without reading this code (SPEC §7).
+    pub fn columns_json(&self, stem: &str) -> Result<Vec<u8>> {
+        let columns: Vec<serde_json::Value> = self
+            .columns
+            .iter()
+            .map(|c| serde_json::json!({ "name": c.name, "description": c.description }))
+            .collect();
+        let mut bytes = serde_json::to_vec_pretty(&serde_json::json!({ "table": stem, "rows": self.rows(), "columns": columns }))?;
+        bytes.push(b'\n');
+        Ok(bytes)
+    }
+
+    /// Write `<dir>/<stem>.csv`, `<dir>/<stem>.parquet` (and `.json` when asked) and the
+    /// column documentation `<dir>/<stem>.columns.json`, each atomically. Returns the
+    /// paths written.
     pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
         let mut written = Vec::new();
+        let columns_path = dir.join(format!("{stem}.columns.json"));
+        write_atomic(&columns_path, &self.columns_json(stem)?)?;
+        written.push(columns_path);
         let csv_path = dir.join(format!("{stem}.csv"));
         write_atomic(&csv_path, &self.to_csv()?)?;
         written.push(csv_path);
@@ -227,6 +244,14 @@ mod tests {
         assert_eq!(value[0]["n"], 0.25);
         assert!(value[1]["n"].is_null());
         assert_eq!(value[1]["page"], "a,b");
+    }
+
+    #[test]
+    fn column_documentation_names_every_column() {
+        let value: serde_json::Value = serde_json::from_slice(&sample().columns_json("t").unwrap()).unwrap();
+        assert_eq!(value["rows"], 2);
+        assert_eq!(value["columns"][1]["name"], "n");
+        assert_eq!(value["columns"][1]["description"], "refractive index");
     }
 
     #[test]
