@@ -261,23 +261,23 @@ pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: 
 }
 
 /// Measured CPU cost of one evaluation (ns), from `cargo bench --bench fresnel` (criterion,
-/// batch of 10⁶ cosines, one core; see BENCHMARKS-fresnel.md and benchmarks/cpu_cost.csv).
+/// batch of 10⁶ cosines, one core; BENCHMARKS.md records the run these come from).
 /// `lut` is the same for every N and encoding on the CPU.
 pub const CPU_COST_NS: [(Method, Precision, f64); 14] = [
-    (Method::Exact, Precision::F64, f64::NAN),
-    (Method::Exact, Precision::F32, f64::NAN),
-    (Method::Schlick, Precision::F64, f64::NAN),
-    (Method::Schlick, Precision::F32, f64::NAN),
-    (Method::SchlickNk, Precision::F64, f64::NAN),
-    (Method::SchlickNk, Precision::F32, f64::NAN),
-    (Method::SchlickCompensated, Precision::F64, f64::NAN),
-    (Method::SchlickCompensated, Precision::F32, f64::NAN),
-    (Method::Lazanyi, Precision::F64, f64::NAN),
-    (Method::Lazanyi, Precision::F32, f64::NAN),
-    (Method::Nvidia, Precision::F64, f64::NAN),
-    (Method::Nvidia, Precision::F32, f64::NAN),
-    (Method::Lut, Precision::F64, f64::NAN),
-    (Method::Lut, Precision::F32, f64::NAN),
+    (Method::Exact, Precision::F64, 25.6),
+    (Method::Exact, Precision::F32, 21.4),
+    (Method::Schlick, Precision::F64, 2.36),
+    (Method::Schlick, Precision::F32, 2.9),
+    (Method::SchlickNk, Precision::F64, 3.05),
+    (Method::SchlickNk, Precision::F32, 3.22),
+    (Method::SchlickCompensated, Precision::F64, 16.7),
+    (Method::SchlickCompensated, Precision::F32, 15.2),
+    (Method::Lazanyi, Precision::F64, 2.16),
+    (Method::Lazanyi, Precision::F32, 2.04),
+    (Method::Nvidia, Precision::F64, 17.0),
+    (Method::Nvidia, Precision::F32, 8.95),
+    (Method::Lut, Precision::F64, 11.9),
+    (Method::Lut, Precision::F32, 12.9),
 ];
 
 pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {

@@ -207,7 +207,7 @@ fn cost_section(b: &mut Builder, inputs: &Inputs) -> Result<()> {
     if points.iter().any(|p| p.cost.is_finite()) {
         b.figure(&charts::cost_chart(&points, "CPU ns per evaluation", (900, 460))?, "Mean relative error over materials against CPU cost per evaluation; the Pareto front is joined.");
     } else {
-        b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and fill benchmarks/cpu_cost.csv).");
+        b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and record the figures in validate::CPU_COST_NS).");
     }
     b.table(&table, "cost");
     if gpu.is_empty() {
