@@ -195,7 +195,9 @@ fn spectral_and_effective_sources_bake_with_errors_against_the_spectral_referenc
     let vs_spectral = |source: &str, row: usize| set(source, "f32")["rows"][row]["error_vs_spectral"]["mean_relative_rgb"].as_f64().unwrap();
     for row in 0..2 {
         assert!(vs_spectral("effective", row) <= vs_spectral("three-channel", row) * 1.001, "row {row}");
-        assert!(vs_spectral("spectral", row) < 1e-3, "row {row}: {}", vs_spectral("spectral", row));
+        // 32 texels: what is left is sampling (and float rounding), well under the model errors.
+        assert!(vs_spectral("spectral", row) < 5e-3, "row {row}: {}", vs_spectral("spectral", row));
     }
+    assert!(vs_spectral("spectral", 0) < 0.1 * vs_spectral("three-channel", 0), "gold");
     fs::remove_dir_all(&out).unwrap();
 }
