@@ -511,7 +511,11 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     publish::check_writable(out)?;
     let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
     check_named_pages_kept(&ingest, &args.pages.pages)?;
-    let (pages, duplicates) = unique_pages(&ingest.kept);
+    let (pages, mut duplicates) = unique_pages(&ingest.kept);
+    // The catalog itself keeps a page listed twice (same data file) once and reports it.
+    duplicates.extend(ingest.listed_twice.iter().cloned());
+    duplicates.sort();
+    duplicates.dedup();
     let rows = rows(&pages, &plan);
     let mut baked = bake(&rows, &plan)?;
     baked.manifest.duplicate_catalog_pages = duplicates;
