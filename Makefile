@@ -9,8 +9,9 @@ NKLUT     := target/release/nklut
 # Bake settings of `make luts`: texels per row, and the sources (every encoding and both
 # layouts are baked by default).
 LUT_SIZE    ?= 256
-# TODO(merge): add `--source spectral` (and `--source effective`) once the color module is merged.
-LUT_SOURCES ?= --source three-channel
+# Sources of issue 5: exact Fresnel of the three-channel index, and the spectral
+# reference colour (add `--source effective` for the fitted effective indices).
+LUT_SOURCES ?= --source three-channel --source spectral
 # `make luts ALL=1` works on every kept page instead of the 3d shelf.
 ifeq ($(ALL),1)
 SELECT    := --all

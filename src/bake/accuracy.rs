@@ -1,12 +1,13 @@
 //! The validated error of a baked row: the LUT model on the decoded texels against a
-//! reference curve, over θ uniform in [0°, 90°] (SPEC §5.7, §6).
+//! reference curve, over θ uniform in [0°, 90°] (SPEC §5.7, §6). Two rules: the dense
+//! midpoint rule of `error_samples` against `exact` (cheap to evaluate), and the colour
+//! module's angle quadrature against the spectral reference (each value a 471-wavelength sum).
 
 use serde::Serialize;
 
-use crate::fresnel;
+use crate::color::AngleQuadrature;
+use crate::fresnel::{self, sample_lut};
 use crate::spectrum::ChannelIndex;
-
-use super::texel::sample_lut;
 
 /// Error samples per texel of the LUT (at least `MIN_ERROR_SAMPLES`, at most `MAX_ERROR_SAMPLES`).
 pub const ERROR_SAMPLES_PER_TEXEL: usize = 32;
@@ -25,6 +26,11 @@ pub fn error_cosines(samples: usize) -> Vec<f64> {
     (0..samples).map(|j| ((j as f64 + 0.5) * h).cos()).collect()
 }
 
+/// The midpoint rule of `error_cosines` as a quadrature (equal weights 1/M).
+pub fn midpoint_rule(samples: usize) -> AngleQuadrature {
+    AngleQuadrature { cosines: error_cosines(samples), weights: vec![1.0 / samples as f64; samples] }
+}
+
 /// `exact` (SPEC §5.1) per channel at each cosine: the reference of the three-channel error.
 pub fn exact_reference(index: &ChannelIndex, cosines: &[f64]) -> [Vec<f64>; 3] {
     index.map(|i| cosines.iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect())
@@ -38,7 +44,8 @@ pub fn deinterleave(values: &[f64]) -> [Vec<f64>; 3] {
 /// Error figures of one row against one reference (SPEC §6 definitions, midpoint rule in θ).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LutError {
-    /// Per channel (red, green, blue): mean over samples with F_ref > 0 of |F_lut − F_ref| / F_ref.
+    /// Per channel (red, green, blue): mean over θ (the rule's weights, renormalised over
+    /// the samples with F_ref > 0) of |F_lut − F_ref| / F_ref.
     pub mean_relative: [Option<f64>; 3],
     /// Mean of the channels' `mean_relative` (the per-material figure of SPEC §6).
     pub mean_relative_rgb: Option<f64>,
@@ -51,23 +58,24 @@ pub struct LutError {
 }
 
 /// The LUT model (decoded texels, linear filtering, clamp-to-edge) against `reference`
-/// sampled at `cosines` (see `error_cosines`).
-pub fn lut_error(decoded: &[Vec<f64>; 3], cosines: &[f64], reference: &[Vec<f64>; 3]) -> LutError {
+/// sampled at `rule.cosines` (`midpoint_rule` or `color::angle_quadrature`).
+pub fn lut_error(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> LutError {
     let mut mean_relative = [None; 3];
     let mut max_absolute = [0.0; 3];
     let mut excluded = [0; 3];
     for c in 0..3 {
-        let (mut sum, mut counted) = (0.0, 0usize);
-        for (&cos, &f_ref) in cosines.iter().zip(&reference[c]) {
+        let (mut sum, mut weight, mut counted) = (0.0, 0.0, 0usize);
+        for ((&cos, &q), &f_ref) in rule.cosines.iter().zip(&rule.weights).zip(&reference[c]) {
             let diff = (sample_lut(&decoded[c], cos) - f_ref).abs();
             max_absolute[c] = f64::max(max_absolute[c], diff);
             if f_ref > 0.0 {
-                sum += diff / f_ref;
+                sum += q * diff / f_ref;
+                weight += q;
                 counted += 1;
             }
         }
-        excluded[c] = cosines.len() - counted;
-        mean_relative[c] = (counted > 0).then(|| sum / counted as f64);
+        excluded[c] = rule.cosines.len() - counted;
+        mean_relative[c] = (counted > 0).then(|| sum / weight);
     }
     let present: Vec<f64> = mean_relative.iter().flatten().copied().collect();
     LutError {
@@ -93,10 +101,10 @@ mod tests {
         let cos = texel_cosines(size);
         let curve = gold.map(|i| cos.iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect::<Vec<_>>());
         let decoded = deinterleave(&quantise(Encoding::Unorm8, &curve).texels.decode(Encoding::Unorm8));
-        let coarse_cos = error_cosines(error_samples(size));
-        let coarse = lut_error(&decoded, &coarse_cos, &exact_reference(&gold, &coarse_cos));
-        let dense_cos = error_cosines(1_000_000);
-        let dense = lut_error(&decoded, &dense_cos, &exact_reference(&gold, &dense_cos));
+        let coarse_rule = midpoint_rule(error_samples(size));
+        let coarse = lut_error(&decoded, &coarse_rule, &exact_reference(&gold, &coarse_rule.cosines));
+        let dense_rule = midpoint_rule(1_000_000);
+        let dense = lut_error(&decoded, &dense_rule, &exact_reference(&gold, &dense_rule.cosines));
         let (a, b) = (coarse.mean_relative_rgb.unwrap(), dense.mean_relative_rgb.unwrap());
         assert!((a - b).abs() < 1e-3 * b, "{a} vs {b}");
         assert!(coarse.max_absolute_rgb <= dense.max_absolute_rgb + 1e-12);
@@ -105,9 +113,8 @@ mod tests {
 
     #[test]
     fn vacuum_reference_is_excluded_not_nan() {
-        let cos = error_cosines(16);
         let zero = [vec![0.0; 16], vec![0.0; 16], vec![0.0; 16]];
-        let e = lut_error(&[vec![0.0; 4], vec![0.0; 4], vec![0.0; 4]], &cos, &zero);
+        let e = lut_error(&[vec![0.0; 4], vec![0.0; 4], vec![0.0; 4]], &midpoint_rule(16), &zero);
         assert_eq!(e.mean_relative, [None; 3]);
         assert_eq!(e.mean_relative_rgb, None);
         assert_eq!(e.excluded_zero_reference, [16; 3]);

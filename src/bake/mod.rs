@@ -6,6 +6,11 @@
 //! rows (plain data) → encoded PNG/EXR bytes and the manifest, per source × encoding ×
 //! layout; `run` is the edge: arguments → ingest → curves → `bake` → `publish`.
 //!
+//! Each page's spectrum (1 nm, SPEC §4) is sampled once, and its spectral reference
+//! evaluated once at the colour module's angle-quadrature nodes ([`PageReference`]); that
+//! serves the `effective` fit and every row's `error_vs_spectral`. The `spectral` source
+//! adds one evaluation per texel.
+//!
 //! Layouts: one N×1 strip per page (`<source>/<encoding>/strips/<page id, '/' → '__'>.<ext>`)
 //! and one N×rows atlas per source × encoding (`<source>/<encoding>/atlas.<ext>`), row r =
 //! the r-th kept page in catalog order.
@@ -24,10 +29,10 @@ use clap::{Args, ValueEnum};
 use rayon::prelude::*;
 
 use crate::cli::{ChannelArgs, PageSelection};
+use crate::color;
 use crate::db::Database;
-use crate::fresnel;
 use crate::ingest::{self, Ingest, KeptPage};
-use crate::spectrum::{ChannelIndex, Channels, Kind};
+use crate::spectrum::{ChannelIndex, Channels, Index, Kind};
 
 use accuracy::LutError;
 use manifest::{Manifest, RowEntry, TextureSet};
@@ -68,23 +73,6 @@ impl Source {
             Source::Spectral => "the spectral reference colour RGB(theta) in linear sRGB (SPEC 4); may exceed 1",
         }
     }
-
-    /// Whether this build can compute the source; checked before any work starts.
-    pub fn check_available(self) -> Result<()> {
-        match self {
-            Source::ThreeChannel => Ok(()),
-            // TODO(merge): color::... — return Ok once `curve` computes these.
-            Source::Effective | Source::Spectral => Err(not_available(self)),
-        }
-    }
-}
-
-fn not_available(source: Source) -> anyhow::Error {
-    anyhow::anyhow!(
-        "source {:?} is not available yet: it needs the color module (spectral reference colours), which this \
-         build does not have; use --source three-channel",
-        source.name()
-    )
 }
 
 /// How rows are laid out in files.
@@ -112,20 +100,58 @@ impl Layout {
     }
 }
 
-/// F of `source` for one kept page at the texel cosines of an N-texel LUT.
-pub fn curve(source: Source, page: &KeptPage, size: usize) -> Result<ChannelCurve> {
+/// The spectral side of one page, computed once and shared by its curves and its
+/// `error_vs_spectral`: the index on the 1 nm grid (SPEC §4) and the spectral reference
+/// RGB(θ) at the nodes of `color::angle_quadrature()`.
+#[derive(Clone, Debug)]
+pub struct PageReference {
+    pub spectrum: Vec<Index>,
+    /// Per channel, the spectral reference at `color::angle_quadrature().cosines`.
+    pub at_nodes: [Vec<f64>; 3],
+}
+
+impl PageReference {
+    pub fn new(page: &KeptPage) -> Self {
+        let (spectrum, _extrapolated_share) = color::sample_spectrum(&page.material.data);
+        let at_nodes = by_channel(&color::spectral_curve(&spectrum, &color::angle_quadrature().cosines));
+        Self { spectrum, at_nodes }
+    }
+
+    /// Per channel, the (n, k) whose exact Fresnel curve best fits the spectral reference
+    /// over θ (`color::fit_effective_index`, started from the three-channel index).
+    pub fn effective_index(&self, channels: &ChannelIndex) -> ChannelIndex {
+        let rule = color::angle_quadrature();
+        std::array::from_fn(|c| color::fit_effective_index(&self.at_nodes[c], channels[c], rule).index)
+    }
+
+    /// F of `source` for `page` (the page this reference was made from) at the texel
+    /// cosines of an N-texel LUT.
+    pub fn curve(&self, source: Source, page: &KeptPage, size: usize) -> ChannelCurve {
+        match source {
+            Source::ThreeChannel => exact_curve(&page.material.channels, size),
+            Source::Effective => exact_curve(&self.effective_index(&page.material.channels), size),
+            Source::Spectral => by_channel(&color::spectral_curve(&self.spectrum, &texel::texel_cosines(size))),
+        }
+    }
+}
+
+/// RGB triples → one vector per channel.
+fn by_channel(rgb: &[[f64; 3]]) -> [Vec<f64>; 3] {
+    std::array::from_fn(|c| rgb.iter().map(|v| v[c]).collect())
+}
+
+/// F of `source` for one kept page at the texel cosines of an N-texel LUT (samples the
+/// page's spectrum; to bake several sources of a page, share one [`PageReference`]).
+pub fn curve(source: Source, page: &KeptPage, size: usize) -> ChannelCurve {
     match source {
-        Source::ThreeChannel => Ok(exact_curve(&page.material.channels, size)),
-        // TODO(merge): color::effective index of `page` (fitted per channel), then exact_curve.
-        // TODO(merge): color::spectral reference RGB(θ) of `page` at texel_cosines(size).
-        Source::Effective | Source::Spectral => Err(not_available(source)),
+        Source::ThreeChannel => exact_curve(&page.material.channels, size),
+        _ => PageReference::new(page).curve(source, page, size),
     }
 }
 
 /// `exact` (SPEC §5.1) per channel at c_i = (i + ½)/N.
 pub fn exact_curve(index: &ChannelIndex, size: usize) -> ChannelCurve {
-    let cosines = texel::texel_cosines(size);
-    index.map(|i| cosines.iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect())
+    accuracy::exact_reference(index, &texel::texel_cosines(size))
 }
 
 /// One page to bake.
@@ -138,6 +164,9 @@ pub struct Row {
     pub index: ChannelIndex,
     /// One curve per source of the plan, in `Plan::sources` order.
     pub curves: Vec<ChannelCurve>,
+    /// Per channel, the spectral reference (SPEC §4) at `color::angle_quadrature().cosines`:
+    /// the reference of `error_vs_spectral` (None: that error is not computed).
+    pub spectral: Option<[Vec<f64>; 3]>,
 }
 
 /// What to bake. Lists are kept in the given order; `normalise` sorts and dedups them.
@@ -166,12 +195,11 @@ impl Plan {
         self
     }
 
-    /// Everything that can be checked without data: size range, non-empty lists, sources
-    /// this build can compute.
+    /// Everything that can be checked without data: size range, non-empty lists.
     pub fn validate(&self) -> Result<()> {
         ensure!((1..=MAX_SIZE).contains(&self.size), "--size must be between 1 and {MAX_SIZE} texels, got {}", self.size);
         ensure!(!self.sources.is_empty() && !self.encodings.is_empty() && !self.layouts.is_empty(), "nothing to bake: no source, encoding or layout");
-        self.sources.iter().try_for_each(|s| s.check_available())
+        Ok(())
     }
 
     /// The texture sets, source-major: (index into `sources`, encoding).
@@ -210,6 +238,7 @@ pub struct Baked {
 struct Cell {
     quantised: texel::Quantised,
     error: LutError,
+    error_vs_spectral: Option<LutError>,
 }
 
 fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
@@ -221,6 +250,11 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
             ensure!(curve.len() == plan.size, "{}: curve of {} values for size {}", row.page, curve.len(), plan.size);
             ensure!(curve.iter().all(|v| v.is_finite()), "{}: curve has a non-finite value", row.page);
         }
+        let nodes = color::angle_quadrature().cosines.len();
+        for reference in row.spectral.iter().flatten() {
+            ensure!(reference.len() == nodes, "{}: spectral reference of {} values for {nodes} nodes", row.page, reference.len());
+            ensure!(reference.iter().all(|v| v.is_finite()), "{}: spectral reference has a non-finite value", row.page);
+        }
         // Unique ignoring case, so that the strips also survive case-insensitive file systems.
         if let Some(other) = stems.insert(strip_stem(&row.page).to_lowercase(), &row.page) {
             bail!("pages {other:?} and {:?} map to the same strip file name (ignoring case)", row.page);
@@ -230,17 +264,22 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
 }
 
 /// Quantise every row in every set and measure its error against `exact` of its
-/// three-channel index (reference computed once per row).
+/// three-channel index (reference computed once per row) and, where the row has it,
+/// against its spectral reference.
 fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
-    let cosines = accuracy::error_cosines(accuracy::error_samples(plan.size));
+    let midpoint = accuracy::midpoint_rule(accuracy::error_samples(plan.size));
     rows.par_iter()
         .map(|row| {
-            let reference = accuracy::exact_reference(&row.index, &cosines);
+            let reference = accuracy::exact_reference(&row.index, &midpoint.cosines);
             sets.iter()
                 .map(|&(source, encoding)| {
                     let quantised = texel::quantise(encoding, &row.curves[source]);
                     let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
-                    Cell { error: accuracy::lut_error(&decoded, &cosines, &reference), quantised }
+                    Cell {
+                        error: accuracy::lut_error(&decoded, &midpoint, &reference),
+                        error_vs_spectral: row.spectral.as_ref().map(|s| accuracy::lut_error(&decoded, color::angle_quadrature(), s)),
+                        quantised,
+                    }
                 })
                 .collect()
         })
@@ -323,8 +362,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                         strip_file: strips.then(|| strip_path(&folder, &row.page, encoding)),
                         clamped_texels: cell[s].quantised.clamped,
                         error_vs_exact: cell[s].error.clone(),
-                        // TODO(merge): color::spectral reference — lut_error against it.
-                        error_vs_spectral: None,
+                        error_vs_spectral: cell[s].error_vs_spectral.clone(),
                     })
                     .collect(),
             }
@@ -339,7 +377,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
         row_order: "catalog order (catalog-nk.yml order of shelves, books and pages) of the kept pages; the atlas row of a \
                     page is its rows[].row"
             .into(),
-        error: manifest::error_definition(accuracy::error_samples(plan.size)),
+        error: manifest::error_definition(accuracy::error_samples(plan.size), color::angle_quadrature().cosines.len()),
         sources: plan.sources.iter().map(|&s| manifest::source_info(s)).collect(),
         encodings: plan.encodings.iter().map(|&e| manifest::encoding_info(e)).collect(),
         layouts: plan.layouts.iter().map(|&l| manifest::layout_info(l)).collect(),
@@ -423,18 +461,21 @@ pub fn unique_pages(kept: &[KeptPage]) -> (Vec<&KeptPage>, Vec<String>) {
     (unique, duplicates.into_iter().collect())
 }
 
-/// The rows of `pages`, curves computed per source.
-pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Result<Vec<Row>> {
+/// The rows of `pages`: curves computed per source, and the spectral reference of
+/// `error_vs_spectral`, all from one [`PageReference`] per page.
+pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
     pages
         .par_iter()
         .map(|page| {
-            Ok(Row {
+            let reference = PageReference::new(page);
+            Row {
                 page: page.id(),
                 names: page.names.clone(),
                 kind: page.material.kind,
                 index: page.material.channels,
-                curves: plan.sources.iter().map(|&s| curve(s, page, plan.size)).collect::<Result<_>>()?,
-            })
+                curves: plan.sources.iter().map(|&s| reference.curve(s, page, plan.size)).collect(),
+                spectral: Some(reference.at_nodes),
+            }
         })
         .collect()
 }
@@ -470,8 +511,12 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     publish::check_writable(out)?;
     let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
     check_named_pages_kept(&ingest, &args.pages.pages)?;
-    let (pages, duplicates) = unique_pages(&ingest.kept);
-    let rows = rows(&pages, &plan)?;
+    let (pages, mut duplicates) = unique_pages(&ingest.kept);
+    // The catalog itself keeps a page listed twice (same data file) once and reports it.
+    duplicates.extend(ingest.listed_twice.iter().cloned());
+    duplicates.sort();
+    duplicates.dedup();
+    let rows = rows(&pages, &plan);
     let mut baked = bake(&rows, &plan)?;
     baked.manifest.duplicate_catalog_pages = duplicates;
     let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
@@ -496,8 +541,8 @@ mod tests {
         let mut bright = exact_curve(&glass, size);
         bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
         vec![
-            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)] },
-            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright] },
+            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)], spectral: None },
+            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright], spectral: None },
         ]
     }
 
@@ -536,6 +581,23 @@ mod tests {
     }
 
     #[test]
+    fn error_vs_spectral_is_measured_on_the_angle_quadrature_where_a_row_has_a_reference() {
+        let mut rows = rows(64);
+        let glass = rows[0].index;
+        rows[0].spectral = Some(accuracy::exact_reference(&glass, &color::angle_quadrature().cosines));
+        let baked = bake(&rows, &plan(64)).unwrap();
+        assert_eq!(baked.manifest.error.spectral_samples, color::angle_quadrature().cosines.len());
+        for t in &baked.manifest.textures {
+            assert!(t.rows[1].error_vs_spectral.is_none());
+            // The reference is the row's own exact curve: what is left is sampling and quantisation.
+            let e = t.rows[0].error_vs_spectral.as_ref().unwrap();
+            let exact = &t.rows[0].error_vs_exact;
+            assert!(e.max_absolute_rgb <= exact.max_absolute_rgb + 1e-12, "{}: {e:?} vs {exact:?}", t.encoding);
+            assert!(e.mean_relative_rgb.unwrap() < 2.0 * exact.mean_relative_rgb.unwrap() + 1e-6, "{}: {e:?} vs {exact:?}", t.encoding);
+        }
+    }
+
+    #[test]
     fn strip_names_replace_slashes_and_escape_unsafe_characters() {
         assert_eq!(strip_stem("3d/metals/gold"), "3d__metals__gold");
         assert_eq!(strip_stem("main/Y/a:b%"), "main__Y__a%3Ab%25");
@@ -548,9 +610,12 @@ mod tests {
             let e = bake(&rows(4), &plan(size)).unwrap_err().to_string();
             assert!(e.contains("--size"), "{e}");
         }
-        let mut p = plan(4);
-        p.sources = vec![Source::Spectral];
-        assert!(bake(&rows(4), &p).unwrap_err().to_string().contains("not available"));
+        let mut two = plan(4);
+        two.sources = vec![Source::ThreeChannel, Source::Spectral];
+        assert!(bake(&rows(4), &two).unwrap_err().to_string().contains("2 sources"));
+        let mut short = rows(4);
+        short[0].spectral = Some([vec![0.04; 3], vec![0.04; 3], vec![0.04; 3]]);
+        assert!(bake(&short, &plan(4)).unwrap_err().to_string().contains("spectral reference of 3 values"));
         let mut bad = rows(4);
         bad[0].curves[0][1][2] = f64::NAN;
         assert!(bake(&bad, &plan(4)).unwrap_err().to_string().contains("non-finite"));

@@ -1,49 +1,41 @@
-//! Texel encodings and the LUT sampling model (SPEC §5.7), private to the bake until the
-//! fresnel module's versions are merged.
+//! What the bake adds to the fresnel module's texel encodings (SPEC §5.7): the stored
+//! code arrays of PNG/EXR images, and the file-level facts of each encoding (file
+//! extension, colour space, decode rule in words, GPU formats, quantisation bound).
 //!
-//! MERGE: replace with fresnel::{Encoding, sample_lut} — `Encoding`, `quantise`, `decode`
-//! and `sample_lut` here have exactly the semantics the bake documents in its manifest:
-//! round-to-nearest unorm quantisation after clamping to [0, 1], sRGB with the
-//! IEC 61966-2-1 transfer function, IEEE half/single floats with round-to-nearest-even,
-//! and linear filtering with clamp-to-edge at texel centres (i + ½)/N.
+//! The encoding itself — unorm codes round(max · clamp(F, 0, 1)), sRGB with the
+//! IEC 61966-2-1 transfer function, IEEE half/single floats with round-to-nearest-even —
+//! and the LUT model (linear filtering with clamp-to-edge at texel centres (i + ½)/N) are
+//! `fresnel::{Encoding, sample_lut}`, re-exported here so that bake code and its tests
+//! name one implementation.
 
+use clap::builder::PossibleValue;
 use clap::ValueEnum;
 use half::f16;
-use serde::Serialize;
 
-/// How a texture stores F. MERGE: replace with fresnel::Encoding.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Encoding {
-    /// 8-bit PNG, code = round(255 · clamp(F, 0, 1)), linear.
-    Unorm8,
-    /// 8-bit PNG, code = round(255 · srgb_encode(clamp(F, 0, 1))) (IEC 61966-2-1); an
-    /// sRGB texture format decodes it to linear F before filtering.
-    #[value(name = "unorm8-srgb")]
-    Unorm8Srgb,
-    /// 16-bit PNG, code = round(65535 · clamp(F, 0, 1)), linear.
-    Unorm16,
-    /// OpenEXR half float (binary16, round-to-nearest-even), linear, not clamped.
-    F16,
-    /// OpenEXR single float (binary32, round-to-nearest-even), linear, not clamped.
-    F32,
-}
+pub use crate::color::texel_cosines;
+pub use crate::fresnel::lut::{srgb_decode, srgb_encode};
+pub use crate::fresnel::{sample_lut, Encoding};
 
-impl Encoding {
-    /// Every encoding, in the order outputs list them.
-    pub const ALL: [Encoding; 5] = [Encoding::Unorm8, Encoding::Unorm8Srgb, Encoding::Unorm16, Encoding::F16, Encoding::F32];
-
-    /// The name used on the command line, in folder names and in the manifest.
-    pub fn name(self) -> &'static str {
-        match self {
-            Encoding::Unorm8 => "unorm8",
-            Encoding::Unorm8Srgb => "unorm8-srgb",
-            Encoding::Unorm16 => "unorm16",
-            Encoding::F16 => "f16",
-            Encoding::F32 => "f32",
-        }
+/// `--encoding` values are the encodings' names (`unorm8`, `unorm8-srgb`, `unorm16`, `f16`, `f32`).
+impl ValueEnum for Encoding {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Encoding::ALL
     }
 
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let help = match self {
+            Encoding::Unorm8 => "8-bit PNG, code = round(255 * clamp(F, 0, 1)), linear",
+            Encoding::Unorm8Srgb => "8-bit PNG, code = round(255 * srgb_encode(clamp(F, 0, 1))); an sRGB texture format decodes it to linear F before filtering",
+            Encoding::Unorm16 => "16-bit PNG, code = round(65535 * clamp(F, 0, 1)), linear",
+            Encoding::F16 => "OpenEXR half float (binary16, round-to-nearest-even), linear, not clamped",
+            Encoding::F32 => "OpenEXR single float (binary32, round-to-nearest-even), linear, not clamped",
+        };
+        Some(PossibleValue::new(self.name()).help(help))
+    }
+}
+
+/// File-level facts of an encoding (the bake's, next to fresnel's code/decode).
+impl Encoding {
     pub fn extension(self) -> &'static str {
         if self.is_float() { "exr" } else { "png" }
     }
@@ -52,21 +44,16 @@ impl Encoding {
         matches!(self, Encoding::F16 | Encoding::F32)
     }
 
+    pub fn bits_per_channel(self) -> u32 {
+        8 * self.bytes_per_channel() as u32
+    }
+
     /// `linear` or `srgb-encoded` (the stored values, not what a sampler returns).
     pub fn color_space(self) -> &'static str {
         if self == Encoding::Unorm8Srgb { "srgb-encoded" } else { "linear" }
     }
 
-    /// The largest stored code of an integer encoding (2^bits − 1).
-    fn unorm_max(self) -> Option<f64> {
-        match self {
-            Encoding::Unorm8 | Encoding::Unorm8Srgb => Some(255.0),
-            Encoding::Unorm16 => Some(65535.0),
-            Encoding::F16 | Encoding::F32 => None,
-        }
-    }
-
-    /// The quantisation step bound |decode(quantise(F)) − F| for F in range: half a code
+    /// The quantisation step bound |decode(encode(F)) − F| for F in range: half a code
     /// for unorm (measured in the stored space; for sRGB that is the encoded value),
     /// half an ulp for floats (relative 2⁻¹¹ for binary16, 2⁻²⁴ for binary32).
     pub fn half_step(self, value: f64) -> f64 {
@@ -90,7 +77,7 @@ impl Encoding {
         }
     }
 
-    /// How to turn a stored value into F, in words.
+    /// How to turn a stored value into F, in words (what `Encoding::decode` does).
     pub fn decode_rule(self) -> &'static str {
         match self {
             Encoding::Unorm8 => "F = code / 255",
@@ -99,24 +86,6 @@ impl Encoding {
             Encoding::F16 => "F = value (binary16)",
             Encoding::F32 => "F = value (binary32)",
         }
-    }
-}
-
-/// sRGB encoding (IEC 61966-2-1): V = 12.92 L for L ≤ 0.0031308, else 1.055 L^(1/2.4) − 0.055.
-pub fn srgb_encode(linear: f64) -> f64 {
-    if linear <= 0.003_130_8 {
-        12.92 * linear
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB decoding (IEC 61966-2-1): L = V / 12.92 for V ≤ 0.04045, else ((V + 0.055)/1.055)^2.4.
-pub fn srgb_decode(encoded: f64) -> f64 {
-    if encoded <= 0.040_45 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
     }
 }
 
@@ -143,18 +112,21 @@ impl Texels {
         self.len() == 0
     }
 
-    fn empty(encoding: Encoding, capacity: usize) -> Self {
+    /// The texels of `codes` (`Encoding::encode` values, one per channel) in the
+    /// variant `encoding` stores.
+    fn from_codes(encoding: Encoding, codes: impl Iterator<Item = u32>) -> Self {
+        // `Encoding::encode` returns codes ≤ 255 / 65535 and the bits of the float, so the casts are exact.
         match encoding {
-            Encoding::Unorm8 | Encoding::Unorm8Srgb => Texels::U8(Vec::with_capacity(capacity)),
-            Encoding::Unorm16 => Texels::U16(Vec::with_capacity(capacity)),
-            Encoding::F16 => Texels::F16(Vec::with_capacity(capacity)),
-            Encoding::F32 => Texels::F32(Vec::with_capacity(capacity)),
+            Encoding::Unorm8 | Encoding::Unorm8Srgb => Texels::U8(codes.map(|c| c as u8).collect()),
+            Encoding::Unorm16 => Texels::U16(codes.map(|c| c as u16).collect()),
+            Encoding::F16 => Texels::F16(codes.map(|c| f16::from_bits(c as u16)).collect()),
+            Encoding::F32 => Texels::F32(codes.map(f32::from_bits).collect()),
         }
     }
 
     /// The rows one after the other (an atlas). All rows must share one variant.
     pub fn concat<'a>(encoding: Encoding, rows: impl IntoIterator<Item = &'a Texels>) -> Texels {
-        let mut out = Texels::empty(encoding, 0);
+        let mut out = Texels::from_codes(encoding, std::iter::empty());
         for row in rows {
             match (&mut out, row) {
                 (Texels::U8(o), Texels::U8(r)) => o.extend_from_slice(r),
@@ -167,14 +139,14 @@ impl Texels {
         out
     }
 
-    /// The linear F each stored value stands for (what a GPU sampler returns per texel).
+    /// The linear F each stored value stands for (what a GPU sampler returns per texel):
+    /// `Encoding::decode` of each code.
     pub fn decode(&self, encoding: Encoding) -> Vec<f64> {
         match self {
-            Texels::U8(v) if encoding == Encoding::Unorm8Srgb => v.iter().map(|&c| srgb_decode(c as f64 / 255.0)).collect(),
-            Texels::U8(v) => v.iter().map(|&c| c as f64 / 255.0).collect(),
-            Texels::U16(v) => v.iter().map(|&c| c as f64 / 65535.0).collect(),
-            Texels::F16(v) => v.iter().map(|&x| x.to_f64()).collect(),
-            Texels::F32(v) => v.iter().map(|&x| x as f64).collect(),
+            Texels::U8(v) => v.iter().map(|&c| encoding.decode(c as u32)).collect(),
+            Texels::U16(v) => v.iter().map(|&c| encoding.decode(c as u32)).collect(),
+            Texels::F16(v) => v.iter().map(|&x| encoding.decode(x.to_bits() as u32)).collect(),
+            Texels::F32(v) => v.iter().map(|&x| encoding.decode(x.to_bits())).collect(),
         }
     }
 }
@@ -187,57 +159,15 @@ pub struct Quantised {
     pub clamped: usize,
 }
 
-/// Round-to-nearest unorm code of `value` in [0, 1]: round(value · max).
-fn unorm(value: f64, max: f64) -> f64 {
-    (value.clamp(0.0, 1.0) * max).round()
-}
-
 /// Quantise a row (F per channel at the texel cosines, all channels of equal length) in
-/// `encoding`, interleaving R G B. Integer encodings clamp to [0, 1] and count the texels
-/// where any channel needed it; float encodings keep every value.
+/// `encoding` (`Encoding::encode`), interleaving R G B. Integer encodings clamp to [0, 1]
+/// and count the texels where any channel needed it; float encodings keep every value.
 pub fn quantise(encoding: Encoding, curve: &[Vec<f64>; 3]) -> Quantised {
     let n = curve[0].len();
     let texel = |i: usize| [curve[0][i], curve[1][i], curve[2][i]];
-    let clamped = match encoding.unorm_max() {
-        Some(_) => (0..n).filter(|&i| texel(i).iter().any(|v| !(0.0..=1.0).contains(v))).count(),
-        None => 0,
-    };
-    let values = (0..n).flat_map(texel);
-    let texels = match encoding {
-        Encoding::Unorm8 => Texels::U8(values.map(|v| unorm(v, 255.0) as u8).collect()),
-        Encoding::Unorm8Srgb => Texels::U8(values.map(|v| unorm(srgb_encode(v.clamp(0.0, 1.0)), 255.0) as u8).collect()),
-        Encoding::Unorm16 => Texels::U16(values.map(|v| unorm(v, 65535.0) as u16).collect()),
-        Encoding::F16 => Texels::F16(values.map(f16::from_f64).collect()),
-        Encoding::F32 => Texels::F32(values.map(|v| v as f32).collect()),
-    };
+    let clamped = if encoding.is_float() { 0 } else { (0..n).filter(|&i| texel(i).iter().any(|v| !(0.0..=1.0).contains(v))).count() };
+    let texels = Texels::from_codes(encoding, (0..n).flat_map(texel).map(|v| encoding.encode(v)));
     Quantised { texels, clamped }
-}
-
-/// The cosines of the texel centres of an N-texel LUT: c_i = (i + ½)/N (SPEC §5.7).
-pub fn texel_cosines(size: usize) -> Vec<f64> {
-    (0..size).map(|i| (i as f64 + 0.5) / size as f64).collect()
-}
-
-/// The LUT model (SPEC §5.7), MERGE: replace with fresnel::sample_lut. A GPU's linear
-/// filter with clamp-to-edge at u = c over N texels t_i centred at (i + ½)/N:
-/// x = c·N − ½, i = ⌊x⌋, f = x − i, F = (1 − f)·t[clamp(i)] + f·t[clamp(i + 1)] with
-/// indices clamped to [0, N − 1]. (GPUs quantise f to 8 fractional bits; the model does not.)
-pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
-    let n = texels.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    let x = cos_theta.clamp(0.0, 1.0) * n as f64 - 0.5;
-    if x <= 0.0 {
-        return texels[0]; // below the first centre: clamp-to-edge
-    }
-    // x > 0, so truncation is ⌊x⌋ (and avoids a libm floor call in the error loop).
-    let i = x as usize;
-    if i >= n - 1 {
-        return texels[n - 1]; // beyond the last centre
-    }
-    let f = x - i as f64;
-    (1.0 - f) * texels[i] + f * texels[i + 1]
 }
 
 #[cfg(test)]
@@ -264,6 +194,15 @@ mod tests {
         let f = quantise(Encoding::F16, &curve);
         assert_eq!(f.clamped, 0);
         assert_eq!(f.texels.decode(Encoding::F16)[3], f16::from_f64(1.2).to_f64());
+    }
+
+    #[test]
+    fn names_parse_on_the_command_line() {
+        for e in Encoding::ALL {
+            assert_eq!(Encoding::from_str(e.name(), false), Ok(e));
+        }
+        assert_eq!(Encoding::from_str("unorm8-srgb", false), Ok(Encoding::Unorm8Srgb));
+        assert_eq!(Encoding::ALL.map(Encoding::bits_per_channel), [8, 8, 16, 16, 32]);
     }
 
     #[test]
