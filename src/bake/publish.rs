@@ -5,7 +5,7 @@
 //!
 //! Files inside the private staging folder are written without a per-file fsync: at
 //! ~3 ms per fsync on this machine's ext4, the tens of thousands of strips of `--all`
-//! would cost more than the whole bake (see BENCHMARKS-bake.md). A power cut right after
+//! would cost more than the whole bake (see BENCHMARKS.md, LUT bake). A power cut right after
 //! a bake can therefore leave truncated files, which a re-run replaces; a crash of the
 //! process cannot.
 
