@@ -66,6 +66,12 @@ impl Method {
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
     }
+
+    /// The SPEC §5 method of the fresnel module this shader implements; `None` for the
+    /// baselines (`constant`, `texture`).
+    pub fn fresnel(self) -> Option<crate::fresnel::Method> {
+        crate::fresnel::Method::from_name(self.name())
+    }
 }
 
 impl fmt::Display for Method {

@@ -11,7 +11,7 @@ use std::sync::{Mutex, OnceLock};
 
 use nklut::db::Database;
 use nklut::fresnel;
-use nklut::gpu::params::{reference, MaterialUniform};
+use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
 use nklut::scene::{Method, Scene};
@@ -75,10 +75,11 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
     const LUT_SIZE: usize = 32;
     let mut worst = Vec::new();
     for (name, channels) in [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED)] {
-        let uniform = MaterialUniform::from_channels(&channels);
-        let texels = lut::texels(&channels, LUT_SIZE);
-        let stored = lut::quantised(&texels);
-        let view = lut::upload(&gpu, &texels, name).create_view(&Default::default());
+        let prepared = params::prepare(&channels);
+        let uniform = MaterialUniform::from_prepared(&prepared);
+        // Already half floats: what the texture stores.
+        let stored = lut::texels(&prepared, LUT_SIZE);
+        let view = lut::upload(&gpu, &stored, name).create_view(&Default::default());
         let binding = renderer.bind(&gpu, &uniform, Some(&view));
         for method in Method::ALL {
             let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
@@ -96,7 +97,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                             (model, half_step(a.max(b)) + (b - a).abs() / 256.0)
                         }
                         Method::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
-                        _ => (reference::evaluate_f32(method, &uniform, channel, c).unwrap(), 1e-5),
+                        _ => (uniform.evaluate_f32(method, channel, c).unwrap(), 1e-5),
                     };
                     let error = (shader - expected).abs();
                     assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
@@ -112,12 +113,12 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
 
 #[test]
 fn mixed_material_really_falls_back() {
-    let params = nklut::gpu::params::prepare(&MIXED);
-    assert!(params.iter().any(|p| p.compensation.fallback), "{params:?}");
-    let uniform = MaterialUniform::new(&params);
+    let prepared = params::prepare(&MIXED);
+    assert!(prepared.iter().any(|p| p.compensation.fallback.is_some()), "{prepared:?}");
+    let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(reference::evaluate_f32(Method::SchlickCompensated, &uniform, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Method::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -128,13 +129,13 @@ fn scene(text: &str) -> Scene {
 
 /// Mean over θ ∈ [0°, 90°] (uniform) of |schlick − exact| / exact for one index, in f64.
 fn schlick_function_error(index: Index) -> f64 {
-    let f0 = nklut::gpu::params::f0(index);
+    let f0 = fresnel::schlick_f0(index.n, index.k);
     let samples = 90_000;
     (0..samples)
         .map(|i| {
             let c = ((i as f64 + 0.5) / samples as f64 * 90.0).to_radians().cos();
             let exact = fresnel::exact(index.n, index.k, c);
-            (nklut::gpu::params::schlick(f0, c) - exact).abs() / exact
+            (fresnel::schlick(f0, c) - exact).abs() / exact
         })
         .sum::<f64>()
         / samples as f64
