@@ -19,6 +19,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::fresnel::Method as FresnelMethod;
+
 /// A Fresnel method of SPEC §5 as the shaders implement it, plus the two cost baselines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -49,17 +51,12 @@ impl Method {
         Method::Texture,
     ];
 
+    /// The name in scene files and tables: the fresnel module's name for a SPEC §5 method.
     pub fn name(self) -> &'static str {
-        match self {
-            Method::Exact => "exact",
-            Method::Schlick => "schlick",
-            Method::SchlickNk => "schlick_nk",
-            Method::SchlickCompensated => "schlick_compensated",
-            Method::Lazanyi => "lazanyi",
-            Method::Nvidia => "nvidia",
-            Method::Lut => "lut",
-            Method::Constant => "constant",
-            Method::Texture => "texture",
+        match self.fresnel() {
+            Some(method) => method.name(),
+            None if self == Method::Constant => "constant",
+            None => "texture",
         }
     }
 
@@ -69,8 +66,17 @@ impl Method {
 
     /// The SPEC §5 method of the fresnel module this shader implements; `None` for the
     /// baselines (`constant`, `texture`).
-    pub fn fresnel(self) -> Option<crate::fresnel::Method> {
-        crate::fresnel::Method::from_name(self.name())
+    pub fn fresnel(self) -> Option<FresnelMethod> {
+        Some(match self {
+            Method::Exact => FresnelMethod::Exact,
+            Method::Schlick => FresnelMethod::Schlick,
+            Method::SchlickNk => FresnelMethod::SchlickNk,
+            Method::SchlickCompensated => FresnelMethod::SchlickCompensated,
+            Method::Lazanyi => FresnelMethod::Lazanyi,
+            Method::Nvidia => FresnelMethod::Nvidia,
+            Method::Lut => FresnelMethod::Lut,
+            Method::Constant | Method::Texture => return None,
+        })
     }
 }
 
