@@ -445,6 +445,16 @@ mod tests {
     }
 
     #[test]
+    fn method_names_match_serde_and_the_fresnel_module() {
+        for method in Method::ALL {
+            assert_eq!(Method::from_name(method.name()), Some(method));
+            assert_eq!(serde_yaml::to_string(&method).unwrap().trim(), method.name());
+            assert_eq!(method.fresnel().map(|m| m.name()).unwrap_or(method.name()), method.name());
+        }
+        assert_eq!(Method::ALL.iter().filter(|m| m.fresnel().is_none()).count(), 2);
+    }
+
+    #[test]
     fn pairs_and_methods_are_distinct() {
         let scene = parse(
             "objects:\n  - {mesh: cube, material: a/b/c, methods: [lut, exact, lut]}\n  - {mesh: sphere, material: a/b/c, methods: [exact]}\n  - {mesh: x.obj, material: d/e/f, methods: [schlick]}\nmeasurements: [timing]\n",
