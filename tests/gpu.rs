@@ -50,16 +50,14 @@ fn ramp_c(x: u32) -> f32 {
     (x as f32 + 0.5) / RAMP_WIDTH as f32
 }
 
-/// The CPU LUT model: texel i at u = (i + ½)/N, linear between neighbouring centres,
-/// clamp-to-edge beyond the first and last centre. Returns the value and the two texels.
+/// The CPU LUT model of one channel (`fresnel::sample_lut_f32`: texel i at u = (i + ½)/N,
+/// linear between neighbouring centres, clamp-to-edge) and the two texels it blends.
 fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
-    let n = texels.len() as i64;
-    let x = u * n as f32 - 0.5;
-    let i0 = x.floor();
-    let t = x - i0;
-    let at = |i: i64| texels[i.clamp(0, n - 1) as usize][channel];
-    let (a, b) = (at(i0 as i64), at(i0 as i64 + 1));
-    (a + (b - a) * t, a, b)
+    let column: Vec<f32> = texels.iter().map(|t| t[channel]).collect();
+    let last = column.len() as i64 - 1;
+    let i0 = (u * column.len() as f32 - 0.5).floor() as i64;
+    let at = |i: i64| column[i.clamp(0, last) as usize];
+    (fresnel::sample_lut_f32(&column, u), at(i0), at(i0 + 1))
 }
 
 /// One step of half-float quantisation at `v` (the spacing of f16 values around it).
