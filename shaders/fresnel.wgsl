@@ -91,16 +91,16 @@ fn method_exact(c: f32) -> vec3<f32> {
 }
 
 // 2. schlick (SPEC §5.2; Schlick 1994): F0 + (1 − F0)(1 − c)⁵, F0 precomputed.
-fn method_schlick(c_in: f32) -> vec3<f32> {
-    let m5 = pow5(vec3<f32>(1.0 - clamp(c_in, 0.0, 1.0)));
+fn method_schlick(c: f32) -> vec3<f32> {
+    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
     let f0 = material.f0.rgb;
     return f0 + (vec3<f32>(1.0) - f0) * m5;
 }
 
 // 3. schlick_nk (SPEC §5.3; Lazányi & Szirmay-Kalos 2005):
 // ((n − 1)² + 4n(1 − c)⁵ + k²)/((n + 1)² + k²), from n and k.
-fn method_schlick_nk(c_in: f32) -> vec3<f32> {
-    let m5 = pow5(vec3<f32>(1.0 - clamp(c_in, 0.0, 1.0)));
+fn method_schlick_nk(c: f32) -> vec3<f32> {
+    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
     let n = material.n.rgb;
     let k = material.k.rgb;
     let one = vec3<f32>(1.0);
@@ -109,24 +109,24 @@ fn method_schlick_nk(c_in: f32) -> vec3<f32> {
 
 // 4. schlick_compensated (SPEC §5.4): schlick_nk − w (1 − c)^λ, w = 2n and λ per channel
 // exact at θ = 84.26°; where no real λ exists w = 0 (plain schlick_nk).
-fn method_schlick_compensated(c_in: f32) -> vec3<f32> {
-    let m = vec3<f32>(1.0 - clamp(c_in, 0.0, 1.0));
-    return method_schlick_nk(c_in) - material.compensation_weight.rgb * shader_pow(m, material.compensation_lambda.rgb);
+fn method_schlick_compensated(c: f32) -> vec3<f32> {
+    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
+    return method_schlick_nk(c) - material.compensation_weight.rgb * shader_pow(m, material.compensation_lambda.rgb);
 }
 
 // 5. lazanyi (SPEC §5.5; Lazányi & Szirmay-Kalos 2005, the F82 form):
 // F0 + (1 − F0)(1 − c)⁵ − a c (1 − c)⁶, a exact at c = 1/7.
-fn method_lazanyi(c_in: f32) -> vec3<f32> {
-    let c = clamp(c_in, 0.0, 1.0);
-    let m = vec3<f32>(1.0 - c);
+fn method_lazanyi(c: f32) -> vec3<f32> {
+    let unit_c = clamp(c, 0.0, 1.0);
+    let m = vec3<f32>(1.0 - unit_c);
     let m5 = pow5(m);
     let f0 = material.f0.rgb;
-    return f0 + (vec3<f32>(1.0) - f0) * m5 - material.lazanyi_a.rgb * c * (m5 * m);
+    return f0 + (vec3<f32>(1.0) - f0) * m5 - material.lazanyi_a.rgb * unit_c * (m5 * m);
 }
 
 // 6. nvidia (SPEC §5.6): max(0, min(1, bias + scale (1 − c)^power)), fitted per material.
-fn method_nvidia(c_in: f32) -> vec3<f32> {
-    let m = vec3<f32>(1.0 - clamp(c_in, 0.0, 1.0));
+fn method_nvidia(c: f32) -> vec3<f32> {
+    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
     let f = material.nvidia_bias.rgb + material.nvidia_scale.rgb * shader_pow(m, material.nvidia_power.rgb);
     return clamp(f, vec3<f32>(0.0), vec3<f32>(1.0));
 }
