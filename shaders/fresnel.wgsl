@@ -11,9 +11,8 @@ struct MaterialParams {
     n: vec4<f32>,                     // rgb = n per channel
     k: vec4<f32>,                     // rgb = k per channel
     f0: vec4<f32>,                    // ((n−1)² + k²)/((n+1)² + k²)
-    compensated_exponent: vec4<f32>,  // λ of schlick_compensated
-    compensated_scale: vec4<f32>,     // the factor in front of (1 − c)^λ (2n, SPEC §5.4)
-    compensated_fallback: vec4<f32>,  // 1 where no real λ exists: plain schlick_nk
+    compensation_weight: vec4<f32>,   // 2n in front of (1 − c)^λ (SPEC §5.4); 0 on fallback
+    compensation_lambda: vec4<f32>,   // λ of schlick_compensated
     lazanyi_a: vec4<f32>,             // a of lazanyi (α = 6)
     nvidia_bias: vec4<f32>,
     nvidia_scale: vec4<f32>,
@@ -32,56 +31,56 @@ struct View {
 @group(0) @binding(2) var lut_texture: texture_2d<f32>;
 @group(0) @binding(3) var lut_sampler: sampler;
 
-fn pow5(x: vec3<f32>) -> vec3<f32> {
-    let x2 = x * x;
-    return x2 * x2 * x;
+// Every function below mirrors its `*_f32` twin in src/fresnel (the reference) operation
+// by operation: c clamped to [0, 1] first, integer powers as products (m⁵ = m²·m²·m,
+// m⁶ = m⁵·m), a real power as exp2(p·log2 m).
+
+fn pow5(m: vec3<f32>) -> vec3<f32> {
+    let m2 = m * m;
+    return m2 * m2 * m;
 }
 
-// x^p with 0^p = 0 (pow(0, p) is undefined in WGSL).
-fn pow_or_zero(x: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
-    return select(pow(max(x, vec3<f32>(1e-30)), p), vec3<f32>(0.0), x <= vec3<f32>(0.0));
+// fresnel::approx::shader_pow: exp2(p·log2 m), 0 at m = 0 (log2(0) is outside WGSL's
+// domain, so guard it instead of relying on exp2(−∞) = 0).
+fn shader_pow(m: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    return select(exp2(p * log2(max(m, vec3<f32>(1e-30)))), vec3<f32>(0.0), m <= vec3<f32>(0.0));
 }
 
-// SPEC §5.1 for one channel, the stable form of src/fresnel.rs::exact: s² = 1 − c²,
-// A = n² − k² − s², r = √(A² + 4n²k²); a², b² = the larger of (r ± A)/2 and (nk)²/larger;
-// a − c = (a² − c²)/(a + c) when A ≥ 0; Rs = ((a − c)² + b²)/((a + c)² + b²),
-// Rp = Rs ((ac − s²)² + b²c²)/((ac + s²)² + b²c²); F = (Rs + Rp)/2. No tanθ.
+// SPEC §5.1 for one channel: fresnel::exact_f32 (see src/fresnel/exact.rs for the stable
+// forms). a0 = (n − 1)(n + 1) − k²; A = (n² − k²) − s² if c² > ½ else a0 + c²;
+// r = √(A² + 4(nk)²); the larger of a², b² is (r + |A|)/2, the other (nk)²/larger;
+// a − c = (a0 + b²)/(a + c) when A ≥ 0;
+// F = ((a−c)² + b²)((ac+s²)² + b²c² + (ac−s²)² + b²c²) / (2((a+c)² + b²)((ac+s²)² + b²c²)).
 fn exact_channel(n: f32, k: f32, c_in: f32) -> f32 {
     let c = clamp(c_in, 0.0, 1.0);
     if (n == 1.0 && k == 0.0) {
         return 0.0;
     }
-    let s2 = (1.0 - c) * (1.0 + c);
-    let big_a = (n - 1.0) * (n + 1.0) - k * k + c * c;
     let nk = n * k;
-    let r = sqrt(big_a * big_a + 4.0 * nk * nk);
-    var a2: f32;
-    var b2: f32;
-    if (big_a >= 0.0) {
-        a2 = (r + big_a) * 0.5;
-        b2 = select(0.0, nk * nk / a2, a2 > 0.0);
-    } else {
-        b2 = (r - big_a) * 0.5;
-        a2 = select(0.0, nk * nk / b2, b2 > 0.0);
-    }
+    let nk2 = nk * nk;
+    let a0 = (n - 1.0) * (n + 1.0) - k * k;
+    let sin2 = (1.0 - c) * (1.0 + c);
+    let c2 = c * c;
+    let big_a = select(a0 + c2, (n * n - k * k) - sin2, c2 > 0.5);
+    let r = sqrt(big_a * big_a + 4.0 * nk2);
+    let larger = 0.5 * (r + abs(big_a));
+    let smaller = select(0.0, nk2 / larger, larger > 0.0);
+    let a2 = select(smaller, larger, big_a >= 0.0);
+    let b2 = select(larger, smaller, big_a >= 0.0);
     let a = sqrt(a2);
-    if (a + c == 0.0) {
+    let a_plus_c = a + c;
+    let a_minus_c = select(a - c, (a0 + b2) / a_plus_c, big_a >= 0.0 && a_plus_c > 0.0);
+    let s_num = a_minus_c * a_minus_c + b2;
+    let s_den = a_plus_c * a_plus_c + b2;
+    let ac = a * c;
+    let b2c2 = b2 * c2;
+    let p_num = (ac - sin2) * (ac - sin2) + b2c2;
+    let p_den = (ac + sin2) * (ac + sin2) + b2c2;
+    let denominator = 2.0 * s_den * p_den;
+    if (!(denominator > 0.0)) {
         return 1.0;
     }
-    var a_minus_c: f32;
-    if (big_a >= 0.0) {
-        let r_plus_a = r + big_a;
-        let a2_minus_c2 = (n - 1.0) * (n + 1.0) - k * k + select(0.0, 2.0 * nk * nk / r_plus_a, r_plus_a > 0.0);
-        a_minus_c = a2_minus_c2 / (a + c);
-    } else {
-        a_minus_c = a - c;
-    }
-    let rs = (a_minus_c * a_minus_c + b2) / ((a + c) * (a + c) + b2);
-    let ac = a * c;
-    let p_num = (ac - s2) * (ac - s2) + b2 * c * c;
-    let p_den = (ac + s2) * (ac + s2) + b2 * c * c;
-    let rp = select(rs, rs * p_num / p_den, p_den > 0.0);
-    return clamp(0.5 * (rs + rp), 0.0, 1.0);
+    return clamp(s_num * (p_den + p_num) / denominator, 0.0, 1.0);
 }
 
 // 1. exact (SPEC §5.1).
@@ -93,41 +92,42 @@ fn method_exact(c: f32) -> vec3<f32> {
 
 // 2. schlick (SPEC §5.2; Schlick 1994): F0 + (1 − F0)(1 − c)⁵, F0 precomputed.
 fn method_schlick(c: f32) -> vec3<f32> {
+    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
     let f0 = material.f0.rgb;
-    return f0 + (vec3<f32>(1.0) - f0) * pow5(vec3<f32>(1.0 - c));
+    return f0 + (vec3<f32>(1.0) - f0) * m5;
 }
 
 // 3. schlick_nk (SPEC §5.3; Lazányi & Szirmay-Kalos 2005):
 // ((n − 1)² + 4n(1 − c)⁵ + k²)/((n + 1)² + k²), from n and k.
 fn method_schlick_nk(c: f32) -> vec3<f32> {
+    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
     let n = material.n.rgb;
-    let k2 = material.k.rgb * material.k.rgb;
-    let nm1 = n - vec3<f32>(1.0);
-    let np1 = n + vec3<f32>(1.0);
-    return (nm1 * nm1 + 4.0 * n * pow5(vec3<f32>(1.0 - c)) + k2) / (np1 * np1 + k2);
+    let k = material.k.rgb;
+    let one = vec3<f32>(1.0);
+    return ((n - one) * (n - one) + 4.0 * n * m5 + k * k) / ((n + one) * (n + one) + k * k);
 }
 
-// 4. schlick_compensated (SPEC §5.4): schlick_nk − scale·(1 − c)^λ, λ per channel exact at
-// θ = 84.26°; where no real λ exists (fallback = 1) plain schlick_nk.
+// 4. schlick_compensated (SPEC §5.4): schlick_nk − w (1 − c)^λ, w = 2n and λ per channel
+// exact at θ = 84.26°; where no real λ exists w = 0 (plain schlick_nk).
 fn method_schlick_compensated(c: f32) -> vec3<f32> {
-    let base = method_schlick_nk(c);
-    let x = vec3<f32>(1.0 - c);
-    let compensated = base - material.compensated_scale.rgb * pow_or_zero(x, material.compensated_exponent.rgb);
-    return select(compensated, base, material.compensated_fallback.rgb > vec3<f32>(0.5));
+    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
+    return method_schlick_nk(c) - material.compensation_weight.rgb * shader_pow(m, material.compensation_lambda.rgb);
 }
 
 // 5. lazanyi (SPEC §5.5; Lazányi & Szirmay-Kalos 2005, the F82 form):
-// schlick − a c (1 − c)⁶, a exact at c = 1/7.
+// F0 + (1 − F0)(1 − c)⁵ − a c (1 − c)⁶, a exact at c = 1/7.
 fn method_lazanyi(c: f32) -> vec3<f32> {
-    let x = 1.0 - c;
-    let x6 = x * x * x * x * x * x;
-    return method_schlick(c) - material.lazanyi_a.rgb * (c * x6);
+    let unit_c = clamp(c, 0.0, 1.0);
+    let m = vec3<f32>(1.0 - unit_c);
+    let m5 = pow5(m);
+    let f0 = material.f0.rgb;
+    return f0 + (vec3<f32>(1.0) - f0) * m5 - material.lazanyi_a.rgb * unit_c * (m5 * m);
 }
 
 // 6. nvidia (SPEC §5.6): max(0, min(1, bias + scale (1 − c)^power)), fitted per material.
 fn method_nvidia(c: f32) -> vec3<f32> {
-    let x = vec3<f32>(1.0 - c);
-    let f = material.nvidia_bias.rgb + material.nvidia_scale.rgb * pow_or_zero(x, material.nvidia_power.rgb);
+    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
+    let f = material.nvidia_bias.rgb + material.nvidia_scale.rgb * shader_pow(m, material.nvidia_power.rgb);
     return clamp(f, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 

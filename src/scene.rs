@@ -19,6 +19,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::fresnel::Method as FresnelMethod;
+
 /// A Fresnel method of SPEC §5 as the shaders implement it, plus the two cost baselines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -49,22 +51,32 @@ impl Method {
         Method::Texture,
     ];
 
+    /// The name in scene files and tables: the fresnel module's name for a SPEC §5 method.
     pub fn name(self) -> &'static str {
-        match self {
-            Method::Exact => "exact",
-            Method::Schlick => "schlick",
-            Method::SchlickNk => "schlick_nk",
-            Method::SchlickCompensated => "schlick_compensated",
-            Method::Lazanyi => "lazanyi",
-            Method::Nvidia => "nvidia",
-            Method::Lut => "lut",
-            Method::Constant => "constant",
-            Method::Texture => "texture",
+        match self.fresnel() {
+            Some(method) => method.name(),
+            None if self == Method::Constant => "constant",
+            None => "texture",
         }
     }
 
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// The SPEC §5 method of the fresnel module this shader implements; `None` for the
+    /// baselines (`constant`, `texture`).
+    pub fn fresnel(self) -> Option<FresnelMethod> {
+        Some(match self {
+            Method::Exact => FresnelMethod::Exact,
+            Method::Schlick => FresnelMethod::Schlick,
+            Method::SchlickNk => FresnelMethod::SchlickNk,
+            Method::SchlickCompensated => FresnelMethod::SchlickCompensated,
+            Method::Lazanyi => FresnelMethod::Lazanyi,
+            Method::Nvidia => FresnelMethod::Nvidia,
+            Method::Lut => FresnelMethod::Lut,
+            Method::Constant | Method::Texture => return None,
+        })
     }
 }
 
@@ -430,6 +442,16 @@ mod tests {
         assert_eq!(scene.timing.resolution, [1920, 1080]);
         assert_eq!(scene.objects[0].methods, vec![Method::Schlick]);
         assert_eq!(scene.objects[0].mesh, MeshSource::Cube);
+    }
+
+    #[test]
+    fn method_names_match_serde_and_the_fresnel_module() {
+        for method in Method::ALL {
+            assert_eq!(Method::from_name(method.name()), Some(method));
+            assert_eq!(serde_yaml::to_string(&method).unwrap().trim(), method.name());
+            assert_eq!(method.fresnel().map(|m| m.name()).unwrap_or(method.name()), method.name());
+        }
+        assert_eq!(Method::ALL.iter().filter(|m| m.fresnel().is_none()).count(), 2);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use std::sync::{Mutex, OnceLock};
 
 use nklut::db::Database;
 use nklut::fresnel;
-use nklut::gpu::params::{reference, MaterialUniform};
+use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
 use nklut::scene::{Method, Scene};
@@ -50,16 +50,14 @@ fn ramp_c(x: u32) -> f32 {
     (x as f32 + 0.5) / RAMP_WIDTH as f32
 }
 
-/// The CPU LUT model: texel i at u = (i + ½)/N, linear between neighbouring centres,
-/// clamp-to-edge beyond the first and last centre. Returns the value and the two texels.
+/// The CPU LUT model of one channel (`fresnel::sample_lut_f32`: texel i at u = (i + ½)/N,
+/// linear between neighbouring centres, clamp-to-edge) and the two texels it blends.
 fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
-    let n = texels.len() as i64;
-    let x = u * n as f32 - 0.5;
-    let i0 = x.floor();
-    let t = x - i0;
-    let at = |i: i64| texels[i.clamp(0, n - 1) as usize][channel];
-    let (a, b) = (at(i0 as i64), at(i0 as i64 + 1));
-    (a + (b - a) * t, a, b)
+    let column: Vec<f32> = texels.iter().map(|t| t[channel]).collect();
+    let last = column.len() as i64 - 1;
+    let i0 = (u * column.len() as f32 - 0.5).floor() as i64;
+    let at = |i: i64| column[i.clamp(0, last) as usize];
+    (fresnel::sample_lut_f32(&column, u), at(i0), at(i0 + 1))
 }
 
 /// One step of half-float quantisation at `v` (the spacing of f16 values around it).
@@ -75,10 +73,11 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
     const LUT_SIZE: usize = 32;
     let mut worst = Vec::new();
     for (name, channels) in [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED)] {
-        let uniform = MaterialUniform::from_channels(&channels);
-        let texels = lut::texels(&channels, LUT_SIZE);
-        let stored = lut::quantised(&texels);
-        let view = lut::upload(&gpu, &texels, name).create_view(&Default::default());
+        let prepared = params::prepare(&channels);
+        let uniform = MaterialUniform::from_prepared(&prepared);
+        // Already half floats: what the texture stores.
+        let stored = lut::texels(&prepared, LUT_SIZE);
+        let view = lut::upload(&gpu, &stored, name).create_view(&Default::default());
         let binding = renderer.bind(&gpu, &uniform, Some(&view));
         for method in Method::ALL {
             let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
@@ -96,7 +95,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                             (model, half_step(a.max(b)) + (b - a).abs() / 256.0)
                         }
                         Method::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
-                        _ => (reference::evaluate_f32(method, &uniform, channel, c).unwrap(), 1e-5),
+                        _ => (uniform.evaluate_f32(method, channel, c).unwrap(), 1e-5),
                     };
                     let error = (shader - expected).abs();
                     assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
@@ -112,12 +111,12 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
 
 #[test]
 fn mixed_material_really_falls_back() {
-    let params = nklut::gpu::params::prepare(&MIXED);
-    assert!(params.iter().any(|p| p.compensation.fallback), "{params:?}");
-    let uniform = MaterialUniform::new(&params);
+    let prepared = params::prepare(&MIXED);
+    assert!(prepared.iter().any(|p| p.compensation.fallback.is_some()), "{prepared:?}");
+    let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(reference::evaluate_f32(Method::SchlickCompensated, &uniform, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Method::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -128,13 +127,13 @@ fn scene(text: &str) -> Scene {
 
 /// Mean over θ ∈ [0°, 90°] (uniform) of |schlick − exact| / exact for one index, in f64.
 fn schlick_function_error(index: Index) -> f64 {
-    let f0 = nklut::gpu::params::f0(index);
+    let f0 = fresnel::schlick_f0(index.n, index.k);
     let samples = 90_000;
     (0..samples)
         .map(|i| {
             let c = ((i as f64 + 0.5) / samples as f64 * 90.0).to_radians().cos();
             let exact = fresnel::exact(index.n, index.k, c);
-            (nklut::gpu::params::schlick(f0, c) - exact).abs() / exact
+            (fresnel::schlick(f0, c) - exact).abs() / exact
         })
         .sum::<f64>()
         / samples as f64

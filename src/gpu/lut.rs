@@ -1,40 +1,24 @@
-//! The runner's own LUT for the `lut` method (SPEC §5.7): an N×1 texture, texel i = exact F
-//! at c = (i + ½)/N per channel (rgb; alpha 1), encoded as `rgba16float` (half float: the
-//! smallest float format every adapter can filter linearly; `rgba32float` filtering is an
-//! optional feature). Read in the shader with u = c, v = ½, linear filter, clamp-to-edge.
-//!
-//! MERGE: use bake:: — the bake module owns LUT textures and their encodings; replace
-//! `texels` with its 1D row for one material and keep `upload`.
-
-// MERGE: use bake:: (texels at (i + ½)/N from fresnel::exact, rgba16float) once bake is merged.
+//! The runner's texture for the `lut` method (SPEC §5.7): an N×1 `rgba16float` texture
+//! (half float: the smallest float format every adapter can filter linearly;
+//! `rgba32float` filtering is an optional feature), rgb = the red, green, blue channel of
+//! `fresnel::Lut::bake(LutSpec::new(N, Encoding::F16), exact)` — texel i = exact F at
+//! c = (i + ½)/N, already rounded to half floats — and alpha 1. Read in the shader with
+//! u = c, v = ½, linear filter, clamp-to-edge.
 
 use half::f16;
 
 use super::context::Gpu;
-use crate::fresnel;
-use crate::spectrum::ChannelIndex;
+use crate::fresnel::{Encoding, Lut, LutSpec, Prepared};
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The encoding of [`FORMAT`] in the fresnel module's terms.
+pub const ENCODING: Encoding = Encoding::F16;
 
-/// The cosθ of texel `i` of `size`: its centre (i + ½)/size.
-pub fn texel_cos(i: usize, size: usize) -> f64 {
-    (i as f64 + 0.5) / size as f64
-}
-
-/// F at the texel centres, red, green, blue, alpha = 1, in f64 → f32.
-pub fn texels(channels: &ChannelIndex, size: usize) -> Vec<[f32; 4]> {
-    (0..size)
-        .map(|i| {
-            let c = texel_cos(i, size);
-            let f = channels.map(|index| fresnel::exact(index.n, index.k, c) as f32);
-            [f[0], f[1], f[2], 1.0]
-        })
-        .collect()
-}
-
-/// The texels as the GPU stores them (rounded to half floats), back in f32.
-pub fn quantised(texels: &[[f32; 4]]) -> Vec<[f32; 4]> {
-    texels.iter().map(|t| t.map(|x| f16::from_f32(x).to_f32())).collect()
+/// The texels of `size` as the GPU stores them (exactly representable as half floats):
+/// red, green, blue, alpha = 1.
+pub fn texels(prepared: &[Prepared; 3], size: usize) -> Vec<[f32; 4]> {
+    let [r, g, b] = prepared.map(|p| Lut::bake(LutSpec::new(size, ENCODING), |c| p.exact.reflectance(c)).texels_f32);
+    r.iter().zip(&g).zip(&b).map(|((&r, &g), &b)| [r, g, b, 1.0]).collect()
 }
 
 /// Upload texels as an N×1 `rgba16float` texture.
@@ -63,14 +47,19 @@ pub fn upload(gpu: &Gpu, texels: &[[f32; 4]], label: &str) -> wgpu::Texture {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fresnel;
     use crate::spectrum::Index;
 
     #[test]
-    fn texels_sit_at_centres() {
-        let water = [Index::new(1.333, 0.0); 3];
+    fn texels_sit_at_centres_and_are_stored_exactly() {
+        let water = [Index::new(1.333, 0.0); 3].map(Prepared::new);
         let t = texels(&water, 4);
         assert_eq!(t.len(), 4);
-        assert!((t[3][0] as f64 - fresnel::exact(1.333, 0.0, 0.875)).abs() < 1e-7);
+        let expected = fresnel::exact(1.333, 0.0, fresnel::lut_texel_cos(3, 4));
+        assert!((t[3][0] as f64 - expected).abs() <= expected * 1e-3);
         assert_eq!(t[0][3], 1.0);
+        for x in t.iter().flatten() {
+            assert_eq!(f16::from_f32(*x).to_f32(), *x, "the upload must not round again");
+        }
     }
 }

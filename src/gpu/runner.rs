@@ -20,7 +20,7 @@ use super::context::{AdapterLine, Gpu};
 use super::image_error::{self, ErrorSummary};
 use super::lut;
 use super::mesh;
-use super::params::MaterialUniform;
+use super::params::{self, MaterialUniform};
 use super::render::{readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
@@ -141,11 +141,11 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
     for (page, channels, kind) in materials {
-        let uniform = MaterialUniform::from_channels(channels);
+        let prepared = params::prepare(channels);
+        let uniform = MaterialUniform::from_prepared(&prepared);
         let wants_lut = scene.objects.iter().any(|o| o.material == *page && o.methods.contains(&Method::Lut));
         let lut_view = wants_lut.then(|| {
-            // MERGE: use bake:: for the texels and encoding.
-            let texture = lut::upload(gpu, &lut::texels(channels, scene.lut.size as usize), page);
+            let texture = lut::upload(gpu, &lut::texels(&prepared, scene.lut.size as usize), page);
             stats.textures_baked += 1;
             baked.push(page.clone());
             texture.create_view(&Default::default())
