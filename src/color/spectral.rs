@@ -109,7 +109,30 @@ pub fn reflectance_rgb(spectrum: &[Index], cos_theta: f64) -> [f64; 3] {
 
 /// [`reflectance_rgb`] at each of `cosines` (e.g. the LUT texel centres (i + ½)/N).
 pub fn spectral_curve(spectrum: &[Index], cosines: &[f64]) -> Vec<[f64; 3]> {
-    cosines.iter().map(|&c| reflectance_rgb(spectrum, c)).collect()
+    // The per-wavelength terms of exact Fresnel do not depend on θ: prepare them once
+    // (runs of equal indices, i.e. held ends, share one) and reuse them at every cosine.
+    let weights = spectral_weights();
+    let mut groups: Vec<(fresnel::ExactTerms, [f64; 3])> = Vec::new();
+    let mut previous = Index::new(f64::NAN, f64::NAN);
+    for (index, w) in spectrum.iter().zip(&weights.rgb[..weights.active]) {
+        if *index != previous {
+            groups.push((fresnel::ExactTerms::new(fresnel::sanitise(*index)), [0.0; 3]));
+            previous = *index;
+        }
+        let group = &mut groups.last_mut().expect("pushed above").1;
+        group[0] += w[0];
+        group[1] += w[1];
+        group[2] += w[2];
+    }
+    cosines
+        .iter()
+        .map(|&c| {
+            groups.iter().fold([0.0; 3], |rgb, (terms, w)| {
+                let r = terms.reflectance(c);
+                [rgb[0] + r * w[0], rgb[1] + r * w[1], rgb[2] + r * w[2]]
+            })
+        })
+        .collect()
 }
 
 /// The cosines of the LUT texel centres, c_i = (i + ½)/N, i = 0…N−1 (SPEC §5.7).
