@@ -210,8 +210,18 @@ fn cost_section(b: &mut Builder, inputs: &Inputs) -> Result<()> {
         b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and record the figures in validate::CPU_COST_NS).");
     }
     b.table(&table, "cost");
-    if gpu.is_empty() {
-        b.paragraph("GPU time: output/gpu_timing.csv is absent (run `make gpu`, which needs the gpu feature and a GPU).");
+    match &inputs.gpu_timing {
+        Some(t) if !gpu.is_empty() => {
+            let mut adapters: Vec<String> = t.rows.iter().map(|r| format!("{} ({}, {} timer)", t.text(r, "adapter"), t.text(r, "driver"), t.text(r, "timer"))).collect();
+            adapters.dedup();
+            let software = adapters.iter().any(|a| a.contains("llvmpipe") || a.contains("lavapipe") || a.contains("SwiftShader"));
+            b.paragraph(&format!(
+                "GPU ms: median over materials of gpu_timing.csv, measured on {}{}",
+                adapters.join("; "),
+                if software { ". This adapter is a CPU rasteriser: its times show ratios between methods, not GPU cost." } else { "." }
+            ));
+        }
+        _ => b.paragraph("GPU time: output/gpu_timing.csv is absent (run `make gpu`, which needs the gpu feature and a GPU)."),
     }
     lut_cost(b, &rows)
 }
