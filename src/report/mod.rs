@@ -340,17 +340,7 @@ fn summaries(b: &mut Builder, inputs: &Inputs) {
 
 /// A CSS swatch of a linear-sRGB colour (sRGB-encoded, clamped for display).
 fn swatch(rgb: [f64; 3]) -> String {
-    let encode = |v: f64| {
-        let v = v.clamp(0.0, 1.0);
-        let e = if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
-        (e * 255.0).round() as u8
-    };
-    format!(
-        "<span class=\"swatch\" style=\"background:#{:02x}{:02x}{:02x}\"></span>",
-        encode(rgb[0]),
-        encode(rgb[1]),
-        encode(rgb[2])
-    )
+    format!("<span class=\"swatch\" style=\"background:{}\"></span>", crate::color::hex_swatch(rgb))
 }
 
 fn channel_triple(table: &CsvTable, row: &[String], prefix: &str) -> [f64; 3] {
