@@ -138,7 +138,10 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
     for duplicate in catalog.duplicates.iter().filter(|p| selection.includes(p)) {
         let first = catalog.find(&duplicate.id()).map(|p| p.data.as_str());
         if first == Some(duplicate.data.as_str()) {
-            result.listed_twice.push(duplicate.id());
+            // A page listed three times is still named once.
+            if !result.listed_twice.contains(&duplicate.id()) {
+                result.listed_twice.push(duplicate.id());
+            }
         } else {
             result.selected += 1;
             result.excluded.push(Excluded {

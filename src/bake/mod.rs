@@ -32,7 +32,7 @@ use crate::cli::{ChannelArgs, PageSelection};
 use crate::color;
 use crate::db::Database;
 use crate::ingest::{self, Ingest, KeptPage};
-use crate::spectrum::{ChannelIndex, Channels, Index, Kind};
+use crate::spectrum::{ChannelIndex, Channels, Kind};
 
 use accuracy::LutError;
 use manifest::{Manifest, RowEntry, TextureSet};
@@ -105,7 +105,8 @@ impl Layout {
 /// RGB(θ) at the nodes of `color::angle_quadrature()`.
 #[derive(Clone, Debug)]
 pub struct PageReference {
-    pub spectrum: Vec<Index>,
+    /// The page's spectrum prepared once for every reference colour the bake needs.
+    pub spectrum: color::PreparedSpectrum,
     /// Per channel, the spectral reference at `color::angle_quadrature().cosines`.
     pub at_nodes: [Vec<f64>; 3],
 }
@@ -113,7 +114,8 @@ pub struct PageReference {
 impl PageReference {
     pub fn new(page: &KeptPage) -> Self {
         let (spectrum, _extrapolated_share) = color::sample_spectrum(&page.material.data);
-        let at_nodes = by_channel(&color::spectral_curve(&spectrum, &color::angle_quadrature().cosines));
+        let spectrum = color::PreparedSpectrum::new(&spectrum);
+        let at_nodes = by_channel(&spectrum.curve(&color::angle_quadrature().cosines));
         Self { spectrum, at_nodes }
     }
 
@@ -130,7 +132,7 @@ impl PageReference {
         match source {
             Source::ThreeChannel => exact_curve(&page.material.channels, size),
             Source::Effective => exact_curve(&self.effective_index(&page.material.channels), size),
-            Source::Spectral => by_channel(&color::spectral_curve(&self.spectrum, &texel::texel_cosines(size))),
+            Source::Spectral => by_channel(&self.spectrum.curve(&texel::texel_cosines(size))),
         }
     }
 }
@@ -442,25 +444,6 @@ fn check_named_pages_kept(ingest: &Ingest, named: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// The kept pages with each page id once (the catalog lists some pages twice, with the
-/// same data), in catalog order, and the ids that were listed more than once.
-pub fn unique_pages(kept: &[KeptPage]) -> (Vec<&KeptPage>, Vec<String>) {
-    let mut seen = std::collections::BTreeSet::new();
-    let mut duplicates = std::collections::BTreeSet::new();
-    let unique = kept
-        .iter()
-        .filter(|p| {
-            let id = p.id();
-            let first = seen.insert(id.clone());
-            if !first {
-                duplicates.insert(id);
-            }
-            first
-        })
-        .collect();
-    (unique, duplicates.into_iter().collect())
-}
-
 /// The rows of `pages`: curves computed per source, and the spectral reference of
 /// `error_vs_spectral`, all from one [`PageReference`] per page.
 pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
@@ -511,11 +494,10 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     publish::check_writable(out)?;
     let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
     check_named_pages_kept(&ingest, &args.pages.pages)?;
-    let (pages, mut duplicates) = unique_pages(&ingest.kept);
-    // The catalog itself keeps a page listed twice (same data file) once and reports it.
-    duplicates.extend(ingest.listed_twice.iter().cloned());
+    // The catalog keeps a page id listed twice (same data file) once; ingest names them.
+    let pages: Vec<&KeptPage> = ingest.kept.iter().collect();
+    let mut duplicates = ingest.listed_twice.clone();
     duplicates.sort();
-    duplicates.dedup();
     let rows = rows(&pages, &plan);
     let mut baked = bake(&rows, &plan)?;
     baked.manifest.duplicate_catalog_pages = duplicates;

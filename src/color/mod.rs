@@ -21,5 +21,5 @@ pub use lab::{delta_e2000, xyz_to_lab, Lab};
 pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
 pub use quadrature::{angle_quadrature, AngleQuadrature};
 pub use spectral::{
-    reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, texel_cosines, SpectralWeights,
+    reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, texel_cosines, PreparedSpectrum, SpectralWeights,
 };

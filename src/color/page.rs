@@ -4,7 +4,7 @@
 use super::fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
 use super::lab::delta_e2000;
 use super::quadrature::AngleQuadrature;
-use super::spectral::{reflectance_rgb, sample_spectrum, spectral_curve, spectral_weights};
+use super::spectral::{sample_spectrum, spectral_weights, PreparedSpectrum};
 use crate::fresnel;
 use crate::spectrum::{Index, Material};
 
@@ -27,10 +27,11 @@ pub struct SpectralReference {
 /// the quadrature nodes and at `texel_cosines`.
 pub fn spectral_reference(material: &Material, quadrature: &AngleQuadrature, texel_cosines: &[f64]) -> SpectralReference {
     let (spectrum, extrapolated_share) = sample_spectrum(&material.data);
+    let prepared = PreparedSpectrum::new(&spectrum);
     SpectralReference {
-        f0: reflectance_rgb(&spectrum, 1.0),
-        at_nodes: spectral_curve(&spectrum, &quadrature.cosines),
-        at_texels: spectral_curve(&spectrum, texel_cosines),
+        f0: prepared.rgb(1.0),
+        at_nodes: prepared.curve(&quadrature.cosines),
+        at_texels: prepared.curve(texel_cosines),
         extrapolated_share,
         spectrum,
     }

@@ -87,52 +87,56 @@ pub fn reflectance_spectrum_rgb(reflectance: &[f64]) -> [f64; 3] {
     rgb
 }
 
-/// The spectral reference colour (linear sRGB) at cosθ = `cos_theta` of a material whose
-/// index on the grid is `spectrum` (from [`sample_spectrum`]): SPEC §4 with R from
-/// [`fresnel::exact`]. A run of equal indices (held ends) is evaluated once.
-pub fn reflectance_rgb(spectrum: &[Index], cos_theta: f64) -> [f64; 3] {
-    let weights = spectral_weights();
-    debug_assert_eq!(spectrum.len(), SPECTRAL_SAMPLES);
-    let mut rgb = [0.0; 3];
-    let (mut previous, mut r) = (Index::new(f64::NAN, f64::NAN), 0.0);
-    for (index, w) in spectrum.iter().zip(&weights.rgb[..weights.active]) {
-        if *index != previous {
-            r = fresnel::exact(index.n, index.k, cos_theta);
-            previous = *index;
+/// A material's spectrum (from [`sample_spectrum`]) ready for reference colours
+/// (SPEC §4): exact Fresnel's θ-independent terms once per distinct index — a run of
+/// equal indices (held ends) shares one, with the summed weights of its wavelengths.
+#[derive(Clone, Debug)]
+pub struct PreparedSpectrum {
+    groups: Vec<(fresnel::ExactTerms, [f64; 3])>,
+}
+
+impl PreparedSpectrum {
+    pub fn new(spectrum: &[Index]) -> Self {
+        let weights = spectral_weights();
+        debug_assert_eq!(spectrum.len(), SPECTRAL_SAMPLES);
+        let mut groups: Vec<(fresnel::ExactTerms, [f64; 3])> = Vec::new();
+        let mut previous = Index::new(f64::NAN, f64::NAN);
+        for (index, w) in spectrum.iter().zip(&weights.rgb[..weights.active]) {
+            if *index != previous {
+                groups.push((fresnel::ExactTerms::new(fresnel::sanitise(*index)), [0.0; 3]));
+                previous = *index;
+            }
+            let group = &mut groups.last_mut().expect("pushed above").1;
+            group[0] += w[0];
+            group[1] += w[1];
+            group[2] += w[2];
         }
-        rgb[0] += r * w[0];
-        rgb[1] += r * w[1];
-        rgb[2] += r * w[2];
+        Self { groups }
     }
-    rgb
+
+    /// The reference colour (linear sRGB) at cosθ = `cos_theta`, R from [`fresnel::exact`].
+    pub fn rgb(&self, cos_theta: f64) -> [f64; 3] {
+        self.groups.iter().fold([0.0; 3], |rgb, (terms, w)| {
+            let r = terms.reflectance(cos_theta);
+            [rgb[0] + r * w[0], rgb[1] + r * w[1], rgb[2] + r * w[2]]
+        })
+    }
+
+    /// [`PreparedSpectrum::rgb`] at each of `cosines` (e.g. the LUT texel centres).
+    pub fn curve(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
+        cosines.iter().map(|&c| self.rgb(c)).collect()
+    }
+}
+
+/// The spectral reference colour (linear sRGB) at cosθ = `cos_theta` of a material whose
+/// index on the grid is `spectrum` (from [`sample_spectrum`]): SPEC §4.
+pub fn reflectance_rgb(spectrum: &[Index], cos_theta: f64) -> [f64; 3] {
+    PreparedSpectrum::new(spectrum).rgb(cos_theta)
 }
 
 /// [`reflectance_rgb`] at each of `cosines` (e.g. the LUT texel centres (i + ½)/N).
 pub fn spectral_curve(spectrum: &[Index], cosines: &[f64]) -> Vec<[f64; 3]> {
-    // The per-wavelength terms of exact Fresnel do not depend on θ: prepare them once
-    // (runs of equal indices, i.e. held ends, share one) and reuse them at every cosine.
-    let weights = spectral_weights();
-    let mut groups: Vec<(fresnel::ExactTerms, [f64; 3])> = Vec::new();
-    let mut previous = Index::new(f64::NAN, f64::NAN);
-    for (index, w) in spectrum.iter().zip(&weights.rgb[..weights.active]) {
-        if *index != previous {
-            groups.push((fresnel::ExactTerms::new(fresnel::sanitise(*index)), [0.0; 3]));
-            previous = *index;
-        }
-        let group = &mut groups.last_mut().expect("pushed above").1;
-        group[0] += w[0];
-        group[1] += w[1];
-        group[2] += w[2];
-    }
-    cosines
-        .iter()
-        .map(|&c| {
-            groups.iter().fold([0.0; 3], |rgb, (terms, w)| {
-                let r = terms.reflectance(c);
-                [rgb[0] + r * w[0], rgb[1] + r * w[1], rgb[2] + r * w[2]]
-            })
-        })
-        .collect()
+    PreparedSpectrum::new(spectrum).curve(cosines)
 }
 
 /// The cosines of the LUT texel centres, c_i = (i + ½)/N, i = 0…N−1 (SPEC §5.7).
