@@ -9,8 +9,10 @@
 //!   cell is empty.
 //! - `max_abs_error`: sup over [0°, 90°] of |F_m − F_exact|; `rms_abs_error`: RMS of the
 //!   same over θ.
-//! - `evaluations`, `seconds`: points evaluated (each: exact, the method in f64 and in
-//!   f32) and time taken, shared by the f64 and f32 rows of the same integration.
+//! - `evaluations`, `seconds`: points θ evaluated and time taken. Methods are measured
+//!   in families that share the evaluation of `exact` at each θ ([`Family`]: the analytic
+//!   methods of a channel; the five encodings of one LUT size), so the rows of one family
+//!   carry the same `evaluations` and each the family's time divided by its members.
 //!
 //! The default (fast) path is adaptive quadrature (see [`quadrature`]); `--brute` takes
 //! the 10⁶ θ-midpoint mean of SPEC §6. The f64 figures of both agree to better than
@@ -31,7 +33,7 @@ use rayon::prelude::*;
 
 use crate::cli::{ChannelArgs, PageSelection};
 use crate::db::Database;
-use crate::fresnel::{CompensationFallback, LutSpec, Method, Model, Precision, Prepared};
+use crate::fresnel::{CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared};
 use crate::ingest;
 use crate::output::Table;
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
@@ -108,7 +110,10 @@ pub struct Measurement {
     pub channel: usize,
     pub index: Index,
     pub integral: Integral,
+    /// Wall time of the family's integration divided by its members.
     pub seconds: f64,
+    /// Members of the family this was measured in (they share `integral.evaluations`).
+    pub shared: usize,
     pub fallback: Option<CompensationFallback>,
     pub lambda: Option<f64>,
 }
@@ -152,56 +157,116 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
     cosines.into_iter().filter(|c| c.is_finite() && *c > 0.0 && *c < 1.0).map(f64::acos).collect()
 }
 
-/// The sample function of the integrals for `model`.
-fn sampler(model: &Model) -> impl Fn(f64) -> Sample + Sync + '_ {
-    move |theta: f64| {
+/// Methods measured together for one channel: they share the evaluation of `exact` at
+/// every θ (the analytic methods form one family; the encodings of one LUT size another).
+#[derive(Clone, Debug)]
+pub struct Family {
+    pub models: Vec<Model>,
+}
+
+impl Family {
+    /// Group variants into families: every analytic variant in one, `lut` variants by
+    /// texel count. Returns, per family, the indices into `variants`.
+    pub fn groups(variants: &[Variant]) -> Vec<Vec<usize>> {
+        let mut groups: BTreeMap<Option<usize>, Vec<usize>> = BTreeMap::new();
+        for (i, variant) in variants.iter().enumerate() {
+            groups.entry(variant.lut.map(|spec| spec.texels)).or_default().push(i);
+        }
+        groups.into_values().collect()
+    }
+
+    /// The models of `variants` for one channel; the LUT curve is evaluated once per
+    /// texel count and quantised per encoding.
+    pub fn new(prepared: Prepared, variants: &[Variant]) -> Self {
+        let mut curves: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
+        let models = variants
+            .iter()
+            .map(|variant| match variant.lut {
+                Some(spec) if variant.method == Method::Lut => {
+                    let values = curves.entry(spec.texels).or_insert_with(|| {
+                        (0..spec.texels.max(1)).map(|i| prepared.exact.reflectance(crate::fresnel::lut_texel_cos(i, spec.texels))).collect()
+                    });
+                    Model::with_lut(prepared, Lut::from_values(spec, values))
+                }
+                _ => Model::from_prepared(prepared, variant.method, LutSpec::default()),
+            })
+            .collect();
+        Self { models }
+    }
+
+    /// Evaluate every member at θ: exact once, each method in f64 and in f32.
+    fn evaluate(&self, theta: f64, out: &mut [Sample]) {
         let c = theta.cos();
-        let exact = model.prepared.exact.reflectance(c);
-        let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
-        let approx32 = model.reflectance_f32(c as f32) as f64;
-        Sample { exact, approx: [approx64, approx32] }
+        let Some(first) = self.models.first() else { return };
+        let exact = first.prepared.exact.reflectance(c);
+        for (model, sample) in self.models.iter().zip(out.iter_mut()) {
+            let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
+            let approx32 = model.reflectance_f32(c as f32) as f64;
+            *sample = Sample { exact, approx: [approx64, approx32] };
+        }
+    }
+
+    /// The union of the members' breakpoints.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        self.models.iter().flat_map(breakpoints).collect()
+    }
+
+    /// Measure every member; the integrals are in the order of the models.
+    pub fn measure(&self, strategy: Strategy) -> Vec<Integral> {
+        let f = |theta: f64, out: &mut [Sample]| self.evaluate(theta, out);
+        let members = self.models.len();
+        match strategy {
+            Strategy::Fast => quadrature::adaptive(&f, members, &self.breakpoints(), Tolerance::default()),
+            Strategy::Brute(samples) => quadrature::brute_force(&f, members, samples),
+        }
     }
 }
 
-/// Measure one model.
+/// Measure one model (a family of one).
 pub fn measure(model: &Model, strategy: Strategy) -> Integral {
-    let f = sampler(model);
-    match strategy {
-        Strategy::Fast => quadrature::adaptive(&f, &breakpoints(model), Tolerance::default()),
-        Strategy::Brute(samples) => quadrature::brute_force(&f, samples),
-    }
+    Family { models: vec![model.clone()] }.measure(strategy)[0]
 }
 
-/// Measure every target × variant × channel, in parallel.
+/// Measure every target × variant × channel, in parallel, one family at a time.
 pub fn measure_all(targets: &[Target], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
     let prepared: Vec<[Prepared; 3]> = targets.par_iter().map(|t| t.channels.map(Prepared::new)).collect();
-    let jobs: Vec<(usize, usize, usize)> = (0..targets.len())
-        .flat_map(|t| (0..variants.len()).flat_map(move |v| (0..3).map(move |c| (t, v, c))))
-        .collect();
+    let groups = Family::groups(variants);
+    // Largest families first, so that the parallel tail is short.
+    let mut jobs: Vec<(usize, usize, usize)> =
+        (0..targets.len()).flat_map(|t| (0..groups.len()).flat_map(move |g| (0..3).map(move |c| (t, g, c)))).collect();
+    let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
+    jobs.sort_by_key(|&(t, g, c)| (std::cmp::Reverse(weight(g)), t, c));
     let bar = crate::progress::bar(jobs.len(), "validate");
-    let measurements = jobs
+    let mut measurements: Vec<Measurement> = jobs
         .par_iter()
-        .map(|&(target, v, channel)| {
-            let variant = variants[v];
+        .flat_map_iter(|&(target, g, channel)| {
             let start = Instant::now();
             let p = prepared[target][channel];
-            let model = Model::from_prepared(p, variant.method, variant.lut.unwrap_or_default());
-            let integral = measure(&model, strategy);
+            let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
+            let integrals = Family::new(p, &members).measure(strategy);
+            let seconds = start.elapsed().as_secs_f64() / members.len() as f64;
             bar.inc(1);
-            let compensated = variant.method == Method::SchlickCompensated;
-            Measurement {
-                target,
-                variant,
-                channel,
-                index: p.index,
-                integral,
-                seconds: start.elapsed().as_secs_f64(),
-                fallback: if compensated { p.compensation.fallback } else { None },
-                lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
-            }
+            let shared = members.len();
+            members.into_iter().zip(integrals).map(move |(variant, integral)| {
+                let compensated = variant.method == Method::SchlickCompensated;
+                Measurement {
+                    target,
+                    variant,
+                    channel,
+                    index: p.index,
+                    integral,
+                    seconds,
+                    shared,
+                    fallback: if compensated { p.compensation.fallback } else { None },
+                    lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
+                }
+            })
         })
         .collect();
     bar.finish_and_clear();
+    // Rows in target, variant, channel order, whatever the schedule.
+    let order: BTreeMap<Variant, usize> = variants.iter().enumerate().map(|(i, v)| (*v, i)).collect();
+    measurements.sort_by_key(|m| (m.target, order[&m.variant], m.channel));
     measurements
 }
 
@@ -248,8 +313,12 @@ pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: 
             "evaluation points with F_exact = 0, left out of mean_rel_error (only n = 1, k = 0)",
             rows.iter().map(|r| r.m.integral.excluded_samples as i64).collect(),
         )
-        .integer("evaluations", "points evaluated (exact + method f64 + f32 each), shared by the f64/f32 rows", rows.iter().map(|r| r.m.integral.evaluations as i64).collect())
-        .float("seconds", "wall time of the integration (shared by the f64/f32 rows)", rows.iter().map(|r| r.m.seconds).collect())
+        .integer(
+            "evaluations",
+            "points theta evaluated (exact once, every method of the family in f64 and f32); shared by the rows of one family: the analytic methods of a channel, or the 5 encodings of one lut size",
+            rows.iter().map(|r| r.m.integral.evaluations as i64).collect(),
+        )
+        .float("seconds", "wall time of the family's integration divided by its members (shared by the f64/f32 rows)", rows.iter().map(|r| r.m.seconds).collect())
         .text(
             "fallback",
             "schlick_compensated without a real lambda: wrong-sign / no-decay / negligible (then = schlick_nk); empty otherwise",
@@ -426,7 +495,8 @@ pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Vec
 }
 
 fn print_summary(targets: &[Target], measurements: &[Measurement], strategy: Strategy, seconds: f64) {
-    let evaluations: u64 = measurements.iter().map(|m| m.integral.evaluations).sum();
+    // Each family's evaluations once (its members share them).
+    let evaluations = measurements.iter().map(|m| m.integral.evaluations as f64 / m.shared as f64).sum::<f64>().round() as u64;
     println!(
         "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s",
         targets.len(),

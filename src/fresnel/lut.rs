@@ -121,7 +121,9 @@ pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
         return 0.0;
     }
     let x = unit_cos(cos_theta) * count as f64 - 0.5;
-    let floor = x.floor();
+    // x ∈ [−½, N − ½], so ⌊x⌋ is −1 or the truncation (no libm call: the baseline
+    // x86-64 target has no rounding instruction).
+    let floor = if x < 0.0 { -1.0 } else { (x as u64) as f64 };
     let t = x - floor;
     let last = (count - 1) as f64;
     let i0 = floor.clamp(0.0, last) as usize;
@@ -136,7 +138,7 @@ pub fn sample_lut_f32(texels: &[f32], cos_theta: f32) -> f32 {
         return 0.0;
     }
     let x = unit_cos_f32(cos_theta) * count as f32 - 0.5;
-    let floor = x.floor();
+    let floor = if x < 0.0 { -1.0 } else { (x as u32) as f32 };
     let t = x - floor;
     let last = (count - 1) as f32;
     let i0 = floor.clamp(0.0, last) as usize;
@@ -191,8 +193,14 @@ pub struct Lut {
 impl Lut {
     /// Texel i = quantise(curve(c_i)) with c_i = (i + ½)/N.
     pub fn bake(spec: LutSpec, curve: impl Fn(f64) -> f64) -> Self {
-        let texels: Vec<f64> =
-            (0..spec.texels.max(1)).map(|i| spec.encoding.quantise(curve(lut_texel_cos(i, spec.texels)))).collect();
+        let values: Vec<f64> = (0..spec.texels.max(1)).map(|i| curve(lut_texel_cos(i, spec.texels))).collect();
+        Self::from_values(spec, &values)
+    }
+
+    /// Texel i = quantise(values[i]): `values` are the curve at the texel centres
+    /// c_i = (i + ½)/N, so that one evaluation of the curve serves every encoding.
+    pub fn from_values(spec: LutSpec, values: &[f64]) -> Self {
+        let texels: Vec<f64> = values.iter().map(|&v| spec.encoding.quantise(v)).collect();
         let texels_f32 = texels.iter().map(|&v| v as f32).collect();
         Self { spec, texels, texels_f32 }
     }

@@ -238,6 +238,11 @@ impl Model {
         Self { method, shader: prepared.shader_params(), prepared, lut }
     }
 
+    /// `lut` with a texture baked elsewhere (e.g. one curve quantised per encoding).
+    pub fn with_lut(prepared: Prepared, lut: Lut) -> Self {
+        Self { method: Method::Lut, shader: prepared.shader_params(), prepared, lut: Some(lut) }
+    }
+
     /// F in f64.
     #[inline]
     pub fn reflectance(&self, cos_theta: f64) -> f64 {
