@@ -33,7 +33,7 @@ use rayon::prelude::*;
 
 use crate::cli::{ChannelArgs, PageSelection};
 use crate::db::Database;
-use crate::fresnel::{CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared};
+use crate::fresnel::{filter_weights, filter_weights_f32, CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared};
 use crate::ingest;
 use crate::output::Table;
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
@@ -149,7 +149,8 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
         Method::Lut => {
             if let Some(lut) = &model.lut {
                 let count = lut.texels.len();
-                cosines.extend((0..count).map(|i| crate::fresnel::lut_texel_cos(i, count)));
+                // Decreasing cosines: increasing θ, so the sort finds them in order.
+                cosines.extend((0..count).rev().map(|i| crate::fresnel::lut_texel_cos(i, count)));
             }
         }
         _ => {}
@@ -161,7 +162,9 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
 /// every θ (the analytic methods form one family; the encodings of one LUT size another).
 #[derive(Clone, Debug)]
 pub struct Family {
-    pub models: Vec<Model>,
+    models: Vec<Model>,
+    /// The texel count when every member is a LUT of that size.
+    lut_size: Option<usize>,
 }
 
 impl Family {
@@ -191,14 +194,35 @@ impl Family {
                 _ => Model::from_prepared(prepared, variant.method, LutSpec::default()),
             })
             .collect();
-        Self { models }
+        Self::of(models)
     }
 
-    /// Evaluate every member at θ: exact once, each method in f64 and in f32.
+    /// A family of the given models.
+    pub fn of(models: Vec<Model>) -> Self {
+        let sizes: Vec<Option<usize>> = models.iter().map(|m| m.lut.as_ref().map(|l| l.texels.len())).collect();
+        let lut_size = match sizes.first() {
+            Some(&Some(size)) if size > 0 && sizes.iter().all(|s| *s == Some(size)) => Some(size),
+            _ => None,
+        };
+        Self { models, lut_size }
+    }
+
+    /// Evaluate every member at θ: exact once, each method in f64 and in f32. When every
+    /// member is a LUT of one size, the filter weights are computed once too.
     fn evaluate(&self, theta: f64, out: &mut [Sample]) {
         let c = theta.cos();
         let Some(first) = self.models.first() else { return };
         let exact = first.prepared.exact.reflectance(c);
+        if let Some(texels) = self.lut_size {
+            let (i0, i1, t) = filter_weights(texels, c);
+            let (j0, j1, t32) = filter_weights_f32(texels, c as f32);
+            for (lut, sample) in self.models.iter().filter_map(|m| m.lut.as_ref()).zip(out.iter_mut()) {
+                let approx64 = lut.texels[i0] * (1.0 - t) + lut.texels[i1] * t;
+                let approx32 = lut.texels_f32[j0] * (1.0 - t32) + lut.texels_f32[j1] * t32;
+                *sample = Sample { exact, approx: [approx64, approx32 as f64] };
+            }
+            return;
+        }
         for (model, sample) in self.models.iter().zip(out.iter_mut()) {
             let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
             let approx32 = model.reflectance_f32(c as f32) as f64;
@@ -206,9 +230,13 @@ impl Family {
         }
     }
 
-    /// The union of the members' breakpoints.
+    /// The union of the members' breakpoints (one LUT size: the first member's, as they
+    /// all have the same).
     pub fn breakpoints(&self) -> Vec<f64> {
-        self.models.iter().flat_map(breakpoints).collect()
+        match (self.lut_size, self.models.first()) {
+            (Some(_), Some(first)) => breakpoints(first),
+            _ => self.models.iter().flat_map(breakpoints).collect(),
+        }
     }
 
     /// Measure every member; the integrals are in the order of the models.
@@ -224,7 +252,7 @@ impl Family {
 
 /// Measure one model (a family of one).
 pub fn measure(model: &Model, strategy: Strategy) -> Integral {
-    Family { models: vec![model.clone()] }.measure(strategy)[0]
+    Family::of(vec![model.clone()]).measure(strategy)[0]
 }
 
 /// Measure every target × variant × channel, in parallel, one family at a time.

@@ -113,36 +113,44 @@ pub fn lut_texel_cos(i: usize, texels: usize) -> f64 {
     (i as f64 + 0.5) / texels.max(1) as f64
 }
 
-/// Linear filtering with clamp-to-edge, as a GPU samples a 1D texture at u = c (see the
-/// module doc). Returns 0 for an empty texture.
-pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
-    let count = texels.len();
-    if count == 0 {
-        return 0.0;
-    }
+/// Where linear filtering with clamp-to-edge reads a texture of `count` texels at u = c
+/// (see the module doc): the two texel indices and the weight t of the second. The same
+/// for every texture of that size, so several encodings can share it.
+#[inline]
+pub fn filter_weights(count: usize, cos_theta: f64) -> (usize, usize, f64) {
     let x = unit_cos(cos_theta) * count as f64 - 0.5;
     // x ∈ [−½, N − ½], so ⌊x⌋ is −1 or the truncation (no libm call: the baseline
     // x86-64 target has no rounding instruction).
     let floor = if x < 0.0 { -1.0 } else { (x as u64) as f64 };
-    let t = x - floor;
-    let last = (count - 1) as f64;
-    let i0 = floor.clamp(0.0, last) as usize;
-    let i1 = (floor + 1.0).clamp(0.0, last) as usize;
+    let last = count.saturating_sub(1) as f64;
+    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
+}
+
+/// f32 twin of [`filter_weights`] (the shader's arithmetic).
+#[inline]
+pub fn filter_weights_f32(count: usize, cos_theta: f32) -> (usize, usize, f32) {
+    let x = unit_cos_f32(cos_theta) * count as f32 - 0.5;
+    let floor = if x < 0.0 { -1.0 } else { (x as u32) as f32 };
+    let last = count.saturating_sub(1) as f32;
+    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
+}
+
+/// Linear filtering with clamp-to-edge, as a GPU samples a 1D texture at u = c (see the
+/// module doc). Returns 0 for an empty texture.
+pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
+    if texels.is_empty() {
+        return 0.0;
+    }
+    let (i0, i1, t) = filter_weights(texels.len(), cos_theta);
     texels[i0] * (1.0 - t) + texels[i1] * t
 }
 
 /// f32 twin of [`sample_lut`]: the same filtering in f32 arithmetic.
 pub fn sample_lut_f32(texels: &[f32], cos_theta: f32) -> f32 {
-    let count = texels.len();
-    if count == 0 {
+    if texels.is_empty() {
         return 0.0;
     }
-    let x = unit_cos_f32(cos_theta) * count as f32 - 0.5;
-    let floor = if x < 0.0 { -1.0 } else { (x as u32) as f32 };
-    let t = x - floor;
-    let last = (count - 1) as f32;
-    let i0 = floor.clamp(0.0, last) as usize;
-    let i1 = (floor + 1.0).clamp(0.0, last) as usize;
+    let (i0, i1, t) = filter_weights_f32(texels.len(), cos_theta);
     texels[i0] * (1.0 - t) + texels[i1] * t
 }
 
