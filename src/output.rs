@@ -62,13 +62,18 @@ impl Values {
         }
     }
 
-    fn cell(&self, row: usize) -> std::borrow::Cow<'_, str> {
-        match self {
-            Values::Text(v) => std::borrow::Cow::Borrowed(&v[row]),
-            Values::Float(v) => v[row].map(format_float).unwrap_or_default().into(),
-            Values::Integer(v) => v[row].to_string().into(),
-            Values::Boolean(v) => v[row].to_string().into(),
-        }
+    /// Append the CSV text of a cell (floats as [`format_float`]; empty for `None`).
+    fn write_cell(&self, row: usize, out: &mut String) {
+        use std::fmt::Write as _;
+        let _ = match self {
+            Values::Text(v) => {
+                out.push_str(&v[row]);
+                Ok(())
+            }
+            Values::Float(v) => v[row].map_or(Ok(()), |x| write!(out, "{x}")),
+            Values::Integer(v) => write!(out, "{}", v[row]),
+            Values::Boolean(v) => write!(out, "{}", v[row]),
+        };
     }
 
     fn json(&self, row: usize) -> serde_json::Value {
@@ -149,11 +154,14 @@ impl Table {
             if header {
                 writer.write_record(self.columns.iter().map(|c| c.name.as_str()))?;
             }
+            let mut cell = String::new();
             for row in rows {
-                writer.write_record(self.columns.iter().map(|c| match c.values.cell(row) {
-                    std::borrow::Cow::Borrowed(text) => std::borrow::Cow::Borrowed(text.as_bytes()),
-                    std::borrow::Cow::Owned(text) => std::borrow::Cow::Owned(text.into_bytes()),
-                }))?;
+                for column in &self.columns {
+                    cell.clear();
+                    column.values.write_cell(row, &mut cell);
+                    writer.write_field(&cell)?;
+                }
+                writer.write_record(None::<&[u8]>)?;
             }
             Ok(writer.into_inner().context("flushing CSV")?)
         };

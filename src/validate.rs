@@ -418,8 +418,8 @@ pub fn summary(measurements: &[Measurement]) -> BTreeMap<(Variant, usize), (f64,
 }
 
 /// `cost.*`: what accuracy costs, one row per method × variant × precision.
-pub fn cost_table(measurements: &[Measurement]) -> Table {
-    let rows: Vec<((Variant, usize), (f64, f64, f64, usize))> = summary(measurements).into_iter().collect();
+pub fn cost_table(summary: &BTreeMap<(Variant, usize), (f64, f64, f64, usize)>) -> Table {
+    let rows: Vec<((Variant, usize), (f64, f64, f64, usize))> = summary.iter().map(|(k, v)| (*k, *v)).collect();
     let precision = |p: usize| Precision::ALL[p];
     let mut table = Table::new();
     table
@@ -517,12 +517,19 @@ pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Vec
     let measurements = measure_all(&targets, &variants, strategy);
     let seconds = start.elapsed().as_secs_f64();
     let mut written = errors_table(&targets, &measurements, &channels, strategy).write(out, "errors", false)?;
-    written.extend(cost_table(&measurements).write(out, "cost", false)?);
-    print_summary(&targets, &measurements, strategy, seconds);
+    let summary = summary(&measurements);
+    written.extend(cost_table(&summary).write(out, "cost", false)?);
+    print_summary(&targets, &measurements, &summary, strategy, seconds);
     Ok(written)
 }
 
-fn print_summary(targets: &[Target], measurements: &[Measurement], strategy: Strategy, seconds: f64) {
+fn print_summary(
+    targets: &[Target],
+    measurements: &[Measurement],
+    summary: &BTreeMap<(Variant, usize), (f64, f64, f64, usize)>,
+    strategy: Strategy,
+    seconds: f64,
+) {
     // Each family's evaluations once (its members share them).
     let evaluations = measurements.iter().map(|m| m.integral.evaluations as f64 / m.shared as f64).sum::<f64>().round() as u64;
     println!(
@@ -534,7 +541,7 @@ fn print_summary(targets: &[Target], measurements: &[Measurement], strategy: Str
         strategy = strategy.name(),
     );
     println!("{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes");
-    for ((variant, p), (mean, median, max, _)) in summary(measurements) {
+    for (&(variant, p), &(mean, median, max, _)) in summary {
         // The lut sweep prints its f64 rows at N = 256 and 1024 only; errors.csv has all.
         if variant.lut.is_some_and(|s| p == 1 || !(s.texels == 256 || s.texels == 1024)) {
             continue;

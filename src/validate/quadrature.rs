@@ -311,6 +311,9 @@ impl<const M: usize> Rule<M> {
     fn sign_change_roots(&self, g: &[f64; M], coefficients: &[f64; M], roots: &mut [f64; MAX_ROOTS]) -> usize {
         let slope_bound: f64 = coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c.abs()).sum();
         let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if scale == 0.0 {
+            return 0;
+        }
         let mut found = Roots { roots, count: 0 };
         for i in 0..M - 1 {
             let (lo, hi) = (self.nodes[i], self.nodes[i + 1]);
@@ -345,7 +348,7 @@ impl Roots<'_> {
             self.push(root(coefficients, lo.0, hi.0, scale));
             return;
         }
-        if depth == 0 || lo.1.abs() + hi.1.abs() > slope_bound * (hi.0 - lo.0) {
+        if depth == 0 || lo.1 == 0.0 || hi.1 == 0.0 || lo.1.abs() + hi.1.abs() > slope_bound * (hi.0 - lo.0) {
             return;
         }
         let middle = 0.5 * (lo.0 + hi.0);
@@ -414,8 +417,8 @@ fn antiderivative<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
 }
 
 /// A root of p in (lo, hi) where p(lo) and p(hi) differ in sign: Illinois regula falsi
-/// until the bracket is below 1e-7 or |p| below 1e-9 of `scale` (the largest |g| on the
-/// panel). A root off by δ changes ∫|p| by about |p'|δ², far below the tolerance.
+/// until the bracket is below 1e-6 or |p| below 1e-7 of `scale` (the largest |g| on the
+/// panel). A root off by δ changes ∫|p| by about |p'|δ² ≲ 1e-12·scale.
 fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale: f64) -> f64 {
     let (mut f_lo, mut f_hi) = (horner(coefficients, lo), horner(coefficients, hi));
     if f_lo == 0.0 {
@@ -424,13 +427,13 @@ fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale
     if f_hi == 0.0 || f_lo * f_hi > 0.0 {
         return hi;
     }
-    let small = 1e-9 * scale;
+    let small = 1e-7 * scale;
     let mut side = 0i8;
     for _ in 0..60 {
         let x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
         let x = if x > lo && x < hi { x } else { 0.5 * (lo + hi) };
         let f = horner(coefficients, x);
-        if f.abs() <= small || hi - lo < 1e-7 {
+        if f.abs() <= small || hi - lo < 1e-6 {
             return x;
         }
         if (f > 0.0) == (f_lo > 0.0) {
