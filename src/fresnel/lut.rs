@@ -75,7 +75,7 @@ impl Encoding {
     pub fn decode(self, code: u32) -> f64 {
         match self {
             Encoding::Unorm8 => code.min(255) as f64 / 255.0,
-            Encoding::Unorm8Srgb => srgb_decode(code.min(255) as f64 / 255.0),
+            Encoding::Unorm8Srgb => SRGB8_DECODED[code.min(255) as usize],
             Encoding::Unorm16 => code.min(65535) as f64 / 65535.0,
             Encoding::F16 => f16::from_bits(code as u16).to_f64(),
             Encoding::F32 => f32::from_bits(code) as f64,
@@ -87,6 +87,10 @@ impl Encoding {
         self.decode(self.encode(value))
     }
 }
+
+/// The linear value of every 8-bit sRGB code: [`srgb_decode`] of code/255, once.
+static SRGB8_DECODED: std::sync::LazyLock<[f64; 256]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|code| srgb_decode(code as f64 / 255.0)));
 
 /// sRGB transfer function, linear → encoded (IEC 61966-2-1): 12.92 v below 0.0031308,
 /// else 1.055 v^(1/2.4) − 0.055.

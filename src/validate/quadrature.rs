@@ -782,8 +782,12 @@ fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
                 peaks[slot] = peak;
             }
         }
-        for peak in peaks.iter().filter(|p| p.value > 0.0) {
-            refine_maximum(&mut state, m, peak);
+        // The runners-up only where their node value comes near the maximum found so far:
+        // between nodes a smooth difference rises by far less than 10 %.
+        for (rank, peak) in peaks.iter().enumerate() {
+            if peak.value > 0.0 && (rank == 0 || peak.value >= 0.9 * state.maxima[m].value[0]) {
+                refine_maximum(&mut state, m, peak);
+            }
         }
     }
     (0..members)
@@ -795,7 +799,7 @@ fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
         .collect()
 }
 
-/// How many of the largest node differences (one per panel) are refined, per member.
+/// How many of the largest node differences (one per panel) may be refined, per member.
 const PEAKS_REFINED: usize = 3;
 
 /// Brent's method (Brent 1973, ch. 5: parabolic steps with golden-section fallback) for
