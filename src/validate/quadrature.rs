@@ -304,23 +304,24 @@ impl<const M: usize> Rule<M> {
     /// The sign changes of the interpolant p of `g` on [−1, 1], increasing, into
     /// `roots`; returns how many. Between nodes of opposite sign there is a root. Between
     /// nodes of the same sign p can still dip through zero (twice): a root r in (lo, hi)
-    /// needs |p(lo)| + |p(hi)| ≤ max|p'|·(hi − lo), with max|p'| ≤ Σ k|c_k| on [−1, 1];
-    /// intervals that pass this test are halved and tested again, down to 1/32 of the
-    /// gap between nodes. A dip narrower than that is missed, and with it an area below
-    /// max|p'|·(gap/32)².
+    /// needs |p(lo)| + |p(hi)| ≤ max|p'|·(hi − lo), with max|p'| ≤ Σ k|c_k| x^(k−1) on
+    /// [lo, hi], x = max(|lo|, |hi|); intervals that pass this test are halved and tested
+    /// again, down to 1/32 of the gap between nodes. A dip narrower than that is missed,
+    /// and with it an area below max|p'|·(gap/32)².
     fn sign_change_roots(&self, g: &[f64; M], coefficients: &[f64; M], roots: &mut [f64; MAX_ROOTS]) -> usize {
-        let slope_bound: f64 = coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c.abs()).sum();
         let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if scale == 0.0 {
             return 0;
         }
+        // The bound on [−1, 1], to rule out most gaps before the finer one on a gap.
+        let slope_bound: f64 = coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c.abs()).sum();
         let mut found = Roots { roots, count: 0 };
         for i in 0..M - 1 {
             let (lo, hi) = (self.nodes[i], self.nodes[i + 1]);
             if g[i] * g[i + 1] < 0.0 {
                 found.push(root(coefficients, lo, hi, scale));
-            } else {
-                found.dips(coefficients, slope_bound, scale, (lo, g[i]), (hi, g[i + 1]), 5);
+            } else if g[i].abs() + g[i + 1].abs() <= slope_bound * (hi - lo) {
+                found.dips(coefficients, scale, (lo, g[i]), (hi, g[i + 1]), 5);
             }
         }
         found.count
@@ -343,18 +344,23 @@ impl Roots<'_> {
 
     /// Sign changes of p in (lo, hi) where p(lo), p(hi) have the same sign, by bisection
     /// while the slope bound cannot exclude a root, `depth` levels deep.
-    fn dips<const M: usize>(&mut self, coefficients: &[f64; M], slope_bound: f64, scale: f64, lo: (f64, f64), hi: (f64, f64), depth: u32) {
+    fn dips<const M: usize>(&mut self, coefficients: &[f64; M], scale: f64, lo: (f64, f64), hi: (f64, f64), depth: u32) {
         if lo.1 * hi.1 < 0.0 {
             self.push(root(coefficients, lo.0, hi.0, scale));
             return;
         }
-        if depth == 0 || lo.1 == 0.0 || hi.1 == 0.0 || lo.1.abs() + hi.1.abs() > slope_bound * (hi.0 - lo.0) {
+        if depth == 0 || lo.1 == 0.0 || hi.1 == 0.0 {
+            return;
+        }
+        let x = lo.0.abs().max(hi.0.abs());
+        let slope_bound = coefficients.iter().enumerate().skip(1).rev().fold(0.0, |acc, (k, c)| acc * x + k as f64 * c.abs());
+        if lo.1.abs() + hi.1.abs() > slope_bound * (hi.0 - lo.0) {
             return;
         }
         let middle = 0.5 * (lo.0 + hi.0);
         let value = horner(coefficients, middle);
-        self.dips(coefficients, slope_bound, scale, lo, (middle, value), depth - 1);
-        self.dips(coefficients, slope_bound, scale, (middle, value), hi, depth - 1);
+        self.dips(coefficients, scale, lo, (middle, value), depth - 1);
+        self.dips(coefficients, scale, (middle, value), hi, depth - 1);
     }
 }
 
@@ -417,8 +423,9 @@ fn antiderivative<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
 }
 
 /// A root of p in (lo, hi) where p(lo) and p(hi) differ in sign: Illinois regula falsi
-/// until the bracket is below 1e-6 or |p| below 1e-7 of `scale` (the largest |g| on the
-/// panel). A root off by δ changes ∫|p| by about |p'|δ² ≲ 1e-12·scale.
+/// until the bracket is below 1e-4 or |p| below 1e-5 of `scale` (the largest |g| on the
+/// panel). A root off by δ changes ∫|p| by about |p'|δ², below 1e-8 of the panel's
+/// integral.
 fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale: f64) -> f64 {
     let (mut f_lo, mut f_hi) = (horner(coefficients, lo), horner(coefficients, hi));
     if f_lo == 0.0 {
@@ -427,13 +434,13 @@ fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale
     if f_hi == 0.0 || f_lo * f_hi > 0.0 {
         return hi;
     }
-    let small = 1e-7 * scale;
+    let small = 1e-5 * scale;
     let mut side = 0i8;
     for _ in 0..60 {
         let x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
         let x = if x > lo && x < hi { x } else { 0.5 * (lo + hi) };
         let f = horner(coefficients, x);
-        if f.abs() <= small || hi - lo < 1e-6 {
+        if f.abs() <= small || hi - lo < 1e-4 {
             return x;
         }
         if (f > 0.0) == (f_lo > 0.0) {
