@@ -13,8 +13,10 @@ LUT_SIZE    ?= 256
 # reference colour (add `--source effective` for the fitted effective indices).
 LUT_SOURCES ?= --source three-channel --source spectral
 # `make luts ALL=1` works on every kept page instead of the 3d shelf.
-# validate's LUT sweep over every page takes minutes (BENCHMARKS.md), so `ALL=1` leaves
-# it to an explicit `nklut validate --all`; the manifest's per-row errors come from the bake.
+# validate over every page takes about 9 s and writes a 104 MB errors.csv that the report
+# would then parse (BENCHMARKS.md), more than the 30 s budget of `ALL=1` leaves, so `ALL=1`
+# leaves it to an explicit `nklut validate --all`; the manifest's per-row errors come from
+# the bake.
 ifeq ($(ALL),1)
 SELECT    := --all
 VALIDATE  := @echo "luts: skipping validate for ALL=1 (run: $(NKLUT) validate --all)"

@@ -43,7 +43,7 @@ use quadrature::{Integral, Sample, Tolerance, BRUTE_FORCE_SAMPLES};
 /// How the integrals are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Strategy {
-    /// Adaptive Gauss–Kronrod with breakpoints (the default).
+    /// Adaptive panel quadrature with breakpoints (the default; see [`quadrature`]).
     Fast,
     /// θ-midpoint brute force with this many samples (SPEC §6: 10⁶).
     Brute(usize),
