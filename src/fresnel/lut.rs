@@ -92,25 +92,11 @@ impl Encoding {
 static SRGB8_DECODED: std::sync::LazyLock<[f64; 256]> =
     std::sync::LazyLock::new(|| std::array::from_fn(|code| srgb_decode(code as f64 / 255.0)));
 
-/// sRGB transfer function, linear → encoded (IEC 61966-2-1): 12.92 v below 0.0031308,
-/// else 1.055 v^(1/2.4) − 0.055.
-pub fn srgb_encode(linear: f64) -> f64 {
-    if linear <= 0.003_130_8 {
-        12.92 * linear
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// sRGB transfer function, encoded → linear (IEC 61966-2-1): e/12.92 below 0.04045,
-/// else ((e + 0.055)/1.055)^2.4.
-pub fn srgb_decode(encoded: f64) -> f64 {
-    if encoded <= 0.040_45 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
-}
+/// The sRGB transfer function (IEC 61966-2-1), one definition for the whole crate:
+/// [`crate::color::srgb::encode`] and [`crate::color::srgb::decode`]. Texels are clamped
+/// to [0, 1] before they are encoded, where the colour stage's extension to negative
+/// values (mirrored) plays no part.
+pub use crate::color::srgb::{decode as srgb_decode, encode as srgb_encode};
 
 /// cosθ at the centre of texel `i` of `texels`: (i + ½)/N.
 pub fn lut_texel_cos(i: usize, texels: usize) -> f64 {
