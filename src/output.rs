@@ -163,7 +163,7 @@ impl Table {
                 }
                 writer.write_record(None::<&[u8]>)?;
             }
-            Ok(writer.into_inner().context("flushing CSV")?)
+            writer.into_inner().context("flushing CSV")
         };
         let rows = self.rows();
         let blocks: Vec<Result<Vec<u8>>> = (0..rows.div_ceil(BLOCK).max(1))

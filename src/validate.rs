@@ -398,9 +398,13 @@ pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, usize
         .collect()
 }
 
+/// Per variant and precision index: (mean, median, max) over materials of the material
+/// figure, and how many materials had one.
+pub type Summary = BTreeMap<(Variant, usize), (f64, f64, f64, usize)>;
+
 /// Summary per variant and precision: (mean, median, max) over materials of the material
 /// figure, and how many materials had one.
-pub fn summary(measurements: &[Measurement]) -> BTreeMap<(Variant, usize), (f64, f64, f64, usize)> {
+pub fn summary(measurements: &[Measurement]) -> Summary {
     let mut per: BTreeMap<(Variant, usize), Vec<f64>> = BTreeMap::new();
     for ((variant, p, _), value) in material_errors(measurements) {
         if let Some(v) = value {
@@ -418,8 +422,8 @@ pub fn summary(measurements: &[Measurement]) -> BTreeMap<(Variant, usize), (f64,
 }
 
 /// `cost.*`: what accuracy costs, one row per method × variant × precision.
-pub fn cost_table(summary: &BTreeMap<(Variant, usize), (f64, f64, f64, usize)>) -> Table {
-    let rows: Vec<((Variant, usize), (f64, f64, f64, usize))> = summary.iter().map(|(k, v)| (*k, *v)).collect();
+pub fn cost_table(summary: &Summary) -> Table {
+    let rows: Vec<_> = summary.iter().map(|(k, v)| (*k, *v)).collect();
     let precision = |p: usize| Precision::ALL[p];
     let mut table = Table::new();
     table
@@ -526,7 +530,7 @@ pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Vec
 fn print_summary(
     targets: &[Target],
     measurements: &[Measurement],
-    summary: &BTreeMap<(Variant, usize), (f64, f64, f64, usize)>,
+    summary: &Summary,
     strategy: Strategy,
     seconds: f64,
 ) {

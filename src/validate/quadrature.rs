@@ -766,7 +766,7 @@ fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
         }
         refinements += 1;
         // Re-sum now and then against drift of the running totals.
-        if refinements % 256 == 0 {
+        if refinements.is_multiple_of(256) {
             error_sums.iter_mut().for_each(|s| *s = 0.0);
             for Ranked(_, id) in heap.iter() {
                 account(&mut error_sums, state.contributions(*id), 1.0);
