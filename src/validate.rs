@@ -33,7 +33,9 @@ use rayon::prelude::*;
 
 use crate::cli::{ChannelArgs, PageSelection};
 use crate::db::Database;
-use crate::fresnel::{filter_weights, filter_weights_f32, CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared};
+use crate::fresnel::{
+    filter, filter_f32, filter_weights, filter_weights_f32, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared,
+};
 use crate::ingest;
 use crate::output::Table;
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
@@ -186,9 +188,8 @@ impl Family {
             .iter()
             .map(|variant| match variant.lut {
                 Some(spec) if variant.method == Method::Lut => {
-                    let values = curves.entry(spec.texels).or_insert_with(|| {
-                        (0..spec.texels.max(1)).map(|i| prepared.exact.reflectance(crate::fresnel::lut_texel_cos(i, spec.texels))).collect()
-                    });
+                    let values =
+                        curves.entry(spec.texels).or_insert_with(|| texel_values(spec.texels, |c| prepared.exact.reflectance(c)));
                     Model::with_lut(prepared, Lut::from_values(spec, values))
                 }
                 _ => Model::from_prepared(prepared, variant.method, LutSpec::default()),
@@ -214,12 +215,11 @@ impl Family {
         let Some(first) = self.models.first() else { return };
         let exact = first.prepared.exact.reflectance(c);
         if let Some(texels) = self.lut_size {
-            let (i0, i1, t) = filter_weights(texels, c);
-            let (j0, j1, t32) = filter_weights_f32(texels, c as f32);
+            let weights = filter_weights(texels, c);
+            let weights_f32 = filter_weights_f32(texels, c as f32);
             for (lut, sample) in self.models.iter().filter_map(|m| m.lut.as_ref()).zip(out.iter_mut()) {
-                let approx64 = lut.texels[i0] * (1.0 - t) + lut.texels[i1] * t;
-                let approx32 = lut.texels_f32[j0] * (1.0 - t32) + lut.texels_f32[j1] * t32;
-                *sample = Sample { exact, approx: [approx64, approx32 as f64] };
+                let approx32 = filter_f32(&lut.texels_f32, weights_f32) as f64;
+                *sample = Sample { exact, approx: [filter(&lut.texels, weights), approx32] };
             }
             return;
         }

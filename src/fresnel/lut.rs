@@ -131,8 +131,7 @@ pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
     if texels.is_empty() {
         return 0.0;
     }
-    let (i0, i1, t) = filter_weights(texels.len(), cos_theta);
-    texels[i0] * (1.0 - t) + texels[i1] * t
+    filter(texels, filter_weights(texels.len(), cos_theta))
 }
 
 /// f32 twin of [`sample_lut`]: the same filtering in f32 arithmetic.
@@ -140,8 +139,26 @@ pub fn sample_lut_f32(texels: &[f32], cos_theta: f32) -> f32 {
     if texels.is_empty() {
         return 0.0;
     }
-    let (i0, i1, t) = filter_weights_f32(texels.len(), cos_theta);
+    filter_f32(texels, filter_weights_f32(texels.len(), cos_theta))
+}
+
+/// The filtered value T[i₀](1 − t) + T[i₁]t (WGSL `mix`) for weights from
+/// [`filter_weights`].
+#[inline]
+pub fn filter(texels: &[f64], (i0, i1, t): (usize, usize, f64)) -> f64 {
     texels[i0] * (1.0 - t) + texels[i1] * t
+}
+
+/// f32 twin of [`filter`], for weights from [`filter_weights_f32`].
+#[inline]
+pub fn filter_f32(texels: &[f32], (i0, i1, t): (usize, usize, f32)) -> f32 {
+    texels[i0] * (1.0 - t) + texels[i1] * t
+}
+
+/// `curve` at the texel centres c_i = (i + ½)/N of a texture of `texels` texels (at
+/// least one): the values [`Lut::from_values`] quantises.
+pub fn texel_values(texels: usize, curve: impl Fn(f64) -> f64) -> Vec<f64> {
+    (0..texels.max(1)).map(|i| curve(lut_texel_cos(i, texels))).collect()
 }
 
 /// Texel count and encoding of a LUT.
@@ -191,8 +208,7 @@ pub struct Lut {
 impl Lut {
     /// Texel i = quantise(curve(c_i)) with c_i = (i + ½)/N.
     pub fn bake(spec: LutSpec, curve: impl Fn(f64) -> f64) -> Self {
-        let values: Vec<f64> = (0..spec.texels.max(1)).map(|i| curve(lut_texel_cos(i, spec.texels))).collect();
-        Self::from_values(spec, &values)
+        Self::from_values(spec, &texel_values(spec.texels, curve))
     }
 
     /// Texel i = quantise(values[i]): `values` are the curve at the texel centres

@@ -25,7 +25,10 @@ pub use approx::{
     schlick_nk, schlick_nk_f32, Compensation, CompensationFallback, COMPENSATION_COS, LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms};
-pub use lut::{filter_weights, filter_weights_f32, lut_texel_cos, sample_lut, sample_lut_f32, Encoding, Lut, LutSpec, LUT_SIZES};
+pub use lut::{
+    filter, filter_f32, filter_weights, filter_weights_f32, lut_texel_cos, sample_lut, sample_lut_f32, texel_values, Encoding, Lut, LutSpec,
+    LUT_SIZES,
+};
 pub use nvidia::{fit_nvidia, nvidia, nvidia_f32, NvidiaFit};
 
 use crate::spectrum::Index;

@@ -483,8 +483,8 @@ fn absolute_integral<const M: usize>(coefficients: &[f64; M], roots: &[f64]) -> 
 /// Tolerances of the adaptive path.
 #[derive(Clone, Copy, Debug)]
 pub struct Tolerance {
-    /// Target of the summed |K7 − G3| estimates relative to each member's f64 integral
-    /// (relative and squared error separately).
+    /// Target of the summed panel error estimates (see [`Estimate`]) relative to each
+    /// member's f64 integral (relative and squared error separately).
     pub relative: f64,
     /// Give up refining after this many evaluations (of the whole family).
     pub max_evaluations: u64,
@@ -517,7 +517,7 @@ struct Peak {
 #[derive(Clone, Copy, Debug, Default)]
 struct MemberPanel {
     sums: Sums,
-    /// |K7 − G3| of the f64 relative and squared integrands.
+    /// Error estimates (see [`Estimate`]) of the f64 relative and squared integrands.
     error: [f64; 2],
     /// The largest f64 |F_m − F_e| at a node.
     peak: Peak,
@@ -690,7 +690,7 @@ pub fn adaptive(evaluate: &impl Fn(f64, &mut [Sample]), members: usize, breakpoi
 }
 
 /// From this many panels on, [`GAUSS3`] is used instead of [`KRONROD7`]: the panels
-/// are then at most about π/2 / 200 wide on average (the LUT sizes 256 and up).
+/// are then at most about π/2 / 100 wide on average (the LUT sizes 128 and up).
 const NARROW_PANELS: usize = 100;
 
 fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
