@@ -25,7 +25,7 @@ SELECT    := --shelf 3d
 VALIDATE  := $(NKLUT) --db $(DB) --out $(OUT) validate $(SELECT)
 endif
 
-.PHONY: all db build luts test bench gpu clean
+.PHONY: all db build luts test test-deps bench gpu clean
 
 all: luts
 
@@ -53,9 +53,14 @@ luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
 	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
 
-# The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers in CI); with
+# The system packages the tests need (lavapipe for the GPU tests, Chromium for the report's
+# browser tests), installed by the one script CI uses too.
+test-deps:
+	bash scripts/test-deps
+
+# The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers here); with
 # none they fail unless NKLUT_SKIP_GPU_TESTS=1.
-test: db
+test: db test-deps
 	$(CARGO) test --features gpu
 
 # Every benchmark of BENCHMARKS.md: ingest (wall + peak RSS), Fresnel methods, colours.
