@@ -17,7 +17,7 @@ use nklut::spectrum::{Channels, Index, Material};
 /// Every distinct material of the database (pages sharing a data file counted once).
 fn materials() -> Vec<Arc<Material>> {
     let db = Database::open(None).expect("the database must be linked: run `make db`");
-    let all = ingest(&db, &Selection::default(), &Channels::default()).expect("ingest");
+    let all = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).expect("ingest");
     let mut unique: Vec<Arc<Material>> = Vec::new();
     for page in all.kept {
         if !unique.iter().any(|m| Arc::ptr_eq(m, &page.material)) {

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::ingest::Selection;
-use crate::spectrum::Channels;
+use crate::ingest::{Config, Selection};
+use crate::spectrum::{Channels, Coverage};
 
 /// `--db DIR` and `--out DIR`, the same for every subcommand.
 #[derive(Args, Clone, Debug)]
@@ -42,12 +42,33 @@ impl PageSelection {
     }
 }
 
-/// `--channels R,G,B` in nm.
+/// How every command that reads pages reads them: `--channels R,G,B`, `--visible`,
+/// `--strict`.
 #[derive(Args, Clone, Debug)]
 pub struct ChannelArgs {
-    /// Channel wavelengths red,green,blue in nm.
+    /// Channel wavelengths red,green,blue in nm (each in 360-830 nm).
     #[arg(long, value_name = "R,G,B", default_value = "685,535,475", value_parser = parse_channels)]
     pub channels: Channels,
+    /// Which wavelengths a kept page's data must cover: `channels` (the three channel
+    /// wavelengths; the spectral colour holds the nearest measured value outside the data)
+    /// or `full` (390-700 nm).
+    #[arg(long, value_name = "RULE", default_value = "channels", value_parser = parse_coverage)]
+    pub visible: Coverage,
+    /// Any data error other than missing coverage, and any data warning, is fatal.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+impl Default for ChannelArgs {
+    fn default() -> Self {
+        Self { channels: Channels::default(), visible: Coverage::default(), strict: false }
+    }
+}
+
+impl ChannelArgs {
+    pub fn config(&self) -> Config {
+        Config { channels: self.channels, coverage: self.visible, strict: self.strict }
+    }
 }
 
 fn parse_channels(text: &str) -> Result<Channels, String> {
@@ -56,7 +77,15 @@ fn parse_channels(text: &str) -> Result<Channels, String> {
         .map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}")))
         .collect::<Result<_, _>>()?;
     match values.as_slice() {
-        &[red_nm, green_nm, blue_nm] if values.iter().all(|v| *v > 0.0) => Ok(Channels { red_nm, green_nm, blue_nm }),
-        _ => Err("expected three positive wavelengths in nm, e.g. 685,535,475".into()),
+        &[red_nm, green_nm, blue_nm] => Channels::new(red_nm, green_nm, blue_nm),
+        _ => Err("expected three wavelengths in nm, e.g. 685,535,475".into()),
+    }
+}
+
+fn parse_coverage(text: &str) -> Result<Coverage, String> {
+    match text {
+        "channels" => Ok(Coverage::Channels),
+        "full" => Ok(Coverage::Full),
+        _ => Err(format!("{text:?}: expected channels or full")),
     }
 }

@@ -1,5 +1,6 @@
 //! The ingest stage: catalog → every named data file (each parsed once, in parallel) →
-//! visible-range filter and channel indices → `materials.*` and `excluded.csv`.
+//! coverage filter and channel indices → `materials.*`, `excluded.csv` and
+//! `warnings.csv`, published as one set.
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -9,8 +10,18 @@ use anyhow::{bail, Result};
 use rayon::prelude::*;
 
 use crate::db::{CatalogPage, DataError, Database, Reason};
-use crate::output::Table;
-use crate::spectrum::{self, Channels, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
+use crate::output::{SetFile, Table};
+use crate::spectrum::{self, Channels, Coverage, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
+
+/// How pages are read: the channel wavelengths and the coverage rule. Every stage that
+/// reads pages takes one, so the wavelengths chosen at ingest reach every table.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Config {
+    pub channels: Channels,
+    pub coverage: Coverage,
+    /// Data errors (other than missing coverage) and warnings are fatal.
+    pub strict: bool,
+}
 
 /// Which pages to ingest. Empty `shelves` and `pages` mean the whole catalog.
 #[derive(Clone, Debug, Default)]
@@ -25,9 +36,13 @@ impl Selection {
     }
 
     fn includes(&self, page: &CatalogPage) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty())
-            || self.shelves.iter().any(|s| *s == page.shelf)
-            || self.pages.iter().any(|p| *p == page.id())
+        self.includes_id(&page.shelf, &page.id())
+    }
+
+    /// Whether the page `id` on `shelf` is selected: everything when the selection is
+    /// empty, else its shelf or its id named.
+    pub fn includes_id(&self, shelf: &str, id: &str) -> bool {
+        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| s == shelf) || self.pages.iter().any(|p| p == id)
     }
 }
 
@@ -49,12 +64,17 @@ impl KeptPage {
     }
 }
 
-/// A page that did not pass, with its named error.
+/// A page that did not pass, with its named error; or, in `Ingest::warnings`, a kept
+/// page with a defect outside the wavelengths any stage evaluates.
 #[derive(Clone, Debug)]
 pub struct Excluded {
     pub page: String,
     pub error: DataError,
 }
+
+/// A defect of a kept page that does not touch what is evaluated (same shape as an
+/// exclusion: the page and the named error with its line).
+pub type Warning = Excluded;
 
 /// The result of an ingest: every selected page is in exactly one of the two lists.
 #[derive(Clone, Debug, Default)]
@@ -62,8 +82,10 @@ pub struct Ingest {
     pub selected: usize,
     pub kept: Vec<KeptPage>,
     pub excluded: Vec<Excluded>,
-    /// Catalog entries that could not become pages (e.g. no data file named).
-    pub catalog_problems: Vec<String>,
+    /// Defects of kept pages outside the evaluated wavelengths, one per defect.
+    pub warnings: Vec<Warning>,
+    /// The channel wavelengths and coverage rule the pages were read with.
+    pub config: Config,
     /// Selected page ids the catalog lists more than once with the same data file
     /// (kept once).
     pub listed_twice: Vec<String>,
@@ -83,24 +105,29 @@ impl Ingest {
         counts
     }
 
-    /// Under `--strict` every exclusion other than `no-visible-coverage` is fatal.
+    /// Under `--strict` (`config.strict`) every exclusion other than
+    /// `no-visible-coverage`, and every warning, is fatal.
     pub fn check_strict(&self) -> Result<()> {
+        if !self.config.strict {
+            return Ok(());
+        }
         let fatal: Vec<String> = self
             .excluded
             .iter()
             .filter(|e| e.error.reason != Reason::NoVisibleCoverage)
+            .chain(&self.warnings)
             .map(|e| format!("{}: {}", e.page, e.error))
             .collect();
         if !fatal.is_empty() {
-            bail!("--strict: {} page(s) have data errors:\n  {}", fatal.len(), fatal.join("\n  "));
+            bail!("--strict: {} data error(s) or warning(s):\n  {}", fatal.len(), fatal.join("\n  "));
         }
         Ok(())
     }
 }
 
 /// Read, filter and evaluate the selected pages. Data errors are recorded, never fatal.
-pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Result<Ingest> {
-    let (catalog, catalog_problems) = db.catalog()?;
+pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<Ingest> {
+    let catalog = db.catalog()?;
     for wanted in &selection.pages {
         if catalog.find(wanted).is_none() {
             bail!("unknown page {wanted:?} (ids look like main/Au/Johnson or 3d/metals/gold)");
@@ -122,7 +149,7 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
     let evaluated: HashMap<&str, (Result<Arc<Material>, DataError>, Option<Vec<String>>)> = files
         .par_iter()
         .map(|&file| {
-            let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, channels)).map(Arc::new);
+            let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
             let names = result.is_ok().then(|| db.book_names(file)).flatten();
             bar.inc(1);
             (file, (result, names))
@@ -134,7 +161,11 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
     for page in &pages {
         ids_by_file.entry(page.data.as_str()).or_default().push(page.id());
     }
-    let mut result = Ingest { selected: pages.len(), catalog_problems, ..Default::default() };
+    let mut result = Ingest { selected: pages.len(), config: *config, ..Default::default() };
+    for rejected in catalog.rejected.iter().filter(|r| selection.includes_id(&r.shelf, &r.id)) {
+        result.selected += 1;
+        result.excluded.push(Excluded { page: rejected.id.clone(), error: rejected.error.clone() });
+    }
     for duplicate in catalog.duplicates.iter().filter(|p| selection.includes(p)) {
         let first = catalog.find(&duplicate.id()).map(|p| p.data.as_str());
         if first == Some(duplicate.data.as_str()) {
@@ -158,12 +189,15 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
     for page in &pages {
         let id = page.id();
         match &evaluated[page.data.as_str()] {
-            (Ok(material), names) => result.kept.push(KeptPage {
+            (Ok(material), names) => {
+                result.warnings.extend(material.data.warnings.iter().map(|w| Warning { page: id.clone(), error: w.clone() }));
+                result.kept.push(KeptPage {
                 names: names.clone().unwrap_or_else(|| vec![page.book_name.clone()]),
                 material: material.clone(),
                 shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).cloned().collect(),
                 page: page.clone(),
-            }),
+            })
+            }
             (Err(error), _) => result.excluded.push(Excluded { page: id, error: error.clone() }),
         }
     }
@@ -171,7 +205,8 @@ pub fn ingest(db: &Database, selection: &Selection, channels: &Channels) -> Resu
 }
 
 /// `materials.*`: one row per kept page.
-pub fn materials_table(ingest: &Ingest, channels: &Channels) -> Table {
+pub fn materials_table(ingest: &Ingest) -> Table {
+    let channels = &ingest.config.channels;
     let kept = &ingest.kept;
     let text = |f: &dyn Fn(&KeptPage) -> String| kept.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
@@ -184,7 +219,7 @@ pub fn materials_table(ingest: &Ingest, channels: &Channels) -> Table {
         .text("catalog_name", "the catalog's display name of the page", text(&|p| p.page.page_name.clone()))
         .text("data_file", "data file relative to database/data/", text(&|p| p.page.data.clone()))
         .text("shared_with", "other page ids using the same data file, '; '-separated", text(&|p| p.shared_with.join("; ")))
-        .text("kind", "conductor (k >= 1 somewhere in 390-700 nm) or dielectric", text(&|p| p.material.kind.as_str().into()));
+        .text("kind", "conductor (k >= 1 somewhere in 390-700 nm where the data reach) or dielectric", text(&|p| p.material.kind.as_str().into()));
     for (c, (name, nm)) in CHANNEL_NAMES.iter().zip(channels.nanometres()).enumerate() {
         table.float(&format!("n_{name}"), &format!("refractive index n at {nm} nm"), kept.iter().map(|p| p.material.channels[c].n).collect());
         table.float(&format!("k_{name}"), &format!("extinction coefficient k at {nm} nm"), kept.iter().map(|p| p.material.channels[c].k).collect());
@@ -206,9 +241,9 @@ pub fn materials_table(ingest: &Ingest, channels: &Channels) -> Table {
     table
 }
 
-/// `excluded.csv`: one row per dropped page.
-pub fn excluded_table(ingest: &Ingest) -> Table {
-    let rows = &ingest.excluded;
+/// `excluded.csv` (one row per dropped page) or `warnings.csv` (one row per defect of a
+/// kept page): the page, its data file, the reason code, the line and the detail.
+pub fn problems_table(rows: &[Excluded]) -> Table {
     let mut table = Table::new();
     table
         .text("page", "page id", rows.iter().map(|e| e.page.clone()).collect())
@@ -219,12 +254,11 @@ pub fn excluded_table(ingest: &Ingest) -> Table {
     table
 }
 
-/// Write `materials.{csv,parquet,json}` and `excluded.csv` under `out`.
-pub fn write_tables(ingest: &Ingest, channels: &Channels, out: &Path) -> Result<Vec<PathBuf>> {
-    let mut written = materials_table(ingest, channels).write(out, "materials", true)?;
-    let excluded = excluded_table(ingest);
-    let path = out.join("excluded.csv");
-    crate::output::write_atomic(&path, &excluded.to_csv()?)?;
-    written.push(path);
-    Ok(written)
+/// Publish `materials.{csv,parquet,json}` (+ columns), `excluded.csv` and `warnings.csv`
+/// under `out` as one set.
+pub fn write_tables(ingest: &Ingest, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = materials_table(ingest).files("materials", true)?;
+    files.push(SetFile::new("excluded.csv", problems_table(&ingest.excluded).to_csv()?));
+    files.push(SetFile::new("warnings.csv", problems_table(&ingest.warnings).to_csv()?));
+    crate::output::publish_set(out, "ingest", &files)
 }

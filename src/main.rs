@@ -27,9 +27,6 @@ enum Command {
         pages: PageSelection,
         #[command(flatten)]
         channels: ChannelArgs,
-        /// Any data error other than no-visible-coverage is fatal.
-        #[arg(long)]
-        strict: bool,
     },
     /// Write output/report/index.html and report.md from the tables the other stages wrote.
     Report {
@@ -64,11 +61,36 @@ enum Command {
         pages: PageSelection,
         #[command(flatten)]
         channels: ChannelArgs,
-        /// LUT size whose texel centres (i + 0.5)/N are checked for out-of-gamut colours.
-        #[arg(long, default_value_t = 256)]
+        /// LUT size whose texel centres (i + 0.5)/N are checked for out-of-gamut colours
+        /// (1..=65536, the bounds of `bake --size`).
+        #[arg(long, default_value_t = 256, value_parser = parse_texels)]
         texels: usize,
     },
 }
+
+fn parse_texels(text: &str) -> Result<usize, String> {
+    let size: usize = text.parse().map_err(|e| format!("{text:?}: {e}"))?;
+    if !(1..=nklut::bake::MAX_SIZE).contains(&size) {
+        return Err(format!("must be between 1 and {} texels, got {size}", nklut::bake::MAX_SIZE));
+    }
+    Ok(size)
+}
+
+/// Write a line to standard output. A reader that closed the pipe (`nklut nk … | head -1`)
+/// is not an error: [`main`] ends quietly with status 0 when it sees [`PipeClosed`].
+fn print_line(line: &str) -> Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{line}").and_then(|_| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(PipeClosed.into()),
+        other => Ok(other?),
+    }
+}
+
+/// Standard output was closed by its reader.
+#[derive(Debug, thiserror::Error)]
+#[error("standard output closed")]
+struct PipeClosed;
 
 fn run(cli: Cli) -> Result<()> {
     let command = match cli.command {
@@ -78,9 +100,9 @@ fn run(cli: Cli) -> Result<()> {
     };
     let db = Database::open(cli.paths.db.as_deref())?;
     match command {
-        Command::Ingest { pages, channels, strict } => {
-            let result = ingest::ingest(&db, &pages.selection(), &channels.channels)?;
-            let written = ingest::write_tables(&result, &channels.channels, &cli.paths.out)?;
+        Command::Ingest { pages, channels } => {
+            let result = ingest::ingest(&db, &pages.selection(), &channels.config())?;
+            let written = ingest::write_tables(&result, &cli.paths.out)?;
             eprintln!(
                 "ingest: {} pages selected, {} kept, {} excluded {:?}",
                 result.selected,
@@ -91,15 +113,13 @@ fn run(cli: Cli) -> Result<()> {
             if !result.listed_twice.is_empty() {
                 eprintln!("  {} page ids are listed twice in the catalog with the same file (kept once): {}", result.listed_twice.len(), result.listed_twice.join(", "));
             }
-            for problem in &result.catalog_problems {
-                eprintln!("  catalog: {problem}");
+            if !result.warnings.is_empty() {
+                eprintln!("  {} data warning(s) outside the evaluated wavelengths (warnings.csv)", result.warnings.len());
             }
             for path in written {
                 eprintln!("  wrote {}", path.display());
             }
-            if strict {
-                result.check_strict()?;
-            }
+            result.check_strict()?;
         }
         Command::Report { pages, max_plots } => {
             let written = nklut::report::command(&db, &cli.paths.out, &pages, max_plots)?;
@@ -112,23 +132,27 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("bake: {} rows, {} files, {} clamped texels -> {}", summary.rows, summary.files, summary.clamped_texels, summary.luts.display());
         }
         Command::Nk { page, nm } => {
-            let (catalog, _) = db.catalog()?;
+            let catalog = db.catalog()?;
             let entry = catalog.find(&page).ok_or_else(|| anyhow::anyhow!("unknown page {page:?}"))?;
             let data = db.read_page(&entry.data)?;
             for wavelength in nm {
                 let index = spectrum::index_at(&data, wavelength).map_err(|e| anyhow::anyhow!("{page}: {e}"))?;
-                println!("{wavelength} {} {}", index.n, index.k);
+                print_line(&format!("{wavelength} {} {}", index.n, index.k))?;
             }
         }
         Command::Validate(args) => {
-            for path in nklut::validate::run(&args, Some(&db), &cli.paths.out)? {
+            let outcome = nklut::validate::run(&args, Some(&db), &cli.paths.out)?;
+            for line in outcome.summary.lines() {
+                print_line(line)?;
+            }
+            for path in outcome.written {
                 eprintln!("  wrote {}", path.display());
             }
         }
         #[cfg(feature = "gpu")]
         Command::Gpu { .. } => unreachable!("handled before the database is opened"),
         Command::Colors { pages, channels, texels } => {
-            for path in nklut::color::command(&db, &pages.selection(), &channels.channels, &cli.paths.out, texels)? {
+            for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());
             }
         }
@@ -139,6 +163,7 @@ fn run(cli: Cli) -> Result<()> {
 fn main() -> ExitCode {
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.is::<PipeClosed>() => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("error: {error:#}");
             ExitCode::FAILURE
@@ -153,7 +178,7 @@ mod gpu_cli {
     use anyhow::{bail, Result};
     use clap::{Args, Subcommand};
 
-    use nklut::cli::Paths;
+    use nklut::cli::{ChannelArgs, Paths};
     use nklut::db::Database;
     use nklut::gpu;
     use nklut::scene::{Measurement, Scene};
@@ -174,6 +199,8 @@ mod gpu_cli {
             scene: PathBuf,
             #[command(flatten)]
             adapter: AdapterArg,
+            #[command(flatten)]
+            read: ChannelArgs,
         },
         /// Time each (material, method) of a scene in a fullscreen pass → gpu_timing.csv.
         Bench {
@@ -193,6 +220,8 @@ mod gpu_cli {
             resolution: Option<[u32; 2]>,
             #[command(flatten)]
             adapter: AdapterArg,
+            #[command(flatten)]
+            read: ChannelArgs,
         },
         /// Render each object of a scene with its methods and exact → image_errors.csv.
         ImageError {
@@ -209,6 +238,8 @@ mod gpu_cli {
             resolution: Option<[u32; 2]>,
             #[command(flatten)]
             adapter: AdapterArg,
+            #[command(flatten)]
+            read: ChannelArgs,
         },
     }
 
@@ -224,41 +255,43 @@ mod gpu_cli {
     }
 
     pub fn run(command: GpuCommand, paths: &Paths) -> Result<()> {
-        let (mut scene, adapter) = match command {
+        let (mut scene, adapter, read) = match command {
             GpuCommand::Adapters => {
                 let adapters = gpu::adapters();
                 if adapters.is_empty() {
                     bail!("no adapter found; without a GPU install a software Vulkan driver (apt-get install mesa-vulkan-drivers)");
                 }
                 for line in adapters {
-                    println!("{line}");
+                    super::print_line(&line.to_string())?;
                 }
                 return Ok(());
             }
-            GpuCommand::Run { scene, adapter } => (Scene::load(&scene)?, adapter),
-            GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter } => {
+            GpuCommand::Run { scene, adapter, read } => (Scene::load(&scene)?, adapter, read),
+            GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter, read } => {
                 let mut scene = Scene::load(&scene)?;
                 scene.measurements = vec![Measurement::Timing];
                 scene.timing.subtract |= subtract;
                 scene.timing.repeats = repeats.unwrap_or(scene.timing.repeats).max(1);
                 scene.timing.warmup = warmup.unwrap_or(scene.timing.warmup);
                 scene.timing.resolution = resolution.unwrap_or(scene.timing.resolution);
-                (scene, adapter)
+                (scene, adapter, read)
             }
-            GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter } => {
+            GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter, read } => {
                 let mut scene = Scene::load(&scene)?;
                 scene.measurements = vec![Measurement::ImageError];
                 scene.camera.frames = frames.unwrap_or(scene.camera.frames).max(1);
                 scene.camera.degrees_per_frame = degrees_per_frame.unwrap_or(scene.camera.degrees_per_frame);
                 scene.resolution = resolution.unwrap_or(scene.resolution);
-                (scene, adapter)
+                (scene, adapter, read)
             }
         };
+        // Overrides pass the same checks as the scene file's own values.
+        scene.recheck()?;
         scene.measurements.dedup();
         let db = Database::open(paths.db.as_deref())?;
         let device = gpu::open(adapter.adapter.as_deref())?;
         eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
-        let report = gpu::run(&scene, &db, &device, &mut |line| eprintln!("{line}"))?;
+        let report = gpu::run(&scene, &db, &read.config(), &device, &mut |line| eprintln!("{line}"))?;
         eprintln!("run: {}", report.stats);
         for path in gpu::runner::write_tables(&report, &paths.out)? {
             eprintln!("  wrote {}", path.display());

@@ -1,6 +1,15 @@
 //! File output at the edge of the pipeline: atomic writes (temp file + rename) so an
-//! interrupted run never leaves a half-written file, and the tables every stage writes
-//! (CSV, Parquet through polars, JSON) from one column-oriented description.
+//! interrupted run never leaves a half-written file; the files of one command published
+//! as one set ([`publish_set`]) so that an interrupted run leaves the previous set or the
+//! new one, never a mix; and the tables every stage writes (CSV, Parquet through polars,
+//! JSON) from one column-oriented description.
+//!
+//! How a set is published: every file goes to a fresh generation folder
+//! `<out>/.sets/<set>-<stamp>`; one symbolic link `<out>/.sets/<set>` names the current
+//! generation and is replaced by a single rename; each `<out>/<file>` is a fixed link to
+//! `.sets/<set>/<file>`. Readers open `<out>/<file>` as before and see whichever
+//! generation the one link names. For tests, the environment variable `NKLUT_CRASH_AT`
+//! (`staged`, `switched` or `linked`) aborts the process at that step.
 
 use std::fs;
 use std::io::Write;
@@ -32,6 +41,141 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 pub fn temp_path(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// A file of a set: its name in the output folder (no folders) and its bytes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetFile {
+    pub name: String,
+    pub bytes: Vec<u8>,
+}
+
+impl SetFile {
+    pub fn new(name: impl Into<String>, bytes: Vec<u8>) -> Self {
+        Self { name: name.into(), bytes }
+    }
+}
+
+/// The folder under the output folder that holds the generations of every set.
+pub const SETS_DIR: &str = ".sets";
+
+/// Abort here when `NKLUT_CRASH_AT` names this step (the kill tests' hook).
+fn crash_point(step: &str) {
+    if std::env::var_os("NKLUT_CRASH_AT").is_some_and(|v| v == step) {
+        std::process::abort();
+    }
+}
+
+/// Where the link `<out>/.sets/<set>` points, if it exists.
+fn current_generation(sets: &Path, set: &str) -> Option<String> {
+    fs::read_link(sets.join(set)).ok().map(|t| t.to_string_lossy().into_owned())
+}
+
+/// Make `link` a symbolic link to `target`, replacing what is there by one rename.
+#[cfg(unix)]
+fn replace_with_link(target: &Path, link: &Path) -> Result<()> {
+    let name = link.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = link.with_file_name(format!(".{name}.link-{}", std::process::id()));
+    let _ = fs::remove_file(&tmp);
+    std::os::unix::fs::symlink(target, &tmp).with_context(|| format!("linking {} to {}", tmp.display(), target.display()))?;
+    fs::rename(&tmp, link).with_context(|| format!("renaming {} to {}", tmp.display(), link.display()))
+}
+
+#[cfg(not(unix))]
+fn replace_with_link(_target: &Path, link: &Path) -> Result<()> {
+    anyhow::bail!("publishing {} needs symbolic links (Unix)", link.display())
+}
+
+/// Is `<out>/<name>` already the fixed link into the set?
+fn is_set_link(out: &Path, set: &str, name: &str) -> bool {
+    fs::read_link(out.join(name)).is_ok_and(|t| t == Path::new(SETS_DIR).join(set).join(name))
+}
+
+/// Remove generations of `set` that the link does not name (left by a killed run).
+fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
+    let current = current_generation(sets, set);
+    let prefix = format!("{set}-");
+    for entry in fs::read_dir(sets).with_context(|| format!("listing {}", sets.display()))? {
+        let name = entry?.file_name().to_string_lossy().into_owned();
+        let stale_generation = name.strip_prefix(&prefix).is_some_and(|stamp| stamp.starts_with(|c: char| c.is_ascii_digit()));
+        let stale_link = name.starts_with(&format!(".{set}.link-"));
+        if (stale_generation && Some(&name) != current.as_ref()) || stale_link {
+            let path = sets.join(&name);
+            let removed = if stale_link { fs::remove_file(&path) } else { fs::remove_dir_all(&path) };
+            removed.with_context(|| format!("removing the leftover {}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// Write the files and their folder to disk before the folder is published.
+fn write_generation(dir: &Path, files: &[SetFile]) -> Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    files.par_iter().try_for_each(|file| -> Result<()> {
+        let path = dir.join(&file.name);
+        let mut f = fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
+        f.write_all(&file.bytes).with_context(|| format!("writing {}", path.display()))?;
+        f.sync_all().ok();
+        Ok(())
+    })?;
+    if let Ok(d) = fs::File::open(dir) {
+        d.sync_all().ok();
+    }
+    Ok(())
+}
+
+/// An output folder written before sets existed holds plain files: move them into a
+/// generation of their own (hard links, so each name keeps its bytes throughout) and
+/// make the names links to it, so that the next switch replaces them all at once.
+fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[SetFile]) -> Result<()> {
+    if current_generation(sets, set).is_some() {
+        return Ok(());
+    }
+    let plain: Vec<&str> = files.iter().map(|f| f.name.as_str()).filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
+    if plain.is_empty() {
+        return Ok(());
+    }
+    let generation = format!("{set}-0-adopted");
+    let dir = sets.join(&generation);
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir)?;
+    for name in &plain {
+        fs::hard_link(out.join(name), dir.join(name)).or_else(|_| fs::copy(out.join(name), dir.join(name)).map(|_| ()))?;
+    }
+    replace_with_link(Path::new(&generation), &sets.join(set))?;
+    for name in plain {
+        replace_with_link(&Path::new(SETS_DIR).join(set).join(name), &out.join(name))?;
+    }
+    Ok(())
+}
+
+/// Publish `files` as the new set `set` under `out`, all at once: a run killed at any
+/// point leaves `out` with the previous set or this one. Returns the paths written.
+pub fn publish_set(out: &Path, set: &str, files: &[SetFile]) -> Result<Vec<PathBuf>> {
+    let sets = out.join(SETS_DIR);
+    fs::create_dir_all(&sets).with_context(|| format!("creating folder {}", sets.display()))?;
+    adopt_plain_files(out, &sets, set, files)?;
+    remove_stale_generations(&sets, set)?;
+    let previous = current_generation(&sets, set);
+    let stamp = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos()).unwrap_or(0);
+    let generation = format!("{set}-{stamp}-{}", std::process::id());
+    write_generation(&sets.join(&generation), files)?;
+    crash_point("staged");
+    // Names new to the set get their link first; it dangles (reads as absent) until the
+    // switch, as the previous set had no such file.
+    for file in files.iter().filter(|f| fs::symlink_metadata(out.join(&f.name)).is_err()) {
+        replace_with_link(&Path::new(SETS_DIR).join(set).join(&file.name), &out.join(&file.name))?;
+    }
+    replace_with_link(Path::new(&generation), &sets.join(set))?;
+    crash_point("switched");
+    for file in files.iter().filter(|f| !is_set_link(out, set, &f.name)) {
+        replace_with_link(&Path::new(SETS_DIR).join(set).join(&file.name), &out.join(&file.name))?;
+    }
+    crash_point("linked");
+    if let Some(previous) = previous.filter(|p| *p != generation) {
+        let _ = fs::remove_dir_all(sets.join(previous));
+    }
+    Ok(files.iter().map(|f| out.join(&f.name)).collect())
 }
 
 /// One column of a table: a name, a unit or meaning for the manifest, and the values.
@@ -224,28 +368,25 @@ impl Table {
         Ok(bytes)
     }
 
-    /// Write `<dir>/<stem>.csv`, `<dir>/<stem>.parquet` (and `.json` when asked) and the
-    /// column documentation `<dir>/<stem>.columns.json`, each atomically. Returns the
-    /// paths written.
-    pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
-        let mut written = Vec::new();
-        let columns_path = dir.join(format!("{stem}.columns.json"));
-        write_atomic(&columns_path, &self.columns_json(stem)?)?;
-        written.push(columns_path);
+    /// The files of the table: `<stem>.columns.json` (the column documentation),
+    /// `<stem>.csv`, `<stem>.parquet` and, when asked, `<stem>.json`.
+    pub fn files(&self, stem: &str, json: bool) -> Result<Vec<SetFile>> {
         // The two encodings of a large table take about as long each: one per core.
         let (csv, parquet) = rayon::join(|| self.to_csv(), || self.to_parquet());
-        let csv_path = dir.join(format!("{stem}.csv"));
-        write_atomic(&csv_path, &csv?)?;
-        written.push(csv_path);
-        let parquet_path = dir.join(format!("{stem}.parquet"));
-        write_atomic(&parquet_path, &parquet?)?;
-        written.push(parquet_path);
+        let mut files = vec![
+            SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
+            SetFile::new(format!("{stem}.csv"), csv?),
+            SetFile::new(format!("{stem}.parquet"), parquet?),
+        ];
         if json {
-            let json_path = dir.join(format!("{stem}.json"));
-            write_atomic(&json_path, &self.to_json()?)?;
-            written.push(json_path);
+            files.push(SetFile::new(format!("{stem}.json"), self.to_json()?));
         }
-        Ok(written)
+        Ok(files)
+    }
+
+    /// Publish the table's [`files`](Self::files) under `dir` as the set `stem`.
+    pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
+        publish_set(dir, stem, &self.files(stem, json)?)
     }
 }
 
@@ -290,6 +431,24 @@ mod tests {
         let bytes = sample().to_parquet().unwrap();
         assert_eq!(&bytes[..4], b"PAR1");
         assert_eq!(&bytes[bytes.len() - 4..], b"PAR1");
+    }
+
+    /// The names of a set read the newest generation; a second publish replaces every
+    /// file at once, adopts plain files written before sets, and leaves one generation.
+    #[test]
+    fn sets_replace_every_file_and_keep_one_generation() {
+        let dir = std::env::temp_dir().join(format!("nklut-set-test-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        fs::write(dir.join("a.csv"), b"plain").unwrap();
+        publish_set(&dir, "t", &[SetFile::new("a.csv", b"one".to_vec()), SetFile::new("b.csv", b"uno".to_vec())]).unwrap();
+        assert_eq!(fs::read(dir.join("a.csv")).unwrap(), b"one");
+        publish_set(&dir, "t", &[SetFile::new("a.csv", b"two".to_vec()), SetFile::new("b.csv", b"dos".to_vec())]).unwrap();
+        assert_eq!(fs::read(dir.join("a.csv")).unwrap(), b"two");
+        assert_eq!(fs::read(dir.join("b.csv")).unwrap(), b"dos");
+        let generations = fs::read_dir(dir.join(SETS_DIR)).unwrap().filter(|e| e.as_ref().unwrap().file_type().unwrap().is_dir()).count();
+        assert_eq!(generations, 1);
+        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -329,6 +329,12 @@ impl Scene {
         Ok(scene)
     }
 
+    /// The checks of [`Scene::parse`] again, for values changed after loading (the
+    /// command line's `--resolution`, `--degrees-per-frame`, …); errors name the file.
+    pub fn recheck(&self) -> Result<(), SceneError> {
+        self.check().map_err(|problem| SceneError { file: self.file.clone(), problem: format!("{problem} (after command-line overrides)") })
+    }
+
     fn check(&self) -> Result<(), String> {
         if self.objects.is_empty() {
             return Err("objects: the scene names no object".into());

@@ -1,6 +1,7 @@
 //! n and k at a wavelength: the complex index of a page, the three colour channels
-//! (SPEC §3), the visible-range filter (SPEC §2) and the 1 nm spectral grid the
-//! reference colours integrate over (SPEC §4).
+//! (SPEC §3), the coverage filter (SPEC §2: a kept page's data cover the channel
+//! wavelengths, or 390–700 nm under the stricter `full` rule) and the 1 nm spectral grid
+//! the reference colours integrate over (SPEC §4).
 
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +15,16 @@ pub struct Index {
 impl Index {
     pub const fn new(n: f64, k: f64) -> Self {
         Self { n, k }
+    }
+
+    /// Inside the domain every Fresnel method is tested on (n in [1e-3, 1e3], k in
+    /// [0, 1e3]); otherwise what is outside, in words.
+    pub fn check_domain(&self) -> Result<(), String> {
+        let Index { n, k } = *self;
+        if !(N_DOMAIN.0..=N_DOMAIN.1).contains(&n) || !(0.0..=K_MAX).contains(&k) {
+            return Err(format!("n = {n:e}, k = {k:e} lies outside the methods' domain n in [{:e}, {:e}], k in [0, {K_MAX:e}]", N_DOMAIN.0, N_DOMAIN.1));
+        }
+        Ok(())
     }
 }
 
@@ -39,18 +50,48 @@ impl Default for Channels {
 }
 
 impl Channels {
+    /// Channels at these wavelengths (nm), each inside the spectral grid 360–830 nm the
+    /// reference colours are computed on.
+    pub fn new(red_nm: f64, green_nm: f64, blue_nm: f64) -> Result<Self, String> {
+        let (lo, hi) = EVALUATED_NM;
+        for nm in [red_nm, green_nm, blue_nm] {
+            if !(lo..=hi).contains(&nm) {
+                return Err(format!("channel wavelength {nm} nm is outside {lo}-{hi} nm, the spectral range of the reference colours"));
+            }
+        }
+        Ok(Self { red_nm, green_nm, blue_nm })
+    }
+
     /// Wavelengths in nm, red, green, blue.
     pub fn nanometres(&self) -> [f64; 3] {
         [self.red_nm, self.green_nm, self.blue_nm]
     }
+
+    /// "685/535/475 nm", as the tables and the report print them.
+    pub fn label(&self) -> String {
+        let [r, g, b] = self.nanometres();
+        format!("{r}/{g}/{b} nm")
+    }
+}
+
+/// Which wavelengths a kept page's data must cover (SPEC §2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Coverage {
+    /// The three channel wavelengths (the default): the spectral colour holds the nearest
+    /// measured value outside the data and records the extrapolated share.
+    #[default]
+    Channels,
+    /// The whole visible window 390–700 nm (the study's rule).
+    Full,
 }
 
 /// The visible window a kept page must cover (SPEC §2), in nm.
 pub const VISIBLE_NM: (f64, f64) = (390.0, 700.0);
 
-/// The spectral grid of the reference colours (SPEC §4): 360..=830 nm in 1 nm steps.
-pub const SPECTRAL_START_NM: f64 = 360.0;
-pub const SPECTRAL_END_NM: f64 = 830.0;
+/// The spectral grid of the reference colours (SPEC §4): 360..=830 nm in 1 nm steps, the
+/// widest window any stage evaluates.
+pub const SPECTRAL_START_NM: f64 = EVALUATED_NM.0;
+pub const SPECTRAL_END_NM: f64 = EVALUATED_NM.1;
 pub const SPECTRAL_SAMPLES: usize = 471;
 
 /// The wavelength (nm) of spectral sample `i`.
@@ -58,6 +99,7 @@ pub fn spectral_wavelength_nm(i: usize) -> f64 {
     SPECTRAL_START_NM + i as f64
 }
 
+use crate::db::page::{EVALUATED_NM, K_MAX, N_DOMAIN};
 use crate::db::{Curve, DataError, PageData, Reason};
 
 /// Conductor or dielectric, by the README's rule: a page is a `conductor` when its k
@@ -109,16 +151,16 @@ fn range_nm(curve: &Curve) -> (f64, f64) {
     (lo * 1000.0, hi * 1000.0)
 }
 
-/// n and k of a page at λ (nm): an error outside the data's range or where n ≤ 0 / k < 0.
+/// n and k of a page at λ (nm): an error outside the data's range, where n ≤ 0 / k < 0,
+/// or outside the methods' domain.
 pub fn index_at(data: &PageData, nm: f64) -> Result<Index, DataError> {
     let out_of_range = |curve: &Curve, what: &str| {
         let (lo, hi) = range_nm(curve);
-        DataError::new(
-            Reason::FormulaOutOfRange,
-            &data.file,
-            None,
-            format!("{what} is defined on {lo:.1}–{hi:.1} nm; {nm} nm is outside"),
-        )
+        let (reason, source) = match curve {
+            Curve::Formula(_) => (Reason::FormulaOutOfRange, "formula"),
+            Curve::Tabulated { .. } => (Reason::OutsideTableRange, "table"),
+        };
+        DataError::new(reason, &data.file, None, format!("the {what} {source} covers {lo:.1}–{hi:.1} nm; {nm} nm is outside it"))
     };
     let n = data.n.at(um(nm)).ok_or_else(|| out_of_range(&data.n, "n"))?;
     let k = match &data.k {
@@ -137,7 +179,9 @@ fn check_index(data: &PageData, nm: f64, n: f64, k: f64) -> Result<Index, DataEr
     if !(k >= 0.0) {
         return Err(DataError::new(Reason::NegativeK, &data.file, None, format!("k = {k} at {nm} nm")));
     }
-    Ok(Index::new(n, k))
+    let index = Index::new(n, k);
+    index.check_domain().map_err(|detail| DataError::new(Reason::IndexOutOfDomain, &data.file, None, format!("{detail} at {nm} nm")))?;
+    Ok(index)
 }
 
 /// n and k at λ with the nearest measured values held outside the data (SPEC §4).
@@ -169,29 +213,35 @@ fn visible_check_points(data: &PageData) -> Vec<f64> {
     points
 }
 
-/// The visible-range filter (SPEC §2) and channel evaluation (SPEC §3): n (and k where
-/// the page has k) must cover 390–700 nm, n > 0 and k ≥ 0 over it.
-pub fn evaluate(data: PageData, channels: &Channels) -> Result<Material, DataError> {
-    let (lo, hi) = VISIBLE_NM;
+/// The coverage filter (SPEC §2) and channel evaluation (SPEC §3): n (and k where the
+/// page has k) must cover the channel wavelengths (or 390–700 nm under
+/// [`Coverage::Full`]), with n > 0 and k ≥ 0 wherever the data meet the visible window.
+pub fn evaluate(data: PageData, channels: &Channels, coverage: Coverage) -> Result<Material, DataError> {
     let (n_lo, n_hi) = range_nm(&data.n);
     let (k_lo, k_hi) = data.k.as_ref().map_or((f64::NEG_INFINITY, f64::INFINITY), range_nm);
+    let (lo, hi) = (n_lo.max(k_lo), n_hi.min(k_hi));
     // A small tolerance absorbs µm ↔ nm rounding (0.39 µm × 1000 = 390.00000000000006).
     const EPS: f64 = 1e-9;
-    if n_lo > lo + EPS || n_hi < hi - EPS || k_lo > lo + EPS || k_hi < hi - EPS {
+    let wavelengths = channels.nanometres();
+    let (need_lo, need_hi) = match coverage {
+        Coverage::Channels => (wavelengths.iter().copied().fold(f64::INFINITY, f64::min), wavelengths.iter().copied().fold(0.0, f64::max)),
+        Coverage::Full => VISIBLE_NM,
+    };
+    if lo > need_lo + EPS || hi < need_hi - EPS {
         let k_text = data.k.as_ref().map(|_| format!(", k {k_lo:.1}–{k_hi:.1} nm")).unwrap_or_default();
-        return Err(DataError::new(
-            Reason::NoVisibleCoverage,
-            &data.file,
-            None,
-            format!("n {n_lo:.1}–{n_hi:.1} nm{k_text}; need {lo}–{hi} nm"),
-        ));
+        let need = match coverage {
+            Coverage::Channels => format!("the channel wavelengths {} need data", channels.label()),
+            Coverage::Full => format!("need {}–{} nm (--visible full)", VISIBLE_NM.0, VISIBLE_NM.1),
+        };
+        return Err(DataError::new(Reason::NoVisibleCoverage, &data.file, None, format!("n {n_lo:.1}–{n_hi:.1} nm{k_text}; {need}")));
     }
     let mut max_k: f64 = 0.0;
-    for nm in visible_check_points(&data) {
-        let index = index_at(&data, nm.clamp(lo.max(n_lo).max(k_lo), hi.min(n_hi).min(k_hi)))?;
-        max_k = max_k.max(index.k);
+    let (visible_lo, visible_hi) = (VISIBLE_NM.0.max(lo), VISIBLE_NM.1.min(hi));
+    let checked = visible_check_points(&data).into_iter().filter(|_| visible_lo <= visible_hi).map(|nm| nm.clamp(visible_lo, visible_hi));
+    for nm in checked {
+        max_k = max_k.max(index_at(&data, nm)?.k);
     }
-    let [r, g, b] = channels.nanometres();
+    let [r, g, b] = wavelengths;
     let channel_index = [index_at(&data, r)?, index_at(&data, g)?, index_at(&data, b)?];
     let gaps: Vec<f64> = std::iter::once(&data.n)
         .chain(data.k.as_ref())
@@ -200,7 +250,7 @@ pub fn evaluate(data: PageData, channels: &Channels) -> Result<Material, DataErr
     Ok(Material {
         channels: channel_index,
         kind: if max_k >= CONDUCTOR_K { Kind::Conductor } else { Kind::Dielectric },
-        range_nm: (n_lo.max(k_lo), n_hi.min(k_hi)),
+        range_nm: (lo, hi),
         max_visible_gap_nm: gaps.into_iter().reduce(f64::max),
         data,
     })
@@ -218,7 +268,7 @@ mod tests {
     #[test]
     fn channels_are_interpolated_and_kind_follows_k() {
         let data = page("DATA:\n  - type: tabulated nk\n    data: |\n        0.38 0.5 2.0\n        0.48 0.6 2.5\n        0.71 1.0 4.0\n");
-        let m = evaluate(data, &Channels::default()).unwrap();
+        let m = evaluate(data, &Channels::default(), Coverage::default()).unwrap();
         // 685 nm: between 480 and 710 nm, t = 205/230.
         let t = 205.0 / 230.0;
         assert!((m.channels[0].n - (0.6 + t * 0.4)).abs() < 1e-12);
@@ -230,14 +280,17 @@ mod tests {
     #[test]
     fn narrow_k_range_drops_the_page() {
         let data = page("DATA:\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 1.5\n  - type: tabulated k\n    data: |\n        0.4 0.0\n        0.8 0.0\n");
-        let e = evaluate(data, &Channels::default()).unwrap_err();
+        // k covers 400-800 nm: the channels (475-685 nm) but not 390 nm.
+        assert!(evaluate(data.clone(), &Channels::default(), Coverage::Channels).is_ok());
+        let e = evaluate(data, &Channels::default(), Coverage::Full).unwrap_err();
         assert_eq!(e.reason, Reason::NoVisibleCoverage);
+        assert!(e.detail.contains("k 400.0–800.0 nm"), "{}", e.detail);
     }
 
     #[test]
     fn formula_with_negative_square_is_negative_n() {
         let data = page("DATA:\n  - type: formula 3\n    wavelength_range: 0.3 1.0\n    coefficients: 1.0 -8.0 2\n");
-        assert_eq!(evaluate(data, &Channels::default()).unwrap_err().reason, Reason::NegativeN);
+        assert_eq!(evaluate(data, &Channels::default(), Coverage::default()).unwrap_err().reason, Reason::NegativeN);
     }
 
     #[test]
@@ -247,5 +300,43 @@ mod tests {
         assert_eq!(e.reason, Reason::FormulaOutOfRange);
         assert!(e.detail.contains("300.0–1000.0 nm"), "{}", e.detail);
         assert_eq!(index_held(&data, 1200.0), Index::new(1.5, 0.0));
+        // A table names itself: 0 nm is outside the table, not a formula's range.
+        let table = page("DATA:\n  - type: tabulated n\n    data: |\n        0.4 1.5\n        0.8 1.6\n");
+        let e = index_at(&table, 0.0).unwrap_err();
+        assert_eq!(e.reason, Reason::OutsideTableRange);
+        assert!(e.detail.contains("table covers 400.0–800.0 nm"), "{}", e.detail);
+    }
+
+    /// Data from 450 nm cover the channels 475–685 nm but not 390 nm: kept by default,
+    /// excluded under the full rule; data from 476.5 nm miss blue (475 nm) either way.
+    #[test]
+    fn coverage_follows_the_channels_unless_full() {
+        let from_450 = "DATA:\n  - type: tabulated n\n    data: |\n        0.45 1.50\n        0.75 1.48\n";
+        let m = evaluate(page(from_450), &Channels::default(), Coverage::Channels).unwrap();
+        assert_eq!(m.range_nm, (450.0, 750.0));
+        assert!((m.channels[2].n - (1.50 - 0.02 * 25.0 / 300.0)).abs() < 1e-12);
+        let e = evaluate(page(from_450), &Channels::default(), Coverage::Full).unwrap_err();
+        assert_eq!(e.reason, Reason::NoVisibleCoverage);
+        let from_476 = "DATA:\n  - type: tabulated n\n    data: |\n        0.4765 1.36\n        0.75 1.35\n";
+        let e = evaluate(page(from_476), &Channels::default(), Coverage::Channels).unwrap_err();
+        assert_eq!(e.reason, Reason::NoVisibleCoverage);
+        assert!(e.detail.contains("685/535/475 nm"), "{}", e.detail);
+    }
+
+    #[test]
+    fn channel_wavelengths_stay_in_the_spectral_grid() {
+        assert!(Channels::new(650.0, 550.0, 450.0).is_ok());
+        assert!(Channels::new(900.0, 550.0, 450.0).unwrap_err().contains("900"));
+        assert!(Channels::new(650.0, 550.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn indices_outside_the_methods_domain_are_named() {
+        assert!(Index::new(1.5, 0.0).check_domain().is_ok());
+        assert!(Index::new(1e3, 1e3).check_domain().is_ok());
+        assert!(Index::new(1e20, 0.0).check_domain().is_err());
+        assert!(Index::new(1.5, 2e3).check_domain().is_err());
+        assert!(Index::new(1e-4, 1.0).check_domain().is_err());
+        assert!(Index::new(f64::NAN, 1.0).check_domain().is_err());
     }
 }

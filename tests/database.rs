@@ -19,7 +19,7 @@ fn database() -> Database {
 fn formula_pages_reproduce_their_printed_nd() {
     const D_LINE_UM: f64 = 0.5875618;
     let db = database();
-    let (catalog, _) = db.catalog().unwrap();
+    let catalog = db.catalog().unwrap();
     let files: BTreeSet<&str> = catalog.pages.iter().map(|p| p.data.as_str()).collect();
     let (mut checked, mut outside_range) = (0, 0);
     let mut worst = (0.0f64, String::new());
@@ -51,7 +51,7 @@ fn formula_pages_reproduce_their_printed_nd() {
 #[test]
 fn formula_pages_reproduce_their_printed_abbe_number() {
     let db = database();
-    let (catalog, _) = db.catalog().unwrap();
+    let catalog = db.catalog().unwrap();
     let files: BTreeSet<&str> = catalog.pages.iter().filter(|p| p.shelf == "specs").map(|p| p.data.as_str()).collect();
     let (mut checked, mut failures) = (0, Vec::new());
     for file in files {
@@ -77,8 +77,8 @@ fn formula_pages_reproduce_their_printed_abbe_number() {
 #[test]
 fn every_catalog_page_is_kept_or_excluded() {
     let db = database();
-    let (catalog, _) = db.catalog().unwrap();
-    let result = ingest(&db, &Selection::default(), &Channels::default()).unwrap();
+    let catalog = db.catalog().unwrap();
+    let result = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).unwrap();
     println!(
         "{} catalog pages: {} kept, {} excluded {:?}",
         catalog.pages.len(),
@@ -121,7 +121,7 @@ fn johnson_gold_channels_match_the_table_rows() {
             (v.len() == 3).then(|| [v[0], v[1], v[2]])
         })
         .collect();
-    let result = ingest(&db, &Selection { pages: vec!["main/Au/Johnson".into()], ..Default::default() }, &Channels::default()).unwrap();
+    let result = ingest(&db, &Selection { pages: vec!["main/Au/Johnson".into()], ..Default::default() }, &nklut::ingest::Config::default()).unwrap();
     let material = &result.kept[0].material;
     for (channel, nm) in Channels::default().nanometres().into_iter().enumerate() {
         let um = nm / 1000.0;

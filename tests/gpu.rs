@@ -186,7 +186,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     let log = &mut |line: &str| eprintln!("{line}");
 
     let image = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: sphere, material: 3d/liquids/water, method: schlick}]\nmeasurements: [image_error]\n");
-    let report = gpu::run(&image, &db, &gpu, log).unwrap();
+    let report = gpu::run(&image, &db, &Default::default(), &gpu, log).unwrap();
     eprintln!("{}", report.stats);
     assert_eq!(report.stats.pipelines_compiled, 2, "schlick + the exact reference");
     assert_eq!(report.stats.pages_touched, 1);
@@ -196,12 +196,12 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.image_errors.len(), 1);
 
     let exact_only = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: cube, material: 3d/liquids/water, method: exact}]\nmeasurements: [image_error]\n");
-    assert_eq!(gpu::run(&exact_only, &db, &gpu, log).unwrap().stats.pipelines_compiled, 1, "exact is its own reference");
+    assert_eq!(gpu::run(&exact_only, &db, &Default::default(), &gpu, log).unwrap().stats.pipelines_compiled, 1, "exact is its own reference");
 
     let timing = scene(
         "objects: [{mesh: cube, material: 3d/metals/gold, method: lut}]\nmeasurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3}\n",
     );
-    let report = gpu::run(&timing, &db, &gpu, log).unwrap();
+    let report = gpu::run(&timing, &db, &Default::default(), &gpu, log).unwrap();
     eprintln!("{}", report.stats);
     assert_eq!(report.stats.pipelines_compiled, 1);
     assert_eq!(report.stats.pages_touched, 1);

@@ -43,7 +43,7 @@ proptest! {
     #[test]
     fn structured_pages_never_panic_and_stay_finite(text in page_text()) {
         if let Ok(page) = parse_page("fuzz.yml", &text) {
-            if let Ok(material) = evaluate(page, &Channels::default()) {
+            if let Ok(material) = evaluate(page, &Channels::default(), nklut::spectrum::Coverage::default()) {
                 for index in material.channels {
                     prop_assert!(index.n.is_finite() && index.n > 0.0);
                     prop_assert!(index.k.is_finite() && index.k >= 0.0);

@@ -464,15 +464,15 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
 }
 
 /// The manifest and README as files, tables documented from ingest's own column descriptions.
-fn documents(mut manifest: Manifest, ingest: &Ingest, channels: &Channels) -> Result<Vec<OutFile>> {
+fn documents(mut manifest: Manifest, ingest: &Ingest) -> Result<Vec<OutFile>> {
     manifest.tables = vec![
         manifest::table_doc(
-            &ingest::materials_table(ingest, channels),
+            &ingest::materials_table(ingest),
             &["../materials.csv", "../materials.parquet", "../materials.json"],
             "page kept by the visible-range filter (SPEC 2), in catalog order",
             Vec::new(),
         ),
-        manifest::table_doc(&ingest::excluded_table(ingest), &["../excluded.csv"], "page dropped by the filter", manifest::reason_codes()),
+        manifest::table_doc(&ingest::problems_table(&ingest.excluded), &["../excluded.csv"], "page dropped by the filter", manifest::reason_codes()),
     ];
     let mut json = serde_json::to_vec_pretty(&manifest)?;
     json.push(b'\n');
@@ -492,7 +492,8 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     let plan = args.plan();
     plan.validate()?;
     publish::check_writable(out)?;
-    let ingest = ingest::ingest(db, &args.pages.selection(), &plan.channels)?;
+    let ingest = ingest::ingest(db, &args.pages.selection(), &args.channels.config())?;
+    ingest.check_strict()?;
     check_named_pages_kept(&ingest, &args.pages.pages)?;
     // The catalog keeps a page id listed twice (same data file) once; ingest names them.
     let pages: Vec<&KeptPage> = ingest.kept.iter().collect();
@@ -503,7 +504,7 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     baked.manifest.duplicate_catalog_pages = duplicates;
     let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
     let mut files = baked.files;
-    files.extend(documents(baked.manifest, &ingest, &plan.channels)?);
+    files.extend(documents(baked.manifest, &ingest)?);
     let luts = publish::publish(out, &files, before_write)?;
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }

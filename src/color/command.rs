@@ -13,7 +13,7 @@ use super::quadrature::{angle_quadrature, NODES, PANELS};
 use super::spectral::texel_cosines;
 use super::srgb;
 use crate::db::Database;
-use crate::ingest::{self, KeptPage, Selection};
+use crate::ingest::{self, Config, KeptPage, Selection};
 use crate::output::Table;
 use crate::spectrum::{Channels, Material};
 
@@ -150,9 +150,11 @@ pub fn colors_table(kept: &[KeptPage], colors: &[PageColors], channels: &Channel
 }
 
 /// `nklut colors`: ingest the selection, compute the colours, write `colors.{csv,parquet}`.
-pub fn command(db: &Database, selection: &Selection, channels: &Channels, out: &Path, texels: usize) -> Result<Vec<PathBuf>> {
+pub fn command(db: &Database, selection: &Selection, config: &Config, out: &Path, texels: usize) -> Result<Vec<PathBuf>> {
     let start = Instant::now();
-    let ingested = ingest::ingest(db, selection, channels)?;
+    let ingested = ingest::ingest(db, selection, config)?;
+    ingested.check_strict()?;
+    let channels = &config.channels;
     let mut timings = Timings { ingest_s: start.elapsed().as_secs_f64(), ..Default::default() };
     let colors = compute(&ingested.kept, texels, &mut timings);
     let written = colors_table(&ingested.kept, &colors, channels, texels).write(out, "colors", false)?;

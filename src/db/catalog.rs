@@ -1,6 +1,10 @@
-//! `catalog-nk.yml`: shelves → books → pages, with dividers (SPEC §1).
+//! `catalog-nk.yml`: shelves → books → pages, with dividers (SPEC §1). Entries that
+//! cannot become pages (an id that is empty or contains '/') are kept as rejected
+//! entries with a reason, never dropped.
 
 use serde_yaml::Value;
+
+use super::error::{DataError, Reason};
 
 /// One page of the catalog, identified as `shelf/book/page`.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +36,28 @@ pub struct Catalog {
     /// under two dividers). Same data file: the same page, listed once in `pages`.
     /// Another data file: excluded as `duplicate-page-id` by the ingest.
     pub duplicates: Vec<CatalogPage>,
+    /// Entries whose shelf, book or page id is unusable (empty, or containing '/', which
+    /// would make `shelf/book/page` ambiguous). The ingest lists them as excluded.
+    pub rejected: Vec<RejectedEntry>,
+}
+
+/// A catalog entry that cannot become a page: the id as written and the error.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RejectedEntry {
+    pub shelf: String,
+    pub id: String,
+    pub error: DataError,
+}
+
+/// Why an id cannot be part of `shelf/book/page`, if it cannot.
+fn id_problem(what: &str, id: &str) -> Option<String> {
+    if id.trim().is_empty() {
+        Some(format!("the {what} id is empty"))
+    } else if id.contains('/') {
+        Some(format!("the {what} id {id:?} contains '/'"))
+    } else {
+        None
+    }
 }
 
 fn field(map: &Value, key: &str) -> Option<String> {
@@ -48,12 +74,12 @@ fn items(map: &Value) -> &[Value] {
 }
 
 impl Catalog {
-    /// Parse the catalog text. Entries missing an id or a data path are reported in the
-    /// returned list of problems (the caller records them); they never panic.
-    pub fn parse(yaml: &str) -> Result<(Catalog, Vec<String>), serde_yaml::Error> {
+    /// Parse the catalog text. A page without a data path keeps an empty `data` (reading
+    /// it is a `no-data-file` error); entries with unusable ids go to `rejected`. Never
+    /// panics.
+    pub fn parse(yaml: &str) -> Result<Catalog, serde_yaml::Error> {
         let root: Value = serde_yaml::from_str(yaml)?;
         let mut catalog = Catalog::default();
-        let mut problems = Vec::new();
         let mut seen = std::collections::HashSet::new();
         for shelf in root.as_sequence().map(Vec::as_slice).unwrap_or(&[]) {
             let Some(shelf_id) = field(shelf, "SHELF") else { continue };
@@ -68,10 +94,18 @@ impl Catalog {
                         continue;
                     }
                     let Some(page_id) = field(page, "PAGE") else { continue };
-                    let Some(data) = field(page, "data") else {
-                        problems.push(format!("{shelf_id}/{book_id}/{page_id}: no data file"));
+                    let data = field(page, "data").unwrap_or_default();
+                    let problem = id_problem("shelf", &shelf_id)
+                        .or_else(|| id_problem("book", &book_id))
+                        .or_else(|| id_problem("page", &page_id));
+                    if let Some(detail) = problem {
+                        catalog.rejected.push(RejectedEntry {
+                            shelf: shelf_id.clone(),
+                            id: format!("{shelf_id}/{book_id}/{page_id}"),
+                            error: DataError::new(Reason::BadPageId, &data, None, detail),
+                        });
                         continue;
-                    };
+                    }
                     let entry = CatalogPage {
                         shelf: shelf_id.clone(),
                         book: book_id.clone(),
@@ -90,7 +124,7 @@ impl Catalog {
                 }
             }
         }
-        Ok((catalog, problems))
+        Ok(catalog)
     }
 
     pub fn find(&self, id: &str) -> Option<&CatalogPage> {
@@ -129,6 +163,10 @@ mod tests {
           data: main/Au/nk/Johnson.yml
         - PAGE: Broken
           name: "no data"
+        - PAGE: "a/b"
+          data: main/Au/nk/Johnson.yml
+        - PAGE: ""
+          data: main/Au/nk/Johnson.yml
         - DIVIDER: "Again"
         - PAGE: Johnson
           data: main/Au/nk/Johnson.yml
@@ -140,14 +178,20 @@ mod tests {
         - PAGE: gold
           data: main/Au/nk/Johnson.yml
 "#;
-        let (catalog, problems) = Catalog::parse(text).unwrap();
-        assert_eq!(catalog.pages.len(), 2);
+        let catalog = Catalog::parse(text).unwrap();
+        assert_eq!(catalog.pages.len(), 3);
         assert_eq!(catalog.pages[0].id(), "main/Au/Johnson");
+        // A page without a data key stays a page; reading its empty path is the error.
+        assert_eq!(catalog.pages[1].id(), "main/Au/Broken");
+        assert_eq!(catalog.pages[1].data, "");
+        let rejected: Vec<(&str, Reason)> = catalog.rejected.iter().map(|r| (r.id.as_str(), r.error.reason)).collect();
+        assert_eq!(rejected, vec![("main/Au/a/b", Reason::BadPageId), ("main/Au/", Reason::BadPageId)]);
+        assert!(catalog.rejected[0].error.detail.contains("contains '/'"));
+        assert!(catalog.rejected[1].error.detail.contains("empty"));
         assert_eq!(catalog.pages[0].divider.as_deref(), Some("Experimental"));
-        assert_eq!(catalog.pages[1].id(), "3d/metals/gold");
-        assert_eq!(catalog.pages[1].book_name, "metals");
-        assert_eq!(catalog.pages[0].data, catalog.pages[1].data);
-        assert_eq!(problems, vec!["main/Au/Broken: no data file".to_string()]);
+        assert_eq!(catalog.pages[2].id(), "3d/metals/gold");
+        assert_eq!(catalog.pages[2].book_name, "metals");
+        assert_eq!(catalog.pages[0].data, catalog.pages[2].data);
         assert_eq!(catalog.duplicates.len(), 1);
         assert_eq!(catalog.duplicates[0].divider.as_deref(), Some("Again"));
         assert_eq!(catalog.shelves(), vec!["main", "3d"]);

@@ -18,10 +18,17 @@ pub enum Reason {
     NoData,
     NoVisibleCoverage,
     DuplicatePageId,
+    NoDataFile,
+    PathOutsideDatabase,
+    NotUtf8,
+    IncompleteTerm,
+    OutsideTableRange,
+    IndexOutOfDomain,
+    BadPageId,
 }
 
 impl Reason {
-    pub const ALL: [Reason; 13] = [
+    pub const ALL: [Reason; 20] = [
         Reason::MissingFile,
         Reason::ParseError,
         Reason::UnknownBlockType,
@@ -35,6 +42,13 @@ impl Reason {
         Reason::NoData,
         Reason::NoVisibleCoverage,
         Reason::DuplicatePageId,
+        Reason::NoDataFile,
+        Reason::PathOutsideDatabase,
+        Reason::NotUtf8,
+        Reason::IncompleteTerm,
+        Reason::OutsideTableRange,
+        Reason::IndexOutOfDomain,
+        Reason::BadPageId,
     ];
 
     pub fn code(self) -> &'static str {
@@ -52,6 +66,13 @@ impl Reason {
             Reason::NoData => "no-data",
             Reason::NoVisibleCoverage => "no-visible-coverage",
             Reason::DuplicatePageId => "duplicate-page-id",
+            Reason::NoDataFile => "no-data-file",
+            Reason::PathOutsideDatabase => "path-outside-database",
+            Reason::NotUtf8 => "not-utf8",
+            Reason::IncompleteTerm => "incomplete-formula-term",
+            Reason::OutsideTableRange => "outside-table-range",
+            Reason::IndexOutOfDomain => "index-out-of-domain",
+            Reason::BadPageId => "bad-page-id",
         }
     }
 
@@ -69,8 +90,15 @@ impl Reason {
             Reason::NegativeN => "n <= 0 (or n^2 < 0 from a formula) where it is evaluated",
             Reason::NegativeK => "k < 0 where it is evaluated",
             Reason::NoData => "the page has no n data",
-            Reason::NoVisibleCoverage => "the n (or k) data do not cover 390-700 nm",
+            Reason::NoVisibleCoverage => "the n (or k) data do not cover the channel wavelengths (or 390-700 nm with --visible full)",
             Reason::DuplicatePageId => "the catalog lists this page id again with a different data file",
+            Reason::NoDataFile => "the catalog entry names no data file (no data key, or an empty one)",
+            Reason::PathOutsideDatabase => "the data path is absolute or leaves the database's data folder",
+            Reason::NotUtf8 => "the data file is not UTF-8 text (e.g. Latin-1)",
+            Reason::IncompleteTerm => "a formula's coefficients end in half of a term (a weight without its pole or exponent)",
+            Reason::OutsideTableRange => "a wavelength outside the tabulated data's range was asked for",
+            Reason::IndexOutOfDomain => "n or k outside the domain the Fresnel methods are tested on (n in [1e-3, 1e3], k in [0, 1e3])",
+            Reason::BadPageId => "a shelf, book or page id in the catalog is empty or contains '/'",
         }
     }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 
-pub use catalog::{Catalog, CatalogPage};
+pub use catalog::{Catalog, CatalogPage, RejectedEntry};
 pub use error::{DataError, Reason};
 pub use formula::Formula;
 pub use page::{parse_page, Curve, PageData, Printed};
@@ -44,7 +44,7 @@ impl Database {
         )
     }
 
-    pub fn catalog(&self) -> Result<(Catalog, Vec<String>)> {
+    pub fn catalog(&self) -> Result<Catalog> {
         let path = self.root.join("catalog-nk.yml");
         let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
         Catalog::parse(&text).with_context(|| format!("parsing {}", path.display()))
@@ -54,10 +54,17 @@ impl Database {
         self.root.join("data").join(data)
     }
 
-    /// Read and parse one data file; a missing file is a `missing-file` error.
+    /// Read and parse one data file. The path must stay inside `data/`
+    /// (`path-outside-database`), name a readable file (`no-data-file`, `missing-file`)
+    /// holding UTF-8 text (`not-utf8`).
     pub fn read_page(&self, data: &str) -> Result<PageData, DataError> {
-        let text = std::fs::read_to_string(self.data_path(data))
-            .map_err(|e| DataError::new(Reason::MissingFile, data, None, e.to_string()))?;
+        check_data_path(data)?;
+        let path = self.data_path(data);
+        if path.is_dir() {
+            return Err(DataError::new(Reason::MissingFile, data, None, "the data path names a folder, not a file"));
+        }
+        let bytes = std::fs::read(&path).map_err(|e| DataError::new(Reason::MissingFile, data, None, e.to_string()))?;
+        let text = utf8_text(data, bytes)?;
         parse_page(data, &text)
     }
 
@@ -79,5 +86,69 @@ impl Database {
             .filter(|n| !n.is_empty())
             .collect();
         (!names.is_empty()).then_some(names)
+    }
+}
+
+/// A catalog data path must be a non-empty relative path that stays inside `data/`: no
+/// root, no `..`, judged on the text alone (before any file is opened).
+pub fn check_data_path(data: &str) -> Result<(), DataError> {
+    use std::path::Component;
+    if data.trim().is_empty() {
+        return Err(DataError::new(Reason::NoDataFile, data, None, "the catalog entry names no data file"));
+    }
+    let path = Path::new(data);
+    if path.is_absolute() || path.components().any(|c| matches!(c, Component::ParentDir | Component::RootDir | Component::Prefix(_))) {
+        return Err(DataError::new(
+            Reason::PathOutsideDatabase,
+            data,
+            None,
+            "the data path is absolute or climbs out of the database's data folder with '..'",
+        ));
+    }
+    Ok(())
+}
+
+/// The file's bytes as text. A UTF-8 byte-order mark is dropped (YAML allows one);
+/// anything that is not UTF-8 (a Latin-1 file, say) is `not-utf8` at the line of the
+/// first bad byte.
+pub fn utf8_text(file: &str, bytes: Vec<u8>) -> Result<String, DataError> {
+    const BOM: &[u8] = b"\xEF\xBB\xBF";
+    let bytes = match bytes.strip_prefix(BOM) {
+        Some(rest) => rest.to_vec(),
+        None => bytes,
+    };
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
+        DataError::new(
+            Reason::NotUtf8,
+            file,
+            Some(line),
+            format!("byte 0x{:02X} at offset {valid} is not UTF-8 (the database's files are UTF-8; re-encode it, e.g. from Latin-1)", bytes[valid]),
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn data_paths_must_stay_inside_the_database() {
+        assert_eq!(check_data_path("").unwrap_err().reason, Reason::NoDataFile);
+        assert_eq!(check_data_path("  ").unwrap_err().reason, Reason::NoDataFile);
+        assert_eq!(check_data_path("../../../../etc/hostname").unwrap_err().reason, Reason::PathOutsideDatabase);
+        assert_eq!(check_data_path("main/../../x.yml").unwrap_err().reason, Reason::PathOutsideDatabase);
+        assert_eq!(check_data_path("/etc/hostname").unwrap_err().reason, Reason::PathOutsideDatabase);
+        assert!(check_data_path("main/Au/nk/Johnson.yml").is_ok());
+    }
+
+    #[test]
+    fn byte_order_mark_is_dropped_and_latin1_is_named_with_its_line() {
+        assert_eq!(utf8_text("a.yml", b"\xEF\xBB\xBFDATA: x\n".to_vec()).unwrap(), "DATA: x\n");
+        let e = utf8_text("b.yml", b"REFERENCES: ok\nCOMMENTS: caf\xE9\n".to_vec()).unwrap_err();
+        assert_eq!((e.reason, e.line), (Reason::NotUtf8, Some(2)));
+        assert!(e.detail.contains("0xE9"), "{}", e.detail);
     }
 }

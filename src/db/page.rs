@@ -1,10 +1,26 @@
 //! One data file of the database (a "page"): its DATA blocks turned into an n curve and
 //! an optional k curve, plus the metadata the outputs carry (SPEC §1).
+//!
+//! A defect of a table that lies outside every wavelength a stage evaluates
+//! ([`EVALUATED_NM`]: wavelengths that do not increase, far in the infrared, say) is a
+//! warning with its line, not an exclusion: the curve keeps the one run of increasing
+//! rows that reaches into that window. Tabulated values used there must lie in the index
+//! domain the Fresnel methods are tested on ([`N_DOMAIN`], [`K_MAX`]).
 
 use serde::Deserialize;
 
 use super::error::{DataError, Reason};
 use super::formula::{max_coefficients, Formula};
+
+/// The widest wavelength window (nm) any stage evaluates: the spectral grid of the
+/// reference colours, which holds every channel wavelength and the visible window.
+pub const EVALUATED_NM: (f64, f64) = (360.0, 830.0);
+
+/// The refractive indices n the Fresnel methods are tested on (their property tests'
+/// domain); data outside it are excluded as `index-out-of-domain`.
+pub const N_DOMAIN: (f64, f64) = (1e-3, 1e3);
+/// The largest extinction coefficient k of that domain (k ≥ 0).
+pub const K_MAX: f64 = 1e3;
 
 /// n(λ) or k(λ) over a wavelength range, λ in µm.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,6 +98,8 @@ pub struct PageData {
     pub nd: Option<Printed>,
     /// `PROPERTIES.Vd`, the Abbe number, as printed.
     pub vd: Option<Printed>,
+    /// Defects that do not touch the evaluated window, each with its line.
+    pub warnings: Vec<DataError>,
 }
 
 #[derive(Deserialize)]
@@ -161,9 +179,15 @@ fn printed_property(text: &str, key: &str) -> Option<Printed> {
     None
 }
 
-/// Parse rows of `columns` numbers each. λ must strictly increase.
-fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<Vec<f64>>, DataError> {
-    let mut rows: Vec<Vec<f64>> = Vec::new();
+/// One tabulated row and the line it stands on.
+struct Row {
+    values: Vec<f64>,
+    line: Option<usize>,
+}
+
+/// Parse rows of `columns` numbers each, wavelength first and positive.
+fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<Row>, DataError> {
+    let mut rows: Vec<Row> = Vec::new();
     for (i, line) in block.lines().enumerate() {
         let line_no = first_line.map(|l| l + i);
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -178,27 +202,17 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
                 format!("expected {columns} numbers, found {}: {:?}", fields.len(), line.trim()),
             ));
         }
-        let mut row = Vec::with_capacity(columns);
+        let mut values = Vec::with_capacity(columns);
         for field in fields {
             match field.parse::<f64>() {
-                Ok(x) if x.is_finite() => row.push(x),
+                Ok(x) if x.is_finite() => values.push(x),
                 _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {field:?}"))),
             }
         }
-        if let Some(previous) = rows.last() {
-            if row[0] <= previous[0] {
-                return Err(DataError::new(
-                    Reason::NonMonotonicWavelengths,
-                    file,
-                    line_no,
-                    format!("wavelength {} µm follows {} µm", row[0], previous[0]),
-                ));
-            }
+        if values[0] <= 0.0 {
+            return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
         }
-        if row[0] <= 0.0 {
-            return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", row[0])));
-        }
-        rows.push(row);
+        rows.push(Row { values, line: line_no });
     }
     if rows.is_empty() {
         return Err(DataError::new(Reason::NoData, file, first_line, "tabulated block has no rows"));
@@ -206,8 +220,117 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
     Ok(rows)
 }
 
-fn column(rows: &[Vec<f64>], i: usize) -> Vec<f64> {
-    rows.iter().map(|r| r[i]).collect()
+/// A break in the wavelength order: row `at` does not come after row `at - 1`.
+fn order_defect(file: &str, rows: &[Row], at: usize) -> DataError {
+    DataError::new(
+        Reason::NonMonotonicWavelengths,
+        file,
+        rows[at].line,
+        format!("wavelength {} µm follows {} µm", rows[at].values[0], rows[at - 1].values[0]),
+    )
+}
+
+/// Does the run of rows `[start, end)` reach into the evaluated window?
+fn run_reaches_window(rows: &[Row], start: usize, end: usize) -> bool {
+    let (lo, hi) = (EVALUATED_NM.0 / 1000.0, EVALUATED_NM.1 / 1000.0);
+    rows[start].values[0] <= hi && rows[end - 1].values[0] >= lo
+}
+
+/// The rows a curve is built from: the one run of strictly increasing wavelengths that
+/// reaches into the evaluated window, with each order defect outside it as a warning. Two
+/// runs reaching into the window, or none while the table has defects, exclude the page
+/// (`non-monotonic-wavelengths` at the first defect).
+fn increasing_run(file: &str, rows: Vec<Row>, warnings: &mut Vec<DataError>) -> Result<Vec<Row>, DataError> {
+    let breaks: Vec<usize> = (1..rows.len()).filter(|&i| rows[i].values[0] <= rows[i - 1].values[0]).collect();
+    if breaks.is_empty() {
+        return Ok(rows);
+    }
+    let bounds: Vec<usize> = std::iter::once(0).chain(breaks.iter().copied()).chain(std::iter::once(rows.len())).collect();
+    let reaching: Vec<(usize, usize)> =
+        bounds.windows(2).map(|w| (w[0], w[1])).filter(|&(a, b)| run_reaches_window(&rows, a, b)).collect();
+    let &[(start, end)] = reaching.as_slice() else {
+        return Err(order_defect(file, &rows, breaks[0]));
+    };
+    warnings.extend(breaks.iter().map(|&at| {
+        let mut warning = order_defect(file, &rows, at);
+        warning.detail.push_str(&format!(
+            "; outside the evaluated {}-{} nm, the curve uses rows {}-{} of the block",
+            EVALUATED_NM.0,
+            EVALUATED_NM.1,
+            start + 1,
+            end
+        ));
+        warning
+    }));
+    Ok(rows.into_iter().skip(start).take(end - start).collect())
+}
+
+/// Rows the evaluated window reads: those inside it and the neighbour on each side
+/// (linear interpolation reaches them).
+fn rows_read(rows: &[Row]) -> &[Row] {
+    let (lo, hi) = (EVALUATED_NM.0 / 1000.0, EVALUATED_NM.1 / 1000.0);
+    let first = rows.partition_point(|r| r.values[0] < lo).saturating_sub(1);
+    let last = rows.partition_point(|r| r.values[0] <= hi).min(rows.len() - 1);
+    &rows[first..=last]
+}
+
+/// What a tabulated column holds.
+#[derive(Clone, Copy)]
+enum Quantity {
+    N,
+    K,
+}
+
+/// Values of `quantity` in column `i` that the evaluated window reads must lie in the
+/// methods' domain (`index-out-of-domain`, at the row's line). n ≤ 0 and k < 0 are left
+/// to the `negative-n` / `negative-k` checks where the values are evaluated.
+fn check_domain(file: &str, rows: &[Row], i: usize, quantity: Quantity) -> Result<(), DataError> {
+    for row in rows_read(rows) {
+        let value = row.values[i];
+        let (name, outside) = match quantity {
+            Quantity::N => ("n", value > N_DOMAIN.1 || (value > 0.0 && value < N_DOMAIN.0)),
+            Quantity::K => ("k", value > K_MAX),
+        };
+        if outside {
+            return Err(DataError::new(
+                Reason::IndexOutOfDomain,
+                file,
+                row.line,
+                format!("{name} = {value:e} at {} µm; the methods are tested on n in [{:e}, {:e}], k in [0, {K_MAX:e}]", row.values[0], N_DOMAIN.0, N_DOMAIN.1),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn column(rows: &[Row], i: usize) -> Vec<f64> {
+    rows.iter().map(|r| r.values[i]).collect()
+}
+
+/// How the coefficients of a formula group into terms: `C1` alone, then pairs (a weight
+/// and its pole or exponent) from `C(first_pair)` on. `None` for formulas whose every
+/// coefficient is a term of its own (7, 8, 9).
+fn pair_terms_from(number: u8) -> Option<usize> {
+    match number {
+        1 | 2 | 3 | 5 | 6 => Some(2),
+        // Formula 4: C2..C5 and C6..C9 are two four-coefficient terms, pairs from C10.
+        4 => Some(10),
+        _ => None,
+    }
+}
+
+/// Coefficients that end inside a term: formula 1 with `C1 B1 C1' B2` lacks B2's pole.
+fn incomplete_term(number: u8, count: usize) -> Option<String> {
+    let first_pair = pair_terms_from(number)?;
+    if count < first_pair {
+        // Formula 4: C1 | C2 C3 C4 C5 | C6 C7 C8 C9, complete after 1, 5 or 9 coefficients.
+        return (number == 4 && ![1, 5, 9].contains(&count)).then(|| {
+            format!("formula 4 has {count} coefficients; its terms end after C1, C5 or C9 (a weight without its exponent or pole)")
+        });
+    }
+    ((count - first_pair) % 2 == 0).then(|| {
+        format!("formula {number} has {count} coefficients, which ends in half a term: C{count} has no partner C{} (its pole or exponent)", count + 1)
+    })
 }
 
 fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, DataError> {
@@ -221,6 +344,9 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
     }
     if coefficients.is_empty() {
         return Err(DataError::new(Reason::TooFewCoefficients, file, None, format!("formula {number} has no coefficients")));
+    }
+    if let Some(detail) = incomplete_term(number, coefficients.len()) {
+        return Err(DataError::new(Reason::IncompleteTerm, file, None, detail));
     }
     if coefficients.len() > max_coefficients(number) {
         return Err(DataError::new(
@@ -254,6 +380,7 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
     let mut data_block_index = 0;
     let mut n: Option<Curve> = None;
     let mut k: Option<Curve> = None;
+    let mut warnings = Vec::new();
     let set = |slot: &mut Option<Curve>, curve: Curve, what: &str| -> Result<(), DataError> {
         if slot.is_some() {
             return Err(DataError::new(Reason::ParseError, file, None, format!("more than one {what} block")));
@@ -273,7 +400,15 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
             let body = block.data.as_ref().and_then(scalar_text).ok_or_else(|| {
                 DataError::new(Reason::ParseError, file, first_line.map(|l| l - 1), format!("{kind} block has no data text"))
             })?;
-            let rows = parse_rows(file, &body, columns, first_line)?;
+            let rows = increasing_run(file, parse_rows(file, &body, columns, first_line)?, &mut warnings)?;
+            match kind {
+                "tabulated nk" => {
+                    check_domain(file, &rows, 1, Quantity::N)?;
+                    check_domain(file, &rows, 2, Quantity::K)?;
+                }
+                "tabulated n" => check_domain(file, &rows, 1, Quantity::N)?,
+                _ => check_domain(file, &rows, 1, Quantity::K)?,
+            }
             let wavelengths_um = column(&rows, 0);
             let tabulated = |i| Curve::Tabulated { wavelengths_um: wavelengths_um.clone(), values: column(&rows, i) };
             match kind {
@@ -310,6 +445,7 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         reference,
         nd: printed_property(text, "nd"),
         vd: printed_property(text, "Vd"),
+        warnings,
     })
 }
 
@@ -361,5 +497,38 @@ mod tests {
         assert_eq!(reason("DATA:\n  - type: formula 8\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5\n").0, Reason::TooManyCoefficients);
         assert_eq!(reason("DATA:\n  - type: tabulated k\n    data: |\n        0.4 1.5\n").0, Reason::NoData);
         assert_eq!(reason("REFERENCES: x\n").0, Reason::NoData);
+        // Sellmeier C1 B1 C1' B2: B2 has no pole.
+        assert_eq!(reason("DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2\n    coefficients: 0 1.0 0.1 0.5\n").0, Reason::IncompleteTerm);
+        assert_eq!(reason("DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3\n").0, Reason::IncompleteTerm);
+        assert_eq!(reason("DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5 6 7 8 9 10\n").0, Reason::IncompleteTerm);
+        assert!(parse_page("ok.yml", "DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5\n").is_ok());
+        assert!(parse_page("ok.yml", "DATA:\n  - type: formula 7\n    wavelength_range: 0.3 2\n    coefficients: 1 2\n").is_ok());
+    }
+
+    #[test]
+    fn order_defects_outside_the_evaluated_window_are_warnings() {
+        // Rows 0.3-2.5 µm, then the wavelengths restart at 2.0 µm (line 8).
+        let text = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.5 2.0 4.0\n        1.0 3.0 1.0\n        2.5 3.0 1.0\n        2.0 3.1 1.1\n        3.0 3.2 1.2\n";
+        let page = parse_page("w.yml", text).unwrap();
+        assert_eq!(page.n.range_um(), (0.3, 2.5));
+        assert_eq!(page.warnings.len(), 1);
+        assert_eq!((page.warnings[0].reason, page.warnings[0].line), (Reason::NonMonotonicWavelengths, Some(8)));
+        // The same break inside the window excludes the page at its line.
+        let inside = "DATA:\n  - type: tabulated n\n    data: |\n        0.4 1.5\n        0.6 1.6\n        0.5 1.7\n        0.9 1.8\n";
+        assert_eq!(reason(inside), (Reason::NonMonotonicWavelengths, Some(6)));
+        // A defect in an infrared-only table keeps today's exclusion.
+        let infrared = "DATA:\n  - type: tabulated n\n    data: |\n        2.0 1.5\n        3.0 1.6\n        2.5 1.7\n";
+        assert_eq!(reason(infrared), (Reason::NonMonotonicWavelengths, Some(6)));
+    }
+
+    #[test]
+    fn values_outside_the_methods_domain_are_named_with_their_line() {
+        let huge = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.5 1e300 4.0\n        0.9 3.0 1.0\n";
+        assert_eq!(reason(huge), (Reason::IndexOutOfDomain, Some(5)));
+        let big_k = "DATA:\n  - type: tabulated k\n    data: |\n        0.3 2.0\n        0.5 5e3\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 1.5\n";
+        assert_eq!(reason(big_k).0, Reason::IndexOutOfDomain);
+        // Far-infrared rows beyond the window's neighbours are not read, so not judged.
+        let far = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.9 3.0 1.0\n        50 20 2e3\n        90 30 4e3\n";
+        assert!(parse_page("far.yml", far).is_ok());
     }
 }

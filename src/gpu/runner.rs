@@ -27,7 +27,7 @@ use crate::db::Database;
 use crate::ingest::{self, Selection};
 use crate::output::Table;
 use crate::scene::{Measurement, MeshSource, Method, Scene};
-use crate::spectrum::{ChannelIndex, Channels, Kind};
+use crate::spectrum::{ChannelIndex, Kind};
 
 /// What a run created and touched, and what it skipped.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -109,10 +109,11 @@ struct GpuMesh {
 }
 
 /// The channel indices of the scene's materials: ingests exactly those pages.
-pub fn scene_materials(scene: &Scene, db: &Database, channels: &Channels) -> Result<(Vec<MaterialEntry>, usize)> {
+pub fn scene_materials(scene: &Scene, db: &Database, config: &ingest::Config) -> Result<(Vec<MaterialEntry>, usize)> {
     let pages = scene.materials();
     let selection = Selection { shelves: vec![], pages: pages.clone() };
-    let result = ingest::ingest(db, &selection, channels).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+    let result = ingest::ingest(db, &selection, config).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+    result.check_strict()?;
     let mut materials = Vec::new();
     for page in pages {
         match result.find(&page) {
@@ -126,10 +127,11 @@ pub fn scene_materials(scene: &Scene, db: &Database, channels: &Channels) -> Res
     Ok((materials, result.selected))
 }
 
-/// Run `scene` on `gpu`. `log` receives progress lines.
-pub fn run(scene: &Scene, db: &Database, gpu: &Gpu, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+/// Run `scene` on `gpu`, its pages read with `config` (channel wavelengths, coverage).
+/// `log` receives progress lines.
+pub fn run(scene: &Scene, db: &Database, config: &ingest::Config, gpu: &Gpu, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
     let mut stats = RunStats::default();
-    let (materials, pages) = scene_materials(scene, db, &Channels::default())?;
+    let (materials, pages) = scene_materials(scene, db, config)?;
     stats.pages_touched = pages;
     run_with_materials(scene, &materials, gpu, stats, log)
 }

@@ -18,7 +18,7 @@ use crate::cli::PageSelection;
 use crate::db::Database;
 use crate::ingest::{ingest, Ingest, Selection};
 use crate::output::write_atomic;
-use crate::spectrum::{Channels, Index};
+use crate::spectrum::Index;
 use charts::CostPoint;
 use csvdata::CsvTable;
 use html::{escape, number, percent, raw, TableText};
@@ -505,7 +505,7 @@ pub fn command(db: &Database, out: &Path, pages: &PageSelection, max_plots: usiz
         .map(|r| m.text(r, "page").to_string())
         .collect();
     let plotted = Selection { shelves: vec![], pages: chosen.iter().take(max_plots).cloned().collect() };
-    let kept = if plotted.pages.is_empty() { Ingest::default() } else { ingest(db, &plotted, &Channels::default())? };
+    let kept = if plotted.pages.is_empty() { Ingest::default() } else { ingest(db, &plotted, &crate::ingest::Config::default())? };
     let curves = |page: &str| {
         let kept_page = kept.find(page)?;
         let effective = inputs.colors.as_ref().and_then(|c| {
