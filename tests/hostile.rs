@@ -1,0 +1,304 @@
+//! The `nklut` binary on a hostile fixture database written by the test: every bad input
+//! gets a named reason with its file (and line), nothing is dropped silently, every flag
+//! that reads pages is honoured by every command, and a killed run leaves one complete
+//! set of tables.
+
+use std::fs;
+use std::io::Read;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+/// A database whose pages each carry one defect (and two good ones).
+fn hostile() -> tempfile::TempDir {
+    let root = tempfile::tempdir().unwrap();
+    let write = |path: &str, bytes: &[u8]| {
+        let path = root.path().join(path);
+        fs::create_dir_all(path.parent().unwrap()).unwrap();
+        fs::write(path, bytes).unwrap();
+    };
+    write(
+        "catalog-nk.yml",
+        br#"
+- SHELF: h
+  name: "Hostile"
+  content:
+    - BOOK: X
+      name: "X"
+      content:
+        - PAGE: good
+          data: h/X/good.yml
+        - PAGE: nodata
+          name: "no data key"
+        - PAGE: emptydata
+          data: ""
+        - PAGE: escape
+          data: ../../../../etc/hostname
+        - PAGE: halfterm
+          data: h/X/halfterm.yml
+        - PAGE: huge
+          data: h/X/huge.yml
+        - PAGE: bom
+          data: h/X/bom.yml
+        - PAGE: latin1
+          data: h/X/latin1.yml
+        - PAGE: "a/b"
+          data: h/X/good.yml
+        - PAGE: ""
+          data: h/X/good.yml
+        - PAGE: from450
+          data: h/X/from450.yml
+        - PAGE: restart
+          data: h/X/restart.yml
+"#,
+    );
+    let good = b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 2.0 3.0\n        0.80 3.0 4.0\n";
+    write("data/h/X/good.yml", good);
+    write("data/h/X/halfterm.yml", b"DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2.0\n    coefficients: 0 1.0 0.1 0.5\n");
+    write("data/h/X/huge.yml", b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 1e300 3.0\n        0.80 3.0 4.0\n");
+    let mut bom = b"\xEF\xBB\xBF".to_vec();
+    bom.extend_from_slice(good);
+    write("data/h/X/bom.yml", &bom);
+    write("data/h/X/latin1.yml", b"COMMENTS: caf\xE9\nDATA:\n  - type: formula 5\n    wavelength_range: 0.3 2.0\n    coefficients: 1.5\n");
+    write("data/h/X/from450.yml", b"DATA:\n  - type: tabulated n\n    data: |\n        0.45 1.50\n        0.75 1.48\n");
+    // Wavelengths restart at 2.0 µm after 2.5 µm (line 8): far outside 360-830 nm.
+    write(
+        "data/h/X/restart.yml",
+        b"DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.5 2.0 4.0\n        1.0 3.0 1.0\n        2.5 3.0 1.0\n        2.0 3.1 1.1\n        3.0 3.2 1.2\n",
+    );
+    root
+}
+
+fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
+}
+
+fn ok(output: &Output) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(output.status.success(), "{stderr}");
+    stderr
+}
+
+fn failed(output: &Output) -> String {
+    assert!(!output.status.success(), "expected a failure");
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Rows of a CSV as maps from column name to cell.
+fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
+}
+
+#[test]
+fn every_bad_page_is_excluded_with_its_reason_and_line() {
+    let db = hostile();
+    let out = db.path().join("out");
+    let stderr = ok(&nklut(db.path(), &out, &["ingest"]));
+    let excluded = rows(&out.join("excluded.csv"));
+    let reason = |page: &str| {
+        let row = excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not in excluded.csv: {excluded:?}"));
+        (row["reason"].clone(), row["line"].clone(), row["detail"].clone())
+    };
+    assert_eq!(reason("h/X/nodata").0, "no-data-file");
+    assert_eq!(reason("h/X/emptydata").0, "no-data-file");
+    assert_eq!(reason("h/X/escape").0, "path-outside-database");
+    assert_eq!(reason("h/X/halfterm").0, "incomplete-formula-term");
+    assert_eq!(reason("h/X/huge").0, "index-out-of-domain");
+    assert_eq!(reason("h/X/huge").1, "5");
+    let (code, line, detail) = reason("h/X/latin1");
+    assert_eq!((code.as_str(), line.as_str()), ("not-utf8", "1"));
+    assert!(detail.contains("0xE9"), "{detail}");
+    assert_eq!(reason("h/X/a/b").0, "bad-page-id");
+    assert_eq!(reason("h/X/").0, "bad-page-id");
+    // Kept: the good page, the one with a byte-order mark, the one from 450 nm and the
+    // one whose order defect lies far in the infrared; every page is in one table.
+    let kept: Vec<String> = rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
+    assert_eq!(kept, ["h/X/good", "h/X/bom", "h/X/from450", "h/X/restart"]);
+    assert_eq!(kept.len() + excluded.len(), 12, "{kept:?} {excluded:?}");
+    let warnings = rows(&out.join("warnings.csv"));
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_eq!((warnings[0]["page"].as_str(), warnings[0]["reason"].as_str(), warnings[0]["line"].as_str()), ("h/X/restart", "non-monotonic-wavelengths", "8"));
+    assert!(stderr.contains("1 data warning"), "{stderr}");
+    // Nothing was read from outside the database.
+    assert!(!fs::read_to_string(out.join("materials.csv")).unwrap().contains("etc/hostname,"));
+    // The study's stricter rule drops the page that starts at 450 nm.
+    ok(&nklut(db.path(), &out, &["ingest", "--visible", "full"]));
+    let full = rows(&out.join("excluded.csv"));
+    assert!(full.iter().any(|r| r["page"] == "h/X/from450" && r["reason"] == "no-visible-coverage"), "{full:?}");
+}
+
+#[test]
+fn strict_is_taken_by_every_command_that_reads_pages() {
+    let db = hostile();
+    let out = db.path().join("out");
+    for command in ["ingest", "colors", "validate", "bake"] {
+        let stderr = failed(&nklut(db.path(), &out, &[command, "--strict"]));
+        assert!(stderr.contains("--strict") && stderr.contains("path-outside-database"), "{command}: {stderr}");
+        // One good page alone passes under --strict.
+        ok(&nklut(db.path(), &out, &[command, "--strict", "--page", "h/X/good"]));
+    }
+}
+
+#[test]
+fn channel_wavelengths_reach_every_table() {
+    let db = hostile();
+    let out = db.path().join("out");
+    let channels = ["--channels", "650,550,450", "--page", "h/X/good"];
+    for command in ["ingest", "colors", "validate", "bake"] {
+        ok(&nklut(db.path(), &out, &[&[command][..], &channels[..]].concat()));
+    }
+    // good.yml at 650 nm: t = 0.5 between 0.50 and 0.80 µm → n 2.5, k 3.5; 450 nm: t = 0.75
+    // between 0.30 and 0.50 µm → n 1.75, k 2.75.
+    let material = &rows(&out.join("materials.csv"))[0];
+    assert_eq!((material["n_red"].as_str(), material["k_red"].as_str()), ("2.5", "3.5"));
+    assert_eq!((material["n_blue"].as_str(), material["k_blue"].as_str()), ("1.75", "2.75"));
+    let wavelengths: std::collections::BTreeSet<String> = rows(&out.join("errors.csv")).into_iter().map(|r| r["wavelength_nm"].clone()).collect();
+    assert_eq!(wavelengths.into_iter().collect::<Vec<_>>(), ["450", "550", "650"]);
+    let columns = fs::read_to_string(out.join("colors.columns.json")).unwrap();
+    assert!(columns.contains("[650.0, 550.0, 450.0]"), "{columns}");
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+    let nm: Vec<f64> = manifest["channels"].as_array().unwrap().iter().map(|c| c["wavelength_nm"].as_f64().unwrap()).collect();
+    assert_eq!(nm, [650.0, 550.0, 450.0]);
+    // Outside the spectral grid the colours are computed on, the wavelengths are refused.
+    assert!(failed(&nklut(db.path(), &out, &["ingest", "--channels", "900,550,450"])).contains("900"));
+}
+
+#[test]
+fn flags_are_checked_and_outputs_hold_no_nan() {
+    let db = hostile();
+    let out = db.path().join("out");
+    // A wavelength outside a table names the table's range.
+    let stderr = failed(&nklut(db.path(), &out, &["nk", "h/X/good", "--nm", "0"]));
+    assert!(stderr.contains("outside-table-range") && stderr.contains("300.0–800.0 nm"), "{stderr}");
+    // colors --texels has bake --size's bounds.
+    for texels in ["0", "100000000"] {
+        assert!(failed(&nklut(db.path(), &out, &["colors", "--texels", texels])).contains("65536"));
+    }
+    // validate: --nk outside the methods' domain is refused, --nk with a selection too,
+    // and a method named twice is measured once (3 channels x 2 precisions).
+    let stderr = failed(&nklut(db.path(), &out, &["validate", "--nk", "1e20,0;1.5,0;1.5,0"]));
+    assert!(stderr.contains("--nk red") && stderr.contains("domain"), "{stderr}");
+    assert!(!out.join("errors.csv").exists());
+    failed(&nklut(db.path(), &out, &["validate", "--page", "h/X/good", "--nk", "1.5,0;1.5,0;1.5,0"]));
+    ok(&nklut(db.path(), &out, &["validate", "--nk", "0.2,3.5;0.5,2.4;1.3,1.9", "--method", "schlick_nk", "--method", "schlick_nk"]));
+    assert_eq!(rows(&out.join("errors.csv")).len(), 6);
+    // Every table of every command over the whole fixture is free of NaN and infinity.
+    for command in ["ingest", "colors", "validate", "bake"] {
+        ok(&nklut(db.path(), &out, &[command]));
+    }
+    assert_no_nan(&out);
+}
+
+/// No cell of a CSV or JSON under `dir` reads as NaN or infinity.
+fn assert_no_nan(dir: &Path) {
+    for entry in walk(dir) {
+        let name = entry.to_string_lossy().into_owned();
+        if !(name.ends_with(".csv") || name.ends_with(".json")) {
+            continue;
+        }
+        let text = fs::read_to_string(&entry).unwrap();
+        for token in text.split(|c: char| c == ',' || c == '\n' || c == ' ' || c == ':' || c == '"') {
+            let t = token.trim().to_ascii_lowercase();
+            assert!(!matches!(t.as_str(), "nan" | "inf" | "-inf" | "infinity" | "-infinity"), "{name}: {token:?}");
+        }
+    }
+}
+
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    for entry in fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files.extend(walk(&path));
+        } else if path.exists() {
+            files.push(path);
+        }
+    }
+    files
+}
+
+#[test]
+fn a_closed_pipe_ends_the_program_quietly() {
+    let db = hostile();
+    let out = db.path().join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        .arg("--db")
+        .arg(db.path())
+        .arg("--out")
+        .arg(&out)
+        .args(["nk", "h/X/good", "--nm", "400", "--nm", "500", "--nm", "600"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The reader goes away before the first line is written.
+    drop(child.stdout.take());
+    let mut stderr = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut stderr).unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}: {stderr}");
+    assert_eq!(stderr, "");
+}
+
+/// The bytes of every table of the ingest set, by name.
+fn ingest_set(out: &Path) -> Vec<(String, Option<Vec<u8>>)> {
+    ["materials.csv", "materials.json", "materials.parquet", "materials.columns.json", "excluded.csv", "warnings.csv"]
+        .into_iter()
+        .map(|name| (name.to_string(), fs::read(out.join(name)).ok()))
+        .collect()
+}
+
+#[test]
+fn a_killed_ingest_leaves_one_complete_set() {
+    let db = hostile();
+    let out = db.path().join("out");
+    // Run A: two pages. Run B: the whole shelf (different bytes in every table).
+    let a_args = ["ingest", "--page", "h/X/good", "--page", "h/X/huge"];
+    ok(&nklut(db.path(), &out, &a_args));
+    let a = ingest_set(&out);
+    let b_out = db.path().join("b");
+    ok(&nklut(db.path(), &b_out, &["ingest"]));
+    let b = ingest_set(&b_out);
+    assert!(a.iter().zip(&b).all(|(x, y)| x.1 != y.1), "the two runs must differ in every table");
+    for step in ["staged", "switched", "linked"] {
+        ok(&nklut(db.path(), &out, &a_args));
+        let killed = Command::new(env!("CARGO_BIN_EXE_nklut"))
+            .env("NKLUT_CRASH_AT", step)
+            .arg("--db")
+            .arg(db.path())
+            .arg("--out")
+            .arg(&out)
+            .arg("ingest")
+            .output()
+            .unwrap();
+        assert!(!killed.status.success(), "{step}: the run should have been killed");
+        let now = ingest_set(&out);
+        let expected = if step == "staged" { &a } else { &b };
+        assert!(now == *expected, "after a kill at {step} the folder holds a mix or the wrong run");
+        // The next run cleans up what the killed one left and publishes normally.
+        ok(&nklut(db.path(), &out, &a_args));
+        assert!(ingest_set(&out) == a);
+        let generations = fs::read_dir(out.join(".sets")).unwrap().filter(|e| e.as_ref().unwrap().file_type().unwrap().is_dir()).count();
+        assert_eq!(generations, 1, "{step}: leftovers remain");
+    }
+    // Kills at arbitrary moments: the folder always holds run A or run B whole.
+    for delay_ms in [0u64, 2, 5, 10, 20, 40] {
+        ok(&nklut(db.path(), &out, &a_args));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_nklut"))
+            .arg("--db")
+            .arg(db.path())
+            .arg("--out")
+            .arg(&out)
+            .arg("ingest")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let _ = child.kill();
+        let _ = child.wait();
+        let now = ingest_set(&out);
+        assert!(now == a || now == b, "after a kill at {delay_ms} ms the folder holds a mix");
+    }
+}

