@@ -302,3 +302,50 @@ fn a_killed_ingest_leaves_one_complete_set() {
         assert!(now == a || now == b, "after a kill at {delay_ms} ms the folder holds a mix");
     }
 }
+
+/// Σ S(λ) ȳ(λ) over the 1 nm grid 360–830 nm for λ below `below_nm`, over the whole
+/// grid: D65 (5 nm) interpolated linearly to 1 nm, from the CIE tables themselves.
+fn luminance_share_below(below_nm: f64) -> f64 {
+    let cie = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cie");
+    let table = |name: &str, column: usize| -> Vec<(f64, f64)> {
+        let text = fs::read_to_string(cie.join(name)).unwrap();
+        text.lines().skip(1).map(|l| {
+            let cells: Vec<f64> = l.split(',').map(|c| c.trim().parse().unwrap()).collect();
+            (cells[0], cells[column])
+        }).collect()
+    };
+    let d65 = table("cie_d65_spd.csv", 1);
+    let ybar = table("cie1931_2deg_xyz_cmf_1nm.csv", 2);
+    let s = |nm: f64| -> f64 {
+        let i = d65.iter().position(|&(w, _)| w > nm).map_or(d65.len() - 1, |i| i.max(1));
+        if nm > d65[d65.len() - 1].0 {
+            return 0.0;
+        }
+        let ((w0, s0), (w1, s1)) = (d65[i - 1], d65[i]);
+        s0 + (nm - w0) / (w1 - w0) * (s1 - s0)
+    };
+    let weight = |&(nm, y): &(f64, f64)| if (360.0..=830.0).contains(&nm) { s(nm) * y } else { 0.0 };
+    let total: f64 = ybar.iter().map(weight).sum();
+    let below: f64 = ybar.iter().filter(|(nm, _)| *nm < below_nm).map(weight).sum();
+    below / total
+}
+
+/// Data from 450 nm: the spectral colour holds n below 450 nm, and colors.csv and the
+/// LUT manifest both record the share of the luminance weight held.
+#[test]
+fn the_extrapolated_share_is_recorded_in_colors_and_the_manifest() {
+    let db = hostile();
+    let out = db.path().join("out");
+    for command in ["colors", "bake"] {
+        ok(&nklut(db.path(), &out, &[command, "--page", "h/X/from450", "--source", "spectral"][..if command == "bake" { 5 } else { 3 }]));
+    }
+    // from450.yml covers 450–750 nm: held below 450 nm and above 750 nm (D65's ȳ weight
+    // beyond 750 nm is about 1e-4 of the total).
+    let expected = luminance_share_below(450.0) + (1.0 - luminance_share_below(751.0));
+    let colors: f64 = rows(&out.join("colors.csv"))[0]["extrapolated_share"].parse().unwrap();
+    assert!((colors - expected).abs() < 1e-9, "colors.csv {colors} vs {expected}");
+    assert!(expected > 1e-3, "{expected}");
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+    let shares: Vec<f64> = manifest["textures"].as_array().unwrap().iter().flat_map(|set| set["rows"].as_array().unwrap().iter().map(|r| r["extrapolated_share"].as_f64().unwrap())).collect();
+    assert!(!shares.is_empty() && shares.iter().all(|&s| s == colors), "{shares:?} vs {colors}");
+}

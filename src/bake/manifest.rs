@@ -129,6 +129,11 @@ pub struct RowEntry {
     /// Against the page's spectral reference colour (see `error.error_vs_spectral`); null
     /// only for rows baked without one (the library API), never from `nklut bake`.
     pub error_vs_spectral: Option<LutError>,
+    /// Share of the luminance weight ∫ S(λ) ȳ(λ) dλ over 360-830 nm at wavelengths outside
+    /// the page's data, where the spectral reference holds the nearest measured n and k
+    /// (a fraction; 0 when the data cover the whole grid; null without a spectral
+    /// reference).
+    pub extrapolated_share: Option<f64>,
 }
 
 #[derive(Clone, Debug, Serialize)]

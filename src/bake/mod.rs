@@ -109,14 +109,17 @@ pub struct PageReference {
     pub spectrum: color::PreparedSpectrum,
     /// Per channel, the spectral reference at `color::angle_quadrature().cosines`.
     pub at_nodes: [Vec<f64>; 3],
+    /// Share of the luminance weight ∫ S ȳ outside the page's data, where n and k are
+    /// held at the nearest measured value (a fraction).
+    pub extrapolated_share: f64,
 }
 
 impl PageReference {
     pub fn new(page: &KeptPage) -> Self {
-        let (spectrum, _extrapolated_share) = color::sample_spectrum(&page.material.data);
+        let (spectrum, extrapolated_share) = color::sample_spectrum(&page.material.data);
         let spectrum = color::PreparedSpectrum::new(&spectrum);
         let at_nodes = by_channel(&spectrum.curve(&color::angle_quadrature().cosines));
-        Self { spectrum, at_nodes }
+        Self { spectrum, at_nodes, extrapolated_share }
     }
 
     /// Per channel, the (n, k) whose exact Fresnel curve best fits the spectral reference
@@ -169,6 +172,9 @@ pub struct Row {
     /// Per channel, the spectral reference (SPEC §4) at `color::angle_quadrature().cosines`:
     /// the reference of `error_vs_spectral` (None: that error is not computed).
     pub spectral: Option<[Vec<f64>; 3]>,
+    /// Share of the spectral reference's luminance weight held outside the data (None
+    /// without a spectral reference).
+    pub extrapolated_share: Option<f64>,
 }
 
 /// What to bake. Lists are kept in the given order; `normalise` sorts and dedups them.
@@ -365,6 +371,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                         clamped_texels: cell[s].quantised.clamped,
                         error_vs_exact: cell[s].error.clone(),
                         error_vs_spectral: cell[s].error_vs_spectral.clone(),
+                        extrapolated_share: row.extrapolated_share,
                     })
                     .collect(),
             }
@@ -457,6 +464,7 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
                 kind: page.material.kind,
                 index: page.material.channels,
                 curves: plan.sources.iter().map(|&s| reference.curve(s, page, plan.size)).collect(),
+                extrapolated_share: Some(reference.extrapolated_share),
                 spectral: Some(reference.at_nodes),
             }
         })
@@ -524,8 +532,8 @@ mod tests {
         let mut bright = exact_curve(&glass, size);
         bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
         vec![
-            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)], spectral: None },
-            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright], spectral: None },
+            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)], spectral: None, extrapolated_share: None },
+            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright], spectral: None, extrapolated_share: None },
         ]
     }
 
