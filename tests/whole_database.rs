@@ -106,3 +106,12 @@ fn the_readme_states_the_counts_a_run_gives() {
     assert_eq!(stated, counts, "README.md's counts differ from this run");
     assert_eq!(stated_full, full.kept.len(), "README.md's --visible full count differs");
 }
+
+/// The README's table of reason codes lists every code the ingest can give.
+#[test]
+fn the_readme_lists_every_reason_code() {
+    let readme = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    for reason in nklut::db::Reason::ALL {
+        assert!(readme.contains(&format!("| `{}` |", reason.code())), "README.md does not list {}", reason.code());
+    }
+}
