@@ -17,6 +17,7 @@ pub mod fresnel;
 pub mod gpu;
 pub mod ingest;
 pub mod output;
+pub mod params;
 pub mod progress;
 pub mod report;
 pub mod scene;

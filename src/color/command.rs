@@ -79,7 +79,7 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<P
 
 /// `#rrggbb` of a linear-sRGB colour: clamped to [0, 1], sRGB-encoded, 8 bits.
 pub fn hex_swatch(rgb: [f64; 3]) -> String {
-    let [r, g, b] = rgb.map(|v| (srgb::encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
+    let [r, g, b] = srgb::srgb8(rgb);
     format!("#{r:02x}{g:02x}{b:02x}")
 }
 

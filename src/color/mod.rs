@@ -6,6 +6,7 @@
 //! For the bake: [`sample_spectrum`] once per page, then [`spectral_curve`] at the texel
 //! centres [`texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
 
+pub mod acescg;
 pub mod cie;
 pub mod command;
 pub mod fit;

@@ -1,0 +1,95 @@
+//! Engine parameters per kept page (`nklut params`): what engines and artists paste in —
+//! F0 (linear Rec.709, ACEScg, 8-bit sRGB), F82 tint, Gulbrandsen's (r, g), Hoffman's
+//! generalized Schlick, the fitted per-channel (n, k), a dielectric's n_d and Abbe number
+//! — each model with its error against the page's spectral reference curve over θ.
+//! Formulas and sources: [`models`] and [`page`]; the engine fields each value goes into:
+//! docs/engine-integration.md and the table's column descriptions.
+//!
+//! `compute` is pure (pages → parameters); `command` is the edge: ingest, compute, then
+//! write `engine_params.{csv,parquet,json}` (+ columns.json), `materials.mtlx` and
+//! `materials.gltf` + `materials.bin` atomically.
+
+pub mod gltf;
+pub mod models;
+pub mod mtlx;
+pub mod page;
+pub mod table;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+
+use crate::color::{self, PreparedSpectrum};
+use crate::db::Database;
+use crate::ingest::{self, KeptPage, Selection};
+use crate::output::write_atomic;
+use crate::spectrum::{Channels, Material};
+
+pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
+pub use page::{engine_params, EngineParams, Model, ModelError, Reference};
+pub use table::engine_params_table;
+
+/// The parameters of one material from its page data (spectrum sampled and prepared here).
+pub fn material_params(material: &Material) -> Result<EngineParams> {
+    let rule = color::angle_quadrature();
+    let (spectrum, _) = color::sample_spectrum(&material.data);
+    let reference = Reference::new(&PreparedSpectrum::new(&spectrum), rule);
+    engine_params(material, &reference, rule).with_context(|| format!("engine parameters of {}", material.data.file))
+}
+
+/// The parameters of every page of `kept`, each distinct data file computed once (in
+/// parallel), in the order of `kept`.
+pub fn compute(kept: &[KeptPage]) -> Result<Vec<EngineParams>> {
+    let mut unique: Vec<Arc<Material>> = Vec::new();
+    let mut slot: HashMap<*const Material, usize> = HashMap::new();
+    let positions: Vec<usize> = kept
+        .iter()
+        .map(|page| {
+            *slot.entry(Arc::as_ptr(&page.material)).or_insert_with(|| {
+                unique.push(page.material.clone());
+                unique.len() - 1
+            })
+        })
+        .collect();
+    let bar = crate::progress::bar(unique.len(), "engine parameters");
+    let params: Vec<EngineParams> = unique
+        .par_iter()
+        .map(|material| {
+            let params = material_params(material);
+            bar.inc(1);
+            params
+        })
+        .collect::<Result<_>>()?;
+    bar.finish_and_clear();
+    Ok(positions.into_iter().map(|i| params[i].clone()).collect())
+}
+
+/// `nklut params`: ingest the selection, compute, write the table and the two exports.
+pub fn command(db: &Database, selection: &Selection, channels: &Channels, out: &Path) -> Result<Vec<PathBuf>> {
+    let start = Instant::now();
+    let ingested = ingest::ingest(db, selection, channels)?;
+    anyhow::ensure!(!ingested.kept.is_empty(), "no page of the selection passed the visible-range filter; no engine parameters to write");
+    let ingest_s = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let params = compute(&ingested.kept)?;
+    let compute_s = start.elapsed().as_secs_f64();
+    let mut written = table::engine_params_table(&ingested.kept, &params).write(out, "engine_params", true)?;
+    let pages: Vec<mtlx::ExportPage> = ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
+    let document = mtlx::document(&pages);
+    let path = out.join("materials.mtlx");
+    write_atomic(&path, document.as_bytes())?;
+    written.push(path);
+    let scene = gltf::scene(&pages, "materials.bin")?;
+    // The buffer first: the .gltf that names it never points at a missing or stale one.
+    for (name, bytes) in [("materials.bin", &scene.bin), ("materials.gltf", &scene.json)] {
+        let path = out.join(name);
+        write_atomic(&path, bytes)?;
+        written.push(path);
+    }
+    eprintln!("params: {} pages ({} excluded); ingest {ingest_s:.2} s, parameters + errors {compute_s:.2} s", ingested.kept.len(), ingested.excluded.len());
+    Ok(written)
+}
