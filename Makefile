@@ -45,10 +45,12 @@ build:
 
 $(NKLUT): build
 
-# The main job: tables, reference colours, method errors, textures, then the report.
+# The main job: tables, reference colours, engine parameters (+ MaterialX and glTF exports),
+# method errors, textures, then the report.
 luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) ingest $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) colors $(SELECT)
+	$(NKLUT) --db $(DB) --out $(OUT) params $(SELECT)
 	$(VALIDATE)
 	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
 	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
