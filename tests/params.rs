@@ -146,3 +146,31 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
         assert_eq!(report["warnings"], 0, "{report}");
     }
 }
+
+/// The Physically Based database (physicallybased.info, API v2) derives its metals' F0 and
+/// F82 tint from named refractiveindex.info pages (data/published/README.md); on those
+/// pages nklut's values must agree to the 3 decimals it prints.
+#[test]
+fn metals_agree_with_the_physically_based_database() {
+    let mut reader = csv::Reader::from_path(root().join("data/published/physicallybased-metals.csv")).unwrap();
+    let published: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    let selection = Selection { pages: published.iter().map(|r| r[1].to_string()).collect(), ..Default::default() };
+    let ingested = nklut::ingest::ingest(&database(), &selection, &Channels::default()).unwrap();
+    let params = nklut::params::compute(&ingested.kept).unwrap();
+    let mut compared = 0;
+    for record in &published {
+        let Some(position) = ingested.kept.iter().position(|p| p.id() == record[1]) else {
+            // Cs, K and Rb (Monin) do not cover 390–700 nm: excluded by the visible-range filter.
+            assert!(ingested.excluded.iter().any(|e| e.page == record[1]), "{} neither kept nor excluded", &record[1]);
+            continue;
+        };
+        let ours = &params[position];
+        for c in 0..3 {
+            let (f0, tint): (f64, f64) = (record[2 + c].parse().unwrap(), record[5 + c].parse().unwrap());
+            assert!((ours.f0[c] - f0).abs() <= 1.5e-3, "{} F0[{c}]: {} vs {f0}", &record[0], ours.f0[c]);
+            assert!((ours.f82[c].tint - tint).abs() <= 1.5e-3, "{} F82[{c}]: {} vs {tint}", &record[0], ours.f82[c].tint);
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, published.len() - 3);
+}
