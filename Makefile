@@ -70,6 +70,7 @@ bench: db
 	$(CARGO) bench --bench ingest
 	$(CARGO) bench --bench fresnel -- --warm-up-time 1 --measurement-time 3
 	$(CARGO) bench --bench colors
+	$(CARGO) bench --bench params
 
 # The GPU measurements of scenes/default.yaml (timing + image error) → output/gpu_timing.csv,
 # output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.
