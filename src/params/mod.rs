@@ -15,9 +15,7 @@ pub mod mtlx;
 pub mod page;
 pub mod table;
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -44,17 +42,7 @@ pub fn material_params(material: &Material) -> Result<EngineParams> {
 /// The parameters of every page of `kept`, each distinct data file computed once (in
 /// parallel), in the order of `kept`.
 pub fn compute(kept: &[KeptPage]) -> Result<Vec<EngineParams>> {
-    let mut unique: Vec<Arc<Material>> = Vec::new();
-    let mut slot: HashMap<*const Material, usize> = HashMap::new();
-    let positions: Vec<usize> = kept
-        .iter()
-        .map(|page| {
-            *slot.entry(Arc::as_ptr(&page.material)).or_insert_with(|| {
-                unique.push(page.material.clone());
-                unique.len() - 1
-            })
-        })
-        .collect();
+    let (unique, positions) = ingest::distinct_materials(kept);
     let bar = crate::progress::bar(unique.len(), "engine parameters");
     let params: Vec<EngineParams> = unique
         .par_iter()

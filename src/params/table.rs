@@ -107,7 +107,7 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
         "gulbrandsen_g",
         &format!(
             "Gulbrandsen 2014 edge tint g in [0,1], chosen so that exact Fresnel of (n(r,g), k(r,g)) best fits the spectral curve: \
-             minimum of the mean over {} of ((F - F_spectral)/F_spectral)^2 (grid scan + golden section). Paste into: MaterialX \
+             minimum of the mean over {} of ((F - F_spectral)/F_spectral)^2 (grid scan + Brent's method). Paste into: MaterialX \
              artistic_ior edge_color, Autodesk Standard Surface / Arnold specular_color (metalness 1)",
             quadrature_words()
         ),
