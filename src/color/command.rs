@@ -13,7 +13,7 @@ use super::srgb;
 use crate::db::Database;
 use crate::ingest::{self, KeptPage, Selection};
 use crate::output::Table;
-use crate::spectrum::{Channels, Material};
+use crate::spectrum::Channels;
 
 /// Column suffixes of the per-channel columns.
 const SUFFIXES: [&str; 3] = ["r", "g", "b"];

@@ -157,9 +157,30 @@ impl GeneralizedSchlick {
     /// The exponent in [`EXPONENT_RANGE`] (color82 following it) whose curves are closest
     /// to `reference[c]` summed over the three channels.
     pub fn fit(f0: [f64; 3], reference_at_edge: [f64; 3], reference: &[Vec<f64>; 3], rule: &AngleQuadrature) -> Self {
+        // Per node, ln(1 − μ) and μ(1 − μ)⁶, so that a trial exponent costs one exp per
+        // node: (1 − μ)^p = exp(p ln(1 − μ)) (0 at μ = 1, where ln gives −∞).
+        let log_m: Vec<f64> = rule.cosines.iter().map(|&mu| (1.0 - fresnel::unit_cos(mu)).ln()).collect();
+        let edge_term: Vec<f64> = rule.cosines.iter().map(|&mu| mu * (1.0 - mu).powi(6)).collect();
         let cost = |p: f64| {
             let model = Self::through_edge(f0, reference_at_edge, p);
-            (0..3).map(|c| relative_cost(|mu| model.reflectance(c, mu), &reference[c], rule)).sum::<f64>()
+            let a = [0, 1, 2].map(|c| model.schlick(c, EDGE_COS) * (1.0 - model.color82[c]) / edge_weight());
+            let mut total = 0.0;
+            for (i, &q) in rule.weights.iter().enumerate() {
+                let m_p = (p * log_m[i]).exp();
+                for c in 0..3 {
+                    let r = reference[c][i];
+                    if r != 0.0 && r.is_finite() {
+                        let f = model.color0[c] + (model.color90[c] - model.color0[c]) * m_p - a[c] * edge_term[i];
+                        let e = (f - r) / r;
+                        total += q * e * e;
+                    }
+                }
+            }
+            if total.is_finite() {
+                total
+            } else {
+                f64::INFINITY
+            }
         };
         let exponent = minimise_1d(cost, EXPONENT_RANGE.0, EXPONENT_RANGE.1, 30, 1e-6);
         Self::through_edge(f0, reference_at_edge, exponent)

@@ -13,7 +13,7 @@
 //!   channel the mean of |F − F_ref|/F_ref.
 
 use super::models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
-use crate::color::{self, acescg, srgb, AngleQuadrature, EffectiveIndex, PreparedSpectrum};
+use crate::color::{self, acescg, srgb, AngleQuadrature, EffectiveIndex, Lab, PreparedSpectrum};
 use crate::db::DataError;
 use crate::fresnel::{self, ExactTerms};
 use crate::spectrum::{self, Index, Kind, Material};
@@ -143,12 +143,20 @@ pub struct Reference {
     pub at_edge: [f64; 3],
     /// RGB at the quadrature nodes, one vector per channel.
     pub at_nodes: [Vec<f64>; 3],
+    /// CIELAB (D65 white) of the colour at each node, for the CIEDE2000 of every model.
+    pub lab_at_nodes: Vec<Lab>,
 }
 
 impl Reference {
     pub fn new(spectrum: &PreparedSpectrum, rule: &AngleQuadrature) -> Self {
         let curve = spectrum.curve(&rule.cosines);
-        Self { f0: spectrum.rgb(1.0), at_edge: spectrum.rgb(EDGE_COS), at_nodes: std::array::from_fn(|c| curve.iter().map(|rgb| rgb[c]).collect()) }
+        let weights = color::spectral_weights();
+        Self {
+            f0: spectrum.rgb(1.0),
+            at_edge: spectrum.rgb(EDGE_COS),
+            at_nodes: std::array::from_fn(|c| curve.iter().map(|rgb| rgb[c]).collect()),
+            lab_at_nodes: curve.iter().map(|rgb| weights.lab(*rgb)).collect(),
+        }
     }
 }
 
@@ -172,7 +180,10 @@ pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQua
     let f82 = [0, 1, 2].map(|c| F82Tint::new(f0[c], reference.at_edge[c]));
     let gulbrandsen = [0, 1, 2].map(|c| Gulbrandsen::fit(f0[c], &reference.at_nodes[c], rule));
     let generalized_schlick = GeneralizedSchlick::fit(f0, reference.at_edge, &reference.at_nodes, rule);
-    let fitted = [0, 1, 2].map(|c| color::fit_effective_index(&reference.at_nodes[c], material.channels[c], rule));
+    // Gulbrandsen's best (n, k) already lies near the (n, k) optimum: one Levenberg–Marquardt
+    // start from it instead of the colour module's three (same minimum, a third of the work;
+    // compared with colors.csv over the whole database in docs/engine-parameters.md).
+    let fitted = [0, 1, 2].map(|c| color::fit_effective_index_from(&reference.at_nodes[c], &[gulbrandsen[c].index()], rule));
     let mut params = EngineParams {
         f0,
         f0_acescg: acescg::srgb_to_acescg(f0),
@@ -215,11 +226,7 @@ pub fn model_curve(params: &EngineParams, model: Model, cosines: &[f64]) -> Opti
 /// CIEDE2000 and relative errors of a model curve (at `rule.cosines`) against the reference.
 pub fn model_error(model: Model, curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> ModelError {
     let weights = color::spectral_weights();
-    let delta_e: Vec<f64> = curve
-        .iter()
-        .enumerate()
-        .map(|(i, rgb)| color::delta_e2000(weights.lab(*rgb), weights.lab([0, 1, 2].map(|c| reference.at_nodes[c][i]))))
-        .collect();
+    let delta_e: Vec<f64> = curve.iter().zip(&reference.lab_at_nodes).map(|(rgb, lab)| color::delta_e2000(weights.lab(*rgb), *lab)).collect();
     ModelError {
         model,
         delta_e_mean: rule.mean(delta_e.iter().copied()),

@@ -136,8 +136,8 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
         table,
         rows,
         "fitted_n",
-        "fitted per-channel refractive index n: exact Fresnel of (n, k) closest to the spectral curve over theta (relative least squares; \
-         = effective_n of colors.csv). Paste into: MaterialX conductor_bsdf ior, Blender Metallic BSDF (Physical Conductor) IOR, \
+        "fitted per-channel refractive index n: exact Fresnel of (n, k) closest to the spectral curve over theta (relative least squares, \
+         Levenberg-Marquardt started from Gulbrandsen's best (n, k); the effective_n of colors.csv, or a better minimum). Paste into: MaterialX conductor_bsdf ior, Blender Metallic BSDF (Physical Conductor) IOR, \
          pbrt/Mitsuba RGB conductor eta",
         |p, c| p.fitted[c].index.n,
     );
