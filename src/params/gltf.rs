@@ -110,7 +110,7 @@ pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<Scene> {
     let index_offset = bin.len();
     sphere.indices.iter().for_each(|i| bin.extend(i.to_le_bytes()));
     let index_bytes = bin.len() - index_offset;
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let (min, max) = sphere.positions.iter().fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), p| {

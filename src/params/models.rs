@@ -31,6 +31,16 @@ pub const GULBRANDSEN_MAX_R: f64 = 0.99;
 /// The range searched for the generalized Schlick exponent.
 pub const EXPONENT_RANGE: (f64, f64) = (1.0, 16.0);
 
+/// The tint that takes a curve worth `model_at_edge` at μ̄ to `reference_at_edge`:
+/// their ratio, or 1 (no tint) where the ratio is undefined.
+fn edge_tint(model_at_edge: f64, reference_at_edge: f64) -> f64 {
+    if model_at_edge.abs() > 1e-300 && reference_at_edge.is_finite() {
+        reference_at_edge / model_at_edge
+    } else {
+        1.0
+    }
+}
+
 /// μ(1 − μ)⁶ at μ̄: the weight of the F82 correction term there.
 fn edge_weight() -> f64 {
     EDGE_COS * (1.0 - EDGE_COS).powi(6)
@@ -50,10 +60,7 @@ impl F82Tint {
     /// The model that starts at `f0` and passes through `reference_at_edge` at μ̄.
     pub fn new(f0: f64, reference_at_edge: f64) -> Self {
         let schlick = fresnel::schlick(f0, EDGE_COS);
-        if !(schlick.abs() > 1e-300) || !reference_at_edge.is_finite() {
-            return Self { f0, tint: 1.0, b: 0.0 };
-        }
-        let tint = reference_at_edge / schlick;
+        let tint = edge_tint(schlick, reference_at_edge);
         Self { f0, tint, b: schlick * (1.0 - tint) / edge_weight() }
     }
 
@@ -133,12 +140,8 @@ impl GeneralizedSchlick {
     /// color0 = `f0`, color90 = 1 (every Fresnel curve reaches 1 at grazing), the given
     /// exponent, and color82 so that the model passes through `reference_at_edge` at μ̄.
     pub fn through_edge(f0: [f64; 3], reference_at_edge: [f64; 3], exponent: f64) -> Self {
-        let mut model = Self { color0: f0, color82: [1.0; 3], color90: [1.0; 3], exponent };
-        for c in 0..3 {
-            let schlick = model.schlick(c, EDGE_COS);
-            model.color82[c] = if schlick.abs() > 1e-300 && reference_at_edge[c].is_finite() { reference_at_edge[c] / schlick } else { 1.0 };
-        }
-        model
+        let model = Self { color0: f0, color82: [1.0; 3], color90: [1.0; 3], exponent };
+        Self { color82: [0, 1, 2].map(|c| edge_tint(model.schlick(c, EDGE_COS), reference_at_edge[c])), ..model }
     }
 
     /// S(μ) = color0 + (color90 − color0)(1 − μ)^p of channel `c`.
@@ -362,9 +365,9 @@ mod tests {
         let edge = [0, 1, 2].map(|c| truth.reflectance(c, EDGE_COS));
         let fit = GeneralizedSchlick::fit(truth.color0, edge, &reference, rule);
         assert!((fit.exponent - 3.7).abs() < 1e-5, "{fit:?}");
-        for c in 0..3 {
+        for (c, edge) in edge.iter().enumerate() {
             assert_eq!(fit.reflectance(c, 1.0), truth.color0[c]);
-            assert!((fit.reflectance(c, EDGE_COS) - edge[c]).abs() < 1e-15);
+            assert!((fit.reflectance(c, EDGE_COS) - edge).abs() < 1e-15);
         }
     }
 
