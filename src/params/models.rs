@@ -216,71 +216,8 @@ pub fn minimise_1d(cost: impl Fn(f64) -> f64, lo: f64, hi: f64, grid: usize, tol
     let step = (hi - lo) / grid as f64;
     let at = |i: usize| if i == grid { hi } else { lo + step * i as f64 };
     let (best, best_cost) = (0..=grid).map(|i| (i, cost(at(i)))).fold((0, f64::INFINITY), |b, (i, v)| if v < b.1 { (i, v) } else { b });
-    brent(cost, at(best.saturating_sub(1)), at((best + 1).min(grid)), at(best), best_cost, tolerance)
-}
-
-/// Brent's minimisation in [a, b] from the point `x` (cost `fx`) inside it.
-fn brent(cost: impl Fn(f64) -> f64, mut a: f64, mut b: f64, x: f64, fx: f64, tolerance: f64) -> f64 {
-    const GOLDEN: f64 = 0.381_966_011_250_105_1; // (3 − √5)/2
-    let (mut x, mut w, mut v) = (x, x, x);
-    let (mut fx, mut fw, mut fv) = (fx, fx, fx);
-    let (mut d, mut e) = (0.0f64, 0.0f64);
-    let tol1 = 0.5 * tolerance;
-    for _ in 0..200 {
-        let middle = 0.5 * (a + b);
-        if (x - middle).abs() <= 2.0 * tol1 - 0.5 * (b - a) {
-            break;
-        }
-        let mut golden = true;
-        if e.abs() > tol1 {
-            // The parabola through (v, fv), (w, fw), (x, fx): step p/q from x.
-            let r = (x - w) * (fx - fv);
-            let mut q = (x - v) * (fx - fw);
-            let mut p = (x - v) * q - (x - w) * r;
-            q = 2.0 * (q - r);
-            if q > 0.0 {
-                p = -p;
-            } else {
-                q = -q;
-            }
-            let previous = e;
-            e = d;
-            if p.abs() < (0.5 * q * previous).abs() && p > q * (a - x) && p < q * (b - x) {
-                d = p / q;
-                let u = x + d;
-                if u - a < 2.0 * tol1 || b - u < 2.0 * tol1 {
-                    d = tol1.copysign(middle - x);
-                }
-                golden = false;
-            }
-        }
-        if golden {
-            e = if x >= middle { a - x } else { b - x };
-            d = GOLDEN * e;
-        }
-        let u = if d.abs() >= tol1 { x + d } else { x + tol1.copysign(d) };
-        let fu = cost(u);
-        if fu <= fx {
-            if u >= x {
-                a = x;
-            } else {
-                b = x;
-            }
-            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
-        } else {
-            if u < x {
-                a = u;
-            } else {
-                b = u;
-            }
-            if fu <= fw || w == x {
-                (v, fv, w, fw) = (w, fw, u, fu);
-            } else if fu <= fv || v == x || v == w {
-                (v, fv) = (u, fu);
-            }
-        }
-    }
-    x
+    let bracket = (at(best.saturating_sub(1)), at((best + 1).min(grid)));
+    crate::minimise::brent(cost, bracket, (at(best), best_cost), |_| 0.5 * tolerance, 200).0
 }
 
 #[cfg(test)]
