@@ -48,7 +48,7 @@ pub fn png_color_chunks(encoding: Encoding) -> &'static str {
 }
 
 /// The colour chunks of every PNG, in words.
-pub const PNG_CHUNKS_NOTE: &str = "unorm8-srgb PNGs carry an sRGB chunk (with the fallback gAMA 45455 and cHRM of sRGB);     unorm8 and unorm16 PNGs carry gAMA 100000 (gamma 1.0, linear samples) and cHRM with the Rec.709/sRGB primaries and D65     white. A colour-managed loader therefore leaves the linear files' values as stored; a loader that ignores chunks must be     told which files are linear (encodings[].color_space).";
+pub const PNG_CHUNKS_NOTE: &str = "unorm8-srgb PNGs carry an sRGB chunk (with the fallback gAMA 45455 and cHRM of sRGB); unorm8 and unorm16 PNGs carry gAMA 100000 (gamma 1.0, linear samples) and cHRM with the Rec.709/sRGB primaries and D65 white. A colour-managed loader therefore leaves the linear files' values as stored; a loader that ignores chunks must be told which files are linear (encodings[].color_space).";
 
 /// The chromaticities of the cHRM chunk: D65 white, Rec.709 primaries (IEC 61966-2-1).
 fn srgb_chromaticities() -> png::SourceChromaticities {

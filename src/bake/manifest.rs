@@ -18,7 +18,7 @@ use super::{Layout, Source};
 pub const FORMAT_VERSION: u32 = 2;
 
 /// How to read the 16-bit PNGs without losing bits.
-pub const SIXTEEN_BIT_PNG_NOTE: &str = "unorm16 PNGs store 16 bits per channel, big-endian as PNG requires. Many loaders     silently reduce them to 8 bits: Pillow (PIL) opens 16-bit RGB as 8-bit 'RGB', OpenCV's default cv2.imread flag converts     to 8 bits. Read them with a 16-bit path, e.g. Python cv2.imread(path, cv2.IMREAD_UNCHANGED) (uint16, channels in B G R     order: reverse them), pypng png.Reader(filename=path).asDirect(), or Rust image/png crates (Rgb16); check that the     values you get go up to 65535 and divide by 65535.";
+pub const SIXTEEN_BIT_PNG_NOTE: &str = "unorm16 PNGs store 16 bits per channel, big-endian as PNG requires. Many loaders silently reduce them to 8 bits: Pillow (PIL) opens 16-bit RGB as 8-bit 'RGB', OpenCV's default cv2.imread flag converts to 8 bits. Read them with a 16-bit path, e.g. Python cv2.imread(path, cv2.IMREAD_UNCHANGED) (uint16, channels in B G R order: reverse them), pypng png.Reader(filename=path).asDirect(), or Rust image/png crates (Rgb16); check that the values you get go up to 65535 and divide by 65535.";
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Manifest {
@@ -99,13 +99,13 @@ pub fn color_meaning(source: Source, channels: &Channels) -> String {
 pub fn color_info() -> ColorInfo {
     let weights = color::spectral_weights();
     ColorInfo {
-        spectral_reference: "RGB(theta) = M . sum over lambda = 360..830 nm (1 nm) of R(theta, lambda) S(lambda) [xbar ybar zbar](lambda) / sum S ybar,                              R = exact unpolarised Fresnel reflectance of n(lambda) + i k(lambda) (docs/colors.md)"
+        spectral_reference: "RGB(theta) = M . sum over lambda = 360..830 nm (1 nm) of R(theta, lambda) S(lambda) [xbar ybar zbar](lambda) / sum S ybar, R = exact unpolarised Fresnel reflectance of n(lambda) + i k(lambda) (docs/colors.md)"
             .into(),
         observer: "CIE 1931 2 degree colour-matching functions, 1 nm".into(),
         illuminant: "CIE standard illuminant D65 (5 nm table, linearly interpolated to 1 nm)".into(),
         xyz_to_linear_srgb: weights.xyz_to_rgb,
         white_xyz: weights.white_xyz,
-        primaries: "IEC 61966-2-1 (sRGB = Rec.709) primaries red (0.64, 0.33), green (0.30, 0.60), blue (0.15, 0.06); M is derived from                     them and white_xyz, so a perfect reflector maps to (1, 1, 1)"
+        primaries: "IEC 61966-2-1 (sRGB = Rec.709) primaries red (0.64, 0.33), green (0.30, 0.60), blue (0.15, 0.06); M is derived from them and white_xyz, so a perfect reflector maps to (1, 1, 1)"
             .into(),
         png_chunks: super::files::PNG_CHUNKS_NOTE.into(),
     }
