@@ -18,7 +18,7 @@ pub mod table;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use rayon::prelude::*;
 
 use crate::color::{self, PreparedSpectrum};
@@ -37,9 +37,6 @@ pub fn reference(material: &Material) -> Reference {
     Reference::new(&PreparedSpectrum::new(&spectrum), color::angle_quadrature())
 }
 
-fn params_from(material: &Material, reference: &Reference) -> Result<EngineParams> {
-    engine_params(material, reference, color::angle_quadrature()).with_context(|| format!("engine parameters of {}", material.data.file))
-}
 
 /// Wall-clock seconds of the two stages of [`compute`].
 #[derive(Clone, Copy, Debug, Default)]
@@ -68,15 +65,16 @@ pub fn compute(kept: &[KeptPage], timings: &mut Timings) -> Result<Vec<EnginePar
     timings.reference_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let bar = crate::progress::bar(unique.len(), "engine parameters");
+    let rule = color::angle_quadrature();
     let params: Vec<EngineParams> = unique
         .par_iter()
         .zip(&references)
         .map(|(material, reference)| {
-            let params = params_from(material, reference);
+            let params = engine_params(material, reference, rule);
             bar.inc(1);
             params
         })
-        .collect::<Result<_>>()?;
+        .collect();
     bar.finish_and_clear();
     timings.parameters_s = start.elapsed().as_secs_f64();
     Ok(positions.into_iter().map(|i| params[i].clone()).collect())

@@ -14,7 +14,6 @@
 
 use super::models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
 use crate::color::{self, acescg, srgb, AngleQuadrature, EffectiveIndex, Lab, PreparedSpectrum};
-use crate::db::DataError;
 use crate::fresnel::{self, ExactTerms};
 use crate::spectrum::{self, Index, Kind, Material};
 
@@ -73,10 +72,12 @@ impl Model {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dielectric {
     pub n_d: f64,
-    pub n_f: f64,
-    pub n_c: f64,
+    /// n at the F and C lines; `None` where the page's data give no index there (a page
+    /// kept for a narrower range than 486–656 nm).
+    pub n_f: Option<f64>,
+    pub n_c: Option<f64>,
     /// (n_d − 1)/(n_F − n_C); `None` where n_F ≤ n_C (no normal dispersion, e.g. a
-    /// constant n), where it is undefined or meaningless.
+    /// constant n) or either line is missing.
     pub abbe: Option<f64>,
     /// ((n_d − 1)/(n_d + 1))²: the F0 a glTF viewer derives from `KHR_materials_ior`.
     pub gltf_f0: f64,
@@ -160,21 +161,22 @@ impl Reference {
     }
 }
 
-/// n at the d, F and C lines of a dielectric page (a named error if the data fail there).
-pub fn dielectric(material: &Material) -> Result<Dielectric, DataError> {
-    let n_at = |nm: f64| spectrum::index_at(&material.data, nm).map(|i| i.n);
-    let (n_d, n_f, n_c) = (n_at(D_LINE_NM)?, n_at(F_LINE_NM)?, n_at(C_LINE_NM)?);
-    let dispersion = n_f - n_c;
-    let abbe = (dispersion > 0.0).then(|| (n_d - 1.0) / dispersion).filter(|v| v.is_finite());
-    Ok(Dielectric { n_d, n_f, n_c, abbe, gltf_f0: fresnel::schlick_f0(n_d, 0.0) })
+/// n at the d, F and C lines of a dielectric page; `None` where its data give no valid
+/// index at the d line (outside their range), and each of F and C likewise.
+pub fn dielectric(material: &Material) -> Option<Dielectric> {
+    let n_at = |nm: f64| spectrum::index_at(&material.data, nm).ok().map(|i| i.n);
+    let n_d = n_at(D_LINE_NM)?;
+    let (n_f, n_c) = (n_at(F_LINE_NM), n_at(C_LINE_NM));
+    let abbe = n_f.zip(n_c).map(|(f, c)| f - c).filter(|dispersion| *dispersion > 0.0).map(|dispersion| (n_d - 1.0) / dispersion).filter(|v| v.is_finite());
+    Some(Dielectric { n_d, n_f, n_c, abbe, gltf_f0: fresnel::schlick_f0(n_d, 0.0) })
 }
 
 /// Every parameter of a page from its spectral reference (`rule` the angle quadrature of
 /// the fits and errors).
-pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQuadrature) -> Result<EngineParams, DataError> {
+pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQuadrature) -> EngineParams {
     let f0 = reference.f0;
     let dielectric = match material.kind {
-        Kind::Dielectric => Some(dielectric(material)?),
+        Kind::Dielectric => dielectric(material),
         Kind::Conductor => None,
     };
     let f82 = [0, 1, 2].map(|c| F82Tint::new(f0[c], reference.at_edge[c]));
@@ -198,7 +200,7 @@ pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQua
         errors: Vec::new(),
     };
     params.errors = Model::ALL.iter().filter_map(|&m| model_curve(&params, m, &rule.cosines).map(|curve| model_error(m, &curve, reference, rule))).collect();
-    Ok(params)
+    params
 }
 
 /// The model's colour at each of `cosines`; `None` for a model that does not apply.
@@ -265,10 +267,16 @@ mod tests {
         evaluate(parse_page("flat.yml", &yaml).unwrap(), &Channels::default()).unwrap()
     }
 
+    /// A dielectric material from page data without the visible-range filter.
+    fn evaluate_unchecked(data: crate::db::PageData) -> Material {
+        let n = spectrum::index_held(&data, 535.0);
+        Material { data, channels: [n; 3], kind: Kind::Dielectric, range_nm: (0.0, 0.0), max_visible_gap_nm: None }
+    }
+
     fn params_of(material: &Material) -> EngineParams {
         let rule = angle_quadrature();
         let (spectrum, _) = sample_spectrum(&material.data);
-        engine_params(material, &Reference::new(&PreparedSpectrum::new(&spectrum), rule), rule).unwrap()
+        engine_params(material, &Reference::new(&PreparedSpectrum::new(&spectrum), rule), rule)
     }
 
     #[test]
@@ -301,7 +309,7 @@ mod tests {
     fn a_flat_dielectric_has_its_constant_index_at_every_line() {
         let params = params_of(&flat(1.5, 0.0));
         let dielectric = params.dielectric.unwrap();
-        assert_eq!((dielectric.n_d, dielectric.n_f, dielectric.n_c), (1.5, 1.5, 1.5));
+        assert_eq!((dielectric.n_d, dielectric.n_f, dielectric.n_c), (1.5, Some(1.5), Some(1.5)));
         assert_eq!(dielectric.abbe, None);
         assert!((dielectric.gltf_f0 - 0.04).abs() < 1e-15);
         // glTF's Schlick with the right F0 differs from exact Fresnel only through Schlick's curve.
@@ -321,6 +329,11 @@ mod tests {
         let abbe = (n(0.58756) - 1.0) / (n(0.48613) - n(0.65627));
         assert!((d.abbe.unwrap() - abbe).abs() < 1e-9 * abbe, "{d:?} vs {abbe}");
         assert!(abbe > 50.0 && abbe < 70.0, "{abbe}");
+        // Data over 500–700 nm only: n_d and n_C but no F line, so no Abbe number.
+        let narrow = parse_page("n.yml", "DATA:\n  - type: tabulated n\n    data: |\n        0.50 1.52\n        0.70 1.51\n").unwrap();
+        let d = dielectric(&evaluate_unchecked(narrow)).unwrap();
+        assert_eq!((d.n_f, d.abbe), (None, None));
+        assert!((d.n_d - (1.52 - 0.01 * (0.58756 - 0.5) / 0.2)).abs() < 1e-12 && d.n_c.is_some());
     }
 
     #[test]

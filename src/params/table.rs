@@ -159,12 +159,12 @@ fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
         table,
         rows,
         "n_d",
-        &format!("dielectrics: n at the d line {D_LINE_NM} nm (empty for conductors). Paste into: glTF KHR_materials_ior ior, OpenPBR specular_ior, Blender IOR, Unreal refraction"),
+        &format!("dielectrics: n at the d line {D_LINE_NM} nm (empty for conductors, and where the data do not reach the d line; then no gltf_ior model either). Paste into: glTF KHR_materials_ior ior, OpenPBR specular_ior, Blender IOR, Unreal refraction"),
         |p| d(p).map(|x| x.n_d),
     );
-    optional(table, rows, "n_F", &format!("dielectrics: n at the F line {F_LINE_NM} nm"), |p| d(p).map(|x| x.n_f));
-    optional(table, rows, "n_C", &format!("dielectrics: n at the C line {C_LINE_NM} nm"), |p| d(p).map(|x| x.n_c));
-    optional(table, rows, "abbe_d", "dielectrics: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion)", |p| d(p).and_then(|x| x.abbe));
+    optional(table, rows, "n_F", &format!("dielectrics: n at the F line {F_LINE_NM} nm (empty where the data do not reach it)"), |p| d(p).and_then(|x| x.n_f));
+    optional(table, rows, "n_C", &format!("dielectrics: n at the C line {C_LINE_NM} nm (empty where the data do not reach it)"), |p| d(p).and_then(|x| x.n_c));
+    optional(table, rows, "abbe_d", "dielectrics: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion) or a line is missing", |p| d(p).and_then(|x| x.abbe));
     optional(table, rows, "gltf_ior_f0", "dielectrics: ((n_d - 1)/(n_d + 1))^2, the F0 a glTF viewer derives from KHR_materials_ior", |p| d(p).map(|x| x.gltf_f0));
 }
 
