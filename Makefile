@@ -45,10 +45,12 @@ build:
 
 $(NKLUT): build
 
-# The main job: tables, reference colours, method errors, textures, then the report.
+# The main job: tables, reference colours, engine parameters (+ MaterialX and glTF exports),
+# method errors, textures, then the report.
 luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) ingest $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) colors $(SELECT)
+	$(NKLUT) --db $(DB) --out $(OUT) params $(SELECT)
 	$(VALIDATE)
 	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
 	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
@@ -68,6 +70,7 @@ bench: db
 	$(CARGO) bench --bench ingest
 	$(CARGO) bench --bench fresnel -- --warm-up-time 1 --measurement-time 3
 	$(CARGO) bench --bench colors
+	$(CARGO) bench --bench params
 
 # The GPU measurements of scenes/default.yaml (timing + image error) → output/gpu_timing.csv,
 # output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.

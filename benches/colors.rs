@@ -4,31 +4,17 @@
 //! Run: `cargo bench --bench colors`.
 
 use std::hint::black_box;
-use std::sync::Arc;
+
+mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use rayon::prelude::*;
 
 use nklut::color::{self, AngleQuadrature};
-use nklut::db::Database;
-use nklut::ingest::{ingest, Selection};
-use nklut::spectrum::{Channels, Index, Material};
-
-/// Every distinct material of the database (pages sharing a data file counted once).
-fn materials() -> Vec<Arc<Material>> {
-    let db = Database::open(None).expect("the database must be linked: run `make db`");
-    let all = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).expect("ingest");
-    let mut unique: Vec<Arc<Material>> = Vec::new();
-    for page in all.kept {
-        if !unique.iter().any(|m| Arc::ptr_eq(m, &page.material)) {
-            unique.push(page.material);
-        }
-    }
-    unique
-}
+use nklut::spectrum::Index;
 
 fn whole_database(c: &mut Criterion) {
-    let materials = materials();
+    let materials = common::materials();
     let texels = color::texel_cosines(256);
     let rule: &AngleQuadrature = color::angle_quadrature();
     let mut group = c.benchmark_group(format!("{} materials", materials.len()));

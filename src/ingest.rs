@@ -64,6 +64,24 @@ impl KeptPage {
     }
 }
 
+/// The distinct materials of `kept` (pages sharing a data file share one `Material`), in
+/// first-seen order, and for each page the index of its material in that list: per-material
+/// work is done once and mapped back to the pages.
+pub fn distinct_materials(kept: &[KeptPage]) -> (Vec<Arc<Material>>, Vec<usize>) {
+    let mut unique: Vec<Arc<Material>> = Vec::new();
+    let mut slot: HashMap<*const Material, usize> = HashMap::new();
+    let positions = kept
+        .iter()
+        .map(|page| {
+            *slot.entry(Arc::as_ptr(&page.material)).or_insert_with(|| {
+                unique.push(page.material.clone());
+                unique.len() - 1
+            })
+        })
+        .collect();
+    (unique, positions)
+}
+
 /// A page that did not pass, with its named error; or, in `Ingest::warnings`, a kept
 /// page with a defect outside the wavelengths any stage evaluates.
 #[derive(Clone, Debug)]

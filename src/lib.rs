@@ -4,7 +4,8 @@
 //! Modules follow the data through the pipeline:
 //! `db` (catalog, pages, formulas) → `spectrum` (n, k at λ; channels; visible filter) →
 //! `ingest` (the whole database into tables) → `color` (CIE, sRGB) → `fresnel`
-//! (methods) → `validate` (errors) → `bake` (textures, manifest) → `report`;
+//! (methods) → `validate` (errors) → `bake` (textures, manifest) → `params` (engine
+//! parameters, MaterialX and glTF exports) → `report`; `minimise` is Brent's 1D minimiser;
 //! `output` writes files atomically at the edge, `cli` holds shared arguments; `scene` and
 //! (feature `gpu`) `gpu` time and render every method with wgpu.
 
@@ -16,7 +17,9 @@ pub mod fresnel;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod ingest;
+pub mod minimise;
 pub mod output;
+pub mod params;
 pub mod progress;
 pub mod report;
 pub mod scene;

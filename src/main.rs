@@ -66,6 +66,15 @@ enum Command {
         #[arg(long, default_value_t = 256, value_parser = parse_texels)]
         texels: usize,
     },
+    /// Engine parameters per page (F0, F82 tint, Gulbrandsen, generalized Schlick, fitted
+    /// n,k, n_d/Abbe) with each model's error; write engine_params.*, materials.mtlx and
+    /// materials.gltf + materials.bin.
+    Params {
+        #[command(flatten)]
+        pages: PageSelection,
+        #[command(flatten)]
+        channels: ChannelArgs,
+    },
 }
 
 fn parse_texels(text: &str) -> Result<usize, String> {
@@ -151,6 +160,11 @@ fn run(cli: Cli) -> Result<()> {
         }
         #[cfg(feature = "gpu")]
         Command::Gpu { .. } => unreachable!("handled before the database is opened"),
+        Command::Params { pages, channels } => {
+            for path in nklut::params::command(&db, &pages.selection(), &channels.config(), &cli.paths.out)? {
+                eprintln!("  wrote {}", path.display());
+            }
+        }
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());

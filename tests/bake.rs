@@ -200,3 +200,53 @@ fn spectral_and_effective_sources_bake_with_errors_against_the_spectral_referenc
     assert!(vs_spectral("spectral", 0) < 0.1 * vs_spectral("three-channel", 0), "gold");
     fs::remove_dir_all(&out).unwrap();
 }
+
+/// A bake into a fresh folder stands on its own: each row names its data file and carries
+/// its (n, k) (three-wavelength and fitted), each set says what R, G, B mean, the colour
+/// matrix is stated, and no table that is not there is referenced.
+#[test]
+fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
+    let out = scratch("standalone");
+    let mut spectral = args(&["3d/metals/gold"], 16);
+    spectral.sources = vec![Source::Spectral, Source::ThreeChannel];
+    spectral.encodings = vec![Encoding::Unorm16];
+    bake::run(&db(), &out, &spectral).unwrap();
+    let luts = out.join("luts");
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
+    let readme = fs::read_to_string(luts.join("README.md")).unwrap();
+    assert_eq!(manifest["tables"], serde_json::json!([]));
+    assert!(!readme.contains("materials.csv") && !manifest.to_string().contains("materials.csv"));
+    let gold = &ingest::ingest(&db(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap().kept[0];
+    for set in manifest["textures"].as_array().unwrap() {
+        let row = &set["rows"][0];
+        assert_eq!(row["page"], "3d/metals/gold");
+        assert_eq!(row["data_file"], gold.page.data.as_str());
+        for c in 0..3 {
+            assert_eq!(row["index_three_channel"][c]["n"].as_f64().unwrap(), gold.material.channels[c].n);
+            assert_eq!(row["index_three_channel"][c]["k"].as_f64().unwrap(), gold.material.channels[c].k);
+            assert!(row["index_fitted"][c]["n"].as_f64().unwrap() > 0.0);
+        }
+        assert_eq!(row["index_three_channel"][1]["wavelength_nm"], 535.0);
+        let meaning = set["color_meaning"].as_str().unwrap();
+        match set["source"].as_str().unwrap() {
+            "spectral" => assert!(meaning.contains("primaries, not wavelengths"), "{meaning}"),
+            _ => assert!(meaning.contains("685 nm"), "{meaning}"),
+        }
+        assert!(set["png_color_chunks"].as_str().unwrap().contains("gAMA 100000"));
+    }
+    // XYZ → linear sRGB as IEC 61966-2-1 prints it (4 decimals; ours is derived from the
+    // primaries and the integrated D65 white).
+    let m = &manifest["color"]["xyz_to_linear_srgb"];
+    for (r, row) in [[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]].iter().enumerate() {
+        for (c, want) in row.iter().enumerate() {
+            assert!((m[r][c].as_f64().unwrap() - want).abs() < 2e-3, "[{r}][{c}]");
+        }
+    }
+    assert!(manifest["sixteen_bit_png"].as_str().unwrap().contains("IMREAD_UNCHANGED"));
+    // With ingest's tables next to luts/, the manifest documents them.
+    ingest::write_tables(&ingest::ingest(&db(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap(), &out).unwrap();
+    bake::run(&db(), &out, &spectral).unwrap();
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["tables"][0]["files"][0], "../materials.csv");
+    fs::remove_dir_all(&out).unwrap();
+}

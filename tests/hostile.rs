@@ -158,7 +158,7 @@ fn channel_wavelengths_reach_every_table() {
     let columns = fs::read_to_string(out.join("colors.columns.json")).unwrap();
     assert!(columns.contains("[650.0, 550.0, 450.0]"), "{columns}");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
-    let nm: Vec<f64> = manifest["channels"].as_array().unwrap().iter().map(|c| c["wavelength_nm"].as_f64().unwrap()).collect();
+    let nm: Vec<f64> = manifest["channel_wavelengths"].as_array().unwrap().iter().map(|c| c["wavelength_nm"].as_f64().unwrap()).collect();
     assert_eq!(nm, [650.0, 550.0, 450.0]);
     // Outside the spectral grid the colours are computed on, the wavelengths are refused.
     assert!(failed(&nklut(db.path(), &out, &["ingest", "--channels", "900,550,450"])).contains("900"));

@@ -1,13 +1,16 @@
-//! Image files in memory: PNG (8/16-bit RGB, through `image`) and OpenEXR (half/float RGB,
-//! through `exr`), and reading them back with the same crates. No colour chunks, no
-//! timestamps: the bytes depend only on the texels.
+//! Image files in memory: PNG (8/16-bit RGB, through `png`) and OpenEXR (half/float RGB,
+//! through `exr`), and reading them back (`image`, `exr`). No timestamps: the bytes depend
+//! only on the texels and the encoding.
+//!
+//! PNG colour chunks (PNG 3rd edition §11.3.2): the sRGB-encoded files carry `sRGB`
+//! (perceptual intent) with the fallback `gAMA` 45455 and `cHRM` of sRGB; the linear files
+//! carry `gAMA` 100000 (gamma 1.0: the samples are linear) and the same `cHRM` (Rec.709
+//! primaries, D65 white), so a loader can tell linear from sRGB-encoded files.
 
 use std::io::Cursor;
 
 use anyhow::{bail, Context, Result};
 use half::f16;
-use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-use image::{ExtendedColorType, ImageEncoder};
 
 use super::texel::{Encoding, Texels};
 
@@ -26,22 +29,48 @@ pub fn encode(encoding: Encoding, width: usize, height: usize, texels: &Texels) 
         bail!("{width}×{height} RGB image needs {} values, got {}", 3 * width * height, texels.len());
     }
     match texels {
-        Texels::U8(v) => png(v, width, height, ExtendedColorType::Rgb8),
-        Texels::U16(v) => png(&v.iter().flat_map(|c| c.to_ne_bytes()).collect::<Vec<u8>>(), width, height, ExtendedColorType::Rgb16),
+        Texels::U8(v) => png(encoding, v, width, height, png::BitDepth::Eight),
+        // PNG stores 16-bit samples big-endian.
+        Texels::U16(v) => png(encoding, &v.iter().flat_map(|c| c.to_be_bytes()).collect::<Vec<u8>>(), width, height, png::BitDepth::Sixteen),
         Texels::F16(v) => exr_rgb(width, height, |i| (v[i], v[i + 1], v[i + 2])),
         Texels::F32(v) => exr_rgb(width, height, |i| (v[i], v[i + 1], v[i + 2])),
     }
     .with_context(|| format!("encoding a {width}×{height} {} image", encoding.name()))
 }
 
-fn png(bytes: &[u8], width: usize, height: usize, color: ExtendedColorType) -> Result<Vec<u8>> {
+/// The PNG colour chunks of an encoding's files, in words (for the manifest).
+pub fn png_color_chunks(encoding: Encoding) -> &'static str {
+    if encoding == Encoding::Unorm8Srgb {
+        "sRGB chunk (perceptual) with gAMA 45455 and cHRM of sRGB: sRGB-encoded samples"
+    } else {
+        "gAMA 100000 (gamma 1.0: linear samples) and cHRM Rec.709/sRGB primaries with D65 white"
+    }
+}
+
+/// The colour chunks of every PNG, in words.
+pub const PNG_CHUNKS_NOTE: &str = "unorm8-srgb PNGs carry an sRGB chunk (with the fallback gAMA 45455 and cHRM of sRGB); unorm8 and unorm16 PNGs carry gAMA 100000 (gamma 1.0, linear samples) and cHRM with the Rec.709/sRGB primaries and D65 white. A colour-managed loader therefore leaves the linear files' values as stored; a loader that ignores chunks must be told which files are linear (encodings[].color_space).";
+
+/// The chromaticities of the cHRM chunk: D65 white, Rec.709 primaries (IEC 61966-2-1).
+fn srgb_chromaticities() -> png::SourceChromaticities {
+    png::SourceChromaticities::new((0.3127, 0.3290), (0.64, 0.33), (0.30, 0.60), (0.15, 0.06))
+}
+
+fn png(encoding: Encoding, bytes: &[u8], width: usize, height: usize, depth: png::BitDepth) -> Result<Vec<u8>> {
     let mut out = Vec::new();
-    PngEncoder::new_with_quality(&mut out, CompressionType::Default, FilterType::Adaptive).write_image(
-        bytes,
-        u32::try_from(width)?,
-        u32::try_from(height)?,
-        color,
-    )?;
+    let mut encoder = png::Encoder::new(&mut out, u32::try_from(width)?, u32::try_from(height)?);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(depth);
+    encoder.set_compression(png::Compression::Balanced);
+    encoder.set_source_chromaticities(srgb_chromaticities());
+    if encoding == Encoding::Unorm8Srgb {
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        encoder.set_source_gamma(png::ScaledFloat::new(0.45455));
+    } else {
+        encoder.set_source_gamma(png::ScaledFloat::new(1.0));
+    }
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(bytes)?;
+    writer.finish()?;
     Ok(out)
 }
 
@@ -108,4 +137,55 @@ fn decode_exr(encoding: Encoding, bytes: &[u8]) -> Result<Decoded> {
         _ => Texels::F32(values),
     };
     Ok(Decoded { width: size.width(), height: size.height(), texels })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The chunks of a PNG file in order: (type, data), read from the bytes by hand.
+    fn chunks(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        let mut chunks = Vec::new();
+        let mut at = 8;
+        while at < bytes.len() {
+            let length = u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+            let kind = String::from_utf8(bytes[at + 4..at + 8].to_vec()).unwrap();
+            chunks.push((kind, bytes[at + 8..at + 8 + length].to_vec()));
+            at += 12 + length;
+        }
+        chunks
+    }
+
+    fn chunk<'a>(chunks: &'a [(String, Vec<u8>)], kind: &str) -> Option<&'a [u8]> {
+        chunks.iter().find(|(k, _)| k == kind).map(|(_, d)| d.as_slice())
+    }
+
+    /// cHRM of sRGB: white, red, green, blue (x, y) × 100000, big-endian u32 each.
+    fn srgb_chrm() -> Vec<u8> {
+        [31270u32, 32900, 64000, 33000, 30000, 60000, 15000, 6000].iter().flat_map(|v| v.to_be_bytes()).collect()
+    }
+
+    #[test]
+    fn png_files_say_whether_they_are_linear_or_srgb() {
+        let texels8 = Texels::U8(vec![0, 128, 255, 10, 20, 30]);
+        let srgb = chunks(&encode(Encoding::Unorm8Srgb, 2, 1, &texels8).unwrap());
+        assert_eq!(chunk(&srgb, "sRGB"), Some(&[0u8][..])); // rendering intent 0 = perceptual
+        assert_eq!(chunk(&srgb, "gAMA"), Some(&45455u32.to_be_bytes()[..]));
+        assert_eq!(chunk(&srgb, "cHRM"), Some(&srgb_chrm()[..]));
+        for (encoding, texels, depth) in [(Encoding::Unorm8, texels8.clone(), 8u8), (Encoding::Unorm16, Texels::U16(vec![0, 1, 65535, 256, 513, 40000]), 16)] {
+            let bytes = encode(encoding, 2, 1, &texels).unwrap();
+            let list = chunks(&bytes);
+            assert_eq!(list[0].0, "IHDR");
+            assert_eq!(list[0].1[8], depth, "{}", encoding.name());
+            assert_eq!(chunk(&list, "sRGB"), None, "{}", encoding.name());
+            assert_eq!(chunk(&list, "gAMA"), Some(&100_000u32.to_be_bytes()[..]), "{}", encoding.name());
+            assert_eq!(chunk(&list, "cHRM"), Some(&srgb_chrm()[..]), "{}", encoding.name());
+            // Colour chunks precede the image data, as PNG requires.
+            let position = |kind: &str| list.iter().position(|(k, _)| k == kind).unwrap();
+            assert!(position("gAMA") < position("IDAT") && position("cHRM") < position("IDAT"));
+            // The samples survive the trip (16-bit big-endian in the file, values as given).
+            assert_eq!(decode(encoding, &bytes).unwrap().texels, texels, "{}", encoding.name());
+        }
+    }
 }

@@ -13,8 +13,12 @@ use super::accuracy::LutError;
 use super::texel::Encoding;
 use super::{Layout, Source};
 
-/// Bumped when a field changes meaning or disappears.
-pub const FORMAT_VERSION: u32 = 1;
+/// Bumped when a field changes meaning or disappears (2: `channels` became
+/// `channel_wavelengths`, per-set `color_meaning`, per-row (n, k) and data file, `color`).
+pub const FORMAT_VERSION: u32 = 2;
+
+/// How to read the 16-bit PNGs without losing bits.
+pub const SIXTEEN_BIT_PNG_NOTE: &str = "unorm16 PNGs store 16 bits per channel, big-endian as PNG requires. Many loaders silently reduce them to 8 bits: Pillow (PIL) opens 16-bit RGB as 8-bit 'RGB', OpenCV's default cv2.imread flag converts to 8 bits. Read them with a 16-bit path, e.g. Python cv2.imread(path, cv2.IMREAD_UNCHANGED) (uint16, channels in B G R order: reverse them), pypng png.Reader(filename=path).asDirect(), or Rust image/png crates (Rgb16); check that the values you get go up to 65535 and divide by 65535.";
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Manifest {
@@ -23,7 +27,13 @@ pub struct Manifest {
     /// N, texels per row (the texture width).
     pub size: usize,
     pub sampling: Sampling,
-    pub channels: Vec<ChannelInfo>,
+    /// The channel wavelengths of the `three-channel` and `effective` sources (the
+    /// `spectral` source's channels are sRGB primaries, see `textures[].color_meaning`).
+    pub channel_wavelengths: Vec<ChannelInfo>,
+    /// The colour science behind the `spectral` source and the colour chunks of the PNGs.
+    pub color: ColorInfo,
+    /// Reading the unorm16 PNGs.
+    pub sixteen_bit_png: String,
     pub row_order: String,
     pub error: ErrorDefinition,
     pub sources: Vec<Described>,
@@ -33,8 +43,72 @@ pub struct Manifest {
     /// Page ids the catalog lists more than once (same data); each is baked once, as the
     /// first entry in catalog order.
     pub duplicate_catalog_pages: Vec<String>,
-    /// The tables next to `luts/` (written by `nklut ingest`), column by column.
+    /// The tables next to `luts/` (written by `nklut ingest`), column by column; only
+    /// those present when the bake ran.
     pub tables: Vec<TableDoc>,
+}
+
+/// The spectral reference colour's definition and the PNG colour tagging.
+#[derive(Clone, Debug, Serialize)]
+pub struct ColorInfo {
+    pub spectral_reference: String,
+    pub observer: String,
+    pub illuminant: String,
+    /// XYZ (Y of the illuminant = 1) → linear sRGB, row-major: RGB = M · XYZ.
+    pub xyz_to_linear_srgb: [[f64; 3]; 3],
+    /// The illuminant's XYZ over the integration grid (Y = 1); M maps it to (1, 1, 1).
+    pub white_xyz: [f64; 3],
+    pub primaries: String,
+    pub png_chunks: String,
+}
+
+/// An (n, k) of one channel.
+#[derive(Clone, Debug, Serialize)]
+pub struct ChannelIndexEntry {
+    pub channel: String,
+    /// The wavelength the index was evaluated at; null for fitted indices (they describe
+    /// a whole channel of the spectral reference, not one wavelength).
+    pub wavelength_nm: Option<f64>,
+    pub n: f64,
+    pub k: f64,
+}
+
+/// One entry per channel; `channels` gives the wavelengths of a three-wavelength index.
+pub fn index_entries(index: &crate::spectrum::ChannelIndex, channels: Option<&Channels>) -> Vec<ChannelIndexEntry> {
+    let wavelengths = channels.map(|c| c.nanometres());
+    CHANNEL_NAMES
+        .iter()
+        .enumerate()
+        .map(|(c, name)| ChannelIndexEntry { channel: name.to_string(), wavelength_nm: wavelengths.map(|w| w[c]), n: index[c].n, k: index[c].k })
+        .collect()
+}
+
+/// What R, G and B of a texture set mean.
+pub fn color_meaning(source: Source, channels: &Channels) -> String {
+    let [r, g, b] = channels.nanometres();
+    match source {
+        Source::ThreeChannel => format!(
+            "R, G, B = exact Fresnel reflectance of the page's (n, k) at the single wavelengths {r} nm, {g} nm, {b} nm (rows[].index_three_channel); not a colorimetric colour"
+        ),
+        Source::Effective => "R, G, B = exact Fresnel reflectance of the per-channel (n, k) fitted to the spectral reference colour (rows[].index_fitted); approximates the linear sRGB colour of the `spectral` source".into(),
+        Source::Spectral => "R, G, B = the spectral reference colour in linear sRGB (Rec.709 primaries, D65 white; color.xyz_to_linear_srgb), integrated over 360-830 nm: the channels are colour primaries, not wavelengths".into(),
+    }
+}
+
+/// The colour science of the spectral source, from the weights the colour module uses.
+pub fn color_info() -> ColorInfo {
+    let weights = color::spectral_weights();
+    ColorInfo {
+        spectral_reference: "RGB(theta) = M . sum over lambda = 360..830 nm (1 nm) of R(theta, lambda) S(lambda) [xbar ybar zbar](lambda) / sum S ybar, R = exact unpolarised Fresnel reflectance of n(lambda) + i k(lambda) (docs/colors.md)"
+            .into(),
+        observer: "CIE 1931 2 degree colour-matching functions, 1 nm".into(),
+        illuminant: "CIE standard illuminant D65 (5 nm table, linearly interpolated to 1 nm)".into(),
+        xyz_to_linear_srgb: weights.xyz_to_rgb,
+        white_xyz: weights.white_xyz,
+        primaries: "IEC 61966-2-1 (sRGB = Rec.709) primaries red (0.64, 0.33), green (0.30, 0.60), blue (0.15, 0.06); M is derived from them and white_xyz, so a perfect reflector maps to (1, 1, 1)"
+            .into(),
+        png_chunks: super::files::PNG_CHUNKS_NOTE.into(),
+    }
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -90,6 +164,10 @@ pub struct TextureSet {
     pub source: String,
     pub encoding: String,
     pub color_space: String,
+    /// What R, G and B hold in this set.
+    pub color_meaning: String,
+    /// The PNG colour chunks of this set's files (null for EXR).
+    pub png_color_chunks: Option<String>,
     /// Texels clamped to [0, 1] over the whole set (0 for float encodings).
     pub clamped_texels: usize,
     pub atlas: Option<ImageFile>,
@@ -121,6 +199,14 @@ pub struct RowEntry {
     pub page: String,
     pub names: Vec<String>,
     pub kind: String,
+    /// The page's data file, relative to the database's data/ folder.
+    pub data_file: String,
+    /// (n, k) at the channel wavelengths: `exact` of it is the three-channel source and
+    /// the reference of `error_vs_exact`.
+    pub index_three_channel: Vec<ChannelIndexEntry>,
+    /// The effective (n, k) per channel (the effective source); null only for rows baked
+    /// through the library API without it.
+    pub index_fitted: Option<Vec<ChannelIndexEntry>>,
     /// This page's strip, relative to the manifest; null without the strip layout.
     pub strip_file: Option<String>,
     /// Texels of this row with a channel clamped to [0, 1].
@@ -207,7 +293,7 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
 pub fn encoding_info(encoding: Encoding) -> EncodingInfo {
     EncodingInfo {
         name: encoding.name().into(),
-        file_format: if encoding.is_float() { "OpenEXR, RGB channels R G B, ZIP16 compression" } else { "PNG, RGB, no colour chunks" }.into(),
+        file_format: if encoding.is_float() { "OpenEXR, RGB channels R G B, ZIP16 compression".into() } else { format!("PNG, RGB; {}", super::files::png_color_chunks(encoding)) },
         bits_per_channel: encoding.bits_per_channel(),
         color_space: encoding.color_space().into(),
         decode: encoding.decode_rule().into(),
@@ -270,9 +356,34 @@ pub fn readme(manifest: &Manifest) -> String {
     line("");
     line("## Channels");
     line("");
-    for c in &manifest.channels {
-        line(&format!("- {} = {} Fresnel reflectance at {} nm", c.image_channel, c.channel, c.wavelength_nm));
+    line("What R, G and B mean depends on the source (manifest `textures[].color_meaning`):");
+    line("");
+    for d in &manifest.sources {
+        if let Some(set) = manifest.textures.iter().find(|t| t.source == d.name) {
+            line(&format!("- `{}`: {}", d.name, set.color_meaning));
+        }
     }
+    line("");
+    line("Each row in the manifest (`textures[].rows[]`) names its page id, data file, the (n, k) at the channel wavelengths (`index_three_channel`) and the fitted per-channel (n, k) (`index_fitted`).");
+    line("");
+    line("## Colour");
+    line("");
+    let c = &manifest.color;
+    line(&format!("- Spectral reference: {}.", c.spectral_reference));
+    line(&format!("- Observer: {}; illuminant: {}.", c.observer, c.illuminant));
+    line(&format!("- {}.", c.primaries));
+    let m = &c.xyz_to_linear_srgb;
+    line("- XYZ -> linear sRGB (RGB = M XYZ, white Y = 1):");
+    line("");
+    line("  ```");
+    for row in m {
+        line(&format!("  {:>20} {:>20} {:>20}", row[0], row[1], row[2]));
+    }
+    line("  ```");
+    line("");
+    line(&format!("- White XYZ: {:?}.", c.white_xyz));
+    line(&format!("- PNG colour chunks: {}", c.png_chunks));
+    line(&format!("- 16-bit PNGs: {}", manifest.sixteen_bit_png));
     line("");
     line("## Sources, encodings, layouts");
     line("");
@@ -303,6 +414,10 @@ pub fn readme(manifest: &Manifest) -> String {
     line(&format!("`error_vs_spectral`: {}.", manifest.error.error_vs_spectral));
     line("");
     line("## Tables (paths relative to this folder)");
+    if manifest.tables.is_empty() {
+        line("");
+        line("None: no `nklut ingest` table was next to this folder when it was baked; the manifest's rows hold each page's (n, k).");
+    }
     for t in &manifest.tables {
         line("");
         line(&format!("### {}", t.files.join(", ")));

@@ -165,8 +165,13 @@ pub struct Row {
     pub page: String,
     pub names: Vec<String>,
     pub kind: Kind,
+    /// The page's data file, relative to database/data/.
+    pub data_file: String,
     /// The three-channel (n, k): `exact` of it is the reference of `error_vs_exact`.
     pub index: ChannelIndex,
+    /// The effective (n, k) fitted per channel to the spectral reference (None: not
+    /// computed, e.g. rows made through the library API).
+    pub fitted: Option<ChannelIndex>,
     /// One curve per source of the plan, in `Plan::sources` order.
     pub curves: Vec<ChannelCurve>,
     /// Per channel, the spectral reference (SPEC §4) at `color::angle_quadrature().cosines`:
@@ -345,6 +350,8 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                 source: plan.sources[source].name().into(),
                 encoding: encoding.name().into(),
                 color_space: encoding.color_space().into(),
+                color_meaning: manifest::color_meaning(plan.sources[source], &plan.channels),
+                png_color_chunks: (!encoding.is_float()).then(|| files::png_color_chunks(encoding).into()),
                 clamped_texels: clamped,
                 atlas: atlas.then(|| manifest::ImageFile {
                     file: format!("{folder}/atlas.{}", encoding.extension()),
@@ -367,6 +374,9 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                         page: row.page.clone(),
                         names: row.names.clone(),
                         kind: row.kind.as_str().into(),
+                        data_file: row.data_file.clone(),
+                        index_three_channel: manifest::index_entries(&row.index, Some(&plan.channels)),
+                        index_fitted: row.fitted.as_ref().map(|f| manifest::index_entries(f, None)),
                         strip_file: strips.then(|| strip_path(&folder, &row.page, encoding)),
                         clamped_texels: cell[s].quantised.clamped,
                         error_vs_exact: cell[s].error.clone(),
@@ -382,7 +392,9 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
         generator: format!("nklut {} bake", env!("CARGO_PKG_VERSION")),
         size: plan.size,
         sampling: manifest::sampling(),
-        channels: manifest::channels(&plan.channels),
+        channel_wavelengths: manifest::channels(&plan.channels),
+        color: manifest::color_info(),
+        sixteen_bit_png: manifest::SIXTEEN_BIT_PNG_NOTE.into(),
         row_order: "catalog order (catalog-nk.yml order of shelves, books and pages) of the kept pages; the atlas row of a \
                     page is its rows[].row"
             .into(),
@@ -458,12 +470,19 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
         .par_iter()
         .map(|page| {
             let reference = PageReference::new(page);
+            let fitted = reference.effective_index(&page.material.channels);
+            let curve = |source: Source| match source {
+                Source::Effective => exact_curve(&fitted, plan.size),
+                _ => reference.curve(source, page, plan.size),
+            };
             Row {
                 page: page.id(),
                 names: page.names.clone(),
                 kind: page.material.kind,
+                data_file: page.page.data.clone(),
                 index: page.material.channels,
-                curves: plan.sources.iter().map(|&s| reference.curve(s, page, plan.size)).collect(),
+                fitted: Some(fitted),
+                curves: plan.sources.iter().map(|&s| curve(s)).collect(),
                 extrapolated_share: Some(reference.extrapolated_share),
                 spectral: Some(reference.at_nodes),
             }
@@ -471,17 +490,24 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
         .collect()
 }
 
-/// The manifest and README as files, tables documented from ingest's own column descriptions.
-fn documents(mut manifest: Manifest, ingest: &Ingest) -> Result<Vec<OutFile>> {
-    manifest.tables = vec![
-        manifest::table_doc(
+/// The manifest and README as files, tables documented from ingest's own column
+/// descriptions — only the table files `exists` finds next to `luts/` (a bake into a fresh
+/// folder has none; the manifest's rows carry each page's (n, k) themselves).
+fn documents(mut manifest: Manifest, ingest: &Ingest, exists: &dyn Fn(&str) -> bool) -> Result<Vec<OutFile>> {
+    let present = |files: &[&'static str]| -> Vec<&'static str> { files.iter().copied().filter(|f| exists(f)).collect() };
+    let materials = present(&["../materials.csv", "../materials.parquet", "../materials.json"]);
+    let excluded = present(&["../excluded.csv"]);
+    if !materials.is_empty() {
+        manifest.tables.push(manifest::table_doc(
             &ingest::materials_table(ingest),
-            &["../materials.csv", "../materials.parquet", "../materials.json"],
-            "page kept by the visible-range filter (SPEC 2), in catalog order",
+            &materials,
+            "page kept by the visible-range filter (SPEC 2), in catalog order (written by `nklut ingest`, possibly for another selection than this bake)",
             Vec::new(),
-        ),
-        manifest::table_doc(&ingest::problems_table(&ingest.excluded), &["../excluded.csv"], "page dropped by the filter", manifest::reason_codes()),
-    ];
+        ));
+    }
+    if !excluded.is_empty() {
+        manifest.tables.push(manifest::table_doc(&ingest::problems_table(&ingest.excluded), &excluded, "page dropped by the filter (written by `nklut ingest`)", manifest::reason_codes()));
+    }
     let mut json = serde_json::to_vec_pretty(&manifest)?;
     json.push(b'\n');
     Ok(vec![
@@ -512,7 +538,8 @@ pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: B
     baked.manifest.duplicate_catalog_pages = duplicates;
     let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
     let mut files = baked.files;
-    files.extend(documents(baked.manifest, &ingest)?);
+    // Table paths are relative to luts/: "../x" is out/x.
+    files.extend(documents(baked.manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file())?);
     let luts = publish::publish(out, &files, before_write)?;
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }
@@ -532,8 +559,8 @@ mod tests {
         let mut bright = exact_curve(&glass, size);
         bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
         vec![
-            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, index: glass, curves: vec![exact_curve(&glass, size)], spectral: None, extrapolated_share: None },
-            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, index: glass, curves: vec![bright], spectral: None, extrapolated_share: None },
+            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, data_file: "x.yml".into(), index: glass, fitted: Some(glass), curves: vec![exact_curve(&glass, size)], spectral: None, extrapolated_share: None },
+            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, data_file: "y.yml".into(), index: glass, fitted: None, curves: vec![bright], spectral: None, extrapolated_share: None },
         ]
     }
 

@@ -1,8 +1,6 @@
 //! `nklut colors`: the per-page colour table `colors.{csv,parquet}`.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -15,7 +13,7 @@ use super::srgb;
 use crate::db::Database;
 use crate::ingest::{self, Config, KeptPage, Selection};
 use crate::output::Table;
-use crate::spectrum::{Channels, Material};
+use crate::spectrum::Channels;
 
 /// Column suffixes of the per-channel columns.
 const SUFFIXES: [&str; 3] = ["r", "g", "b"];
@@ -34,17 +32,7 @@ pub struct Timings {
 /// parallel); `texels` is the LUT size whose texel centres are checked for out-of-gamut
 /// values. Returns one `PageColors` per kept page, in order.
 pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<PageColors> {
-    let mut unique: Vec<Arc<Material>> = Vec::new();
-    let mut slot: HashMap<*const Material, usize> = HashMap::new();
-    let positions: Vec<usize> = kept
-        .iter()
-        .map(|page| {
-            *slot.entry(Arc::as_ptr(&page.material)).or_insert_with(|| {
-                unique.push(page.material.clone());
-                unique.len() - 1
-            })
-        })
-        .collect();
+    let (unique, positions) = ingest::distinct_materials(kept);
     let quadrature = angle_quadrature();
     let cosines = texel_cosines(texels);
 
@@ -79,7 +67,7 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<P
 
 /// `#rrggbb` of a linear-sRGB colour: clamped to [0, 1], sRGB-encoded, 8 bits.
 pub fn hex_swatch(rgb: [f64; 3]) -> String {
-    let [r, g, b] = rgb.map(|v| (srgb::encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8);
+    let [r, g, b] = srgb::srgb8(rgb);
     format!("#{r:02x}{g:02x}{b:02x}")
 }
 

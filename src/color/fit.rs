@@ -53,9 +53,22 @@ pub fn mean_relative_error(index: Index, reference: &[f64], quadrature: &AngleQu
 /// returns a finite n > 0 and k ≥ 0.
 pub fn fit_effective_index(reference: &[f64], start: Index, quadrature: &AngleQuadrature) -> EffectiveIndex {
     let problem = Problem::new(reference, quadrature);
-    let best = starts(start, problem.normal_reference())
-        .into_iter()
-        .map(|guess| problem.minimise(to_parameters(guess)))
+    fit_from(&problem, &starts(start, problem.normal_reference()), start, reference, quadrature)
+}
+
+/// [`fit_effective_index`] from the given first guesses only (for a caller that already
+/// has a good one, e.g. the best index of a one-parameter family); `start` is also the
+/// answer if no guess can be evaluated.
+pub fn fit_effective_index_from(reference: &[f64], guesses: &[Index], quadrature: &AngleQuadrature) -> EffectiveIndex {
+    let problem = Problem::new(reference, quadrature);
+    let guesses: Vec<Index> = guesses.iter().map(|g| sanitise(*g)).collect();
+    fit_from(&problem, &guesses, guesses.first().copied().unwrap_or(Index::new(1.5, 0.0)), reference, quadrature)
+}
+
+fn fit_from(problem: &Problem, guesses: &[Index], start: Index, reference: &[f64], quadrature: &AngleQuadrature) -> EffectiveIndex {
+    let best = guesses
+        .iter()
+        .map(|guess| problem.minimise(to_parameters(*guess)))
         .fold(None, |best: Option<([f64; 2], f64)>, candidate| match best {
             Some(b) if b.1 <= candidate.1 => Some(b),
             _ => Some(candidate),

@@ -6,6 +6,7 @@
 //! For the bake: [`sample_spectrum`] once per page, then [`spectral_curve`] at the texel
 //! centres [`texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
 
+pub mod acescg;
 pub mod cie;
 pub mod command;
 pub mod fit;
@@ -16,7 +17,7 @@ pub mod spectral;
 pub mod srgb;
 
 pub use command::{colors_table, command, compute, hex_swatch};
-pub use fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
+pub use fit::{fit_effective_index, fit_effective_index_from, mean_relative_error, EffectiveIndex};
 pub use lab::{delta_e2000, xyz_to_lab, Lab};
 pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
 pub use quadrature::{angle_quadrature, AngleQuadrature};

@@ -36,11 +36,33 @@ pub fn invert(m: &Matrix3) -> Option<Matrix3> {
 /// IEC 61966-2-1 §5 and SMPTE RP 177). With the white of the spectral integration
 /// itself, a perfect reflector comes out as (1, 1, 1) to rounding (SPEC §4).
 pub fn rgb_to_xyz_matrix(white_xyz: [f64; 3]) -> Matrix3 {
+    primaries_to_xyz_matrix(SRGB_PRIMARIES, white_xyz)
+}
+
+/// RGB → XYZ of any RGB space given its primaries' chromaticities (red, green, blue) and
+/// its white's XYZ: the same derivation as [`rgb_to_xyz_matrix`].
+pub fn primaries_to_xyz_matrix(primaries: [(f64, f64); 3], white_xyz: [f64; 3]) -> Matrix3 {
     let primary = |(x, y): (f64, f64)| [x / y, 1.0, (1.0 - x - y) / y];
-    let [r, g, b] = SRGB_PRIMARIES.map(primary);
-    let primaries: Matrix3 = [[r[0], g[0], b[0]], [r[1], g[1], b[1]], [r[2], g[2], b[2]]];
-    let scale = multiply(&invert(&primaries).expect("sRGB primaries are independent"), white_xyz);
-    [0, 1, 2].map(|row| [0, 1, 2].map(|col| primaries[row][col] * scale[col]))
+    let [r, g, b] = primaries.map(primary);
+    let columns: Matrix3 = [[r[0], g[0], b[0]], [r[1], g[1], b[1]], [r[2], g[2], b[2]]];
+    let scale = multiply(&invert(&columns).expect("the primaries of an RGB space are independent"), white_xyz);
+    [0, 1, 2].map(|row| [0, 1, 2].map(|col| columns[row][col] * scale[col]))
+}
+
+/// The XYZ (Y = 1) of a white given by its chromaticity (x, y).
+pub fn white_from_chromaticity((x, y): (f64, f64)) -> [f64; 3] {
+    [x / y, 1.0, (1.0 - x - y) / y]
+}
+
+/// The product a · b of two 3×3 matrices.
+pub fn matrix_product(a: &Matrix3, b: &Matrix3) -> Matrix3 {
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| (0..3).map(|i| a[r][i] * b[i][c]).sum()))
+}
+
+/// An 8-bit sRGB colour picker value of a linear colour: each channel clamped to [0, 1]
+/// (per channel, so an out-of-gamut colour shifts hue), [`encode`]d, times 255, rounded.
+pub fn srgb8(linear: [f64; 3]) -> [u8; 3] {
+    linear.map(|v| (encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8)
 }
 
 /// The sRGB encoding (transfer function) of a linear value, IEC 61966-2-1:

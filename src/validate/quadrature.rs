@@ -817,73 +817,14 @@ const PEAKS_REFINED: usize = 3;
 /// to 1e-9 relative in θ, which puts a smooth maximum at f64 precision in about ten
 /// evaluations. Every point seen counts for every member and both precisions.
 fn refine_maximum<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F, M>, member: usize, peak: &Peak) {
-    const GOLDEN: f64 = 0.381_966_011_250_105_1;
     const TOLERANCE: f64 = 1e-9;
     let mut out = vec![Sample::default(); state.members];
-    // Minimise −|d|.
-    let mut f = |state: &mut Adaptive<'_, F, M>, theta: f64| {
+    // Minimise −|d|; the state records every evaluation.
+    let f = |theta: f64| {
         state.eval_into(theta, &mut out);
         -out[member].difference(0).abs()
     };
-    let (mut a, mut b) = (peak.lo, peak.hi);
-    let (mut x, mut fx) = (peak.theta, -peak.value);
-    let (mut w, mut fw, mut v, mut fv) = (x, fx, x, fx);
-    let (mut step, mut previous_step) = (0.0f64, 0.0f64);
-    for _ in 0..40 {
-        let middle = 0.5 * (a + b);
-        let tol1 = TOLERANCE * x.abs() + 1e-15;
-        let tol2 = 2.0 * tol1;
-        if (x - middle).abs() <= tol2 - 0.5 * (b - a) {
-            break;
-        }
-        let mut golden = true;
-        if previous_step.abs() > tol1 {
-            // Parabola through x, w, v.
-            let r = (x - w) * (fx - fv);
-            let mut q = (x - v) * (fx - fw);
-            let mut p = (x - v) * q - (x - w) * r;
-            q = 2.0 * (q - r);
-            if q > 0.0 {
-                p = -p;
-            }
-            q = q.abs();
-            let older = previous_step;
-            previous_step = step;
-            if !(p.abs() >= (0.5 * q * older).abs() || p <= q * (a - x) || p >= q * (b - x)) {
-                step = p / q;
-                let u = x + step;
-                if u - a < tol2 || b - u < tol2 {
-                    step = tol1.copysign(middle - x);
-                }
-                golden = false;
-            }
-        }
-        if golden {
-            previous_step = if x >= middle { a - x } else { b - x };
-            step = GOLDEN * previous_step;
-        }
-        let u = if step.abs() >= tol1 { x + step } else { x + tol1.copysign(step) };
-        let fu = f(state, u);
-        if fu <= fx {
-            if u >= x {
-                a = x;
-            } else {
-                b = x;
-            }
-            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
-        } else {
-            if u < x {
-                a = u;
-            } else {
-                b = u;
-            }
-            if fu <= fw || w == x {
-                (v, fv, w, fw) = (w, fw, u, fu);
-            } else if fu <= fv || v == x || v == w {
-                (v, fv) = (u, fu);
-            }
-        }
-    }
+    crate::minimise::brent(f, (peak.lo, peak.hi), (peak.theta, -peak.value), |x| TOLERANCE * x.abs() + 1e-15, 40);
 }
 
 #[cfg(test)]
