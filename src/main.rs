@@ -156,7 +156,7 @@ mod gpu_cli {
     use nklut::cli::Paths;
     use nklut::db::Database;
     use nklut::gpu;
-    use nklut::scene::{Measurement, Scene};
+    use nklut::scene::{Experiment, Scene};
 
     #[derive(Args, Clone, Debug)]
     pub struct AdapterArg {
@@ -238,7 +238,7 @@ mod gpu_cli {
             GpuCommand::Run { scene, adapter } => (Scene::load(&scene)?, adapter),
             GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter } => {
                 let mut scene = Scene::load(&scene)?;
-                scene.measurements = vec![Measurement::Timing];
+                scene.experiments = vec![Experiment::Timing];
                 scene.timing.subtract |= subtract;
                 scene.timing.repeats = repeats.unwrap_or(scene.timing.repeats).max(1);
                 scene.timing.warmup = warmup.unwrap_or(scene.timing.warmup);
@@ -247,14 +247,14 @@ mod gpu_cli {
             }
             GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter } => {
                 let mut scene = Scene::load(&scene)?;
-                scene.measurements = vec![Measurement::ImageError];
+                scene.experiments = vec![Experiment::ImageError];
                 scene.camera.frames = frames.unwrap_or(scene.camera.frames).max(1);
                 scene.camera.degrees_per_frame = degrees_per_frame.unwrap_or(scene.camera.degrees_per_frame);
                 scene.resolution = resolution.unwrap_or(scene.resolution);
                 (scene, adapter)
             }
         };
-        scene.measurements.dedup();
+        scene.experiments.dedup();
         let db = Database::open(paths.db.as_deref())?;
         let device = gpu::open(adapter.adapter.as_deref())?;
         eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });

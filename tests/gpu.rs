@@ -14,7 +14,7 @@ use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
-use nklut::scene::{Method, Scene};
+use nklut::scene::{Scene, Shading};
 use nklut::spectrum::{ChannelIndex, Index, Kind};
 
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
@@ -79,7 +79,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
         let stored = lut::texels(&prepared, LUT_SIZE);
         let view = lut::upload(&gpu, &stored, name).create_view(&Default::default());
         let binding = renderer.bind(&gpu, &uniform, Some(&view));
-        for method in Method::ALL {
+        for method in Shading::ALL {
             let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
             let mut max_error = 0.0f32;
             for x in 0..RAMP_WIDTH {
@@ -88,13 +88,13 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     let shader = pixels[x as usize * 4 + channel];
                     assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
                     let (expected, tolerance) = match method {
-                        Method::Lut => {
+                        Shading::Lut => {
                             let (model, a, b) = lut_model(&stored, channel, c);
                             // One half-float step, plus the sub-texel weight precision a GPU may
                             // use (8 bits on current hardware; a CPU rasteriser uses floats).
                             (model, half_step(a.max(b)) + (b - a).abs() / 256.0)
                         }
-                        Method::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
+                        Shading::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
                         _ => (uniform.evaluate_f32(method, channel, c).unwrap(), 1e-5),
                     };
                     let error = (shader - expected).abs();
@@ -106,7 +106,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
         }
     }
     eprintln!("largest |shader − cpu| per material and method:\n  {}", worst.join("\n  "));
-    assert_eq!(renderer.created.shader_modules, Method::ALL.len(), "one module per method, shared by all materials");
+    assert_eq!(renderer.created.shader_modules, Shading::ALL.len(), "one module per method, shared by all materials");
 }
 
 #[test]
@@ -116,7 +116,7 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Method::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Shading::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -149,9 +149,9 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     );
     let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
-    let row = |object: &str, method: Method| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
+    let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
-        let exact = row(object, Method::Exact);
+        let exact = row(object, Shading::Exact);
         assert_eq!(exact.frames, 4);
         assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
         assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
@@ -165,7 +165,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     // magnitude (a factor 10 either way), and must not be zero.
     let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
     for object in ["sphere", "cube"] {
-        let image_error = row(object, Method::Schlick).mean_rel_error;
+        let image_error = row(object, Shading::Schlick).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
         assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
@@ -209,7 +209,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Method::Lut, 3));
+    assert_eq!((row.method, row.repeats), (Shading::Lut, 3));
     assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
@@ -226,7 +226,7 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Method::Exact).unwrap();
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Exact).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);

@@ -4,15 +4,16 @@
 //! `camera`, `image_error`, `timing` statistics) take plain data; device I/O is in
 //! `context`, `render`, `lut::upload` and `runner`.
 
-pub mod camera;
 pub mod context;
 pub mod image_error;
 pub mod lut;
-pub mod mesh;
 pub mod params;
 pub mod render;
 pub mod runner;
 pub mod timing;
+
+// Meshes and the camera path are pure scene data (`scene`), shared with the CPU tracers.
+pub use crate::scene::{camera, mesh};
 
 pub use context::{adapters, open, AdapterLine, Gpu};
 pub use runner::{run, run_with_materials, RunReport, RunStats};

@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::Gpu;
 use super::params::MaterialUniform;
-use crate::scene::Method;
+use crate::scene::Shading;
 
 /// The shader library every pipeline is composed from.
 pub const LIBRARY: &str = include_str!("../../shaders/fresnel.wgsl");
@@ -23,7 +23,7 @@ pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// What `shade(c)` returns in a composed pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shade {
-    Method(Method),
+    Method(Shading),
     /// The expensive shader of the `--subtract` timing.
     Burner,
 }
@@ -357,7 +357,7 @@ pub fn readback_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
 
 /// Render the cosθ ramp of `method` (c = (x + ½)/width in every row) for `material` into
 /// an RGBA32Float target and read it back: the shader's F as the tests compare it.
-pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Method, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
+pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
     let target = Target::new(gpu, width, height, FLOAT_TARGET, false);
     gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
     let pipeline = renderer.pipeline(gpu, Shade::Method(method), Pass::Fullscreen(FLOAT_TARGET))?.clone();
@@ -380,7 +380,7 @@ mod tests {
 
     #[test]
     fn library_has_one_function_per_method_and_pipelines_add_one_line() {
-        for method in Method::ALL {
+        for method in Shading::ALL {
             let signature = format!("fn method_{}(c: f32) -> vec3<f32>", method.name());
             assert_eq!(LIBRARY.matches(&signature).count(), 1, "{signature}");
             let composed = compose(Shade::Method(method));
