@@ -57,6 +57,17 @@ enum Command {
         #[command(subcommand)]
         command: gpu_cli::GpuCommand,
     },
+    /// Multiple reflections and refractions of a scene with `effects`, on the CPU: the f64
+    /// reference and the distance-map twin with each method → effects_errors.*.
+    Effects {
+        scene: std::path::PathBuf,
+        /// Camera frames to render (default: the scene's).
+        #[arg(long)]
+        frames: Option<u32>,
+        /// Frame size WxH (default: the scene's resolution).
+        #[arg(long, value_parser = parse_resolution)]
+        resolution: Option<[u32; 2]>,
+    },
     /// Spectral reference colours, index-approximation errors and effective channel
     /// indices per page; write colors.{csv,parquet}.
     Colors {
@@ -68,6 +79,18 @@ enum Command {
         #[arg(long, default_value_t = 256)]
         texels: usize,
     },
+}
+
+/// `WIDTHxHEIGHT`, e.g. `1920x1080`.
+fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = text.split(['x', 'X']).collect();
+    match parts.as_slice() {
+        [w, h] => match (w.trim().parse::<u32>(), h.trim().parse::<u32>()) {
+            (Ok(w), Ok(h)) if w > 0 && h > 0 => Ok([w, h]),
+            _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+        },
+        _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+    }
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -127,6 +150,21 @@ fn run(cli: Cli) -> Result<()> {
         }
         #[cfg(feature = "gpu")]
         Command::Gpu { .. } => unreachable!("handled before the database is opened"),
+        Command::Effects { scene, frames, resolution } => {
+            let scene = nklut::scene::Scene::load(&scene)?;
+            let materials = nklut::effects::experiment::scene_materials(&scene, &db, &Default::default())?;
+            let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
+            let mut settings = nklut::effects::experiment::Settings::of(&scene);
+            settings.frames = frames.unwrap_or(settings.frames).max(1);
+            settings.resolution = resolution.unwrap_or(settings.resolution);
+            let rows = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
+            if rows.is_empty() {
+                anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
+            }
+            for path in nklut::effects::experiment::error_table(&rows).write(&cli.paths.out, "effects_errors", false)? {
+                eprintln!("  wrote {}", path.display());
+            }
+        }
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.channels, &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());
@@ -151,6 +189,7 @@ mod gpu_cli {
     use std::path::PathBuf;
 
     use anyhow::{bail, Result};
+    use super::parse_resolution;
     use clap::{Args, Subcommand};
 
     use nklut::cli::Paths;
@@ -212,16 +251,6 @@ mod gpu_cli {
         },
     }
 
-    fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
-        let parts: Vec<&str> = text.split(['x', 'X']).collect();
-        match parts.as_slice() {
-            [w, h] => match (w.trim().parse::<u32>(), h.trim().parse::<u32>()) {
-                (Ok(w), Ok(h)) if w > 0 && h > 0 => Ok([w, h]),
-                _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
-            },
-            _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
-        }
-    }
 
     pub fn run(command: GpuCommand, paths: &Paths) -> Result<()> {
         let (mut scene, adapter) = match command {

@@ -1,5 +1,6 @@
 //! The image error of an effects frame against a reference frame, over the pixels where the
-//! reference shows a specular object (elsewhere both show the same diffuse colour): the
+//! reference shows a given specular object, or any (elsewhere both show the same diffuse
+//! colour): the
 //! relative error |a − r|/r per pixel and channel of the image-error measurement
 //! (docs/precision.md; r = 0 skipped and counted), the mean absolute error, and the mean
 //! CIEDE2000 difference of the colours (linear sRGB → XYZ → CIELAB, D65 white).
@@ -25,14 +26,24 @@ pub struct FrameError {
     pub mean_delta_e2000: f64,
 }
 
-/// Compare `frame` with `reference` (same size) over the reference's specular pixels.
+/// Compare `frame` with `reference` (same size) over the pixels where the reference shows
+/// any specular object.
 pub fn compare(frame: &Frame, reference: &Frame) -> FrameError {
+    compare_where(frame, reference, |seen| seen.is_some())
+}
+
+/// Compare over the pixels where the reference shows specular object `object`.
+pub fn compare_object(frame: &Frame, reference: &Frame, object: usize) -> FrameError {
+    compare_where(frame, reference, |seen| seen == Some(object))
+}
+
+fn compare_where(frame: &Frame, reference: &Frame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
     let to_xyz = rgb_to_xyz_matrix(D65_WHITE);
     let lab = |rgb: [f64; 3]| xyz_to_lab(multiply(&to_xyz, rgb), D65_WHITE);
     let mut error = FrameError::default();
     let (mut relative_sum, mut relative_count, mut absolute_sum, mut delta_e_sum) = (0.0, 0usize, 0.0, 0.0);
-    for ((a, r), specular) in frame.radiance.iter().zip(&reference.radiance).zip(&reference.specular) {
-        if !specular {
+    for ((a, r), seen) in frame.radiance.iter().zip(&reference.radiance).zip(&reference.seen) {
+        if !counted(*seen) {
             continue;
         }
         error.pixels += 1;
@@ -62,14 +73,15 @@ pub fn compare(frame: &Frame, reference: &Frame) -> FrameError {
 mod tests {
     use super::*;
 
-    fn frame(radiance: Vec<[f64; 3]>, specular: Vec<bool>) -> Frame {
-        Frame { width: radiance.len() as u32, height: 1, radiance, specular, rays: 0 }
+    fn frame(radiance: Vec<[f64; 3]>, seen: Vec<Option<usize>>) -> Frame {
+        Frame { width: radiance.len() as u32, height: 1, radiance, seen, rays: 0 }
     }
 
     #[test]
     fn errors_count_only_specular_pixels_and_skip_zero_references() {
-        let reference = frame(vec![[0.5, 0.0, 0.25], [1.0, 1.0, 1.0], [0.2, 0.2, 0.2]], vec![true, true, false]);
-        let rendered = frame(vec![[0.55, 0.1, 0.25], [1.0, 1.0, 1.0], [0.9, 0.9, 0.9]], vec![true, true, false]);
+        let seen = vec![Some(0), Some(1), None];
+        let reference = frame(vec![[0.5, 0.0, 0.25], [1.0, 1.0, 1.0], [0.2, 0.2, 0.2]], seen.clone());
+        let rendered = frame(vec![[0.55, 0.1, 0.25], [1.0, 1.0, 1.0], [0.9, 0.9, 0.9]], seen);
         let e = compare(&rendered, &reference);
         assert_eq!((e.pixels, e.skipped_zero_reference), (2, 1));
         // Relative: 0.05/0.5 = 0.1, then 0, 0, 0, 0 over five channels.
@@ -77,5 +89,7 @@ mod tests {
         assert!((e.mean_absolute - 0.15 / 6.0).abs() < 1e-15 && (e.max_absolute - 0.1).abs() < 1e-15);
         assert!(e.mean_delta_e2000 > 0.0);
         assert_eq!(compare(&reference, &reference).mean_delta_e2000, 0.0);
+        let second = compare_object(&rendered, &reference, 1);
+        assert_eq!((second.pixels, second.mean_absolute, second.mean_relative), (1, 0.0, 0.0));
     }
 }

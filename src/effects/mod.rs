@@ -10,10 +10,13 @@
 //!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
 //!   split an image's error into geometry (the map) and Fresnel (the method).
 //! - [`image_error`]: a frame against its reference.
+//! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
+//!   per object, method, depth and search steps) and its `effects_errors` table.
 //!
 //! Pure computation on plain data; scene files come in through `crate::scene`.
 
 pub mod distance_map;
+pub mod experiment;
 pub mod geometry;
 pub mod image_error;
 pub mod optics;

@@ -4,9 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::distance_map::{DistanceMap, DistanceMapTracer};
+use super::distance_map::DistanceMap;
+use super::experiment::{distance_maps, twin_frame};
 use super::image_error::{compare, FrameError};
-use super::trace::{reference, render, stage_from_table, Camera, Frame, PathRules, SpecularMaterial, Stage};
+use super::trace::{reference, stage_from_table, Camera, Frame, SpecularMaterial, Stage};
 use crate::fresnel::{exact, LutSpec, Method};
 use crate::scene::{Depths, Scene, SearchSteps};
 use crate::spectrum::{Index, Kind};
@@ -44,7 +45,7 @@ const ALBEDO: [f64; 3] = [0.5, 0.6, 0.7];
 fn centre_pixel(scene: &Scene, stage: &Stage, depths: Depths) -> [f64; 3] {
     let camera = Camera::new(&scene.camera, 0, 9, 9);
     let frame = reference(stage, &camera, depths, LutSpec::default());
-    assert!(frame.specular[40]);
+    assert_eq!(frame.seen[40], Some(0));
     frame.radiance[40]
 }
 
@@ -91,13 +92,11 @@ fn a_glass_sphere_at_depth_two_shows_the_hand_derived_sum_of_its_paths() {
 const RAMP_ROOM: &str = "measurements: [image_error]\ncamera: {axis: [0, 1, 0], distance: 1.6, fov_y_degrees: 40}\neffects: {reflection: {max_depth: 1}}\nlight: {direction: [-0.3, -1, -0.5], colour: [0.7, 0.7, 0.7], ambient: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: test/metals/silver, method: exact}\n  - {mesh: room, scale: 3, diffuse: [0.1, 0.1, 0.1], pattern: {kind: gradient, axis: [0.2222222222222222, 0.1111111111111111, 0], albedo: [0.9, 0.9, 0.9]}}\n";
 
 fn twin(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps) -> Frame {
-    let optics = stage.optics(method, LutSpec::default());
-    let tracers: Vec<Option<DistanceMapTracer>> = maps.iter().map(|m| m.as_ref().map(|map| DistanceMapTracer { map, steps })).collect();
-    render(stage, camera, PathRules { optics: &optics, depths }, |object| tracers[object].as_ref().expect("a specular object has a map"))
+    twin_frame(stage, camera, maps, method, depths, steps, LutSpec::default())
 }
 
 fn maps(stage: &Stage, size: u32, layers: u32) -> Vec<Option<DistanceMap>> {
-    (0..stage.objects.len()).map(|o| stage.is_specular(o).then(|| DistanceMap::render(stage, o, size, layers))).collect()
+    distance_maps(stage, size, layers)
 }
 
 #[test]

@@ -190,14 +190,15 @@ impl Camera {
     }
 }
 
-/// A rendered frame: linear RGB radiance per pixel (row-major, top row first), which
-/// pixels show a specular object (where the effect is), and the rays it took.
+/// A rendered frame: linear RGB radiance per pixel (row-major, top row first), the
+/// specular object each pixel shows (where the effect is; `None`: a diffuse surface or
+/// nothing), and the rays it took.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     pub width: u32,
     pub height: u32,
     pub radiance: Vec<[f64; 3]>,
-    pub specular: Vec<bool>,
+    pub seen: Vec<Option<usize>>,
     pub rays: u64,
 }
 
@@ -207,33 +208,33 @@ pub fn render<'t, F>(stage: &Stage, camera: &Camera, rules: PathRules, tracer_fo
 where
     F: Sync + Fn(usize) -> &'t dyn Tracer,
 {
-    let rows: Vec<(Vec<[f64; 3]>, Vec<bool>, u64)> = (0..camera.height)
+    let rows: Vec<Frame> = (0..camera.height)
         .into_par_iter()
         .map(|y| {
             let mut rays = 0;
             let mut radiance_row = Vec::with_capacity(camera.width as usize);
-            let mut specular_row = Vec::with_capacity(camera.width as usize);
+            let mut seen_row = Vec::with_capacity(camera.width as usize);
             for x in 0..camera.width {
                 let direction = camera.ray(x, y);
                 rays += 1;
-                let (value, specular) = match stage.nearest(camera.eye, direction, None) {
-                    None => ([0.0; 3], false),
+                let (value, seen) = match stage.nearest(camera.eye, direction, None) {
+                    None => ([0.0; 3], None),
                     Some(hit) => match hit.surface {
-                        Surface::Diffuse(radiance) => (radiance, false),
-                        Surface::Specular(object) => (radiance(rules, tracer_for(object), &hit, direction, 0, &mut rays), true),
+                        Surface::Diffuse(radiance) => (radiance, None),
+                        Surface::Specular(object) => (radiance(rules, tracer_for(object), &hit, direction, 0, &mut rays), Some(object)),
                     },
                 };
                 radiance_row.push(value);
-                specular_row.push(specular);
+                seen_row.push(seen);
             }
-            (radiance_row, specular_row, rays)
+            Frame { width: camera.width, height: 1, radiance: radiance_row, seen: seen_row, rays }
         })
         .collect();
-    let mut frame = Frame { width: camera.width, height: camera.height, radiance: Vec::new(), specular: Vec::new(), rays: 0 };
-    for (radiance_row, specular_row, rays) in rows {
-        frame.radiance.extend(radiance_row);
-        frame.specular.extend(specular_row);
-        frame.rays += rays;
+    let mut frame = Frame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
+    for row in rows {
+        frame.radiance.extend(row.radiance);
+        frame.seen.extend(row.seen);
+        frame.rays += row.rays;
     }
     frame
 }

@@ -152,6 +152,9 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
         });
         bound.insert(page.clone(), SceneMaterial { kind: *kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
+    if scene.effects.is_some() {
+        stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
+    }
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
     }
