@@ -72,7 +72,10 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
     let mut renderer = Renderer::new(&gpu);
     const LUT_SIZE: usize = 32;
     let mut worst = Vec::new();
-    for (name, channels) in [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED)] {
+    // The same pure functions evaluate a ray from inside: the parameters of conj(1/η).
+    let inside = |channels: ChannelIndex| channels.map(nklut::effects::optics::inside_index);
+    let materials = [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED), ("water inside", inside(WATER)), ("diamond inside", inside(DIAMOND))];
+    for (name, channels) in materials {
         let prepared = params::prepare(&channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
         // Already half floats: what the texture stores.
@@ -99,6 +102,12 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     };
                     let error = (shader - expected).abs();
                     assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
+                    // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
+                    // exact F is 1 (to an f32 rounding).
+                    let Index { n, k } = channels[channel];
+                    if method == Shading::Exact && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
+                        assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
+                    }
                     max_error = max_error.max(error);
                 }
             }

@@ -29,10 +29,14 @@ pub enum Shade {
 }
 
 impl Shade {
-    fn function(self) -> String {
+    /// The call of the library's pure function on the pipeline's bindings: the material's
+    /// parameters, or its LUT texture and sampler.
+    fn call(self) -> String {
         match self {
-            Shade::Method(method) => format!("method_{}", method.name()),
-            Shade::Burner => "method_burner".into(),
+            Shade::Method(Shading::Lut) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
+            Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
+            Shade::Method(method) => format!("fresnel_{}(c, material)", method.name()),
+            Shade::Burner => "fresnel_burner(c)".into(),
         }
     }
 
@@ -46,7 +50,7 @@ impl Shade {
 
 /// The library plus the one generated line that picks the method.
 pub fn compose(shade: Shade) -> String {
-    format!("{LIBRARY}\nfn shade(c: f32) -> vec3<f32> {{ return {}(c); }}\n", shade.function())
+    format!("{LIBRARY}\nfn shade(c: f32) -> vec3<f32> {{ return {}; }}\n", shade.call())
 }
 
 /// Which entry points and target a pipeline draws with.
@@ -378,14 +382,27 @@ pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &Bindi
 mod tests {
     use super::*;
 
+    /// The body of library function `name`, from its `fn` to the closing brace at column 0.
+    fn body(name: &str) -> &'static str {
+        let start = LIBRARY.find(&format!("fn {name}(")).unwrap_or_else(|| panic!("no fn {name}"));
+        let end = start + LIBRARY[start..].find("\n}\n").expect("a closing brace");
+        &LIBRARY[start..end]
+    }
+
     #[test]
-    fn library_has_one_function_per_method_and_pipelines_add_one_line() {
+    fn library_has_one_pure_function_per_method_and_pipelines_add_one_line() {
         for method in Shading::ALL {
-            let signature = format!("fn method_{}(c: f32) -> vec3<f32>", method.name());
-            assert_eq!(LIBRARY.matches(&signature).count(), 1, "{signature}");
+            let name = format!("fresnel_{}", method.name());
+            assert_eq!(LIBRARY.matches(&format!("fn {name}(")).count(), 1, "{name}");
+            // Pure: its parameters come in as arguments, never from the bindings.
+            let text = body(&name);
+            for global in ["material", "view", "lut_texture", "lut_sampler"] {
+                assert!(!text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global), "{name} reads the global {global}");
+            }
             let composed = compose(Shade::Method(method));
             assert!(composed.starts_with(LIBRARY));
-            assert_eq!(composed[LIBRARY.len()..].trim(), format!("fn shade(c: f32) -> vec3<f32> {{ return method_{}(c); }}", method.name()));
+            let line = composed[LIBRARY.len()..].trim().to_string();
+            assert!(line.starts_with("fn shade(c: f32) -> vec3<f32> { return fresnel_") && line.ends_with("; }"), "{line}");
         }
         assert!(!LIBRARY.contains("\nfn shade("), "the library leaves shade() to the composition");
     }
