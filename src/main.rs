@@ -157,13 +157,15 @@ fn run(cli: Cli) -> Result<()> {
             let mut settings = nklut::effects::experiment::Settings::of(&scene);
             settings.frames = frames.unwrap_or(settings.frames).max(1);
             settings.resolution = resolution.unwrap_or(settings.resolution);
-            let rows = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
-            if rows.is_empty() {
+            let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
+            if report.rows.is_empty() {
                 anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
             }
-            for path in nklut::effects::experiment::error_table(&rows).write(&cli.paths.out, "effects_errors", false)? {
+            for path in nklut::effects::experiment::error_table(&report.rows).write(&cli.paths.out, "effects_errors", false)? {
                 eprintln!("  wrote {}", path.display());
             }
+            let frames = nklut::effects::pictures::write(&cli.paths.out.join("effects_frames"), &report.pictures)?;
+            eprintln!("  wrote {} frames under {}", frames.len(), cli.paths.out.join("effects_frames").display());
         }
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.channels, &cli.paths.out, texels)? {

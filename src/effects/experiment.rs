@@ -15,6 +15,7 @@ use anyhow::{anyhow, Result};
 
 use super::distance_map::{DistanceMap, DistanceMapTracer};
 use super::image_error::{compare_object, FrameError};
+use super::pictures::Picture;
 use super::trace::{reference, render, Camera, Frame, PathRules, SpecularMaterial, Stage};
 use crate::db::Database;
 use crate::fresnel::{Encoding, LutSpec, Method};
@@ -120,24 +121,42 @@ pub fn distance_maps(stage: &Stage, size: u32, layers: u32) -> Vec<Option<Distan
     (0..stage.objects.len()).map(|o| stage.is_specular(o).then(|| DistanceMap::render(stage, o, size, layers))).collect()
 }
 
+/// What the experiment measured: the table's rows, and frames to look at (camera frame 0 of
+/// every depth configuration at the last search configuration: the reference, the twin with
+/// each method, and each twin's error against the reference).
+#[derive(Clone, Debug, Default)]
+pub struct EffectsReport {
+    pub rows: Vec<ErrorRow>,
+    pub pictures: Vec<Picture>,
+}
+
 /// Run the experiment; `log` receives progress lines. A scene without effects has no rows.
-pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut dyn FnMut(&str)) -> Vec<ErrorRow> {
-    let Some(effects) = &scene.effects else { return Vec::new() };
+pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut dyn FnMut(&str)) -> EffectsReport {
+    let mut report = EffectsReport::default();
+    let Some(effects) = &scene.effects else { return report };
     let maps_settings = &effects.distance_maps;
     let maps = distance_maps(stage, maps_settings.size, maps_settings.layers);
     log(&format!("effects: {} distance maps of 6×{}² texels × {} layers", maps.iter().flatten().count(), maps_settings.size, maps_settings.layers));
     let methods: Vec<Method> = Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect();
     let [width, height] = settings.resolution;
-    let mut rows = Vec::new();
+    let last_steps = maps_settings.steps.last().copied();
     for depths in effects.depths() {
         for &steps in &maps_settings.steps {
+            let shown = |frame: u32| frame == 0 && Some(steps) == last_steps;
+            let stem = |name: &str| format!("depth{}-{}_steps{}-{}_{name}", depths.reflection, depths.refraction, steps.linear, steps.secant);
             let mut sums: Vec<(usize, Method, ErrorSum, ErrorSum, ErrorSum)> = Vec::new();
             for frame in 0..settings.frames {
                 let camera = Camera::new(&scene.camera, frame, width, height);
                 let truth = reference(stage, &camera, depths, settings.lut);
                 let exact_twin = twin_frame(stage, &camera, &maps, Method::Exact, depths, steps, settings.lut);
+                if shown(frame) {
+                    report.pictures.push(Picture { stem: stem("reference"), frame: truth.clone(), reference: None });
+                }
                 for &method in &methods {
                     let with_method = if method == Method::Exact { exact_twin.clone() } else { twin_frame(stage, &camera, &maps, method, depths, steps, settings.lut) };
+                    if shown(frame) {
+                        report.pictures.push(Picture { stem: stem(method.name()), frame: with_method.clone(), reference: Some(truth.clone()) });
+                    }
                     for (object, specular) in scene.objects.iter().enumerate().filter_map(|(i, o)| match &o.role {
                         Role::Specular(s) => Some((i, s)),
                         Role::Diffuse(_) => None,
@@ -173,7 +192,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                     fresnel.mean_delta_e2000(),
                     total.mean_delta_e2000()
                 ));
-                rows.push(ErrorRow {
+                report.rows.push(ErrorRow {
                     object: scene_object.mesh.label(),
                     material,
                     method,
@@ -190,7 +209,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
             }
         }
     }
-    rows
+    report
 }
 
 /// `effects_errors.*`: one row per (object, material, method, depths, search steps).

@@ -10,6 +10,7 @@
 //!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
 //!   split an image's error into geometry (the map) and Fresnel (the method).
 //! - [`image_error`]: a frame against its reference.
+//! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
 //!
@@ -20,6 +21,7 @@ pub mod experiment;
 pub mod geometry;
 pub mod image_error;
 pub mod optics;
+pub mod pictures;
 pub mod trace;
 
 #[cfg(test)]

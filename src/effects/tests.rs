@@ -121,6 +121,7 @@ fn a_mirror_sphere_at_depth_one_matches_the_reference_to_a_texel() {
         assert!(error.mean_absolute < bound, "size {size}: mean {:.3e} over the bound {bound:.3e}", error.mean_absolute);
         errors.push(error.mean_absolute);
     }
+    eprintln!("mirror sphere, depth 1, mean |Δ| at 16² and 64² texels: {errors:?}");
     assert!(errors[1] < errors[0] / 2.0, "four times the texels: {errors:?}");
 }
 
