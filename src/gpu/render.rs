@@ -277,8 +277,28 @@ pub fn padded_row_bytes(width: u32, bytes_per_pixel: u32) -> u32 {
     unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
 }
 
+/// A `width`×`height` 2D texture must fit the device's `max_texture_dimension_2d`; checked
+/// before anything is allocated, so an oversized scene is an error and not a device panic.
+pub fn check_texture_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > limit || height > limit {
+        bail!("a {width}x{height} render target exceeds this device's max_texture_dimension_2d ({limit}); lower the resolution");
+    }
+    Ok(())
+}
+
+/// A buffer of `size` bytes must fit the device's `max_buffer_size`.
+pub fn check_buffer_size(gpu: &Gpu, size: u64, what: &str) -> Result<()> {
+    let limit = gpu.device.limits().max_buffer_size;
+    if size > limit {
+        bail!("the {what} needs a {size}-byte buffer, over this device's max_buffer_size ({limit}); lower the resolution or name fewer methods per object");
+    }
+    Ok(())
+}
+
 impl Target {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, depth: bool) -> Self {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, depth: bool) -> Result<Self> {
+        check_texture_size(gpu, width, height)?;
         let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
         let texture = |format, usage, label| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -295,7 +315,7 @@ impl Target {
         let colour = texture(format, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC, "colour");
         let colour_view = colour.create_view(&Default::default());
         let depth_view = depth.then(|| texture(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT, "depth").create_view(&Default::default()));
-        Target { width, height, colour, colour_view, depth_view }
+        Ok(Target { width, height, colour, colour_view, depth_view })
     }
 
     /// Size of one RGBA32Float readback of this target.
@@ -350,22 +370,23 @@ impl Target {
 }
 
 /// A buffer the CPU can read back, `size` bytes.
-pub fn readback_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
-    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+pub fn readback_buffer(gpu: &Gpu, size: u64) -> Result<wgpu::Buffer> {
+    check_buffer_size(gpu, size, "readback")?;
+    Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
-    })
+    }))
 }
 
 /// Render the cosθ ramp of `method` (c = (x + ½)/width in every row) for `material` into
 /// an RGBA32Float target and read it back: the shader's F as the tests compare it.
 pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
-    let target = Target::new(gpu, width, height, FLOAT_TARGET, false);
+    let target = Target::new(gpu, width, height, FLOAT_TARGET, false)?;
     gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
     let pipeline = renderer.pipeline(gpu, Shade::Method(method), Pass::Fullscreen(FLOAT_TARGET))?.clone();
-    let buffer = readback_buffer(gpu, target.readback_bytes());
+    let buffer = readback_buffer(gpu, target.readback_bytes())?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = target.begin(&mut encoder, None);

@@ -21,7 +21,7 @@ use super::image_error::{self, ErrorSummary};
 use super::lut;
 use super::mesh;
 use super::params::{self, MaterialUniform};
-use super::render::{readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
+use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
 use crate::ingest::{self, Selection};
@@ -183,8 +183,8 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
 fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
     let settings = &scene.timing;
     let [width, height] = settings.resolution;
-    let target = Target::new(gpu, width, height, DISPLAY_TARGET, false);
-    let mut stopwatch = Stopwatch::new(gpu);
+    let target = Target::new(gpu, width, height, DISPLAY_TARGET, false)?;
+    let mut stopwatch = Stopwatch::new(gpu)?;
     let burner = if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
         "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
@@ -258,9 +258,11 @@ fn run_image_error(
         for method in &specular.shadings {
             pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Mesh)?.clone());
         }
-        let targets: Vec<Target> = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect();
-        let image_bytes = targets[0].readback_bytes();
-        let buffer = readback_buffer(gpu, image_bytes * targets.len() as u64);
+        // Sizes against the device's limits before any allocation: one readback of every
+        // target (the reference and each method) per frame.
+        let image_bytes = padded_row_bytes(width, 16) as u64 * height as u64;
+        let buffer = readback_buffer(gpu, image_bytes * (pipelines.len() as u64 + 1)).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+        let targets = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect::<Result<Vec<Target>>>()?;
         let mut summaries = vec![ErrorSummary::default(); pipelines.len()];
         for frame in 0..camera_path.frames {
             let view = ViewUniform::camera(&camera::frame(camera_path, frame, width, height), width, height);
