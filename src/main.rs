@@ -158,6 +158,11 @@ fn run(cli: Cli) -> Result<()> {
             settings.frames = frames.unwrap_or(settings.frames).max(1);
             settings.resolution = resolution.unwrap_or(settings.resolution);
             let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
+            let stats = report.stats;
+            eprintln!(
+                "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames",
+                stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames
+            );
             if report.rows.is_empty() {
                 anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
             }

@@ -128,6 +128,21 @@ pub fn distance_maps(stage: &Stage, size: u32, layers: u32) -> Vec<Option<Distan
 pub struct EffectsReport {
     pub rows: Vec<ErrorRow>,
     pub pictures: Vec<Picture>,
+    pub stats: EffectsStats,
+}
+
+/// What the experiment computed, so tests and logs can see that nothing ran that the scene
+/// did not ask for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectsStats {
+    /// Distance maps (cube maps) rendered: one per specular object.
+    pub cube_maps: usize,
+    /// Layers per cube map.
+    pub layers: u32,
+    /// Reference frames traced (one per camera frame and depth/search configuration).
+    pub reference_frames: usize,
+    /// Distance-map frames traced (one per camera frame, configuration and method).
+    pub twin_frames: usize,
 }
 
 /// Run the experiment; `log` receives progress lines. A scene without effects has no rows.
@@ -136,6 +151,8 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
     let Some(effects) = &scene.effects else { return report };
     let maps_settings = &effects.distance_maps;
     let maps = distance_maps(stage, maps_settings.size, maps_settings.layers);
+    report.stats.cube_maps = maps.iter().flatten().count();
+    report.stats.layers = maps_settings.layers;
     log(&format!("effects: {} distance maps of 6×{}² texels × {} layers", maps.iter().flatten().count(), maps_settings.size, maps_settings.layers));
     let methods: Vec<Method> = Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect();
     let [width, height] = settings.resolution;
@@ -149,11 +166,18 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                 let camera = Camera::new(&scene.camera, frame, width, height);
                 let truth = reference(stage, &camera, depths, settings.lut);
                 let exact_twin = twin_frame(stage, &camera, &maps, Method::Exact, depths, steps, settings.lut);
+                report.stats.reference_frames += 1;
+                report.stats.twin_frames += 1;
                 if shown(frame) {
                     report.pictures.push(Picture { stem: stem("reference"), frame: truth.clone(), reference: None });
                 }
                 for &method in &methods {
-                    let with_method = if method == Method::Exact { exact_twin.clone() } else { twin_frame(stage, &camera, &maps, method, depths, steps, settings.lut) };
+                    let with_method = if method == Method::Exact {
+                        exact_twin.clone()
+                    } else {
+                        report.stats.twin_frames += 1;
+                        twin_frame(stage, &camera, &maps, method, depths, steps, settings.lut)
+                    };
                     if shown(frame) {
                         report.pictures.push(Picture { stem: stem(method.name()), frame: with_method.clone(), reference: Some(truth.clone()) });
                     }

@@ -189,3 +189,25 @@ fn exact_against_itself_has_no_fresnel_error_and_schlick_on_water_compounds_with
 
 
 
+
+#[test]
+fn the_experiment_renders_only_what_the_scene_names() {
+    use super::experiment::{image_errors, Settings};
+    // One specular object among diffuse ones: one cube map; reflection depths {1, 2} × one
+    // search configuration × one frame: two reference frames; exact plus schlick: the exact
+    // twin is shared, so two twin frames per configuration.
+    let text = "resolution: [6, 6]\ncamera: {axis: [0, 1, 0], distance: 2.0, frames: 1}\neffects: {reflection: {max_depth: [1, 2]}, distance_maps: {size: 8, layers: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: test/metals/gold, methods: [exact, schlick]}\n  - {mesh: room, scale: 3, diffuse: [0.5, 0.5, 0.5]}\n  - {mesh: plane, position: [0, -1, 0], diffuse: [0.2, 0.2, 0.2]}\nmeasurements: [image_error]\n";
+    let (scene, staged) = stage(text);
+    let report = image_errors(&scene, &staged, Settings::of(&scene), &mut |_| {});
+    assert_eq!(report.stats.cube_maps, 1);
+    assert_eq!(report.stats.layers, 2);
+    assert_eq!(report.stats.reference_frames, 2);
+    assert_eq!(report.stats.twin_frames, 4);
+    assert_eq!(report.rows.len(), 4, "(exact, schlick) × depths 1, 2");
+    // 1 reference + 2 methods per depth configuration at the last search configuration.
+    assert_eq!(report.pictures.len(), 6);
+    // Without effects nothing is traced: no cube map, no frame.
+    let (plain, plain_stage) = stage("camera: {frames: 1}\nobjects: [{mesh: sphere, material: test/metals/gold, method: exact}]\nmeasurements: [image_error]\n");
+    let nothing = image_errors(&plain, &plain_stage, Settings::of(&plain), &mut |_| {});
+    assert_eq!((nothing.stats, nothing.rows.len(), nothing.pictures.len()), (Default::default(), 0, 0));
+}
