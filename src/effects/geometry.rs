@@ -163,6 +163,9 @@ impl Geometry {
     /// t > [`SELF_HIT_DISTANCE`], skipping triangle `leaving` (the surface the ray starts on)
     /// and objects for which `include` is false.
     pub fn nearest(&self, origin: DVec3, direction: DVec3, leaving: Option<u32>, include: impl Fn(usize) -> bool) -> Option<Hit> {
+        if !(origin.is_finite() && direction.is_finite()) {
+            return None; // a degenerate ray meets nothing
+        }
         let mut best: Option<(f64, Crossing, u32)> = None;
         let mut found = RayHit::none();
         self.bvh.ray_traverse(Self::bvh_ray(origin, direction), &mut found, |_, id| {
@@ -191,6 +194,9 @@ impl Geometry {
     /// is true, nearest first; hits within [`SELF_HIT_DISTANCE`] of each other (a ray through
     /// an edge shared by two triangles) count once.
     pub fn all_hits(&self, origin: DVec3, direction: DVec3, include: impl Fn(usize) -> bool) -> Vec<Hit> {
+        if !(origin.is_finite() && direction.is_finite()) {
+            return Vec::new();
+        }
         let mut crossings: Vec<(f64, Crossing, u32)> = Vec::new();
         self.bvh.ray_traverse_anyhit(Self::bvh_ray(origin, direction), |_, id| {
             let index = self.bvh.primitive_indices[id];
@@ -227,6 +233,9 @@ mod tests {
         assert!(geometry.nearest(hit.point, DVec3::Z, Some(hit.triangle), |_| true).is_none());
         let far = geometry.nearest(hit.point, DVec3::NEG_Z, Some(hit.triangle), |_| true).unwrap();
         assert!((far.point.z + 1.0).abs() < 0.01 && far.normal.z < -0.99);
+        // A degenerate ray meets nothing (and does not reach the traversal's assertions).
+        assert!(geometry.nearest(DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 1.0), None, |_| true).is_none());
+        assert!(geometry.all_hits(DVec3::splat(f64::INFINITY), DVec3::Z, |_| true).is_empty());
     }
 
     #[test]
