@@ -126,27 +126,37 @@ impl DistanceMap {
         DistanceMap { centre, size, layers: layers_out }
     }
 
-    /// The texel of `layer` whose solid angle holds `direction` (nearest texel).
-    pub fn lookup(&self, layer: usize, direction: DVec3) -> Option<Texel> {
+    /// Index within a layer of the texel whose solid angle holds `direction` (nearest
+    /// texel): face·size² + row·size + column.
+    pub fn texel_index(&self, direction: DVec3) -> usize {
         let (face, s, t) = face_coordinates(direction);
         let n = self.size as f64;
         let column = ((s * n) as usize).min(self.size as usize - 1);
         let row = ((t * n) as usize).min(self.size as usize - 1);
-        self.layers[layer][face * (self.size * self.size) as usize + row * self.size as usize + column]
+        face * (self.size * self.size) as usize + row * self.size as usize + column
     }
 
-    /// The hit of ray x + R·d (x relative to the centre) in one layer, as (t, point, texel).
-    fn search_layer(&self, layer: usize, x: DVec3, r: DVec3, steps: SearchSteps) -> Option<(f64, DVec3, Texel)> {
+    /// The texel of `layer` whose solid angle holds `direction` (nearest texel).
+    pub fn lookup(&self, layer: usize, direction: DVec3) -> Option<Texel> {
+        self.layers[layer][self.texel_index(direction)]
+    }
+
+    /// The hit of ray x + R·d (x relative to the centre) in one layer.
+    fn search_layer(&self, layer: usize, x: DVec3, r: DVec3, steps: SearchSteps) -> Option<MapHit> {
         let scale = x.length().max(1e-9);
         let point = |t: f64| if t < 1.0 { Some(x + r * (scale * t / (1.0 - t))) } else { None };
         // g(t) and the texel it read; `None` where the layer is empty.
-        let probe = |t: f64| -> Option<(f64, Texel)> {
+        let probe = |t: f64| -> Option<(f64, usize)> {
             match point(t) {
                 Some(p) => {
-                    let texel = self.lookup(layer, p)?;
-                    Some((1.0 - texel.distance / p.length(), texel))
+                    let index = self.texel_index(p);
+                    let texel = self.layers[layer][index]?;
+                    Some((1.0 - texel.distance / p.length(), index))
                 }
-                None => self.lookup(layer, r).map(|texel| (1.0, texel)),
+                None => {
+                    let index = self.texel_index(r);
+                    self.layers[layer][index].map(|_| (1.0, index))
+                }
             }
         };
         // A ray starting on this layer's surface stays "on" it, neither in front nor behind,
@@ -186,17 +196,26 @@ impl DistanceMap {
                 (tb, gb) = (tm, gm);
             }
         }
-        let hit_point = point(hit_t).unwrap_or_else(|| r * hit_texel.distance);
-        Some((hit_t, hit_point, hit_texel))
+        let texel = self.layers[layer][hit_texel].expect("probes return only texels with a surface");
+        let point = point(hit_t).unwrap_or_else(|| r * texel.distance);
+        Some(MapHit { t: hit_t, point, layer, index: hit_texel, texel })
     }
 
     /// The nearest hit over all layers of ray x + R·d (x relative to the centre).
-    pub fn search(&self, x: DVec3, r: DVec3, steps: SearchSteps) -> Option<(DVec3, Texel)> {
-        (0..self.layers.len())
-            .filter_map(|layer| self.search_layer(layer, x, r, steps))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, point, texel)| (point, texel))
+    pub fn search(&self, x: DVec3, r: DVec3, steps: SearchSteps) -> Option<MapHit> {
+        (0..self.layers.len()).filter_map(|layer| self.search_layer(layer, x, r, steps)).min_by(|a, b| a.t.total_cmp(&b.t))
     }
+}
+
+/// Where a search ended: the ray parameter t, the point (relative to the map's centre),
+/// the layer and texel index read there, and that texel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapHit {
+    pub t: f64,
+    pub point: DVec3,
+    pub layer: usize,
+    pub index: usize,
+    pub texel: Texel,
 }
 
 /// Tracing through one object's distance map with a search configuration.
@@ -207,8 +226,8 @@ pub struct DistanceMapTracer<'a> {
 
 impl Tracer for DistanceMapTracer<'_> {
     fn trace(&self, origin: DVec3, direction: DVec3, _from: &SurfaceHit) -> Option<SurfaceHit> {
-        let (point, texel) = self.map.search(origin - self.map.centre, direction, self.steps)?;
-        Some(SurfaceHit { point: point + self.map.centre, normal: texel.normal, surface: texel.surface, triangle: None })
+        let hit = self.map.search(origin - self.map.centre, direction, self.steps)?;
+        Some(SurfaceHit { point: hit.point + self.map.centre, normal: hit.texel.normal, surface: hit.texel.surface, triangle: None })
     }
 }
 
