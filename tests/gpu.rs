@@ -303,3 +303,62 @@ fn bad_scenes_are_named_errors_not_panics() {
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The WGSL distance-map search against its f64 CPU twin, ray by ray: the same layer and
+/// texel (up to a few rays whose f32 probe lands on the other side of a texel edge or of
+/// g = 0) and the same point to f32 precision.
+#[test]
+fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
+    use nklut::effects::distance_map::DistanceMap;
+    use nklut::effects::trace::{stage_from_table, SpecularMaterial};
+    use nklut::gpu::distance_search::{search, SearchRay};
+    use nklut::scene::SearchSteps;
+    let Some(gpu) = device() else { return };
+    let text = "camera: {frames: 1}\neffects: {reflection: {max_depth: 2}, refraction: {max_depth: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: x/y/glass, method: exact}\n  - {mesh: room, scale: [3, 2, 3], diffuse: [0.5, 0.5, 0.5]}\nmeasurements: [image_error]\n";
+    let scene = Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap();
+    let glass = SpecularMaterial { channels: [Index::new(1.5, 0.0); 3], kind: Kind::Dielectric };
+    let stage = stage_from_table(&scene, &[("x/y/glass".to_string(), glass)]).unwrap();
+    let map = DistanceMap::render(&stage, 0, 16, 3);
+    // Rays from the sphere's surface outwards and inwards, and from inside it, over a
+    // Fibonacci spiral of directions.
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut rays = Vec::new();
+    for i in 0..128 {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / 128.0;
+        let (radius, phi) = ((1.0 - z * z).sqrt(), golden * i as f64);
+        let d = [radius * phi.cos(), z, radius * phi.sin()];
+        let turn = [d[2], d[0], d[1]]; // another direction, not along d
+        let mix = |a: f64, b: f64| -> [f64; 3] {
+            let v: [f64; 3] = std::array::from_fn(|k| a * d[k] + b * turn[k]);
+            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            v.map(|x| x / n)
+        };
+        for (scale, direction) in [(0.5, mix(1.0, 0.6)), (0.5, mix(-1.0, 0.4)), (0.2, mix(0.3, 1.0))] {
+            let f = |v: [f64; 3], s: f64| [(v[0] * s) as f32, (v[1] * s) as f32, (v[2] * s) as f32, 0.0];
+            rays.push(SearchRay { origin: f(d, scale), direction: f(direction, 1.0) });
+        }
+    }
+    for steps in [SearchSteps { linear: 15, secant: 1 }, SearchSteps { linear: 40, secant: 6 }] {
+        let hits = search(&gpu, &map, &rays, steps).unwrap();
+        let mut agree = 0;
+        let mut found = 0;
+        for (ray, gpu_hit) in rays.iter().zip(&hits) {
+            let widen = |v: [f32; 4]| glam::DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
+            let cpu = map.search(widen(ray.origin), widen(ray.direction), steps);
+            let same = match cpu {
+                None => gpu_hit.point[3] < 0.0,
+                Some(hit) => {
+                    found += 1;
+                    let point = widen(gpu_hit.point);
+                    gpu_hit.point[3] >= 0.0
+                        && (gpu_hit.at[0] as usize, gpu_hit.at[1] as usize) == (hit.layer, hit.index)
+                        && (point - hit.point).length() <= 1e-3 * (1.0 + hit.point.length())
+                }
+            };
+            agree += same as usize;
+        }
+        eprintln!("distance-map search {}/{}: GPU = CPU twin on {agree} of {} rays ({found} hits)", steps.linear, steps.secant, rays.len());
+        assert!(found > rays.len() / 2, "most rays hit something: {found}");
+        assert!(agree * 100 >= rays.len() * 97, "{agree} of {} rays agree", rays.len());
+    }
+}

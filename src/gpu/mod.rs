@@ -5,6 +5,7 @@
 //! `context`, `render`, `lut::upload` and `runner`.
 
 pub mod context;
+pub mod distance_search;
 pub mod image_error;
 pub mod lut;
 pub mod params;
