@@ -25,7 +25,7 @@ SELECT    := --shelf 3d
 VALIDATE  := $(NKLUT) --db $(DB) --out $(OUT) validate $(SELECT)
 endif
 
-.PHONY: all db build luts test test-deps bench gpu clean
+.PHONY: all db build luts test test-deps bench gpu effects clean
 
 all: luts
 
@@ -76,6 +76,15 @@ bench: db
 # output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.
 gpu: db
 	$(CARGO) run --release --features gpu -- --db $(DB) --out $(OUT) gpu run scenes/default.yaml
+
+# Multiple reflections and refractions of the two effects scenes on the CPU: the f64
+# reference and the distance-map twin per Fresnel method → output/effects_errors.csv
+# (one file per scene, in output/teapot-in-a-box/ and output/glass-sphere/).
+EFFECTS_SCENES ?= teapot-in-a-box glass-sphere
+effects: db build
+	for scene in $(EFFECTS_SCENES); do \
+	  $(NKLUT) --db $(DB) --out $(OUT)/$$scene effects scenes/$$scene.yaml || exit 1; \
+	done
 
 clean:
 	rm -rf $(OUT)

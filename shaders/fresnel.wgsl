@@ -1,9 +1,13 @@
-// nklut Fresnel shader library (SPEC §5, issue 7). One function per method, each mapping
-// c = cosθ ∈ [0, 1] to F per colour channel (vec3 = red, green, blue), f32 throughout.
-// Per-material parameters come from `material`, filled on the CPU (src/gpu/params.rs).
+// nklut Fresnel shader library. One pure function per Fresnel method, each mapping
+// c = cosθ ∈ [0, 1] and the per-channel parameters of one index η = n + ik (a value of
+// `MaterialParams`, filled on the CPU by src/gpu/params.rs) to F per colour channel (vec3 =
+// red, green, blue), f32 throughout; the `lut` method takes its texture and sampler. No
+// function reads a global, so the same function evaluates a ray arriving from outside
+// (the page's η) and from inside (the relative index conj(1/η), which has its own curve
+// with total internal reflection): the caller passes the parameters of that index.
 //
 // A pipeline is this library + one generated line
-//     fn shade(c: f32) -> vec3<f32> { return method_xxx(c); }
+//     fn shade(c: f32) -> vec3<f32> { return fresnel_xxx(c, material); }
 // + the shared entry points below (vs_fullscreen/fs_ramp for the cosθ ramp and timing,
 // vs_mesh/fs_mesh for rendered objects). Nothing here is copied per method.
 
@@ -84,72 +88,73 @@ fn exact_channel(n: f32, k: f32, c_in: f32) -> f32 {
 }
 
 // 1. exact (SPEC §5.1).
-fn method_exact(c: f32) -> vec3<f32> {
-    let n = material.n;
-    let k = material.k;
+fn fresnel_exact(c: f32, p: MaterialParams) -> vec3<f32> {
+    let n = p.n;
+    let k = p.k;
     return vec3<f32>(exact_channel(n.r, k.r, c), exact_channel(n.g, k.g, c), exact_channel(n.b, k.b, c));
 }
 
 // 2. schlick (SPEC §5.2; Schlick 1994): F0 + (1 − F0)(1 − c)⁵, F0 precomputed.
-fn method_schlick(c: f32) -> vec3<f32> {
+fn fresnel_schlick(c: f32, p: MaterialParams) -> vec3<f32> {
     let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
-    let f0 = material.f0.rgb;
+    let f0 = p.f0.rgb;
     return f0 + (vec3<f32>(1.0) - f0) * m5;
 }
 
 // 3. schlick_nk (SPEC §5.3; Lazányi & Szirmay-Kalos 2005):
 // ((n − 1)² + 4n(1 − c)⁵ + k²)/((n + 1)² + k²), from n and k.
-fn method_schlick_nk(c: f32) -> vec3<f32> {
+fn fresnel_schlick_nk(c: f32, p: MaterialParams) -> vec3<f32> {
     let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
-    let n = material.n.rgb;
-    let k = material.k.rgb;
+    let n = p.n.rgb;
+    let k = p.k.rgb;
     let one = vec3<f32>(1.0);
     return ((n - one) * (n - one) + 4.0 * n * m5 + k * k) / ((n + one) * (n + one) + k * k);
 }
 
 // 4. schlick_compensated (SPEC §5.4): schlick_nk − w (1 − c)^λ, w = 2n and λ per channel
 // exact at θ = 84.26°; where no real λ exists w = 0 (plain schlick_nk).
-fn method_schlick_compensated(c: f32) -> vec3<f32> {
+fn fresnel_schlick_compensated(c: f32, p: MaterialParams) -> vec3<f32> {
     let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
-    return method_schlick_nk(c) - material.compensation_weight.rgb * shader_pow(m, material.compensation_lambda.rgb);
+    return fresnel_schlick_nk(c, p) - p.compensation_weight.rgb * shader_pow(m, p.compensation_lambda.rgb);
 }
 
 // 5. lazanyi (SPEC §5.5; Lazányi & Szirmay-Kalos 2005, the F82 form):
 // F0 + (1 − F0)(1 − c)⁵ − a c (1 − c)⁶, a exact at c = 1/7.
-fn method_lazanyi(c: f32) -> vec3<f32> {
+fn fresnel_lazanyi(c: f32, p: MaterialParams) -> vec3<f32> {
     let unit_c = clamp(c, 0.0, 1.0);
     let m = vec3<f32>(1.0 - unit_c);
     let m5 = pow5(m);
-    let f0 = material.f0.rgb;
-    return f0 + (vec3<f32>(1.0) - f0) * m5 - material.lazanyi_a.rgb * unit_c * (m5 * m);
+    let f0 = p.f0.rgb;
+    return f0 + (vec3<f32>(1.0) - f0) * m5 - p.lazanyi_a.rgb * unit_c * (m5 * m);
 }
 
 // 6. nvidia (SPEC §5.6): max(0, min(1, bias + scale (1 − c)^power)), fitted per material.
-fn method_nvidia(c: f32) -> vec3<f32> {
+fn fresnel_nvidia(c: f32, p: MaterialParams) -> vec3<f32> {
     let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
-    let f = material.nvidia_bias.rgb + material.nvidia_scale.rgb * shader_pow(m, material.nvidia_power.rgb);
+    let f = p.nvidia_bias.rgb + p.nvidia_scale.rgb * shader_pow(m, p.nvidia_power.rgb);
     return clamp(f, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// 7. lut (SPEC §5.7): N×1 texture, texel i = F at c = (i + ½)/N, hardware linear filter,
-// clamp-to-edge, u = c, v = ½.
-fn method_lut(c: f32) -> vec3<f32> {
-    return textureSampleLevel(lut_texture, lut_sampler, vec2<f32>(c, 0.5), 0.0).rgb;
+// 7. lut (SPEC §5.7): N×1 texture of one index's curve, texel i = F at c = (i + ½)/N,
+// hardware linear filter, clamp-to-edge, u = c, v = ½. A ray from inside samples the
+// texture baked from exact F of the inside index (total reflection past the critical angle).
+fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
+    return textureSampleLevel(curve, curve_sampler, vec2<f32>(c, 0.5), 0.0).rgb;
 }
 
 // Baseline: a constant colour, the floor of any pass.
-fn method_constant(c: f32) -> vec3<f32> {
-    return material.constant_colour.rgb;
+fn fresnel_constant(c: f32, p: MaterialParams) -> vec3<f32> {
+    return p.constant_colour.rgb;
 }
 
 // Baseline: one plain texture fetch whose coordinate does not depend on c.
-fn method_texture(c: f32) -> vec3<f32> {
-    return textureSampleLevel(lut_texture, lut_sampler, vec2<f32>(0.5, 0.5), 0.0).rgb;
+fn fresnel_texture(curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
+    return textureSampleLevel(curve, curve_sampler, vec2<f32>(0.5, 0.5), 0.0).rgb;
 }
 
 // The expensive shader of the `--subtract` timing (the study's method): a dependent chain
 // of transcendental operations no compiler can fold.
-fn method_burner(c: f32) -> vec3<f32> {
+fn fresnel_burner(c: f32) -> vec3<f32> {
     var x = c;
     for (var i = 0; i < 64; i = i + 1) {
         x = sin(x * 1.37 + c) * 0.9 + 0.05;

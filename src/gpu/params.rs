@@ -7,7 +7,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::fresnel::{Prepared, ShaderParams};
-use crate::scene::Method;
+use crate::scene::Shading;
 use crate::spectrum::ChannelIndex;
 
 /// The fresnel module's parameters of a material, red, green, blue.
@@ -79,17 +79,17 @@ impl MaterialUniform {
     /// function (which `shaders/fresnel.wgsl` mirrors operation by operation; `tests/gpu.rs`
     /// holds them to 1e-5). `None` for the methods that read a texture (`lut`, `texture`):
     /// their reference is the CPU LUT model.
-    pub fn evaluate_f32(&self, method: Method, channel: usize, c: f32) -> Option<f32> {
+    pub fn evaluate_f32(&self, method: Shading, channel: usize, c: f32) -> Option<f32> {
         match method {
-            Method::Constant => Some(self.constant_colour[channel]),
+            Shading::Constant => Some(self.constant_colour[channel]),
             _ => self.channel(channel).analytic(method.fresnel()?, c),
         }
     }
 }
 
 /// Methods that read the material's texture.
-pub fn needs_texture(method: Method) -> bool {
-    matches!(method, Method::Lut | Method::Texture)
+pub fn needs_texture(method: Shading) -> bool {
+    matches!(method, Shading::Lut | Shading::Texture)
 }
 
 #[cfg(test)]
@@ -114,7 +114,7 @@ mod tests {
     #[test]
     fn every_shader_method_has_a_reference_but_the_texture_ones() {
         let uniform = MaterialUniform::from_channels(&GOLD);
-        for method in Method::ALL {
+        for method in Shading::ALL {
             let value = uniform.evaluate_f32(method, 1, 0.5);
             assert_eq!(value.is_none(), needs_texture(method), "{method}");
             if let (Some(value), Some(m)) = (value, method.fresnel()) {

@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::Gpu;
 use super::params::MaterialUniform;
-use crate::scene::Method;
+use crate::scene::Shading;
 
 /// The shader library every pipeline is composed from.
 pub const LIBRARY: &str = include_str!("../../shaders/fresnel.wgsl");
@@ -23,16 +23,20 @@ pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// What `shade(c)` returns in a composed pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shade {
-    Method(Method),
+    Method(Shading),
     /// The expensive shader of the `--subtract` timing.
     Burner,
 }
 
 impl Shade {
-    fn function(self) -> String {
+    /// The call of the library's pure function on the pipeline's bindings: the material's
+    /// parameters, or its LUT texture and sampler.
+    fn call(self) -> String {
         match self {
-            Shade::Method(method) => format!("method_{}", method.name()),
-            Shade::Burner => "method_burner".into(),
+            Shade::Method(Shading::Lut) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
+            Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
+            Shade::Method(method) => format!("fresnel_{}(c, material)", method.name()),
+            Shade::Burner => "fresnel_burner(c)".into(),
         }
     }
 
@@ -46,7 +50,7 @@ impl Shade {
 
 /// The library plus the one generated line that picks the method.
 pub fn compose(shade: Shade) -> String {
-    format!("{LIBRARY}\nfn shade(c: f32) -> vec3<f32> {{ return {}(c); }}\n", shade.function())
+    format!("{LIBRARY}\nfn shade(c: f32) -> vec3<f32> {{ return {}; }}\n", shade.call())
 }
 
 /// Which entry points and target a pipeline draws with.
@@ -273,8 +277,28 @@ pub fn padded_row_bytes(width: u32, bytes_per_pixel: u32) -> u32 {
     unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
 }
 
+/// A `width`×`height` 2D texture must fit the device's `max_texture_dimension_2d`; checked
+/// before anything is allocated, so an oversized scene is an error and not a device panic.
+pub fn check_texture_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > limit || height > limit {
+        bail!("a {width}x{height} render target exceeds this device's max_texture_dimension_2d ({limit}); lower the resolution");
+    }
+    Ok(())
+}
+
+/// A buffer of `size` bytes must fit the device's `max_buffer_size`.
+pub fn check_buffer_size(gpu: &Gpu, size: u64, what: &str) -> Result<()> {
+    let limit = gpu.device.limits().max_buffer_size;
+    if size > limit {
+        bail!("the {what} needs a {size}-byte buffer, over this device's max_buffer_size ({limit}); lower the resolution or name fewer methods per object");
+    }
+    Ok(())
+}
+
 impl Target {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, depth: bool) -> Self {
+    pub fn new(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, depth: bool) -> Result<Self> {
+        check_texture_size(gpu, width, height)?;
         let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
         let texture = |format, usage, label| {
             gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -291,7 +315,7 @@ impl Target {
         let colour = texture(format, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC, "colour");
         let colour_view = colour.create_view(&Default::default());
         let depth_view = depth.then(|| texture(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT, "depth").create_view(&Default::default()));
-        Target { width, height, colour, colour_view, depth_view }
+        Ok(Target { width, height, colour, colour_view, depth_view })
     }
 
     /// Size of one RGBA32Float readback of this target.
@@ -346,22 +370,23 @@ impl Target {
 }
 
 /// A buffer the CPU can read back, `size` bytes.
-pub fn readback_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
-    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+pub fn readback_buffer(gpu: &Gpu, size: u64) -> Result<wgpu::Buffer> {
+    check_buffer_size(gpu, size, "readback")?;
+    Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
-    })
+    }))
 }
 
 /// Render the cosθ ramp of `method` (c = (x + ½)/width in every row) for `material` into
 /// an RGBA32Float target and read it back: the shader's F as the tests compare it.
-pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Method, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
-    let target = Target::new(gpu, width, height, FLOAT_TARGET, false);
+pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
+    let target = Target::new(gpu, width, height, FLOAT_TARGET, false)?;
     gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
     let pipeline = renderer.pipeline(gpu, Shade::Method(method), Pass::Fullscreen(FLOAT_TARGET))?.clone();
-    let buffer = readback_buffer(gpu, target.readback_bytes());
+    let buffer = readback_buffer(gpu, target.readback_bytes())?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = target.begin(&mut encoder, None);
@@ -378,14 +403,27 @@ pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Method, binding: &Bindin
 mod tests {
     use super::*;
 
+    /// The body of library function `name`, from its `fn` to the closing brace at column 0.
+    fn body(name: &str) -> &'static str {
+        let start = LIBRARY.find(&format!("fn {name}(")).unwrap_or_else(|| panic!("no fn {name}"));
+        let end = start + LIBRARY[start..].find("\n}\n").expect("a closing brace");
+        &LIBRARY[start..end]
+    }
+
     #[test]
-    fn library_has_one_function_per_method_and_pipelines_add_one_line() {
-        for method in Method::ALL {
-            let signature = format!("fn method_{}(c: f32) -> vec3<f32>", method.name());
-            assert_eq!(LIBRARY.matches(&signature).count(), 1, "{signature}");
+    fn library_has_one_pure_function_per_method_and_pipelines_add_one_line() {
+        for method in Shading::ALL {
+            let name = format!("fresnel_{}", method.name());
+            assert_eq!(LIBRARY.matches(&format!("fn {name}(")).count(), 1, "{name}");
+            // Pure: its parameters come in as arguments, never from the bindings.
+            let text = body(&name);
+            for global in ["material", "view", "lut_texture", "lut_sampler"] {
+                assert!(!text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global), "{name} reads the global {global}");
+            }
             let composed = compose(Shade::Method(method));
             assert!(composed.starts_with(LIBRARY));
-            assert_eq!(composed[LIBRARY.len()..].trim(), format!("fn shade(c: f32) -> vec3<f32> {{ return method_{}(c); }}", method.name()));
+            let line = composed[LIBRARY.len()..].trim().to_string();
+            assert!(line.starts_with("fn shade(c: f32) -> vec3<f32> { return fresnel_") && line.ends_with("; }"), "{line}");
         }
         assert!(!LIBRARY.contains("\nfn shade("), "the library leaves shade() to the composition");
     }

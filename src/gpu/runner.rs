@@ -21,12 +21,12 @@ use super::image_error::{self, ErrorSummary};
 use super::lut;
 use super::mesh;
 use super::params::{self, MaterialUniform};
-use super::render::{readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
+use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
 use crate::ingest::{self, Selection};
 use crate::output::Table;
-use crate::scene::{Measurement, MeshSource, Method, Scene};
+use crate::scene::{Experiment, MeshSource, Scene, Shading};
 use crate::spectrum::{ChannelIndex, Kind};
 
 /// What a run created and touched, and what it skipped.
@@ -62,7 +62,7 @@ impl fmt::Display for RunStats {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimingRow {
     pub material: String,
-    pub method: Method,
+    pub method: Shading,
     pub timer: Timer,
     pub resolution: [u32; 2],
     pub repeats: u32,
@@ -74,7 +74,7 @@ pub struct TimingRow {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageErrorRow {
     pub material: String,
-    pub method: Method,
+    pub method: Shading,
     pub object: String,
     pub frames: u32,
     pub resolution: [u32; 2],
@@ -86,7 +86,7 @@ pub struct ImageErrorRow {
 
 pub struct RunReport {
     pub adapter: AdapterLine,
-    pub measurements: Vec<Measurement>,
+    pub experiments: Vec<Experiment>,
     pub stats: RunStats,
     pub timing: Vec<TimingRow>,
     pub image_errors: Vec<ImageErrorRow>,
@@ -145,7 +145,7 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
     for (page, channels, kind) in materials {
         let prepared = params::prepare(channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
-        let wants_lut = scene.objects.iter().any(|o| o.material == *page && o.methods.contains(&Method::Lut));
+        let wants_lut = scene.specular_objects().any(|(_, s)| s.material == *page && s.shadings.contains(&Shading::Lut));
         let lut_view = wants_lut.then(|| {
             let texture = lut::upload(gpu, &lut::texels(&prepared, scene.lut.size as usize), page);
             stats.textures_baked += 1;
@@ -154,36 +154,39 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
         });
         bound.insert(page.clone(), SceneMaterial { kind: *kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
+    if scene.effects.is_some() {
+        stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
+    }
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
     }
-    let unnamed: Vec<&str> = Method::ALL.iter().filter(|m| !scene.methods().contains(m)).map(|m| m.name()).collect();
+    let unnamed: Vec<&str> = Shading::ALL.iter().filter(|m| !scene.shadings().contains(m)).map(|m| m.name()).collect();
     if !unnamed.is_empty() {
         stats.skipped.push(format!("methods not in the scene (no pipelines): {}", unnamed.join(", ")));
     }
 
     let mut timing = Vec::new();
-    if scene.wants(Measurement::Timing) {
+    if scene.wants(Experiment::Timing) {
         timing = run_timing(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
     } else {
         stats.skipped.push("timing: not in the scene's measurements".into());
     }
     let mut image_errors = Vec::new();
-    if scene.wants(Measurement::ImageError) {
+    if scene.wants(Experiment::ImageError) {
         image_errors = run_image_error(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
     } else {
         stats.skipped.push("image_error: not in the scene's measurements".into());
     }
     stats.pipelines_compiled = renderer.created.pipelines;
     stats.shader_modules_compiled = renderer.created.shader_modules;
-    Ok(RunReport { adapter: gpu.line.clone(), measurements: scene.measurements.clone(), stats, timing, image_errors })
+    Ok(RunReport { adapter: gpu.line.clone(), experiments: scene.experiments.clone(), stats, timing, image_errors })
 }
 
 fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
     let settings = &scene.timing;
     let [width, height] = settings.resolution;
-    let target = Target::new(gpu, width, height, DISPLAY_TARGET, false);
-    let mut stopwatch = Stopwatch::new(gpu);
+    let target = Target::new(gpu, width, height, DISPLAY_TARGET, false)?;
+    let mut stopwatch = Stopwatch::new(gpu)?;
     let burner = if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
         "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
@@ -192,7 +195,7 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, 
         stopwatch.timer().name(),
         if settings.subtract { ", subtracting the burner pass" } else { "" }
     ));
-    let pairs = scene.material_methods();
+    let pairs = scene.material_shadings();
     let measured_pass = if settings.subtract { Pass::FullscreenOver(DISPLAY_TARGET) } else { Pass::Fullscreen(DISPLAY_TARGET) };
     let mut pipelines = Vec::new();
     for (page, method) in &pairs {
@@ -209,7 +212,7 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, 
     }
     stats.timed_passes += stopwatch.passes;
     // The study's normalisation: exact on a dielectric material.
-    let reference = rows.iter().find(|r| r.method == Method::Exact && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
+    let reference = rows.iter().find(|r| r.method == Shading::Exact && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
     match reference {
         Some(reference) => rows.iter_mut().for_each(|r| r.relative_to_exact_dielectric = Some(r.median_ms / reference)),
         None => stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into()),
@@ -244,22 +247,24 @@ fn run_image_error(
     log(&format!("image error: {width}x{height}, {} frames {}° apart around {:?} at {} m", camera_path.frames, camera_path.degrees_per_frame, camera_path.axis, camera_path.distance));
     let mut meshes: HashMap<MeshSource, GpuMesh> = HashMap::new();
     let mut rows = Vec::new();
-    for object in &scene.objects {
+    for (object, specular) in scene.specular_objects() {
         if !meshes.contains_key(&object.mesh) {
             let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| anyhow!("scene {}: {e}", scene.file.display()))?;
             log(&format!("  mesh {}: {} triangles", object.mesh.label(), mesh.triangles()));
             meshes.insert(object.mesh.clone(), upload_mesh(gpu, &mesh));
         }
         let gpu_mesh = &meshes[&object.mesh];
-        let material = &bound[&object.material];
-        let reference = renderer.pipeline(gpu, Shade::Method(Method::Exact), Pass::Mesh)?.clone();
+        let material = &bound[&specular.material];
+        let reference = renderer.pipeline(gpu, Shade::Method(Shading::Exact), Pass::Mesh)?.clone();
         let mut pipelines = Vec::new();
-        for method in &object.methods {
+        for method in &specular.shadings {
             pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Mesh)?.clone());
         }
-        let targets: Vec<Target> = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect();
-        let image_bytes = targets[0].readback_bytes();
-        let buffer = readback_buffer(gpu, image_bytes * targets.len() as u64);
+        // Sizes against the device's limits before any allocation: one readback of every
+        // target (the reference and each method) per frame.
+        let image_bytes = padded_row_bytes(width, 16) as u64 * height as u64;
+        let buffer = readback_buffer(gpu, image_bytes * (pipelines.len() as u64 + 1)).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+        let targets = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect::<Result<Vec<Target>>>()?;
         let mut summaries = vec![ErrorSummary::default(); pipelines.len()];
         for frame in 0..camera_path.frames {
             let view = ViewUniform::camera(&camera::frame(camera_path, frame, width, height), width, height);
@@ -285,18 +290,18 @@ fn run_image_error(
             }
             stats.frames_rendered += 1;
         }
-        for (method, summary) in object.methods.iter().zip(&summaries) {
+        for (method, summary) in specular.shadings.iter().zip(&summaries) {
             log(&format!(
                 "  {} {} {}: mean relative error {:.3e}, max {:.3e} over {} pixels",
                 object.mesh.label(),
-                object.material,
+                specular.material,
                 method,
                 summary.mean_relative(),
                 summary.max_relative,
                 summary.pixels
             ));
             rows.push(ImageErrorRow {
-                material: object.material.clone(),
+                material: specular.material.clone(),
                 method: *method,
                 object: object.mesh.label(),
                 frames: summary.frames,
@@ -361,10 +366,10 @@ pub fn image_error_table(report: &RunReport) -> Table {
 /// Write the tables of the measurements the run took under `out`.
 pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    if report.measurements.contains(&Measurement::Timing) {
+    if report.experiments.contains(&Experiment::Timing) {
         written.extend(timing_table(report).write(out, "gpu_timing", false)?);
     }
-    if report.measurements.contains(&Measurement::ImageError) {
+    if report.experiments.contains(&Experiment::ImageError) {
         written.extend(image_error_table(report).write(out, "image_errors", false)?);
     }
     Ok(written)

@@ -56,8 +56,8 @@ pub struct Stopwatch {
 }
 
 impl Stopwatch {
-    pub fn new(gpu: &Gpu) -> Self {
-        let queries = gpu.timestamps.then(|| {
+    pub fn new(gpu: &Gpu) -> anyhow::Result<Self> {
+        let queries = gpu.timestamps.then(|| -> anyhow::Result<_> {
             let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 });
             let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps"),
@@ -65,9 +65,9 @@ impl Stopwatch {
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
-            (set, resolve, super::render::readback_buffer(gpu, 16))
+            Ok((set, resolve, super::render::readback_buffer(gpu, 16)?))
         });
-        Stopwatch { queries, period_ns: gpu.queue.get_timestamp_period() as f64, passes: 0 }
+        Ok(Stopwatch { queries: queries.transpose()?, period_ns: gpu.queue.get_timestamp_period() as f64, passes: 0 })
     }
 
     pub fn timer(&self) -> Timer {

@@ -1,9 +1,11 @@
-//! Triangle meshes for the image-error renders (SPEC §6): the built-in cube and sphere, and
-//! OBJ files (tobj), all normalised to fit the unit sphere. Pure CPU data.
+//! Triangle meshes of scenes: the built-in cube and sphere and OBJ files (tobj), normalised to
+//! fit the unit sphere, and the built-in `room` (an inward-facing box) and `plane` of scenes
+//! with effects; then placed in the scene (scale, then move). Pure CPU data, shared by the
+//! GPU runner and the CPU ray tracers.
 
 use std::path::{Path, PathBuf};
 
-use crate::scene::MeshSource;
+use crate::scene::{MeshSource, Placement};
 
 /// Indexed triangles with one normal per vertex.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -26,6 +28,15 @@ impl Mesh {
         self.indices.len() / 3
     }
 
+    /// The mesh placed in the scene: positions scaled then moved, normals through the inverse
+    /// transpose of the scale and renormalised.
+    pub fn placed(&self, placement: &Placement) -> Mesh {
+        let widen = |p: &[f32; 3]| p.map(f64::from);
+        let positions = self.positions.iter().map(|p| placement.point(widen(p)).map(|x| x as f32)).collect();
+        let normals = self.normals.iter().map(|n| normalised(placement.normal(widen(n)))).collect();
+        Mesh { positions, normals, indices: self.indices.clone() }
+    }
+
     /// Interleaved vertex data `position, normal` (6 f32 per vertex) for the GPU.
     pub fn interleaved(&self) -> Vec<f32> {
         self.positions.iter().zip(&self.normals).flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]]).collect()
@@ -37,6 +48,8 @@ pub fn load(source: &MeshSource, path: impl Fn(&Path) -> PathBuf) -> Result<Mesh
     match source {
         MeshSource::Cube => Ok(cube()),
         MeshSource::Sphere => Ok(sphere(64, 32)),
+        MeshSource::Room => Ok(room()),
+        MeshSource::Plane => Ok(plane()),
         MeshSource::File(file) => load_obj(&path(file)),
     }
 }
@@ -63,6 +76,31 @@ pub fn cube() -> Mesh {
         mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     mesh
+}
+
+/// The room: the box [−1, 1]³ with flat faces pointing inwards (counter-clockwise seen from
+/// inside), so a camera and objects inside it see its walls.
+pub fn room() -> Mesh {
+    let mut mesh = cube();
+    for p in &mut mesh.positions {
+        *p = p.map(f32::signum); // the cube's corners are (±1/√3, ±1/√3, ±1/√3)
+    }
+    for n in &mut mesh.normals {
+        *n = n.map(|x| -x);
+    }
+    for triangle in mesh.indices.chunks_exact_mut(3) {
+        triangle.swap(1, 2);
+    }
+    mesh
+}
+
+/// The plane: the square [−1, 1]² in y = 0, facing +y (two triangles).
+pub fn plane() -> Mesh {
+    Mesh {
+        positions: vec![[-1.0, 0.0, -1.0], [-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.0]],
+        normals: vec![[0.0, 1.0, 0.0]; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
 }
 
 /// A UV sphere of radius 1 with exact normals: `segments` around, `rings` pole to pole.
@@ -187,12 +225,47 @@ mod tests {
         let mesh = cube();
         assert_eq!(mesh.triangles(), 12);
         assert!((radius(&mesh) - 1.0).abs() < 1e-6);
-        for triangle in mesh.indices.chunks_exact(3) {
+        assert!(wound_along_normals(&mesh), "counter-clockwise seen from outside");
+    }
+
+    /// Every triangle's winding (b − a) × (c − a) points along its vertices' normal.
+    fn wound_along_normals(mesh: &Mesh) -> bool {
+        mesh.indices.chunks_exact(3).all(|triangle| {
             let [a, b, c] = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize]);
             let face = cross(sub(b, a), sub(c, a));
-            let normal = mesh.normals[triangle[0] as usize];
-            assert!(face.iter().zip(normal).map(|(f, n)| f * n).sum::<f32>() > 0.0, "counter-clockwise seen from outside");
+            face.iter().zip(mesh.normals[triangle[0] as usize]).map(|(f, n)| f * n).sum::<f32>() > 0.0
+        })
+    }
+
+    #[test]
+    fn room_faces_inwards_and_plane_faces_up() {
+        let room = room();
+        assert_eq!(room.triangles(), 12);
+        assert!(wound_along_normals(&room));
+        for (p, n) in room.positions.iter().zip(&room.normals) {
+            assert!(p.iter().all(|x| x.abs() == 1.0), "{p:?}");
+            // The normal points back towards the centre: n·p < 0.
+            assert!(p.iter().zip(n).map(|(p, n)| p * n).sum::<f32>() < 0.0);
         }
+        let plane = plane();
+        assert!(wound_along_normals(&plane) && plane.normals.iter().all(|n| *n == [0.0, 1.0, 0.0]));
+    }
+
+    #[test]
+    fn placement_scales_then_moves_and_keeps_normals_perpendicular() {
+        let placement = Placement { position: [1.0, 2.0, 3.0], scale: [2.0, 1.0, 4.0] };
+        let mesh = sphere(16, 8).placed(&placement);
+        // A point (x, y, z) of the unit sphere lands on ((X−1)/2)² + (Y−2)² + ((Z−3)/4)² = 1,
+        // whose gradient (¼(X−1), 2(Y−2), ⅛(Z−3)) is along the placed normal.
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            let [x, y, z] = [(p[0] - 1.0) / 2.0, p[1] - 2.0, (p[2] - 3.0) / 4.0];
+            assert!((x * x + y * y + z * z - 1.0).abs() < 1e-5);
+            let gradient = [x / 2.0, y, z / 4.0];
+            let g = gradient.iter().map(|g| g * g).sum::<f32>().sqrt();
+            let along: f32 = gradient.iter().zip(n).map(|(g, n)| g * n).sum::<f32>() / g;
+            assert!((along - 1.0).abs() < 1e-5, "{n:?} vs {gradient:?}");
+        }
+        assert!(wound_along_normals(&plane().placed(&placement)));
     }
 
     #[test]

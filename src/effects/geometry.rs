@@ -1,0 +1,288 @@
+//! The scene's triangles for the CPU ray tracers: every object's mesh placed in the scene,
+//! smooth normals interpolated across each triangle as a rasteriser interpolates them, and a
+//! BVH over them.
+//!
+//! The BVH is obvhs's compressed wide BVH (8-wide, PLOC build; Ylitie, Karras and Laine,
+//! "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017). Its
+//! node tests run in f32; the triangle test is ours and runs in f64 — the watertight test of
+//! Woop, Benthin and Wald ("Watertight Ray/Triangle Intersection", JCGT 2(1), 2013), so a
+//! ray through a shared edge or vertex (the centre of a UV sphere's face, say) hits at least
+//! one of the triangles there, as a rasteriser would — and the distance it hands
+//! back to the traversal is rounded up to the next f32, so a node is never culled against a
+//! distance shorter than the true nearest hit.
+
+use glam::{DVec3, Vec3A};
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ray::{Ray, RayHit};
+use obvhs::triangle::Triangle as BvhTriangle;
+use obvhs::BvhBuildParams;
+
+use crate::scene::mesh::Mesh;
+
+/// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
+/// metres) are the surface the ray leaves, not a new one.
+pub const SELF_HIT_DISTANCE: f64 = 1e-7;
+
+/// Direction components smaller than this are zero for the BVH traversal (not for the
+/// triangle test).
+const TINY_DIRECTION: f64 = 1e-6;
+
+/// One triangle in f64 with its vertex normals and the object it belongs to.
+#[derive(Clone, Copy, Debug)]
+struct Triangle {
+    corners: [DVec3; 3],
+    normals: [DVec3; 3],
+    object: u32,
+}
+
+/// Where a ray meets a triangle: distance t along the ray and the barycentric weights
+/// (u, v) of its second and third corners.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: f64,
+    pub u: f64,
+    pub v: f64,
+}
+
+impl Triangle {
+    /// The watertight test, both faces; `None` when the ray misses or runs in the plane.
+    /// Coordinates are moved to the ray's origin and sheared so the ray runs along +z; the
+    /// signed edge functions then decide inside-ness exactly on shared edges.
+    #[inline]
+    fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
+        let kz = direction.abs().max_position();
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let d = [direction[kx], direction[ky], direction[kz]];
+        let (sx, sy, sz) = (-d[0] / d[2], -d[1] / d[2], 1.0 / d[2]);
+        let [p0, p1, p2] = self.corners.map(|corner| {
+            let p = corner - origin;
+            let (x, y, z) = (p[kx], p[ky], p[kz]);
+            (x + sx * z, y + sy * z, z * sz)
+        });
+        let e0 = p1.0 * p2.1 - p1.1 * p2.0;
+        let e1 = p2.0 * p0.1 - p2.1 * p0.0;
+        let e2 = p0.0 * p1.1 - p0.1 * p1.0;
+        if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+            return None;
+        }
+        let determinant = e0 + e1 + e2;
+        if determinant == 0.0 || !determinant.is_finite() {
+            return None;
+        }
+        let inverse = 1.0 / determinant;
+        let t = (e0 * p0.2 + e1 * p1.2 + e2 * p2.2) * inverse;
+        Some(Crossing { t, u: e1 * inverse, v: e2 * inverse })
+    }
+
+    /// The interpolated vertex normal at (u, v), normalised.
+    fn normal(&self, u: f64, v: f64) -> DVec3 {
+        let [na, nb, nc] = self.normals;
+        let n = na * (1.0 - u - v) + nb * u + nc * v;
+        let [a, b, c] = self.corners;
+        let geometric = (b - a).cross(c - a);
+        n.try_normalize().or_else(|| geometric.try_normalize()).unwrap_or(DVec3::Z)
+    }
+}
+
+/// The nearest surface along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub point: DVec3,
+    /// The interpolated (smooth) unit normal, on the side the mesh's normals point to.
+    pub normal: DVec3,
+    /// Index of the object in the scene's object list.
+    pub object: usize,
+    /// Index of the triangle in the geometry (to leave it without hitting it again).
+    pub triangle: u32,
+}
+
+/// All of a scene's triangles and their BVH.
+pub struct Geometry {
+    triangles: Vec<Triangle>,
+    bvh: CwBvh,
+}
+
+/// A scene with nothing to trace.
+#[derive(Debug, thiserror::Error)]
+#[error("the scene has no triangles to trace")]
+pub struct EmptyGeometry;
+
+fn widen(p: [f32; 3]) -> DVec3 {
+    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
+}
+
+impl Geometry {
+    /// The placed meshes, one per object, in the scene's object order.
+    pub fn new(meshes: &[Mesh]) -> Result<Geometry, EmptyGeometry> {
+        let mut triangles = Vec::new();
+        for (object, mesh) in meshes.iter().enumerate() {
+            for corner in mesh.indices.chunks_exact(3) {
+                let [a, b, c] = [0, 1, 2].map(|i| widen(mesh.positions[corner[i] as usize]));
+                let normals = [0, 1, 2].map(|i| widen(mesh.normals[corner[i] as usize]));
+                triangles.push(Triangle { corners: [a, b, c], normals, object: object as u32 });
+            }
+        }
+        if triangles.is_empty() {
+            return Err(EmptyGeometry);
+        }
+        let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
+        let boxes: Vec<BvhTriangle> =
+            triangles.iter().map(|t| BvhTriangle { v0: narrow(t.corners[0]), v1: narrow(t.corners[1]), v2: narrow(t.corners[2]) }).collect();
+        let bvh = build_cwbvh_from_tris(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
+        Ok(Geometry { triangles, bvh })
+    }
+
+    /// The centre of the bounding box of `object`'s triangles (the origin if it has none).
+    pub fn object_centre(&self, object: usize) -> DVec3 {
+        let corners = self.triangles.iter().filter(|t| t.object as usize == object).flat_map(|t| t.corners);
+        let (low, high) = corners.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| (low.min(p), high.max(p)));
+        if low.is_finite() {
+            (low + high) * 0.5
+        } else {
+            DVec3::ZERO
+        }
+    }
+
+    pub fn triangles(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The traversal's f32 ray. Direction components below [`TINY_DIRECTION`] in size are
+    /// flushed to +0: obvhs 0.4 loses every hit of a ray whose direction has a tiny
+    /// negative component (−1e-8, say; see the test `tiny_direction_components_keep_their_hits`).
+    /// That turns the traversal ray by under 1e-6 rad; node boxes are quantised outwards.
+    fn bvh_ray(origin: DVec3, direction: DVec3) -> Ray {
+        let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
+        let flush = |x: f64| if x.abs() < TINY_DIRECTION { 0.0 } else { x };
+        Ray::new(narrow(origin), narrow(DVec3::new(flush(direction.x), flush(direction.y), flush(direction.z))), 0.0, f32::INFINITY)
+    }
+
+    /// The nearest hit along origin + t·direction (direction of unit length) with
+    /// t > [`SELF_HIT_DISTANCE`], skipping triangle `leaving` (the surface the ray starts on)
+    /// and objects for which `include` is false.
+    pub fn nearest(&self, origin: DVec3, direction: DVec3, leaving: Option<u32>, include: impl Fn(usize) -> bool) -> Option<Hit> {
+        if !(origin.is_finite() && direction.is_finite()) {
+            return None; // a degenerate ray meets nothing
+        }
+        let mut best: Option<(f64, Crossing, u32)> = None;
+        let mut found = RayHit::none();
+        self.bvh.ray_traverse(Self::bvh_ray(origin, direction), &mut found, |_, id| {
+            let index = self.bvh.primitive_indices[id];
+            let triangle = &self.triangles[index as usize];
+            if Some(index) == leaving || !include(triangle.object as usize) {
+                return f32::INFINITY;
+            }
+            match triangle.crossing(origin, direction) {
+                Some(c) if c.t > SELF_HIT_DISTANCE && best.is_none_or(|(t, _, _)| c.t < t) => {
+                    best = Some((c.t, c, index));
+                    (c.t as f32).next_up()
+                }
+                _ => f32::INFINITY,
+            }
+        });
+        best.map(|(t, crossing, index)| self.hit(t, crossing, index, origin, direction))
+    }
+
+    fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
+        let triangle = &self.triangles[index as usize];
+        Hit { t, point: origin + direction * t, normal: triangle.normal(crossing.u, crossing.v), object: triangle.object as usize, triangle: index }
+    }
+
+    /// Every hit along the ray (t > [`SELF_HIT_DISTANCE`]) on objects for which `include`
+    /// is true, nearest first; hits within [`SELF_HIT_DISTANCE`] of each other (a ray through
+    /// an edge shared by two triangles) count once.
+    pub fn all_hits(&self, origin: DVec3, direction: DVec3, include: impl Fn(usize) -> bool) -> Vec<Hit> {
+        if !(origin.is_finite() && direction.is_finite()) {
+            return Vec::new();
+        }
+        let mut crossings: Vec<(f64, Crossing, u32)> = Vec::new();
+        self.bvh.ray_traverse_anyhit(Self::bvh_ray(origin, direction), |_, id| {
+            let index = self.bvh.primitive_indices[id];
+            let triangle = &self.triangles[index as usize];
+            if include(triangle.object as usize) {
+                if let Some(c) = triangle.crossing(origin, direction) {
+                    if c.t > SELF_HIT_DISTANCE && !crossings.iter().any(|(_, _, i)| *i == index) {
+                        crossings.push((c.t, c, index));
+                    }
+                }
+            }
+        });
+        crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
+        crossings.dedup_by(|later, earlier| later.0 - earlier.0 < SELF_HIT_DISTANCE);
+        crossings.into_iter().map(|(t, c, index)| self.hit(t, c, index, origin, direction)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::mesh::{plane, room, sphere};
+    use crate::scene::Placement;
+
+    #[test]
+    fn nearest_hit_on_a_sphere_is_analytic_up_to_tessellation() {
+        // A ray from (0, 0, 5) towards the origin meets the unit sphere at z = 1 (the UV
+        // sphere's pole ring lies inside it by at most 1 − cos(π/rings)).
+        let geometry = Geometry::new(&[sphere(64, 32)]).unwrap();
+        let hit = geometry.nearest(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z, None, |_| true).unwrap();
+        assert!((hit.t - 4.0).abs() < 1.0 - (std::f64::consts::PI / 32.0).cos() + 1e-9, "{}", hit.t);
+        assert!(hit.normal.dot(DVec3::Z) > 0.999);
+        // Leaving that triangle outwards finds nothing; inwards finds the far side at z ≈ −1.
+        assert!(geometry.nearest(hit.point, DVec3::Z, Some(hit.triangle), |_| true).is_none());
+        let far = geometry.nearest(hit.point, DVec3::NEG_Z, Some(hit.triangle), |_| true).unwrap();
+        assert!((far.point.z + 1.0).abs() < 0.01 && far.normal.z < -0.99);
+        // A degenerate ray meets nothing (and does not reach the traversal's assertions).
+        assert!(geometry.nearest(DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 1.0), None, |_| true).is_none());
+        assert!(geometry.all_hits(DVec3::splat(f64::INFINITY), DVec3::Z, |_| true).is_empty());
+    }
+
+    #[test]
+    fn a_ray_through_a_shared_vertex_is_not_lost() {
+        // Through the sphere's centre along z the far side is met exactly at a vertex (ring
+        // 16 of 32, segment 16 of 64), shared by six triangles.
+        let geometry = Geometry::new(&[sphere(64, 32)]).unwrap();
+        for direction in [DVec3::Z, DVec3::NEG_Z, DVec3::X, DVec3::NEG_Y] {
+            let hits = geometry.all_hits(DVec3::ZERO, direction, |_| true);
+            assert_eq!(hits.len(), 1, "{direction:?}: {hits:?}");
+            assert!((hits[0].t - 1.0).abs() < 1e-7);
+        }
+        // And the triangle test's barycentrics recover a point inside a triangle.
+        let triangle = Triangle { corners: [DVec3::ZERO, DVec3::X, DVec3::Y], normals: [DVec3::Z; 3], object: 0 };
+        let crossing = triangle.crossing(DVec3::new(0.25, 0.5, 2.0), DVec3::NEG_Z).unwrap();
+        assert_eq!(crossing, Crossing { t: 2.0, u: 0.25, v: 0.5 });
+        assert!(triangle.crossing(DVec3::new(0.75, 0.5, 2.0), DVec3::NEG_Z).is_none());
+        assert_eq!(triangle.crossing(DVec3::new(0.25, 0.5, -1.0), DVec3::Z).map(|c| c.t), Some(1.0));
+    }
+
+    #[test]
+    fn tiny_direction_components_keep_their_hits() {
+        let geometry = Geometry::new(&[sphere(64, 32)]).unwrap();
+        for tiny in [-1e-8, -1e-9, -5.5e-25, 1e-8, -1e-6, -1e-5] {
+            let direction = DVec3::new(tiny, tiny, 1.0).normalize();
+            let hits = geometry.all_hits(DVec3::new(0.0, 0.0, -2.0), direction, |_| true);
+            assert_eq!(hits.len(), 2, "direction {direction:?}");
+        }
+    }
+
+    #[test]
+    fn all_hits_peel_a_room_around_a_plane_and_filter_objects() {
+        let room = room().placed(&Placement { position: [0.0; 3], scale: [3.0, 2.0, 3.0] });
+        let floor = plane().placed(&Placement { position: [0.0, -1.0, 0.0], scale: [1.0; 3] });
+        let geometry = Geometry::new(&[room, floor]).unwrap();
+        // Straight down from (0.5, 1, 0.25): the plane at y = −1 (t = 2), the floor at y = −2 (t = 3).
+        let hits = geometry.all_hits(DVec3::new(0.5, 1.0, 0.25), DVec3::NEG_Y, |_| true);
+        let found: Vec<(f64, usize)> = hits.iter().map(|h| (h.t, h.object)).collect();
+        assert_eq!(found.len(), 2);
+        assert!((found[0].0 - 2.0).abs() < 1e-12 && found[0].1 == 1);
+        assert!((found[1].0 - 3.0).abs() < 1e-12 && found[1].1 == 0);
+        // The room's floor faces into the room (+y).
+        assert!((hits[1].normal - DVec3::Y).length() < 1e-12);
+        let room_only = geometry.nearest(DVec3::new(0.5, 1.0, 0.25), DVec3::NEG_Y, None, |o| o == 0).unwrap();
+        assert!((room_only.t - 3.0).abs() < 1e-12);
+        // Through the edge of the two floor triangles (the diagonal x = z) the floor counts once.
+        let diagonal = geometry.all_hits(DVec3::new(1.5, 1.0, 1.5), DVec3::NEG_Y, |o| o == 0);
+        assert_eq!(diagonal.len(), 1);
+    }
+}

@@ -1,0 +1,28 @@
+//! Effects a scene calls for, on the CPU: multiple specular reflections and refractions
+//! with Fresnel weights from any method of `fresnel` (docs/effects.md).
+//!
+//! - [`geometry`]: the scene's placed triangles with smooth normals and their BVH (obvhs).
+//! - [`optics`]: one bounce — F per channel, mirror and Snell directions, total internal
+//!   reflection.
+//! - [`trace`]: the bounce loop over any [`trace::Tracer`], the camera, frames rendered in
+//!   parallel, and the exact f64 reference (BVH tracer, exact Fresnel).
+//! - [`distance_map`]: the layered distance maps of GPU Gems 3 ch. 17 and their linear +
+//!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
+//!   split an image's error into geometry (the map) and Fresnel (the method).
+//! - [`image_error`]: a frame against its reference.
+//! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
+//! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
+//!   per object, method, depth and search steps) and its `effects_errors` table.
+//!
+//! Pure computation on plain data; scene files come in through `crate::scene`.
+
+pub mod distance_map;
+pub mod experiment;
+pub mod geometry;
+pub mod image_error;
+pub mod optics;
+pub mod pictures;
+pub mod trace;
+
+#[cfg(test)]
+mod tests;

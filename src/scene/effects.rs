@@ -1,0 +1,358 @@
+//! The `effects` section of a scene: which light-transport effects the scene calls for
+//! (multiple reflections, multiple refractions), how deep each may go, and how the
+//! distance maps that trace them on the GPU are sized and searched (Umenhoffer, Patow and
+//! Szirmay-Kalos, "Robust Multiple Specular Reflections and Refractions", GPU Gems 3
+//! ch. 17); the diffuse surroundings' colours and patterns, and the one directional light
+//! plus ambient that lights them (docs/effects.md). Pure data and checks.
+//!
+//! ```yaml
+//! effects:
+//!   reflection: { max_depth: [1, 2, 3] }   # one depth, or several to compare
+//!   refraction: { max_depth: 2 }
+//!   distance_maps: { size: 256, layers: 3, linear_steps: [15, 80], secant_steps: [1, 10] }
+//! light: { direction: [-0.3, -1, -0.5], colour: [1, 1, 1], ambient: [0.2, 0.2, 0.2] }
+//! ```
+
+use serde::Deserialize;
+
+/// A number or a list of numbers in a scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum Numbers {
+    One(u32),
+    Many(Vec<u32>),
+}
+
+impl Numbers {
+    /// Sorted, distinct values.
+    fn values(&self) -> Vec<u32> {
+        let mut values = match self {
+            Numbers::One(value) => vec![*value],
+            Numbers::Many(values) => values.clone(),
+        };
+        values.sort_unstable();
+        values.dedup();
+        values
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawBounces {
+    max_depth: Numbers,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDistanceMaps {
+    #[serde(default = "default_map_size")]
+    size: u32,
+    #[serde(default = "default_layers")]
+    layers: u32,
+    #[serde(default = "default_linear_steps")]
+    linear_steps: Numbers,
+    #[serde(default = "default_secant_steps")]
+    secant_steps: Numbers,
+}
+
+fn default_map_size() -> u32 {
+    256
+}
+fn default_layers() -> u32 {
+    3
+}
+fn default_linear_steps() -> Numbers {
+    Numbers::One(15)
+}
+fn default_secant_steps() -> Numbers {
+    Numbers::One(1)
+}
+
+impl Default for RawDistanceMaps {
+    fn default() -> Self {
+        Self { size: default_map_size(), layers: default_layers(), linear_steps: default_linear_steps(), secant_steps: default_secant_steps() }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEffects {
+    reflection: Option<RawBounces>,
+    refraction: Option<RawBounces>,
+    #[serde(default)]
+    distance_maps: RawDistanceMaps,
+}
+
+/// The deepest path a scene may ask for: every extra bounce multiplies the cost of a frame.
+pub const MAX_DEPTH: u32 = 8;
+
+/// How many specular bounces one effect may take along a path, one value per configuration
+/// to measure (sorted, distinct, each in 1..=[`MAX_DEPTH`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Bounces {
+    pub max_depth: Vec<u32>,
+}
+
+/// One configuration of depths: at most `reflection` reflections and `refraction`
+/// refractions along a path (0: the effect is not named). A path ends black when it is
+/// still on a specular surface and neither effect has a bounce left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Depths {
+    pub reflection: u32,
+    pub refraction: u32,
+}
+
+/// One configuration of the distance-map search: `linear` steps along the ray, then
+/// `secant` refinements between the last two.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SearchSteps {
+    pub linear: u32,
+    pub secant: u32,
+}
+
+/// The layered distance maps: cube maps of `size`×`size` texels per face, `layers` layers
+/// (the specular objects' peeled surfaces in all but the last, the diffuse surroundings in
+/// the last), and the search configurations to measure.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DistanceMaps {
+    pub size: u32,
+    pub layers: u32,
+    pub steps: Vec<SearchSteps>,
+}
+
+/// The effects a scene calls for. At least one of `reflection`, `refraction` is named.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Effects {
+    pub reflection: Option<Bounces>,
+    pub refraction: Option<Bounces>,
+    pub distance_maps: DistanceMaps,
+}
+
+impl RawBounces {
+    fn bounces(&self, field: &str) -> Result<Bounces, String> {
+        let max_depth = self.max_depth.values();
+        if max_depth.is_empty() || max_depth.iter().any(|d| !(1..=MAX_DEPTH).contains(d)) {
+            return Err(format!("{field}.max_depth {max_depth:?} must list depths in 1..={MAX_DEPTH}"));
+        }
+        Ok(Bounces { max_depth })
+    }
+}
+
+impl RawEffects {
+    /// The checked section, or what is wrong (without the `effects.` prefix).
+    pub(crate) fn effects(self) -> Result<Effects, String> {
+        let reflection = self.reflection.as_ref().map(|r| r.bounces("reflection")).transpose()?;
+        let refraction = self.refraction.as_ref().map(|r| r.bounces("refraction")).transpose()?;
+        if reflection.is_none() && refraction.is_none() {
+            return Err("reflection, refraction: name at least one effect".into());
+        }
+        let maps = &self.distance_maps;
+        if !(4..=4096).contains(&maps.size) {
+            return Err(format!("distance_maps.size {} must lie in 4..=4096", maps.size));
+        }
+        if !(2..=8).contains(&maps.layers) {
+            return Err(format!("distance_maps.layers {} must lie in 2..=8 (at least one specular layer and the diffuse one)", maps.layers));
+        }
+        let linear = maps.linear_steps.values();
+        let secant = maps.secant_steps.values();
+        if linear.is_empty() || linear.iter().any(|s| !(1..=1024).contains(s)) {
+            return Err(format!("distance_maps.linear_steps {linear:?} must lie in 1..=1024"));
+        }
+        if secant.is_empty() || secant.iter().any(|s| *s > 64) {
+            return Err(format!("distance_maps.secant_steps {secant:?} must lie in 0..=64"));
+        }
+        let steps = linear.iter().flat_map(|&linear| secant.iter().map(move |&secant| SearchSteps { linear, secant })).collect();
+        Ok(Effects { reflection, refraction, distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps } })
+    }
+}
+
+impl Effects {
+    /// Every configuration of depths to measure: the product of the named effects' depths.
+    pub fn depths(&self) -> Vec<Depths> {
+        let list = |bounces: &Option<Bounces>| bounces.as_ref().map(|b| b.max_depth.clone()).unwrap_or_else(|| vec![0]);
+        let refraction = list(&self.refraction);
+        list(&self.reflection).into_iter().flat_map(|reflection| refraction.iter().map(move |&refraction| Depths { reflection, refraction })).collect()
+    }
+}
+
+/// A diffuse surface's albedo pattern over scene positions, e.g.
+/// `pattern: { kind: checker, size: 0.5, albedo: [0.1, 0.1, 0.1] }`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Pattern {
+    /// The object's `diffuse` albedo everywhere.
+    Plain,
+    /// A checkerboard of squares of edge `size` across the surface: with (u, v) the two
+    /// coordinates other than the normal's largest component, cells where ⌊u/size⌋ +
+    /// ⌊v/size⌋ is odd take `albedo`, the others the object's `diffuse`. (A 3D checker would
+    /// flip on a wall that lies on a cell boundary, as the walls of a room do.)
+    Checker { size: f64, albedo: [f64; 3] },
+    /// A linear ramp along `axis`: the object's `diffuse` where p·axis = −1, `albedo` where
+    /// p·axis = 1, clamped beyond (the axis's length sets how fast it ramps).
+    Gradient { axis: [f64; 3], albedo: [f64; 3] },
+}
+
+/// A diffuse surface: an albedo (linear RGB in [0, 1]) and its pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diffuse {
+    pub albedo: [f64; 3],
+    pub pattern: Pattern,
+}
+
+fn check_albedo(field: &str, albedo: [f64; 3]) -> Result<(), String> {
+    if albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
+        Ok(())
+    } else {
+        Err(format!("{field} {albedo:?} must lie in [0, 1] per channel"))
+    }
+}
+
+fn length(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+impl Diffuse {
+    pub(crate) fn check(&self) -> Result<(), String> {
+        check_albedo("diffuse", self.albedo)?;
+        match &self.pattern {
+            Pattern::Plain => Ok(()),
+            Pattern::Checker { size, albedo } => {
+                if !(size.is_finite() && *size > 0.0) {
+                    return Err(format!("pattern.checker.size {size} must be positive"));
+                }
+                check_albedo("pattern.checker.albedo", *albedo)
+            }
+            Pattern::Gradient { axis, albedo } => {
+                if !(length(*axis) > 1e-9 && axis.iter().all(|a| a.is_finite())) {
+                    return Err(format!("pattern.gradient.axis {axis:?} must be a non-zero vector"));
+                }
+                check_albedo("pattern.gradient.albedo", *albedo)
+            }
+        }
+    }
+
+    /// The albedo at scene position `p` of a surface with normal `normal`.
+    pub fn albedo_at(&self, p: [f64; 3], normal: [f64; 3]) -> [f64; 3] {
+        match &self.pattern {
+            Pattern::Plain => self.albedo,
+            Pattern::Checker { size, albedo } => {
+                let across = (0..3).max_by(|&i, &j| normal[i].abs().total_cmp(&normal[j].abs())).unwrap_or(2);
+                let cells: i64 = (0..3).filter(|&i| i != across).map(|i| (p[i] / size).floor() as i64).sum();
+                if cells.rem_euclid(2) == 1 {
+                    *albedo
+                } else {
+                    self.albedo
+                }
+            }
+            Pattern::Gradient { axis, albedo } => {
+                let along = p[0] * axis[0] + p[1] * axis[1] + p[2] * axis[2];
+                let w = (0.5 * (along + 1.0)).clamp(0.0, 1.0);
+                std::array::from_fn(|i| self.albedo[i] + w * (albedo[i] - self.albedo[i]))
+            }
+        }
+    }
+}
+
+/// The light of the diffuse surroundings: one directional light travelling along
+/// `direction` with radiance-scale `colour`, plus `ambient`. A diffuse point of albedo ρ and
+/// normal N shows ρ·(ambient + colour·max(0, −N·d̂)); no shadows, so what a distance map
+/// stores is exact and the same from every viewpoint.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    #[serde(default = "default_light_direction")]
+    pub direction: [f64; 3],
+    #[serde(default = "default_light_colour")]
+    pub colour: [f64; 3],
+    #[serde(default = "default_ambient")]
+    pub ambient: [f64; 3],
+}
+
+fn default_light_direction() -> [f64; 3] {
+    [-0.3, -1.0, -0.5]
+}
+fn default_light_colour() -> [f64; 3] {
+    [0.8, 0.8, 0.8]
+}
+fn default_ambient() -> [f64; 3] {
+    [0.2, 0.2, 0.2]
+}
+
+impl Default for Light {
+    fn default() -> Self {
+        Self { direction: default_light_direction(), colour: default_light_colour(), ambient: default_ambient() }
+    }
+}
+
+impl Light {
+    pub(crate) fn check(&self) -> Result<(), String> {
+        if !(length(self.direction) > 1e-9 && self.direction.iter().all(|a| a.is_finite())) {
+            return Err(format!("direction {:?} must be a non-zero vector", self.direction));
+        }
+        for (field, value) in [("colour", self.colour), ("ambient", self.ambient)] {
+            if value.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(format!("{field} {value:?} must be non-negative"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Radiance leaving a diffuse point of albedo `albedo` with unit normal `normal`.
+    pub fn shade(&self, albedo: [f64; 3], normal: [f64; 3]) -> [f64; 3] {
+        let d = length(self.direction);
+        let facing = (-(normal[0] * self.direction[0] + normal[1] * self.direction[1] + normal[2] * self.direction[2]) / d).max(0.0);
+        std::array::from_fn(|i| albedo[i] * (self.ambient[i] + self.colour[i] * facing))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checker_alternates_by_cell_parity() {
+        let surface = Diffuse { albedo: [1.0; 3], pattern: Pattern::Checker { size: 0.5, albedo: [0.0; 3] } };
+        let up = [0.0, 1.0, 0.0];
+        assert_eq!(surface.albedo_at([0.1, 0.1, 0.1], up), [1.0; 3]); // cells (x, z) = (0, 0): even
+        assert_eq!(surface.albedo_at([0.6, 0.1, 0.1], up), [0.0; 3]); // (1, 0): odd
+        assert_eq!(surface.albedo_at([-0.1, 0.1, 0.1], up), [0.0; 3]); // (−1, 0): odd
+        assert_eq!(surface.albedo_at([0.6, 0.1, 0.6], up), [1.0; 3]); // (1, 1): even
+        // A floor on a cell boundary (y = −2 = −4 cells) reads the same just above and below.
+        assert_eq!(surface.albedo_at([0.1, -2.0 + 1e-12, 0.1], up), surface.albedo_at([0.1, -2.0 - 1e-12, 0.1], up));
+        // On a wall facing x the cells run over (y, z).
+        assert_eq!(surface.albedo_at([3.0, 0.6, 0.1], [-0.9, 0.3, 0.1]), [0.0; 3]);
+    }
+
+    #[test]
+    fn gradient_runs_from_diffuse_to_albedo_along_the_axis() {
+        let surface = Diffuse { albedo: [0.0, 0.2, 1.0], pattern: Pattern::Gradient { axis: [0.0, 2.0, 0.0], albedo: [1.0, 0.2, 0.0] } };
+        assert_eq!(surface.albedo_at([5.0, -1.0, 3.0], [0.0, 1.0, 0.0]), [0.0, 0.2, 1.0]);
+        assert_eq!(surface.albedo_at([5.0, 0.0, 3.0], [0.0, 1.0, 0.0]), [0.5, 0.2, 0.5]);
+        assert_eq!(surface.albedo_at([0.0, 7.0, 0.0], [0.0, 1.0, 0.0]), [1.0, 0.2, 0.0]);
+    }
+
+    #[test]
+    fn light_is_lambert_plus_ambient() {
+        let light = Light { direction: [0.0, -2.0, 0.0], colour: [0.5, 1.0, 1.0], ambient: [0.1, 0.0, 0.2] };
+        // Facing the light: ρ(ambient + colour); 60° away: cos = ½; facing away: ambient only.
+        assert_eq!(light.shade([1.0, 0.5, 1.0], [0.0, 1.0, 0.0]), [0.6, 0.5, 1.2]);
+        let tilted = [3f64.sqrt() / 2.0, 0.5, 0.0];
+        let shaded = light.shade([1.0; 3], tilted);
+        assert!((shaded[1] - 0.5).abs() < 1e-15 && (shaded[0] - 0.35).abs() < 1e-15);
+        assert_eq!(light.shade([1.0; 3], [0.0, -1.0, 0.0]), [0.1, 0.0, 0.2]);
+    }
+
+    #[test]
+    fn depth_configurations_are_the_product_of_the_named_effects() {
+        let effects = RawEffects {
+            reflection: Some(RawBounces { max_depth: Numbers::Many(vec![3, 1, 3]) }),
+            refraction: None,
+            distance_maps: RawDistanceMaps { linear_steps: Numbers::Many(vec![80, 15]), secant_steps: Numbers::Many(vec![10, 1]), ..Default::default() },
+        }
+        .effects()
+        .unwrap();
+        assert_eq!(effects.depths(), vec![Depths { reflection: 1, refraction: 0 }, Depths { reflection: 3, refraction: 0 }]);
+        let steps: Vec<(u32, u32)> = effects.distance_maps.steps.iter().map(|s| (s.linear, s.secant)).collect();
+        assert_eq!(steps, vec![(15, 1), (15, 10), (80, 1), (80, 10)]);
+    }
+}

