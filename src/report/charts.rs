@@ -308,7 +308,7 @@ mod tests {
         assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
         assert!(svg.matches("<polyline").count() >= 3);
         for tick in ["0", "30", "60", "90"] {
-            assert!(svg.contains(&format!(">{tick}</text>")), "tick {tick}");
+            assert!(svg.contains(&format!(">\n{tick}\n</text>")), "tick {tick}");
         }
         assert!(svg.contains("red channel, 685 nm") && svg.contains("reflectance F"));
         let sizes: Vec<f64> = svg.split("font-size=\"").skip(1).map(|s| s[..s.find('"').unwrap()].parse().unwrap()).collect();
@@ -324,8 +324,8 @@ mod tests {
         ];
         let chart = cost_chart(&points, "CPU time per evaluation (ns)", (600, 400)).unwrap();
         assert_eq!(chart.at_floor, vec!["exact f64"]);
-        assert!(chart.svg.contains(">schlick</text>") && chart.svg.contains(">exact f64</text>"));
-        assert!(!chart.svg.contains(">lazanyi</text>"), "off-front points are not labelled");
+        assert!(chart.svg.contains(">\nschlick\n</text>") && chart.svg.contains(">\nexact f64\n</text>"), "{}", chart.svg);
+        assert!(!chart.svg.contains(">\nlazanyi\n</text>"), "off-front points are not labelled");
         assert!(chart.svg.contains("<title>lazanyi</title>"), "but they have a hover title");
     }
 }
