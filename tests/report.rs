@@ -218,6 +218,27 @@ fn report_selects_like_every_command_and_names_missing_pages() {
     fs::remove_dir_all(&out).unwrap();
 }
 
+#[test]
+fn effects_and_engine_panels_appear_when_their_tables_exist() {
+    let out = fresh("panels");
+    stages(&out, &["3d/metals/gold"], &[]);
+    fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n").unwrap();
+    fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
+    fs::create_dir_all(out.join("effects")).unwrap();
+    fs::write(out.join("effects/teapot-reference.png"), b"not looked at").unwrap();
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"), "gallery table");
+    assert!(index.contains("src=\"../effects/teapot-reference.png\""), "frames");
+    assert!(index.contains("<code>ao_errors.csv</code> is absent"));
+    let gold = material_html(&out, "3d/metals/gold");
+    assert!(gold.contains("id=\"paste\""), "paste-in panel");
+    assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));
+    assert!(gold.contains("f0_srgb8 = #ffd27a"));
+    fs::remove_dir_all(&out).unwrap();
+}
+
 /// What the audit script reads off the rendered page.
 #[derive(serde::Deserialize, Debug)]
 struct Audit {
