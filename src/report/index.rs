@@ -334,9 +334,9 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
     b.heading(2, "materials", &format!("Materials ({})", pages.len()));
     let _ = writeln!(b.html, "<p><input id=\"search\" placeholder=\"filter by page, name or kind\" oninput=\"nkFilter(this.value)\"> Click a column heading to sort.</p>");
     let m = ctx.materials.table;
-    let _ = write!(
+    let _ = writeln!(
         b.html,
-        "<table id=\"materials-table\" class=\"materials\"><thead><tr>{}</tr></thead><tbody>\n",
+        "<table id=\"materials-table\" class=\"materials\"><thead><tr>{}</tr></thead><tbody>",
         ["page", "names", "kind", "F0", "ΔE2000 F0", "three-channel error over angle (worst channel)", "fitted error (worst channel)", "notes"]
             .iter()
             .map(|h| format!("<th onclick=\"nkSort(this)\">{}</th>", escape(h)))
