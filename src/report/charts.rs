@@ -88,6 +88,45 @@ where
     Ok(())
 }
 
+/// A chart over θ ∈ [0°, 90°] on `area`: ticks every 30°, both axes named, no grid.
+fn theta_chart<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    caption: Option<&str>,
+    margin_right: u32,
+    top: f64,
+    y_name: &str,
+    y_label: &dyn Fn(&f64) -> String,
+) -> Result<Chart<'a, DB>>
+where
+    DB::ErrorType: 'static,
+{
+    let mut builder = ChartBuilder::on(area);
+    if let Some(caption) = caption {
+        builder.caption(caption, CAPTION);
+    }
+    let mut chart = builder
+        .margin(8)
+        .margin_right(margin_right)
+        .x_label_area_size(42)
+        .y_label_area_size(58)
+        .build_cartesian_2d(0f64..90f64, 0f64..top)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(0)
+        .y_labels(6)
+        .x_desc(THETA_NAME)
+        .y_desc(y_name)
+        .label_style(FONT)
+        .axis_desc_style(FONT)
+        .y_label_formatter(y_label)
+        .draw()
+        .map_err(plot_error)?;
+    theta_ticks(area, &chart)?;
+    Ok(chart)
+}
+
 /// F against θ, one panel per colour channel (named with its wavelength).
 pub fn fresnel_curves(theta_deg: &[f64], curves: &[Curve], channels: &Channels, size: (u32, u32)) -> Result<String> {
     let mut svg = String::new();
@@ -97,26 +136,8 @@ pub fn fresnel_curves(theta_deg: &[f64], curves: &[Curve], channels: &Channels, 
         let wavelengths = channels.nanometres();
         for (c, panel) in root.split_evenly((1, 3)).iter().enumerate() {
             let top = curves.iter().flat_map(|s| s.rgb.iter().map(move |v| v[c])).fold(1.0f64, f64::max);
-            let mut chart = ChartBuilder::on(panel)
-                .caption(format!("{} channel, {} nm", CHANNEL_NAMES[c], wavelengths[c]), CAPTION)
-                .margin(6)
-                .x_label_area_size(42)
-                .y_label_area_size(58)
-                .build_cartesian_2d(0f64..90f64, 0f64..(top * 1.02))
-                .map_err(plot_error)?;
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .x_labels(0)
-                .y_labels(6)
-                .x_desc(THETA_NAME)
-                .y_desc("reflectance F (linear)")
-                .label_style(FONT)
-                .axis_desc_style(FONT)
-                .y_label_formatter(&|v| format!("{v:.1}"))
-                .draw()
-                .map_err(plot_error)?;
-            theta_ticks(panel, &chart)?;
+            let caption = format!("{} channel, {} nm", CHANNEL_NAMES[c], wavelengths[c]);
+            let mut chart = theta_chart(panel, Some(&caption), 6, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
             for s in curves {
                 line(&mut chart, theta_deg.iter().copied().zip(s.channel(c)).collect(), s.color, s.dashed)?;
             }
@@ -143,26 +164,7 @@ pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> 
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
-        let mut chart = ChartBuilder::on(&root)
-            .margin(8)
-            .margin_right(190)
-            .x_label_area_size(42)
-            .y_label_area_size(58)
-            .build_cartesian_2d(0f64..90f64, 0f64..top)
-            .map_err(plot_error)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(0)
-            .y_labels(6)
-            .x_desc(THETA_NAME)
-            .y_desc("colour difference ΔE2000")
-            .label_style(FONT)
-            .axis_desc_style(FONT)
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .draw()
-            .map_err(plot_error)?;
-        theta_ticks(&root, &chart)?;
+        let mut chart = theta_chart(&root, None, 190, top, "colour difference ΔE2000", &|v| format!("{v:.0}"))?;
         chart.draw_series(std::iter::once(Rectangle::new([(0.0, 2.0), (90.0, 3.0)], RGBColor(255, 220, 200).mix(0.6).filled()))).map_err(plot_error)?;
         chart.draw_series(LineSeries::new(vec![(0.0, 1.0), (90.0, 1.0)], ShapeStyle::from(&PALETTE[7]).stroke_width(CURVE_WIDTH))).map_err(plot_error)?;
         for s in series {
