@@ -206,6 +206,13 @@ fn report_selects_like_every_command_and_names_missing_pages() {
     assert!(all.status.success(), "{}", String::from_utf8_lossy(&all.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
     assert!(index.contains("Materials (2)"));
+    assert!(out.join("report/materials/3d/liquids/water.html").exists());
+    // The report is written as one set: a narrower run leaves no page of the wider one.
+    let gold_only = nklut(&out, &["report", "--page", "3d/metals/gold"]);
+    assert!(gold_only.status.success());
+    assert!(!out.join("report/materials/3d/liquids/water.html").exists() && !out.join("report/previews/3d/liquids/water.png").exists());
+    assert!(out.join("report/materials/3d/metals/gold.html").exists());
+    assert!(!fs::read_dir(&out).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with(".report.")), "no staging folder left");
     // A page the tables lack: named, and the command fails.
     let missing = nklut(&out, &["report", "--page", "3d/metals/gold", "--page", "3d/metals/silver", "--page", "3d/plastics/PMMA"]);
     assert!(!missing.status.success(), "a missing page must fail");

@@ -6,7 +6,7 @@
 
 use super::charts::PALETTE;
 use crate::color::{self, PreparedSpectrum};
-use crate::fresnel::{Encoding, LutSpec, Method, Model};
+use crate::fresnel::{self, Encoding, ExactTerms, LutSpec, Method, Model, Prepared};
 use crate::spectrum::{ChannelIndex, Index};
 
 /// Angles of every curve: 0°, 1°, …, 90°.
@@ -46,12 +46,14 @@ pub const FITTED: &str = "exact, fitted index";
 /// `schlick_nk` equals `schlick` with F0 from (n, k) and is not drawn twice.
 pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<Curve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
+    // Each channel's fits (compensation, Lazányi, Nvidia) once, shared by every method.
+    let prepared = index.map(Prepared::new);
     Method::ALL
         .iter()
         .filter(|m| **m != Method::SchlickNk)
         .enumerate()
         .map(|(i, &method)| {
-            let models = [0, 1, 2].map(|c| Model::new(index[c], method, PLOTTED_LUT));
+            let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c].clone(), method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
             Curve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }
@@ -66,11 +68,9 @@ pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted:
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
     let mut curves = vec![Curve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
     if let Some(fitted) = fitted {
-        let mut curve = method_curves(fitted, theta_deg).remove(0);
-        curve.name = FITTED.into();
-        curve.color = PALETTE[6];
-        curve.dashed = true;
-        curves.push(curve);
+        let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
+        let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
+        curves.push(Curve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
     }
     curves.extend(method_curves(three_channel, theta_deg));
     curves

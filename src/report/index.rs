@@ -106,7 +106,7 @@ fn overview(b: &mut Builder, inputs: &inputs::Inputs) {
     b.heading(2, "overview", "Overview");
     let kept = inputs::rows("materials.csv", &inputs.materials);
     let excluded = inputs::rows("excluded.csv", &inputs.excluded);
-    b.counted(&[t("Pages kept: "), Part::Count(kept), t("; excluded: "), Part::Count(excluded), t(" (each with its reason, file and line in "), t("excluded.csv).")]);
+    b.counted(&[t("Pages kept: "), Part::Count(kept), t("; excluded: "), Part::Count(excluded), t(" (each with its reason, file and line in excluded.csv).")]);
     let mut reasons = TableText::new(&["exclusion reason", "pages"]);
     for count in inputs::exclusions_by_reason(&inputs.excluded) {
         let reason = count.key.trim_start_matches("reason=").to_string();

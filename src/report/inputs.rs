@@ -15,6 +15,15 @@ use crate::spectrum::{Channels, CHANNEL_NAMES};
 /// when present, named as absent otherwise.
 pub const OPTIONAL_TABLES: [&str; 5] = ["effects_errors.csv", "effects_timing.csv", "ao_errors.csv", "ao_timing.csv", "engine_params.csv"];
 
+/// The columns of `errors.csv` the report shows or counts.
+const ERROR_COLUMNS: [&str; 10] = ["page", "method", "variant", "precision", "channel", "wavelength_nm", "mean_rel_error", "max_abs_error", "excluded_samples", "fallback"];
+
+/// The rows of `errors.csv` the report reads: every analytic method, and the LUTs at the
+/// default 256 texels (the whole size sweep is summarised by cost.csv).
+pub fn shown_error_row(method: &str, variant: &str) -> bool {
+    method != "lut" || variant.starts_with("N=256,")
+}
+
 /// The tables the report reads.
 pub struct Inputs {
     pub materials: CsvTable,
@@ -42,7 +51,7 @@ impl Inputs {
         };
         let materials = required("materials.csv")?;
         let channels = table_channels(&materials).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("materials.csv").display()))?;
-        let errors = CsvTable::load(&out.join("errors.csv"))?;
+        let errors = CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|t, r| shown_error_row(t.text(r, "method"), t.text(r, "variant")))?;
         if let Some(errors) = &errors {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::ingest::Selection;
-use crate::output::write_atomic;
+use crate::bake::publish::{publish_folder, OutFile};
 use crate::spectrum::Index;
 use context::{material_path, preview_path, Context};
 pub use inputs::Inputs;
@@ -76,19 +76,24 @@ pub fn build(inputs: &Inputs, pages: &[String], spectra: &Spectra, frames: &[Str
     Ok(Report { html: built.html, markdown: built.markdown, materials })
 }
 
-/// Write `report/index.html`, `report/report.md`, each material page and preview.
-pub fn write(report: &Report, out: &Path) -> Result<Vec<PathBuf>> {
-    let dir = out.join("report");
-    let mut files: Vec<(PathBuf, &[u8])> = vec![(dir.join("index.html"), report.html.as_bytes()), (dir.join("report.md"), report.markdown.as_bytes())];
-    for m in &report.materials {
-        files.push((dir.join(material_path(&m.page)?), m.html.as_bytes()));
-        if let Some(png) = &m.preview_png {
-            files.push((dir.join(preview_path(&m.page)), png));
+/// Write the report as one set: `report/index.html`, `report/report.md`, each material
+/// page and preview, staged and renamed into place as a whole (readers see the previous
+/// report or the new one, never a mix). Returns the files written.
+pub fn write(report: Report, out: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = vec![OutFile { path: "index.html".into(), bytes: report.html.into_bytes() }, OutFile { path: "report.md".into(), bytes: report.markdown.into_bytes() }];
+    for m in report.materials {
+        files.push(OutFile { path: material_path(&m.page)?, bytes: m.html.into_bytes() });
+        if let Some(png) = m.preview_png {
+            files.push(OutFile { path: preview_path(&m.page), bytes: png });
         }
     }
-    files.par_iter().map(|(path, bytes)| write_atomic(path, bytes)).collect::<Result<Vec<()>>>()?;
-    Ok(files.into_iter().map(|(p, _)| p).collect())
+    std::fs::create_dir_all(out)?;
+    let dir = publish_folder(out, REPORT_DIR, &files, &|_, _| Ok(()))?;
+    Ok(files.iter().map(|f| dir.join(&f.path)).collect())
 }
+
+/// The folder under the output folder that holds the report.
+pub const REPORT_DIR: &str = "report";
 
 /// The stages whose tables the report reads, in the order they run.
 pub const STAGES: [&str; 3] = ["ingest", "colors", "validate"];
@@ -151,5 +156,5 @@ pub fn command(db: &Database, out: &Path, selection: &Selection) -> Result<Vec<P
     let pages = inputs::select_pages(&inputs.materials, &inputs.excluded, selection)?;
     let spectra = read_spectra(db, &inputs, &pages);
     let built = build(&inputs, &pages, &spectra, &extras::frames(out))?;
-    write(&built, out)
+    write(built, out)
 }

@@ -91,7 +91,7 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[Curve], png: 
     let size = ctx.layout.size();
     let _ = write!(
         html,
-        "<h2 id=\"previews\">Previews</h2>\n<p class=\"note\">Spheres under a studio light (a soft box behind the camera, a bright strip, a rim light), shaded with each curve; colours clamped to sRGB. Also written as <code>{}</code>.</p>\n<figure class=\"previews\"><img class=\"preview\" alt=\"{} previews\" width=\"{}\" height=\"{size}\" src=\"{}\"><div class=\"captions\" style=\"grid-template-columns:repeat({},{size}px)\">",
+        "<h2 id=\"previews\">Previews</h2>\n<p class=\"note\">Spheres under a studio light (a soft box behind the camera, a bright strip, a rim light), shaded with each curve (schlick_nk draws the same curve as schlick and is not repeated); colours clamped to sRGB. Also written as <code>{}</code>.</p>\n<figure class=\"previews\"><img class=\"preview\" alt=\"{} previews\" width=\"{}\" height=\"{size}\" src=\"{}\"><div class=\"captions\" style=\"grid-template-columns:repeat({},{size}px)\">",
         escape(&preview_path(page)),
         escape(page),
         size as usize * curves.len(),

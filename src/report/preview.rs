@@ -113,9 +113,13 @@ impl SphereLayout {
     }
 }
 
-/// 8-bit sRGB code of a linear value, clamped to [0, 1].
+/// 8-bit sRGB code of a linear value, clamped to [0, 1]: round(255 · encode(linear)),
+/// found among the codes' rounding thresholds decode((c + ½)/255) instead of a `powf`
+/// per pixel channel.
 pub fn encode8(linear: f64) -> u8 {
-    (srgb::encode(linear.clamp(0.0, 1.0)) * 255.0).round() as u8
+    static THRESHOLDS: std::sync::OnceLock<[f64; 255]> = std::sync::OnceLock::new();
+    let thresholds = THRESHOLDS.get_or_init(|| std::array::from_fn(|c| srgb::decode((c as f64 + 0.5) / 255.0)));
+    thresholds.partition_point(|&t| t <= linear) as u8
 }
 
 /// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
@@ -204,6 +208,15 @@ mod tests {
         let png = png(&image).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         assert!(data_uri(&png).starts_with("data:image/png;base64,iVBOR"));
+    }
+
+    #[test]
+    fn the_8_bit_encoder_rounds_like_the_transfer_function() {
+        for i in 0..=20_000 {
+            let linear = i as f64 / 20_000.0;
+            assert_eq!(encode8(linear), (srgb::encode(linear) * 255.0).round() as u8, "{linear}");
+        }
+        assert_eq!((encode8(-0.5), encode8(1.7)), (0, 255));
     }
 
     #[test]
