@@ -152,6 +152,16 @@ fn recount(out: &Path, table: &str, key: &str) -> usize {
         ("materials.csv", "sparse") => count(&|r| t.text(r, "sparse") == "true"),
         ("colors.csv", "out-of-gamut") => count(&|r| ["r", "g", "b"].iter().any(|c| t.text(r, &format!("out_of_gamut_{c}")) == "true")),
         ("colors.csv", "extrapolated") => count(&|r| t.number(r, "extrapolated_share").unwrap() > 0.0),
+        ("colors.csv", "fit-at-bound") => {
+            use nklut::color::fit::{K_MAX, N_BOUNDS};
+            count(&|r| {
+                ["r", "g", "b"].iter().any(|c| {
+                    let n = t.number(r, &format!("effective_n_{c}")).unwrap();
+                    let k = t.number(r, &format!("effective_k_{c}")).unwrap();
+                    (n - N_BOUNDS.0).abs() < 1e-9 || (n - N_BOUNDS.1).abs() < 1e-4 || (k - K_MAX).abs() < 1e-4
+                })
+            })
+        }
         ("errors.csv", k) if k.starts_with("fallback") => {
             let reason = k.strip_prefix("fallback=");
             let pairs: BTreeSet<(String, String)> = t
@@ -330,7 +340,7 @@ fn rendered_report_is_readable_and_its_counts_are_its_tables() {
     println!("index: {} plot texts, {} counts", index.texts.len(), index.counts.len());
     check_readable("index", &index);
     let keys: BTreeSet<(String, String)> = index.counts.iter().map(|c| (c.table.clone(), c.key.clone())).collect();
-    for required in [("materials.csv", "rows"), ("excluded.csv", "rows"), ("errors.csv", "fallback"), ("materials.csv", "sparse"), ("colors.csv", "out-of-gamut")] {
+    for required in [("materials.csv", "rows"), ("excluded.csv", "rows"), ("errors.csv", "fallback"), ("materials.csv", "sparse"), ("colors.csv", "out-of-gamut"), ("colors.csv", "fit-at-bound")] {
         assert!(keys.contains(&(required.0.to_string(), required.1.to_string())), "the index prints no {required:?}");
     }
     for c in &index.counts {

@@ -53,7 +53,7 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<Curve> {
         .filter(|m| **m != Method::SchlickNk)
         .enumerate()
         .map(|(i, &method)| {
-            let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c].clone(), method, PLOTTED_LUT));
+            let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c], method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
             Curve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }

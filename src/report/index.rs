@@ -325,7 +325,11 @@ fn summaries(b: &mut Builder, ctx: &Context) {
     }
     if let Some(c) = &inputs.colors {
         let bound = c.rows.iter().filter(|r| fitted_index(c, r).iter().any(|i| at_bound(*i))).count();
-        b.paragraph(&format!("Pages with a fitted index on the edge of the fit's search box (explained on their pages): {bound}."));
+        b.counted(&[
+            t("Pages with a fitted index on the edge of the fit's search box (colors.csv, effective_n/effective_k; explained on their pages): "),
+            Part::Count(Count { table: "colors.csv", key: "fit-at-bound".into(), value: bound }),
+            t("."),
+        ]);
     }
 }
 
