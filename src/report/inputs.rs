@@ -51,7 +51,7 @@ impl Inputs {
         };
         let materials = required("materials.csv")?;
         let channels = table_channels(&materials).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("materials.csv").display()))?;
-        let errors = CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|t, r| shown_error_row(t.text(r, "method"), t.text(r, "variant")))?;
+        let errors = CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|r| shown_error_row(r.text("method"), r.text("variant")))?;
         if let Some(errors) = &errors {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
