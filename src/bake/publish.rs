@@ -115,11 +115,18 @@ pub fn publish(out: &Path, files: &[OutFile], before_write: BeforeWrite) -> Resu
 
 /// Write `files` as the new `<out>/<folder>` (e.g. `luts`, `report`), all or nothing.
 pub fn publish_folder(out: &Path, folder: &str, files: &[OutFile], before_write: BeforeWrite) -> Result<PathBuf> {
+    publish_with(out, folder, &|staging| write_all(staging, files, before_write))
+}
+
+/// Fill a fresh staging folder with `fill` (which writes its files into the folder it is
+/// given, e.g. as they are computed), then make it the new `<out>/<folder>`, all or
+/// nothing. Returns the folder.
+pub fn publish_with(out: &Path, folder: &str, fill: &dyn Fn(&Path) -> Result<()>) -> Result<PathBuf> {
     remove_leftovers(out, folder)?;
     let staging = out.join(format!("{}{}", prefixes(folder).0, std::process::id()));
     let result = fs::create_dir_all(&staging)
         .with_context(|| format!("creating {}", staging.display()))
-        .and_then(|_| write_all(&staging, files, before_write))
+        .and_then(|_| fill(&staging))
         .and_then(|_| swap_in(out, folder, &staging));
     if result.is_err() {
         let _ = fs::remove_dir_all(&staging);

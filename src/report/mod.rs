@@ -19,13 +19,14 @@ pub mod preview;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-use anyhow::Result;
+use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::ingest::Selection;
-use crate::bake::publish::{publish_folder, OutFile};
+use crate::bake::publish::publish_with;
 use crate::spectrum::Index;
 use context::{material_path, preview_path, Context};
 pub use inputs::Inputs;
@@ -46,50 +47,50 @@ pub(crate) fn swatch(rgb: [f64; 3]) -> String {
     format!("<span class=\"swatch\" style=\"background:{}\"></span>", crate::color::hex_swatch(rgb))
 }
 
-/// A finished report: the index, its Markdown twin and one page per material.
-pub struct Report {
-    pub html: String,
-    pub markdown: String,
-    pub materials: Vec<MaterialPage>,
-}
-
 /// The index of each selected page on the 1 nm grid, or why it could not be had.
 pub type Spectra = HashMap<String, Result<Vec<Index>, String>>;
 
-/// Build the report for `pages` (rows of `materials.csv`) from loaded tables;
-/// `spectra` holds each page's spectrum by data file, `frames` the effects' images.
-pub fn build(inputs: &Inputs, pages: &[String], spectra: &Spectra, frames: &[String]) -> Result<Report> {
+/// Build the report for `pages` (rows of `materials.csv`) from loaded tables and write it
+/// as one set under `<out>/report`: each material page and preview is written into a
+/// staging folder as soon as it is built (the report is never held in memory whole), then
+/// the index and `report.md`, and the folder is renamed into place (readers see the
+/// previous report or the new one, never a mix). `spectra` holds each page's spectrum by
+/// data file, `frames` the effects' images. Returns the files written.
+pub fn build_and_write(inputs: &Inputs, pages: &[String], spectra: &Spectra, frames: &[String], out: &Path) -> Result<Vec<PathBuf>> {
     let ctx = Context::new(inputs);
-    let materials: Vec<MaterialPage> = pages
-        .par_iter()
-        .map(|page| {
+    let written = Mutex::new(Vec::new());
+    let put = |staging: &Path, path: String, bytes: &[u8]| -> Result<()> {
+        let file = staging.join(&path);
+        if let Some(folder) = file.parent() {
+            std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+        }
+        std::fs::write(&file, bytes).with_context(|| format!("writing {}", file.display()))?;
+        written.lock().expect("no writer panicked").push(path);
+        Ok(())
+    };
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let dir = publish_with(out, REPORT_DIR, &|staging| {
+        pages.par_iter().try_for_each(|page| {
             let file = ctx.materials.first(page).map(|r| inputs.materials.text(r, "data_file")).unwrap_or("");
             let spectrum = match spectra.get(file) {
                 Some(Ok(s)) => Ok(s.as_slice()),
                 Some(Err(e)) => Err(e.as_str()),
                 None => Err("not read"),
             };
-            page::material_page(&ctx, page, spectrum)
-        })
-        .collect::<Result<_>>()?;
-    let built = index::index_page(&ctx, pages, extras::gallery(inputs, frames))?;
-    Ok(Report { html: built.html, markdown: built.markdown, materials })
-}
-
-/// Write the report as one set: `report/index.html`, `report/report.md`, each material
-/// page and preview, staged and renamed into place as a whole (readers see the previous
-/// report or the new one, never a mix). Returns the files written.
-pub fn write(report: Report, out: &Path) -> Result<Vec<PathBuf>> {
-    let mut files = vec![OutFile { path: "index.html".into(), bytes: report.html.into_bytes() }, OutFile { path: "report.md".into(), bytes: report.markdown.into_bytes() }];
-    for m in report.materials {
-        files.push(OutFile { path: material_path(&m.page)?, bytes: m.html.into_bytes() });
-        if let Some(png) = m.preview_png {
-            files.push(OutFile { path: preview_path(&m.page), bytes: png });
-        }
-    }
-    std::fs::create_dir_all(out)?;
-    let dir = publish_folder(out, REPORT_DIR, &files, &|_, _| Ok(()))?;
-    Ok(files.iter().map(|f| dir.join(&f.path)).collect())
+            let built: MaterialPage = page::material_page(&ctx, page, spectrum)?;
+            put(staging, material_path(page)?, built.html.as_bytes())?;
+            match &built.preview_png {
+                Some(png) => put(staging, preview_path(page), png),
+                None => Ok(()),
+            }
+        })?;
+        let index = index::index_page(&ctx, pages, extras::gallery(inputs, frames))?;
+        put(staging, "index.html".into(), index.html.as_bytes())?;
+        put(staging, "report.md".into(), index.markdown.as_bytes())
+    })?;
+    let mut written = written.into_inner().expect("no writer panicked");
+    written.sort();
+    Ok(written.into_iter().map(|p| dir.join(p)).collect())
 }
 
 /// The folder under the output folder that holds the report.
@@ -155,6 +156,5 @@ pub fn command(db: &Database, out: &Path, selection: &Selection) -> Result<Vec<P
     let inputs = Inputs::load(out)?;
     let pages = inputs::select_pages(&inputs.materials, &inputs.excluded, selection)?;
     let spectra = read_spectra(db, &inputs, &pages);
-    let built = build(&inputs, &pages, &spectra, &extras::frames(out))?;
-    write(built, out)
+    build_and_write(&inputs, &pages, &spectra, &extras::frames(out), out)
 }
