@@ -65,12 +65,13 @@ test-deps:
 test: db test-deps
 	$(CARGO) test --features gpu
 
-# Every benchmark of BENCHMARKS.md: ingest (wall + peak RSS), Fresnel methods, colours.
+# Every benchmark of BENCHMARKS.md: ingest (wall + peak RSS), Fresnel methods, colours, report.
 bench: db
 	$(CARGO) bench --bench ingest
 	$(CARGO) bench --bench fresnel -- --warm-up-time 1 --measurement-time 3
 	$(CARGO) bench --bench colors
 	$(CARGO) bench --bench params
+	$(CARGO) bench --bench report
 
 # The GPU measurements of scenes/default.yaml (timing + image error) → output/gpu_timing.csv,
 # output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.

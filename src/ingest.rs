@@ -39,8 +39,8 @@ impl Selection {
         self.includes_id(&page.shelf, &page.id())
     }
 
-    /// Whether the page `id` on `shelf` is selected: everything when the selection is
-    /// empty, else its shelf or its id named.
+    /// Whether the page `id` on `shelf` is selected: the whole catalog when nothing is
+    /// named, else the named shelves and pages. Tables are filtered by the same rule.
     pub fn includes_id(&self, shelf: &str, id: &str) -> bool {
         (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| s == shelf) || self.pages.iter().any(|p| p == id)
     }
@@ -241,6 +241,9 @@ pub fn materials_table(ingest: &Ingest) -> Table {
     for (c, (name, nm)) in CHANNEL_NAMES.iter().zip(channels.nanometres()).enumerate() {
         table.float(&format!("n_{name}"), &format!("refractive index n at {nm} nm"), kept.iter().map(|p| p.material.channels[c].n).collect());
         table.float(&format!("k_{name}"), &format!("extinction coefficient k at {nm} nm"), kept.iter().map(|p| p.material.channels[c].k).collect());
+    }
+    for (name, nm) in CHANNEL_NAMES.iter().zip(channels.nanometres()) {
+        table.float(&format!("lambda_{name}_nm"), &format!("wavelength (nm) of the {name} channel, where n_{name} and k_{name} are evaluated (--channels)"), vec![nm; kept.len()]);
     }
     table
         .float("lambda_min_nm", "shortest wavelength covered by n and k data (nm)", kept.iter().map(|p| p.material.range_nm.0).collect())

@@ -28,13 +28,10 @@ enum Command {
         #[command(flatten)]
         channels: ChannelArgs,
     },
-    /// Write output/report/index.html and report.md from the tables the other stages wrote.
+    /// Write output/report/index.html, report.md and one page per material from the tables the other stages wrote.
     Report {
         #[command(flatten)]
         pages: PageSelection,
-        /// Draw the Fresnel plots of at most this many materials (each adds ~100 kB).
-        #[arg(long, default_value_t = 60)]
-        max_plots: usize,
     },
     /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
     Bake(nklut::bake::BakeArgs),
@@ -155,11 +152,9 @@ fn run(cli: Cli) -> Result<()> {
             }
             result.check_strict()?;
         }
-        Command::Report { pages, max_plots } => {
-            let written = nklut::report::command(&db, &cli.paths.out, &pages, max_plots)?;
-            for path in written {
-                eprintln!("  wrote {}", path.display());
-            }
+        Command::Report { pages } => {
+            let written = nklut::report::command(&db, &cli.paths.out, &pages.selection())?;
+            eprintln!("report: {} files under {}", written.len(), cli.paths.out.join("report").display());
         }
         Command::Bake(args) => {
             let summary = nklut::bake::run(&db, &cli.paths.out, &args)?;

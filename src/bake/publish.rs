@@ -1,5 +1,5 @@
-//! Writing a bake: all files go to a staging folder `<out>/.luts.staging-<pid>`, which
-//! replaces `<out>/luts` by rename only once every file is written. The staging folder is
+//! Writing a bake (or the report): all files go to a staging folder `<out>/.luts.staging-<pid>`,
+//! which replaces `<out>/luts` by rename only once every file is written. The staging folder is
 //! the temporary name (the folder-level form of `output::write_atomic`): readers see the
 //! previous bake or the new one, never a mix, and a failure removes the staging folder.
 //!
@@ -25,8 +25,11 @@ pub struct OutFile {
 
 /// The folder under `out` that holds a bake.
 pub const LUTS_DIR: &str = "luts";
-const STAGING_PREFIX: &str = ".luts.staging-";
-const OLD_PREFIX: &str = ".luts.old-";
+
+/// The staging and set-aside names of `folder` (`.luts.staging-`, `.luts.old-`).
+fn prefixes(folder: &str) -> (String, String) {
+    (format!(".{folder}.staging-"), format!(".{folder}.old-"))
+}
 
 /// Called with each file's index in the list and its relative path before it is written;
 /// an error aborts the bake (tests inject failures with it).
@@ -49,11 +52,12 @@ pub fn check_writable(out: &Path) -> Result<()> {
 
 /// Leftovers of a bake that was killed (not of one that failed: those clean up). One bake
 /// per output folder at a time.
-fn remove_leftovers(out: &Path) -> Result<()> {
+fn remove_leftovers(out: &Path, folder: &str) -> Result<()> {
+    let (staging_prefix, old_prefix) = prefixes(folder);
     for entry in fs::read_dir(out).with_context(|| format!("listing {}", out.display()))? {
         let entry = entry?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        if name.starts_with(STAGING_PREFIX) || name.starts_with(OLD_PREFIX) {
+        if name.starts_with(&staging_prefix) || name.starts_with(&old_prefix) {
             fs::remove_dir_all(entry.path()).with_context(|| format!("removing the leftover {}", entry.path().display()))?;
         }
     }
@@ -83,11 +87,11 @@ fn write_all(staging: &Path, files: &[OutFile], before_write: BeforeWrite) -> Re
     })
 }
 
-/// Replace `<out>/luts` by `staging`: move the old folder aside, move the new one in,
+/// Replace `<out>/<folder>` by `staging`: move the old folder aside, move the new one in,
 /// remove the old one. If the second rename fails the old folder is put back.
-fn swap_in(out: &Path, staging: &Path) -> Result<PathBuf> {
-    let luts = out.join(LUTS_DIR);
-    let old = out.join(format!("{OLD_PREFIX}{}", std::process::id()));
+fn swap_in(out: &Path, folder: &str, staging: &Path) -> Result<PathBuf> {
+    let luts = out.join(folder);
+    let old = out.join(format!("{}{}", prefixes(folder).1, std::process::id()));
     let had_old = luts.exists();
     if had_old {
         fs::rename(&luts, &old).with_context(|| format!("moving {} aside", luts.display()))?;
@@ -106,12 +110,24 @@ fn swap_in(out: &Path, staging: &Path) -> Result<PathBuf> {
 
 /// Write `files` as the new `<out>/luts`, all or nothing. Returns the folder.
 pub fn publish(out: &Path, files: &[OutFile], before_write: BeforeWrite) -> Result<PathBuf> {
-    remove_leftovers(out)?;
-    let staging = out.join(format!("{STAGING_PREFIX}{}", std::process::id()));
+    publish_folder(out, LUTS_DIR, files, before_write)
+}
+
+/// Write `files` as the new `<out>/<folder>` (e.g. `luts`, `report`), all or nothing.
+pub fn publish_folder(out: &Path, folder: &str, files: &[OutFile], before_write: BeforeWrite) -> Result<PathBuf> {
+    publish_with(out, folder, &|staging| write_all(staging, files, before_write))
+}
+
+/// Fill a fresh staging folder with `fill` (which writes its files into the folder it is
+/// given, e.g. as they are computed), then make it the new `<out>/<folder>`, all or
+/// nothing. Returns the folder.
+pub fn publish_with(out: &Path, folder: &str, fill: &dyn Fn(&Path) -> Result<()>) -> Result<PathBuf> {
+    remove_leftovers(out, folder)?;
+    let staging = out.join(format!("{}{}", prefixes(folder).0, std::process::id()));
     let result = fs::create_dir_all(&staging)
         .with_context(|| format!("creating {}", staging.display()))
-        .and_then(|_| write_all(&staging, files, before_write))
-        .and_then(|_| swap_in(out, &staging));
+        .and_then(|_| fill(&staging))
+        .and_then(|_| swap_in(out, folder, &staging));
     if result.is_err() {
         let _ = fs::remove_dir_all(&staging);
     }

@@ -18,6 +18,9 @@ const K_OFFSET: f64 = 1e-6;
 /// Search box in (ln n, ln(k + K_OFFSET)): n ∈ [10⁻³, 100], k ∈ [0, 100].
 const U_RANGE: (f64, f64) = (-6.907_755_278_982_137, 4.605_170_185_988_092);
 const V_RANGE: (f64, f64) = (-13.815_510_557_964_274, 4.605_170_185_988_092);
+/// The search box in (n, k): a fit ending on one of these bounds did not converge inside it.
+pub const N_BOUNDS: (f64, f64) = (1e-3, 100.0);
+pub const K_MAX: f64 = 100.0;
 const MAX_ITERATIONS: usize = 100;
 const JACOBIAN_STEP: f64 = 1e-6;
 

@@ -1,4 +1,7 @@
-//! Small HTML and Markdown writers: escaping, tables, number formatting shared by both.
+//! Small HTML and Markdown writers: escaping, tables, and the report's one number format
+//! (errors as percentages with 3 significant digits, indices and reflectances with 4
+//! decimals, colour differences with 2), shared by HTML and Markdown so tests find the
+//! same text in both.
 
 use std::fmt::Write;
 
@@ -18,29 +21,80 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-/// A number as the report prints it: 4 significant digits, scientific below 1e-3 or at
-/// 1e5 and above. The same text goes to HTML and Markdown, so tests can find it.
-pub fn number(x: f64) -> String {
+/// A path for an `href`/`src` attribute: bytes outside `A-Z a-z 0-9 - _ . ~ /` are
+/// percent-encoded, so a page id with spaces or `#` still links to its file.
+pub fn href(path: &str) -> String {
+    let mut out = String::with_capacity(path.len());
+    for byte in path.bytes() {
+        if byte.is_ascii_alphanumeric() || b"-_.~/".contains(&byte) {
+            out.push(byte as char);
+        } else {
+            let _ = write!(out, "%{byte:02X}");
+        }
+    }
+    out
+}
+
+/// `x` rounded to `digits` significant digits, written in plain decimals
+/// (`significant(0.000123456, 3)` = "0.000123", `significant(1234.5, 3)` = "1230").
+pub fn significant(x: f64, digits: i32) -> String {
     if !x.is_finite() {
         return "–".into();
     }
     if x == 0.0 {
         return "0".into();
     }
-    let magnitude = x.abs();
-    if !(1e-3..1e5).contains(&magnitude) {
-        return format!("{x:.3e}");
-    }
-    let decimals = (3 - magnitude.log10().floor() as i32).max(0) as usize;
-    format!("{x:.decimals$}")
+    let round = |v: f64| {
+        let scale = 10f64.powi(digits - 1 - v.abs().log10().floor() as i32);
+        (v * scale).round() / scale
+    };
+    let rounded = round(x);
+    let decimals = (digits - 1 - rounded.abs().log10().floor() as i32).max(0) as usize;
+    format!("{rounded:.decimals$}")
 }
 
-/// A fraction as a percentage with 3 significant digits ("12.3 %", "0.0421 %").
+/// The smallest error the report writes as a number (a fraction; 1e-9 % below it).
+pub const SMALLEST_PERCENT: f64 = 1e-9;
+
+/// An error (a fraction) as a percentage with 3 significant digits: "12.3 %",
+/// "0.0421 %", "0 %"; below 1e-9 % "< 0.000000001 %".
 pub fn percent(fraction: f64) -> String {
     if !fraction.is_finite() {
         return "–".into();
     }
-    format!("{} %", number(fraction * 100.0))
+    let pct = fraction * 100.0;
+    if pct != 0.0 && pct.abs() < SMALLEST_PERCENT {
+        return "< 0.000000001 %".into();
+    }
+    format!("{} %", significant(pct, 3))
+}
+
+/// A refractive index n or extinction coefficient k: 4 decimals.
+pub fn index(x: f64) -> String {
+    fixed(x, 4)
+}
+
+/// A reflectance F (linear): 4 decimals.
+pub fn reflectance(x: f64) -> String {
+    fixed(x, 4)
+}
+
+/// A CIEDE2000 colour difference: 2 decimals.
+pub fn delta_e(x: f64) -> String {
+    fixed(x, 2)
+}
+
+/// Any other measured quantity (ns, ms, nm): 3 significant digits.
+pub fn number(x: f64) -> String {
+    significant(x, 3)
+}
+
+fn fixed(x: f64, decimals: usize) -> String {
+    if x.is_finite() {
+        format!("{x:.decimals$}")
+    } else {
+        "–".into()
+    }
 }
 
 /// A table with a header row, as HTML and as Markdown.
@@ -111,12 +165,33 @@ mod tests {
     use super::*;
 
     #[test]
-    fn numbers_have_four_significant_digits() {
-        assert_eq!(number(0.123456), "0.1235");
-        assert_eq!(number(12.3456), "12.35");
-        assert_eq!(number(1234.5), "1234");
-        assert_eq!(number(0.00012345), "1.234e-4");
-        assert_eq!(percent(0.0123), "1.230 %");
+    fn errors_are_percent_with_three_significant_digits() {
+        assert_eq!(percent(0.123456), "12.3 %");
+        assert_eq!(percent(0.1029), "10.3 %");
+        assert_eq!(percent(0.0006062), "0.0606 %");
+        assert_eq!(percent(3.755e-6), "0.000376 %");
+        assert_eq!(percent(12.345), "1230 %");
+        assert_eq!(percent(0.099996), "10.0 %");
+        assert_eq!(percent(0.0), "0 %");
+        assert_eq!(percent(1e-13), "< 0.000000001 %");
+        assert_eq!(percent(f64::NAN), "–");
+    }
+
+    #[test]
+    fn indices_have_four_decimals() {
+        assert_eq!(index(0.001), "0.0010");
+        assert_eq!(index(100.0), "100.0000");
+        assert_eq!(index(0.18344), "0.1834");
+        assert_eq!(reflectance(1.02504), "1.0250");
+        assert_eq!(delta_e(6.4149), "6.41");
+        assert_eq!(number(25.6), "25.6");
+        assert_eq!(number(0.000123456), "0.000123");
+    }
+
+    #[test]
+    fn hrefs_percent_encode_what_a_url_cannot_hold() {
+        assert_eq!(href("main/Au/Johnson"), "main/Au/Johnson");
+        assert_eq!(href("a b#c"), "a%20b%23c");
     }
 
     #[test]

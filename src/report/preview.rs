@@ -1,0 +1,227 @@
+//! Material previews rendered on the CPU: spheres seen orthographically along −z, each
+//! pixel shaded F(θ) · L(r) — F the material's reflectance curve (linear sRGB per
+//! channel, linearly interpolated on the curves' θ grid) at θ = acos(n·v), L the
+//! environment's radiance in the mirror direction r = 2(n·v)n − v (the ideal specular
+//! reflection) — then sRGB-encoded to 8 bits (IEC 61966-2-1). Deterministic: no random
+//! sampling, no GPU. Also the colour-over-angle strips (F(θ) as a colour, 0° to 90°).
+
+use std::io::Cursor;
+
+use anyhow::{Context, Result};
+use base64::Engine as _;
+use image::{ImageFormat, RgbImage};
+
+use crate::color::srgb;
+
+/// Side of one preview sphere in pixels.
+pub const PREVIEW_PX: u32 = 81;
+
+/// Linear radiance of the background around the spheres (mid grey once encoded).
+const BACKGROUND: f64 = 0.18;
+
+/// What the spheres reflect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Environment {
+    /// A studio: a soft box behind the camera (the centre of the sphere shows F0),
+    /// a floor-to-ceiling gradient, a bright horizontal strip and a rim light behind
+    /// the sphere (the grazing rim shows F near 90°).
+    Studio,
+    /// The same radiance in every direction: each pixel is F(θ) times it.
+    Uniform(f64),
+}
+
+impl Environment {
+    /// Linear radiance (grey) in direction `r` (unit vector; +z toward the camera, +y up).
+    pub fn radiance(self, r: [f64; 3]) -> f64 {
+        match self {
+            Environment::Uniform(value) => value,
+            Environment::Studio => {
+                let [_, y, z] = r;
+                if (y - 0.45).abs() < 0.07 {
+                    1.0
+                } else if z > 0.8 {
+                    0.9
+                } else if z < -0.75 {
+                    0.7
+                } else {
+                    0.06 + 0.3 * (0.5 * (y + 1.0)).clamp(0.0, 1.0)
+                }
+            }
+        }
+    }
+}
+
+/// Where a pixel of the sphere looks: the curve position and the environment's radiance.
+#[derive(Clone, Copy, Debug)]
+struct Texel {
+    /// Index into the θ grid and the weight of the next sample.
+    lower: usize,
+    weight: f64,
+    radiance: f64,
+}
+
+/// The geometry of a sphere image, shared by every material and method: per pixel,
+/// `None` outside the sphere, else where it samples the curve and the environment.
+pub struct SphereLayout {
+    size: u32,
+    texels: Vec<Option<Texel>>,
+}
+
+/// cos θ at the centre of pixel (`px`, `py`) of a sphere `size` pixels wide, `None`
+/// outside the disc: the normal is (x, y, √(1 − x² − y²)) with x, y ∈ [−1, 1].
+pub fn pixel_normal(px: u32, py: u32, size: u32) -> Option<[f64; 3]> {
+    let x = 2.0 * (px as f64 + 0.5) / size as f64 - 1.0;
+    let y = 1.0 - 2.0 * (py as f64 + 0.5) / size as f64;
+    let r2 = x * x + y * y;
+    (r2 < 1.0).then(|| [x, y, (1.0 - r2).sqrt()])
+}
+
+impl SphereLayout {
+    /// The layout for curves sampled at `theta_points` angles uniform over [0°, 90°].
+    pub fn new(size: u32, theta_points: usize, environment: Environment) -> Self {
+        let step = 90.0 / (theta_points - 1) as f64;
+        let texels = (0..size * size)
+            .map(|i| {
+                let normal = pixel_normal(i % size, i / size, size)?;
+                let cos = normal[2];
+                let reflected = [2.0 * cos * normal[0], 2.0 * cos * normal[1], 2.0 * cos * normal[2] - 1.0];
+                let position = (cos.acos().to_degrees() / step).min((theta_points - 1) as f64);
+                let lower = (position.floor() as usize).min(theta_points - 2);
+                Some(Texel { lower, weight: position - lower as f64, radiance: environment.radiance(reflected) })
+            })
+            .collect();
+        Self { size, texels }
+    }
+
+    pub fn size(&self) -> u32 {
+        self.size
+    }
+
+    /// Linear sRGB of every pixel of the sphere shaded with `curve` (F per channel on the
+    /// layout's θ grid), row-major; the background outside the disc.
+    pub fn shade(&self, curve: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        self.texels
+            .iter()
+            .map(|texel| match texel {
+                None => [BACKGROUND; 3],
+                Some(t) => {
+                    let (a, b) = (curve[t.lower], curve[t.lower + 1]);
+                    [0, 1, 2].map(|c| (a[c] + (b[c] - a[c]) * t.weight) * t.radiance)
+                }
+            })
+            .collect()
+    }
+}
+
+/// 8-bit sRGB code of a linear value, clamped to [0, 1]: round(255 · encode(linear)),
+/// found among the codes' rounding thresholds decode((c + ½)/255) instead of a `powf`
+/// per pixel channel.
+pub fn encode8(linear: f64) -> u8 {
+    static THRESHOLDS: std::sync::OnceLock<[f64; 255]> = std::sync::OnceLock::new();
+    let thresholds = THRESHOLDS.get_or_init(|| std::array::from_fn(|c| srgb::decode((c as f64 + 0.5) / 255.0)));
+    thresholds.partition_point(|&t| t <= linear) as u8
+}
+
+/// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
+pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
+    let size = layout.size();
+    let mut image = RgbImage::new(size * curves.len() as u32, size);
+    for (i, curve) in curves.iter().enumerate() {
+        for (p, rgb) in layout.shade(curve).into_iter().enumerate() {
+            let (x, y) = (p as u32 % size, p as u32 / size);
+            image.put_pixel(i as u32 * size + x, y, image::Rgb(rgb.map(encode8)));
+        }
+    }
+    image
+}
+
+/// PNG bytes of an image (deterministic: same pixels, same bytes).
+pub fn png(image: &RgbImage) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    image.write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png).context("encoding a preview PNG")?;
+    Ok(bytes)
+}
+
+/// A `data:` URI of PNG bytes, for an `<img src>` that keeps the page self-contained.
+pub fn data_uri(png: &[u8]) -> String {
+    format!("data:image/png;base64,{}", base64::engine::general_purpose::STANDARD.encode(png))
+}
+
+/// A CSS `linear-gradient` left (0°) to right (90°) through the colour of each sample of
+/// a curve on a θ grid uniform over [0°, 90°] (clamped, sRGB-encoded).
+pub fn angle_gradient(curve: &[[f64; 3]]) -> String {
+    let last = (curve.len() - 1) as f64;
+    let stops: Vec<String> = curve
+        .iter()
+        .enumerate()
+        .map(|(i, rgb)| format!("{} {:.1}%", crate::color::hex_swatch(*rgb), 100.0 * i as f64 / last))
+        .collect();
+    format!("linear-gradient(to right,{})", stops.join(","))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fresnel::exact;
+    use crate::report::curves::theta_grid;
+
+    fn decode8(code: u8) -> f64 {
+        srgb::decode(code as f64 / 255.0)
+    }
+
+    /// One 8-bit step in linear terms around `value`.
+    fn step_at(value: f64) -> f64 {
+        let code = encode8(value) as f64 / 255.0;
+        srgb::decode((code + 1.0 / 255.0).min(1.0)) - srgb::decode((code - 1.0 / 255.0).max(0.0))
+    }
+
+    #[test]
+    fn a_sphere_of_constant_index_shows_f0_at_its_centre_and_the_grazing_value_at_its_rim() {
+        for (n, k) in [(1.5, 0.0), (0.18, 3.4), (2.4, 0.0)] {
+            let theta = theta_grid(91);
+            let curve: Vec<[f64; 3]> = theta.iter().map(|t| [exact(n, k, t.to_radians().cos()); 3]).collect();
+            let size = 95;
+            let layout = SphereLayout::new(size, theta.len(), Environment::Uniform(1.0));
+            let image = sheet(&layout, &[&curve]);
+            // The centre pixel looks straight back along the view: θ = 0, F = F0.
+            let f0 = ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
+            let centre = image.get_pixel(size / 2, size / 2).0;
+            assert_eq!(centre[0], encode8(f0), "n {n} k {k}: centre {} vs F0 {f0}", decode8(centre[0]));
+            // The outermost pixel on the horizontal diameter: its own θ from geometry.
+            let rim_cos = pixel_normal(0, size / 2, size).unwrap()[2];
+            let grazing = exact(n, k, rim_cos);
+            let rim = decode8(image.get_pixel(0, size / 2).0[1]);
+            assert!((rim - grazing).abs() <= step_at(grazing), "n {n} k {k}: rim {rim} vs {grazing} at cos {rim_cos}");
+            assert!(rim_cos < 0.2 && grazing > f0, "the rim is near grazing and brighter than F0");
+            // Outside the disc: the background.
+            assert_eq!(image.get_pixel(0, 0).0, [encode8(BACKGROUND); 3]);
+        }
+    }
+
+    #[test]
+    fn the_studio_shows_f0_in_the_centre_and_a_brighter_rim() {
+        let layout = SphereLayout::new(PREVIEW_PX, 91, Environment::Studio);
+        let curve: Vec<[f64; 3]> = theta_grid(91).iter().map(|t| [exact(1.5, 0.0, t.to_radians().cos()); 3]).collect();
+        let image = sheet(&layout, &[&curve]);
+        let centre = decode8(image.get_pixel(PREVIEW_PX / 2, PREVIEW_PX / 2).0[0]);
+        assert!((centre - 0.9 * 0.04).abs() < step_at(0.036), "{centre}");
+        let png = png(&image).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        assert!(data_uri(&png).starts_with("data:image/png;base64,iVBOR"));
+    }
+
+    #[test]
+    fn the_8_bit_encoder_rounds_like_the_transfer_function() {
+        for i in 0..=20_000 {
+            let linear = i as f64 / 20_000.0;
+            assert_eq!(encode8(linear), (srgb::encode(linear) * 255.0).round() as u8, "{linear}");
+        }
+        assert_eq!((encode8(-0.5), encode8(1.7)), (0, 255));
+    }
+
+    #[test]
+    fn gradients_run_from_normal_incidence_to_grazing() {
+        let g = angle_gradient(&[[0.0; 3], [1.0; 3]]);
+        assert_eq!(g, "linear-gradient(to right,#000000 0.0%,#ffffff 100.0%)");
+    }
+}
