@@ -130,6 +130,23 @@ fn mixed_material_really_falls_back() {
     }
 }
 
+/// A wgpu call that fails validation outside any error scope (a mappable buffer that is
+/// also a storage buffer) comes back as an error from `wait`, not a panic.
+#[test]
+fn an_uncaptured_wgpu_error_is_an_error() {
+    let Some(gpu) = device() else { return };
+    gpu.wait().unwrap();
+    let _buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("invalid on purpose"),
+        size: 16,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let error = gpu.wait().expect_err("the invalid buffer is reported").to_string();
+    assert!(error.contains("wgpu reported 1 error"), "{error}");
+    gpu.wait().expect("errors are reported once");
+}
+
 fn scene(text: &str) -> Scene {
     Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap()
 }

@@ -3,6 +3,7 @@
 //! rasteriser, what CI has) speak it.
 
 use std::fmt;
+use std::sync::{Arc, Mutex};
 
 use anyhow::{bail, Context, Result};
 
@@ -40,6 +41,9 @@ pub struct Gpu {
     pub line: AdapterLine,
     /// `Features::TIMESTAMP_QUERY` was available and enabled.
     pub timestamps: bool,
+    /// Errors wgpu reported outside an error scope (its default handler panics); [`Gpu::wait`]
+    /// returns them as an error.
+    uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
 fn instance() -> wgpu::Instance {
@@ -94,13 +98,28 @@ pub fn open(wanted: Option<&str>) -> Result<Gpu> {
     };
     let line = AdapterLine::new(&adapter.get_info());
     let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).with_context(|| format!("opening a device on {line}"))?;
-    Ok(Gpu { adapter, device, queue, line, timestamps })
+    let uncaptured = Arc::new(Mutex::new(Vec::new()));
+    let sink = uncaptured.clone();
+    device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
+        sink.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push(error.to_string());
+    }));
+    Ok(Gpu { adapter, device, queue, line, timestamps, uncaptured })
 }
 
 impl Gpu {
-    /// Block until all submitted work has finished.
+    /// Block until all submitted work has finished; an error wgpu reported since the last
+    /// wait (a validation error of any call, an out-of-memory) is returned here.
     pub fn wait(&self) -> Result<()> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("waiting for the GPU: {e}"))?;
+        self.take_errors()
+    }
+
+    /// The errors wgpu reported outside an error scope since the last call, as one error.
+    pub fn take_errors(&self) -> Result<()> {
+        let errors = std::mem::take(&mut *self.uncaptured.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
+        if !errors.is_empty() {
+            anyhow::bail!("wgpu reported {} error(s): {}", errors.len(), errors.join("; "));
+        }
         Ok(())
     }
 
