@@ -1,4 +1,5 @@
-//! The whole database through every command that writes tables: no NaN or infinity
+//! The whole database through every command that writes tables (ingest, colors, params,
+//! validate, bake): no NaN or infinity
 //! reaches any table, and the counts the README states are the ones a run gives.
 
 use std::collections::BTreeMap;
@@ -50,7 +51,7 @@ fn the_scan_sees_non_finite_cells() {
 #[test]
 fn every_table_of_every_command_over_the_whole_database_is_finite() {
     let out = tempfile::tempdir().unwrap();
-    for command in ["ingest", "colors", "validate", "bake"] {
+    for command in ["ingest", "colors", "params", "validate", "bake"] {
         nklut(out.path(), &[command, "--all"]);
     }
     let mut scanned = 0;
