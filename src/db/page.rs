@@ -300,9 +300,9 @@ fn printed_property(text: &str, key: &str) -> Option<Printed> {
     None
 }
 
-/// One tabulated row and the line it stands on.
+/// One tabulated row (λ and one or two values; unused slots are 0) and its line.
 struct Row {
-    values: Vec<f64>,
+    values: [f64; 3],
     line: Option<usize>,
 }
 
@@ -311,22 +311,30 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
     let mut rows: Vec<Row> = Vec::new();
     for (i, line) in block.lines().enumerate() {
         let line_no = first_line.map(|l| l + i);
-        let fields: Vec<&str> = line.split_whitespace().collect();
-        if fields.is_empty() {
+        // At most three fields are kept; the count says whether the row has `columns`.
+        let mut fields = [""; 3];
+        let mut count = 0;
+        for field in line.split_whitespace() {
+            if let Some(slot) = fields.get_mut(count) {
+                *slot = field;
+            }
+            count += 1;
+        }
+        if count == 0 {
             continue;
         }
-        if fields.len() != columns {
+        if count != columns {
             return Err(DataError::new(
                 Reason::BadRow,
                 file,
                 line_no,
-                format!("expected {columns} numbers, found {}: {:?}", fields.len(), line.trim()),
+                format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
             ));
         }
-        let mut values = Vec::with_capacity(columns);
-        for field in fields {
+        let mut values = [0.0; 3];
+        for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
             match field.parse::<f64>() {
-                Ok(x) if x.is_finite() => values.push(x),
+                Ok(x) if x.is_finite() => *slot = x,
                 _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {field:?}"))),
             }
         }
@@ -494,7 +502,9 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
 /// errors. Never panics on any input (a property test feeds it arbitrary text).
 pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
     let cut = CutTables::cut(text);
-    let raw: RawPage = serde_yaml::from_str(cut.as_ref().map_or(text, |c| c.yaml.as_str())).map_err(|e| {
+    // The text without its tables has the same lines and keys: the line scans below read it.
+    let text = cut.as_ref().map_or(text, |c| c.yaml.as_str());
+    let raw: RawPage = serde_yaml::from_str(text).map_err(|e| {
         DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string())
     })?;
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
