@@ -1,4 +1,4 @@
-//! Surfel ambient occlusion: per-vertex accessibility, bent normals and (later) diffuse
+//! Surfel ambient occlusion: per-vertex accessibility, bent normals and diffuse
 //! indirect light from disc-to-disc transfer, after Bunnell, "Dynamic Ambient Occlusion and
 //! Indirect Lighting" (GPU Gems 2, ch. 14), with a ray-traced reference to measure it against.
 //!
@@ -12,6 +12,8 @@
 //! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
 //!   summed area), traversed from the root, descending only where an emitter is close
 //!   relative to its size.
+//! - [`indirect`]: direct light with shadow rays, one or two bounces of diffuse indirect
+//!   light gathered from lit surfels' fronts (colour bleeding), and its one-bounce reference.
 //! - [`reference`]: per-vertex accessibility by cosine-weighted hemisphere rays against the
 //!   real triangles (the BVH of `super::geometry`), fixed seed, with its standard error.
 //!
@@ -19,6 +21,7 @@
 
 pub mod accessibility;
 pub mod hierarchy;
+pub mod indirect;
 pub mod reference;
 pub mod shadow;
 pub mod surfel;

@@ -59,13 +59,38 @@ pub fn shadow(form: ShadowForm, emitter: &Surfel, receiver: DVec3, receiver_norm
 /// centres coincide); the bent normal needs both.
 #[inline]
 pub fn transfer(form: ShadowForm, emitter: &Surfel, receiver: DVec3, receiver_normal: DVec3) -> (f64, DVec3) {
+    disc_term(form, emitter, Side::Back, receiver, receiver_normal)
+}
+
+/// The form factor from the receiving point to the emitter's front (the side its normal
+/// points to): the same form with cos θE = −n_E · v. A front of radiosity B (= π × its
+/// radiance) lights the receiver with irradiance B × this (the indirect light).
+#[inline]
+pub fn bounce(form: ShadowForm, emitter: &Surfel, receiver: DVec3, receiver_normal: DVec3) -> f64 {
+    disc_term(form, emitter, Side::Front, receiver, receiver_normal).0
+}
+
+/// Which side of the emitter the receiver must see.
+#[derive(Clone, Copy)]
+enum Side {
+    Back,
+    Front,
+}
+
+#[inline]
+fn disc_term(form: ShadowForm, emitter: &Surfel, side: Side, receiver: DVec3, receiver_normal: DVec3) -> (f64, DVec3) {
     let d = emitter.centre - receiver;
     let r2 = d.length_squared();
     if !(r2 > 0.0) || !(emitter.area > 0.0) {
         return (0.0, DVec3::ZERO);
     }
     let v = d / r2.sqrt();
-    let cos_e = emitter.normal.dot(v).max(0.0);
+    let facing = emitter.normal.dot(v);
+    let cos_e = match side {
+        Side::Back => facing,
+        Side::Front => -facing,
+    }
+    .max(0.0);
     let cos_r = (form.receiver_gain * receiver_normal.dot(v).max(0.0)).min(1.0);
     let s = emitter.area * cos_e * cos_r / (std::f64::consts::PI * r2 + emitter.area);
     (if s.is_finite() { s } else { 0.0 }, v)
