@@ -53,7 +53,7 @@ fn plus(a: Rgb, b: Rgb) -> Rgb {
 pub fn direct_irradiance(geometry: &Geometry, point: DVec3, normal: DVec3, lights: &[DirectionalLight], offset: f64) -> Rgb {
     lights.iter().fold([0.0; 3], |sum, light| {
         let cosine = normal.dot(light.towards);
-        if !(cosine > 0.0) || geometry.nearest(point + normal * offset, light.towards, None, |_| true).is_some() {
+        if !(cosine > 0.0) || geometry.occluded(point + normal * offset, light.towards) {
             return sum;
         }
         plus(sum, scaled(light.irradiance, cosine))

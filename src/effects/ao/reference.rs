@@ -108,7 +108,7 @@ fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: Ra
     let open = (0..rays)
         .filter(|_| {
             let direction = cosine_direction(surfel.normal, random.next_f64(), random.next_f64());
-            geometry.nearest(origin, direction, None, |_| true).is_none()
+            !geometry.occluded(origin, direction)
         })
         .count();
     let p = open as f64 / rays as f64;

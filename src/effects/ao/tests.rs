@@ -294,3 +294,17 @@ fn a_red_wall_bleeds_red_onto_a_white_floor() {
     // 10× below that bound.
     assert!(10.0 * relative_noise < 0.2 && relative_error < 0.2, "error {relative_error}, noise {relative_noise}");
 }
+
+/// The occlusion query agrees with the nearest-hit search, ray by ray, on a torus seen from
+/// points around and inside it.
+#[test]
+fn occlusion_query_agrees_with_the_nearest_hit() {
+    let geometry = Geometry::new(&[torus(1.0, 0.6, 24, 12)]).unwrap();
+    let mut random = super::reference::SplitMix64::new(7, 0);
+    for _ in 0..2000 {
+        let origin = DVec3::new(random.next_f64(), random.next_f64(), random.next_f64()) * 4.0 - DVec3::splat(2.0);
+        let direction = super::reference::cosine_direction(DVec3::new(random.next_f64() - 0.5, random.next_f64() - 0.5, 0.3).normalize(), random.next_f64(), random.next_f64());
+        assert_eq!(geometry.occluded(origin, direction), geometry.nearest(origin, direction, None, |_| true).is_some(), "{origin:?} {direction:?}");
+    }
+    assert!(!geometry.occluded(DVec3::splat(f64::NAN), DVec3::Z));
+}
