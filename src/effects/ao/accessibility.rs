@@ -89,22 +89,29 @@ pub struct Accessibility {
     pub bent_normals: Vec<DVec3>,
     /// Passes run.
     pub passes: u32,
-    /// Emitter evaluations over all passes.
+    /// Emitter evaluations over all passes so far.
     pub interactions: u64,
 }
 
 /// Accessibility after `passes` passes (0 passes: everything fully accessible).
 pub fn accessibility(emitters: &dyn Emitters, passes: u32) -> Accessibility {
+    accessibility_by_pass(emitters, passes).pop().expect("pass 0 is always there")
+}
+
+/// The accessibility after each of 0, 1, …, `passes` passes (each pass's cost counted
+/// alone), computed in one sweep.
+pub fn accessibility_by_pass(emitters: &dyn Emitters, passes: u32) -> Vec<Accessibility> {
     let surfels = emitters.surfels();
-    let mut values = vec![1.0; surfels.len()];
-    let mut bent_normals: Vec<DVec3> = surfels.iter().map(|s| s.normal).collect();
-    let mut interactions = 0;
-    for _ in 0..passes {
-        let weights = emitters.weights(&values);
+    let unoccluded = Accessibility { values: vec![1.0; surfels.len()], bent_normals: surfels.iter().map(|s| s.normal).collect(), passes: 0, interactions: 0 };
+    let mut history = vec![unoccluded];
+    for pass in 1..=passes {
+        let previous = history.last().expect("pass 0 is always there");
+        let weights = emitters.weights(&previous.values);
         let gathered: Vec<Occlusion> = (0..surfels.len()).into_par_iter().map(|i| emitters.gather(i, &weights)).collect();
-        interactions += gathered.iter().map(|o| o.interactions).sum::<u64>();
-        values = gathered.iter().map(|o| (1.0 - o.shadow).clamp(0.0, 1.0)).collect();
-        bent_normals = surfels.iter().zip(&gathered).map(|(s, o)| (s.normal - o.direction).try_normalize().unwrap_or(s.normal)).collect();
+        let interactions = previous.interactions + gathered.iter().map(|o| o.interactions).sum::<u64>();
+        let values = gathered.iter().map(|o| (1.0 - o.shadow).clamp(0.0, 1.0)).collect();
+        let bent_normals = surfels.iter().zip(&gathered).map(|(s, o)| (s.normal - o.direction).try_normalize().unwrap_or(s.normal)).collect();
+        history.push(Accessibility { values, bent_normals, passes: pass, interactions });
     }
-    Accessibility { values, bent_normals, passes, interactions }
+    history
 }

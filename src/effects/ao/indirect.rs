@@ -100,14 +100,27 @@ pub struct ReferenceIndirect {
 
 /// One bounce of indirect irradiance at every surfel by cosine-distributed rays;
 /// `albedo_of(object)` is the diffuse albedo of the object a ray meets.
-pub fn reference_indirect(geometry: &Geometry, surfels: &[Surfel], albedo_of: &(dyn Fn(usize) -> Rgb + Sync), lights: &[DirectionalLight], settings: RaySettings) -> ReferenceIndirect {
+pub fn reference_indirect(
+    geometry: &Geometry,
+    surfels: &[Surfel],
+    albedo_of: &(dyn Fn(usize) -> Rgb + Sync),
+    lights: &[DirectionalLight],
+    settings: RaySettings,
+) -> ReferenceIndirect {
     let estimates: Vec<(Rgb, Rgb)> = surfels.par_iter().enumerate().map(|(i, s)| one_bounce(geometry, s, i as u64, albedo_of, lights, settings)).collect();
     let (values, standard_errors) = estimates.into_iter().unzip();
     // Each ray costs a shadow ray per light at its hit besides itself.
     ReferenceIndirect { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 * (1 + lights.len() as u64) }
 }
 
-fn one_bounce(geometry: &Geometry, surfel: &Surfel, stream: u64, albedo_of: &(dyn Fn(usize) -> Rgb + Sync), lights: &[DirectionalLight], settings: RaySettings) -> (Rgb, Rgb) {
+fn one_bounce(
+    geometry: &Geometry,
+    surfel: &Surfel,
+    stream: u64,
+    albedo_of: &(dyn Fn(usize) -> Rgb + Sync),
+    lights: &[DirectionalLight],
+    settings: RaySettings,
+) -> (Rgb, Rgb) {
     let mut random = SplitMix64::new(settings.seed ^ 0xb0b, stream);
     let origin = surfel.centre + surfel.normal * settings.offset;
     let rays = settings.rays.max(1);

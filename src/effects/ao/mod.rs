@@ -16,6 +16,7 @@
 //!   light gathered from lit surfels' fronts (colour bleeding), and its one-bounce reference.
 //! - [`reference`]: per-vertex accessibility by cosine-weighted hemisphere rays against the
 //!   real triangles (the BVH of `super::geometry`), fixed seed, with its standard error.
+//! - [`shapes`]: closed self-occluding meshes for tests and benchmarks (torus, bumpy sphere).
 //!
 //! The f64 code here is the CPU twin a GPU kernel is held to. Pure computation on plain data.
 
@@ -24,6 +25,7 @@ pub mod hierarchy;
 pub mod indirect;
 pub mod reference;
 pub mod shadow;
+pub mod shapes;
 pub mod surfel;
 
 #[cfg(test)]

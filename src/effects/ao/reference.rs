@@ -28,7 +28,7 @@ pub struct RaySettings {
 
 impl Default for RaySettings {
     fn default() -> RaySettings {
-        RaySettings { rays: 4096, seed: 0x5eed_a0, offset: 1e-6 }
+        RaySettings { rays: 4096, seed: 0x005e_eda0, offset: 1e-6 }
     }
 }
 

@@ -4,38 +4,15 @@
 
 use glam::DVec3;
 
-use super::accessibility::{accessibility, Accessibility, BruteForce};
+use super::accessibility::{accessibility, accessibility_by_pass, Accessibility, BruteForce};
 use super::hierarchy::{Closeness, SurfelTree};
-use super::reference::{reference_accessibility, RaySettings, ReferenceAccessibility};
 use super::indirect::{reference_indirect, surfel_direct, surfel_indirect, DirectionalLight, Rgb};
+use super::reference::{reference_accessibility, RaySettings, ReferenceAccessibility};
 use super::shadow::{bounce, shadow, ShadowForm};
+use super::shapes::{bumpy_sphere, torus};
 use super::surfel::{subdivided_times, surfels, Surfel, FALLBACK_NORMAL};
 use crate::effects::geometry::Geometry;
 use crate::scene::mesh::{plane, Mesh};
-
-/// A torus about the y axis: ring radius `major`, tube radius `minor`, exact outward
-/// normals, `segments` around the ring and `sides` around the tube (seam vertices doubled).
-fn torus(major: f32, minor: f32, segments: u32, sides: u32) -> Mesh {
-    let mut mesh = Mesh::default();
-    for i in 0..=segments {
-        let u = std::f32::consts::TAU * i as f32 / segments as f32;
-        for j in 0..=sides {
-            let v = std::f32::consts::TAU * j as f32 / sides as f32;
-            let n = [v.cos() * u.cos(), v.sin(), v.cos() * u.sin()];
-            mesh.positions.push([(major + minor * v.cos()) * u.cos(), minor * v.sin(), (major + minor * v.cos()) * u.sin()]);
-            mesh.normals.push(n);
-        }
-    }
-    let row = sides + 1;
-    for i in 0..segments {
-        for j in 0..sides {
-            let a = i * row + j;
-            let b = a + row;
-            mesh.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
-        }
-    }
-    mesh
-}
 
 fn mean_abs_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
     let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| (x - y).abs()).collect();
@@ -75,7 +52,10 @@ fn degenerate_meshes_give_finite_surfels_and_accessibility() {
     // The triangle 4-2-6 lies in x = 0 with normal (2−4... ) = +x or −x; area 1.5, 0.5 each.
     assert!((s[4].area - 0.5).abs() < 1e-15 && s[4].normal.x.abs() > 1.0 - 1e-15);
     for passes in 0..=3 {
-        for result in [accessibility(&BruteForce { surfels: &s, form: ShadowForm::default() }, passes), accessibility(&SurfelTree::new(&s, ShadowForm::default(), Closeness(4.0)), passes)] {
+        for result in [
+            accessibility(&BruteForce { surfels: &s, form: ShadowForm::default() }, passes),
+            accessibility(&SurfelTree::new(&s, ShadowForm::default(), Closeness(4.0)), passes),
+        ] {
             assert!(result.values.iter().all(|a| (0.0..=1.0).contains(a)), "{result:?}");
             assert!(result.bent_normals.iter().all(|b| b.is_finite() && (b.length() - 1.0).abs() < 1e-12));
         }
@@ -144,6 +124,9 @@ fn passes_weight_emitters_by_their_previous_accessibility() {
     let two = accessibility(&brute, 2);
     assert!((two.values[0] - (1.0 - f(1.0) * (1.0 - f(1.0)) - f(2.0))).abs() < 1e-15);
     assert_eq!(two.interactions, 12, "3 receivers × 2 emitters × 2 passes");
+    // One sweep gives every pass on the way.
+    let history = accessibility_by_pass(&brute, 2);
+    assert_eq!((history[0].values.clone(), &history[1], &history[2]), (vec![1.0; 3], &one, &two));
     // Everything hidden is straight up: the bent normal stays +z.
     assert!(two.bent_normals.iter().all(|b| (*b - DVec3::Z).length() < 1e-15));
 }
@@ -151,7 +134,10 @@ fn passes_weight_emitters_by_their_previous_accessibility() {
 /// The bent normal turns away from a disc off to one side.
 #[test]
 fn bent_normal_turns_away_from_the_occluder() {
-    let s = [Surfel { centre: DVec3::ZERO, normal: DVec3::Z, area: 0.01 }, Surfel { centre: DVec3::new(1.0, 0.0, 1.0), normal: DVec3::new(1.0, 0.0, 1.0).normalize(), area: 1.0 }];
+    let s = [
+        Surfel { centre: DVec3::ZERO, normal: DVec3::Z, area: 0.01 },
+        Surfel { centre: DVec3::new(1.0, 0.0, 1.0), normal: DVec3::new(1.0, 0.0, 1.0).normalize(), area: 1.0 },
+    ];
     let result = accessibility(&BruteForce { surfels: &s, form: ShadowForm::default() }, 1);
     let bent = result.bent_normals[0];
     assert!(bent.x < -0.01 && bent.y.abs() < 1e-15 && bent.z > 0.9, "{bent:?}");
@@ -193,23 +179,10 @@ fn reference_sees_open_and_closed_hemispheres() {
     let open = torus_reference(&flat, &s, 64);
     assert!(open.values.iter().all(|&a| a == 1.0) && open.max_standard_error() == 0.0);
     let sphere = crate::scene::mesh::sphere(16, 8);
-    let inward: Vec<Surfel> = [DVec3::X, DVec3::Y, DVec3::new(0.3, -0.2, 0.1)].iter().map(|&n| Surfel { centre: DVec3::ZERO, normal: n.normalize(), area: 0.0 }).collect();
+    let inward: Vec<Surfel> =
+        [DVec3::X, DVec3::Y, DVec3::new(0.3, -0.2, 0.1)].iter().map(|&n| Surfel { centre: DVec3::ZERO, normal: n.normalize(), area: 0.0 }).collect();
     let closed = torus_reference(&sphere, &inward, 64);
     assert!(closed.values.iter().all(|&a| a == 0.0));
-}
-
-/// A sphere with radial bumps, r = 1 + amplitude · sin(lobes·θ) · sin(lobes·φ): closed,
-/// with valleys whose walls hide each other (smooth normals from the faces).
-fn bumpy_sphere(segments: u32, amplitude: f32, lobes: f32) -> Mesh {
-    let mut m = crate::scene::mesh::sphere(segments, segments / 2);
-    for p in &mut m.positions {
-        let theta = p[1].clamp(-1.0, 1.0).acos();
-        let phi = p[2].atan2(p[0]);
-        let r = 1.0 + amplitude * (lobes * theta).sin() * (lobes * phi).sin();
-        *p = p.map(|x| x * r);
-    }
-    m.normals = crate::scene::mesh::smooth_normals(&m.positions, &m.indices);
-    m
 }
 
 /// The claim of the method: two passes come closer to ray tracing than one on a closed,
@@ -224,7 +197,12 @@ fn two_passes_err_less_than_one_against_the_ray_traced_reference() {
     let reference = torus_reference(&mesh, &s, 2048);
     let brute = BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER };
     let errors: Vec<(f64, f64)> = (1..=3).map(|p| mean_abs_difference(&accessibility(&brute, p).values, &reference.values)).collect();
-    eprintln!("bumpy sphere {} surfels: reference σ mean {:.5} max {:.5}; mean/max |a − ref| by passes 1..3: {errors:.4?}", s.len(), reference.mean_standard_error(), reference.max_standard_error());
+    eprintln!(
+        "bumpy sphere {} surfels: reference σ mean {:.5} max {:.5}; mean/max |a − ref| by passes 1..3: {errors:.4?}",
+        s.len(),
+        reference.mean_standard_error(),
+        reference.max_standard_error()
+    );
     let noise = reference.mean_standard_error();
     assert!(10.0 * noise < errors[0].0.min(errors[1].0), "reference noise {noise} vs errors {errors:?}");
     assert!(errors[1].0 < errors[0].0, "two passes {:?} vs one {:?}", errors[1], errors[0]);
@@ -276,7 +254,13 @@ fn a_red_wall_bleeds_red_onto_a_white_floor() {
     let lights = [DirectionalLight { towards: DVec3::new(1.0, 1.0, 0.0).normalize(), irradiance: [1.0; 3] }];
     let direct = surfel_direct(&geometry, &all, &lights, 1e-6);
     let twin = surfel_indirect(&all, &albedo, &direct, &vec![1.0; all.len()], ShadowForm::FORM_FACTOR, 1);
-    let reference = reference_indirect(&geometry, &floor_surfels, &|object| if object == 0 { white } else { red }, &lights, RaySettings { rays: 16384, ..RaySettings::default() });
+    let reference = reference_indirect(
+        &geometry,
+        &floor_surfels,
+        &|object| if object == 0 { white } else { red },
+        &lights,
+        RaySettings { rays: 16384, ..RaySettings::default() },
+    );
     let (mut error, mut total, mut noise) = (0.0, 0.0, 0.0);
     for (i, s) in floor_surfels.iter().enumerate() {
         let [r, g, _] = reference.values[i];
@@ -303,7 +287,11 @@ fn occlusion_query_agrees_with_the_nearest_hit() {
     let mut random = super::reference::SplitMix64::new(7, 0);
     for _ in 0..2000 {
         let origin = DVec3::new(random.next_f64(), random.next_f64(), random.next_f64()) * 4.0 - DVec3::splat(2.0);
-        let direction = super::reference::cosine_direction(DVec3::new(random.next_f64() - 0.5, random.next_f64() - 0.5, 0.3).normalize(), random.next_f64(), random.next_f64());
+        let direction = super::reference::cosine_direction(
+            DVec3::new(random.next_f64() - 0.5, random.next_f64() - 0.5, 0.3).normalize(),
+            random.next_f64(),
+            random.next_f64(),
+        );
         assert_eq!(geometry.occluded(origin, direction), geometry.nearest(origin, direction, None, |_| true).is_some(), "{origin:?} {direction:?}");
     }
     assert!(!geometry.occluded(DVec3::splat(f64::NAN), DVec3::Z));
