@@ -17,9 +17,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use nklut::effects::ao::accessibility::{accessibility, accessibility_by_pass, BruteForce, Emitters};
+use nklut::effects::ao::accessibility::{accessibility, BruteForce};
+use nklut::effects::ao::errors::{error_rows, Comparison};
 use nklut::effects::ao::hierarchy::{Closeness, SurfelTree};
-use nklut::effects::ao::reference::{reference_accessibility, RaySettings, ReferenceAccessibility};
+use nklut::effects::ao::reference::{reference_accessibility, RaySettings};
 use nklut::effects::ao::shadow::ShadowForm;
 use nklut::effects::ao::shapes;
 use nklut::effects::ao::surfel::{surfels, Surfel};
@@ -41,11 +42,6 @@ fn torus(segments: u32) -> Mesh {
     shapes::torus(1.0, 0.6, segments, segments / 2)
 }
 
-fn errors(values: &[f64], reference: &ReferenceAccessibility) -> (f64, f64) {
-    let d: Vec<f64> = values.iter().zip(&reference.values).map(|(a, b)| (a - b).abs()).collect();
-    (d.iter().sum::<f64>() / d.len() as f64, d.iter().copied().fold(0.0, f64::max))
-}
-
 fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
     let s = surfels(mesh);
     let geometry = Geometry::new(std::slice::from_ref(mesh)).unwrap();
@@ -59,20 +55,16 @@ fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
         reference.max_standard_error(),
         reference.values.iter().sum::<f64>() / s.len() as f64
     );
-    println!("  mesh, g, passes, hierarchy, mean |a − ref|, max |a − ref|, seconds per pass");
-    for form in [ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER] {
-        let brute = BruteForce { surfels: &s, form };
-        let tree = SurfelTree::new(&s, form, Closeness::default());
-        for (label, emitters) in [("off", &brute as &dyn Emitters), ("on", &tree as &dyn Emitters)] {
-            if label == "off" && s.len() > max_brute {
-                continue;
-            }
-            let (seconds, history) = timed(|| accessibility_by_pass(emitters, 3));
-            for result in &history[1..] {
-                let (mean, max) = errors(&result.values, &reference);
-                println!("  {name}, {}, {}, {label}, {mean:.4}, {max:.4}, {:.2}", form.receiver_gain, result.passes, seconds / 3.0);
-            }
-        }
+    let comparison = Comparison {
+        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER],
+        passes: 3,
+        brute_force: s.len() <= max_brute,
+        closeness: Closeness::default(),
+    };
+    let (seconds, rows) = timed(|| error_rows(name, &s, &reference, &comparison));
+    println!("  mesh, g, passes, hierarchy, mean |a − ref|, max |a − ref|  ({seconds:.1} s for all)");
+    for r in rows {
+        println!("  {name}, {}, {}, {}, {:.4}, {:.4}", r.receiver_gain, r.passes, if r.hierarchy { "on" } else { "off" }, r.mean_error, r.max_error);
     }
 }
 

@@ -9,6 +9,7 @@
 //!   approximation with horizon and back-face clamps), a pure f64 function.
 //! - [`accessibility`]: accessibility by brute force over every emitter, in passes (pass k
 //!   weights each emitter by its accessibility of pass k − 1), and bent normals.
+//! - [`errors`]: the `ao_errors` rows (error per mesh, g, passes, hierarchy) and table.
 //! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
 //!   summed area), traversed from the root, descending only where an emitter is close
 //!   relative to its size.
@@ -21,6 +22,7 @@
 //! The f64 code here is the CPU twin a GPU kernel is held to. Pure computation on plain data.
 
 pub mod accessibility;
+pub mod errors;
 pub mod hierarchy;
 pub mod indirect;
 pub mod reference;

@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use super::accessibility::{accessibility, accessibility_by_pass, Accessibility, BruteForce};
+use super::errors::{ao_errors_table, error_rows, Comparison};
 use super::hierarchy::{Closeness, SurfelTree};
 use super::indirect::{reference_indirect, surfel_direct, surfel_indirect, DirectionalLight, Rgb};
 use super::reference::{reference_accessibility, RaySettings, ReferenceAccessibility};
@@ -295,4 +296,28 @@ fn occlusion_query_agrees_with_the_nearest_hit() {
         assert_eq!(geometry.occluded(origin, direction), geometry.nearest(origin, direction, None, |_| true).is_some(), "{origin:?} {direction:?}");
     }
     assert!(!geometry.occluded(DVec3::splat(f64::NAN), DVec3::Z));
+}
+
+/// The `ao_errors` rows of a small torus: one per g × hierarchy × pass, each the mean and
+/// max of |a − ref| recomputed here, and a table with those columns.
+#[test]
+fn ao_errors_rows_match_a_direct_comparison() {
+    let mesh = torus(1.0, 0.6, 12, 6);
+    let s = surfels(&mesh);
+    let reference = torus_reference(&mesh, &s, 64);
+    let comparison =
+        Comparison { forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER], passes: 2, brute_force: true, closeness: Closeness::default() };
+    let rows = error_rows("torus", &s, &reference, &comparison);
+    assert_eq!(rows.len(), 2 * 2 * 2);
+    let direct = accessibility(&BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER }, 2);
+    let (mean, max) = mean_abs_difference(&direct.values, &reference.values);
+    let row = rows.iter().find(|r| r.receiver_gain == 4.0 && r.passes == 2 && !r.hierarchy).unwrap();
+    assert_eq!((row.mean_error, row.max_error, row.surfels), (mean, max, s.len()));
+    let table = ao_errors_table(&rows);
+    assert_eq!(table.rows(), 8);
+    for name in ["mesh", "receiver_gain", "passes", "hierarchy", "mean_error", "max_error", "reference_standard_error"] {
+        assert!(table.column(name).is_some(), "{name}");
+    }
+    let csv = String::from_utf8(table.to_csv().unwrap()).unwrap();
+    assert!(csv.starts_with("mesh,surfels,receiver_gain,passes,hierarchy,mean_error,max_error,reference_standard_error\n"), "{csv}");
 }
