@@ -185,6 +185,29 @@ impl Geometry {
         best.map(|(t, crossing, index)| self.hit(t, crossing, index, origin, direction))
     }
 
+    /// Whether the ray meets any triangle at t > [`SELF_HIT_DISTANCE`] (an occlusion query
+    /// for ambient occlusion and shadow rays): the first crossing found shrinks the ray to
+    /// nothing, so the traversal stops instead of searching for the nearest.
+    pub fn occluded(&self, origin: DVec3, direction: DVec3) -> bool {
+        if !(origin.is_finite() && direction.is_finite()) {
+            return false;
+        }
+        let mut found = false;
+        let mut ignored = RayHit::none();
+        self.bvh.ray_traverse(Self::bvh_ray(origin, direction), &mut ignored, |_, id| {
+            if !found {
+                let index = self.bvh.primitive_indices[id];
+                found = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
+            }
+            if found {
+                f32::MIN_POSITIVE
+            } else {
+                f32::INFINITY
+            }
+        });
+        found
+    }
+
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
         let triangle = &self.triangles[index as usize];
         Hit { t, point: origin + direction * t, normal: triangle.normal(crossing.u, crossing.v), object: triangle.object as usize, triangle: index }

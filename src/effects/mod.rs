@@ -11,11 +11,13 @@
 //!   split an image's error into geometry (the map) and Fresnel (the method).
 //! - [`image_error`]: a frame against its reference.
 //! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
+//! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
 //!
 //! Pure computation on plain data; scene files come in through `crate::scene`.
 
+pub mod ao;
 pub mod distance_map;
 pub mod experiment;
 pub mod geometry;

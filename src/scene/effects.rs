@@ -81,6 +81,8 @@ pub(crate) struct RawEffects {
     refraction: Option<RawBounces>,
     #[serde(default)]
     distance_maps: RawDistanceMaps,
+    ambient_occlusion: Option<super::surfels::RawAmbientOcclusion>,
+    indirect: Option<super::surfels::RawIndirect>,
 }
 
 /// The deepest path a scene may ask for: every extra bounce multiplies the cost of a frame.
@@ -126,6 +128,10 @@ pub struct Effects {
     pub reflection: Option<Bounces>,
     pub refraction: Option<Bounces>,
     pub distance_maps: DistanceMaps,
+    /// Surfel ambient occlusion (`super::surfels`).
+    pub ambient_occlusion: Option<super::surfels::AmbientOcclusion>,
+    /// Surfel indirect light (`super::surfels`).
+    pub indirect: Option<super::surfels::Indirect>,
 }
 
 impl RawBounces {
@@ -143,8 +149,10 @@ impl RawEffects {
     pub(crate) fn effects(self) -> Result<Effects, String> {
         let reflection = self.reflection.as_ref().map(|r| r.bounces("reflection")).transpose()?;
         let refraction = self.refraction.as_ref().map(|r| r.bounces("refraction")).transpose()?;
-        if reflection.is_none() && refraction.is_none() {
-            return Err("reflection, refraction: name at least one effect".into());
+        let ambient_occlusion = self.ambient_occlusion.as_ref().map(|a| a.checked()).transpose()?;
+        let indirect = self.indirect.as_ref().map(|i| i.checked()).transpose()?;
+        if reflection.is_none() && refraction.is_none() && ambient_occlusion.is_none() && indirect.is_none() {
+            return Err("reflection, refraction, ambient_occlusion, indirect: name at least one effect".into());
         }
         let maps = &self.distance_maps;
         if !(4..=4096).contains(&maps.size) {
@@ -162,7 +170,7 @@ impl RawEffects {
             return Err(format!("distance_maps.secant_steps {secant:?} must lie in 0..=64"));
         }
         let steps = linear.iter().flat_map(|&linear| secant.iter().map(move |&secant| SearchSteps { linear, secant })).collect();
-        Ok(Effects { reflection, refraction, distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps } })
+        Ok(Effects { reflection, refraction, distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps }, ambient_occlusion, indirect })
     }
 }
 
@@ -348,6 +356,8 @@ mod tests {
             reflection: Some(RawBounces { max_depth: Numbers::Many(vec![3, 1, 3]) }),
             refraction: None,
             distance_maps: RawDistanceMaps { linear_steps: Numbers::Many(vec![80, 15]), secant_steps: Numbers::Many(vec![10, 1]), ..Default::default() },
+            ambient_occlusion: None,
+            indirect: None,
         }
         .effects()
         .unwrap();

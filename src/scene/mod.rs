@@ -24,6 +24,7 @@
 pub mod camera;
 pub mod effects;
 pub mod mesh;
+pub mod surfels;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -696,7 +697,7 @@ mod tests {
             (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: checker, size: 1, albedo: [0, 0, 0], tilt: 2}}}}\n"), "unknown field `tilt`"),
             (format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, scale: [1, 0, 1]}}\n"), "objects[0].scale"),
             (format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, pattern: {{kind: plain}}}}\n"), "objects[0].pattern"),
-            (format!("{plain}{specular}effects: {{}}\n"), "effects.reflection, refraction: name at least one"),
+            (format!("{plain}{specular}effects: {{}}\n"), "effects.reflection, refraction, ambient_occlusion, indirect: name at least one"),
             (format!("{plain}{specular}effects: {{reflection: {{max_depth: 0}}}}\n"), "effects.reflection.max_depth"),
             (format!("{plain}{specular}effects: {{refraction: {{max_depth: [1, 9]}}}}\n"), "effects.refraction.max_depth"),
             (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1, bounces: 2}}}}\n"), "unknown field `bounces`"),

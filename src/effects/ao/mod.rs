@@ -1,0 +1,34 @@
+//! Surfel ambient occlusion: per-vertex accessibility, bent normals and diffuse
+//! indirect light from disc-to-disc transfer, after Bunnell, "Dynamic Ambient Occlusion and
+//! Indirect Lighting" (GPU Gems 2, ch. 14), with a ray-traced reference to measure it against.
+//!
+//! - [`surfel`]: one oriented disc per mesh vertex (centre, normal, a third of the adjacent
+//!   triangles' area), robust to degenerate faces, duplicate and isolated vertices; and
+//!   midpoint subdivision to make test and sweep meshes finer.
+//! - [`shadow`]: the shadow an emitter disc casts on a receiving point (the form-factor
+//!   approximation with horizon and back-face clamps), a pure f64 function.
+//! - [`accessibility`]: accessibility by brute force over every emitter, in passes (pass k
+//!   weights each emitter by its accessibility of pass k − 1), and bent normals.
+//! - [`errors`]: the `ao_errors` rows (error per mesh, g, passes, hierarchy) and table.
+//! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
+//!   summed area), traversed from the root, descending only where an emitter is close
+//!   relative to its size.
+//! - [`indirect`]: direct light with shadow rays, one or two bounces of diffuse indirect
+//!   light gathered from lit surfels' fronts (colour bleeding), and its one-bounce reference.
+//! - [`reference`]: per-vertex accessibility by cosine-weighted hemisphere rays against the
+//!   real triangles (the BVH of `super::geometry`), fixed seed, with its standard error.
+//! - [`shapes`]: closed self-occluding meshes for tests and benchmarks (torus, bumpy sphere).
+//!
+//! The f64 code here is the CPU twin a GPU kernel is held to. Pure computation on plain data.
+
+pub mod accessibility;
+pub mod errors;
+pub mod hierarchy;
+pub mod indirect;
+pub mod reference;
+pub mod shadow;
+pub mod shapes;
+pub mod surfel;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,116 @@
+//! The ray-traced reference of surfel accessibility: per surfel (mesh vertex), the fraction
+//! of cosine-weighted hemisphere rays about its normal that leave the scene without meeting
+//! a triangle — the Monte Carlo estimate of (1/π)∫ V(ω) cos θ dω. Rays run against the real
+//! triangles in f64 through the BVH of `super::super::geometry` (the reflection effect's
+//! reference), in parallel with rayon; each surfel draws from its own SplitMix64 stream
+//! (Steele, Lea and Flood, "Fast Splittable Pseudorandom Number Generators", OOPSLA 2014)
+//! seeded by the fixed seed and its index, so results do not depend on the thread count.
+//!
+//! Directions: Malley's method (a uniform point on the unit disc lifted to the hemisphere
+//! is cosine-distributed) in the orthonormal basis of Duff et al. ("Building an Orthonormal
+//! Basis, Revisited", JCGT 6(1), 2017). Each estimate is a binomial proportion p̂ of N rays,
+//! its standard error √(p̂(1 − p̂)/N) reported with it.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::surfel::Surfel;
+use crate::effects::geometry::Geometry;
+
+/// How many rays, from which seed, and how far along its normal a ray starts off the
+/// surface (scene units; so a ray leaving a vertex does not meet the faces there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RaySettings {
+    pub rays: u32,
+    pub seed: u64,
+    pub offset: f64,
+}
+
+impl Default for RaySettings {
+    fn default() -> RaySettings {
+        RaySettings { rays: 4096, seed: 0x005e_eda0, offset: 1e-6 }
+    }
+}
+
+/// Per-surfel reference accessibility and its standard error.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceAccessibility {
+    pub values: Vec<f64>,
+    pub standard_errors: Vec<f64>,
+    pub rays: u64,
+}
+
+impl ReferenceAccessibility {
+    /// The largest per-surfel standard error.
+    pub fn max_standard_error(&self) -> f64 {
+        self.standard_errors.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// The mean of the per-surfel standard errors: how far the reference's noise can move
+    /// a mean absolute error judged against it (E|x + e| − |x| ≤ E|e| ≤ σ).
+    pub fn mean_standard_error(&self) -> f64 {
+        self.standard_errors.iter().sum::<f64>() / self.standard_errors.len().max(1) as f64
+    }
+}
+
+/// SplitMix64: a 64-bit counter through a mixing function.
+pub struct SplitMix64(u64);
+
+impl SplitMix64 {
+    pub fn new(seed: u64, stream: u64) -> SplitMix64 {
+        let mut first = SplitMix64(seed ^ stream.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        first.next_u64();
+        first
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1) with 53 random bits.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}
+
+/// Two unit vectors completing `n` (unit) to a right-handed orthonormal basis.
+pub fn basis(n: DVec3) -> (DVec3, DVec3) {
+    let sign = 1f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), DVec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// A cosine-distributed direction about `n` from two uniform numbers (Malley's method).
+pub fn cosine_direction(n: DVec3, u1: f64, u2: f64) -> DVec3 {
+    let (t, b) = basis(n);
+    let radius = u1.sqrt();
+    let phi = std::f64::consts::TAU * u2;
+    t * (radius * phi.cos()) + b * (radius * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()
+}
+
+/// The reference accessibility of every surfel against `geometry`.
+pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> ReferenceAccessibility {
+    let estimates: Vec<(f64, f64)> = surfels.par_iter().enumerate().map(|(i, s)| open_fraction(geometry, s, i as u64, settings)).collect();
+    let (values, standard_errors) = estimates.into_iter().unzip();
+    ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
+}
+
+/// The fraction of rays from `surfel` that meet nothing, and its standard error.
+fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: RaySettings) -> (f64, f64) {
+    let mut random = SplitMix64::new(settings.seed, stream);
+    let origin = surfel.centre + surfel.normal * settings.offset;
+    let rays = settings.rays.max(1);
+    let open = (0..rays)
+        .filter(|_| {
+            let direction = cosine_direction(surfel.normal, random.next_f64(), random.next_f64());
+            !geometry.occluded(origin, direction)
+        })
+        .count();
+    let p = open as f64 / rays as f64;
+    (p, (p * (1.0 - p) / rays as f64).sqrt())
+}

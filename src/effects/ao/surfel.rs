@@ -1,0 +1,96 @@
+//! Surfels: one oriented disc per mesh vertex (Bunnell, GPU Gems 2 ch. 14, "surface
+//! elements"). Centre = the vertex; normal = the mesh's vertex normal, or, where the mesh
+//! has none (or a zero or non-finite one), the area-weighted sum of the adjacent faces'
+//! normals; area = Σ over the triangles sharing the vertex of ⅓ of the triangle's area, so
+//! the surfels' areas add up to the mesh's area.
+//!
+//! Degenerate input stays finite: a zero-area (or non-finite) triangle adds no area and no
+//! normal; a vertex no triangle uses, or one only degenerate triangles use, gets area 0 (it
+//! casts no shadow) and the normal +z; duplicate vertices are separate surfels (the shadow
+//! term gives coincident discs nothing to cast on each other).
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::scene::mesh::Mesh;
+
+/// An oriented disc: centre, unit normal, area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surfel {
+    pub centre: DVec3,
+    pub normal: DVec3,
+    pub area: f64,
+}
+
+/// The normal of a vertex with nothing to define one.
+pub const FALLBACK_NORMAL: DVec3 = DVec3::Z;
+
+fn widen(p: [f32; 3]) -> DVec3 {
+    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
+}
+
+/// One surfel per vertex of `mesh`, in vertex order.
+pub fn surfels(mesh: &Mesh) -> Vec<Surfel> {
+    let centres: Vec<DVec3> = mesh.positions.iter().map(|&p| widen(p)).map(|p| if p.is_finite() { p } else { DVec3::ZERO }).collect();
+    let mut areas = vec![0.0f64; centres.len()];
+    let mut face_normals = vec![DVec3::ZERO; centres.len()];
+    for triangle in mesh.indices.chunks_exact(3) {
+        let corners = [0, 1, 2].map(|i| triangle[i] as usize);
+        if corners.iter().any(|&c| c >= centres.len()) {
+            continue; // a face naming a vertex that does not exist adds nothing
+        }
+        let [a, b, c] = corners.map(|c| centres[c]);
+        let doubled = (b - a).cross(c - a); // length = twice the area
+        let area = 0.5 * doubled.length();
+        if !(area.is_finite() && area > 0.0) {
+            continue;
+        }
+        for corner in corners {
+            areas[corner] += area / 3.0;
+            face_normals[corner] += doubled;
+        }
+    }
+    let given = |vertex: usize| mesh.normals.get(vertex).map(|&n| widen(n)).and_then(|n| n.try_normalize());
+    (0..centres.len())
+        .map(|vertex| {
+            let normal = given(vertex).or_else(|| face_normals[vertex].try_normalize()).unwrap_or(FALLBACK_NORMAL);
+            Surfel { centre: centres[vertex], normal, area: areas[vertex] }
+        })
+        .collect()
+}
+
+/// One level of midpoint subdivision: every triangle into four, a new vertex at the middle
+/// of each edge (shared by the triangles on both sides), its normal the normalised mean of
+/// the edge's ends. The surface does not move; it only gains vertices (and surfels).
+pub fn subdivided(mesh: &Mesh) -> Mesh {
+    let mut out = Mesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), indices: Vec::with_capacity(mesh.indices.len() * 4) };
+    let has_normals = mesh.normals.len() == mesh.positions.len();
+    let mut middles: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut middle = |out: &mut Mesh, a: u32, b: u32| -> u32 {
+        *middles.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            let [pa, pb] = [a, b].map(|v| out.positions[v as usize]);
+            out.positions.push(std::array::from_fn(|axis| 0.5 * (pa[axis] + pb[axis])));
+            if has_normals {
+                let [na, nb] = [a, b].map(|v| widen(out.normals[v as usize]));
+                let n = (na + nb).try_normalize().unwrap_or(na);
+                out.normals.push([n.x as f32, n.y as f32, n.z as f32]);
+            }
+            out.positions.len() as u32 - 1
+        })
+    };
+    for triangle in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [triangle[0], triangle[1], triangle[2]];
+        let [ab, bc, ca] = [middle(&mut out, a, b), middle(&mut out, b, c), middle(&mut out, c, a)];
+        out.indices.extend([a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
+    }
+    if !has_normals {
+        out.normals.clear();
+    }
+    out
+}
+
+/// `mesh` subdivided `levels` times.
+pub fn subdivided_times(mesh: &Mesh, levels: u32) -> Mesh {
+    (0..levels).fold(mesh.clone(), |m, _| subdivided(&m))
+}
