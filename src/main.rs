@@ -45,7 +45,7 @@ enum Command {
     },
     /// Measure every Fresnel method's error against exact (SPEC §6); write errors.* and cost.*.
     Validate(nklut::validate::ValidateArgs),
-    /// Time and render the Fresnel methods on a GPU with wgpu (scene files, issue 7).
+    /// Time and render the Fresnel methods on a GPU with wgpu, driven by a scene file.
     #[cfg(feature = "gpu")]
     Gpu {
         #[command(subcommand)]

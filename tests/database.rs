@@ -1,4 +1,4 @@
-//! Whole-database checks (issue 2): the database checks the formula evaluator through its
+//! Whole-database checks: the database checks the formula evaluator through its
 //! own `PROPERTIES.nd` values, and every catalog page is accounted for.
 
 use std::collections::BTreeSet;

@@ -1,4 +1,4 @@
-//! The page parser never panics, whatever it is fed (issue 2: "no input makes the program
+//! The page parser never panics, whatever it is fed ("no input makes the program
 //! panic"), and tabulated data it accepts evaluate to finite values inside their range.
 
 use nklut::db::parse_page;

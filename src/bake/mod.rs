@@ -1,4 +1,4 @@
-//! Fresnel lookup textures for engines (issue 5, SPEC §5.7, §7).
+//! Fresnel lookup textures for engines (SPEC §5.7, §7).
 //!
 //! A row is one page's F(cosθ) per colour channel at the texel centres
 //! c_i = (i + ½)/N, i = 0..N−1, so that a GPU's linear filter with clamp-to-edge at
