@@ -62,7 +62,8 @@ test-deps:
 
 # The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers here); with
 # none they fail unless NKLUT_SKIP_GPU_TESTS=1.
-test: db test-deps
+test: db
+	bash scripts/test-deps
 	$(CARGO) test --features gpu
 
 # Every benchmark of BENCHMARKS.md: ingest (wall + peak RSS), Fresnel methods, colours, report.
