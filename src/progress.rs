@@ -3,6 +3,7 @@
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
 
 /// A progress bar of `len` steps labelled `label`; hidden unless stderr is a terminal and
 /// `CI` is unset.
@@ -18,4 +19,20 @@ pub fn bar(len: usize, label: &str) -> ProgressBar {
     );
     bar.set_prefix(label.to_string());
     bar
+}
+
+/// `f(i)` for every i in 0..len, in parallel, collected in order, with a progress bar of
+/// `label` that advances as each finishes.
+pub fn par_map<U: Send>(len: usize, label: &str, f: impl Fn(usize) -> U + Sync) -> Vec<U> {
+    let bar = bar(len, label);
+    let values = (0..len)
+        .into_par_iter()
+        .map(|i| {
+            let value = f(i);
+            bar.inc(1);
+            value
+        })
+        .collect();
+    bar.finish_and_clear();
+    values
 }

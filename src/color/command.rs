@@ -4,7 +4,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Result;
-use rayon::prelude::*;
 
 use super::page::{page_colors, spectral_reference, PageColors};
 use super::quadrature::{angle_quadrature, NODES, PANELS};
@@ -37,30 +36,11 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<P
     let cosines = texel_cosines(texels);
 
     let start = Instant::now();
-    let bar = crate::progress::bar(unique.len(), "spectra");
-    let references: Vec<_> = unique
-        .par_iter()
-        .map(|material| {
-            let reference = spectral_reference(material, quadrature, &cosines);
-            bar.inc(1);
-            reference
-        })
-        .collect();
-    bar.finish_and_clear();
+    let references = crate::progress::par_map(unique.len(), "spectra", |i| spectral_reference(&unique[i], quadrature, &cosines));
     timings.spectral_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
-    let bar = crate::progress::bar(unique.len(), "fits");
-    let colors: Vec<PageColors> = unique
-        .par_iter()
-        .zip(&references)
-        .map(|(material, reference)| {
-            let colors = page_colors(material, reference, quadrature);
-            bar.inc(1);
-            colors
-        })
-        .collect();
-    bar.finish_and_clear();
+    let colors: Vec<PageColors> = crate::progress::par_map(unique.len(), "fits", |i| page_colors(&unique[i], &references[i], quadrature));
     timings.fit_s = start.elapsed().as_secs_f64();
     positions.into_iter().map(|i| colors[i].clone()).collect()
 }

@@ -19,7 +19,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Result;
-use rayon::prelude::*;
 
 use crate::color::{self, PreparedSpectrum};
 use crate::db::Database;
@@ -52,30 +51,11 @@ pub struct Timings {
 pub fn compute(kept: &[KeptPage], timings: &mut Timings) -> Result<Vec<EngineParams>> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let start = Instant::now();
-    let bar = crate::progress::bar(unique.len(), "spectral references");
-    let references: Vec<Reference> = unique
-        .par_iter()
-        .map(|material| {
-            let reference = reference(material);
-            bar.inc(1);
-            reference
-        })
-        .collect();
-    bar.finish_and_clear();
+    let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i]));
     timings.reference_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let bar = crate::progress::bar(unique.len(), "engine parameters");
     let rule = color::angle_quadrature();
-    let params: Vec<EngineParams> = unique
-        .par_iter()
-        .zip(&references)
-        .map(|(material, reference)| {
-            let params = engine_params(material, reference, rule);
-            bar.inc(1);
-            params
-        })
-        .collect();
-    bar.finish_and_clear();
+    let params: Vec<EngineParams> = crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule));
     timings.parameters_s = start.elapsed().as_secs_f64();
     Ok(positions.into_iter().map(|i| params[i].clone()).collect())
 }
