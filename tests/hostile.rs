@@ -8,6 +8,8 @@ use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
+mod common;
+
 /// A database whose pages each carry one defect (and two good ones).
 fn hostile() -> tempfile::TempDir {
     let root = tempfile::tempdir().unwrap();
@@ -187,35 +189,9 @@ fn flags_are_checked_and_outputs_hold_no_nan() {
     for command in ["ingest", "colors", "validate", "bake"] {
         ok(&nklut(db.path(), &out, &[command]));
     }
-    assert_no_nan(&out);
-}
-
-/// No cell of a CSV or JSON under `dir` reads as NaN or infinity.
-fn assert_no_nan(dir: &Path) {
-    for entry in walk(dir) {
-        let name = entry.to_string_lossy().into_owned();
-        if !(name.ends_with(".csv") || name.ends_with(".json")) {
-            continue;
-        }
-        let text = fs::read_to_string(&entry).unwrap();
-        for token in text.split(|c: char| c == ',' || c == '\n' || c == ' ' || c == ':' || c == '"') {
-            let t = token.trim().to_ascii_lowercase();
-            assert!(!matches!(t.as_str(), "nan" | "inf" | "-inf" | "infinity" | "-infinity"), "{name}: {token:?}");
-        }
+    for (name, bad) in common::non_finite_tables(&out) {
+        assert!(bad.is_empty(), "{name}: {bad:?}");
     }
-}
-
-fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
-    let mut files = Vec::new();
-    for entry in fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            files.extend(walk(&path));
-        } else if path.exists() {
-            files.push(path);
-        }
-    }
-    files
 }
 
 #[test]

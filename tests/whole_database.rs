@@ -7,6 +7,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::{non_finite_cells, non_finite_tables};
+
 use nklut::db::Database;
 use nklut::ingest::{ingest, Config, Selection};
 use nklut::spectrum::Coverage;
@@ -18,28 +21,6 @@ fn database_dir() -> PathBuf {
 fn nklut(out: &Path, args: &[&str]) {
     let output = Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(database_dir()).arg("--out").arg(out).args(args).output().unwrap();
     assert!(output.status.success(), "nklut {args:?}: {}", String::from_utf8_lossy(&output.stderr));
-}
-
-fn files(dir: &Path) -> Vec<PathBuf> {
-    let mut found = Vec::new();
-    for entry in fs::read_dir(dir).unwrap() {
-        let entry = entry.unwrap();
-        let path = entry.path();
-        if entry.file_type().unwrap().is_dir() {
-            found.extend(files(&path));
-        } else if path.exists() {
-            found.push(path);
-        }
-    }
-    found
-}
-
-/// Cells of a CSV or JSON text that read as a non-finite number.
-fn non_finite_cells(text: &str) -> Vec<String> {
-    text.split([',', '\n', ' ', ':', '"', '[', ']'])
-        .map(|t| t.trim().to_ascii_lowercase())
-        .filter(|t| matches!(t.as_str(), "nan" | "-nan" | "inf" | "-inf" | "+inf" | "infinity" | "-infinity"))
-        .collect()
 }
 
 #[test]
@@ -54,17 +35,11 @@ fn every_table_of_every_command_over_the_whole_database_is_finite() {
     for command in ["ingest", "colors", "params", "validate", "bake"] {
         nklut(out.path(), &[command, "--all"]);
     }
-    let mut scanned = 0;
-    for path in files(out.path()) {
-        let name = path.to_string_lossy().into_owned();
-        if !(name.ends_with(".csv") || name.ends_with(".json")) {
-            continue;
-        }
-        let bad = non_finite_cells(&fs::read_to_string(&path).unwrap());
+    let tables = non_finite_tables(out.path());
+    for (name, bad) in &tables {
         assert!(bad.is_empty(), "{name}: {} non-finite cells, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
-        scanned += 1;
     }
-    assert!(scanned >= 10, "only {scanned} tables scanned");
+    assert!(tables.len() >= 10, "only {} tables scanned", tables.len());
 }
 
 /// The README's sentence "On this snapshot (N distinct pages): K kept; C `code`, …" and
