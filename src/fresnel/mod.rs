@@ -24,7 +24,7 @@ pub use approx::{
     compensation, lazanyi, lazanyi_a, lazanyi_f32, schlick, schlick_compensated, schlick_compensated_f32, schlick_f0, schlick_f32,
     schlick_nk, schlick_nk_f32, Compensation, CompensationFallback, COMPENSATION_COS, LAZANYI_COS,
 };
-pub use exact::{exact, exact_f32, ExactTerms};
+pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{
     filter, filter_f32, filter_weights, filter_weights_f32, lut_texel_cos, sample_lut, sample_lut_f32, texel_values, Encoding, Lut, LutSpec,
     LUT_SIZES,
