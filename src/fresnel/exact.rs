@@ -131,6 +131,47 @@ impl ExactTerms {
         }
         out
     }
+
+    /// [`ExactTerms::reflectance`] at each of `cosines`, written to `out` (the shorter of
+    /// the two decides how many): [`LANES`] at a time, same bits. The vector width is
+    /// chosen at run time (AVX-512, AVX2, or what the baseline target allows).
+    pub fn reflectances(&self, cosines: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has just been found to support AVX-512F.
+                return unsafe { self.reflectances_avx512(cosines, out) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has just been found to support AVX2.
+                return unsafe { self.reflectances_avx2(cosines, out) };
+            }
+        }
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn reflectances_avx512(&self, cosines: &[f64], out: &mut [f64]) {
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn reflectances_avx2(&self, cosines: &[f64], out: &mut [f64]) {
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[inline(always)]
+    fn reflectances_in_lanes(&self, cosines: &[f64], out: &mut [f64]) {
+        for (chunk, out) in cosines.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let mut lanes = [1.0; LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let values = self.reflectance_lanes(&lanes);
+            let used = chunk.len().min(out.len());
+            out[..used].copy_from_slice(&values[..used]);
+        }
+    }
 }
 
 /// `exact` (SPEC §5.1) for one channel: unpolarised reflectance of η = n + ik at cosθ.
@@ -230,6 +271,11 @@ mod tests {
                 for (c, f) in lanes.iter().zip(got) {
                     assert_eq!(f.to_bits(), terms.reflectance(*c).to_bits(), "n = {n}, k = {k}, c = {c}");
                 }
+            }
+            let mut all = vec![f64::NAN; cosines.len()];
+            terms.reflectances(&cosines, &mut all);
+            for (c, f) in cosines.iter().zip(&all) {
+                assert_eq!(f.to_bits(), terms.reflectance(*c).to_bits(), "n = {n}, k = {k}, c = {c}");
             }
         }
     }
