@@ -116,21 +116,11 @@ impl SphereLayout {
 /// 8-bit sRGB code of a linear value, clamped to [0, 1]: round(255 · encode(linear)),
 /// the number of the codes' rounding thresholds decode((c + ½)/255) at or below it,
 /// instead of a `powf` per pixel channel. The count is looked up for the start of the
-/// value's bucket of width 1/BUCKETS, then the few thresholds inside the bucket are
-/// stepped over.
+/// value's bucket of width 1/BUCKETS; thresholds lie at least 1/(255 · 12.92) ≈ 3.0e-4
+/// apart (the slope of decode is smallest at 0), more than a bucket, so at most one more
+/// threshold lies inside the bucket and one comparison settles it.
 pub fn encode8(linear: f64) -> u8 {
-    const BUCKETS: usize = 4096;
-    struct Table {
-        thresholds: [f64; 255],
-        /// Thresholds at or below b/BUCKETS, for each bucket b.
-        below: Vec<u8>,
-    }
-    static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
-    let table = TABLE.get_or_init(|| {
-        let thresholds: [f64; 255] = std::array::from_fn(|c| srgb::decode((c as f64 + 0.5) / 255.0));
-        let below = (0..BUCKETS).map(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8).collect();
-        Table { thresholds, below }
-    });
+    let table = code_table();
     if !(linear > 0.0) {
         // 0, negative or NaN: below the first threshold.
         return 0;
@@ -140,11 +130,29 @@ pub fn encode8(linear: f64) -> u8 {
     }
     // linear · BUCKETS is exact (a power of two), so b/BUCKETS ≤ linear.
     let bucket = ((linear * BUCKETS as f64) as usize).min(BUCKETS - 1);
-    let mut code = table.below[bucket] as usize;
-    while code < table.thresholds.len() && table.thresholds[code] <= linear {
-        code += 1;
-    }
-    code as u8
+    let below = table.below[bucket];
+    below + (table.thresholds[below as usize] <= linear) as u8
+}
+
+/// Buckets of [`encode8`]'s table over [0, 1].
+const BUCKETS: usize = 4096;
+
+/// The rounding thresholds of the 8-bit codes and, per bucket, how many lie at or below
+/// its start.
+struct CodeTable {
+    /// decode((c + ½)/255) for c = 0…254, then +∞.
+    thresholds: [f64; 256],
+    /// Thresholds at or below b/BUCKETS, for each bucket b.
+    below: Vec<u8>,
+}
+
+fn code_table() -> &'static CodeTable {
+    static TABLE: std::sync::OnceLock<CodeTable> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let thresholds: [f64; 256] = std::array::from_fn(|c| if c < 255 { srgb::decode((c as f64 + 0.5) / 255.0) } else { f64::INFINITY });
+        let below = (0..BUCKETS).map(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8).collect();
+        CodeTable { thresholds, below }
+    })
 }
 
 /// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
@@ -235,6 +243,15 @@ mod tests {
         let png = png(&image).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         assert!(data_uri(&png).starts_with("data:image/png;base64,iVBOR"));
+    }
+
+    #[test]
+    fn no_bucket_of_the_8_bit_table_holds_two_thresholds() {
+        let table = code_table();
+        for b in 0..BUCKETS {
+            let end = if b + 1 < BUCKETS { table.below[b + 1] as usize } else { 255 };
+            assert!(end - table.below[b] as usize <= 1, "bucket {b}");
+        }
     }
 
     #[test]
