@@ -222,6 +222,49 @@ mod tests {
         assert!(coarse.max_absolute_rgb > 0.9 * dense.max_absolute_rgb);
     }
 
+    /// The figures one sample at a time with `sample_lut`, as the definitions read.
+    fn lut_error_by_samples(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> ([f64; 3], [f64; 3], [f64; 3], [usize; 3]) {
+        let (mut sum, mut weight, mut max, mut counted) = ([0.0; 3], [0.0; 3], [0.0; 3], [0; 3]);
+        for c in 0..3 {
+            for ((&cos, &q), &f_ref) in rule.cosines.iter().zip(&rule.weights).zip(&reference[c]) {
+                let diff = (fresnel::sample_lut(&decoded[c], cos) - f_ref).abs();
+                max[c] = f64::max(max[c], diff);
+                if f_ref > 0.0 {
+                    sum[c] += q * diff / f_ref;
+                    weight[c] += q;
+                    counted[c] += 1;
+                }
+            }
+        }
+        (sum, weight, max, counted)
+    }
+
+    #[test]
+    fn blocks_and_shared_taps_give_the_bits_of_one_sample_at_a_time() {
+        let gold = [Index::new(0.18, 3.4), Index::new(0.5, 2.2), Index::new(1.3, 1.9)];
+        for size in [1, 7, 64] {
+            let curve = gold.map(|i| texel_cosines(size).iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect::<Vec<_>>());
+            let decoded = deinterleave(&quantise(Encoding::Unorm8Srgb, &curve).texels.decode(Encoding::Unorm8Srgb));
+            // 1000 samples: several blocks and a short last one; a reference with zeros and
+            // a negative value (excluded from the mean, counted in the maximum).
+            let rule = midpoint_rule(1000);
+            let mut reference = exact_reference(&gold, &rule.cosines);
+            reference[1][3] = 0.0;
+            reference[2][999] = -0.25;
+            let taps = Taps::new(size, &rule.cosines);
+            let fast = lut_error_with_taps(&decoded, &taps, &rule, &reference);
+            assert_eq!(fast, lut_error(&decoded, &rule, &reference));
+            let (sum, weight, max, counted) = lut_error_by_samples(&decoded, &rule, &reference);
+            for c in 0..3 {
+                assert_eq!(fast.mean_relative[c].map(f64::to_bits), Some((sum[c] / weight[c]).to_bits()), "size {size}, channel {c}");
+                assert_eq!(fast.max_absolute[c].to_bits(), max[c].to_bits());
+                assert_eq!(fast.excluded_zero_reference[c], 1000 - counted[c]);
+            }
+            // Taps of another size are not used for this one.
+            assert_eq!(lut_error_with_taps(&decoded, &Taps::new(size + 1, &rule.cosines), &rule, &reference), fast);
+        }
+    }
+
     #[test]
     fn vacuum_reference_is_excluded_not_nan() {
         let zero = [vec![0.0; 16], vec![0.0; 16], vec![0.0; 16]];
