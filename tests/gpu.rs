@@ -6,10 +6,12 @@
 //! NKLUT_SKIP_GPU_TESTS=1, which skips these tests with a message.
 #![cfg(feature = "gpu")]
 
+mod common;
+
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
-use nklut::db::Database;
+use common::{database, scratch};
 use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
@@ -198,11 +200,6 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     }
 }
 
-fn database() -> Database {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
-    Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
-}
-
 /// A valid scene whose readback would exceed the device's buffer limit is an error naming
 /// the scene and the limit, found before anything is allocated.
 #[test]
@@ -305,8 +302,7 @@ fn default_scene_parses_and_its_sculpture_loads() {
 
 #[test]
 fn bad_scenes_are_named_errors_not_panics() {
-    let dir = std::env::temp_dir().join(format!("nklut-gpu-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("gpu-scene");
     let file = dir.join("bad.yaml");
     std::fs::write(&file, "objects: [{mesh: cube, material: 3d/metals/gold, method: fastest}]\nmeasurements: [timing]\n").unwrap();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_nklut")).args(["gpu", "run"]).arg(&file).output().unwrap();
