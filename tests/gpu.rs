@@ -52,14 +52,14 @@ fn ramp_c(x: u32) -> f32 {
     (x as f32 + 0.5) / RAMP_WIDTH as f32
 }
 
-/// The CPU LUT model of one channel (`fresnel::sample_lut_f32`: texel i at u = (i + ½)/N,
+/// The CPU LUT model of one channel (`fresnel::sample_lut`: texel i at u = (i + ½)/N,
 /// linear between neighbouring centres, clamp-to-edge) and the two texels it blends.
 fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
     let column: Vec<f32> = texels.iter().map(|t| t[channel]).collect();
     let last = column.len() as i64 - 1;
     let i0 = (u * column.len() as f32 - 0.5).floor() as i64;
     let at = |i: i64| column[i.clamp(0, last) as usize];
-    (fresnel::sample_lut_f32(&column, u), at(i0), at(i0 + 1))
+    (fresnel::sample_lut(&column, u), at(i0), at(i0 + 1))
 }
 
 /// One step of half-float quantisation at `v` (the spacing of f16 values around it).

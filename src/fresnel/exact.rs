@@ -1,7 +1,7 @@
 //! `exact` (SPEC §5.1): unpolarised reflectance (Rs + Rp)/2 of η = n + ik, in f64 for
 //! the CPU and in f32 mirroring a shader.
 
-use super::{sanitise, unit_cos, unit_cos_f32};
+use super::{sanitise, unit_cos};
 use crate::spectrum::Index;
 
 /// Largest |n|, k the fast square root `√(A² + 4n²k²)` handles without overflow; inputs
@@ -108,7 +108,7 @@ pub fn exact(n: f64, k: f64, cos_theta: f64) -> f64 {
 /// and it grows without bound as n − 1 → 0. Water at normal incidence (F ≈ 0.02) keeps
 /// ~1e-6 relative accuracy.
 pub fn exact_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
-    let c = unit_cos_f32(cos_theta);
+    let c = unit_cos(cos_theta);
     if n == 1.0 && k == 0.0 {
         return 0.0;
     }

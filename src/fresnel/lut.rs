@@ -10,7 +10,8 @@
 
 use half::f16;
 
-use super::{unit_cos, unit_cos_f32};
+use super::real::Real;
+use super::unit_cos;
 
 /// The texel counts of the "what accuracy costs" sweep.
 pub const LUT_SIZES: [usize; 6] = [16, 32, 64, 128, 256, 1024];
@@ -103,56 +104,43 @@ pub fn lut_texel_cos(i: usize, texels: usize) -> f64 {
     (i as f64 + 0.5) / texels.max(1) as f64
 }
 
-/// Where linear filtering with clamp-to-edge reads a texture of `count` texels at u = c
-/// (see the module doc): the two texel indices and the weight t of the second. The same
-/// for every texture of that size, so several encodings can share it.
-#[inline]
-pub fn filter_weights(count: usize, cos_theta: f64) -> (usize, usize, f64) {
-    let x = unit_cos(cos_theta) * count as f64 - 0.5;
-    // x ∈ [−½, N − ½], so ⌊x⌋ is −1 or the truncation (no libm call: the baseline
-    // x86-64 target has no rounding instruction).
-    let floor = if x < 0.0 { -1.0 } else { (x as u64) as f64 };
-    let last = count.saturating_sub(1) as f64;
-    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
+/// Where linear filtering with clamp-to-edge reads a texture: the two texels and the
+/// weight of the second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter<T> {
+    pub lower: usize,
+    pub upper: usize,
+    /// The weight t of `upper`; `lower` has 1 − t.
+    pub weight: T,
 }
 
-/// f32 twin of [`filter_weights`] (the shader's arithmetic).
+/// Where linear filtering with clamp-to-edge reads a texture of `count` texels at u = c
+/// (see the module doc). The same for every texture of that size, so several encodings
+/// can share it. In f32 the shader's arithmetic.
 #[inline]
-pub fn filter_weights_f32(count: usize, cos_theta: f32) -> (usize, usize, f32) {
-    let x = unit_cos_f32(cos_theta) * count as f32 - 0.5;
-    let floor = if x < 0.0 { -1.0 } else { (x as u32) as f32 };
-    let last = count.saturating_sub(1) as f32;
-    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
+pub fn filter_weights<T: Real>(count: usize, cos_theta: T) -> Filter<T> {
+    let x = unit_cos(cos_theta) * T::count(count) - T::of(0.5);
+    // x ∈ [−½, N − ½], so ⌊x⌋ is −1 or the truncation (no libm call: the baseline
+    // x86-64 target has no rounding instruction).
+    let floor = if x < T::ZERO { -T::ONE } else { x.truncate() };
+    let last = T::count(count.saturating_sub(1));
+    Filter { lower: floor.clamp(T::ZERO, last).index(), upper: (floor + T::ONE).clamp(T::ZERO, last).index(), weight: x - floor }
 }
 
 /// Linear filtering with clamp-to-edge, as a GPU samples a 1D texture at u = c (see the
 /// module doc). Returns 0 for an empty texture.
-pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
+pub fn sample_lut<T: Real>(texels: &[T], cos_theta: T) -> T {
     if texels.is_empty() {
-        return 0.0;
+        return T::ZERO;
     }
     filter(texels, filter_weights(texels.len(), cos_theta))
-}
-
-/// f32 twin of [`sample_lut`]: the same filtering in f32 arithmetic.
-pub fn sample_lut_f32(texels: &[f32], cos_theta: f32) -> f32 {
-    if texels.is_empty() {
-        return 0.0;
-    }
-    filter_f32(texels, filter_weights_f32(texels.len(), cos_theta))
 }
 
 /// The filtered value T[i₀](1 − t) + T[i₁]t (WGSL `mix`) for weights from
 /// [`filter_weights`].
 #[inline]
-pub fn filter(texels: &[f64], (i0, i1, t): (usize, usize, f64)) -> f64 {
-    texels[i0] * (1.0 - t) + texels[i1] * t
-}
-
-/// f32 twin of [`filter`], for weights from [`filter_weights_f32`].
-#[inline]
-pub fn filter_f32(texels: &[f32], (i0, i1, t): (usize, usize, f32)) -> f32 {
-    texels[i0] * (1.0 - t) + texels[i1] * t
+pub fn filter<T: Real>(texels: &[T], weights: Filter<T>) -> T {
+    texels[weights.lower] * (T::ONE - weights.weight) + texels[weights.upper] * weights.weight
 }
 
 /// `curve` at the texel centres c_i = (i + ½)/N of a texture of `texels` texels (at
@@ -226,6 +214,6 @@ impl Lut {
 
     #[inline]
     pub fn sample_f32(&self, cos_theta: f32) -> f32 {
-        sample_lut_f32(&self.texels_f32, cos_theta)
+        sample_lut(&self.texels_f32, cos_theta)
     }
 }
