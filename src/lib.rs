@@ -14,6 +14,7 @@ pub mod bake;
 pub mod color;
 pub mod db;
 pub mod effects;
+pub mod encoding;
 pub mod fresnel;
 #[cfg(feature = "gpu")]
 pub mod gpu;

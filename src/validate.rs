@@ -153,7 +153,7 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
             if let Some(lut) = &model.lut {
                 let count = lut.texels.len();
                 // Decreasing cosines: increasing θ, so the sort finds them in order.
-                cosines.extend((0..count).rev().map(|i| crate::fresnel::lut_texel_cos(i, count)));
+                cosines.extend((0..count).rev().map(|i| crate::encoding::texel_cos(i, count)));
             }
         }
         _ => {}

@@ -13,7 +13,7 @@
 //! - [`exact`], [`exact_f32`] and the closed forms in [`approx`], generic over [`Real`];
 //! - [`Prepared::new`] (F0, compensated λ with its [`CompensationFallback`], Lazányi a,
 //!   the nvidia fit), [`ShaderParams`] (the f32 uniforms a shader needs);
-//! - for textures: [`lut_texel_cos`], [`Encoding`] (`quantise`, `encode`, `decode`),
+//! - for textures: [`Encoding`] (`quantise`, `encode`, `decode`),
 //!   [`sample_lut`], [`Lut::bake`].
 
 pub mod approx;
@@ -28,7 +28,7 @@ pub use approx::{
     LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms};
-pub use lut::{filter, filter_weights, lut_texel_cos, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
+pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
 pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use real::Real;
 
