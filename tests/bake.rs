@@ -71,7 +71,7 @@ fn every_written_file_reads_back_as_the_baked_values() {
             for (i, &got) in stored.iter().enumerate() {
                 let want = curves[r][i % 3][i / 3];
                 let (got, want) = match encoding {
-                    Encoding::Unorm8Srgb => (texel::srgb_encode(got), texel::srgb_encode(want)),
+                    Encoding::Unorm8Srgb => (nklut::encoding::srgb_encode(got), nklut::encoding::srgb_encode(want)),
                     _ => (got, want),
                 };
                 assert!((got - want).abs() <= encoding.half_step(want) * (1.0 + 1e-9), "{}: {got} vs {want}", row["page"]);

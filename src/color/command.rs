@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Result;
 
 use super::page::{page_colors, spectral_reference, PageColors};
-use super::quadrature::{angle_quadrature, NODES, PANELS};
+use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::srgb;
 use crate::db::Database;
 use crate::encoding::texel_cosines;
