@@ -20,6 +20,10 @@ pub trait Real:
     fn min(self, other: Self) -> Self;
     fn max(self, other: Self) -> Self;
     fn clamp(self, lo: Self, hi: Self) -> Self;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    /// √(x² + y²) without overflow.
+    fn hypot(self, other: Self) -> Self;
     /// `pow(m, p)` as the target evaluates it.
     fn power(self, p: Self) -> Self;
     /// ⌊x⌋ for x ≥ 0 by truncation through an unsigned integer (no libm rounding call).
@@ -55,6 +59,21 @@ impl Real for f64 {
     #[inline]
     fn clamp(self, lo: Self, hi: Self) -> Self {
         f64::clamp(self, lo, hi)
+    }
+
+    #[inline]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+
+    #[inline]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+
+    #[inline]
+    fn hypot(self, other: Self) -> Self {
+        f64::hypot(self, other)
     }
 
     /// `powf`: the CPU reference.
@@ -101,6 +120,21 @@ impl Real for f32 {
     #[inline]
     fn clamp(self, lo: Self, hi: Self) -> Self {
         f32::clamp(self, lo, hi)
+    }
+
+    #[inline]
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
+    }
+
+    #[inline]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+
+    #[inline]
+    fn hypot(self, other: Self) -> Self {
+        f32::hypot(self, other)
     }
 
     /// WGSL's `pow`: exp2(p·log2 m); 0 for m = 0 and p > 0.
