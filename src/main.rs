@@ -189,7 +189,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Effects { scene, frames, resolution, channels } => {
             let scene = nklut::scene::Scene::load(&scene)?;
-            let materials = nklut::effects::experiment::scene_materials(&scene, &db, &channels.config())?;
+            let (materials, _) = nklut::scene::read_materials(&scene, &db, &channels.config())?;
             let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
             let mut settings = nklut::effects::experiment::Settings::of(&scene);
             settings.frames = frames.unwrap_or(settings.frames).max(1);

@@ -6,15 +6,17 @@
 //! NKLUT_SKIP_GPU_TESTS=1, which skips these tests with a message.
 #![cfg(feature = "gpu")]
 
+mod common;
+
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
-use nklut::db::Database;
+use common::{database, scratch};
 use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
-use nklut::scene::{Scene, Shading};
+use nklut::scene::{Scene, SceneMaterial, Shading};
 use nklut::spectrum::{ChannelIndex, Index, Kind};
 
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
@@ -50,14 +52,14 @@ fn ramp_c(x: u32) -> f32 {
     (x as f32 + 0.5) / RAMP_WIDTH as f32
 }
 
-/// The CPU LUT model of one channel (`fresnel::sample_lut_f32`: texel i at u = (i + ½)/N,
+/// The CPU LUT model of one channel (`fresnel::sample_lut`: texel i at u = (i + ½)/N,
 /// linear between neighbouring centres, clamp-to-edge) and the two texels it blends.
 fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
     let column: Vec<f32> = texels.iter().map(|t| t[channel]).collect();
     let last = column.len() as i64 - 1;
     let i0 = (u * column.len() as f32 - 0.5).floor() as i64;
     let at = |i: i64| column[i.clamp(0, last) as usize];
-    (fresnel::sample_lut_f32(&column, u), at(i0), at(i0 + 1))
+    (fresnel::sample_lut(&column, u), at(i0), at(i0 + 1))
 }
 
 /// One step of half-float quantisation at `v` (the spacing of f16 values around it).
@@ -91,7 +93,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     let shader = pixels[x as usize * 4 + channel];
                     assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
                     let (expected, tolerance) = match method {
-                        Shading::Lut => {
+                        Shading::Fresnel(nklut::fresnel::Method::Lut) => {
                             let (model, a, b) = lut_model(&stored, channel, c);
                             // One half-float step, plus the sub-texel weight precision a GPU may
                             // use (8 bits on current hardware; a CPU rasteriser uses floats).
@@ -105,7 +107,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
                     // exact F is 1 (to an f32 rounding).
                     let Index { n, k } = channels[channel];
-                    if method == Shading::Exact && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
+                    if method == Shading::Fresnel(nklut::fresnel::Method::Exact) && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
                         assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
                     }
                     max_error = max_error.max(error);
@@ -125,7 +127,7 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Shading::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Shading::Fresnel(nklut::fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -173,11 +175,11 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
          objects:\n  - {mesh: sphere, material: 3d/liquids/water, methods: [exact, schlick]}\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, schlick]}\n\
          measurements: [image_error]\n",
     );
-    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric)];
+    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
-        let exact = row(object, Shading::Exact);
+        let exact = row(object, Shading::Fresnel(nklut::fresnel::Method::Exact));
         assert_eq!(exact.frames, 4);
         assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
         assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
@@ -191,16 +193,11 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     // magnitude (a factor 10 either way), and must not be zero.
     let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
     for object in ["sphere", "cube"] {
-        let image_error = row(object, Shading::Schlick).mean_rel_error;
+        let image_error = row(object, Shading::Fresnel(nklut::fresnel::Method::Schlick)).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
         assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
     }
-}
-
-fn database() -> Database {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
-    Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
 }
 
 /// A valid scene whose readback would exceed the device's buffer limit is an error naming
@@ -256,7 +253,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Shading::Lut, 3));
+    assert_eq!((row.method, row.repeats), (Shading::Fresnel(nklut::fresnel::Method::Lut), 3));
     assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
@@ -268,12 +265,12 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
         "objects:\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, constant]}\n  - {mesh: cube, material: 3d/metals/gold, methods: [exact]}\n\
          measurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3, subtract: true}\n",
     );
-    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric), ("3d/metals/gold".to_string(), GOLDISH, Kind::Conductor)];
+    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric), SceneMaterial::new("3d/metals/gold", GOLDISH, Kind::Conductor)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Exact).unwrap();
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(nklut::fresnel::Method::Exact)).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);
@@ -305,8 +302,7 @@ fn default_scene_parses_and_its_sculpture_loads() {
 
 #[test]
 fn bad_scenes_are_named_errors_not_panics() {
-    let dir = std::env::temp_dir().join(format!("nklut-gpu-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("gpu-scene");
     let file = dir.join("bad.yaml");
     std::fs::write(&file, "objects: [{mesh: cube, material: 3d/metals/gold, method: fastest}]\nmeasurements: [timing]\n").unwrap();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_nklut")).args(["gpu", "run"]).arg(&file).output().unwrap();
@@ -316,7 +312,7 @@ fn bad_scenes_are_named_errors_not_panics() {
 
     // An unknown page is found before any GPU work, with the scene named.
     let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
-    let error = gpu::runner::scene_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
+    let error = nklut::scene::read_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -334,7 +330,7 @@ fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
     let text = "camera: {frames: 1}\neffects: {reflection: {max_depth: 2}, refraction: {max_depth: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: x/y/glass, method: exact}\n  - {mesh: room, scale: [3, 2, 3], diffuse: [0.5, 0.5, 0.5]}\nmeasurements: [image_error]\n";
     let scene = Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap();
     let glass = SpecularMaterial { channels: [Index::new(1.5, 0.0); 3], kind: Kind::Dielectric };
-    let stage = stage_from_table(&scene, &[("x/y/glass".to_string(), glass)]).unwrap();
+    let stage = stage_from_table(&scene, &[SceneMaterial { page: "x/y/glass".to_string(), optics: glass }]).unwrap();
     let map = DistanceMap::render(&stage, 0, 16, 3);
     // Rays from the sphere's surface outwards and inwards, and from inside it, over a
     // Fibonacci spiral of directions.

@@ -79,7 +79,7 @@ impl Taps {
     pub fn new(texels: usize, cosines: &[f64]) -> Self {
         let mut taps = Taps { texels, lower: vec![], upper: vec![], lower_weight: vec![], upper_weight: vec![] };
         for &c in cosines {
-            let (lower, upper, t) = fresnel::filter_weights(texels.max(1), c);
+            let fresnel::Filter { lower, upper, weight: t } = fresnel::filter_weights(texels.max(1), c);
             taps.lower.push(lower as u32);
             taps.upper.push(upper as u32);
             taps.lower_weight.push(1.0 - t);
@@ -201,7 +201,8 @@ fn channel_sums_in_blocks(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, r
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::texel::{quantise, texel_cosines, Encoding};
+    use crate::bake::texel::{quantise, Encoding};
+    use crate::encoding::texel_cosines;
     use crate::spectrum::Index;
 
     /// The midpoint rule agrees with a brute-force 10⁶-point mean (SPEC §6) to 3 digits.

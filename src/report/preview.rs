@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use base64::Engine as _;
 use image::{ImageFormat, RgbImage};
 
-use crate::color::srgb;
+use crate::encoding::srgb_decode;
 
 /// Side of one preview sphere in pixels.
 pub const PREVIEW_PX: u32 = 81;
@@ -149,7 +149,7 @@ struct CodeTable {
 fn code_table() -> &'static CodeTable {
     static TABLE: std::sync::OnceLock<CodeTable> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
-        let thresholds: [f64; 256] = std::array::from_fn(|c| if c < 255 { srgb::decode((c as f64 + 0.5) / 255.0) } else { f64::INFINITY });
+        let thresholds: [f64; 256] = std::array::from_fn(|c| if c < 255 { srgb_decode((c as f64 + 0.5) / 255.0) } else { f64::INFINITY });
         let below = (0..BUCKETS).map(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8).collect();
         CodeTable { thresholds, below }
     })
@@ -201,13 +201,13 @@ mod tests {
     use crate::report::curves::theta_grid;
 
     fn decode8(code: u8) -> f64 {
-        srgb::decode(code as f64 / 255.0)
+        srgb_decode(code as f64 / 255.0)
     }
 
     /// One 8-bit step in linear terms around `value`.
     fn step_at(value: f64) -> f64 {
         let code = encode8(value) as f64 / 255.0;
-        srgb::decode((code + 1.0 / 255.0).min(1.0)) - srgb::decode((code - 1.0 / 255.0).max(0.0))
+        srgb_decode((code + 1.0 / 255.0).min(1.0)) - srgb_decode((code - 1.0 / 255.0).max(0.0))
     }
 
     #[test]
@@ -258,14 +258,14 @@ mod tests {
     fn the_8_bit_encoder_rounds_like_the_transfer_function() {
         for i in 0..=20_000 {
             let linear = i as f64 / 20_000.0;
-            assert_eq!(encode8(linear), (srgb::encode(linear) * 255.0).round() as u8, "{linear}");
+            assert_eq!(encode8(linear), (crate::encoding::srgb_encode(linear) * 255.0).round() as u8, "{linear}");
         }
         assert_eq!((encode8(-0.5), encode8(1.7), encode8(f64::NAN), encode8(0.0), encode8(1.0)), (0, 255, 0, 0, 255));
         // Exactly at each rounding threshold and one ulp either side: the plain count.
         for c in 0..255 {
-            let t = srgb::decode((c as f64 + 0.5) / 255.0);
+            let t = srgb_decode((c as f64 + 0.5) / 255.0);
             for v in [t, f64::from_bits(t.to_bits() - 1), f64::from_bits(t.to_bits() + 1)] {
-                let count = (0..255).filter(|&d| srgb::decode((d as f64 + 0.5) / 255.0) <= v).count();
+                let count = (0..255).filter(|&d| srgb_decode((d as f64 + 0.5) / 255.0) <= v).count();
                 assert_eq!(encode8(v) as usize, count, "{v}");
             }
         }
