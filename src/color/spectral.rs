@@ -296,7 +296,7 @@ mod tests {
             })
             .collect();
         let prepared = PreparedSpectrum::new(&spectrum);
-        let mut cosines = texel_cosines(37);
+        let mut cosines = crate::encoding::texel_cosines(37);
         cosines.extend([0.0, 1.0, -0.1, 1.5]);
         let curve = prepared.curve(&cosines);
         assert_eq!(curve.len(), cosines.len());
