@@ -529,11 +529,17 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let measurements = measure_all(&specimens, &variants, strategy);
     let seconds = start.elapsed().as_secs_f64();
     let spreads = spreads(&measurements);
-    let mut files = errors_table(&specimens, &measurements, &channels, strategy).files("errors", false)?;
-    files.extend(cost_table(&spreads).files("cost", false)?);
-    let written = crate::output::publish_set(out, "validate", &files)?;
     let mut text = String::new();
     summary_text(&mut text, &specimens, &measurements, &spreads, strategy, seconds)?;
+    // errors.* has a row per page × variant × precision × channel (≈ 620 k over the whole
+    // database): the measurements go once the table holds them, and the CSV and Parquet
+    // encodings run one after the other so that their working memory is not held at once.
+    let errors = errors_table(&specimens, &measurements, &channels, strategy);
+    drop(measurements);
+    let mut files = errors.files_in_turn("errors", false)?;
+    drop(errors);
+    files.extend(cost_table(&spreads).files("cost", false)?);
+    let written = crate::output::publish_set(out, "validate", &files)?;
     Ok(Outcome { written, summary: text })
 }
 
