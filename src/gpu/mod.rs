@@ -7,6 +7,7 @@
 //! `render`, `lut::upload`, `distance_search` and `runner`. Sizes are checked against the
 //! device's limits before allocation.
 
+pub mod compose;
 pub mod context;
 pub mod distance_search;
 pub mod image_error;
