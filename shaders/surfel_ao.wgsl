@@ -1,0 +1,175 @@
+// Surfel accessibility and bent normals on the GPU (Bunnell, "Dynamic Ambient Occlusion and
+// Indirect Lighting", GPU Gems 2 ch. 14; the method and its f64 CPU twin in
+// src/effects/ao, docs/ao.md). One invocation per receiving surfel; a pass gathers the
+// shadow of every emitter (brute force) or of a cut of the surfel tree (hierarchy), each
+// emitter weighted by its accessibility of the previous pass:
+//
+//   S = A · max(0, n_E·v) · min(1, g · max(0, n_R·v)) / (π r² + A)
+//   a(i) = clamp(1 − Σ w_j S_ji, 0, 1),   bent(i) = normalise(n_i − Σ w_j S_ji v_ij)
+//
+// Entry points: cs_node_weights (a tree node's weight: the area-weighted mean accessibility
+// of its leaves from the previous pass), cs_brute_force, cs_tree (one pass each), and
+// cs_shadow_terms (the shadow term alone for a list of configurations, to hold it to its
+// CPU twin).
+
+const PI: f32 = 3.141592653589793;
+const NO_CHILD: u32 = 0xffffffffu;
+const STACK: u32 = 64u;
+
+struct Params {
+    count: u32,      // surfels
+    nodes: u32,      // tree nodes (0 without a tree)
+    gain: f32,       // g of the shadow form
+    closeness: f32,  // κ: a node is one emitter when r² ≥ κ·A
+}
+
+// A disc: centre and area, unit normal (w unused).
+struct Disc {
+    centre_area: vec4<f32>,
+    normal: vec4<f32>,
+}
+
+// A tree node: its merged disc and [left, right (NO_CHILD for a leaf), first, end) of its
+// leaves in leaf order.
+struct Node {
+    disc: Disc,
+    links: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> surfels: array<Disc>;
+@group(0) @binding(2) var<storage, read> nodes: array<Node>;
+@group(0) @binding(3) var<storage, read> rank: array<u32>;
+@group(0) @binding(4) var<storage, read> order: array<u32>;
+@group(0) @binding(5) var<storage, read> previous: array<f32>;
+@group(0) @binding(6) var<storage, read_write> node_weights: array<f32>;
+@group(0) @binding(7) var<storage, read_write> next: array<f32>;
+@group(0) @binding(8) var<storage, read_write> bent: array<vec4<f32>>;
+
+// The shadow an emitter disc (centre e, unit normal n_e, area A) casts on the point p with
+// unit normal n_r, and the unit direction v from p to e: (S, v). Zero where the centres
+// coincide, the disc has no area, shows its front, or lies below the horizon.
+fn shadow_term(e: vec3<f32>, n_e: vec3<f32>, area: f32, p: vec3<f32>, n_r: vec3<f32>, gain: f32) -> vec4<f32> {
+    let d = e - p;
+    let r2 = dot(d, d);
+    if !(r2 > 0.0) || !(area > 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let v = d / sqrt(r2);
+    let cos_e = max(dot(n_e, v), 0.0);
+    let cos_r = min(gain * max(dot(n_r, v), 0.0), 1.0);
+    let s = area * cos_e * cos_r / (PI * r2 + area);
+    return vec4<f32>(s, v);
+}
+
+// Accessibility and bent normal from the summed weighted shadow and direction.
+fn finish(receiver: u32, occlusion: vec4<f32>) {
+    let n = surfels[receiver].normal.xyz;
+    next[receiver] = clamp(1.0 - occlusion.x, 0.0, 1.0);
+    let b = n - occlusion.yzw;
+    let len2 = dot(b, b);
+    var unit = n;
+    if len2 > 0.0 {
+        unit = b / sqrt(len2);
+    }
+    bent[receiver] = vec4<f32>(next[receiver], unit);
+}
+
+fn add(occlusion: vec4<f32>, emitter: Disc, weight: f32, me: Disc) -> vec4<f32> {
+    let t = shadow_term(emitter.centre_area.xyz, emitter.normal.xyz, emitter.centre_area.w, me.centre_area.xyz, me.normal.xyz, params.gain);
+    return occlusion + weight * t.x * vec4<f32>(1.0, t.yzw);
+}
+
+@compute @workgroup_size(64)
+fn cs_brute_force(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.count {
+        return;
+    }
+    let me = surfels[i];
+    var occlusion = vec4<f32>(0.0);
+    for (var j = 0u; j < params.count; j++) {
+        if j != i {
+            occlusion = add(occlusion, surfels[j], previous[j], me);
+        }
+    }
+    finish(i, occlusion);
+}
+
+@compute @workgroup_size(64)
+fn cs_node_weights(@builtin(global_invocation_id) id: vec3<u32>) {
+    let k = id.x;
+    if k >= params.nodes {
+        return;
+    }
+    let links = nodes[k].links;
+    var weighted = 0.0;
+    var area = 0.0;
+    var plain = 0.0;
+    for (var p = links.z; p < links.w; p++) {
+        let s = order[p];
+        let a = surfels[s].centre_area.w;
+        weighted += a * previous[s];
+        area += a;
+        plain += previous[s];
+    }
+    if area > 0.0 {
+        node_weights[k] = weighted / area;
+    } else {
+        node_weights[k] = plain / f32(max(links.w - links.z, 1u));
+    }
+}
+
+@compute @workgroup_size(64)
+fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.count {
+        return;
+    }
+    let me = surfels[i];
+    let mine = rank[i];
+    var occlusion = vec4<f32>(0.0);
+    var stack: array<u32, STACK>;
+    var top = 0u;
+    if params.nodes > 0u {
+        stack[0] = 0u;
+        top = 1u;
+    }
+    while top > 0u {
+        top -= 1u;
+        let k = stack[top];
+        let node = nodes[k];
+        if node.links.y == NO_CHILD {
+            if order[node.links.z] != i {
+                occlusion = add(occlusion, node.disc, node_weights[k], me);
+            }
+            continue;
+        }
+        let d = node.disc.centre_area.xyz - me.centre_area.xyz;
+        let far = dot(d, d) >= params.closeness * node.disc.centre_area.w;
+        let holds = mine >= node.links.z && mine < node.links.w;
+        if far && !holds {
+            occlusion = add(occlusion, node.disc, node_weights[k], me);
+        } else if top + 2u <= STACK {
+            // Left then right, so the right child is taken first, as on the CPU.
+            stack[top] = node.links.x;
+            stack[top + 1u] = node.links.y;
+            top += 2u;
+        }
+    }
+    finish(i, occlusion);
+}
+
+// The shadow term alone: configuration i is the emitter surfels[2i] and the receiver
+// surfels[2i + 1] (its centre the point, its normal the receiver's); the result (S, v)
+// goes to bent[i].
+@compute @workgroup_size(64)
+fn cs_shadow_terms(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if 2u * i + 1u >= params.count {
+        return;
+    }
+    let e = surfels[2u * i];
+    let r = surfels[2u * i + 1u];
+    bent[i] = shadow_term(e.centre_area.xyz, e.normal.xyz, e.centre_area.w, r.centre_area.xyz, r.normal.xyz, params.gain);
+}

@@ -1,0 +1,322 @@
+//! The surfel ambient-occlusion pass (`shaders/surfel_ao.wgsl`): accessibility and bent
+//! normals of every surfel after N passes, by brute force over all emitters or through the
+//! surfel tree (Bunnell, GPU Gems 2 ch. 14; the f64 CPU twin is `effects::ao::accessibility`
+//! and `effects::ao::hierarchy`, docs/ao.md).
+//!
+//! Inputs: the surfels, optionally their tree (nodes, leaf order), the shadow form's gain g
+//! and the tree's κ, the pass count. Outputs: per surfel the accessibility of the last pass
+//! and its unit bent normal ([`AoOutput`]), and the count of dispatches. Everything is
+//! recorded in one compute pass: per accessibility pass, the tree's node weights (the
+//! leaves' area-weighted mean accessibility of the previous pass), then the gather; two
+//! accessibility buffers take turns as previous and next. Sizes are checked against the
+//! device's limits before any allocation; wgpu errors come back as `Result`s.
+
+use anyhow::{bail, Result};
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use crate::effects::ao::hierarchy::{Closeness, SurfelTree};
+use crate::effects::ao::shadow::ShadowForm;
+use crate::effects::ao::surfel::Surfel;
+use crate::gpu::context::Gpu;
+use crate::gpu::render::{check_buffer_size, readback_buffer};
+
+/// The kernel.
+pub const SURFEL_AO_SHADER: &str = include_str!("../../../shaders/surfel_ao.wgsl");
+
+/// Invocations per workgroup of every entry point.
+const WORKGROUP: u32 = 64;
+/// The traversal stack of `cs_tree`: a tree deeper than this cannot be walked.
+pub const STACK_DEPTH: usize = 64;
+const NO_CHILD: u32 = u32::MAX;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct Params {
+    count: u32,
+    nodes: u32,
+    gain: f32,
+    closeness: f32,
+}
+
+/// A disc as the shader reads it: centre and area, unit normal.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuDisc {
+    pub centre_area: [f32; 4],
+    pub normal: [f32; 4],
+}
+
+impl GpuDisc {
+    pub fn new(s: &Surfel) -> GpuDisc {
+        let (c, n) = (s.centre.as_vec3(), s.normal.as_vec3());
+        GpuDisc { centre_area: [c.x, c.y, c.z, s.area as f32], normal: [n.x, n.y, n.z, 0.0] }
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct GpuNode {
+    disc: GpuDisc,
+    links: [u32; 4],
+}
+
+/// Which emitters a receiver gathers from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Emitters {
+    BruteForce,
+    Hierarchy,
+}
+
+/// Per surfel after the last pass: accessibility and unit bent normal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AoOutput {
+    pub accessibility: Vec<f32>,
+    pub bent_normals: Vec<[f32; 3]>,
+    /// Compute dispatches recorded (node weights and gathers).
+    pub dispatches: u64,
+}
+
+/// The pass with its buffers and pipelines, ready to dispatch any number of passes.
+pub struct SurfelAoPass {
+    count: u32,
+    nodes: u32,
+    emitters: Emitters,
+    brute_force: wgpu::ComputePipeline,
+    node_weights: wgpu::ComputePipeline,
+    tree: wgpu::ComputePipeline,
+    /// Bind groups with (previous, next) = (A, B) and (B, A).
+    bind_groups: [wgpu::BindGroup; 2],
+    accessibility: [wgpu::Buffer; 2],
+    bent: wgpu::Buffer,
+}
+
+fn depth(nodes: &[crate::effects::ao::hierarchy::Node]) -> usize {
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 1usize)];
+    while let Some((k, d)) = stack.pop() {
+        deepest = deepest.max(d);
+        if let Some([l, r]) = nodes.get(k).and_then(|n| n.children) {
+            stack.push((l as usize, d + 1));
+            stack.push((r as usize, d + 1));
+        }
+    }
+    if nodes.is_empty() {
+        0
+    } else {
+        deepest
+    }
+}
+
+/// The storage buffer sizes and workgroup count of `count` receivers against the device.
+fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
+    let limits = gpu.device.limits();
+    let groups = count.div_ceil(WORKGROUP as usize).max(nodes.div_ceil(WORKGROUP as usize));
+    if groups > limits.max_compute_workgroups_per_dimension as usize {
+        bail!("{count} surfels need {groups} workgroups of {WORKGROUP}, over this device's max_compute_workgroups_per_dimension ({})", limits.max_compute_workgroups_per_dimension);
+    }
+    let sizes = [
+        ("surfels", count * std::mem::size_of::<GpuDisc>()),
+        ("surfel tree", nodes.max(1) * std::mem::size_of::<GpuNode>()),
+        ("bent normals", count * 16),
+    ];
+    for (what, bytes) in sizes {
+        if bytes as u64 > limits.max_storage_buffer_binding_size as u64 {
+            bail!("the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})", limits.max_storage_buffer_binding_size);
+        }
+        check_buffer_size(gpu, bytes as u64, what)?;
+    }
+    if limits.max_storage_buffers_per_shader_stage < 8 {
+        bail!("the surfel pass binds 8 storage buffers; this device allows {}", limits.max_storage_buffers_per_shader_stage);
+    }
+    Ok(())
+}
+
+impl SurfelAoPass {
+    /// Upload `surfels` (and `tree`, for [`Emitters::Hierarchy`]) and compile the kernel.
+    pub fn new(gpu: &Gpu, surfels: &[Surfel], tree: Option<&SurfelTree>, emitters: Emitters, form: ShadowForm, closeness: Closeness) -> Result<SurfelAoPass> {
+        if surfels.is_empty() {
+            bail!("the surfel pass needs at least one surfel");
+        }
+        let tree = match (emitters, tree) {
+            (Emitters::Hierarchy, None) => bail!("the hierarchy needs the surfel tree"),
+            (Emitters::Hierarchy, Some(tree)) => Some(tree),
+            (Emitters::BruteForce, _) => None,
+        };
+        let node_count = tree.map_or(0, |t| t.nodes.len());
+        if let Some(tree) = tree {
+            let deepest = depth(&tree.nodes);
+            if deepest + 1 > STACK_DEPTH {
+                bail!("the surfel tree is {deepest} levels deep; the traversal's stack holds {STACK_DEPTH}");
+            }
+            if tree.order.len() != surfels.len() {
+                bail!("the surfel tree holds {} leaves for {} surfels", tree.order.len(), surfels.len());
+            }
+        }
+        check_limits(gpu, surfels.len(), node_count)?;
+        let device = &gpu.device;
+        let discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
+        let (nodes, order, rank) = match tree {
+            Some(tree) => {
+                let nodes: Vec<GpuNode> = tree
+                    .nodes
+                    .iter()
+                    .map(|n| {
+                        let [l, r] = n.children.unwrap_or([NO_CHILD, NO_CHILD]);
+                        GpuNode { disc: GpuDisc::new(&n.disc), links: [l, r, n.first, n.end] }
+                    })
+                    .collect();
+                let mut rank = vec![0u32; surfels.len()];
+                for (position, &s) in tree.order.iter().enumerate() {
+                    rank[s as usize] = position as u32;
+                }
+                (nodes, tree.order.clone(), rank)
+            }
+            None => (vec![GpuNode::default()], vec![0u32], vec![0u32]),
+        };
+        let params = Params { count: surfels.len() as u32, nodes: node_count as u32, gain: form.receiver_gain as f32, closeness: closeness.0 as f32 };
+
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
+        let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let mut entries = vec![wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        }];
+        entries.extend((1..=5).map(|b| storage(b, true)));
+        entries.extend((6..=8).map(|b| storage(b, false)));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel ao"), entries: &entries });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel ao"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let (brute_force, node_weights, tree_pipeline) = (pipeline("cs_brute_force"), pipeline("cs_node_weights"), pipeline("cs_tree"));
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            bail!("compiling the surfel ambient-occlusion kernel: {error}");
+        }
+
+        let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let read_only = wgpu::BufferUsages::STORAGE;
+        let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let params_buffer = init("surfel ao params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+        let disc_buffer = init("surfels", bytemuck::cast_slice(&discs), read_only);
+        let node_buffer = init("surfel tree", bytemuck::cast_slice(&nodes), read_only);
+        let rank_buffer = init("surfel rank", bytemuck::cast_slice(&rank), read_only);
+        let order_buffer = init("surfel order", bytemuck::cast_slice(&order), read_only);
+        let ones = vec![1.0f32; surfels.len()];
+        let accessibility = [init("accessibility a", bytemuck::cast_slice(&ones), writable | read_only), init("accessibility b", bytemuck::cast_slice(&ones), writable)];
+        let weights_buffer = init("node weights", bytemuck::cast_slice(&vec![1.0f32; nodes.len()]), writable);
+        let bent = device.create_buffer(&wgpu::BufferDescriptor { label: Some("bent normals"), size: (surfels.len() * 16) as u64, usage: writable, mapped_at_creation: false });
+        let bind_group = |previous: &wgpu::Buffer, next: &wgpu::Buffer| {
+            let buffers = [&params_buffer, &disc_buffer, &node_buffer, &rank_buffer, &order_buffer, previous, &weights_buffer, next, &bent];
+            let entries: Vec<wgpu::BindGroupEntry> = buffers.iter().enumerate().map(|(binding, b)| wgpu::BindGroupEntry { binding: binding as u32, resource: b.as_entire_binding() }).collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("surfel ao"), layout: &layout, entries: &entries })
+        };
+        let bind_groups = [bind_group(&accessibility[0], &accessibility[1]), bind_group(&accessibility[1], &accessibility[0])];
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            bail!("allocating the surfel pass's buffers: {error}");
+        }
+        gpu.take_errors()?;
+        Ok(SurfelAoPass { count: surfels.len() as u32, nodes: node_count as u32, emitters, brute_force, node_weights, tree: tree_pipeline, bind_groups, accessibility, bent })
+    }
+
+    /// The buffer holding the accessibility after `passes` passes.
+    fn result_buffer(&self, passes: u32) -> &wgpu::Buffer {
+        &self.accessibility[(passes % 2) as usize]
+    }
+
+    /// Record `passes` passes (from full accessibility) into `encoder`, in one compute pass
+    /// with `timestamps` written at its start and end; the dispatches recorded.
+    pub fn encode(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, passes: u32, timestamps: Option<wgpu::ComputePassTimestampWrites>) -> u64 {
+        let ones = vec![1.0f32; self.count as usize];
+        encoder.clear_buffer(&self.bent, 0, None);
+        gpu.queue.write_buffer(&self.accessibility[0], 0, bytemuck::cast_slice(&ones));
+        let groups = self.count.div_ceil(WORKGROUP);
+        let mut dispatches = 0;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("surfel ao"), timestamp_writes: timestamps });
+        for k in 0..passes {
+            pass.set_bind_group(0, &self.bind_groups[(k % 2) as usize], &[]);
+            match self.emitters {
+                Emitters::BruteForce => {
+                    pass.set_pipeline(&self.brute_force);
+                    pass.dispatch_workgroups(groups, 1, 1);
+                    dispatches += 1;
+                }
+                Emitters::Hierarchy => {
+                    pass.set_pipeline(&self.node_weights);
+                    pass.dispatch_workgroups(self.nodes.div_ceil(WORKGROUP), 1, 1);
+                    pass.set_pipeline(&self.tree);
+                    pass.dispatch_workgroups(groups, 1, 1);
+                    dispatches += 2;
+                }
+            }
+        }
+        dispatches
+    }
+
+    /// Run `passes` passes and read back the accessibility and bent normals (0 passes: all
+    /// accessible, the bent normals zero — the CPU twin's pass 0 is the normals).
+    pub fn run(&self, gpu: &Gpu, passes: u32) -> Result<AoOutput> {
+        let bytes = self.count as u64 * 16;
+        let readback = readback_buffer(gpu, bytes + self.count as u64 * 4)?;
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let dispatches = self.encode(gpu, &mut encoder, passes, None);
+        encoder.copy_buffer_to_buffer(&self.bent, 0, &readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(self.result_buffer(passes), 0, &readback, bytes, self.count as u64 * 4);
+        gpu.queue.submit([encoder.finish()]);
+        let data = gpu.read_buffer(&readback)?;
+        let (bent, accessibility) = data.split_at(bytes as usize);
+        let bent: &[[f32; 4]] = bytemuck::cast_slice(bent);
+        Ok(AoOutput { accessibility: bytemuck::cast_slice(accessibility).to_vec(), bent_normals: bent.iter().map(|b| [b[1], b[2], b[3]]).collect(), dispatches })
+    }
+}
+
+/// The shadow term alone on the GPU for (emitter, receiver) pairs: (S, v) per pair, to
+/// hold `shadow_term` to its CPU twin.
+pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> Result<Vec<[f32; 4]>> {
+    let surfels: Vec<Surfel> = pairs.iter().flat_map(|(e, r)| [*e, *r]).collect();
+    let pass = SurfelAoPass::new(gpu, &surfels, None, Emitters::BruteForce, form, Closeness::default())?;
+    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
+    let layout = pass.brute_force.get_bind_group_layout(0);
+    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("shadow terms"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+    let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("cs_shadow_terms"),
+        layout: Some(&pipeline_layout),
+        module: &module,
+        entry_point: Some("cs_shadow_terms"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    if let Some(error) = pollster::block_on(scope.pop()) {
+        bail!("compiling the shadow-term kernel: {error}");
+    }
+    let bytes = pairs.len() as u64 * 16;
+    let readback = readback_buffer(gpu, bytes.max(16))?;
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    {
+        let mut compute = encoder.begin_compute_pass(&Default::default());
+        compute.set_pipeline(&pipeline);
+        compute.set_bind_group(0, &pass.bind_groups[0], &[]);
+        compute.dispatch_workgroups((pairs.len() as u32).div_ceil(WORKGROUP), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&pass.bent, 0, &readback, 0, bytes);
+    gpu.queue.submit([encoder.finish()]);
+    let data = gpu.read_buffer(&readback)?;
+    Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&data)[..pairs.len()].to_vec())
+}
