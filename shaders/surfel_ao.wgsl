@@ -21,6 +21,10 @@ struct Params {
     nodes: u32,      // tree nodes (0 without a tree)
     gain: f32,       // g of the shadow form
     closeness: f32,  // κ: a node is one emitter when r² ≥ κ·A
+    previous: u32,   // offset in `state` of the previous pass's accessibility
+    next: u32,       // offset in `state` of this pass's accessibility
+    weights: u32,    // offset in `state` of the nodes' weights
+    pad: u32,
 }
 
 // A disc: centre and area, unit normal (w unused).
@@ -29,22 +33,22 @@ struct Disc {
     normal: vec4<f32>,
 }
 
-// A tree node: its merged disc and [left, right (NO_CHILD for a leaf), first, end) of its
-// leaves in leaf order.
-struct Node {
-    disc: Disc,
-    links: vec4<u32>,
+// Per index k: tree node k's [left, right (NO_CHILD for a leaf), first, end) of its leaves
+// in leaf order, and (order[k], rank[k], 0, 0): the surfel at leaf position k and the leaf
+// position of surfel k.
+struct Links {
+    node: vec4<u32>,
+    leaf: vec4<u32>,
 }
 
+// Four storage buffers, the downlevel limit: the discs (the surfels, then the tree's
+// nodes), the links, the passes' state (two accessibility buffers that take turns and the
+// nodes' weights, at the offsets of `params`) and the output.
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> surfels: array<Disc>;
-@group(0) @binding(2) var<storage, read> nodes: array<Node>;
-@group(0) @binding(3) var<storage, read> rank: array<u32>;
-@group(0) @binding(4) var<storage, read> order: array<u32>;
-@group(0) @binding(5) var<storage, read> previous: array<f32>;
-@group(0) @binding(6) var<storage, read_write> node_weights: array<f32>;
-@group(0) @binding(7) var<storage, read_write> next: array<f32>;
-@group(0) @binding(8) var<storage, read_write> bent: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read> discs: array<Disc>;
+@group(0) @binding(2) var<storage, read> links: array<Links>;
+@group(0) @binding(3) var<storage, read_write> state: array<f32>;
+@group(0) @binding(4) var<storage, read_write> bent: array<vec4<f32>>;
 
 // The shadow an emitter disc (centre e, unit normal n_e, area A) casts on the point p with
 // unit normal n_r, and the unit direction v from p to e: (S, v). Zero where the centres
@@ -64,15 +68,16 @@ fn shadow_term(e: vec3<f32>, n_e: vec3<f32>, area: f32, p: vec3<f32>, n_r: vec3<
 
 // Accessibility and bent normal from the summed weighted shadow and direction.
 fn finish(receiver: u32, occlusion: vec4<f32>) {
-    let n = surfels[receiver].normal.xyz;
-    next[receiver] = clamp(1.0 - occlusion.x, 0.0, 1.0);
+    let n = discs[receiver].normal.xyz;
+    let a = clamp(1.0 - occlusion.x, 0.0, 1.0);
+    state[params.next + receiver] = a;
     let b = n - occlusion.yzw;
     let len2 = dot(b, b);
     var unit = n;
     if len2 > 0.0 {
         unit = b / sqrt(len2);
     }
-    bent[receiver] = vec4<f32>(next[receiver], unit);
+    bent[receiver] = vec4<f32>(a, unit);
 }
 
 fn add(occlusion: vec4<f32>, emitter: Disc, weight: f32, me: Disc) -> vec4<f32> {
@@ -86,11 +91,11 @@ fn cs_brute_force(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.count {
         return;
     }
-    let me = surfels[i];
+    let me = discs[i];
     var occlusion = vec4<f32>(0.0);
     for (var j = 0u; j < params.count; j++) {
         if j != i {
-            occlusion = add(occlusion, surfels[j], previous[j], me);
+            occlusion = add(occlusion, discs[j], state[params.previous + j], me);
         }
     }
     finish(i, occlusion);
@@ -102,21 +107,22 @@ fn cs_node_weights(@builtin(global_invocation_id) id: vec3<u32>) {
     if k >= params.nodes {
         return;
     }
-    let links = nodes[k].links;
+    let node = links[k].node;
     var weighted = 0.0;
     var area = 0.0;
     var plain = 0.0;
-    for (var p = links.z; p < links.w; p++) {
-        let s = order[p];
-        let a = surfels[s].centre_area.w;
-        weighted += a * previous[s];
+    for (var p = node.z; p < node.w; p++) {
+        let s = links[p].leaf.x;
+        let a = discs[s].centre_area.w;
+        let w = state[params.previous + s];
+        weighted += a * w;
         area += a;
-        plain += previous[s];
+        plain += w;
     }
     if area > 0.0 {
-        node_weights[k] = weighted / area;
+        state[params.weights + k] = weighted / area;
     } else {
-        node_weights[k] = plain / f32(max(links.w - links.z, 1u));
+        state[params.weights + k] = plain / f32(max(node.w - node.z, 1u));
     }
 }
 
@@ -126,8 +132,8 @@ fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.count {
         return;
     }
-    let me = surfels[i];
-    let mine = rank[i];
+    let me = discs[i];
+    let mine = links[i].leaf.y;
     var occlusion = vec4<f32>(0.0);
     var stack: array<u32, STACK>;
     var top = 0u;
@@ -138,22 +144,23 @@ fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
     while top > 0u {
         top -= 1u;
         let k = stack[top];
-        let node = nodes[k];
-        if node.links.y == NO_CHILD {
-            if order[node.links.z] != i {
-                occlusion = add(occlusion, node.disc, node_weights[k], me);
+        let node = links[k].node;
+        let disc = discs[params.count + k];
+        if node.y == NO_CHILD {
+            if links[node.z].leaf.x != i {
+                occlusion = add(occlusion, disc, state[params.weights + k], me);
             }
             continue;
         }
-        let d = node.disc.centre_area.xyz - me.centre_area.xyz;
-        let far = dot(d, d) >= params.closeness * node.disc.centre_area.w;
-        let holds = mine >= node.links.z && mine < node.links.w;
+        let d = disc.centre_area.xyz - me.centre_area.xyz;
+        let far = dot(d, d) >= params.closeness * disc.centre_area.w;
+        let holds = mine >= node.z && mine < node.w;
         if far && !holds {
-            occlusion = add(occlusion, node.disc, node_weights[k], me);
+            occlusion = add(occlusion, disc, state[params.weights + k], me);
         } else if top + 2u <= STACK {
             // Left then right, so the right child is taken first, as on the CPU.
-            stack[top] = node.links.x;
-            stack[top + 1u] = node.links.y;
+            stack[top] = node.x;
+            stack[top + 1u] = node.y;
             top += 2u;
         }
     }
@@ -169,7 +176,7 @@ fn cs_shadow_terms(@builtin(global_invocation_id) id: vec3<u32>) {
     if 2u * i + 1u >= params.count {
         return;
     }
-    let e = surfels[2u * i];
-    let r = surfels[2u * i + 1u];
+    let e = discs[2u * i];
+    let r = discs[2u * i + 1u];
     bent[i] = shadow_term(e.centre_area.xyz, e.normal.xyz, e.centre_area.w, r.centre_area.xyz, r.normal.xyz, params.gain);
 }

@@ -89,13 +89,13 @@ fn differences(gpu: &nklut::gpu::passes::ao::AoOutput, values: &[f64], bent: &[D
 }
 
 /// Accessibility and bent normals of the kernel against the f64 CPU twin on a torus of
-/// 325 surfels (self-occluding: the inner ring hides itself), for 1, 2 and 3 passes, by
-/// brute force and through the tree at κ = 16 (which merges: the CPU twin does fewer
-/// than half of brute force's evaluations).
+/// 1 225 surfels (self-occluding: the inner ring hides itself), for 1, 2 and 3 passes, by
+/// brute force and through the tree at κ = 16 (which merges: the CPU twin does at most
+/// half of brute force's evaluations).
 ///
-/// Bound, brute force: each accessibility is 1 − a sum of 324 terms in [0, 1), each the
+/// Bound, brute force: each accessibility is 1 − a sum of 1 224 terms in [0, 1), each the
 /// f32 shadow term (relative 1e-6, the ramp above) times an f32 weight, summed in f32: the
-/// error of the sum is ≲ 324 × 2⁻²⁴ × Σ|terms| ≲ 2e-5 × the total shadow (< 1); passes
+/// error of the sum is ≲ 1 224 × 2⁻²⁴ × Σ|terms| ≲ 7e-5 × the total shadow (< 1); passes
 /// carry the previous pass's error through weights that multiply terms summing to < 1, so
 /// errors do not grow. Bound 1e-4 per vertex. Bent normals: the same sums, direction within
 /// 1e-3 rad.
@@ -106,15 +106,15 @@ fn differences(gpu: &nklut::gpu::passes::ao::AoOutput, values: &[f64], bent: &[D
 #[test]
 fn the_wgsl_surfel_kernel_matches_its_cpu_twin_for_each_pass_count_with_and_without_the_tree() {
     let Some(gpu) = device() else { return };
-    let s = surfels(&torus(1.0, 0.6, 24, 12));
-    assert_eq!(s.len(), 325);
+    let s = surfels(&torus(1.0, 0.6, 48, 24));
+    assert_eq!(s.len(), 1225);
     let form = ShadowForm::FORM_FACTOR;
     let closeness = Closeness::default();
     let tree = SurfelTree::new(&s, form, closeness);
     let brute = BruteForce { surfels: &s, form };
     let cpu_brute = accessibility_by_pass(&brute, 3);
     let cpu_tree = accessibility_by_pass(&tree, 3);
-    assert!(cpu_tree[1].interactions * 2 < cpu_brute[1].interactions, "the tree merges: {} vs {}", cpu_tree[1].interactions, cpu_brute[1].interactions);
+    assert!(cpu_tree[1].interactions * 2 <= cpu_brute[1].interactions, "the tree merges: {} vs {}", cpu_tree[1].interactions, cpu_brute[1].interactions);
     let brute_pass = SurfelAoPass::new(&gpu, &s, None, Emitters::BruteForce, form, closeness).unwrap();
     let tree_pass = SurfelAoPass::new(&gpu, &s, Some(&tree), Emitters::Hierarchy, form, closeness).unwrap();
     for passes in 1..=3u32 {

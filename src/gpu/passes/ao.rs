@@ -37,6 +37,10 @@ struct Params {
     nodes: u32,
     gain: f32,
     closeness: f32,
+    previous: u32,
+    next: u32,
+    weights: u32,
+    pad: u32,
 }
 
 /// A disc as the shader reads it: centre and area, unit normal.
@@ -54,11 +58,12 @@ impl GpuDisc {
     }
 }
 
+/// Per index k: node k's [left, right, first, end) and (order[k], rank[k], 0, 0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct GpuNode {
-    disc: GpuDisc,
-    links: [u32; 4],
+struct GpuLinks {
+    node: [u32; 4],
+    leaf: [u32; 4],
 }
 
 /// Which emitters a receiver gathers from.
@@ -85,9 +90,11 @@ pub struct SurfelAoPass {
     brute_force: wgpu::ComputePipeline,
     node_weights: wgpu::ComputePipeline,
     tree: wgpu::ComputePipeline,
-    /// Bind groups with (previous, next) = (A, B) and (B, A).
+    /// Bind groups whose parameters read the previous pass from the first accessibility
+    /// buffer and write the second, and the other way round.
     bind_groups: [wgpu::BindGroup; 2],
-    accessibility: [wgpu::Buffer; 2],
+    /// Two accessibility buffers of `count` values, then the nodes' weights.
+    state: wgpu::Buffer,
     bent: wgpu::Buffer,
 }
 
@@ -116,8 +123,9 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
         bail!("{count} surfels need {groups} workgroups of {WORKGROUP}, over this device's max_compute_workgroups_per_dimension ({})", limits.max_compute_workgroups_per_dimension);
     }
     let sizes = [
-        ("surfels", count * std::mem::size_of::<GpuDisc>()),
-        ("surfel tree", nodes.max(1) * std::mem::size_of::<GpuNode>()),
+        ("surfel and node discs", (count + nodes) * std::mem::size_of::<GpuDisc>()),
+        ("surfel tree links", count.max(nodes) * std::mem::size_of::<GpuLinks>()),
+        ("accessibility and node weights", (2 * count + nodes.max(1)) * 4),
         ("bent normals", count * 16),
     ];
     for (what, bytes) in sizes {
@@ -126,8 +134,8 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
         }
         check_buffer_size(gpu, bytes as u64, what)?;
     }
-    if limits.max_storage_buffers_per_shader_stage < 8 {
-        bail!("the surfel pass binds 8 storage buffers; this device allows {}", limits.max_storage_buffers_per_shader_stage);
+    if limits.max_storage_buffers_per_shader_stage < 4 {
+        bail!("the surfel pass binds 4 storage buffers; this device allows {}", limits.max_storage_buffers_per_shader_stage);
     }
     Ok(())
 }
@@ -155,27 +163,31 @@ impl SurfelAoPass {
         }
         check_limits(gpu, surfels.len(), node_count)?;
         let device = &gpu.device;
-        let discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
-        let (nodes, order, rank) = match tree {
-            Some(tree) => {
-                let nodes: Vec<GpuNode> = tree
-                    .nodes
-                    .iter()
-                    .map(|n| {
-                        let [l, r] = n.children.unwrap_or([NO_CHILD, NO_CHILD]);
-                        GpuNode { disc: GpuDisc::new(&n.disc), links: [l, r, n.first, n.end] }
-                    })
-                    .collect();
-                let mut rank = vec![0u32; surfels.len()];
-                for (position, &s) in tree.order.iter().enumerate() {
-                    rank[s as usize] = position as u32;
-                }
-                (nodes, tree.order.clone(), rank)
+        let n = surfels.len();
+        let mut discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
+        let mut links = vec![GpuLinks::default(); n.max(node_count)];
+        if let Some(tree) = tree {
+            discs.extend(tree.nodes.iter().map(|node| GpuDisc::new(&node.disc)));
+            for (k, node) in tree.nodes.iter().enumerate() {
+                let [l, r] = node.children.unwrap_or([NO_CHILD, NO_CHILD]);
+                links[k].node = [l, r, node.first, node.end];
             }
-            None => (vec![GpuNode::default()], vec![0u32], vec![0u32]),
+            for (position, &s) in tree.order.iter().enumerate() {
+                links[position].leaf[0] = s;
+                links[s as usize].leaf[1] = position as u32;
+            }
+        }
+        let n32 = n as u32;
+        let params = |previous: u32, next: u32| Params {
+            count: n32,
+            nodes: node_count as u32,
+            gain: form.receiver_gain as f32,
+            closeness: closeness.0 as f32,
+            previous,
+            next,
+            weights: 2 * n32,
+            pad: 0,
         };
-        let params = Params { count: surfels.len() as u32, nodes: node_count as u32, gain: form.receiver_gain as f32, closeness: closeness.0 as f32 };
-
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
         let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
@@ -190,8 +202,7 @@ impl SurfelAoPass {
             ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
             count: None,
         }];
-        entries.extend((1..=5).map(|b| storage(b, true)));
-        entries.extend((6..=8).map(|b| storage(b, false)));
+        entries.extend([storage(1, true), storage(2, true), storage(3, false), storage(4, false)]);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel ao"), entries: &entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel ao"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let pipeline = |entry: &str| {
@@ -211,33 +222,28 @@ impl SurfelAoPass {
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
-        let read_only = wgpu::BufferUsages::STORAGE;
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let params_buffer = init("surfel ao params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
-        let disc_buffer = init("surfels", bytemuck::cast_slice(&discs), read_only);
-        let node_buffer = init("surfel tree", bytemuck::cast_slice(&nodes), read_only);
-        let rank_buffer = init("surfel rank", bytemuck::cast_slice(&rank), read_only);
-        let order_buffer = init("surfel order", bytemuck::cast_slice(&order), read_only);
-        let ones = vec![1.0f32; surfels.len()];
-        let accessibility = [init("accessibility a", bytemuck::cast_slice(&ones), writable | read_only), init("accessibility b", bytemuck::cast_slice(&ones), writable)];
-        let weights_buffer = init("node weights", bytemuck::cast_slice(&vec![1.0f32; nodes.len()]), writable);
-        let bent = device.create_buffer(&wgpu::BufferDescriptor { label: Some("bent normals"), size: (surfels.len() * 16) as u64, usage: writable, mapped_at_creation: false });
-        let bind_group = |previous: &wgpu::Buffer, next: &wgpu::Buffer| {
-            let buffers = [&params_buffer, &disc_buffer, &node_buffer, &rank_buffer, &order_buffer, previous, &weights_buffer, next, &bent];
+        let uniforms = [params(0, n32), params(n32, 0)].map(|p| init("surfel ao params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM));
+        let disc_buffer = init("surfel and node discs", bytemuck::cast_slice(&discs), wgpu::BufferUsages::STORAGE);
+        let link_buffer = init("surfel tree links", bytemuck::cast_slice(&links), wgpu::BufferUsages::STORAGE);
+        let state = init("accessibility and node weights", bytemuck::cast_slice(&vec![1.0f32; 2 * n + node_count.max(1)]), writable);
+        let bent = device.create_buffer(&wgpu::BufferDescriptor { label: Some("bent normals"), size: (n * 16) as u64, usage: writable, mapped_at_creation: false });
+        let bind_group = |uniform: &wgpu::Buffer| {
+            let buffers = [uniform, &disc_buffer, &link_buffer, &state, &bent];
             let entries: Vec<wgpu::BindGroupEntry> = buffers.iter().enumerate().map(|(binding, b)| wgpu::BindGroupEntry { binding: binding as u32, resource: b.as_entire_binding() }).collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("surfel ao"), layout: &layout, entries: &entries })
         };
-        let bind_groups = [bind_group(&accessibility[0], &accessibility[1]), bind_group(&accessibility[1], &accessibility[0])];
+        let bind_groups = [bind_group(&uniforms[0]), bind_group(&uniforms[1])];
         if let Some(error) = pollster::block_on(scope.pop()) {
             bail!("allocating the surfel pass's buffers: {error}");
         }
         gpu.take_errors()?;
-        Ok(SurfelAoPass { count: surfels.len() as u32, nodes: node_count as u32, emitters, brute_force, node_weights, tree: tree_pipeline, bind_groups, accessibility, bent })
+        Ok(SurfelAoPass { count: n32, nodes: node_count as u32, emitters, brute_force, node_weights, tree: tree_pipeline, bind_groups, state, bent })
     }
 
-    /// The buffer holding the accessibility after `passes` passes.
-    fn result_buffer(&self, passes: u32) -> &wgpu::Buffer {
-        &self.accessibility[(passes % 2) as usize]
+    /// The byte offset in `state` of the accessibility after `passes` passes.
+    fn result_offset(&self, passes: u32) -> u64 {
+        (passes % 2) as u64 * self.count as u64 * 4
     }
 
     /// Record `passes` passes (from full accessibility) into `encoder`, in one compute pass
@@ -245,7 +251,7 @@ impl SurfelAoPass {
     pub fn encode(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, passes: u32, timestamps: Option<wgpu::ComputePassTimestampWrites>) -> u64 {
         let ones = vec![1.0f32; self.count as usize];
         encoder.clear_buffer(&self.bent, 0, None);
-        gpu.queue.write_buffer(&self.accessibility[0], 0, bytemuck::cast_slice(&ones));
+        gpu.queue.write_buffer(&self.state, 0, bytemuck::cast_slice(&ones));
         let groups = self.count.div_ceil(WORKGROUP);
         let mut dispatches = 0;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("surfel ao"), timestamp_writes: timestamps });
@@ -277,7 +283,7 @@ impl SurfelAoPass {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let dispatches = self.encode(gpu, &mut encoder, passes, None);
         encoder.copy_buffer_to_buffer(&self.bent, 0, &readback, 0, bytes);
-        encoder.copy_buffer_to_buffer(self.result_buffer(passes), 0, &readback, bytes, self.count as u64 * 4);
+        encoder.copy_buffer_to_buffer(&self.state, self.result_offset(passes), &readback, bytes, self.count as u64 * 4);
         gpu.queue.submit([encoder.finish()]);
         let data = gpu.read_buffer(&readback)?;
         let (bent, accessibility) = data.split_at(bytes as usize);
