@@ -272,6 +272,21 @@ mod gpu_cli {
     pub enum GpuCommand {
         /// List the adapters wgpu sees (name, backend, type, driver).
         Adapters,
+        /// Time the surfel ambient-occlusion pass against surfel count, brute force and
+        /// hierarchy, over the bunny and the sculpture decimated and subdivided → ao_timing.*.
+        AoTiming {
+            /// Folder holding stanford-bunny.obj and nefertiti.obj.
+            #[arg(long, default_value = "../shared/meshes")]
+            meshes: PathBuf,
+            /// The largest surfel count timed by brute force (n² per pass).
+            #[arg(long, default_value_t = 40_000)]
+            max_brute: usize,
+            /// Timed samples per configuration (after one untimed).
+            #[arg(long, default_value_t = 3)]
+            repeats: u32,
+            #[command(flatten)]
+            adapter: AdapterArg,
+        },
         /// Run a scene file: the measurements it names, for its objects, materials and methods.
         Run {
             scene: PathBuf,
@@ -330,6 +345,27 @@ mod gpu_cli {
                 }
                 for line in adapters {
                     super::print_line(&line.to_string())?;
+                }
+                return Ok(());
+            }
+            GpuCommand::AoTiming { meshes, max_brute, repeats, adapter } => {
+                use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
+                let device = gpu::open(adapter.adapter.as_deref())?;
+                eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
+                let mut all = Vec::new();
+                for (name, file) in [("bunny", "stanford-bunny.obj"), ("sculpture", "nefertiti.obj")] {
+                    let mesh = nklut::scene::mesh::load_obj(&meshes.join(file))?;
+                    all.extend(sweep_meshes(name, &mesh));
+                }
+                let settings = SweepSettings { max_brute, repeats: repeats.max(1), ..SweepSettings::default() };
+                let rows = sweep(&device, &all, &settings, &mut |line| eprintln!("{line}"))?;
+                for gather in ["brute_force", "hierarchy"] {
+                    if let Some(row) = rows.iter().find(|r| nklut::gpu::ao_timing::gather_name(r.gather) == gather) {
+                        eprintln!("  {gather}: time ∝ n^{:.2}", row.fitted_exponent);
+                    }
+                }
+                for path in ao_timing_table(&rows, &device).write(&paths.out, "ao_timing", false)? {
+                    eprintln!("  wrote {}", path.display());
                 }
                 return Ok(());
             }

@@ -10,12 +10,12 @@
 use std::sync::{Mutex, OnceLock};
 
 use glam::DVec3;
-use nklut::effects::ao::accessibility::{accessibility_by_pass, BruteForce, Emitters as CpuEmitters};
+use nklut::effects::ao::accessibility::{accessibility_by_pass, BruteForce};
 use nklut::effects::ao::hierarchy::{Closeness, SurfelTree};
 use nklut::effects::ao::shadow::{transfer, ShadowForm};
 use nklut::effects::ao::shapes::torus;
 use nklut::effects::ao::surfel::{surfels, Surfel};
-use nklut::gpu::passes::ao::{shadow_terms, Emitters, SurfelAoPass};
+use nklut::gpu::passes::ao::{shadow_terms, Gather, SurfelAoPass};
 use nklut::gpu::{self, Gpu};
 
 /// One device for the whole test binary; tests take turns.
@@ -115,8 +115,8 @@ fn the_wgsl_surfel_kernel_matches_its_cpu_twin_for_each_pass_count_with_and_with
     let cpu_brute = accessibility_by_pass(&brute, 3);
     let cpu_tree = accessibility_by_pass(&tree, 3);
     assert!(cpu_tree[1].interactions * 2 <= cpu_brute[1].interactions, "the tree merges: {} vs {}", cpu_tree[1].interactions, cpu_brute[1].interactions);
-    let brute_pass = SurfelAoPass::new(&gpu, &s, None, Emitters::BruteForce, form, closeness).unwrap();
-    let tree_pass = SurfelAoPass::new(&gpu, &s, Some(&tree), Emitters::Hierarchy, form, closeness).unwrap();
+    let brute_pass = SurfelAoPass::new(&gpu, &s, None, Gather::BruteForce, form, closeness).unwrap();
+    let tree_pass = SurfelAoPass::new(&gpu, &s, Some(&tree), Gather::Hierarchy, form, closeness).unwrap();
     for passes in 1..=3u32 {
         let cpu = &cpu_brute[passes as usize];
         let out = brute_pass.run(&gpu, passes).unwrap();
@@ -143,9 +143,8 @@ fn the_wgsl_surfel_kernel_matches_its_cpu_twin_for_each_pass_count_with_and_with
 fn the_surfel_pass_rejects_what_it_cannot_run() {
     let Some(gpu) = device() else { return };
     let form = ShadowForm::FORM_FACTOR;
-    assert!(SurfelAoPass::new(&gpu, &[], None, Emitters::BruteForce, form, Closeness::default()).is_err());
+    assert!(SurfelAoPass::new(&gpu, &[], None, Gather::BruteForce, form, Closeness::default()).is_err());
     let s = surfels(&torus(1.0, 0.6, 6, 4));
-    let error = SurfelAoPass::new(&gpu, &s, None, Emitters::Hierarchy, form, Closeness::default()).err().expect("the hierarchy without a tree");
+    let error = SurfelAoPass::new(&gpu, &s, None, Gather::Hierarchy, form, Closeness::default()).err().expect("the hierarchy without a tree");
     assert!(error.to_string().contains("tree"), "{error}");
-    let _: &dyn CpuEmitters = &BruteForce { surfels: &s, form };
 }

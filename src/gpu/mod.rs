@@ -8,6 +8,7 @@
 //! `render`, `lut::upload`, `distance_search` and `runner`. Sizes are checked against the
 //! device's limits before allocation.
 
+pub mod ao_timing;
 pub mod context;
 pub mod distance_search;
 pub mod image_error;

@@ -68,7 +68,7 @@ struct GpuLinks {
 
 /// Which emitters a receiver gathers from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Emitters {
+pub enum Gather {
     BruteForce,
     Hierarchy,
 }
@@ -86,7 +86,7 @@ pub struct AoOutput {
 pub struct SurfelAoPass {
     count: u32,
     nodes: u32,
-    emitters: Emitters,
+    gather: Gather,
     brute_force: wgpu::ComputePipeline,
     node_weights: wgpu::ComputePipeline,
     tree: wgpu::ComputePipeline,
@@ -141,15 +141,15 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
 }
 
 impl SurfelAoPass {
-    /// Upload `surfels` (and `tree`, for [`Emitters::Hierarchy`]) and compile the kernel.
-    pub fn new(gpu: &Gpu, surfels: &[Surfel], tree: Option<&SurfelTree>, emitters: Emitters, form: ShadowForm, closeness: Closeness) -> Result<SurfelAoPass> {
+    /// Upload `surfels` (and `tree`, for [`Gather::Hierarchy`]) and compile the kernel.
+    pub fn new(gpu: &Gpu, surfels: &[Surfel], tree: Option<&SurfelTree>, gather: Gather, form: ShadowForm, closeness: Closeness) -> Result<SurfelAoPass> {
         if surfels.is_empty() {
             bail!("the surfel pass needs at least one surfel");
         }
-        let tree = match (emitters, tree) {
-            (Emitters::Hierarchy, None) => bail!("the hierarchy needs the surfel tree"),
-            (Emitters::Hierarchy, Some(tree)) => Some(tree),
-            (Emitters::BruteForce, _) => None,
+        let tree = match (gather, tree) {
+            (Gather::Hierarchy, None) => bail!("the hierarchy needs the surfel tree"),
+            (Gather::Hierarchy, Some(tree)) => Some(tree),
+            (Gather::BruteForce, _) => None,
         };
         let node_count = tree.map_or(0, |t| t.nodes.len());
         if let Some(tree) = tree {
@@ -238,7 +238,7 @@ impl SurfelAoPass {
             bail!("allocating the surfel pass's buffers: {error}");
         }
         gpu.take_errors()?;
-        Ok(SurfelAoPass { count: n32, nodes: node_count as u32, emitters, brute_force, node_weights, tree: tree_pipeline, bind_groups, state, bent })
+        Ok(SurfelAoPass { count: n32, nodes: node_count as u32, gather, brute_force, node_weights, tree: tree_pipeline, bind_groups, state, bent })
     }
 
     /// The byte offset in `state` of the accessibility after `passes` passes.
@@ -257,13 +257,13 @@ impl SurfelAoPass {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("surfel ao"), timestamp_writes: timestamps });
         for k in 0..passes {
             pass.set_bind_group(0, &self.bind_groups[(k % 2) as usize], &[]);
-            match self.emitters {
-                Emitters::BruteForce => {
+            match self.gather {
+                Gather::BruteForce => {
                     pass.set_pipeline(&self.brute_force);
                     pass.dispatch_workgroups(groups, 1, 1);
                     dispatches += 1;
                 }
-                Emitters::Hierarchy => {
+                Gather::Hierarchy => {
                     pass.set_pipeline(&self.node_weights);
                     pass.dispatch_workgroups(self.nodes.div_ceil(WORKGROUP), 1, 1);
                     pass.set_pipeline(&self.tree);
@@ -296,7 +296,7 @@ impl SurfelAoPass {
 /// hold `shadow_term` to its CPU twin.
 pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> Result<Vec<[f32; 4]>> {
     let surfels: Vec<Surfel> = pairs.iter().flat_map(|(e, r)| [*e, *r]).collect();
-    let pass = SurfelAoPass::new(gpu, &surfels, None, Emitters::BruteForce, form, Closeness::default())?;
+    let pass = SurfelAoPass::new(gpu, &surfels, None, Gather::BruteForce, form, Closeness::default())?;
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
     let layout = pass.brute_force.get_bind_group_layout(0);
