@@ -126,14 +126,16 @@ fn cs_node_weights(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
+// Invocation k takes the surfel at leaf position k, so neighbouring invocations (one SIMD
+// group) walk neighbouring receivers down nearly the same cut of the tree.
 @compute @workgroup_size(64)
 fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.count {
+    if id.x >= params.count {
         return;
     }
+    let i = links[id.x].leaf.x;
     let me = discs[i];
-    let mine = links[i].leaf.y;
+    let mine = id.x;
     var occlusion = vec4<f32>(0.0);
     var stack: array<u32, STACK>;
     var top = 0u;

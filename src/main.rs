@@ -284,6 +284,9 @@ mod gpu_cli {
             /// Timed samples per configuration (after one untimed).
             #[arg(long, default_value_t = 3)]
             repeats: u32,
+            /// Time only the sweep meshes whose name contains this (e.g. `bunny-subdivided`).
+            #[arg(long)]
+            only: Option<String>,
             #[command(flatten)]
             adapter: AdapterArg,
         },
@@ -348,7 +351,7 @@ mod gpu_cli {
                 }
                 return Ok(());
             }
-            GpuCommand::AoTiming { meshes, max_brute, repeats, adapter } => {
+            GpuCommand::AoTiming { meshes, max_brute, repeats, only, adapter } => {
                 use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
                 let device = gpu::open(adapter.adapter.as_deref())?;
                 eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
@@ -357,6 +360,7 @@ mod gpu_cli {
                     let mesh = nklut::scene::mesh::load_obj(&meshes.join(file))?;
                     all.extend(sweep_meshes(name, &mesh));
                 }
+                all.retain(|m| only.as_deref().is_none_or(|only| m.name.contains(only)));
                 let settings = SweepSettings { max_brute, repeats: repeats.max(1), ..SweepSettings::default() };
                 let rows = sweep(&device, &all, &settings, &mut |line| eprintln!("{line}"))?;
                 for gather in ["brute_force", "hierarchy"] {
