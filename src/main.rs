@@ -5,7 +5,9 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 
-use nklut::cli::{ChannelArgs, PageSelection, Paths};
+mod cli;
+
+use cli::{BakeArgs, ChannelArgs, PageSelection, Paths, ValidateArgs};
 use nklut::db::Database;
 use nklut::ingest;
 use nklut::spectrum;
@@ -34,7 +36,7 @@ enum Command {
         pages: PageSelection,
     },
     /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
-    Bake(nklut::bake::BakeArgs),
+    Bake(BakeArgs),
     /// Print n and k of one page at the given wavelengths: one line "nm n k" each.
     Nk {
         /// Page id, e.g. main/Au/Johnson.
@@ -44,7 +46,7 @@ enum Command {
         nm: Vec<f64>,
     },
     /// Measure every Fresnel method's error against exact (SPEC §6); write errors.* and cost.*.
-    Validate(nklut::validate::ValidateArgs),
+    Validate(ValidateArgs),
     /// Time and render the Fresnel methods on a GPU with wgpu, driven by a scene file.
     #[cfg(feature = "gpu")]
     Gpu {
@@ -165,7 +167,7 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("report: {} files under {}", written.len(), cli.paths.out.join("report").display());
         }
         Command::Bake(args) => {
-            let summary = nklut::bake::run(&db, &cli.paths.out, &args)?;
+            let summary = nklut::bake::run(&db, &cli.paths.out, &args.request())?;
             eprintln!("bake: {} rows, {} files, {} clamped texels -> {}", summary.rows, summary.files, summary.clamped_texels, summary.luts.display());
         }
         Command::Nk { page, nm } => {
@@ -178,7 +180,7 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Validate(args) => {
-            let outcome = nklut::validate::run(&args, Some(&db), &cli.paths.out)?;
+            let outcome = nklut::validate::run(&args.request(), Some(&db), &cli.paths.out)?;
             for line in outcome.summary.lines() {
                 print_line(line)?;
             }
@@ -200,7 +202,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             let mut stats = nklut::effects::experiment::EffectsStats::default();
             if effects.reflection.is_some() || effects.refraction.is_some() {
-                let materials = nklut::effects::experiment::scene_materials(&scene, &db, &channels.config())?;
+                let (materials, _) = nklut::scene::read_materials(&scene, &db, &channels.config())?;
                 let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
                 let mut settings = nklut::effects::experiment::Settings::of(&scene);
                 settings.frames = frames.unwrap_or(settings.frames).max(1);
@@ -256,7 +258,7 @@ mod gpu_cli {
     use super::parse_resolution;
     use clap::{Args, Subcommand};
 
-    use nklut::cli::{ChannelArgs, Paths};
+    use crate::cli::{ChannelArgs, Paths};
     use nklut::db::Database;
     use nklut::gpu;
     use nklut::scene::{Experiment, Scene};

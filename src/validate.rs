@@ -31,16 +31,15 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 
-use crate::cli::{ChannelArgs, PageSelection};
 use crate::db::Database;
 use crate::fresnel::{
-    filter, filter_f32, filter_weights, filter_weights_f32, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, Precision, Prepared,
+    filter, filter_f32, filter_weights, filter_weights_f32, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
-use crate::ingest;
+use crate::ingest::{self, Selection};
 use crate::output::Table;
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
 
-use quadrature::{Integral, Sample, Tolerance, BRUTE_FORCE_SAMPLES};
+use quadrature::{Integral, Sample, Tolerance};
 
 /// How the integrals are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,18 +95,20 @@ impl Variant {
     }
 }
 
-/// What to measure: a material's channel indices and the page ids that share them.
+/// What is measured: a material's channel indices and the page ids that share them (one
+/// data file listed under several ids is measured once).
 #[derive(Clone, Debug)]
-pub struct Target {
+pub struct Specimen {
     pub pages: Vec<String>,
     pub kind: String,
     pub channels: ChannelIndex,
 }
 
-/// One integration: a target × variant × channel, both precisions.
+/// One integration: a specimen × variant × channel, both precisions.
 #[derive(Clone, Debug)]
 pub struct Measurement {
-    pub target: usize,
+    /// Index into the specimens measured.
+    pub specimen: usize,
     pub variant: Variant,
     pub channel: usize,
     pub index: Index,
@@ -219,14 +220,14 @@ impl Family {
             let weights_f32 = filter_weights_f32(texels, c as f32);
             for (lut, sample) in self.models.iter().filter_map(|m| m.lut.as_ref()).zip(out.iter_mut()) {
                 let approx32 = filter_f32(&lut.texels_f32, weights_f32) as f64;
-                *sample = Sample { exact, approx: [filter(&lut.texels, weights), approx32] };
+                *sample = Sample { exact, approx: PerPrecision { f64: filter(&lut.texels, weights), f32: approx32 } };
             }
             return;
         }
         for (model, sample) in self.models.iter().zip(out.iter_mut()) {
             let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
             let approx32 = model.reflectance_f32(c as f32) as f64;
-            *sample = Sample { exact, approx: [approx64, approx32] };
+            *sample = Sample { exact, approx: PerPrecision { f64: approx64, f32: approx32 } };
         }
     }
 
@@ -255,21 +256,21 @@ pub fn measure(model: &Model, strategy: Strategy) -> Integral {
     Family::of(vec![model.clone()]).measure(strategy)[0]
 }
 
-/// Measure every target × variant × channel, in parallel, one family at a time.
-pub fn measure_all(targets: &[Target], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
-    let prepared: Vec<[Prepared; 3]> = targets.par_iter().map(|t| t.channels.map(Prepared::new)).collect();
+/// Measure every specimen × variant × channel, in parallel, one family at a time.
+pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
+    let prepared: Vec<[Prepared; 3]> = specimens.par_iter().map(|t| t.channels.map(Prepared::new)).collect();
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
     let mut jobs: Vec<(usize, usize, usize)> =
-        (0..targets.len()).flat_map(|t| (0..groups.len()).flat_map(move |g| (0..3).map(move |c| (t, g, c)))).collect();
+        (0..specimens.len()).flat_map(|t| (0..groups.len()).flat_map(move |g| (0..3).map(move |c| (t, g, c)))).collect();
     let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
     jobs.sort_by_key(|&(t, g, c)| (std::cmp::Reverse(weight(g)), t, c));
     let bar = crate::progress::bar(jobs.len(), "validate");
     let mut measurements: Vec<Measurement> = jobs
         .par_iter()
-        .flat_map_iter(|&(target, g, channel)| {
+        .flat_map_iter(|&(specimen, g, channel)| {
             let start = Instant::now();
-            let p = prepared[target][channel];
+            let p = prepared[specimen][channel];
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
             let integrals = Family::new(p, &members).measure(strategy);
             let seconds = start.elapsed().as_secs_f64() / members.len() as f64;
@@ -278,7 +279,7 @@ pub fn measure_all(targets: &[Target], variants: &[Variant], strategy: Strategy)
             members.into_iter().zip(integrals).map(move |(variant, integral)| {
                 let compensated = variant.method == Method::SchlickCompensated;
                 Measurement {
-                    target,
+                    specimen,
                     variant,
                     channel,
                     index: p.index,
@@ -292,14 +293,14 @@ pub fn measure_all(targets: &[Target], variants: &[Variant], strategy: Strategy)
         })
         .collect();
     bar.finish_and_clear();
-    // Rows in target, variant, channel order, whatever the schedule.
+    // Rows in specimen, variant, channel order, whatever the schedule.
     let order: BTreeMap<Variant, usize> = variants.iter().enumerate().map(|(i, v)| (*v, i)).collect();
-    measurements.sort_by_key(|m| (m.target, order[&m.variant], m.channel));
+    measurements.sort_by_key(|m| (m.specimen, order[&m.variant], m.channel));
     measurements
 }
 
 /// `errors.*`: one row per page × method × variant × precision × channel.
-pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: &Channels, strategy: Strategy) -> Table {
+pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channels: &Channels, strategy: Strategy) -> Table {
     struct Row<'a> {
         page: &'a str,
         m: &'a Measurement,
@@ -307,14 +308,13 @@ pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: 
     }
     let rows: Vec<Row> = measurements
         .iter()
-        .flat_map(|m| targets[m.target].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| Row { page, m, precision })))
+        .flat_map(|m| specimens[m.specimen].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| Row { page, m, precision })))
         .collect();
     let nm = channels.nanometres();
-    let p = |r: &Row| if r.precision == Precision::F64 { 0 } else { 1 };
     let mut table = Table::new();
     table
         .text("page", "page id shelf/book/page (or nk:... for --nk)", rows.iter().map(|r| r.page.to_string()).collect())
-        .text("kind", "conductor or dielectric (materials.csv); 'given' for --nk", rows.iter().map(|r| targets[r.m.target].kind.clone()).collect())
+        .text("kind", "conductor or dielectric (materials.csv); 'given' for --nk", rows.iter().map(|r| specimens[r.m.specimen].kind.clone()).collect())
         .text("method", "Fresnel method (SPEC §5)", rows.iter().map(|r| r.m.variant.method.name().to_string()).collect())
         .text(
             "variant",
@@ -332,10 +332,10 @@ pub fn errors_table(targets: &[Target], measurements: &[Measurement], channels: 
         .optional_float(
             "mean_rel_error",
             "mean over theta uniform in [0,90] deg of |F_m - F_exact|/F_exact (fraction); samples with F_exact = 0 excluded; empty if all are",
-            rows.iter().map(|r| r.m.integral.figures[p(r)].mean_rel_error).collect(),
+            rows.iter().map(|r| r.m.integral.figures[r.precision].mean_rel_error).collect(),
         )
-        .float("max_abs_error", "max over theta of |F_m - F_exact|", rows.iter().map(|r| r.m.integral.figures[p(r)].max_abs_error).collect())
-        .float("rms_abs_error", "RMS over theta of F_m - F_exact", rows.iter().map(|r| r.m.integral.figures[p(r)].rms_abs_error).collect())
+        .float("max_abs_error", "max over theta of |F_m - F_exact|", rows.iter().map(|r| r.m.integral.figures[r.precision].max_abs_error).collect())
+        .float("rms_abs_error", "RMS over theta of F_m - F_exact", rows.iter().map(|r| r.m.integral.figures[r.precision].rms_abs_error).collect())
         .integer(
             "excluded_samples",
             "evaluation points with F_exact = 0, left out of mean_rel_error (only n = 1, k = 0)",
@@ -381,13 +381,13 @@ pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {
     CPU_COST_NS.iter().find(|(m, p, _)| *m == method && *p == precision).map(|e| e.2).filter(|v| v.is_finite())
 }
 
-/// Material figure (SPEC §6): mean over the three channels of `mean_rel_error`, per
-/// target, variant and precision; `None` where a channel has none.
-pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, usize, usize), Option<f64>> {
-    let mut per: BTreeMap<(Variant, usize, usize), Vec<Option<f64>>> = BTreeMap::new();
+/// Material figure (SPEC §6): mean over the three channels of
+/// `mean_rel_error`, per specimen, variant and precision; `None` where a channel has none.
+pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, Precision, usize), Option<f64>> {
+    let mut per: BTreeMap<(Variant, Precision, usize), Vec<Option<f64>>> = BTreeMap::new();
     for m in measurements {
-        for p in 0..2 {
-            per.entry((m.variant, p, m.target)).or_default().push(m.integral.figures[p].mean_rel_error);
+        for precision in Precision::ALL {
+            per.entry((m.variant, precision, m.specimen)).or_default().push(m.integral.figures[precision].mean_rel_error);
         }
     }
     per.into_iter()
@@ -398,17 +398,25 @@ pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, usize
         .collect()
 }
 
-/// Per variant and precision index: (mean, median, max) over materials of the material
-/// figure, and how many materials had one.
-pub type Summary = BTreeMap<(Variant, usize), (f64, f64, f64, usize)>;
+/// How a method's material figure spreads over the materials.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    pub mean: f64,
+    pub median: f64,
+    pub max: f64,
+    /// Materials with a figure.
+    pub materials: usize,
+}
 
-/// Summary per variant and precision: (mean, median, max) over materials of the material
-/// figure, and how many materials had one.
-pub fn summary(measurements: &[Measurement]) -> Summary {
-    let mut per: BTreeMap<(Variant, usize), Vec<f64>> = BTreeMap::new();
-    for ((variant, p, _), value) in material_errors(measurements) {
+/// The spread of the material figure per variant and precision.
+pub type Spreads = BTreeMap<(Variant, Precision), Spread>;
+
+/// The spread over materials of the material figure, per variant and precision.
+pub fn spreads(measurements: &[Measurement]) -> Spreads {
+    let mut per: BTreeMap<(Variant, Precision), Vec<f64>> = BTreeMap::new();
+    for ((variant, precision, _), value) in material_errors(measurements) {
         if let Some(v) = value {
-            per.entry((variant, p)).or_default().push(v);
+            per.entry((variant, precision)).or_default().push(v);
         }
     }
     per.into_iter()
@@ -416,88 +424,62 @@ pub fn summary(measurements: &[Measurement]) -> Summary {
             v.sort_by(f64::total_cmp);
             let mean = v.iter().sum::<f64>() / v.len().max(1) as f64;
             let median = v.get(v.len() / 2).copied().unwrap_or(f64::NAN);
-            (key, (mean, median, v.last().copied().unwrap_or(f64::NAN), v.len()))
+            (key, Spread { mean, median, max: v.last().copied().unwrap_or(f64::NAN), materials: v.len() })
         })
         .collect()
 }
 
 /// `cost.*`: what accuracy costs, one row per method × variant × precision.
-pub fn cost_table(summary: &Summary) -> Table {
-    let rows: Vec<_> = summary.iter().map(|(k, v)| (*k, *v)).collect();
-    let precision = |p: usize| Precision::ALL[p];
+pub fn cost_table(spreads: &Spreads) -> Table {
+    let rows: Vec<(Variant, Precision, Spread)> = spreads.iter().map(|(&(v, p), &s)| (v, p, s)).collect();
     let mut table = Table::new();
     table
-        .text("method", "Fresnel method", rows.iter().map(|((v, _), _)| v.method.name().to_string()).collect())
-        .text("variant", "as in errors.csv", rows.iter().map(|((v, p), _)| v.name(precision(*p))).collect())
+        .text("method", "Fresnel method", rows.iter().map(|(v, _, _)| v.method.name().to_string()).collect())
+        .text("variant", "as in errors.csv", rows.iter().map(|(v, p, _)| v.name(*p)).collect())
         .optional_float(
             "ns_per_eval",
             "CPU ns per evaluation (criterion, 10^6 cosines, one core; empty if not benchmarked)",
-            rows.iter().map(|((v, p), _)| cpu_cost_ns(v.method, precision(*p))).collect(),
+            rows.iter().map(|(v, p, _)| cpu_cost_ns(v.method, *p)).collect(),
         )
-        .integer("texture_bytes", "RGB texture bytes per material (lut), 0 otherwise", rows.iter().map(|((v, _), _)| v.texture_bytes() as i64).collect())
-        .float("mean_rel_error", "mean over materials of the material figure (mean of 3 channels)", rows.iter().map(|(_, s)| s.0).collect())
-        .float("median_rel_error", "median over materials of the material figure", rows.iter().map(|(_, s)| s.1).collect())
-        .float("max_rel_error", "largest material figure", rows.iter().map(|(_, s)| s.2).collect())
-        .integer("materials", "materials with a figure", rows.iter().map(|(_, s)| s.3 as i64).collect());
+        .integer("texture_bytes", "RGB texture bytes per material (lut), 0 otherwise", rows.iter().map(|(v, _, _)| v.texture_bytes() as i64).collect())
+        .float("mean_rel_error", "mean over materials of the material figure (mean of 3 channels)", rows.iter().map(|(_, _, s)| s.mean).collect())
+        .float("median_rel_error", "median over materials of the material figure", rows.iter().map(|(_, _, s)| s.median).collect())
+        .float("max_rel_error", "largest material figure", rows.iter().map(|(_, _, s)| s.max).collect())
+        .integer("materials", "materials with a figure", rows.iter().map(|(_, _, s)| s.materials as i64).collect());
     table
 }
 
-/// Parse `--nk "n,k;n,k;n,k"` (red;green;blue).
-pub fn parse_nk(text: &str) -> Result<ChannelIndex, String> {
-    let channels: Vec<Index> = text
-        .split(';')
-        .map(|pair| {
-            let values: Vec<f64> = pair.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
-            match values.as_slice() {
-                &[n, k] if n.is_finite() && k.is_finite() && n > 0.0 && k >= 0.0 => Ok(Index::new(n, k)),
-                _ => Err(format!("{pair:?}: expected n,k with n > 0 and k >= 0")),
-            }
-        })
-        .collect::<Result<_, _>>()?;
-    channels.try_into().map_err(|_| "expected three n,k pairs red;green;blue, e.g. 0.23,3.94;0.57,2.18;1.39,1.72".to_string())
-}
-
-fn parse_method(text: &str) -> Result<Method, String> {
-    Method::from_name(text).ok_or_else(|| {
-        format!("unknown method {text:?}; one of {}", Method::ALL.map(Method::name).join(", "))
-    })
-}
-
-/// Arguments of `nklut validate`.
-#[derive(clap::Args, Clone, Debug)]
-pub struct ValidateArgs {
-    #[command(flatten)]
-    pub pages: PageSelection,
-    #[command(flatten)]
-    pub channels: ChannelArgs,
-    /// Explicit channel indices instead of pages: "n,k;n,k;n,k" (red;green;blue), each in
-    /// the methods' domain n in [1e-3, 1e3], k in [0, 1e3].
-    #[arg(long, value_name = "R;G;B", value_parser = parse_nk, allow_hyphen_values = true, conflicts_with_all = ["pages", "shelves", "all"])]
+/// What `nklut validate` measures, as plain values.
+#[derive(Clone, Debug)]
+pub struct ValidateRequest {
+    /// The pages to measure (ignored when `nk` is given).
+    pub selection: Selection,
+    /// How pages are read (channel wavelengths, coverage rule, strictness).
+    pub reading: ingest::Config,
+    /// Explicit channel indices (red, green, blue) instead of pages; each must lie in the
+    /// methods' domain.
     pub nk: Option<ChannelIndex>,
-    /// A method to measure (repeatable; default: all). lut sweeps N x encodings.
-    #[arg(long = "method", value_name = "NAME", value_parser = parse_method)]
+    /// The methods to measure; empty means all. A method named twice is measured once.
     pub methods: Vec<Method>,
-    /// Use the 10^6-sample brute force instead of adaptive quadrature.
-    #[arg(long)]
-    pub brute: bool,
+    pub strategy: Strategy,
 }
 
-/// Targets from the kept pages of an ingest: one per data file (pages that share one are
+/// Specimens from the kept pages of an ingest: one per data file (pages that share one are
 /// measured once and reported under each id).
-pub fn targets_from_ingest(result: &ingest::Ingest) -> Vec<Target> {
-    let mut targets: Vec<Target> = Vec::new();
+pub fn specimens_from_ingest(result: &ingest::Ingest) -> Vec<Specimen> {
+    let mut specimens: Vec<Specimen> = Vec::new();
     let mut seen: Vec<(*const crate::spectrum::Material, usize)> = Vec::new();
     for page in &result.kept {
         let key = Arc::as_ptr(&page.material);
         match seen.iter().find(|(p, _)| *p == key) {
-            Some(&(_, i)) => targets[i].pages.push(page.id()),
+            Some(&(_, i)) => specimens[i].pages.push(page.id()),
             None => {
-                seen.push((key, targets.len()));
-                targets.push(Target { pages: vec![page.id()], kind: page.material.kind.as_str().into(), channels: page.material.channels });
+                seen.push((key, specimens.len()));
+                specimens.push(Specimen { pages: vec![page.id()], kind: page.material.kind.as_str().into(), channels: page.material.channels });
             }
         }
     }
-    targets
+    specimens
 }
 
 /// What `run` did: the files written and the summary text for the terminal.
@@ -509,49 +491,49 @@ pub struct Outcome {
 
 /// `nklut validate`: measure, publish `errors.{csv,parquet}` and `cost.{csv,parquet}`
 /// under `out` as one set. Returns the paths written and the summary.
-pub fn run(args: &ValidateArgs, db: Option<&Database>, out: &Path) -> Result<Outcome> {
-    let channels = args.channels.channels;
-    let targets = match (&args.nk, db) {
+pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Result<Outcome> {
+    let channels = request.reading.channels;
+    let specimens = match (&request.nk, db) {
         (Some(indices), _) => {
             for (index, name) in indices.iter().zip(CHANNEL_NAMES) {
                 index.check_domain().map_err(|why| anyhow::anyhow!("--nk {name}: {why}"))?;
             }
             let label = indices.iter().map(|i| format!("{},{}", i.n, i.k)).collect::<Vec<_>>().join(";");
-            vec![Target { pages: vec![format!("nk:{label}")], kind: "given".into(), channels: *indices }]
+            vec![Specimen { pages: vec![format!("nk:{label}")], kind: "given".into(), channels: *indices }]
         }
         (None, Some(db)) => {
-            let ingested = ingest::ingest(db, &args.pages.selection(), &args.channels.config())?;
+            let ingested = ingest::ingest(db, &request.selection, &request.reading)?;
             ingested.check_strict()?;
-            targets_from_ingest(&ingested)
+            specimens_from_ingest(&ingested)
         }
         (None, None) => bail!("no database: give --db DIR or --nk"),
     };
-    if targets.is_empty() {
+    if specimens.is_empty() {
         bail!("no kept pages selected");
     }
-    let mut methods = if args.methods.is_empty() { Method::ALL.to_vec() } else { args.methods.clone() };
+    let mut methods = if request.methods.is_empty() { Method::ALL.to_vec() } else { request.methods.clone() };
     // A method named twice is measured once.
     let mut seen = Vec::new();
     methods.retain(|m| if seen.contains(m) { false } else { seen.push(*m); true });
     let variants = Variant::expand(&methods);
-    let strategy = if args.brute { Strategy::Brute(BRUTE_FORCE_SAMPLES) } else { Strategy::Fast };
+    let strategy = request.strategy;
     let start = Instant::now();
-    let measurements = measure_all(&targets, &variants, strategy);
+    let measurements = measure_all(&specimens, &variants, strategy);
     let seconds = start.elapsed().as_secs_f64();
-    let summary = summary(&measurements);
-    let mut files = errors_table(&targets, &measurements, &channels, strategy).files("errors", false)?;
-    files.extend(cost_table(&summary).files("cost", false)?);
+    let spreads = spreads(&measurements);
+    let mut files = errors_table(&specimens, &measurements, &channels, strategy).files("errors", false)?;
+    files.extend(cost_table(&spreads).files("cost", false)?);
     let written = crate::output::publish_set(out, "validate", &files)?;
     let mut text = String::new();
-    summary_text(&mut text, &targets, &measurements, &summary, strategy, seconds)?;
+    summary_text(&mut text, &specimens, &measurements, &spreads, strategy, seconds)?;
     Ok(Outcome { written, summary: text })
 }
 
 fn summary_text(
     out: &mut String,
-    targets: &[Target],
+    specimens: &[Specimen],
     measurements: &[Measurement],
-    summary: &Summary,
+    spreads: &Spreads,
     strategy: Strategy,
     seconds: f64,
 ) -> std::fmt::Result {
@@ -561,26 +543,26 @@ fn summary_text(
     writeln!(
         out,
         "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s",
-        targets.len(),
-        targets.iter().map(|t| t.pages.len()).sum::<usize>(),
+        specimens.len(),
+        specimens.iter().map(|t| t.pages.len()).sum::<usize>(),
         measurements.len(),
         evaluations,
         strategy = strategy.name(),
     )?;
     writeln!(out, "{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes")?;
-    for (&(variant, p), &(mean, median, max, _)) in summary {
+    for (&(variant, precision), spread) in spreads {
         // The lut sweep prints its f64 rows at N = 256 and 1024 only; errors.csv has all.
-        if variant.lut.is_some_and(|s| p == 1 || !(s.texels == 256 || s.texels == 1024)) {
+        if variant.lut.is_some_and(|s| precision == Precision::F32 || !(s.texels == 256 || s.texels == 1024)) {
             continue;
         }
         writeln!(
             out,
             "{:<20} {:<24} {:>12.4e} {:>12.4e} {:>12.4e} {:>9}",
             variant.method.name(),
-            variant.name(Precision::ALL[p]),
-            mean,
-            median,
-            max,
+            variant.name(precision),
+            spread.mean,
+            spread.median,
+            spread.max,
             variant.texture_bytes()
         )?;
     }
@@ -601,6 +583,7 @@ fn summary_text(
 
 #[cfg(test)]
 mod tests {
+    use super::quadrature::BRUTE_FORCE_SAMPLES;
     use super::*;
 
     /// 20 real pages: metals (gold, platinum, silver, aluminium, copper, sodium, mercury),
@@ -655,8 +638,8 @@ mod tests {
         let failures: Vec<String> = jobs
             .par_iter()
             .filter_map(|(label, model)| {
-                let fast = measure(model, Strategy::Fast).figures[0];
-                let brute = measure(model, Strategy::Brute(BRUTE_FORCE_SAMPLES)).figures[0];
+                let fast = measure(model, Strategy::Fast).figures.f64;
+                let brute = measure(model, Strategy::Brute(BRUTE_FORCE_SAMPLES)).figures.f64;
                 let relative = |a: f64, b: f64| if b == 0.0 { a.abs() } else { (a / b - 1.0).abs() };
                 let mean = relative(fast.mean_rel_error.unwrap(), brute.mean_rel_error.unwrap());
                 let rms = relative(fast.rms_abs_error, brute.rms_abs_error);
@@ -703,7 +686,7 @@ mod tests {
                     .iter()
                     .zip(fast.into_iter().zip(brute))
                     .filter_map(|(variant, (fast, brute))| {
-                        let (f, b) = (fast.figures[0], brute.figures[0]);
+                        let (f, b) = (fast.figures.f64, brute.figures.f64);
                         let mean = relative(f.mean_rel_error.unwrap_or(0.0), b.mean_rel_error.unwrap_or(0.0));
                         let rms = relative(f.rms_abs_error, b.rms_abs_error);
                         let max_ok = f.max_abs_error >= b.max_abs_error * (1.0 - 1e-9) && f.max_abs_error <= b.max_abs_error * (1.0 + 5e-3) + 1e-12;
@@ -717,20 +700,11 @@ mod tests {
     }
 
     #[test]
-    fn nk_argument_parses_and_rejects() {
-        let parsed = parse_nk("0.23,3.94;0.57,2.18;1.39,1.72").unwrap();
-        assert_eq!(parsed[1], Index::new(0.57, 2.18));
-        assert!(parse_nk("0.23,3.94;0.57,2.18").is_err());
-        assert!(parse_nk("0.23,3.94;0.57,x;1,1").is_err());
-        assert!(parse_nk("-1,0;1,0;1,0").is_err());
-    }
-
-    #[test]
     fn vacuum_is_excluded_and_reported() {
         let model = Model::new(Index::new(1.0, 0.0), Method::Schlick, LutSpec::default());
         let integral = measure(&model, Strategy::Fast);
-        assert_eq!(integral.figures[0].mean_rel_error, None);
+        assert_eq!(integral.figures.f64.mean_rel_error, None);
         assert_eq!(integral.excluded_samples, integral.evaluations);
-        assert!((integral.figures[0].max_abs_error - 1.0).abs() < 1e-12); // schlick reaches 1 at grazing
+        assert!((integral.figures.f64.max_abs_error - 1.0).abs() < 1e-12); // schlick reaches 1 at grazing
     }
 }

@@ -7,8 +7,7 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use nklut::bake::{self, files, texel, BakeArgs, Encoding, Source};
-use nklut::cli::{ChannelArgs, PageSelection};
+use nklut::bake::{self, files, texel, BakeRequest, Encoding, Source};
 use nklut::db::Database;
 use nklut::ingest::{self, Selection};
 
@@ -18,10 +17,10 @@ fn db() -> Database {
     Database::open(Some(&Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"))).expect("run `make db` first")
 }
 
-fn args(pages: &[&str], size: usize) -> BakeArgs {
-    BakeArgs {
-        pages: PageSelection { pages: pages.iter().map(|p| p.to_string()).collect(), ..Default::default() },
-        channels: ChannelArgs::default(),
+fn args(pages: &[&str], size: usize) -> BakeRequest {
+    BakeRequest {
+        selection: Selection { pages: pages.iter().map(|p| p.to_string()).collect(), shelves: vec![] },
+        reading: ingest::Config::default(),
         size,
         encodings: vec![],
         sources: vec![],
@@ -126,7 +125,7 @@ fn an_interrupted_bake_leaves_the_previous_one_intact() {
 #[test]
 fn bad_arguments_fail_before_any_work() {
     let out = scratch("bad");
-    let err = |args: &BakeArgs, out: &Path| format!("{:#}", bake::run(&db(), out, args).unwrap_err());
+    let err = |args: &BakeRequest, out: &Path| format!("{:#}", bake::run(&db(), out, args).unwrap_err());
     assert!(err(&args(&["main/Au/Nobody"], 32), &out).contains("unknown page"));
     assert!(err(&args(&PAGES, 0), &out).contains("--size"));
     assert!(err(&args(&PAGES, 65537), &out).contains("--size"));

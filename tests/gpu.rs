@@ -14,7 +14,7 @@ use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
 use nklut::gpu::{self, lut, Gpu, RunStats};
-use nklut::scene::{Scene, Shading};
+use nklut::scene::{Scene, SceneMaterial, Shading};
 use nklut::spectrum::{ChannelIndex, Index, Kind};
 
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
@@ -173,7 +173,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
          objects:\n  - {mesh: sphere, material: 3d/liquids/water, methods: [exact, schlick]}\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, schlick]}\n\
          measurements: [image_error]\n",
     );
-    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric)];
+    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
@@ -268,7 +268,7 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
         "objects:\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, constant]}\n  - {mesh: cube, material: 3d/metals/gold, methods: [exact]}\n\
          measurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3, subtract: true}\n",
     );
-    let materials = [("3d/liquids/water".to_string(), WATER, Kind::Dielectric), ("3d/metals/gold".to_string(), GOLDISH, Kind::Conductor)];
+    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric), SceneMaterial::new("3d/metals/gold", GOLDISH, Kind::Conductor)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
@@ -316,7 +316,7 @@ fn bad_scenes_are_named_errors_not_panics() {
 
     // An unknown page is found before any GPU work, with the scene named.
     let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
-    let error = gpu::runner::scene_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
+    let error = nklut::scene::read_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -334,7 +334,7 @@ fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
     let text = "camera: {frames: 1}\neffects: {reflection: {max_depth: 2}, refraction: {max_depth: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: x/y/glass, method: exact}\n  - {mesh: room, scale: [3, 2, 3], diffuse: [0.5, 0.5, 0.5]}\nmeasurements: [image_error]\n";
     let scene = Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap();
     let glass = SpecularMaterial { channels: [Index::new(1.5, 0.0); 3], kind: Kind::Dielectric };
-    let stage = stage_from_table(&scene, &[("x/y/glass".to_string(), glass)]).unwrap();
+    let stage = stage_from_table(&scene, &[SceneMaterial { page: "x/y/glass".to_string(), optics: glass }]).unwrap();
     let map = DistanceMap::render(&stage, 0, 16, 3);
     // Rays from the sphere's surface outwards and inwards, and from inside it, over a
     // Fibonacci spiral of directions.

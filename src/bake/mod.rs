@@ -25,13 +25,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, ensure, Result};
-use clap::{Args, ValueEnum};
 use rayon::prelude::*;
 
-use crate::cli::{ChannelArgs, PageSelection};
 use crate::color;
 use crate::db::Database;
-use crate::ingest::{self, Ingest, KeptPage};
+use crate::ingest::{self, Ingest, KeptPage, Selection};
 use crate::spectrum::{ChannelIndex, Channels, Kind};
 
 use accuracy::LutError;
@@ -47,7 +45,7 @@ pub type ChannelCurve = [Vec<f64>; 3];
 pub const MAX_SIZE: usize = 65536;
 
 /// Where a row's curve comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Source {
     /// `exact` Fresnel (SPEC §5.1) of the three-channel (n, k) (SPEC §3).
     ThreeChannel,
@@ -58,6 +56,8 @@ pub enum Source {
 }
 
 impl Source {
+    pub const ALL: [Source; 3] = [Source::ThreeChannel, Source::Effective, Source::Spectral];
+
     pub fn name(self) -> &'static str {
         match self {
             Source::ThreeChannel => "three-channel",
@@ -76,7 +76,7 @@ impl Source {
 }
 
 /// How rows are laid out in files.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Layout {
     /// One N×1 image per page.
     Strip,
@@ -85,6 +85,8 @@ pub enum Layout {
 }
 
 impl Layout {
+    pub const ALL: [Layout; 2] = [Layout::Strip, Layout::Atlas];
+
     pub fn name(self) -> &'static str {
         match self {
             Layout::Strip => "strip",
@@ -408,32 +410,29 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
     }
 }
 
-/// `nklut bake` arguments.
-#[derive(Args, Clone, Debug)]
-pub struct BakeArgs {
-    #[command(flatten)]
-    pub pages: PageSelection,
-    #[command(flatten)]
-    pub channels: ChannelArgs,
-    /// Texels per row N (1..=65536); texel i holds F at cosθ = (i + 0.5)/N.
-    #[arg(long, default_value_t = 256)]
+/// What `nklut bake` does, as plain values.
+#[derive(Clone, Debug)]
+pub struct BakeRequest {
+    /// The pages to bake; every page named explicitly must be kept by the filter.
+    pub selection: Selection,
+    /// How pages are read (channel wavelengths, coverage rule, strictness).
+    pub reading: ingest::Config,
+    /// Texels per row N (1..=[`MAX_SIZE`]).
     pub size: usize,
-    /// Texel encoding (repeatable; default: all).
-    #[arg(long = "encoding", value_enum, value_name = "E")]
-    pub encodings: Vec<Encoding>,
-    /// Where F comes from (repeatable; default: three-channel).
-    #[arg(long = "source", value_enum, value_name = "S")]
+    /// Where F comes from; empty means three-channel.
     pub sources: Vec<Source>,
-    /// File layout (repeatable; default: both).
-    #[arg(long = "layout", value_enum, value_name = "L")]
+    /// Texel encodings; empty means all.
+    pub encodings: Vec<Encoding>,
+    /// File layouts; empty means both.
     pub layouts: Vec<Layout>,
 }
 
-impl BakeArgs {
+impl BakeRequest {
+    /// The plan of this request, lists defaulted, sorted and deduplicated.
     pub fn plan(&self) -> Plan {
         Plan {
             size: self.size,
-            channels: self.channels.channels,
+            channels: self.reading.channels,
             sources: self.sources.clone(),
             encodings: self.encodings.clone(),
             layouts: self.layouts.clone(),
@@ -517,18 +516,18 @@ fn documents(mut manifest: Manifest, ingest: &Ingest, exists: &dyn Fn(&str) -> b
 }
 
 /// `nklut bake`: validate everything, ingest, bake, publish `<out>/luts` all or nothing.
-pub fn run(db: &Database, out: &Path, args: &BakeArgs) -> Result<Summary> {
-    run_with_hook(db, out, args, &|_, _| Ok(()))
+pub fn run(db: &Database, out: &Path, request: &BakeRequest) -> Result<Summary> {
+    run_with_hook(db, out, request, &|_, _| Ok(()))
 }
 
 /// `run` with a callback before each file is written (tests use it to inject failures).
-pub fn run_with_hook(db: &Database, out: &Path, args: &BakeArgs, before_write: BeforeWrite) -> Result<Summary> {
-    let plan = args.plan();
+pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_write: BeforeWrite) -> Result<Summary> {
+    let plan = request.plan();
     plan.validate()?;
     publish::check_writable(out)?;
-    let ingest = ingest::ingest(db, &args.pages.selection(), &args.channels.config())?;
+    let ingest = ingest::ingest(db, &request.selection, &request.reading)?;
     ingest.check_strict()?;
-    check_named_pages_kept(&ingest, &args.pages.pages)?;
+    check_named_pages_kept(&ingest, &request.selection.pages)?;
     // The catalog keeps a page id listed twice (same data file) once; ingest names them.
     let pages: Vec<&KeptPage> = ingest.kept.iter().collect();
     let mut duplicates = ingest.listed_twice.clone();

@@ -8,34 +8,25 @@
 //! `fresnel::{Encoding, sample_lut}`, re-exported here so that bake code and its tests
 //! name one implementation.
 
-use clap::builder::PossibleValue;
-use clap::ValueEnum;
 use half::f16;
 
 pub use crate::color::texel_cosines;
 pub use crate::fresnel::lut::{srgb_decode, srgb_encode};
 pub use crate::fresnel::{sample_lut, Encoding};
 
-/// `--encoding` values are the encodings' names (`unorm8`, `unorm8-srgb`, `unorm16`, `f16`, `f32`).
-impl ValueEnum for Encoding {
-    fn value_variants<'a>() -> &'a [Self] {
-        &Encoding::ALL
-    }
-
-    fn to_possible_value(&self) -> Option<PossibleValue> {
-        let help = match self {
+/// File-level facts of an encoding (the bake's, next to fresnel's code/decode).
+impl Encoding {
+    /// What the file holds, in one line (the `--encoding` help).
+    pub fn description(self) -> &'static str {
+        match self {
             Encoding::Unorm8 => "8-bit PNG, code = round(255 * clamp(F, 0, 1)), linear",
             Encoding::Unorm8Srgb => "8-bit PNG, code = round(255 * srgb_encode(clamp(F, 0, 1))); an sRGB texture format decodes it to linear F before filtering",
             Encoding::Unorm16 => "16-bit PNG, code = round(65535 * clamp(F, 0, 1)), linear",
             Encoding::F16 => "OpenEXR half float (binary16, round-to-nearest-even), linear, not clamped",
             Encoding::F32 => "OpenEXR single float (binary32, round-to-nearest-even), linear, not clamped",
-        };
-        Some(PossibleValue::new(self.name()).help(help))
+        }
     }
-}
 
-/// File-level facts of an encoding (the bake's, next to fresnel's code/decode).
-impl Encoding {
     pub fn extension(self) -> &'static str {
         if self.is_float() { "exr" } else { "png" }
     }
@@ -197,11 +188,7 @@ mod tests {
     }
 
     #[test]
-    fn names_parse_on_the_command_line() {
-        for e in Encoding::ALL {
-            assert_eq!(Encoding::from_str(e.name(), false), Ok(e));
-        }
-        assert_eq!(Encoding::from_str("unorm8-srgb", false), Ok(Encoding::Unorm8Srgb));
+    fn bits_per_channel_of_each_encoding() {
         assert_eq!(Encoding::ALL.map(Encoding::bits_per_channel), [8, 8, 16, 16, 32]);
     }
 

@@ -11,35 +11,14 @@
 //! The materials come from the database through `ingest` (only the scene's pages); the
 //! result is the `effects_errors` table.
 
-use anyhow::{anyhow, Result};
 
 use super::distance_map::{DistanceMap, DistanceMapTracer};
 use super::image_error::{compare_object, FrameError};
 use super::pictures::Picture;
-use super::trace::{reference, render, Camera, Frame, PathRules, SpecularMaterial, Stage};
-use crate::db::Database;
+use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
 use crate::fresnel::{Encoding, LutSpec, Method};
-use crate::ingest::{self, Selection};
 use crate::output::Table;
 use crate::scene::{Depths, Role, Scene, SearchSteps};
-
-/// The optical constants of the scene's specular pages, ingested from `db` (only those).
-pub fn scene_materials(scene: &Scene, db: &Database, config: &ingest::Config) -> Result<Vec<(String, SpecularMaterial)>> {
-    let pages = scene.materials();
-    let selection = Selection { shelves: vec![], pages: pages.clone() };
-    let result = ingest::ingest(db, &selection, config).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
-    result.check_strict()?;
-    pages
-        .into_iter()
-        .map(|page| match result.find(&page) {
-            Some(kept) => Ok((page, SpecularMaterial { channels: kept.material.channels, kind: kept.material.kind })),
-            None => {
-                let why = result.excluded.iter().find(|e| e.page == page).map(|e| e.error.to_string()).unwrap_or_else(|| "not kept".into());
-                Err(anyhow!("scene {}: material {page} cannot be used: {why}", scene.file.display()))
-            }
-        })
-        .collect()
-}
 
 /// How much of the scene's camera path to render and at what size; `lut` is the texture of
 /// the `lut` method (the GPU runner's: `lut.size` texels of half floats).
@@ -94,7 +73,7 @@ impl ErrorSum {
 
 /// One row of `effects_errors`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ErrorRow {
+pub struct EffectErrorRow {
     pub object: String,
     pub material: String,
     pub method: Method,
@@ -110,7 +89,7 @@ pub struct ErrorRow {
 }
 
 /// The twin's frame through each specular object's own map.
-pub fn twin_frame(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps, lut: LutSpec) -> Frame {
+pub fn twin_frame(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps, lut: LutSpec) -> TracedFrame {
     let optics = stage.optics(method, lut);
     let tracers: Vec<Option<DistanceMapTracer>> = maps.iter().map(|m| m.as_ref().map(|map| DistanceMapTracer { map, steps })).collect();
     render(stage, camera, PathRules { optics: &optics, depths }, |object| tracers[object].as_ref().expect("every specular object has a map"))
@@ -126,7 +105,7 @@ pub fn distance_maps(stage: &Stage, size: u32, layers: u32) -> Vec<Option<Distan
 /// each method, and each twin's error against the reference).
 #[derive(Clone, Debug, Default)]
 pub struct EffectsReport {
-    pub rows: Vec<ErrorRow>,
+    pub rows: Vec<EffectErrorRow>,
     pub pictures: Vec<Picture>,
     pub stats: EffectsStats,
 }
@@ -225,7 +204,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                     fresnel.mean_delta_e2000(),
                     total.mean_delta_e2000()
                 ));
-                report.rows.push(ErrorRow {
+                report.rows.push(EffectErrorRow {
                     object: scene_object.mesh.label(),
                     material,
                     method,
@@ -246,10 +225,10 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
 }
 
 /// `effects_errors.*`: one row per (object, material, method, depths, search steps).
-pub fn error_table(rows: &[ErrorRow]) -> Table {
-    let text = |f: &dyn Fn(&ErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
-    let integer = |f: &dyn Fn(&ErrorRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
-    let float = |f: &dyn Fn(&ErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+pub fn error_table(rows: &[EffectErrorRow]) -> Table {
+    let text = |f: &dyn Fn(&EffectErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let integer = |f: &dyn Fn(&EffectErrorRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
+    let float = |f: &dyn Fn(&EffectErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))

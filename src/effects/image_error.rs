@@ -5,7 +5,7 @@
 //! (docs/precision.md; r = 0 skipped and counted), the mean absolute error, and the mean
 //! CIEDE2000 difference of the colours (linear sRGB → XYZ → CIELAB, D65 white).
 
-use super::trace::Frame;
+use super::trace::TracedFrame;
 use crate::color::lab::{delta_e2000, xyz_to_lab};
 use crate::color::srgb::{multiply, rgb_to_xyz_matrix};
 
@@ -28,16 +28,16 @@ pub struct FrameError {
 
 /// Compare `frame` with `reference` (same size) over the pixels where the reference shows
 /// any specular object.
-pub fn compare(frame: &Frame, reference: &Frame) -> FrameError {
+pub fn compare(frame: &TracedFrame, reference: &TracedFrame) -> FrameError {
     compare_where(frame, reference, |seen| seen.is_some())
 }
 
 /// Compare over the pixels where the reference shows specular object `object`.
-pub fn compare_object(frame: &Frame, reference: &Frame, object: usize) -> FrameError {
+pub fn compare_object(frame: &TracedFrame, reference: &TracedFrame, object: usize) -> FrameError {
     compare_where(frame, reference, |seen| seen == Some(object))
 }
 
-fn compare_where(frame: &Frame, reference: &Frame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
+fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
     let to_xyz = rgb_to_xyz_matrix(D65_WHITE);
     let lab = |rgb: [f64; 3]| xyz_to_lab(multiply(&to_xyz, rgb), D65_WHITE);
     let mut error = FrameError::default();
@@ -73,8 +73,8 @@ fn compare_where(frame: &Frame, reference: &Frame, counted: impl Fn(Option<usize
 mod tests {
     use super::*;
 
-    fn frame(radiance: Vec<[f64; 3]>, seen: Vec<Option<usize>>) -> Frame {
-        Frame { width: radiance.len() as u32, height: 1, radiance, seen, rays: 0 }
+    fn frame(radiance: Vec<[f64; 3]>, seen: Vec<Option<usize>>) -> TracedFrame {
+        TracedFrame { width: radiance.len() as u32, height: 1, radiance, seen, rays: 0 }
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::trace::Frame;
+use super::trace::TracedFrame;
 use crate::bake::files::encode;
 use crate::bake::texel::{Encoding, Texels};
 use crate::color::srgb;
@@ -16,8 +16,8 @@ use crate::output::write_atomic;
 #[derive(Clone, Debug)]
 pub struct Picture {
     pub stem: String,
-    pub frame: Frame,
-    pub reference: Option<Frame>,
+    pub frame: TracedFrame,
+    pub reference: Option<TracedFrame>,
 }
 
 /// |Δ| summed over channels at which the false colour saturates (white).
@@ -83,7 +83,7 @@ mod tests {
     #[test]
     fn pictures_are_written_as_exr_png_and_error_png() {
         let dir = std::env::temp_dir().join(format!("nklut-pictures-{}", std::process::id()));
-        let frame = Frame { width: 2, height: 1, radiance: vec![[0.5, 0.25, 1.0], [0.0, 0.0, 0.0]], seen: vec![Some(0), None], rays: 2 };
+        let frame = TracedFrame { width: 2, height: 1, radiance: vec![[0.5, 0.25, 1.0], [0.0, 0.0, 0.0]], seen: vec![Some(0), None], rays: 2 };
         let mut other = frame.clone();
         other.radiance[0][0] = 0.6;
         let written = write(&dir, &[Picture { stem: "reference".into(), frame: frame.clone(), reference: None }, Picture { stem: "schlick".into(), frame: other, reference: Some(frame) }]).unwrap();

@@ -7,16 +7,16 @@ use std::path::{Path, PathBuf};
 use super::distance_map::DistanceMap;
 use super::experiment::{distance_maps, twin_frame};
 use super::image_error::{compare, FrameError};
-use super::trace::{reference, stage_from_table, Camera, Frame, SpecularMaterial, Stage};
+use super::trace::{reference, stage_from_table, Camera, Stage, TracedFrame};
 use crate::fresnel::{exact, LutSpec, Method};
-use crate::scene::{Depths, Scene, SearchSteps};
+use crate::scene::{Depths, Scene, SceneMaterial, SearchSteps};
 use crate::spectrum::{Index, Kind};
 
-fn material(page: &str, n: [f64; 3], k: [f64; 3], kind: Kind) -> (String, SpecularMaterial) {
-    (page.into(), SpecularMaterial { channels: std::array::from_fn(|c| Index::new(n[c], k[c])), kind })
+fn material(page: &str, n: [f64; 3], k: [f64; 3], kind: Kind) -> SceneMaterial {
+    SceneMaterial::new(page, std::array::from_fn(|c| Index::new(n[c], k[c])), kind)
 }
 
-fn materials() -> Vec<(String, SpecularMaterial)> {
+fn materials() -> Vec<SceneMaterial> {
     vec![
         material("test/metals/silver", [0.15, 0.12, 0.13], [4.5, 3.3, 2.7], Kind::Conductor),
         material("test/metals/gold", [0.16, 0.5, 1.2], [3.8, 2.2, 1.8], Kind::Conductor),
@@ -60,7 +60,7 @@ fn a_mirror_sphere_shows_f0_times_the_wall_behind_the_camera() {
     // sphere is radial there to ~1e-3 rad, and F is flat at normal incidence (∂F/∂cos = 0).
     let (scene, stage) = stage(&ambient_room("test/metals/silver", "{reflection: {max_depth: 1}}"));
     let expected: [f64; 3] = std::array::from_fn(|c| {
-        let index = materials()[0].1.channels[c];
+        let index = materials()[0].optics.channels[c];
         exact(index.n, index.k, 1.0) * ALBEDO[c]
     });
     let pixel = centre_pixel(&scene, &stage, Depths { reflection: 1, refraction: 0 });
@@ -91,7 +91,7 @@ fn a_glass_sphere_at_depth_two_shows_the_hand_derived_sum_of_its_paths() {
 /// A mirror sphere at the centre of a room whose walls carry a linear albedo ramp.
 const RAMP_ROOM: &str = "measurements: [image_error]\ncamera: {axis: [0, 1, 0], distance: 1.6, fov_y_degrees: 40}\neffects: {reflection: {max_depth: 1}}\nlight: {direction: [-0.3, -1, -0.5], colour: [0.7, 0.7, 0.7], ambient: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: test/metals/silver, method: exact}\n  - {mesh: room, scale: 3, diffuse: [0.1, 0.1, 0.1], pattern: {kind: gradient, axis: [0.2222222222222222, 0.1111111111111111, 0], albedo: [0.9, 0.9, 0.9]}}\n";
 
-fn twin(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps) -> Frame {
+fn twin(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps) -> TracedFrame {
     twin_frame(stage, camera, maps, method, depths, steps, LutSpec::default())
 }
 

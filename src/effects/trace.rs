@@ -20,8 +20,8 @@ use rayon::prelude::*;
 use super::geometry::Geometry;
 use super::optics::{scatter, Allowed, SpecularOptics};
 use crate::fresnel::{LutSpec, Method};
-use crate::scene::{mesh, CameraPath, Depths, Diffuse, Light, Role, Scene};
-use crate::spectrum::{ChannelIndex, Kind};
+pub use crate::scene::SpecularMaterial;
+use crate::scene::{mesh, CameraPath, Depths, Diffuse, Light, Role, Scene, SceneMaterial};
 
 /// What a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,13 +47,6 @@ pub trait Tracer: Sync {
     /// The nearest surface along origin + t·direction (unit direction), leaving the surface
     /// `from` the ray starts on.
     fn trace(&self, origin: DVec3, direction: DVec3, from: &SurfaceHit) -> Option<SurfaceHit>;
-}
-
-/// A specular object's optical constants: (n, k) per channel and conductor or dielectric.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpecularMaterial {
-    pub channels: ChannelIndex,
-    pub kind: Kind,
 }
 
 /// An object as the tracers see it.
@@ -194,7 +187,7 @@ impl Camera {
 /// specular object each pixel shows (where the effect is; `None`: a diffuse surface or
 /// nothing), and the rays it took.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Frame {
+pub struct TracedFrame {
     pub width: u32,
     pub height: u32,
     pub radiance: Vec<[f64; 3]>,
@@ -204,11 +197,11 @@ pub struct Frame {
 
 /// Render one frame: the nearest surface of the exact geometry per pixel (what rasterising
 /// shows), then the path through `tracer_for(object)` of the specular object seen.
-pub fn render<'t, F>(stage: &Stage, camera: &Camera, rules: PathRules, tracer_for: F) -> Frame
+pub fn render<'t, F>(stage: &Stage, camera: &Camera, rules: PathRules, tracer_for: F) -> TracedFrame
 where
     F: Sync + Fn(usize) -> &'t dyn Tracer,
 {
-    let rows: Vec<Frame> = (0..camera.height)
+    let rows: Vec<TracedFrame> = (0..camera.height)
         .into_par_iter()
         .map(|y| {
             let mut rays = 0;
@@ -227,10 +220,10 @@ where
                 radiance_row.push(value);
                 seen_row.push(seen);
             }
-            Frame { width: camera.width, height: 1, radiance: radiance_row, seen: seen_row, rays }
+            TracedFrame { width: camera.width, height: 1, radiance: radiance_row, seen: seen_row, rays }
         })
         .collect();
-    let mut frame = Frame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
+    let mut frame = TracedFrame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
     for row in rows {
         frame.radiance.extend(row.radiance);
         frame.seen.extend(row.seen);
@@ -240,13 +233,13 @@ where
 }
 
 /// The f64 reference frame: exact geometry, exact Fresnel.
-pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, lut: LutSpec) -> Frame {
+pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, lut: LutSpec) -> TracedFrame {
     let optics = stage.optics(Method::Exact, lut);
     let tracer = ReferenceTracer { stage };
     render(stage, camera, PathRules { optics: &optics, depths }, |_| &tracer)
 }
 
-/// A scene file's stage with optical constants from a table of (page id, material).
-pub fn stage_from_table(scene: &Scene, table: &[(String, SpecularMaterial)]) -> Result<Stage> {
-    Stage::from_scene(scene, |page| table.iter().find(|(id, _)| id == page).map(|(_, m)| *m))
+/// A scene file's stage with the optical constants of its materials.
+pub fn stage_from_table(scene: &Scene, table: &[SceneMaterial]) -> Result<Stage> {
+    Stage::from_scene(scene, |page| table.iter().find(|m| m.page == page).map(|m| m.optics))
 }

@@ -74,7 +74,7 @@ impl std::fmt::Display for Method {
 }
 
 /// The arithmetic a method is evaluated in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Precision {
     /// f64 on the CPU.
     F64,
@@ -89,6 +89,44 @@ impl Precision {
         match self {
             Precision::F64 => "f64",
             Precision::F32 => "f32",
+        }
+    }
+}
+
+/// One value per [`Precision`]: a method's figure in f64 and in its f32 shader twin.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PerPrecision<T> {
+    pub f64: T,
+    pub f32: T,
+}
+
+impl<T: Copy> PerPrecision<T> {
+    /// The same value in both precisions.
+    pub fn splat(value: T) -> Self {
+        Self { f64: value, f32: value }
+    }
+
+    pub fn from_fn(mut value: impl FnMut(Precision) -> T) -> Self {
+        Self { f64: value(Precision::F64), f32: value(Precision::F32) }
+    }
+}
+
+impl<T> std::ops::Index<Precision> for PerPrecision<T> {
+    type Output = T;
+
+    fn index(&self, precision: Precision) -> &T {
+        match precision {
+            Precision::F64 => &self.f64,
+            Precision::F32 => &self.f32,
+        }
+    }
+}
+
+impl<T> std::ops::IndexMut<Precision> for PerPrecision<T> {
+    fn index_mut(&mut self, precision: Precision) -> &mut T {
+        match precision {
+            Precision::F64 => &mut self.f64,
+            Precision::F32 => &mut self.f32,
         }
     }
 }

@@ -5,7 +5,7 @@
 
 /// The comparison of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FrameError {
+pub struct FrameErrorSums {
     pub sum_relative: f64,
     /// Channel samples with r > 0.
     pub samples: u64,
@@ -16,16 +16,16 @@ pub struct FrameError {
     pub skipped_zero_reference: u64,
 }
 
-impl FrameError {
+impl FrameErrorSums {
     pub fn mean(&self) -> Option<f64> {
         (self.samples > 0).then(|| self.sum_relative / self.samples as f64)
     }
 }
 
 /// Compare two RGBA images of the same size (row-major, 4 f32 per pixel).
-pub fn compare(method: &[f32], reference: &[f32]) -> FrameError {
+pub fn compare(method: &[f32], reference: &[f32]) -> FrameErrorSums {
     assert_eq!(method.len(), reference.len(), "images of different sizes");
-    let mut error = FrameError::default();
+    let mut error = FrameErrorSums::default();
     for (a, r) in method.chunks_exact(4).zip(reference.chunks_exact(4)) {
         if r[3] < 0.5 {
             continue;
@@ -58,7 +58,7 @@ pub struct ErrorSummary {
 }
 
 impl ErrorSummary {
-    pub fn add(&mut self, frame: &FrameError) {
+    pub fn add(&mut self, frame: &FrameErrorSums) {
         self.frames += 1;
         if let Some(mean) = frame.mean() {
             self.sum_of_frame_means += mean;

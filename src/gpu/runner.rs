@@ -24,10 +24,10 @@ use super::params::{self, MaterialUniform};
 use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
-use crate::ingest::{self, Selection};
+use crate::ingest;
 use crate::output::Table;
-use crate::scene::{Experiment, MeshSource, Scene, Shading};
-use crate::spectrum::{ChannelIndex, Kind};
+use crate::scene::{read_materials, Experiment, MeshSource, Scene, SceneMaterial, Shading};
+use crate::spectrum::Kind;
 
 /// What a run created and touched, and what it skipped.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -92,11 +92,8 @@ pub struct RunReport {
     pub image_errors: Vec<ImageErrorRow>,
 }
 
-/// A scene material: page id, channel indices, conductor or dielectric.
-pub type MaterialEntry = (String, ChannelIndex, Kind);
-
 /// A material of the scene, ready to bind.
-struct SceneMaterial {
+struct BoundMaterial {
     kind: Kind,
     binding: Binding,
 }
@@ -108,42 +105,23 @@ struct GpuMesh {
     index_count: u32,
 }
 
-/// The channel indices of the scene's materials: ingests exactly those pages.
-pub fn scene_materials(scene: &Scene, db: &Database, config: &ingest::Config) -> Result<(Vec<MaterialEntry>, usize)> {
-    let pages = scene.materials();
-    let selection = Selection { shelves: vec![], pages: pages.clone() };
-    let result = ingest::ingest(db, &selection, config).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
-    result.check_strict()?;
-    let mut materials = Vec::new();
-    for page in pages {
-        match result.find(&page) {
-            Some(kept) => materials.push((page, kept.material.channels, kept.material.kind)),
-            None => {
-                let why = result.excluded.iter().find(|e| e.page == page).map(|e| e.error.to_string()).unwrap_or_else(|| "not kept".into());
-                return Err(anyhow!("scene {}: material {page} cannot be used: {why}", scene.file.display()));
-            }
-        }
-    }
-    Ok((materials, result.selected))
-}
-
 /// Run `scene` on `gpu`, its pages read with `config` (channel wavelengths, coverage).
 /// `log` receives progress lines.
 pub fn run(scene: &Scene, db: &Database, config: &ingest::Config, gpu: &Gpu, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
     let mut stats = RunStats::default();
-    let (materials, pages) = scene_materials(scene, db, config)?;
+    let (materials, pages) = read_materials(scene, db, config)?;
     stats.pages_touched = pages;
     run_with_materials(scene, &materials, gpu, stats, log)
 }
 
 /// Run `scene` with the channel indices already known (`material` ids of the scene map to
 /// these entries; used by `run` and by tests).
-pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
     let mut renderer = Renderer::new(gpu);
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
-    for (page, channels, kind) in materials {
-        let prepared = params::prepare(channels);
+    for SceneMaterial { page, optics } in materials {
+        let prepared = params::prepare(&optics.channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
         let wants_lut = scene.specular_objects().any(|(_, s)| s.material == *page && s.shadings.contains(&Shading::Lut));
         let lut_view = wants_lut.then(|| {
@@ -152,7 +130,7 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
             baked.push(page.clone());
             texture.create_view(&Default::default())
         });
-        bound.insert(page.clone(), SceneMaterial { kind: *kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
+        bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
     if scene.effects.is_some() {
         stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
@@ -182,7 +160,7 @@ pub fn run_with_materials(scene: &Scene, materials: &[MaterialEntry], gpu: &Gpu,
     Ok(RunReport { adapter: gpu.line.clone(), experiments: scene.experiments.clone(), stats, timing, image_errors })
 }
 
-fn run_timing(scene: &Scene, bound: &HashMap<String, SceneMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
+fn run_timing(scene: &Scene, bound: &HashMap<String, BoundMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
     let settings = &scene.timing;
     let [width, height] = settings.resolution;
     let target = Target::new(gpu, width, height, DISPLAY_TARGET, false)?;
@@ -236,7 +214,7 @@ fn upload_mesh(gpu: &Gpu, mesh: &mesh::Mesh) -> GpuMesh {
 
 fn run_image_error(
     scene: &Scene,
-    bound: &HashMap<String, SceneMaterial>,
+    bound: &HashMap<String, BoundMaterial>,
     gpu: &Gpu,
     renderer: &mut Renderer,
     stats: &mut RunStats,

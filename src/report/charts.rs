@@ -8,7 +8,7 @@ use std::fmt::Write;
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
-use super::curves::Curve;
+use super::curves::PlotCurve;
 use crate::spectrum::{Channels, CHANNEL_NAMES};
 
 /// Font size (px) of tick labels and axis names; captions are one larger.
@@ -128,7 +128,7 @@ where
 }
 
 /// F against θ, one panel per colour channel (named with its wavelength).
-pub fn fresnel_curves(theta_deg: &[f64], curves: &[Curve], channels: &Channels, size: (u32, u32)) -> Result<String> {
+pub fn fresnel_curves(theta_deg: &[f64], curves: &[PlotCurve], channels: &Channels, size: (u32, u32)) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
@@ -152,7 +152,7 @@ pub fn fresnel_curves(theta_deg: &[f64], curves: &[Curve], channels: &Channels, 
 
 /// One curve of the colour-difference plot.
 pub struct DeltaE<'a> {
-    pub curve: &'a Curve,
+    pub curve: &'a PlotCurve,
     pub values: Vec<f64>,
 }
 
@@ -305,7 +305,7 @@ mod tests {
     #[test]
     fn plots_have_readable_text_and_theta_ticks_every_30_degrees() {
         let theta: Vec<f64> = (0..=90).map(f64::from).collect();
-        let curve = Curve { name: "exact".into(), color: PALETTE[0], dashed: false, rgb: vec![[0.5; 3]; theta.len()] };
+        let curve = PlotCurve { name: "exact".into(), color: PALETTE[0], dashed: false, rgb: vec![[0.5; 3]; theta.len()] };
         let svg = fresnel_curves(&theta, std::slice::from_ref(&curve), &Channels::default(), (900, 300)).unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
         assert!(svg.matches("<polyline").count() >= 3);

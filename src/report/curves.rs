@@ -22,7 +22,7 @@ pub const PLOTTED_LUT: LutSpec = LutSpec::new(256, Encoding::Unorm8Srgb);
 
 /// One curve: a name, how it is drawn, and linear-sRGB F at each angle of the grid.
 #[derive(Clone, Debug)]
-pub struct Curve {
+pub struct PlotCurve {
     pub name: String,
     pub color: plotters::style::RGBColor,
     pub dashed: bool,
@@ -30,7 +30,7 @@ pub struct Curve {
     pub rgb: Vec<[f64; 3]>,
 }
 
-impl Curve {
+impl PlotCurve {
     /// F of one channel over the grid.
     pub fn channel(&self, c: usize) -> Vec<f64> {
         self.rgb.iter().map(|v| v[c]).collect()
@@ -44,7 +44,7 @@ pub const FITTED: &str = "exact, fitted index";
 
 /// Exact and each approximation for `index` (per channel) on the θ grid `theta_deg`.
 /// `schlick_nk` equals `schlick` with F0 from (n, k) and is not drawn twice.
-pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<Curve> {
+pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
     // Each channel's fits (compensation, Lazányi, Nvidia) once, shared by every method.
     let prepared = index.map(Prepared::new);
@@ -56,7 +56,7 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<Curve> {
             let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c], method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
-            Curve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }
+            PlotCurve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }
         })
         .collect()
 }
@@ -64,20 +64,20 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<Curve> {
 /// The curves of a material: the spectral reference (from the page's spectrum on the
 /// 1 nm grid), exact Fresnel with the fitted indices when fitted, then exact and every
 /// approximation with the three-channel indices.
-pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted: Option<&ChannelIndex>, theta_deg: &[f64]) -> Vec<Curve> {
+pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted: Option<&ChannelIndex>, theta_deg: &[f64]) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
-    let mut curves = vec![Curve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
+    let mut curves = vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
     if let Some(fitted) = fitted {
         let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
-        curves.push(Curve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
+        curves.push(PlotCurve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
     }
     curves.extend(method_curves(three_channel, theta_deg));
     curves
 }
 
 /// CIEDE2000 between `curve` and `reference` at each angle (CIELAB, D65 white).
-pub fn delta_e_over_angle(reference: &Curve, curve: &Curve) -> Vec<f64> {
+pub fn delta_e_over_angle(reference: &PlotCurve, curve: &PlotCurve) -> Vec<f64> {
     let weights = color::spectral_weights();
     reference.rgb.iter().zip(&curve.rgb).map(|(r, c)| color::delta_e2000(weights.lab(*r), weights.lab(*c))).collect()
 }

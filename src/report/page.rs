@@ -9,7 +9,7 @@ use anyhow::Result;
 
 use super::charts::{self, css, DeltaE};
 use super::context::{channel_flags, channel_triple, fitted_index, preview_path, three_channel_index, up_from_material, Context};
-use super::curves::{delta_e_over_angle, material_curves, Curve, REFERENCE};
+use super::curves::{delta_e_over_angle, material_curves, PlotCurve, REFERENCE};
 use super::html::{delta_e, escape, href, index, percent, reflectance, TableText};
 use super::preview;
 use crate::color::fit::{K_MAX, N_BOUNDS};
@@ -86,7 +86,7 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
 }
 
 /// Previews, colour strips, ΔE over angle and F(θ) with an HTML legend beside.
-fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[Curve], png: &[u8]) -> Result<()> {
+fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], png: &[u8]) -> Result<()> {
     let reference = &curves[0];
     let size = ctx.layout.size();
     let _ = write!(
@@ -125,7 +125,7 @@ fn mean(values: &[f64]) -> f64 {
 }
 
 /// An HTML legend (outside the plot): a line sample and the curve's name each.
-fn legend(curves: &[Curve]) -> String {
+fn legend(curves: &[PlotCurve]) -> String {
     let mut out = String::from("<ul class=\"legend\">");
     for c in curves {
         let dash = if c.dashed { " stroke-dasharray=\"6 4\"" } else { "" };

@@ -23,6 +23,7 @@
 
 pub mod camera;
 pub mod effects;
+pub mod materials;
 pub mod mesh;
 pub mod surfels;
 
@@ -33,6 +34,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::fresnel::Method as FresnelMethod;
 
+pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, Effects, Light, Pattern, SearchSteps};
 pub use surfels::LightSource;
 

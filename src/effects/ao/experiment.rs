@@ -29,7 +29,7 @@ use super::surfel::{subdivided_times, surfels, Surfel};
 use crate::effects::experiment::EffectsStats;
 use crate::effects::geometry::Geometry;
 use crate::effects::pictures::Picture;
-use crate::effects::trace::{Camera, Frame};
+use crate::effects::trace::{Camera, TracedFrame};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene};
 
@@ -271,10 +271,10 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
 }
 
 /// Frames of equal height next to each other, left to right.
-pub fn side_by_side(frames: &[Frame]) -> Frame {
+pub fn side_by_side(frames: &[TracedFrame]) -> TracedFrame {
     let height = frames.iter().map(|f| f.height).max().unwrap_or(0);
     let width = frames.iter().map(|f| f.width).sum();
-    let mut out = Frame { width, height, radiance: Vec::with_capacity((width * height) as usize), seen: Vec::new(), rays: frames.iter().map(|f| f.rays).sum() };
+    let mut out = TracedFrame { width, height, radiance: Vec::with_capacity((width * height) as usize), seen: Vec::new(), rays: frames.iter().map(|f| f.rays).sum() };
     for y in 0..height {
         for frame in frames {
             for x in 0..frame.width {
@@ -288,7 +288,7 @@ pub fn side_by_side(frames: &[Frame]) -> Frame {
 }
 
 /// One frame of the scene lit with per-vertex `lighting`.
-fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> Frame {
+fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> TracedFrame {
     let ambient: Rgb = stage.lights.iter().fold([0.0; 3], |sum, light| match light {
         LightSource::Ambient { colour } => std::array::from_fn(|c| sum[c] + colour[c]),
         _ => sum,
@@ -320,7 +320,7 @@ fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> Frame {
             (std::array::from_fn(|c| albedo[c] * (ambient[c] * a + direct[c] + indirect[c])), 1 + stage.lights.len() as u64)
         })
         .collect();
-    Frame {
+    TracedFrame {
         width: camera.width,
         height: camera.height,
         rays: pixels.iter().map(|p| p.1).sum(),
