@@ -264,6 +264,9 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         frames.push(frame.clone());
         report.pictures.push(Picture { stem, frame, reference: Some(truth.clone()) });
     }
+    if indirect.is_some() {
+        stats.indirect_bounces += bounces as u64 * frames.len() as u64;
+    }
     frames.push(truth.clone());
     report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
     report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&frames), reference: None });

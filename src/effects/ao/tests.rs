@@ -359,6 +359,17 @@ fn surfel_counters_stay_zero_unless_the_scene_asks_for_ambient_occlusion() {
     let stems: Vec<&str> = report.pictures.iter().map(|p| p.stem.as_str()).collect();
     assert_eq!(stems, ["ao_none", "ao_passes1", "ao_passes2", "ao_passes3", "ao_reference", "ao_side_by_side"]);
     assert_eq!(report.pictures[5].frame.width, 5 * 8);
+
+    // With indirect light (two bounces in the pictures): every row carries the indirect
+    // error, one one-bounce gather per row and `bounces` per picture.
+    let bleeding = ao.replace("ambient_occlusion: { passes: 2 }", "ambient_occlusion: { passes: 2 }, indirect: { bounces: 2 }").replace("cube, diffuse: [0.8, 0.8, 0.8]", "cube, diffuse: [0.8, 0.1, 0.1]");
+    let scene = Scene::parse(&bleeding, Path::new("bleeding.yaml")).unwrap();
+    let mut stats = EffectsStats::default();
+    let report = run(&scene, &settings, &mut stats, &mut |_| {}).unwrap();
+    assert_eq!(stats.indirect_bounces, 6 + 2 * 4, "a gather per row configuration (6), 2 bounces × 4 pictures");
+    let plane = report.rows.iter().find(|r| r.mesh == "plane" && r.passes == 1 && !r.hierarchy).unwrap();
+    let (error, level) = (plane.indirect_mean_error.unwrap(), plane.indirect_reference_mean.unwrap());
+    assert!(error.is_finite() && level > 0.0, "the red cube bleeds onto the plane: {error} of {level}");
 }
 
 /// A point light: irradiance I·cos θ / d² on an open plane, and nothing behind an occluder.
