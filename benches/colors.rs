@@ -15,7 +15,7 @@ use nklut::spectrum::Index;
 
 fn whole_database(c: &mut Criterion) {
     let materials = common::materials();
-    let texels = color::texel_cosines(256);
+    let texels = nklut::encoding::texel_cosines(256);
     let rule: &AngleQuadrature = color::angle_quadrature();
     let mut group = c.benchmark_group(format!("{} materials", materials.len()));
     group.sample_size(10);

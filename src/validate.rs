@@ -33,7 +33,7 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    filter, filter_f32, filter_weights, filter_weights_f32, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
+    filter, filter_weights, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
 use crate::output::Table;
@@ -153,7 +153,7 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
             if let Some(lut) = &model.lut {
                 let count = lut.texels.len();
                 // Decreasing cosines: increasing θ, so the sort finds them in order.
-                cosines.extend((0..count).rev().map(|i| crate::fresnel::lut_texel_cos(i, count)));
+                cosines.extend((0..count).rev().map(|i| crate::encoding::texel_cos(i, count)));
             }
         }
         _ => {}
@@ -217,9 +217,9 @@ impl Family {
         let exact = first.prepared.exact.reflectance(c);
         if let Some(texels) = self.lut_size {
             let weights = filter_weights(texels, c);
-            let weights_f32 = filter_weights_f32(texels, c as f32);
+            let weights_f32 = filter_weights(texels, c as f32);
             for (lut, sample) in self.models.iter().filter_map(|m| m.lut.as_ref()).zip(out.iter_mut()) {
-                let approx32 = filter_f32(&lut.texels_f32, weights_f32) as f64;
+                let approx32 = filter(&lut.texels_f32, weights_f32) as f64;
                 *sample = Sample { exact, approx: PerPrecision { f64: filter(&lut.texels, weights), f32: approx32 } };
             }
             return;

@@ -1,21 +1,19 @@
 //! `nklut bake` end to end on the linked database (`make db`): round trip of every written
 //! file, byte-identical reruns, all-or-nothing publishing, and argument errors up front.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use sha2::{Digest, Sha256};
 
 use nklut::bake::{self, files, texel, BakeRequest, Encoding, Source};
-use nklut::db::Database;
+use common::{database, scratch};
 use nklut::ingest::{self, Selection};
 
 const PAGES: [&str; 3] = ["3d/metals/gold", "3d/glass/BK7", "main/Au/Johnson"];
-
-fn db() -> Database {
-    Database::open(Some(&Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"))).expect("run `make db` first")
-}
 
 fn args(pages: &[&str], size: usize) -> BakeRequest {
     BakeRequest {
@@ -26,14 +24,6 @@ fn args(pages: &[&str], size: usize) -> BakeRequest {
         sources: vec![],
         layouts: vec![],
     }
-}
-
-/// A fresh empty folder under the target dir, unique per test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("bake-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Relative path → SHA-256 of every file under `dir`, sorted.
@@ -59,10 +49,10 @@ fn hashes(dir: &Path) -> BTreeMap<String, String> {
 fn every_written_file_reads_back_as_the_baked_values() {
     let out = scratch("roundtrip");
     let size = 64;
-    bake::run(&db(), &out, &args(&PAGES, size)).unwrap();
+    bake::run(&database(), &out, &args(&PAGES, size)).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
-    let kept = ingest::ingest(&db(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &nklut::ingest::Config::default()).unwrap().kept;
+    let kept = ingest::ingest(&database(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &nklut::ingest::Config::default()).unwrap().kept;
     let curves: Vec<_> = kept.iter().map(|p| bake::curve(Source::ThreeChannel, p, size)).collect();
     let mut checked = 0;
     for set in manifest["textures"].as_array().unwrap() {
@@ -81,7 +71,7 @@ fn every_written_file_reads_back_as_the_baked_values() {
             for (i, &got) in stored.iter().enumerate() {
                 let want = curves[r][i % 3][i / 3];
                 let (got, want) = match encoding {
-                    Encoding::Unorm8Srgb => (texel::srgb_encode(got), texel::srgb_encode(want)),
+                    Encoding::Unorm8Srgb => (nklut::encoding::srgb_encode(got), nklut::encoding::srgb_encode(want)),
                     _ => (got, want),
                 };
                 assert!((got - want).abs() <= encoding.half_step(want) * (1.0 + 1e-9), "{}: {got} vs {want}", row["page"]);
@@ -97,8 +87,8 @@ fn every_written_file_reads_back_as_the_baked_values() {
 #[test]
 fn two_runs_write_byte_identical_files() {
     let (a, b) = (scratch("det-a"), scratch("det-b"));
-    bake::run(&db(), &a, &args(&PAGES, 32)).unwrap();
-    bake::run(&db(), &b, &args(&PAGES, 32)).unwrap();
+    bake::run(&database(), &a, &args(&PAGES, 32)).unwrap();
+    bake::run(&database(), &b, &args(&PAGES, 32)).unwrap();
     let (ha, hb) = (hashes(&a), hashes(&b));
     assert_eq!(ha.len(), 5 * (PAGES.len() + 1) + 2);
     assert_eq!(ha, hb);
@@ -109,12 +99,12 @@ fn two_runs_write_byte_identical_files() {
 #[test]
 fn an_interrupted_bake_leaves_the_previous_one_intact() {
     let out = scratch("atomic");
-    bake::run(&db(), &out, &args(&PAGES, 32)).unwrap();
+    bake::run(&database(), &out, &args(&PAGES, 32)).unwrap();
     let before = hashes(&out);
     // A different size changes every file; fail once half the files are written.
     let total = 5 * (PAGES.len() + 1) + 2;
     let hook = |i: usize, _: &str| if i >= total / 2 { anyhow::bail!("injected failure at file {i}") } else { Ok(()) };
-    let e = bake::run_with_hook(&db(), &out, &args(&PAGES, 48), &hook).unwrap_err();
+    let e = bake::run_with_hook(&database(), &out, &args(&PAGES, 48), &hook).unwrap_err();
     assert!(e.to_string().contains("injected failure"), "{e:#}");
     assert_eq!(hashes(&out), before, "previous bake changed or temp files left");
     let names: Vec<String> = fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
@@ -125,7 +115,7 @@ fn an_interrupted_bake_leaves_the_previous_one_intact() {
 #[test]
 fn bad_arguments_fail_before_any_work() {
     let out = scratch("bad");
-    let err = |args: &BakeRequest, out: &Path| format!("{:#}", bake::run(&db(), out, args).unwrap_err());
+    let err = |args: &BakeRequest, out: &Path| format!("{:#}", bake::run(&database(), out, args).unwrap_err());
     assert!(err(&args(&["main/Au/Nobody"], 32), &out).contains("unknown page"));
     assert!(err(&args(&PAGES, 0), &out).contains("--size"));
     assert!(err(&args(&PAGES, 65537), &out).contains("--size"));
@@ -154,7 +144,7 @@ fn a_page_the_catalog_lists_twice_is_baked_once() {
     let page = "specs/HIKARI-optical/Q-FK01S";
     let mut one = args(&[page], 8);
     one.encodings = vec![Encoding::Unorm8];
-    let summary = bake::run(&db(), &out, &one).unwrap();
+    let summary = bake::run(&database(), &out, &one).unwrap();
     assert_eq!(summary.rows, 1);
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["duplicate_catalog_pages"], serde_json::json!([page]));
@@ -171,7 +161,7 @@ fn spectral_and_effective_sources_bake_with_errors_against_the_spectral_referenc
     let mut both = args(&["3d/metals/gold", "3d/glass/BK7"], size);
     both.sources = vec![Source::Spectral, Source::Effective, Source::ThreeChannel];
     both.encodings = vec![Encoding::Unorm8, Encoding::F32];
-    bake::run(&db(), &out, &both).unwrap();
+    bake::run(&database(), &out, &both).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     let sets = manifest["textures"].as_array().unwrap();
@@ -209,13 +199,13 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     let mut spectral = args(&["3d/metals/gold"], 16);
     spectral.sources = vec![Source::Spectral, Source::ThreeChannel];
     spectral.encodings = vec![Encoding::Unorm16];
-    bake::run(&db(), &out, &spectral).unwrap();
+    bake::run(&database(), &out, &spectral).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     let readme = fs::read_to_string(luts.join("README.md")).unwrap();
     assert_eq!(manifest["tables"], serde_json::json!([]));
     assert!(!readme.contains("materials.csv") && !manifest.to_string().contains("materials.csv"));
-    let gold = &ingest::ingest(&db(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap().kept[0];
+    let gold = &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap().kept[0];
     for set in manifest["textures"].as_array().unwrap() {
         let row = &set["rows"][0];
         assert_eq!(row["page"], "3d/metals/gold");
@@ -243,8 +233,8 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     }
     assert!(manifest["sixteen_bit_png"].as_str().unwrap().contains("IMREAD_UNCHANGED"));
     // With ingest's tables next to luts/, the manifest documents them.
-    ingest::write_tables(&ingest::ingest(&db(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap(), &out).unwrap();
-    bake::run(&db(), &out, &spectral).unwrap();
+    ingest::write_tables(&ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap(), &out).unwrap();
+    bake::run(&database(), &out, &spectral).unwrap();
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["tables"][0]["files"][0], "../materials.csv");
     fs::remove_dir_all(&out).unwrap();

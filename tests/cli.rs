@@ -1,13 +1,15 @@
 //! The `nklut` binary on a small fixture database written by the test: bad data is
 //! recorded with file and line and the run continues; `--strict` makes it fatal.
 
+mod common;
+
+use common::{scratch, Scratch};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn fixture(name: &str) -> PathBuf {
-    let root = std::env::temp_dir().join(format!("nklut-cli-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&root);
+fn fixture(name: &str) -> Scratch {
+    let root = scratch(&format!("cli-{name}"));
     let write = |path: &str, text: &str| {
         let path = root.join(path);
         fs::create_dir_all(path.parent().unwrap()).unwrap();

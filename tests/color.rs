@@ -2,18 +2,13 @@
 //! an independent recomputation of one page's F0 colour, finiteness over every kept
 //! page, the effective-index target on the `3d` metals and the angle quadrature.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use nklut::color::{self, AngleQuadrature};
-use nklut::db::Database;
+use common::database;
 use nklut::ingest::{ingest, Ingest, Selection};
-
-fn database() -> Database {
-    let dir = std::env::var_os("NKLUT_DB")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"));
-    Database::open(Some(&dir)).expect("the database must be linked for these tests: run `make db`")
-}
 
 fn shelf(name: &str) -> Ingest {
     ingest(&database(), &Selection::shelf(name), &nklut::ingest::Config::default()).unwrap()

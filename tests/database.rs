@@ -1,17 +1,15 @@
 //! Whole-database checks: the database checks the formula evaluator through its
 //! own `PROPERTIES.nd` values, and every catalog page is accounted for.
 
-use std::collections::BTreeSet;
-use std::path::Path;
+mod common;
 
-use nklut::db::{Curve, Database};
+use std::collections::BTreeSet;
+
+use nklut::db::Curve;
+
+use common::database;
 use nklut::ingest::{ingest, Selection};
 use nklut::spectrum::Channels;
-
-fn database() -> Database {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
-    Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
-}
 
 /// |n(587.5618 nm) − nd| ≤ 1e-4, or half a unit of the last printed digit when nd has
 /// fewer than four decimals.

@@ -2,6 +2,9 @@
 //! effects_errors table with its geometry / Fresnel / total split; the shipped effects
 //! scenes parse.
 
+mod common;
+
+use common::scratch;
 use std::path::Path;
 use std::process::Command;
 
@@ -28,8 +31,7 @@ fn shipped_effects_scenes_parse_and_name_their_effects() {
 
 #[test]
 fn effects_command_splits_geometry_and_fresnel_error() {
-    let dir = std::env::temp_dir().join(format!("nklut-effects-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("effects");
     let scene = dir.join("water.yaml");
     std::fs::write(
         &scene,

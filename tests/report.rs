@@ -5,31 +5,24 @@
 //! equal to their tables, previews present. Screenshots are kept under
 //! `target/tmp/report-artefacts/`.
 
+mod common;
+
 use std::collections::BTreeSet;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
+use common::{database_dir, scratch, Scratch};
 use nklut::report::{self, csvdata::CsvTable};
-
-fn database() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database")
-}
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/liquids/water", "3d/crystals/diamond"];
 
 fn nklut(out: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_nklut"))
-        .args(["--db", &database().display().to_string(), "--out", &out.display().to_string()])
+        .args(["--db", &database_dir().display().to_string(), "--out", &out.display().to_string()])
         .args(args)
         .output()
         .unwrap()
-}
-
-fn fresh(name: &str) -> PathBuf {
-    let out = std::env::temp_dir().join(format!("nklut-report-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&out);
-    out
 }
 
 /// Run the stages the report reads for `pages` (with `extra` flags, e.g. --channels);
@@ -47,8 +40,8 @@ fn stages(out: &Path, pages: &[&str], extra: &[&str]) -> String {
     validate_stdout
 }
 
-fn build_report(name: &str) -> (PathBuf, String) {
-    let out = fresh(name);
+fn build_report(name: &str) -> (Scratch, String) {
+    let out = scratch(name);
     let validate = stages(&out, &PAGES, &[]);
     let selection: Vec<&str> = PAGES.iter().flat_map(|p| ["--page", p]).collect();
     let output = nklut(&out, &[&["report"], selection.as_slice()].concat());
@@ -182,7 +175,7 @@ fn recount(out: &Path, table: &str, key: &str) -> usize {
 
 #[test]
 fn report_uses_the_channel_wavelengths_of_its_tables() {
-    let out = fresh("channels");
+    let out = scratch("channels");
     stages(&out, &["3d/metals/gold"], &["--channels", "650,550,450"]);
     let output = nklut(&out, &["report", "--page", "3d/metals/gold"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
@@ -209,7 +202,7 @@ fn report_uses_the_channel_wavelengths_of_its_tables() {
 
 #[test]
 fn report_selects_like_every_command_and_names_missing_pages() {
-    let out = fresh("selection");
+    let out = scratch("selection");
     stages(&out, &["3d/metals/gold", "3d/liquids/water"], &[]);
     // No selection: every page of the tables, as for every other command.
     let all = nklut(&out, &["report"]);
@@ -237,7 +230,7 @@ fn report_selects_like_every_command_and_names_missing_pages() {
 
 #[test]
 fn effects_and_engine_panels_appear_when_their_tables_exist() {
-    let out = fresh("panels");
+    let out = scratch("panels");
     stages(&out, &["3d/metals/gold"], &[]);
     fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n").unwrap();
     fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
@@ -376,7 +369,7 @@ fn rendered_report_is_readable_and_its_counts_are_its_tables() {
 
 #[test]
 fn the_audit_sees_small_and_overlapping_plot_text() {
-    let out = fresh("audit");
+    let out = scratch("audit");
     fs::create_dir_all(&out).unwrap();
     let page = out.join("bad.html");
     fs::write(

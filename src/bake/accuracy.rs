@@ -90,7 +90,8 @@ pub fn lut_error(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[V
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::texel::{quantise, texel_cosines, Encoding};
+    use crate::bake::texel::{quantise, Encoding};
+    use crate::encoding::texel_cosines;
     use crate::spectrum::Index;
 
     /// The midpoint rule agrees with a brute-force 10⁶-point mean (SPEC §6) to 3 digits.

@@ -284,8 +284,8 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
              digits, as tested in the colour module); it does not resolve the texel-scale sampling error between texel \
              centres, which error_vs_exact measures densely. For the spectral source in an integer encoding it \
              includes the clamping of values above 1",
-            color::quadrature::PANELS,
-            color::quadrature::NODES
+            color::angle_average::PANELS,
+            color::angle_average::NODES
         ),
     }
 }

@@ -137,7 +137,7 @@ impl PageReference {
         match source {
             Source::ThreeChannel => exact_curve(&page.material.channels, size),
             Source::Effective => exact_curve(&self.effective_index(&page.material.channels), size),
-            Source::Spectral => by_channel(&self.spectrum.curve(&texel::texel_cosines(size))),
+            Source::Spectral => by_channel(&self.spectrum.curve(&crate::encoding::texel_cosines(size))),
         }
     }
 }
@@ -158,7 +158,7 @@ pub fn curve(source: Source, page: &KeptPage, size: usize) -> ChannelCurve {
 
 /// `exact` (SPEC §5.1) per channel at c_i = (i + ½)/N.
 pub fn exact_curve(index: &ChannelIndex, size: usize) -> ChannelCurve {
-    accuracy::exact_reference(index, &texel::texel_cosines(size))
+    accuracy::exact_reference(index, &crate::encoding::texel_cosines(size))
 }
 
 /// One page to bake.
@@ -580,7 +580,7 @@ mod tests {
                         let want = row.curves[0][c][i];
                         let want = if encoding.is_float() { want } else { want.clamp(0.0, 1.0) };
                         let got = values[3 * (r * size + i) + c];
-                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb { (texel::srgb_encode(got), texel::srgb_encode(want)) } else { (got, want) };
+                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb { (crate::encoding::srgb_encode(got), crate::encoding::srgb_encode(want)) } else { (got, want) };
                         assert!((got_s - want_s).abs() <= encoding.half_step(want_s) * (1.0 + 1e-9), "{} {r} {i} {c}: {got} vs {want}", file.path);
                     }
                 }

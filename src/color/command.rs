@@ -6,10 +6,10 @@ use std::time::Instant;
 use anyhow::Result;
 
 use super::page::{page_colors, spectral_reference, PageColors};
-use super::quadrature::{angle_quadrature, NODES, PANELS};
-use super::spectral::texel_cosines;
+use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::srgb;
 use crate::db::Database;
+use crate::encoding::texel_cosines;
 use crate::ingest::{self, Config, KeptPage, Selection};
 use crate::output::Table;
 use crate::spectrum::Channels;

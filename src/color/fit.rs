@@ -9,7 +9,7 @@
 //! with the smallest cost wins. Since F_exact ≤ 1, a reference above 1 (gold's red
 //! channel) can only be approached, never matched.
 
-use super::quadrature::AngleQuadrature;
+use super::angle_average::AngleQuadrature;
 use crate::fresnel;
 use crate::spectrum::Index;
 
@@ -220,7 +220,7 @@ impl Problem {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::color::quadrature::angle_quadrature;
+    use crate::color::angle_average::angle_quadrature;
     use proptest::prelude::*;
 
     fn curve(index: Index, quadrature: &AngleQuadrature) -> Vec<f64> {

@@ -4,7 +4,7 @@
 //! the three-wavelength channels, and effective channel indices fitted over angle.
 //!
 //! For the bake: [`sample_spectrum`] once per page, then [`spectral_curve`] at the texel
-//! centres [`texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
+//! centres [`crate::encoding::texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
 
 pub mod acescg;
 pub mod cie;
@@ -12,7 +12,7 @@ pub mod command;
 pub mod fit;
 pub mod lab;
 pub mod page;
-pub mod quadrature;
+pub mod angle_average;
 pub mod spectral;
 pub mod srgb;
 
@@ -20,7 +20,7 @@ pub use command::{colors_table, command, compute, hex_swatch};
 pub use fit::{fit_effective_index, fit_effective_index_from, mean_relative_error, EffectiveIndex};
 pub use lab::{delta_e2000, xyz_to_lab, Lab};
 pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
-pub use quadrature::{angle_quadrature, AngleQuadrature};
+pub use angle_average::{angle_quadrature, AngleQuadrature};
 pub use spectral::{
-    reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, texel_cosines, PreparedSpectrum, SpectralWeights,
+    reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, PreparedSpectrum, SpectralWeights,
 };

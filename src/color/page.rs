@@ -3,7 +3,7 @@
 
 use super::fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
 use super::lab::delta_e2000;
-use super::quadrature::AngleQuadrature;
+use super::angle_average::AngleQuadrature;
 use super::spectral::{sample_spectrum, spectral_weights, PreparedSpectrum};
 use crate::fresnel;
 use crate::spectrum::{Index, Material};

@@ -139,11 +139,6 @@ pub fn spectral_curve(spectrum: &[Index], cosines: &[f64]) -> Vec<[f64; 3]> {
     PreparedSpectrum::new(spectrum).curve(cosines)
 }
 
-/// The cosines of the LUT texel centres, c_i = (i + ½)/N, i = 0…N−1 (SPEC §5.7).
-pub fn texel_cosines(texels: usize) -> Vec<f64> {
-    (0..texels).map(|i| (i as f64 + 0.5) / texels as f64).collect()
-}
-
 /// The index of a page on the spectral grid (360…830 nm, 1 nm), with the nearest
 /// measured n and k held outside the data (SPEC §4, [`spectrum::index_held`]), and the
 /// share of the luminance weight Σ S ȳ that lies outside the data's range.

@@ -34,7 +34,7 @@ pub fn false_colour(error: f64) -> [f64; 3] {
 }
 
 fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
-    let bytes = linear.flat_map(|rgb| rgb.map(|v| (srgb::encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8)).collect();
+    let bytes = linear.flat_map(srgb::srgb8).collect();
     encode(Encoding::Unorm8Srgb, width as usize, height as usize, &Texels::U8(bytes))
 }
 

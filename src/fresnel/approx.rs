@@ -1,11 +1,13 @@
-//! The Schlick family (SPEC §5.2–5.5): closed forms in f64 and their f32 shader twins,
-//! and the per-channel parameters (F0, compensated λ, Lazányi a).
+//! The Schlick family (SPEC §5.2–5.5): closed forms, each written once over [`Real`] —
+//! f64 for the CPU, f32 as the shader twin — and the per-channel parameters (F0,
+//! compensated λ, Lazányi a).
 //!
-//! Shader conventions mirrored by the `*_f32` functions: integer powers are products
-//! (m² = m·m, m⁵ = m²·m²·m, m⁶ = m⁵·m), a real power `pow(m, p)` is `exp2(p·log2(m))`
-//! (how WGSL defines and GPUs implement it), no fma.
+//! Shader conventions every body follows: integer powers are products (m² = m·m,
+//! m⁵ = m²·m²·m, m⁶ = m⁵·m), a real power is [`Real::power`] (`exp2(p·log2(m))` in f32,
+//! how WGSL defines and GPUs implement it), no fma.
 
-use super::{unit_cos, unit_cos_f32, ExactTerms};
+use super::real::Real;
+use super::{unit_cos, ExactTerms};
 use crate::spectrum::Index;
 
 /// cosθ at which `schlick_compensated` is exact: θ = acos(0.1) = 84.26° (SPEC §5.4).
@@ -13,22 +15,11 @@ pub const COMPENSATION_COS: f64 = 0.1;
 /// cosθ at which `lazanyi` is exact: c = 1/7 (θ ≈ 81.8°), where c(1 − c)⁶ peaks (SPEC §5.5).
 pub const LAZANYI_COS: f64 = 1.0 / 7.0;
 
+/// m⁵ as m²·m²·m.
 #[inline]
-fn fifth(m: f64) -> f64 {
+fn fifth<T: Real>(m: T) -> T {
     let m2 = m * m;
     m2 * m2 * m
-}
-
-#[inline]
-fn fifth_f32(m: f32) -> f32 {
-    let m2 = m * m;
-    m2 * m2 * m
-}
-
-/// `pow(m, p)` as a GPU evaluates it: exp2(p·log2 m); 0 for m = 0 and p > 0.
-#[inline]
-pub fn shader_pow(m: f32, p: f32) -> f32 {
-    (p * m.log2()).exp2()
 }
 
 /// Normal-incidence reflectance F0 = ((n − 1)² + k²)/((n + 1)² + k²) (SPEC §5.2).
@@ -44,32 +35,18 @@ pub fn schlick_f0(n: f64, k: f64) -> f64 {
 /// `schlick` (SPEC §5.2; Schlick 1994, "An Inexpensive BRDF Model for Physically-based
 /// Rendering", eq. 24): F = F0 + (1 − F0)(1 − c)⁵.
 #[inline]
-pub fn schlick(f0: f64, cos_theta: f64) -> f64 {
-    let m5 = fifth(1.0 - unit_cos(cos_theta));
-    f0 + (1.0 - f0) * m5
-}
-
-/// f32 shader twin of [`schlick`].
-#[inline]
-pub fn schlick_f32(f0: f32, cos_theta: f32) -> f32 {
-    let m5 = fifth_f32(1.0 - unit_cos_f32(cos_theta));
-    f0 + (1.0 - f0) * m5
+pub fn schlick<T: Real>(f0: T, cos_theta: T) -> T {
+    let m5 = fifth(T::ONE - unit_cos(cos_theta));
+    f0 + (T::ONE - f0) * m5
 }
 
 /// `schlick_nk` (SPEC §5.3; Lazányi & Szirmay-Kalos 2005, "Fresnel Term Approximations
 /// for Metals", eq. 3): F = ((n − 1)² + 4n(1 − c)⁵ + k²)/((n + 1)² + k²), from n and k at
 /// the point of use. Algebraically equal to `schlick` (1 − F0 = 4n/((n + 1)² + k²)).
 #[inline]
-pub fn schlick_nk(n: f64, k: f64, cos_theta: f64) -> f64 {
-    let m5 = fifth(1.0 - unit_cos(cos_theta));
-    ((n - 1.0) * (n - 1.0) + 4.0 * n * m5 + k * k) / ((n + 1.0) * (n + 1.0) + k * k)
-}
-
-/// f32 shader twin of [`schlick_nk`].
-#[inline]
-pub fn schlick_nk_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
-    let m5 = fifth_f32(1.0 - unit_cos_f32(cos_theta));
-    ((n - 1.0) * (n - 1.0) + 4.0 * n * m5 + k * k) / ((n + 1.0) * (n + 1.0) + k * k)
+pub fn schlick_nk<T: Real>(n: T, k: T, cos_theta: T) -> T {
+    let m5 = fifth(T::ONE - unit_cos(cos_theta));
+    ((n - T::ONE) * (n - T::ONE) + T::of(4.0) * n * m5 + k * k) / ((n + T::ONE) * (n + T::ONE) + k * k)
 }
 
 /// Why `schlick_compensated` has no usable λ for a channel (SPEC §5.4). In every case
@@ -135,16 +112,9 @@ pub fn compensation(index: Index, exact: &ExactTerms) -> Compensation {
 /// w = 0 on fallback (see [`compensation`]). Not clamped: near grazing it can leave
 /// [0, 1] (F(0) = 1 − 2n), which is part of its measured error.
 #[inline]
-pub fn schlick_compensated(n: f64, k: f64, weight: f64, lambda: f64, cos_theta: f64) -> f64 {
-    let m = 1.0 - unit_cos(cos_theta);
-    schlick_nk(n, k, cos_theta) - weight * m.powf(lambda)
-}
-
-/// f32 shader twin of [`schlick_compensated`] (`pow` as exp2(λ·log2 m)).
-#[inline]
-pub fn schlick_compensated_f32(n: f32, k: f32, weight: f32, lambda: f32, cos_theta: f32) -> f32 {
-    let m = 1.0 - unit_cos_f32(cos_theta);
-    schlick_nk_f32(n, k, cos_theta) - weight * shader_pow(m, lambda)
+pub fn schlick_compensated<T: Real>(n: T, k: T, weight: T, lambda: T, cos_theta: T) -> T {
+    let m = T::ONE - unit_cos(cos_theta);
+    schlick_nk(n, k, cos_theta) - weight * m.power(lambda)
 }
 
 /// a of `lazanyi` (SPEC §5.5) so that it is exact at c = 1/7:
@@ -165,18 +135,9 @@ pub fn lazanyi_a(index: Index, exact: &ExactTerms) -> f64 {
 
 /// `lazanyi` (SPEC §5.5): F = F0 + (1 − F0)(1 − c)⁵ − a c (1 − c)⁶.
 #[inline]
-pub fn lazanyi(f0: f64, a: f64, cos_theta: f64) -> f64 {
+pub fn lazanyi<T: Real>(f0: T, a: T, cos_theta: T) -> T {
     let c = unit_cos(cos_theta);
-    let m = 1.0 - c;
+    let m = T::ONE - c;
     let m5 = fifth(m);
-    f0 + (1.0 - f0) * m5 - a * c * (m5 * m)
-}
-
-/// f32 shader twin of [`lazanyi`].
-#[inline]
-pub fn lazanyi_f32(f0: f32, a: f32, cos_theta: f32) -> f32 {
-    let c = unit_cos_f32(cos_theta);
-    let m = 1.0 - c;
-    let m5 = fifth_f32(m);
-    f0 + (1.0 - f0) * m5 - a * c * (m5 * m)
+    f0 + (T::ONE - f0) * m5 - a * c * (m5 * m)
 }

@@ -1,7 +1,9 @@
-//! `exact` (SPEC §5.1): unpolarised reflectance (Rs + Rp)/2 of η = n + ik, in f64 for
-//! the CPU and in f32 mirroring a shader.
+//! `exact` (SPEC §5.1): unpolarised reflectance (Rs + Rp)/2 of η = n + ik, written once
+//! over [`Real`]: in f64 for the CPU and in f32 with the operation order of the WGSL
+//! shader.
 
-use super::{sanitise, unit_cos, unit_cos_f32};
+use super::real::Real;
+use super::{sanitise, unit_cos};
 use crate::spectrum::Index;
 
 /// Largest |n|, k the fast square root `√(A² + 4n²k²)` handles without overflow; inputs
@@ -18,33 +20,40 @@ const SQUARE_SAFE: f64 = 1e100;
 ///   Rs = ((a − c)² + b²) / ((a + c)² + b²)
 ///   Rp = Rs · ((ac − s²)² + b²c²) / ((ac + s²)² + b²c²).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ExactTerms {
+pub struct ExactTerms<T = f64> {
     /// a₀ = (n − 1)(n + 1) − k²: A at grazing incidence, exact in n − 1 for gases.
-    a0: f64,
+    a0: T,
     /// n² − k²: A at normal incidence, exact for small n.
-    n2_minus_k2: f64,
+    n2_minus_k2: T,
     /// (nk)².
-    nk_squared: f64,
-    /// 4(nk)².
-    four_nk_squared: f64,
+    nk_squared: T,
+    /// 4(nk)², as the shader forms it: 4·(nk·nk).
+    four_nk_squared: T,
     /// n = 1, k = 0: no interface, F = 0 at every angle.
     vacuum: bool,
-    /// |n| or k so large that A² could overflow.
+    /// |n| or k so large that A² could overflow (never in f32, whose range ends first:
+    /// the shader has no such guard).
     huge: bool,
 }
 
 impl ExactTerms {
     /// Terms for a sanitised index (see [`sanitise`]).
     pub fn new(index: Index) -> Self {
-        let Index { n, k } = index;
+        Self::of(index.n, index.k)
+    }
+}
+
+impl<T: Real> ExactTerms<T> {
+    /// Terms of η = n + ik as given (sanitise first for the f64 path).
+    pub fn of(n: T, k: T) -> Self {
         let nk = n * k;
         Self {
-            a0: (n - 1.0) * (n + 1.0) - k * k,
+            a0: (n - T::ONE) * (n + T::ONE) - k * k,
             n2_minus_k2: n * n - k * k,
             nk_squared: nk * nk,
-            four_nk_squared: 4.0 * nk * nk,
-            vacuum: n == 1.0 && k == 0.0,
-            huge: n > SQUARE_SAFE || k > SQUARE_SAFE,
+            four_nk_squared: T::of(4.0) * (nk * nk),
+            vacuum: n == T::ONE && k == T::ZERO,
+            huge: n > T::of(SQUARE_SAFE) || k > T::of(SQUARE_SAFE),
         }
     }
 
@@ -56,34 +65,34 @@ impl ExactTerms {
     /// - a − c is (a₀ + b²)/(a + c) when A ≥ 0, exact in n − 1 as n → 1 (gases);
     /// - (Rs + Rp)/2 is formed with a single division.
     #[inline]
-    pub fn reflectance(&self, cos_theta: f64) -> f64 {
+    pub fn reflectance(&self, cos_theta: T) -> T {
         let c = unit_cos(cos_theta);
         if self.vacuum {
-            return 0.0;
+            return T::ZERO;
         }
-        let sin2 = (1.0 - c) * (1.0 + c);
+        let sin2 = (T::ONE - c) * (T::ONE + c);
         let c2 = c * c;
-        let big_a = if c2 > 0.5 { self.n2_minus_k2 - sin2 } else { self.a0 + c2 };
+        let big_a = if c2 > T::of(0.5) { self.n2_minus_k2 - sin2 } else { self.a0 + c2 };
         let r = if self.huge { big_a.hypot(self.four_nk_squared.sqrt()) } else { (big_a * big_a + self.four_nk_squared).sqrt() };
-        let larger = 0.5 * (r + big_a.abs());
-        let smaller = if larger > 0.0 { self.nk_squared / larger } else { 0.0 };
-        let (a2, b2) = if big_a >= 0.0 { (larger, smaller) } else { (smaller, larger) };
+        let larger = T::of(0.5) * (r + big_a.abs());
+        let smaller = if larger > T::ZERO { self.nk_squared / larger } else { T::ZERO };
+        let (a2, b2) = if big_a >= T::ZERO { (larger, smaller) } else { (smaller, larger) };
         let a = a2.sqrt();
         let a_plus_c = a + c;
-        let a_minus_c = if big_a >= 0.0 && a_plus_c > 0.0 { (self.a0 + b2) / a_plus_c } else { a - c };
+        let a_minus_c = if big_a >= T::ZERO && a_plus_c > T::ZERO { (self.a0 + b2) / a_plus_c } else { a - c };
         let s_num = a_minus_c * a_minus_c + b2;
         let s_den = a_plus_c * a_plus_c + b2;
         let ac = a * c;
         let b2c2 = b2 * c2;
         let p_num = (ac - sin2) * (ac - sin2) + b2c2;
         let p_den = (ac + sin2) * (ac + sin2) + b2c2;
-        let denominator = 2.0 * s_den * p_den;
-        if !(denominator > 0.0) {
+        let denominator = T::of(2.0) * s_den * p_den;
+        if !(denominator > T::ZERO) {
             // a = b = c = 0 (grazing on η = 1 handled above) or η = 0 at normal incidence:
             // every such limit is total reflection.
-            return 1.0;
+            return T::ONE;
         }
-        (s_num * (p_den + p_num) / denominator).max(0.0).min(1.0)
+        (s_num * (p_den + p_num) / denominator).max(T::ZERO).min(T::ONE)
     }
 }
 
@@ -108,34 +117,7 @@ pub fn exact(n: f64, k: f64, cos_theta: f64) -> f64 {
 /// and it grows without bound as n − 1 → 0. Water at normal incidence (F ≈ 0.02) keeps
 /// ~1e-6 relative accuracy.
 pub fn exact_f32(n: f32, k: f32, cos_theta: f32) -> f32 {
-    let c = unit_cos_f32(cos_theta);
-    if n == 1.0 && k == 0.0 {
-        return 0.0;
-    }
-    let nk = n * k;
-    let nk2 = nk * nk;
-    let a0 = (n - 1.0) * (n + 1.0) - k * k;
-    let sin2 = (1.0 - c) * (1.0 + c);
-    let c2 = c * c;
-    let big_a = if c2 > 0.5 { (n * n - k * k) - sin2 } else { a0 + c2 };
-    let r = (big_a * big_a + 4.0 * nk2).sqrt();
-    let larger = 0.5 * (r + big_a.abs());
-    let smaller = if larger > 0.0 { nk2 / larger } else { 0.0 };
-    let (a2, b2) = if big_a >= 0.0 { (larger, smaller) } else { (smaller, larger) };
-    let a = a2.sqrt();
-    let a_plus_c = a + c;
-    let a_minus_c = if big_a >= 0.0 && a_plus_c > 0.0 { (a0 + b2) / a_plus_c } else { a - c };
-    let s_num = a_minus_c * a_minus_c + b2;
-    let s_den = a_plus_c * a_plus_c + b2;
-    let ac = a * c;
-    let b2c2 = b2 * c2;
-    let p_num = (ac - sin2) * (ac - sin2) + b2c2;
-    let p_den = (ac + sin2) * (ac + sin2) + b2c2;
-    let denominator = 2.0 * s_den * p_den;
-    if !(denominator > 0.0) {
-        return 1.0;
-    }
-    (s_num * (p_den + p_num) / denominator).max(0.0).min(1.0)
+    ExactTerms::of(n, k).reflectance(cos_theta)
 }
 
 #[cfg(test)]

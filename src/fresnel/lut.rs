@@ -8,157 +8,57 @@
 //! Not modelled: the reduced precision of hardware filter weights (e.g. 8 fractional
 //! bits of t on current NVIDIA and AMD GPUs).
 
-use half::f16;
-
-use super::{unit_cos, unit_cos_f32};
+use super::real::Real;
+use super::unit_cos;
+pub use crate::encoding::Encoding;
+use crate::encoding::texel_cos;
 
 /// The texel counts of the "what accuracy costs" sweep.
 pub const LUT_SIZES: [usize; 6] = [16, 32, 64, 128, 256, 1024];
 
-/// How a texel is stored. Values are reflectances in [0, 1] (linear).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Encoding {
-    /// 8-bit unsigned normalised, linear: code = round(255 F).
-    Unorm8,
-    /// 8-bit unsigned normalised, stored sRGB-encoded (IEC 61966-2-1 transfer
-    /// function); the texture unit decodes to linear before filtering.
-    Unorm8Srgb,
-    /// 16-bit unsigned normalised: code = round(65535 F).
-    Unorm16,
-    /// IEEE 754 binary16, round to nearest even.
-    F16,
-    /// IEEE 754 binary32, round to nearest even.
-    F32,
-}
-
-impl Encoding {
-    pub const ALL: [Encoding; 5] = [Encoding::Unorm8, Encoding::Unorm8Srgb, Encoding::Unorm16, Encoding::F16, Encoding::F32];
-
-    /// The name used on the command line, in tables and in the manifest.
-    pub fn name(self) -> &'static str {
-        match self {
-            Encoding::Unorm8 => "unorm8",
-            Encoding::Unorm8Srgb => "unorm8-srgb",
-            Encoding::Unorm16 => "unorm16",
-            Encoding::F16 => "f16",
-            Encoding::F32 => "f32",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Encoding> {
-        Encoding::ALL.into_iter().find(|e| e.name() == name)
-    }
-
-    /// Bytes one channel of one texel takes.
-    pub fn bytes_per_channel(self) -> usize {
-        match self {
-            Encoding::Unorm8 | Encoding::Unorm8Srgb => 1,
-            Encoding::Unorm16 | Encoding::F16 => 2,
-            Encoding::F32 => 4,
-        }
-    }
-
-    /// The stored code of a linear value: the unorm integer, or the bits of the float.
-    /// Unorm encodings clamp to [0, 1] first; NaN stores as 0.
-    pub fn encode(self, value: f64) -> u32 {
-        let unit = if value >= 0.0 { value.min(1.0) } else { 0.0 };
-        match self {
-            Encoding::Unorm8 => (unit * 255.0).round() as u32,
-            Encoding::Unorm8Srgb => (srgb_encode(unit) * 255.0).round() as u32,
-            Encoding::Unorm16 => (unit * 65535.0).round() as u32,
-            Encoding::F16 => f16::from_f64(if value.is_nan() { 0.0 } else { value }).to_bits() as u32,
-            Encoding::F32 => (if value.is_nan() { 0.0 } else { value } as f32).to_bits(),
-        }
-    }
-
-    /// The linear value a texture unit reads for a stored code.
-    pub fn decode(self, code: u32) -> f64 {
-        match self {
-            Encoding::Unorm8 => code.min(255) as f64 / 255.0,
-            Encoding::Unorm8Srgb => SRGB8_DECODED[code.min(255) as usize],
-            Encoding::Unorm16 => code.min(65535) as f64 / 65535.0,
-            Encoding::F16 => f16::from_bits(code as u16).to_f64(),
-            Encoding::F32 => f32::from_bits(code) as f64,
-        }
-    }
-
-    /// The value after encode + decode: what the shader sees for `value`.
-    pub fn quantise(self, value: f64) -> f64 {
-        self.decode(self.encode(value))
-    }
-}
-
-/// The linear value of every 8-bit sRGB code: [`srgb_decode`] of code/255, once.
-static SRGB8_DECODED: std::sync::LazyLock<[f64; 256]> =
-    std::sync::LazyLock::new(|| std::array::from_fn(|code| srgb_decode(code as f64 / 255.0)));
-
-/// The sRGB transfer function (IEC 61966-2-1), one definition for the whole crate:
-/// [`crate::color::srgb::encode`] and [`crate::color::srgb::decode`]. Texels are clamped
-/// to [0, 1] before they are encoded, where the colour stage's extension to negative
-/// values (mirrored) plays no part.
-pub use crate::color::srgb::{decode as srgb_decode, encode as srgb_encode};
-
-/// cosθ at the centre of texel `i` of `texels`: (i + ½)/N.
-pub fn lut_texel_cos(i: usize, texels: usize) -> f64 {
-    (i as f64 + 0.5) / texels.max(1) as f64
+/// Where linear filtering with clamp-to-edge reads a texture: the two texels and the
+/// weight of the second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter<T> {
+    pub lower: usize,
+    pub upper: usize,
+    /// The weight t of `upper`; `lower` has 1 − t.
+    pub weight: T,
 }
 
 /// Where linear filtering with clamp-to-edge reads a texture of `count` texels at u = c
-/// (see the module doc): the two texel indices and the weight t of the second. The same
-/// for every texture of that size, so several encodings can share it.
+/// (see the module doc). The same for every texture of that size, so several encodings
+/// can share it. In f32 the shader's arithmetic.
 #[inline]
-pub fn filter_weights(count: usize, cos_theta: f64) -> (usize, usize, f64) {
-    let x = unit_cos(cos_theta) * count as f64 - 0.5;
+pub fn filter_weights<T: Real>(count: usize, cos_theta: T) -> Filter<T> {
+    let x = unit_cos(cos_theta) * T::count(count) - T::of(0.5);
     // x ∈ [−½, N − ½], so ⌊x⌋ is −1 or the truncation (no libm call: the baseline
     // x86-64 target has no rounding instruction).
-    let floor = if x < 0.0 { -1.0 } else { (x as u64) as f64 };
-    let last = count.saturating_sub(1) as f64;
-    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
-}
-
-/// f32 twin of [`filter_weights`] (the shader's arithmetic).
-#[inline]
-pub fn filter_weights_f32(count: usize, cos_theta: f32) -> (usize, usize, f32) {
-    let x = unit_cos_f32(cos_theta) * count as f32 - 0.5;
-    let floor = if x < 0.0 { -1.0 } else { (x as u32) as f32 };
-    let last = count.saturating_sub(1) as f32;
-    (floor.clamp(0.0, last) as usize, (floor + 1.0).clamp(0.0, last) as usize, x - floor)
+    let floor = if x < T::ZERO { -T::ONE } else { x.truncate() };
+    let last = T::count(count.saturating_sub(1));
+    Filter { lower: floor.clamp(T::ZERO, last).index(), upper: (floor + T::ONE).clamp(T::ZERO, last).index(), weight: x - floor }
 }
 
 /// Linear filtering with clamp-to-edge, as a GPU samples a 1D texture at u = c (see the
 /// module doc). Returns 0 for an empty texture.
-pub fn sample_lut(texels: &[f64], cos_theta: f64) -> f64 {
+pub fn sample_lut<T: Real>(texels: &[T], cos_theta: T) -> T {
     if texels.is_empty() {
-        return 0.0;
+        return T::ZERO;
     }
     filter(texels, filter_weights(texels.len(), cos_theta))
-}
-
-/// f32 twin of [`sample_lut`]: the same filtering in f32 arithmetic.
-pub fn sample_lut_f32(texels: &[f32], cos_theta: f32) -> f32 {
-    if texels.is_empty() {
-        return 0.0;
-    }
-    filter_f32(texels, filter_weights_f32(texels.len(), cos_theta))
 }
 
 /// The filtered value T[i₀](1 − t) + T[i₁]t (WGSL `mix`) for weights from
 /// [`filter_weights`].
 #[inline]
-pub fn filter(texels: &[f64], (i0, i1, t): (usize, usize, f64)) -> f64 {
-    texels[i0] * (1.0 - t) + texels[i1] * t
-}
-
-/// f32 twin of [`filter`], for weights from [`filter_weights_f32`].
-#[inline]
-pub fn filter_f32(texels: &[f32], (i0, i1, t): (usize, usize, f32)) -> f32 {
-    texels[i0] * (1.0 - t) + texels[i1] * t
+pub fn filter<T: Real>(texels: &[T], weights: Filter<T>) -> T {
+    texels[weights.lower] * (T::ONE - weights.weight) + texels[weights.upper] * weights.weight
 }
 
 /// `curve` at the texel centres c_i = (i + ½)/N of a texture of `texels` texels (at
 /// least one): the values [`Lut::from_values`] quantises.
 pub fn texel_values(texels: usize, curve: impl Fn(f64) -> f64) -> Vec<f64> {
-    (0..texels.max(1)).map(|i| curve(lut_texel_cos(i, texels))).collect()
+    (0..texels.max(1)).map(|i| curve(texel_cos(i, texels))).collect()
 }
 
 /// Texel count and encoding of a LUT.
@@ -226,6 +126,6 @@ impl Lut {
 
     #[inline]
     pub fn sample_f32(&self, cos_theta: f32) -> f32 {
-        sample_lut_f32(&self.texels_f32, cos_theta)
+        sample_lut(&self.texels_f32, cos_theta)
     }
 }

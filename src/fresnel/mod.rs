@@ -1,35 +1,36 @@
 //! Fresnel reflectance methods (SPEC §5). Every method maps (n, k, cosθ) to F for one
 //! colour channel, outside medium air (a medium of index n₁ ≠ 1 uses n₂/n₁).
 //!
-//! Each method exists twice: in f64 for the CPU (the study's figures) and in f32 with the
-//! operation order a WGSL shader uses (`*_f32`), so GPU-precision error can be measured
-//! separately (docs/precision.md). Parameters that do not depend on the angle are
+//! Each method is evaluated twice: in f64 for the CPU (the study's figures) and in f32 with
+//! the operation order a WGSL shader uses, so GPU-precision error can be measured
+//! separately (docs/precision.md). The closed forms are written once over [`Real`];
+//! `exact` has its own f32 body ([`exact_f32`]) because the f64 one precomputes
+//! angle-independent terms and guards overflow with `hypot`, which the shader does not. Parameters that do not depend on the angle are
 //! computed once per material and channel ([`Prepared`]); a [`Model`] adds the texture
 //! of the `lut` method and evaluates any [`Method`].
 //!
 //! Public entry points for other stages:
-//! - [`exact`], [`exact_f32`] and the closed forms in [`approx`];
+//! - [`exact`], [`exact_f32`] and the closed forms in [`approx`], generic over [`Real`];
 //! - [`Prepared::new`] (F0, compensated λ with its [`CompensationFallback`], Lazányi a,
 //!   the nvidia fit), [`ShaderParams`] (the f32 uniforms a shader needs);
-//! - for textures: [`lut_texel_cos`], [`Encoding`] (`quantise`, `encode`, `decode`),
-//!   [`sample_lut`], [`sample_lut_f32`], [`Lut::bake`].
+//! - for textures: [`Encoding`] (`quantise`, `encode`, `decode`),
+//!   [`sample_lut`], [`Lut::bake`].
 
 pub mod approx;
 mod exact;
 pub mod lut;
 pub mod nvidia;
+pub mod real;
 pub mod reference;
 
 pub use approx::{
-    compensation, lazanyi, lazanyi_a, lazanyi_f32, schlick, schlick_compensated, schlick_compensated_f32, schlick_f0, schlick_f32,
-    schlick_nk, schlick_nk_f32, Compensation, CompensationFallback, COMPENSATION_COS, LAZANYI_COS,
+    compensation, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation, CompensationFallback, COMPENSATION_COS,
+    LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms};
-pub use lut::{
-    filter, filter_f32, filter_weights, filter_weights_f32, lut_texel_cos, sample_lut, sample_lut_f32, texel_values, Encoding, Lut, LutSpec,
-    LUT_SIZES,
-};
-pub use nvidia::{fit_nvidia, nvidia, nvidia_f32, NvidiaFit};
+pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
+pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
+pub use real::Real;
 
 use crate::spectrum::Index;
 
@@ -141,23 +142,14 @@ pub fn sanitise(index: Index) -> Index {
     Index::new(n, k)
 }
 
-/// cosθ clamped to [0, 1]; NaN reads as 0 (grazing).
+/// cosθ clamped to [0, 1]; NaN reads as 0 (grazing). In f32 a shader's
+/// `clamp(c, 0.0, 1.0)`.
 #[inline]
-pub fn unit_cos(cos_theta: f64) -> f64 {
-    if cos_theta >= 0.0 {
-        cos_theta.min(1.0)
+pub fn unit_cos<T: Real>(cos_theta: T) -> T {
+    if cos_theta >= T::ZERO {
+        cos_theta.min(T::ONE)
     } else {
-        0.0
-    }
-}
-
-/// f32 twin of [`unit_cos`] (a shader's `clamp(c, 0.0, 1.0)`).
-#[inline]
-pub fn unit_cos_f32(cos_theta: f32) -> f32 {
-    if cos_theta >= 0.0 {
-        cos_theta.min(1.0)
-    } else {
-        0.0
+        T::ZERO
     }
 }
 
@@ -246,13 +238,13 @@ impl ShaderParams {
     pub fn analytic(&self, method: Method, cos_theta: f32) -> Option<f32> {
         Some(match method {
             Method::Exact => exact_f32(self.n, self.k, cos_theta),
-            Method::Schlick => schlick_f32(self.f0, cos_theta),
-            Method::SchlickNk => schlick_nk_f32(self.n, self.k, cos_theta),
+            Method::Schlick => schlick(self.f0, cos_theta),
+            Method::SchlickNk => schlick_nk(self.n, self.k, cos_theta),
             Method::SchlickCompensated => {
-                schlick_compensated_f32(self.n, self.k, self.compensation_weight, self.compensation_lambda, cos_theta)
+                schlick_compensated(self.n, self.k, self.compensation_weight, self.compensation_lambda, cos_theta)
             }
-            Method::Lazanyi => lazanyi_f32(self.f0, self.lazanyi_a, cos_theta),
-            Method::Nvidia => nvidia_f32(self.nvidia_bias, self.nvidia_scale, self.nvidia_power, cos_theta),
+            Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
+            Method::Nvidia => nvidia(self.nvidia_bias, self.nvidia_scale, self.nvidia_power, cos_theta),
             Method::Lut => return None,
         })
     }

@@ -5,8 +5,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use super::approx::shader_pow;
-use super::{unit_cos, unit_cos_f32, ExactTerms};
+use super::real::Real;
+use super::{unit_cos, ExactTerms};
 
 /// Number of θ-midpoints the fit uses: θ_j = (j + ½)·90°/M, uniform in θ like the error
 /// measure of SPEC §6.
@@ -27,18 +27,12 @@ pub struct NvidiaFit {
     pub rms_residual: f64,
 }
 
-/// `nvidia` (SPEC §5.6): max(0, min(1, bias + scale·(1 − c)^power)).
+/// `nvidia` (SPEC §5.6): max(0, min(1, bias + scale·(1 − c)^power)); in f32 the shader's
+/// `clamp(bias + scale * pow(1 - c, power), 0, 1)`.
 #[inline]
-pub fn nvidia(bias: f64, scale: f64, power: f64, cos_theta: f64) -> f64 {
-    let m = 1.0 - unit_cos(cos_theta);
-    (bias + scale * m.powf(power)).min(1.0).max(0.0)
-}
-
-/// f32 shader twin of [`nvidia`]: `clamp(bias + scale * pow(1 - c, power), 0, 1)`.
-#[inline]
-pub fn nvidia_f32(bias: f32, scale: f32, power: f32, cos_theta: f32) -> f32 {
-    let m = 1.0 - unit_cos_f32(cos_theta);
-    (bias + scale * shader_pow(m, power)).min(1.0).max(0.0)
+pub fn nvidia<T: Real>(bias: T, scale: T, power: T, cos_theta: T) -> T {
+    let m = T::ONE - unit_cos(cos_theta);
+    (bias + scale * m.power(power)).min(T::ONE).max(T::ZERO)
 }
 
 /// The fit samples: ln(1 − c_j) and exact F(c_j).

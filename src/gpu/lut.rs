@@ -55,7 +55,7 @@ mod tests {
         let water = [Index::new(1.333, 0.0); 3].map(Prepared::new);
         let t = texels(&water, 4);
         assert_eq!(t.len(), 4);
-        let expected = fresnel::exact(1.333, 0.0, fresnel::lut_texel_cos(3, 4));
+        let expected = fresnel::exact(1.333, 0.0, crate::encoding::texel_cos(3, 4));
         assert!((t[3][0] as f64 - expected).abs() <= expected * 1e-3);
         assert_eq!(t[0][3], 1.0);
         for x in t.iter().flatten() {

@@ -89,7 +89,7 @@ impl MaterialUniform {
 
 /// Methods that read the material's texture.
 pub fn needs_texture(method: Shading) -> bool {
-    matches!(method, Shading::Lut | Shading::Texture)
+    matches!(method, Shading::Fresnel(crate::fresnel::Method::Lut) | Shading::Texture)
 }
 
 #[cfg(test)]

@@ -33,7 +33,7 @@ impl Shade {
     /// parameters, or its LUT texture and sampler.
     fn call(self) -> String {
         match self {
-            Shade::Method(Shading::Lut) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
+            Shade::Method(Shading::Fresnel(crate::fresnel::Method::Lut)) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
             Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
             Shade::Method(method) => format!("fresnel_{}(c, material)", method.name()),
             Shade::Burner => "fresnel_burner(c)".into(),

@@ -5,7 +5,7 @@
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
 use super::page::{EngineParams, Model, C_LINE_NM, D_LINE_NM, F_LINE_NM};
 use crate::color::hex_swatch;
-use crate::color::quadrature::{NODES, PANELS};
+use crate::color::angle_average::{NODES, PANELS};
 use crate::ingest::KeptPage;
 use crate::output::Table;
 

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use base64::Engine as _;
 use image::{ImageFormat, RgbImage};
 
-use crate::color::srgb;
+use crate::encoding::srgb_decode;
 
 /// Side of one preview sphere in pixels.
 pub const PREVIEW_PX: u32 = 81;
@@ -118,7 +118,7 @@ impl SphereLayout {
 /// per pixel channel.
 pub fn encode8(linear: f64) -> u8 {
     static THRESHOLDS: std::sync::OnceLock<[f64; 255]> = std::sync::OnceLock::new();
-    let thresholds = THRESHOLDS.get_or_init(|| std::array::from_fn(|c| srgb::decode((c as f64 + 0.5) / 255.0)));
+    let thresholds = THRESHOLDS.get_or_init(|| std::array::from_fn(|c| srgb_decode((c as f64 + 0.5) / 255.0)));
     thresholds.partition_point(|&t| t <= linear) as u8
 }
 
@@ -166,13 +166,13 @@ mod tests {
     use crate::report::curves::theta_grid;
 
     fn decode8(code: u8) -> f64 {
-        srgb::decode(code as f64 / 255.0)
+        srgb_decode(code as f64 / 255.0)
     }
 
     /// One 8-bit step in linear terms around `value`.
     fn step_at(value: f64) -> f64 {
         let code = encode8(value) as f64 / 255.0;
-        srgb::decode((code + 1.0 / 255.0).min(1.0)) - srgb::decode((code - 1.0 / 255.0).max(0.0))
+        srgb_decode((code + 1.0 / 255.0).min(1.0)) - srgb_decode((code - 1.0 / 255.0).max(0.0))
     }
 
     #[test]
@@ -214,7 +214,7 @@ mod tests {
     fn the_8_bit_encoder_rounds_like_the_transfer_function() {
         for i in 0..=20_000 {
             let linear = i as f64 / 20_000.0;
-            assert_eq!(encode8(linear), (srgb::encode(linear) * 255.0).round() as u8, "{linear}");
+            assert_eq!(encode8(linear), (crate::encoding::srgb_encode(linear) * 255.0).round() as u8, "{linear}");
         }
         assert_eq!((encode8(-0.5), encode8(1.7)), (0, 255));
     }

