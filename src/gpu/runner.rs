@@ -133,7 +133,9 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
         bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
     if scene.effects.is_some() {
-        stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
+        stats.skipped.push(
+            "effects (reflections, refractions, ambient occlusion, indirect light): not in this runner yet; `nklut effects` runs them on the CPU, `nklut gpu ao-timing` times the surfel pass".into(),
+        );
     }
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
