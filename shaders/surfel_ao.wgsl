@@ -8,9 +8,10 @@
 //   a(i) = clamp(1 − Σ w_j S_ji, 0, 1),   bent(i) = normalise(n_i − Σ w_j S_ji v_ij)
 //
 // Entry points: cs_node_weights (a tree node's weight: the area-weighted mean accessibility
-// of its leaves from the previous pass), cs_brute_force, cs_tree (one pass each), and
+// of its leaves from the previous pass), cs_brute_force, cs_tree (one pass each),
 // cs_shadow_terms (the shadow term alone for a list of configurations, to hold it to its
-// CPU twin).
+// CPU twin), and cs_indirect (one bounce of diffuse indirect light, brute force:
+// E(i) = Σ_j B_j · F_ij · w_j, F the form factor to emitter j's front, w_j its weight).
 
 const PI: f32 = 3.141592653589793;
 const NO_CHILD: u32 = 0xffffffffu;
@@ -49,21 +50,31 @@ struct Links {
 @group(0) @binding(2) var<storage, read> links: array<Links>;
 @group(0) @binding(3) var<storage, read_write> state: array<f32>;
 @group(0) @binding(4) var<storage, read_write> bent: array<vec4<f32>>;
+// The indirect gather's own two (with `discs` and `state`, which holds the emitters'
+// weights at `params.previous`): each surfel's radiosity (linear RGB) and what it gathers.
+@group(0) @binding(5) var<storage, read> radiosity: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> gathered: array<vec4<f32>>;
 
-// The shadow an emitter disc (centre e, unit normal n_e, area A) casts on the point p with
-// unit normal n_r, and the unit direction v from p to e: (S, v). Zero where the centres
-// coincide, the disc has no area, shows its front, or lies below the horizon.
-fn shadow_term(e: vec3<f32>, n_e: vec3<f32>, area: f32, p: vec3<f32>, n_r: vec3<f32>, gain: f32) -> vec4<f32> {
+// The disc term of an emitter disc (centre e, unit normal n_e, area A) at the point p with
+// unit normal n_r, and the unit direction v from p to e: (S, v). `side` 1: the shadow the
+// disc's back casts (cos θE = n_e·v); −1: the form factor to its front (cos θE = −n_e·v),
+// which carries its light. Zero where the centres coincide, the disc has no area, turns
+// the other side to p, or lies below p's horizon.
+fn disc_term(e: vec3<f32>, n_e: vec3<f32>, area: f32, p: vec3<f32>, n_r: vec3<f32>, gain: f32, side: f32) -> vec4<f32> {
     let d = e - p;
     let r2 = dot(d, d);
     if !(r2 > 0.0) || !(area > 0.0) {
         return vec4<f32>(0.0);
     }
     let v = d / sqrt(r2);
-    let cos_e = max(dot(n_e, v), 0.0);
+    let cos_e = max(side * dot(n_e, v), 0.0);
     let cos_r = min(gain * max(dot(n_r, v), 0.0), 1.0);
     let s = area * cos_e * cos_r / (PI * r2 + area);
     return vec4<f32>(s, v);
+}
+
+fn shadow_term(e: vec3<f32>, n_e: vec3<f32>, area: f32, p: vec3<f32>, n_r: vec3<f32>, gain: f32) -> vec4<f32> {
+    return disc_term(e, n_e, area, p, n_r, gain, 1.0);
 }
 
 // Accessibility and bent normal from the summed weighted shadow and direction.
@@ -181,4 +192,24 @@ fn cs_shadow_terms(@builtin(global_invocation_id) id: vec3<u32>) {
     let e = discs[2u * i];
     let r = discs[2u * i + 1u];
     bent[i] = shadow_term(e.centre_area.xyz, e.normal.xyz, e.centre_area.w, r.centre_area.xyz, r.normal.xyz, params.gain);
+}
+
+// One bounce of indirect light: receiver i gathers every other surfel's radiosity through
+// the form factor to its front, weighted by the emitter's weight (its accessibility, or 1).
+@compute @workgroup_size(64)
+fn cs_indirect(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.count {
+        return;
+    }
+    let me = discs[i];
+    var sum = vec3<f32>(0.0);
+    for (var j = 0u; j < params.count; j++) {
+        if j != i {
+            let e = discs[j];
+            let f = disc_term(e.centre_area.xyz, e.normal.xyz, e.centre_area.w, me.centre_area.xyz, me.normal.xyz, params.gain, -1.0).x;
+            sum += radiosity[j].xyz * (f * state[params.previous + j]);
+        }
+    }
+    gathered[i] = vec4<f32>(sum, 0.0);
 }

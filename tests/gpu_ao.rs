@@ -148,3 +148,50 @@ fn the_surfel_pass_rejects_what_it_cannot_run() {
     let error = SurfelAoPass::new(&gpu, &s, None, Gather::Hierarchy, form, Closeness::default()).err().expect("the hierarchy without a tree");
     assert!(error.to_string().contains("tree"), "{error}");
 }
+
+/// Colour bleeding on the GPU against the f64 twin: a white floor beside a red wall (two
+/// subdivided squares), lit from (1, 1, 0); one and two bounces, emitters weighted by 1 and
+/// by weights that vary from emitter to emitter (here the open squares hide nothing from
+/// each other, so their accessibility would be 1 everywhere). Bound: each gathered value is a sum of ~160 products
+/// of f32 form factors (relative 1e-6, the ramp above), f32 radiosity and f32 weights, summed
+/// in f32: ≲ 160 × 2⁻²⁴ ≈ 1e-5 of the sum; the second bounce carries the first's error
+/// through albedos < 1. Bound 1e-4 relative to the largest value, per channel.
+#[test]
+fn the_wgsl_indirect_gather_matches_its_cpu_twin() {
+    use nklut::effects::ao::indirect::{surfel_indirect, Rgb};
+    use nklut::gpu::passes::indirect::IndirectPass;
+    use nklut::scene::mesh::Mesh;
+    let Some(gpu) = device() else { return };
+    let quad = |centre: DVec3, u: DVec3, v: DVec3| {
+        let n = u.cross(v);
+        let corner = |a: f64, b: f64| (centre + u * a + v * b).as_vec3().to_array();
+        let mesh = Mesh {
+            positions: vec![corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
+            normals: vec![n.as_vec3().to_array(); 4],
+            indices: vec![0, 1, 2, 0, 2, 3],
+        };
+        nklut::effects::ao::surfel::subdivided_times(&mesh, 3)
+    };
+    let floor = surfels(&quad(DVec3::ZERO, DVec3::Z, DVec3::X));
+    let wall = surfels(&quad(DVec3::new(-1.0, 1.0, 0.0), DVec3::Y, DVec3::Z));
+    let all: Vec<Surfel> = floor.iter().chain(&wall).copied().collect();
+    let albedo: Vec<Rgb> = (0..all.len()).map(|i| if i < floor.len() { [0.8; 3] } else { [0.8, 0.1, 0.1] }).collect();
+    // Direct light without shadows (the walls do not shade each other from (1, 1, 0)).
+    let towards = DVec3::new(1.0, 1.0, 0.0).normalize();
+    let direct: Vec<Rgb> = all.iter().map(|s| [s.normal.dot(towards).max(0.0); 3]).collect();
+    let form = ShadowForm::FORM_FACTOR;
+    let varying: Vec<f64> = (0..all.len()).map(|j| 0.3 + 0.7 * (j % 7) as f64 / 6.0).collect();
+    let pass = IndirectPass::new(&gpu, &all, form).unwrap();
+    for weights in [vec![1.0; all.len()], varying] {
+        for bounces in [1, 2] {
+            let cpu = surfel_indirect(&all, &albedo, &direct, &weights, form, bounces);
+            let out = pass.run(&gpu, &albedo, &direct, &weights, bounces).unwrap();
+            assert_eq!(out.dispatches, bounces as u64);
+            let largest = cpu.iter().flatten().copied().fold(0.0, f64::max);
+            let worst = cpu.iter().zip(&out.irradiance).flat_map(|(c, g)| (0..3).map(move |k| (c[k] - g[k] as f64).abs())).fold(0.0, f64::max);
+            eprintln!("indirect, {bounces} bounces: largest {largest:.4}, max |GPU − CPU| {worst:.2e}");
+            assert!(largest > 0.01, "the wall bleeds onto the floor");
+            assert!(worst <= 1e-4 * largest, "{bounces} bounces: {worst} of {largest}");
+        }
+    }
+}

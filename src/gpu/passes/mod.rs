@@ -4,5 +4,8 @@
 //!
 //! - [`ao`]: surfel accessibility and bent normals, N passes, brute force or through the
 //!   surfel tree (`shaders/surfel_ao.wgsl`), held to the f64 CPU twin of `effects::ao`.
+//! - [`indirect`]: one or two bounces of diffuse indirect light between surfels (the same
+//!   shader's `cs_indirect`), held to `effects::ao::indirect`.
 
 pub mod ao;
+pub mod indirect;
