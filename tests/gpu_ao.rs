@@ -195,3 +195,39 @@ fn the_wgsl_indirect_gather_matches_its_cpu_twin() {
         }
     }
 }
+
+/// The scene-driven runner computes the surfel effects a scene names, and nothing for a
+/// scene that names none: the counters stay zero without `ambient_occlusion` / `indirect`;
+/// with them they count one surfel per vertex, the tree's 2n − 1 nodes, the passes and the
+/// bounces, and the GPU's accessibility equals the CPU twin's to f32 precision.
+#[test]
+fn the_runner_runs_surfel_effects_only_when_the_scene_names_them() {
+    use nklut::effects::experiment::EffectsStats;
+    use nklut::gpu::passes::ao::run_scene;
+    use nklut::gpu::{run_with_materials, RunStats};
+    use nklut::scene::Scene;
+    use std::path::Path;
+    let Some(gpu) = device() else { return };
+    let reflections = "measurements: [image_error]\neffects: { reflection: { max_depth: 1 } }\nobjects:\n  - { mesh: sphere, material: a/b/c, method: exact }\n  - { mesh: plane, diffuse: [0.5, 0.5, 0.5] }\n";
+    let mut stats = EffectsStats::default();
+    let none = run_scene(&Scene::parse(reflections, Path::new("reflections.yaml")).unwrap(), &gpu, &mut stats, &mut |_| {}).unwrap();
+    assert!(none.is_none());
+    assert_eq!(stats, EffectsStats::default());
+
+    let ao = "resolution: [8, 8]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 2, hierarchy: true }, indirect: { bounces: 2 } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.2, 0.2], subdivide: 2 }\n  - { mesh: cube, scale: [2, 0.05, 2], position: [0, -0.62, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2 }\n";
+    let scene = Scene::parse(ao, Path::new("ao.yaml")).unwrap();
+    let report = run_with_materials(&scene, &[], &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
+    let counted = &report.stats.effects;
+    // Each cube: 6 faces × 25 vertices after two subdivisions.
+    assert_eq!(counted.surfels, 2 * 6 * 25);
+    assert_eq!((counted.tree_nodes, counted.ao_passes, counted.indirect_bounces), (2 * counted.surfels - 1, 2, 2));
+    assert_eq!((counted.cube_maps, report.stats.frames_rendered), (0, 0), "no specular object, no cube map, no F-only frame");
+    let mut again = EffectsStats::default();
+    let result = run_scene(&scene, &gpu, &mut again, &mut |_| {}).unwrap().unwrap();
+    assert_eq!(&again, counted);
+    assert!(result.twin_difference <= 1e-4, "{}", result.twin_difference);
+    assert!(result.accessibility.accessibility.iter().any(|&a| a < 0.99), "the cubes shade each other");
+    let indirect = result.indirect.unwrap();
+    assert!(indirect.irradiance.iter().all(|e| e.iter().all(|x| x.is_finite() && *x >= 0.0)));
+    assert!(indirect.irradiance.iter().any(|e| e[0] > e[2]), "the red cube bleeds red");
+}

@@ -326,3 +326,62 @@ pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> 
     let data = gpu.read_buffer(&readback)?;
     Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&data)[..pairs.len()].to_vec())
 }
+
+/// What a scene's surfel effects gave on the GPU: accessibility and bent normals after the
+/// scene's passes, the indirect light where it asks for it, and the largest difference of
+/// the accessibility from the f64 CPU twin (the same emitters and passes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSurfels {
+    pub accessibility: AoOutput,
+    pub indirect: Option<super::indirect::IndirectOutput>,
+    pub twin_difference: f64,
+}
+
+/// Run the surfel effects a scene names on the GPU (ambient occlusion with its passes,
+/// hierarchy on or off; indirect light with its bounces, emitters weighted by their
+/// accessibility), counting surfels, tree nodes, passes and bounces into `stats`. A scene
+/// that names neither computes nothing and returns `None`.
+pub fn run_scene(scene: &crate::scene::Scene, gpu: &Gpu, stats: &mut crate::effects::experiment::EffectsStats, log: &mut dyn FnMut(&str)) -> Result<Option<SceneSurfels>> {
+    use crate::effects::ao::accessibility::{accessibility, BruteForce};
+    use crate::effects::ao::experiment::{AoSettings, SurfelScene};
+    use crate::effects::ao::indirect::surfel_direct;
+    let Some(effects) = &scene.effects else { return Ok(None) };
+    if effects.ambient_occlusion.is_none() && effects.indirect.is_none() {
+        return Ok(None);
+    }
+    let settings = AoSettings::default();
+    let stage = SurfelScene::new(scene)?;
+    let n = stage.surfels.len();
+    stats.surfels += n;
+    let passes = effects.ambient_occlusion.map_or(0, |a| a.passes);
+    let hierarchy = effects.ambient_occlusion.is_some_and(|a| a.hierarchy);
+    let tree = hierarchy.then(|| SurfelTree::new(&stage.surfels, settings.form, settings.closeness));
+    stats.tree_nodes += tree.as_ref().map_or(0, |t| t.nodes.len());
+    let gather = if hierarchy { Gather::Hierarchy } else { Gather::BruteForce };
+    let pass = SurfelAoPass::new(gpu, &stage.surfels, tree.as_ref(), gather, settings.form, settings.closeness)?;
+    let output = pass.run(gpu, passes)?;
+    stats.ao_passes += passes as u64;
+    let brute = BruteForce { surfels: &stage.surfels, form: settings.form };
+    let twin = match &tree {
+        Some(tree) => accessibility(tree, passes),
+        None => accessibility(&brute, passes),
+    };
+    let twin_difference = output.accessibility.iter().zip(&twin.values).map(|(g, c)| (*g as f64 - c).abs()).fold(0.0, f64::max);
+    log(&format!(
+        "surfels on the GPU: {n} surfels, {passes} passes {}, {} dispatches; max |GPU − CPU twin| {twin_difference:.2e}",
+        if hierarchy { "through the tree" } else { "by brute force" },
+        output.dispatches
+    ));
+    let indirect = match effects.indirect {
+        Some(indirect) => {
+            let direct = surfel_direct(&stage.geometry, &stage.surfels, &stage.lights, settings.rays.offset);
+            let weights: Vec<f64> = output.accessibility.iter().map(|&a| a as f64).collect();
+            let light = super::indirect::IndirectPass::new(gpu, &stage.surfels, settings.form)?.run(gpu, &stage.albedo, &direct, &weights, indirect.bounces)?;
+            stats.indirect_bounces += indirect.bounces as u64;
+            log(&format!("indirect light on the GPU: {} bounces", indirect.bounces));
+            Some(light)
+        }
+        None => None,
+    };
+    Ok(Some(SceneSurfels { accessibility: output, indirect, twin_difference }))
+}
