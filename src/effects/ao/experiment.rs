@@ -255,8 +255,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let reference_lighting = Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
     let truth = render(&stage, &camera, &reference_lighting);
     let mut frames = Vec::new();
-    for shown in 0..=3usize.min(history.len() - 1) {
-        let a = &history[shown];
+    for (shown, a) in history.iter().take(4).enumerate() {
         let light = gathered(a);
         let lighting = Lighting { accessibility: &a.values, indirect: light.as_deref(), bent_normals: bent.then_some(a.bent_normals.as_slice()) };
         let frame = render(&stage, &camera, &lighting);

@@ -129,7 +129,7 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
         ("bent normals", count * 16),
     ];
     for (what, bytes) in sizes {
-        if bytes as u64 > limits.max_storage_buffer_binding_size as u64 {
+        if bytes as u64 > limits.max_storage_buffer_binding_size {
             bail!("the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})", limits.max_storage_buffer_binding_size);
         }
         check_buffer_size(gpu, bytes as u64, what)?;

@@ -68,7 +68,7 @@ impl IndirectPass {
             bail!("{n} surfels need more workgroups than this device's max_compute_workgroups_per_dimension ({})", limits.max_compute_workgroups_per_dimension);
         }
         for (what, bytes) in [("surfels", n * std::mem::size_of::<GpuDisc>()), ("radiosity", n * 16), ("weights", n * 4)] {
-            if bytes as u64 > limits.max_storage_buffer_binding_size as u64 {
+            if bytes as u64 > limits.max_storage_buffer_binding_size {
                 bail!("the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})", limits.max_storage_buffer_binding_size);
             }
             check_buffer_size(gpu, bytes as u64, what)?;
