@@ -30,17 +30,18 @@ const WORKGROUP: u32 = 64;
 pub const STACK_DEPTH: usize = 64;
 const NO_CHILD: u32 = u32::MAX;
 
+/// The shader's uniform `Params` (shared by the accessibility and indirect passes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct Params {
-    count: u32,
-    nodes: u32,
-    gain: f32,
-    closeness: f32,
-    previous: u32,
-    next: u32,
-    weights: u32,
-    pad: u32,
+pub(super) struct Params {
+    pub(super) count: u32,
+    pub(super) nodes: u32,
+    pub(super) gain: f32,
+    pub(super) closeness: f32,
+    pub(super) previous: u32,
+    pub(super) next: u32,
+    pub(super) weights: u32,
+    pub(super) pad: u32,
 }
 
 /// A disc as the shader reads it: centre and area, unit normal.

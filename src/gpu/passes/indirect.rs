@@ -13,10 +13,9 @@
 //! errors come back as `Result`s.
 
 use anyhow::{bail, Result};
-use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::ao::{GpuDisc, SURFEL_AO_SHADER};
+use super::ao::{GpuDisc, Params, SURFEL_AO_SHADER};
 use crate::effects::ao::indirect::Rgb;
 use crate::effects::ao::shadow::ShadowForm;
 use crate::effects::ao::surfel::Surfel;
@@ -24,20 +23,6 @@ use crate::gpu::context::Gpu;
 use crate::gpu::render::{check_buffer_size, readback_buffer};
 
 const WORKGROUP: u32 = 64;
-
-/// The shader's `Params` as the indirect gather reads it (weights at offset 0).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct Params {
-    count: u32,
-    nodes: u32,
-    gain: f32,
-    closeness: f32,
-    previous: u32,
-    next: u32,
-    weights: u32,
-    pad: u32,
-}
 
 /// Indirect irradiance per surfel summed over the bounces, and the dispatches recorded.
 #[derive(Clone, Debug, PartialEq)]
@@ -100,6 +85,7 @@ impl IndirectPass {
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        // The emitters' weights at offset 0 of their buffer.
         let params = Params { count: n as u32, gain: form.receiver_gain as f32, ..Params::default() };
         let uniform = init("surfel indirect params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
         let discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
