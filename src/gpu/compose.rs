@@ -6,11 +6,12 @@
 //! shades (the pass and the Fresnel method), so a module is compiled once per key.
 
 /// The shader files of `shaders/`, by import name.
-pub const SHADERS: [(&str, &str); 4] = [
+pub const SHADERS: [(&str, &str); 5] = [
     ("fresnel", include_str!("../../shaders/fresnel.wgsl")),
     ("fresnel_pass", include_str!("../../shaders/fresnel_pass.wgsl")),
     ("distance_map", include_str!("../../shaders/distance_map.wgsl")),
     ("lut_sample", include_str!("../../shaders/lut_sample.wgsl")),
+    ("surfel_ao", include_str!("../../shaders/surfel_ao.wgsl")),
 ];
 
 /// Why a module could not be composed.
