@@ -77,13 +77,17 @@ bench: db
 gpu: db
 	$(CARGO) run --release --features gpu -- --db $(DB) --out $(OUT) gpu run scenes/default.yaml
 
-# Multiple reflections and refractions of the two effects scenes on the CPU: the f64
-# reference and the distance-map twin per Fresnel method → output/effects_errors.csv
-# (one file per scene, in output/teapot-in-a-box/ and output/glass-sphere/).
-EFFECTS_SCENES ?= teapot-in-a-box glass-sphere
+# The effects scenes on the CPU, one output folder each (output/<scene>/): multiple
+# reflections and refractions (the f64 reference and the distance-map twin per Fresnel
+# method → effects_errors.csv) and surfel ambient occlusion / indirect light (against the
+# ray-traced reference → ao_errors.csv, ao_frames/). The AO scenes run with small
+# reference ray counts (AO_RAYS per vertex, σ ≤ 1/32 per vertex) to keep the target short;
+# raise AO_RAYS for figures.
+EFFECTS_SCENES ?= teapot-in-a-box glass-sphere ao-bunny ao-sculpture ao-colour-bleeding
+AO_RAYS ?= 256
 effects: db build
 	for scene in $(EFFECTS_SCENES); do \
-	  $(NKLUT) --db $(DB) --out $(OUT)/$$scene effects scenes/$$scene.yaml || exit 1; \
+	  $(NKLUT) --db $(DB) --out $(OUT)/$$scene effects --ao-rays $(AO_RAYS) scenes/$$scene.yaml || exit 1; \
 	done
 
 clean:

@@ -9,7 +9,6 @@ use std::time::Instant;
 
 use nklut::db::Database;
 use nklut::ingest::{ingest, write_tables, Selection};
-use nklut::spectrum::Channels;
 
 /// Peak resident set size of this process (VmHWM), in MB, on Linux.
 fn peak_rss_mb() -> Option<f64> {

@@ -11,7 +11,6 @@ use std::time::Instant;
 
 use nklut::db::Database;
 use nklut::ingest::{ingest, write_tables, Selection};
-use nklut::spectrum::Channels;
 
 /// Peak resident set size of this process (VmHWM), in MB, on Linux.
 fn peak_rss_mb() -> Option<f64> {
@@ -32,15 +31,15 @@ fn main() {
     let out = std::env::temp_dir().join(format!("nklut-bench-report-{}", std::process::id()));
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
     let all = Selection::default();
-    let channels = Channels::default();
-    nklut::color::command(&db, &all, &channels, &out, 256).expect("colors");
+    let reading = nklut::ingest::Config::default();
+    nklut::color::command(&db, &all, &reading, &out, 256).expect("colors");
     let mut anchor = Vec::new();
     let mut report = Vec::new();
     let mut files = 0;
     for _ in 0..runs {
         let start = Instant::now();
-        let result = ingest(&db, &all, &channels).unwrap();
-        write_tables(&result, &channels, &out).unwrap();
+        let result = ingest(&db, &all, &reading).unwrap();
+        write_tables(&result, &out).unwrap();
         anchor.push(start.elapsed().as_secs_f64());
         let start = Instant::now();
         files = nklut::report::command(&db, &out, &all).unwrap().len();

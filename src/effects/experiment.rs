@@ -122,6 +122,15 @@ pub struct EffectsStats {
     pub reference_frames: usize,
     /// Distance-map frames traced (one per camera frame, configuration and method).
     pub twin_frames: usize,
+    /// Surfels built (one per vertex of every object; none unless the scene names
+    /// `ambient_occlusion` or `indirect`).
+    pub surfels: usize,
+    /// Nodes of the surfel tree built.
+    pub tree_nodes: usize,
+    /// Accessibility passes computed (on the CPU) or dispatched (on the GPU).
+    pub ao_passes: u64,
+    /// Indirect-light gathers (bounces) computed.
+    pub indirect_bounces: u64,
 }
 
 /// Run the experiment; `log` receives progress lines. A scene without effects has no rows.

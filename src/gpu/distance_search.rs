@@ -14,7 +14,7 @@ use crate::effects::distance_map::{start_tolerance, DistanceMap};
 use crate::scene::SearchSteps;
 
 /// The search library.
-pub const SEARCH_LIBRARY: &str = include_str!("../../shaders/distance_map.wgsl");
+pub const SEARCH_LIBRARY: &str = super::compose::SHADERS[2].1;
 
 /// The uniform block `SearchParams`.
 #[repr(C)]

@@ -2,16 +2,20 @@
 //! (`shaders/fresnel.wgsl`), timed per material on any adapter, and rendered on a cube and
 //! a sculpture to measure image error (docs/precision.md); and the first pass of the
 //! effects, the layered distance-map search (`distance_search`, `shaders/distance_map.wgsl`),
-//! held to its CPU twin in `effects`. Pure CPU parts (`params`, `mesh`, `camera`,
+//! held to its CPU twin in `effects`; and the surfel ambient-occlusion pass
+//! (`passes::ao`, `shaders/surfel_ao.wgsl`). Pure CPU parts (`params`, `mesh`, `camera`,
 //! `image_error`, `timing` statistics) take plain data; device I/O is in `context`,
 //! `render`, `lut::upload`, `distance_search` and `runner`. Sizes are checked against the
 //! device's limits before allocation.
 
+pub mod ao_timing;
+pub mod compose;
 pub mod context;
 pub mod distance_search;
 pub mod image_error;
 pub mod lut;
 pub mod params;
+pub mod passes;
 pub mod render;
 pub mod runner;
 pub mod timing;

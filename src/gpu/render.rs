@@ -11,8 +11,8 @@ use super::context::Gpu;
 use super::params::MaterialUniform;
 use crate::scene::Shading;
 
-/// The shader library every pipeline is composed from.
-pub const LIBRARY: &str = include_str!("../../shaders/fresnel.wgsl");
+/// The Fresnel shader library (`shaders/fresnel.wgsl`), which every pass imports.
+pub const LIBRARY: &str = super::compose::SHADERS[0].1;
 
 /// Format of the ramp and image-error targets (read back as f32).
 pub const FLOAT_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -48,9 +48,10 @@ impl Shade {
     }
 }
 
-/// The library plus the one generated line that picks the method.
-pub fn compose(shade: Shade) -> String {
-    format!("{LIBRARY}\nfn shade(c: f32) -> vec3<f32> {{ return {}; }}\n", shade.call())
+/// The F-only pass (`shaders/fresnel_pass.wgsl` with the library it imports) plus the one
+/// generated line that picks the method.
+pub fn compose(shade: Shade) -> Result<String, super::compose::ComposeError> {
+    super::compose::compose(&format!("#import fresnel_pass\nfn shade(c: f32) -> vec3<f32> {{ return {}; }}\n", shade.call()))
 }
 
 /// Which entry points and target a pipeline draws with.
@@ -172,11 +173,12 @@ impl Renderer {
     /// that does not validate) are returned, not panicked.
     pub fn pipeline(&mut self, gpu: &Gpu, shade: Shade, pass: Pass) -> Result<&wgpu::RenderPipeline> {
         if !self.pipelines.contains_key(&(shade, pass)) {
+            let source = compose(shade)?;
             let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
             if let std::collections::hash_map::Entry::Vacant(entry) = self.modules.entry(shade) {
                 entry.insert(gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(&format!("fresnel library + {}", shade.name())),
-                    source: wgpu::ShaderSource::Wgsl(compose(shade).into()),
+                    label: Some(&format!("fresnel pass + {}", shade.name())),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
                 }));
                 self.created.shader_modules += 1;
             }
@@ -420,9 +422,9 @@ mod tests {
             for global in ["material", "view", "lut_texture", "lut_sampler"] {
                 assert!(!text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global), "{name} reads the global {global}");
             }
-            let composed = compose(Shade::Method(method));
-            assert!(composed.starts_with(LIBRARY));
-            let line = composed[LIBRARY.len()..].trim().to_string();
+            let composed = compose(Shade::Method(method)).unwrap();
+            assert!(composed.contains(LIBRARY));
+            let line = composed.trim_end().lines().last().unwrap_or_default().to_string();
             assert!(line.starts_with("fn shade(c: f32) -> vec3<f32> { return fresnel_") && line.ends_with("; }"), "{line}");
         }
         assert!(!LIBRARY.contains("\nfn shade("), "the library leaves shade() to the composition");

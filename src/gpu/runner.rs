@@ -24,6 +24,7 @@ use super::params::{self, MaterialUniform};
 use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
+use crate::effects::experiment::EffectsStats;
 use crate::ingest;
 use crate::output::Table;
 use crate::scene::{read_materials, Experiment, MeshSource, Scene, SceneMaterial, Shading};
@@ -42,6 +43,9 @@ pub struct RunStats {
     pub frames_rendered: u64,
     /// Timed passes, warm-up included.
     pub timed_passes: u64,
+    /// The surfel effects' counters (surfels, tree nodes, passes, bounces): zero unless the
+    /// scene names ambient occlusion or indirect light.
+    pub effects: EffectsStats,
     pub skipped: Vec<String>,
 }
 
@@ -52,6 +56,8 @@ impl fmt::Display for RunStats {
             "{} pipelines compiled ({} shader modules), {} pages touched, {} textures baked, {} frames rendered, {} passes timed",
             self.pipelines_compiled, self.shader_modules_compiled, self.pages_touched, self.textures_baked, self.frames_rendered, self.timed_passes
         )?;
+        let e = &self.effects;
+        write!(f, ", {} surfels, {} tree nodes, {} AO passes, {} indirect bounces", e.surfels, e.tree_nodes, e.ao_passes, e.indirect_bounces)?;
         for skipped in &self.skipped {
             write!(f, "\n  skipped: {skipped}")?;
         }
@@ -132,9 +138,10 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
         });
         bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
-    if scene.effects.is_some() {
+    if scene.effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some()) {
         stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
     }
+    super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
     }

@@ -30,7 +30,7 @@ pub const SPACING: f64 = 2.5;
 
 /// The two files of the scene.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct GltfScene {
     pub json: Vec<u8>,
     pub bin: Vec<u8>,
 }
@@ -97,7 +97,7 @@ fn material(page: &ExportPage) -> (Value, Vec<&'static str>) {
 }
 
 /// The scene of `pages`; `bin_uri` is the buffer's file name next to the .gltf.
-pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<Scene> {
+pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<GltfScene> {
     ensure!(!pages.is_empty(), "a glTF scene needs at least one material");
     let sphere = sphere(RINGS, SEGMENTS);
     let mut bin: Vec<u8> = Vec::new();
@@ -166,7 +166,7 @@ pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<Scene> {
     }
     let mut json = serde_json::to_vec_pretty(&document)?;
     json.push(b'\n');
-    Ok(Scene { json, bin })
+    Ok(GltfScene { json, bin })
 }
 
 #[cfg(test)]

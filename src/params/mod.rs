@@ -27,7 +27,7 @@ use crate::output::SetFile;
 use crate::spectrum::Material;
 
 pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
-pub use page::{engine_params, EngineParams, Model, ModelError, Reference};
+pub use page::{engine_params, EngineModel, EngineParams, ModelError, Reference};
 pub use table::engine_params_table;
 
 /// The spectral reference of a material on the angle quadrature.
@@ -39,7 +39,7 @@ pub fn reference(material: &Material) -> Reference {
 
 /// Wall-clock seconds of the two stages of [`compute`].
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Timings {
+pub struct ParamsTimings {
     /// Spectra and the reference colours at F0, μ̄ and the quadrature nodes.
     pub reference_s: f64,
     /// Every parameter, fit and error from the references.
@@ -48,7 +48,7 @@ pub struct Timings {
 
 /// The parameters of every page of `kept`, each distinct data file computed once (in
 /// parallel), in the order of `kept`.
-pub fn compute(kept: &[KeptPage], timings: &mut Timings) -> Result<Vec<EngineParams>> {
+pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings) -> Result<Vec<EngineParams>> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let start = Instant::now();
     let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i]));
@@ -68,7 +68,7 @@ pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, ou
     ingested.check_strict()?;
     anyhow::ensure!(!ingested.kept.is_empty(), "no page of the selection passed the coverage filter; no engine parameters to write");
     let ingest_s = start.elapsed().as_secs_f64();
-    let mut timings = Timings::default();
+    let mut timings = ParamsTimings::default();
     let params = compute(&ingested.kept, &mut timings)?;
     let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
     let pages: Vec<mtlx::ExportPage> = ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();

@@ -24,7 +24,7 @@ pub const C_LINE_NM: f64 = 656.27;
 
 /// The parameterisations whose error is measured, in table order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Model {
+pub enum EngineModel {
     /// F0 only, F = F0 + (1 − F0)(1 − μ)⁵: glTF metallic, Unreal, most real-time engines.
     Schlick,
     /// F0 + F82 tint (Hoffman): OpenPBR, Adobe Standard Material, Blender 4.
@@ -41,29 +41,29 @@ pub enum Model {
     GltfIor,
 }
 
-impl Model {
-    pub const ALL: [Model; 6] = [Model::Schlick, Model::F82Tint, Model::Gulbrandsen, Model::GeneralizedSchlick, Model::FittedNk, Model::GltfIor];
+impl EngineModel {
+    pub const ALL: [EngineModel; 6] = [EngineModel::Schlick, EngineModel::F82Tint, EngineModel::Gulbrandsen, EngineModel::GeneralizedSchlick, EngineModel::FittedNk, EngineModel::GltfIor];
 
     pub fn name(self) -> &'static str {
         match self {
-            Model::Schlick => "schlick",
-            Model::F82Tint => "f82_tint",
-            Model::Gulbrandsen => "gulbrandsen",
-            Model::GeneralizedSchlick => "generalized_schlick",
-            Model::FittedNk => "fitted_nk",
-            Model::GltfIor => "gltf_ior",
+            EngineModel::Schlick => "schlick",
+            EngineModel::F82Tint => "f82_tint",
+            EngineModel::Gulbrandsen => "gulbrandsen",
+            EngineModel::GeneralizedSchlick => "generalized_schlick",
+            EngineModel::FittedNk => "fitted_nk",
+            EngineModel::GltfIor => "gltf_ior",
         }
     }
 
     /// Who reads this parameterisation, for the table's descriptions.
     pub fn engines(self) -> &'static str {
         match self {
-            Model::Schlick => "F0 alone with Schlick's (1 - mu)^5 curve: glTF metallic-roughness, Unreal, Unity, Filament",
-            Model::F82Tint => "F0 + F82 tint (Hoffman): OpenPBR specular_color, Adobe Standard Material edge color, Blender 4 Principled specular tint",
-            Model::Gulbrandsen => "Gulbrandsen reflectivity + edge tint -> (n, k) -> exact Fresnel: MaterialX artistic_ior, Autodesk Standard Surface",
-            Model::GeneralizedSchlick => "Hoffman generalized Schlick (color0, color82, color90 = 1, one exponent): MaterialX generalized_schlick_bsdf",
-            Model::FittedNk => "exact Fresnel of the fitted per-channel (n, k): MaterialX conductor_bsdf, Blender physical conductor, pbrt/Mitsuba RGB",
-            Model::GltfIor => "dielectrics: Schlick with F0 = ((n_d - 1)/(n_d + 1))^2, how glTF viewers render KHR_materials_ior",
+            EngineModel::Schlick => "F0 alone with Schlick's (1 - mu)^5 curve: glTF metallic-roughness, Unreal, Unity, Filament",
+            EngineModel::F82Tint => "F0 + F82 tint (Hoffman): OpenPBR specular_color, Adobe Standard Material edge color, Blender 4 Principled specular tint",
+            EngineModel::Gulbrandsen => "Gulbrandsen reflectivity + edge tint -> (n, k) -> exact Fresnel: MaterialX artistic_ior, Autodesk Standard Surface",
+            EngineModel::GeneralizedSchlick => "Hoffman generalized Schlick (color0, color82, color90 = 1, one exponent): MaterialX generalized_schlick_bsdf",
+            EngineModel::FittedNk => "exact Fresnel of the fitted per-channel (n, k): MaterialX conductor_bsdf, Blender physical conductor, pbrt/Mitsuba RGB",
+            EngineModel::GltfIor => "dielectrics: Schlick with F0 = ((n_d - 1)/(n_d + 1))^2, how glTF viewers render KHR_materials_ior",
         }
     }
 }
@@ -86,7 +86,7 @@ pub struct Dielectric {
 /// One model's error against the spectral reference over θ.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelError {
-    pub model: Model,
+    pub model: EngineModel,
     /// Mean over θ of CIEDE2000(model colour, reference colour).
     pub delta_e_mean: f64,
     /// The largest CIEDE2000 at the quadrature nodes.
@@ -113,16 +113,16 @@ pub struct EngineParams {
     pub channel_index: [Index; 3],
     /// Set for dielectric pages.
     pub dielectric: Option<Dielectric>,
-    /// One per model of [`Model::ALL`] that applies (GltfIor only for dielectrics).
+    /// One per model of [`EngineModel::ALL`] that applies (GltfIor only for dielectrics).
     pub errors: Vec<ModelError>,
 }
 
 impl EngineParams {
-    pub fn error(&self, model: Model) -> Option<&ModelError> {
+    pub fn error(&self, model: EngineModel) -> Option<&ModelError> {
         self.errors.iter().find(|e| e.model == model)
     }
 
-    /// The model with the smallest mean CIEDE2000 (ties: the earlier in [`Model::ALL`]).
+    /// The model with the smallest mean CIEDE2000 (ties: the earlier in [`EngineModel::ALL`]).
     pub fn best(&self) -> &ModelError {
         self.errors.iter().fold(&self.errors[0], |best, e| if e.delta_e_mean < best.delta_e_mean { e } else { best })
     }
@@ -199,26 +199,26 @@ pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQua
         dielectric,
         errors: Vec::new(),
     };
-    params.errors = Model::ALL.iter().filter_map(|&m| model_curve(&params, m, &rule.cosines).map(|curve| model_error(m, &curve, reference, rule))).collect();
+    params.errors = EngineModel::ALL.iter().filter_map(|&m| model_curve(&params, m, &rule.cosines).map(|curve| model_error(m, &curve, reference, rule))).collect();
     params
 }
 
 /// The model's colour at each of `cosines`; `None` for a model that does not apply.
-pub fn model_curve(params: &EngineParams, model: Model, cosines: &[f64]) -> Option<Vec<[f64; 3]>> {
+pub fn model_curve(params: &EngineParams, model: EngineModel, cosines: &[f64]) -> Option<Vec<[f64; 3]>> {
     let per_channel = |f: &dyn Fn(usize, f64) -> f64| cosines.iter().map(|&mu| [0, 1, 2].map(|c| f(c, mu))).collect();
     Some(match model {
-        Model::Schlick => per_channel(&|c, mu| fresnel::schlick(params.f0[c], mu)),
-        Model::F82Tint => per_channel(&|c, mu| params.f82[c].reflectance(mu)),
-        Model::Gulbrandsen => {
+        EngineModel::Schlick => per_channel(&|c, mu| fresnel::schlick(params.f0[c], mu)),
+        EngineModel::F82Tint => per_channel(&|c, mu| params.f82[c].reflectance(mu)),
+        EngineModel::Gulbrandsen => {
             let terms = params.gulbrandsen.map(|g| ExactTerms::new(g.index()));
             per_channel(&|c, mu| terms[c].reflectance(mu))
         }
-        Model::GeneralizedSchlick => per_channel(&|c, mu| params.generalized_schlick.reflectance(c, mu)),
-        Model::FittedNk => {
+        EngineModel::GeneralizedSchlick => per_channel(&|c, mu| params.generalized_schlick.reflectance(c, mu)),
+        EngineModel::FittedNk => {
             let terms = params.fitted.map(|f| ExactTerms::new(f.index));
             per_channel(&|c, mu| terms[c].reflectance(mu))
         }
-        Model::GltfIor => {
+        EngineModel::GltfIor => {
             let f0 = params.dielectric?.gltf_f0;
             per_channel(&|_, mu| fresnel::schlick(f0, mu))
         }
@@ -226,7 +226,7 @@ pub fn model_curve(params: &EngineParams, model: Model, cosines: &[f64]) -> Opti
 }
 
 /// CIEDE2000 and relative errors of a model curve (at `rule.cosines`) against the reference.
-pub fn model_error(model: Model, curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> ModelError {
+pub fn model_error(model: EngineModel, curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> ModelError {
     let weights = color::spectral_weights();
     let delta_e: Vec<f64> = curve.iter().zip(&reference.lab_at_nodes).map(|(rgb, lab)| color::delta_e2000(weights.lab(*rgb), *lab)).collect();
     ModelError {
@@ -300,7 +300,7 @@ mod tests {
             }
             // Grey in, grey out: the three channels agree, and ACEScg keeps a grey grey.
             assert!(params.f0_acescg.iter().all(|v| (v / exact_f0 - 1.0).abs() < 1e-9), "{:?}", params.f0_acescg);
-            let fitted = params.error(Model::FittedNk).unwrap();
+            let fitted = params.error(EngineModel::FittedNk).unwrap();
             assert!(fitted.delta_e_mean < 1e-3 && fitted.relative.iter().all(|e| *e < 1e-6), "{fitted:?}");
         }
     }
@@ -313,8 +313,8 @@ mod tests {
         assert_eq!(dielectric.abbe, None);
         assert!((dielectric.gltf_f0 - 0.04).abs() < 1e-15);
         // glTF's Schlick with the right F0 differs from exact Fresnel only through Schlick's curve.
-        let gltf = params.error(Model::GltfIor).unwrap();
-        let schlick = params.error(Model::Schlick).unwrap();
+        let gltf = params.error(EngineModel::GltfIor).unwrap();
+        let schlick = params.error(EngineModel::Schlick).unwrap();
         assert!((gltf.delta_e_mean - schlick.delta_e_mean).abs() < 1e-9);
         assert!(params_of(&flat(0.2, 3.0)).dielectric.is_none());
     }
@@ -360,11 +360,11 @@ mod tests {
             assert!((back.g - g.g).abs() < 1e-9 && (back.r - g.r).abs() < 1e-12, "{g:?} → {back:?}");
         }
         // Each fitted model beats plain Schlick, and the best model is the smallest mean.
-        let schlick = params.error(Model::Schlick).unwrap().delta_e_mean;
-        for m in [Model::F82Tint, Model::GeneralizedSchlick, Model::FittedNk] {
+        let schlick = params.error(EngineModel::Schlick).unwrap().delta_e_mean;
+        for m in [EngineModel::F82Tint, EngineModel::GeneralizedSchlick, EngineModel::FittedNk] {
             assert!(params.error(m).unwrap().delta_e_mean < schlick, "{m:?}");
         }
         assert!(params.errors.iter().all(|e| e.delta_e_mean >= params.best().delta_e_mean));
-        assert!(params.error(Model::GltfIor).is_none());
+        assert!(params.error(EngineModel::GltfIor).is_none());
     }
 }

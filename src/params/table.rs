@@ -3,7 +3,7 @@
 //! into (so a report or a script can build a "paste it in" panel from the table alone).
 
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
-use super::page::{EngineParams, Model, C_LINE_NM, D_LINE_NM, F_LINE_NM};
+use super::page::{EngineModel, EngineParams, C_LINE_NM, D_LINE_NM, F_LINE_NM};
 use crate::color::hex_swatch;
 use crate::color::angle_average::{NODES, PANELS};
 use crate::ingest::KeptPage;
@@ -169,10 +169,10 @@ fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
 }
 
 fn error_columns(table: &mut Table, rows: &[EngineParams]) {
-    for model in Model::ALL {
+    for model in EngineModel::ALL {
         let name = model.name();
         let error = |p: &EngineParams| p.error(model).copied();
-        let applies = if model == Model::GltfIor { " (dielectrics only; empty for conductors)" } else { "" };
+        let applies = if model == EngineModel::GltfIor { " (dielectrics only; empty for conductors)" } else { "" };
         optional(
             table,
             rows,
@@ -197,7 +197,7 @@ fn error_columns(table: &mut Table, rows: &[EngineParams]) {
             );
         }
     }
-    let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
+    let names: Vec<&str> = EngineModel::ALL.iter().map(|m| m.name()).collect();
     table.text(
         "best_model",
         &format!("the model with the smallest mean CIEDE2000 for this page, one of {}", names.join(", ")),

@@ -36,6 +36,7 @@ use crate::fresnel::Method as FresnelMethod;
 
 pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, Effects, Light, Pattern, SearchSteps};
+pub use surfels::LightSource;
 
 /// How a specular object is shaded: a Fresnel method of the `fresnel` module as the shaders
 /// implement it, or one of the two cost baselines. Ordered as the methods, then the
@@ -284,6 +285,9 @@ pub struct SceneObject {
     pub mesh: MeshSource,
     pub placement: Placement,
     pub role: Role,
+    /// Midpoint subdivisions of the mesh before its surfels are built (`subdivide`; scenes
+    /// with effects only): the surface stays, the surfels get smaller.
+    pub subdivisions: u32,
 }
 
 impl SceneObject {
@@ -310,6 +314,9 @@ pub struct Scene {
     pub effects: Option<Effects>,
     /// The light of the diffuse surroundings (scenes with `effects`).
     pub light: Light,
+    /// The lights of the surfel effects: the scene's `lights`, or `light` as a directional
+    /// and an ambient source.
+    pub lights: Vec<LightSource>,
 }
 
 /// A scene file that could not be used: the file and what was wrong.
@@ -346,6 +353,7 @@ struct RawObject {
     pattern: Option<Pattern>,
     position: Option<[f64; 3]>,
     scale: Option<RawScale>,
+    subdivide: Option<u32>,
 }
 
 #[derive(Deserialize)]
@@ -363,6 +371,7 @@ struct RawScene {
     lut: LutSettings,
     effects: Option<effects::RawEffects>,
     light: Option<Light>,
+    lights: Option<Vec<LightSource>>,
 }
 
 fn default_resolution() -> [u32; 2] {
@@ -408,6 +417,13 @@ impl RawObject {
         if placement.scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
             return Err(format!("scale {:?} must be positive and finite", placement.scale));
         }
+        let subdivisions = self.subdivide.unwrap_or(0);
+        if self.subdivide.is_some() && !effects {
+            return Err(needs_effects("subdivide"));
+        }
+        if subdivisions > surfels::MAX_SUBDIVISIONS {
+            return Err(format!("subdivide {subdivisions} must lie in 0..={}", surfels::MAX_SUBDIVISIONS));
+        }
         let role = match (self.material, self.diffuse) {
             (Some(_), Some(_)) => return Err("material and diffuse: an object is either specular (a material) or diffuse, not both".into()),
             (None, None) => return Err("material: name a page id (a specular object) or a `diffuse` colour".into()),
@@ -437,7 +453,7 @@ impl RawObject {
                 Role::Diffuse(diffuse)
             }
         };
-        Ok(SceneObject { mesh: MeshSource::parse(&self.mesh), placement, role })
+        Ok(SceneObject { mesh: MeshSource::parse(&self.mesh), placement, role, subdivisions })
     }
 }
 
@@ -461,6 +477,32 @@ impl Scene {
         if raw.light.is_some() && effects.is_none() {
             return Err(error("light: only a scene with an `effects` section may use it".into()));
         }
+        if raw.lights.is_some() && effects.is_none() {
+            return Err(error("lights: only a scene with an `effects` section may use it".into()));
+        }
+        if raw.lights.is_some() && raw.light.is_some() {
+            return Err(error("light and lights: name the lights once, in `lights` (directional, point, ambient) or in `light`".into()));
+        }
+        let distance_map_effects = effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some());
+        if raw.lights.is_some() && distance_map_effects {
+            return Err(error("lights: reflection and refraction light their surroundings with `light`; `lights` is for ambient_occlusion and indirect alone".into()));
+        }
+        let surfel_effects = effects.as_ref().is_some_and(|e| e.ambient_occlusion.is_some() || e.indirect.is_some());
+        if let Some(i) = objects.iter().position(|o: &SceneObject| o.subdivisions > 0) {
+            if !surfel_effects {
+                return Err(error(format!("objects[{i}].subdivide: only surfel effects (ambient_occlusion, indirect) use it")));
+            }
+        }
+        let light = raw.light.unwrap_or_default();
+        let lights = match raw.lights {
+            Some(lights) => {
+                for (i, source) in lights.iter().enumerate() {
+                    source.check().map_err(|e| error(format!("lights[{i}].{e}")))?;
+                }
+                lights
+            }
+            None => vec![LightSource::Directional { direction: light.direction, colour: light.colour }, LightSource::Ambient { colour: light.ambient }],
+        };
         let scene = Scene {
             file: file.into(),
             resolution: raw.resolution,
@@ -470,7 +512,8 @@ impl Scene {
             timing: raw.timing,
             lut: raw.lut,
             effects,
-            light: raw.light.unwrap_or_default(),
+            light,
+            lights,
         };
         scene.check().map_err(error)?;
         Ok(scene)
@@ -486,7 +529,10 @@ impl Scene {
         if self.objects.is_empty() {
             return Err("objects: the scene names no object".into());
         }
-        if self.specular_objects().next().is_none() {
+        // A scene whose effects are only surfel effects (ambient occlusion, indirect light)
+        // needs no specular object; reflections, refractions and the plain F(|N·V|) runs do.
+        let surfel_only = self.effects.as_ref().is_some_and(|e| e.reflection.is_none() && e.refraction.is_none());
+        if !surfel_only && self.specular_objects().next().is_none() {
             return Err("objects: the scene names no specular object (one with a material)".into());
         }
         if self.experiments.is_empty() {

@@ -1,7 +1,7 @@
 //! The `ao_errors` table: per mesh, receiver gain g, pass count and hierarchy on/off, the
 //! mean and largest |accessibility − reference| over the mesh's vertices, with the
 //! reference's own mean standard error beside them (the figure that says how far its noise
-//! can move the mean). Rows are computed here from plain data; the table is written through
+//! can move the mean), and where the scene asks for indirect light, its error. Rows are computed here from plain data; the table is written through
 //! `crate::output` (CSV, Parquet, columns.json).
 
 use super::accessibility::{accessibility_by_pass, BruteForce, Emitters};
@@ -22,6 +22,13 @@ pub struct ErrorRow {
     pub mean_error: f64,
     pub max_error: f64,
     pub reference_standard_error: f64,
+    /// Indirect light (one bounce, emitters weighted by this row's accessibility): mean
+    /// |surfels − ray-traced| over vertices and channels; `None` where the scene asks for none.
+    pub indirect_mean_error: Option<f64>,
+    /// The ray-traced one-bounce irradiance's mean over the same vertices and channels.
+    pub indirect_reference_mean: Option<f64>,
+    /// Its mean standard error.
+    pub indirect_reference_standard_error: Option<f64>,
 }
 
 /// What to compare: the forms, the passes 1..=`passes`, and whether to run brute force
@@ -64,6 +71,9 @@ pub fn error_rows(mesh: &str, surfels: &[Surfel], reference: &ReferenceAccessibi
                     mean_error,
                     max_error,
                     reference_standard_error: reference.mean_standard_error(),
+                    indirect_mean_error: None,
+                    indirect_reference_mean: None,
+                    indirect_reference_standard_error: None,
                 });
             }
         }
@@ -86,6 +96,17 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             "reference_standard_error",
             "mean standard error of the reference's per-vertex estimates (bounds its noise's effect on mean_error)",
             rows.iter().map(|r| r.reference_standard_error).collect(),
+        )
+        .optional_float(
+            "indirect_mean_error",
+            "indirect light, one bounce with emitters weighted by this row's accessibility: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
+            rows.iter().map(|r| r.indirect_mean_error).collect(),
+        )
+        .optional_float("indirect_reference_mean", "mean of the ray-traced one-bounce irradiance over the same vertices and channels", rows.iter().map(|r| r.indirect_reference_mean).collect())
+        .optional_float(
+            "indirect_reference_standard_error",
+            "mean standard error of the ray-traced one-bounce irradiance",
+            rows.iter().map(|r| r.indirect_reference_standard_error).collect(),
         );
     table
 }

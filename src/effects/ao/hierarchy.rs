@@ -8,7 +8,8 @@
 //!
 //! The tree splits the surfels at the median of their centres along the longest axis of
 //! their bounding box, so siblings are neighbours and each node covers a contiguous range
-//! of the leaf order. In pass k a node's weight is the area-weighted mean accessibility of
+//! of the leaf order — except a flat group whose normals largely cancel (the two faces of
+//! a thin wall), which is halved by normal so no node merges discs facing opposite ways. In pass k a node's weight is the area-weighted mean accessibility of
 //! its leaves from pass k − 1.
 
 use glam::DVec3;
@@ -77,13 +78,11 @@ fn build(surfels: &[Surfel], order: &mut [u32], offset: u32, nodes: &mut Vec<Nod
     if order.len() == 1 {
         return index;
     }
-    let (low, high) = order.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &s| {
-        let c = surfels[s as usize].centre;
-        (lo.min(c), hi.max(c))
-    });
-    let axis = (high - low).max_position();
     let half = order.len() / 2;
-    order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].centre[axis].total_cmp(&surfels[*b as usize].centre[axis]));
+    match split(surfels, order) {
+        Split::Position(axis) => order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].centre[axis].total_cmp(&surfels[*b as usize].centre[axis])),
+        Split::Normal(axis) => order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].normal[axis].total_cmp(&surfels[*b as usize].normal[axis])),
+    };
     let (left, right) = order.split_at_mut(half);
     let l = build(surfels, left, offset, nodes);
     let r = build(surfels, right, offset + half as u32, nodes);
@@ -91,6 +90,40 @@ fn build(surfels: &[Surfel], order: &mut [u32], offset: u32, nodes: &mut Vec<Nod
     nodes[index as usize].children = Some([l, r]);
     index
 }
+
+/// How a node's surfels are halved: at the median of their centres along an axis, or of
+/// their normals' component along an axis.
+enum Split {
+    Position(usize),
+    Normal(usize),
+}
+
+/// A flat group (its box's shortest side under [`FLAT`] × its longest) whose normals
+/// largely cancel (|area-weighted mean normal| < ½) — the two faces of a thin slab, say —
+/// is halved by normal, so that no node merges discs facing opposite ways (their merged
+/// normal would mean nothing); every other group along the longest side of its box.
+fn split(surfels: &[Surfel], order: &[u32]) -> Split {
+    let (mut low, mut high, mut normal_low, mut normal_high) = (DVec3::INFINITY, DVec3::NEG_INFINITY, DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (mut weighted, mut area) = (DVec3::ZERO, 0.0);
+    for &s in order {
+        let surfel = &surfels[s as usize];
+        (low, high) = (low.min(surfel.centre), high.max(surfel.centre));
+        (normal_low, normal_high) = (normal_low.min(surfel.normal), normal_high.max(surfel.normal));
+        weighted += surfel.normal * surfel.area;
+        area += surfel.area;
+    }
+    let extent = high - low;
+    let flat = extent.min_element() < FLAT * extent.max_element();
+    let opposed = area > 0.0 && weighted.length() < 0.5 * area;
+    if flat && opposed {
+        Split::Normal((normal_high - normal_low).max_position())
+    } else {
+        Split::Position(extent.max_position())
+    }
+}
+
+/// A box is flat when its shortest side is under this fraction of its longest.
+const FLAT: f64 = 0.1;
 
 /// The parent of two discs: area-weighted mean centre and normal, summed area.
 fn merged(a: &Surfel, b: &Surfel) -> Surfel {

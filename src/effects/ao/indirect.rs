@@ -1,9 +1,11 @@
 //! Diffuse indirect light (colour bleeding) from surfels, and its ray-traced reference.
 //!
-//! Direct light: a directional light of irradiance E_L (linear RGB, on a surface facing it)
-//! from the unit direction l gives E_d(x) = E_L · max(0, n·l) · V(x, l), the visibility V by
-//! one shadow ray through the scene's BVH — computed the same way at surfels (for the twin)
-//! and at ray hits (for the reference), so the comparison measures the transfer alone.
+//! Direct light: a directional light of colour E_L (linear RGB, on a surface facing it)
+//! towards the unit direction l gives E_d(x) = E_L · max(0, n·l) · V(x, l), a point light of
+//! intensity I at distance d gives I · max(0, n·l) / d² · V, the visibility V by one shadow
+//! ray through the scene's BVH (to the light, for a point light) — computed the same way at
+//! surfels (for the twin) and at ray hits (for the reference), so the comparison measures
+//! the transfer alone. Ambient sources bring no direct light here: accessibility scales them.
 //!
 //! Surfels (Bunnell, GPU Gems 2 ch. 14, indirect lighting): a lit surfel's front emits
 //! radiosity B_j = ρ_j · E_d(j) (ρ the diffuse albedo per channel; B = π × radiance), and
@@ -24,17 +26,10 @@ use super::reference::{cosine_direction, RaySettings, SplitMix64};
 use super::shadow::{bounce, ShadowForm};
 use super::surfel::Surfel;
 use crate::effects::geometry::Geometry;
+use crate::scene::LightSource;
 
 /// Linear RGB.
 pub type Rgb = [f64; 3];
-
-/// A directional light: the unit direction towards it and the irradiance it brings to a
-/// surface facing it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectionalLight {
-    pub towards: DVec3,
-    pub irradiance: Rgb,
-}
 
 fn scaled(c: Rgb, s: f64) -> Rgb {
     c.map(|x| x * s)
@@ -50,18 +45,41 @@ fn plus(a: Rgb, b: Rgb) -> Rgb {
 
 /// Direct irradiance at `point` with unit `normal` from `lights`, shadowed by `geometry`
 /// (the shadow ray starts `offset` off the surface along the normal).
-pub fn direct_irradiance(geometry: &Geometry, point: DVec3, normal: DVec3, lights: &[DirectionalLight], offset: f64) -> Rgb {
+pub fn direct_irradiance(geometry: &Geometry, point: DVec3, normal: DVec3, lights: &[LightSource], offset: f64) -> Rgb {
+    let origin = point + normal * offset;
     lights.iter().fold([0.0; 3], |sum, light| {
-        let cosine = normal.dot(light.towards);
-        if !(cosine > 0.0) || geometry.occluded(point + normal * offset, light.towards) {
-            return sum;
-        }
-        plus(sum, scaled(light.irradiance, cosine))
+        let arriving = match light {
+            LightSource::Directional { direction, colour } => {
+                let towards = -DVec3::from_array(*direction).normalize_or_zero();
+                let cosine = normal.dot(towards);
+                if !(cosine > 0.0) || geometry.occluded(origin, towards) {
+                    return sum;
+                }
+                scaled(*colour, cosine)
+            }
+            LightSource::Point { position, intensity } => {
+                let to_light = DVec3::from_array(*position) - point;
+                let distance = to_light.length();
+                let towards = to_light / distance;
+                let cosine = normal.dot(towards);
+                let blocked = || {
+                    let from_origin = DVec3::from_array(*position) - origin;
+                    let reach = from_origin.length();
+                    geometry.nearest(origin, from_origin / reach, None, |_| true).is_some_and(|hit| hit.t < reach)
+                };
+                if !(cosine > 0.0 && distance > 0.0) || blocked() {
+                    return sum;
+                }
+                scaled(*intensity, cosine / (distance * distance))
+            }
+            LightSource::Ambient { .. } => return sum,
+        };
+        plus(sum, arriving)
     })
 }
 
 /// Direct irradiance at every surfel.
-pub fn surfel_direct(geometry: &Geometry, surfels: &[Surfel], lights: &[DirectionalLight], offset: f64) -> Vec<Rgb> {
+pub fn surfel_direct(geometry: &Geometry, surfels: &[Surfel], lights: &[LightSource], offset: f64) -> Vec<Rgb> {
     surfels.par_iter().map(|s| direct_irradiance(geometry, s.centre, s.normal, lights, offset)).collect()
 }
 
@@ -104,10 +122,10 @@ pub fn reference_indirect(
     geometry: &Geometry,
     surfels: &[Surfel],
     albedo_of: &(dyn Fn(usize) -> Rgb + Sync),
-    lights: &[DirectionalLight],
+    lights: &[LightSource],
     settings: RaySettings,
 ) -> ReferenceIndirect {
-    let estimates: Vec<(Rgb, Rgb)> = surfels.par_iter().enumerate().map(|(i, s)| one_bounce(geometry, s, i as u64, albedo_of, lights, settings)).collect();
+    let estimates: Vec<(Rgb, Rgb)> = crate::progress::par_map(surfels.len(), "bounce rays", |i| one_bounce(geometry, &surfels[i], i as u64, albedo_of, lights, settings));
     let (values, standard_errors) = estimates.into_iter().unzip();
     // Each ray costs a shadow ray per light at its hit besides itself.
     ReferenceIndirect { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 * (1 + lights.len() as u64) }
@@ -118,7 +136,7 @@ fn one_bounce(
     surfel: &Surfel,
     stream: u64,
     albedo_of: &(dyn Fn(usize) -> Rgb + Sync),
-    lights: &[DirectionalLight],
+    lights: &[LightSource],
     settings: RaySettings,
 ) -> (Rgb, Rgb) {
     let mut random = SplitMix64::new(settings.seed ^ 0xb0b, stream);

@@ -10,6 +10,9 @@
 //! - [`accessibility`]: accessibility by brute force over every emitter, in passes (pass k
 //!   weights each emitter by its accessibility of pass k − 1), and bent normals.
 //! - [`errors`]: the `ao_errors` rows (error per mesh, g, passes, hierarchy) and table.
+//! - [`experiment`]: a scene's surfel effects: surfels of every placed object, accessibility
+//!   against the reference per object (brute force and tree, 1–3 passes), indirect light's
+//!   error, and pictures with no AO, 1, 2, 3 passes and the reference.
 //! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
 //!   summed area), traversed from the root, descending only where an emitter is close
 //!   relative to its size.
@@ -23,6 +26,7 @@
 
 pub mod accessibility;
 pub mod errors;
+pub mod experiment;
 pub mod hierarchy;
 pub mod indirect;
 pub mod reference;

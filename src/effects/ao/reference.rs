@@ -2,7 +2,7 @@
 //! of cosine-weighted hemisphere rays about its normal that leave the scene without meeting
 //! a triangle — the Monte Carlo estimate of (1/π)∫ V(ω) cos θ dω. Rays run against the real
 //! triangles in f64 through the BVH of `super::super::geometry` (the reflection effect's
-//! reference), in parallel with rayon; each surfel draws from its own SplitMix64 stream
+//! reference), in parallel with rayon (a progress bar on a terminal); each surfel draws from its own SplitMix64 stream
 //! (Steele, Lea and Flood, "Fast Splittable Pseudorandom Number Generators", OOPSLA 2014)
 //! seeded by the fixed seed and its index, so results do not depend on the thread count.
 //!
@@ -12,7 +12,6 @@
 //! its standard error √(p̂(1 − p̂)/N) reported with it.
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 use super::surfel::Surfel;
 use crate::effects::geometry::Geometry;
@@ -95,7 +94,7 @@ pub fn cosine_direction(n: DVec3, u1: f64, u2: f64) -> DVec3 {
 
 /// The reference accessibility of every surfel against `geometry`.
 pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> ReferenceAccessibility {
-    let estimates: Vec<(f64, f64)> = surfels.par_iter().enumerate().map(|(i, s)| open_fraction(geometry, s, i as u64, settings)).collect();
+    let estimates: Vec<(f64, f64)> = crate::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings));
     let (values, standard_errors) = estimates.into_iter().unzip();
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }

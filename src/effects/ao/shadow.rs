@@ -27,6 +27,7 @@
 use glam::DVec3;
 
 use super::surfel::Surfel;
+use crate::fresnel::Real;
 
 /// The receiver gain g of the shadow form.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,19 +80,34 @@ enum Side {
 
 #[inline]
 fn disc_term(form: ShadowForm, emitter: &Surfel, side: Side, receiver: DVec3, receiver_normal: DVec3) -> (f64, DVec3) {
-    let d = emitter.centre - receiver;
-    let r2 = d.length_squared();
-    if !(r2 > 0.0) || !(emitter.area > 0.0) {
-        return (0.0, DVec3::ZERO);
+    let sign = match side {
+        Side::Back => 1.0,
+        Side::Front => -1.0,
+    };
+    let [s, x, y, z] = disc_term_real(emitter.centre.to_array(), emitter.normal.to_array(), emitter.area, receiver.to_array(), receiver_normal.to_array(), form.receiver_gain, sign);
+    (if s.is_finite() { s } else { 0.0 }, DVec3::new(x, y, z))
+}
+
+fn dot<T: Real>(a: [T; 3], b: [T; 3]) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The disc term written once for f64 (the CPU twin) and f32 (the twin of `disc_term` in
+/// `shaders/surfel_ao.wgsl`, same operations in the same order): emitter centre `e`, unit
+/// normal `n_e`, `area`; receiving point `p` with unit normal `n_r`; receiver gain `gain`;
+/// `side` 1 for the shadow of the back, −1 for the form factor to the front. Returns
+/// (S, v) with v the unit direction from p to e; zeros where the centres coincide or the
+/// disc has no area.
+pub fn disc_term_real<T: Real>(e: [T; 3], n_e: [T; 3], area: T, p: [T; 3], n_r: [T; 3], gain: T, side: T) -> [T; 4] {
+    let d = [e[0] - p[0], e[1] - p[1], e[2] - p[2]];
+    let r2 = dot(d, d);
+    if !(r2 > T::ZERO) || !(area > T::ZERO) {
+        return [T::ZERO; 4];
     }
-    let v = d / r2.sqrt();
-    let facing = emitter.normal.dot(v);
-    let cos_e = match side {
-        Side::Back => facing,
-        Side::Front => -facing,
-    }
-    .max(0.0);
-    let cos_r = (form.receiver_gain * receiver_normal.dot(v).max(0.0)).min(1.0);
-    let s = emitter.area * cos_e * cos_r / (std::f64::consts::PI * r2 + emitter.area);
-    (if s.is_finite() { s } else { 0.0 }, v)
+    let length = r2.sqrt();
+    let v = [d[0] / length, d[1] / length, d[2] / length];
+    let cos_e = (side * dot(n_e, v)).max(T::ZERO);
+    let cos_r = (gain * dot(n_r, v).max(T::ZERO)).min(T::ONE);
+    let s = area * cos_e * cos_r / (T::of(std::f64::consts::PI) * r2 + area);
+    [s, v[0], v[1], v[2]]
 }

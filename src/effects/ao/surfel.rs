@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::scene::mesh::Mesh;
+use crate::scene::mesh::{smooth_normals, Mesh};
 
 /// An oriented disc: centre, unit normal, area.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,4 +93,40 @@ pub fn subdivided(mesh: &Mesh) -> Mesh {
 /// `mesh` subdivided `levels` times.
 pub fn subdivided_times(mesh: &Mesh, levels: u32) -> Mesh {
     (0..levels).fold(mesh.clone(), |m, _| subdivided(&m))
+}
+
+/// The mesh decimated by vertex clustering (Rossignac and Borrel, "Multi-resolution 3D
+/// approximations for rendering complex scenes", 1993): space is cut into cubes of edge
+/// `cell`; the vertices in one cube merge into one at their mean position; a triangle whose
+/// corners fall into fewer than three cubes disappears. Smooth normals are recomputed from
+/// the faces. Coarse and deterministic: what a size sweep needs (the same shape with fewer
+/// vertices), not a quality simplifier.
+pub fn decimated(mesh: &Mesh, cell: f32) -> Mesh {
+    let key = |p: [f32; 3]| p.map(|x| (x / cell).floor() as i64);
+    let mut cluster_of: HashMap<[i64; 3], u32> = HashMap::new();
+    let mut sums: Vec<([f64; 3], u32)> = Vec::new();
+    let mut remap = Vec::with_capacity(mesh.positions.len());
+    for &p in &mesh.positions {
+        let next = sums.len() as u32;
+        let cluster = *cluster_of.entry(key(p)).or_insert(next);
+        if cluster == next {
+            sums.push(([0.0; 3], 0));
+        }
+        let (sum, count) = &mut sums[cluster as usize];
+        for axis in 0..3 {
+            sum[axis] += p[axis] as f64;
+        }
+        *count += 1;
+        remap.push(cluster);
+    }
+    let positions: Vec<[f32; 3]> = sums.iter().map(|(sum, count)| sum.map(|x| (x / *count as f64) as f32)).collect();
+    let mut indices = Vec::with_capacity(mesh.indices.len());
+    for triangle in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| remap.get(triangle[k] as usize).copied().unwrap_or(u32::MAX));
+        if a != b && b != c && a != c && a != u32::MAX && b != u32::MAX && c != u32::MAX {
+            indices.extend([a, b, c]);
+        }
+    }
+    let normals = smooth_normals(&positions, &indices);
+    Mesh { positions, normals, indices }
 }
