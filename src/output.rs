@@ -14,6 +14,7 @@
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
@@ -191,6 +192,10 @@ pub struct Column {
 #[derive(Clone, Debug)]
 pub enum Values {
     Text(Vec<String>),
+    /// Text whose values repeat down the column (page ids, method names in a table of
+    /// every page × method): each distinct value stored once, rows share it. Written
+    /// exactly as `Text`.
+    SharedText(Vec<Arc<str>>),
     Float(Vec<Option<f64>>),
     Integer(Vec<i64>),
     Boolean(Vec<bool>),
@@ -200,6 +205,7 @@ impl Values {
     fn len(&self) -> usize {
         match self {
             Values::Text(v) => v.len(),
+            Values::SharedText(v) => v.len(),
             Values::Float(v) => v.len(),
             Values::Integer(v) => v.len(),
             Values::Boolean(v) => v.len(),
@@ -214,6 +220,10 @@ impl Values {
                 out.push_str(&v[row]);
                 Ok(())
             }
+            Values::SharedText(v) => {
+                out.push_str(&v[row]);
+                Ok(())
+            }
             Values::Float(v) => v[row].map_or(Ok(()), |x| write!(out, "{x}")),
             Values::Integer(v) => write!(out, "{}", v[row]),
             Values::Boolean(v) => write!(out, "{}", v[row]),
@@ -223,6 +233,7 @@ impl Values {
     fn json(&self, row: usize) -> serde_json::Value {
         match self {
             Values::Text(v) => serde_json::Value::from(v[row].clone()),
+            Values::SharedText(v) => serde_json::Value::from(&*v[row]),
             Values::Float(v) => v[row]
                 .filter(|x| x.is_finite())
                 .map(serde_json::Value::from)
@@ -236,6 +247,23 @@ impl Values {
 /// Shortest text that reads back to the same f64 (Rust's `Display` is round-trip exact).
 pub fn format_float(x: f64) -> String {
     format!("{x}")
+}
+
+/// The distinct values of a text column, each stored once: `get` hands out a shared copy.
+#[derive(Debug, Default)]
+pub struct SharedText {
+    values: std::collections::HashMap<String, Arc<str>>,
+}
+
+impl SharedText {
+    pub fn get(&mut self, value: &str) -> Arc<str> {
+        if let Some(shared) = self.values.get(value) {
+            return shared.clone();
+        }
+        let shared: Arc<str> = Arc::from(value);
+        self.values.insert(value.to_string(), shared.clone());
+        shared
+    }
 }
 
 /// A column-oriented table, built column by column, written as CSV, Parquet and JSON.
@@ -266,6 +294,11 @@ impl Table {
 
     pub fn text(&mut self, name: &str, description: &str, values: Vec<String>) -> &mut Self {
         self.push(name, description, Values::Text(values))
+    }
+
+    /// A text column of repeating values (see [`Values::SharedText`] and [`SharedText`]).
+    pub fn shared_text(&mut self, name: &str, description: &str, values: Vec<Arc<str>>) -> &mut Self {
+        self.push(name, description, Values::SharedText(values))
     }
 
     pub fn float(&mut self, name: &str, description: &str, values: Vec<f64>) -> &mut Self {
@@ -314,9 +347,12 @@ impl Table {
             .into_par_iter()
             .map(|block| records(block * BLOCK..((block + 1) * BLOCK).min(rows), block == 0))
             .collect();
-        let mut bytes = Vec::new();
+        let blocks = blocks.into_iter().collect::<Result<Vec<_>>>()?;
+        // One allocation of the final size: growing by doubling would hold up to twice the
+        // table's bytes while the last block is copied in.
+        let mut bytes = Vec::with_capacity(blocks.iter().map(Vec::len).sum());
         for block in blocks {
-            bytes.extend(block?);
+            bytes.extend_from_slice(&block);
         }
         Ok(bytes)
     }
@@ -342,6 +378,7 @@ impl Table {
                 let name = PlSmallStr::from(c.name.as_str());
                 let series = match &c.values {
                     Values::Text(v) => Series::new(name, v.as_slice()),
+                    Values::SharedText(v) => Series::new(name, v.iter().map(|s| &**s).collect::<Vec<&str>>().as_slice()),
                     Values::Float(v) => Series::new(name, v.as_slice()),
                     Values::Integer(v) => Series::new(name, v.as_slice()),
                     Values::Boolean(v) => Series::new(name, v.as_slice()),
@@ -377,6 +414,23 @@ impl Table {
             SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
             SetFile::new(format!("{stem}.csv"), csv?),
             SetFile::new(format!("{stem}.parquet"), parquet?),
+        ];
+        if json {
+            files.push(SetFile::new(format!("{stem}.json"), self.to_json()?));
+        }
+        Ok(files)
+    }
+
+    /// [`files`](Self::files) with the CSV and the Parquet encoded one after the other
+    /// rather than side by side: the same bytes, with the working memory of one encoding at
+    /// a time (each is parallel inside), for tables of hundreds of MB.
+    pub fn files_in_turn(&self, stem: &str, json: bool) -> Result<Vec<SetFile>> {
+        let csv = self.to_csv()?;
+        let parquet = self.to_parquet()?;
+        let mut files = vec![
+            SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
+            SetFile::new(format!("{stem}.csv"), csv),
+            SetFile::new(format!("{stem}.parquet"), parquet),
         ];
         if json {
             files.push(SetFile::new(format!("{stem}.json"), self.to_json()?));
@@ -431,6 +485,24 @@ mod tests {
         let bytes = sample().to_parquet().unwrap();
         assert_eq!(&bytes[..4], b"PAR1");
         assert_eq!(&bytes[bytes.len() - 4..], b"PAR1");
+    }
+
+    /// Shared text writes as plain text in every format, and encoding in turn gives the
+    /// bytes of encoding side by side.
+    #[test]
+    fn shared_text_and_encoding_in_turn_give_the_same_bytes() {
+        let plain = sample();
+        let mut shared = plain.clone();
+        let mut values = SharedText::default();
+        for column in &mut shared.columns {
+            if let Values::Text(v) = &column.values {
+                column.values = Values::SharedText(v.iter().map(|s| values.get(s)).collect());
+            }
+        }
+        assert!(shared.columns.iter().any(|c| matches!(c.values, Values::SharedText(_))));
+        let (a, b) = (plain.files("t", true).unwrap(), shared.files_in_turn("t", true).unwrap());
+        assert_eq!(a, b);
+        assert!(Arc::ptr_eq(&values.get("a,b"), &values.get("a,b")));
     }
 
     /// The names of a set read the newest generation; a second publish replaces every

@@ -36,7 +36,7 @@ use crate::fresnel::{
     filter, filter_weights, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
-use crate::output::Table;
+use crate::output::{SharedText, Table};
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
 
 use quadrature::{Integral, Sample, Tolerance};
@@ -311,21 +311,29 @@ pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channe
         .flat_map(|m| specimens[m.specimen].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| Row { page, m, precision })))
         .collect();
     let nm = channels.nanometres();
+    // Every text column repeats its values down the rows: each distinct value is stored once.
+    let mut shared = SharedText::default();
+    let mut text = |value: &dyn Fn(&Row) -> String| -> Vec<Arc<str>> { rows.iter().map(|r| shared.get(&value(r))).collect() };
+    let page = text(&|r| r.page.to_string());
+    let kind = text(&|r| specimens[r.m.specimen].kind.clone());
+    let method = text(&|r| r.m.variant.method.name().to_string());
+    let variant = text(&|r| r.m.variant.name(r.precision));
+    let precision = text(&|r| r.precision.name().to_string());
+    let encoding = text(&|r| r.m.variant.lut.map_or(String::new(), |s| s.encoding.name().into()));
+    let channel = text(&|r| CHANNEL_NAMES[r.m.channel].to_string());
+    let fallback = text(&|r| r.m.fallback.map_or(String::new(), |f| f.name().into()));
+    let strategy_name = text(&|_| strategy.name().to_string());
     let mut table = Table::new();
     table
-        .text("page", "page id shelf/book/page (or nk:... for --nk)", rows.iter().map(|r| r.page.to_string()).collect())
-        .text("kind", "conductor or dielectric (materials.csv); 'given' for --nk", rows.iter().map(|r| specimens[r.m.specimen].kind.clone()).collect())
-        .text("method", "Fresnel method (SPEC §5)", rows.iter().map(|r| r.m.variant.method.name().to_string()).collect())
-        .text(
-            "variant",
-            "precision (f64 CPU, f32 shader arithmetic); for lut 'N=<texels>,<encoding>,<precision>'",
-            rows.iter().map(|r| r.m.variant.name(r.precision)).collect(),
-        )
-        .text("precision", "f64 or f32 (shader twin), both against f64 exact", rows.iter().map(|r| r.precision.name().to_string()).collect())
+        .shared_text("page", "page id shelf/book/page (or nk:... for --nk)", page)
+        .shared_text("kind", "conductor or dielectric (materials.csv); 'given' for --nk", kind)
+        .shared_text("method", "Fresnel method (SPEC §5)", method)
+        .shared_text("variant", "precision (f64 CPU, f32 shader arithmetic); for lut 'N=<texels>,<encoding>,<precision>'", variant)
+        .shared_text("precision", "f64 or f32 (shader twin), both against f64 exact", precision)
         .optional_float("texels", "lut texel count N; empty for analytic methods", rows.iter().map(|r| r.m.variant.lut.map(|s| s.texels as f64)).collect())
-        .text("encoding", "lut texel encoding; empty for analytic methods", rows.iter().map(|r| r.m.variant.lut.map_or(String::new(), |s| s.encoding.name().into())).collect())
+        .shared_text("encoding", "lut texel encoding; empty for analytic methods", encoding)
         .integer("texture_bytes", "bytes of the RGB texture: N x 3 x bytes per channel; 0 for analytic", rows.iter().map(|r| r.m.variant.texture_bytes() as i64).collect())
-        .text("channel", "red, green or blue", rows.iter().map(|r| CHANNEL_NAMES[r.m.channel].to_string()).collect())
+        .shared_text("channel", "red, green or blue", channel)
         .float("wavelength_nm", "channel wavelength (nm)", rows.iter().map(|r| nm[r.m.channel]).collect())
         .float("n", "refractive index of the channel", rows.iter().map(|r| r.m.index.n).collect())
         .float("k", "extinction coefficient of the channel", rows.iter().map(|r| r.m.index.k).collect())
@@ -347,13 +355,13 @@ pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channe
             rows.iter().map(|r| r.m.integral.evaluations as i64).collect(),
         )
         .float("seconds", "wall time of the family's integration divided by its members (shared by the f64/f32 rows)", rows.iter().map(|r| r.m.seconds).collect())
-        .text(
+        .shared_text(
             "fallback",
             "schlick_compensated without a real lambda: wrong-sign / no-decay / negligible (then = schlick_nk); empty otherwise",
-            rows.iter().map(|r| r.m.fallback.map_or(String::new(), |f| f.name().into())).collect(),
+            fallback,
         )
         .optional_float("lambda", "schlick_compensated exponent lambda; empty otherwise or on fallback", rows.iter().map(|r| r.m.lambda).collect())
-        .text("strategy", "adaptive (quadrature) or brute-force (10^6 theta midpoints)", rows.iter().map(|_| strategy.name().to_string()).collect());
+        .shared_text("strategy", "adaptive (quadrature) or brute-force (10^6 theta midpoints)", strategy_name);
     table
 }
 
@@ -521,11 +529,17 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let measurements = measure_all(&specimens, &variants, strategy);
     let seconds = start.elapsed().as_secs_f64();
     let spreads = spreads(&measurements);
-    let mut files = errors_table(&specimens, &measurements, &channels, strategy).files("errors", false)?;
-    files.extend(cost_table(&spreads).files("cost", false)?);
-    let written = crate::output::publish_set(out, "validate", &files)?;
     let mut text = String::new();
     summary_text(&mut text, &specimens, &measurements, &spreads, strategy, seconds)?;
+    // errors.* has a row per page × variant × precision × channel (≈ 620 k over the whole
+    // database): the measurements go once the table holds them, and the CSV and Parquet
+    // encodings run one after the other so that their working memory is not held at once.
+    let errors = errors_table(&specimens, &measurements, &channels, strategy);
+    drop(measurements);
+    let mut files = errors.files_in_turn("errors", false)?;
+    drop(errors);
+    files.extend(cost_table(&spreads).files("cost", false)?);
+    let written = crate::output::publish_set(out, "validate", &files)?;
     Ok(Outcome { written, summary: text })
 }
 

@@ -6,7 +6,7 @@
 use serde::Serialize;
 
 use crate::color::AngleQuadrature;
-use crate::fresnel::{self, sample_lut};
+use crate::fresnel;
 use crate::spectrum::ChannelIndex;
 
 /// Error samples per texel of the LUT (at least `MIN_ERROR_SAMPLES`, at most `MAX_ERROR_SAMPLES`).
@@ -33,7 +33,11 @@ pub fn midpoint_rule(samples: usize) -> AngleQuadrature {
 
 /// `exact` (SPEC §5.1) per channel at each cosine: the reference of the three-channel error.
 pub fn exact_reference(index: &ChannelIndex, cosines: &[f64]) -> [Vec<f64>; 3] {
-    index.map(|i| cosines.iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect())
+    index.map(|i| {
+        let mut curve = vec![0.0; cosines.len()];
+        fresnel::ExactTerms::new(fresnel::sanitise(i)).reflectances(cosines, &mut curve);
+        curve
+    })
 }
 
 /// Split interleaved R G B values into three channels.
@@ -57,25 +61,51 @@ pub struct LutError {
     pub excluded_zero_reference: [usize; 3],
 }
 
+/// The linear-filter taps of an N-texel LUT at each cosine of a rule
+/// ([`fresnel::lut::filter_weights`]): the same for every row, set and channel of a bake,
+/// so computed once.
+#[derive(Clone, Debug)]
+pub struct Taps {
+    texels: usize,
+    lower: Vec<u32>,
+    upper: Vec<u32>,
+    /// 1 − t: the weight of the lower texel.
+    lower_weight: Vec<f64>,
+    /// t: the weight of the upper texel.
+    upper_weight: Vec<f64>,
+}
+
+impl Taps {
+    pub fn new(texels: usize, cosines: &[f64]) -> Self {
+        let mut taps = Taps { texels, lower: vec![], upper: vec![], lower_weight: vec![], upper_weight: vec![] };
+        for &c in cosines {
+            let fresnel::Filter { lower, upper, weight: t } = fresnel::filter_weights(texels.max(1), c);
+            taps.lower.push(lower as u32);
+            taps.upper.push(upper as u32);
+            taps.lower_weight.push(1.0 - t);
+            taps.upper_weight.push(t);
+        }
+        taps
+    }
+}
+
 /// The LUT model (decoded texels, linear filtering, clamp-to-edge) against `reference`
 /// sampled at `rule.cosines` (`midpoint_rule` or `color::angle_quadrature`).
 pub fn lut_error(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> LutError {
+    lut_error_with_taps(decoded, &Taps::new(decoded[0].len(), &rule.cosines), rule, reference)
+}
+
+/// [`lut_error`] with the taps of `rule.cosines` for LUTs of `decoded[c].len()` texels
+/// computed beforehand (by [`Taps::new`]).
+pub fn lut_error_with_taps(decoded: &[Vec<f64>; 3], taps: &Taps, rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> LutError {
     let mut mean_relative = [None; 3];
     let mut max_absolute = [0.0; 3];
     let mut excluded = [0; 3];
     for c in 0..3 {
-        let (mut sum, mut weight, mut counted) = (0.0, 0.0, 0usize);
-        for ((&cos, &q), &f_ref) in rule.cosines.iter().zip(&rule.weights).zip(&reference[c]) {
-            let diff = (sample_lut(&decoded[c], cos) - f_ref).abs();
-            max_absolute[c] = f64::max(max_absolute[c], diff);
-            if f_ref > 0.0 {
-                sum += q * diff / f_ref;
-                weight += q;
-                counted += 1;
-            }
-        }
-        excluded[c] = rule.cosines.len() - counted;
-        mean_relative[c] = (counted > 0).then(|| sum / weight);
+        let sums = channel_sums(&decoded[c], taps, rule, &reference[c]);
+        max_absolute[c] = sums.max_absolute;
+        excluded[c] = rule.cosines.len() - sums.counted;
+        mean_relative[c] = (sums.counted > 0).then(|| sums.sum / sums.weight);
     }
     let present: Vec<f64> = mean_relative.iter().flatten().copied().collect();
     LutError {
@@ -85,6 +115,87 @@ pub fn lut_error(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[V
         max_absolute_rgb: max_absolute.iter().copied().fold(0.0, f64::max),
         excluded_zero_reference: excluded,
     }
+}
+
+/// The running sums of one channel's error over a rule, in the rule's order.
+#[derive(Clone, Copy, Debug, Default)]
+struct ChannelSums {
+    /// Σ q |F_lut − F_ref| / F_ref over the samples with F_ref > 0.
+    sum: f64,
+    /// Σ q over the same samples.
+    weight: f64,
+    counted: usize,
+    max_absolute: f64,
+}
+
+/// Samples per block of [`channel_sums`]: the per-sample terms of a block are formed in
+/// vector registers, then added in order.
+const BLOCK: usize = 64;
+
+fn channel_sums(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
+    if texels.is_empty() {
+        // No texture samples as 0, as a one-texel texture of 0 does.
+        return channel_sums(&[0.0], &Taps::new(1, &rule.cosines), rule, reference);
+    }
+    if texels.len() != taps.texels {
+        return channel_sums(texels, &Taps::new(texels.len(), &rule.cosines), rule, reference);
+    }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has just been found to support AVX-512F.
+            return unsafe { channel_sums_avx512(texels, taps, rule, reference) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has just been found to support AVX2.
+            return unsafe { channel_sums_avx2(texels, taps, rule, reference) };
+        }
+    }
+    channel_sums_in_blocks(texels, taps, rule, reference)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn channel_sums_avx512(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
+    channel_sums_in_blocks(texels, taps, rule, reference)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn channel_sums_avx2(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
+    channel_sums_in_blocks(texels, taps, rule, reference)
+}
+
+/// F_lut = T[lower](1 − t) + T[upper] t ([`fresnel::lut::filter`]) and the error terms per
+/// sample, then the sums in the rule's order — the same operations as one sample at a time.
+#[inline(always)]
+fn channel_sums_in_blocks(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
+    let mut sums = ChannelSums::default();
+    let count = rule.cosines.len().min(reference.len());
+    let (mut diff, mut term) = ([0.0; BLOCK], [0.0; BLOCK]);
+    let mut start = 0;
+    while start < count {
+        let end = (start + BLOCK).min(count);
+        let len = end - start;
+        let (lower, upper) = (&taps.lower[start..end], &taps.upper[start..end]);
+        let (lower_weight, upper_weight) = (&taps.lower_weight[start..end], &taps.upper_weight[start..end]);
+        let (q, f_ref) = (&rule.weights[start..end], &reference[start..end]);
+        for j in 0..len {
+            let value = texels[lower[j] as usize] * lower_weight[j] + texels[upper[j] as usize] * upper_weight[j];
+            diff[j] = (value - f_ref[j]).abs();
+            term[j] = q[j] * diff[j] / f_ref[j];
+        }
+        for j in 0..len {
+            sums.max_absolute = f64::max(sums.max_absolute, diff[j]);
+            if f_ref[j] > 0.0 {
+                sums.sum += term[j];
+                sums.weight += q[j];
+                sums.counted += 1;
+            }
+        }
+        start = end;
+    }
+    sums
 }
 
 #[cfg(test)]
@@ -110,6 +221,49 @@ mod tests {
         assert!((a - b).abs() < 1e-3 * b, "{a} vs {b}");
         assert!(coarse.max_absolute_rgb <= dense.max_absolute_rgb + 1e-12);
         assert!(coarse.max_absolute_rgb > 0.9 * dense.max_absolute_rgb);
+    }
+
+    /// The figures one sample at a time with `sample_lut`, as the definitions read.
+    fn lut_error_by_samples(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> ([f64; 3], [f64; 3], [f64; 3], [usize; 3]) {
+        let (mut sum, mut weight, mut max, mut counted) = ([0.0; 3], [0.0; 3], [0.0; 3], [0; 3]);
+        for c in 0..3 {
+            for ((&cos, &q), &f_ref) in rule.cosines.iter().zip(&rule.weights).zip(&reference[c]) {
+                let diff = (fresnel::sample_lut(&decoded[c], cos) - f_ref).abs();
+                max[c] = f64::max(max[c], diff);
+                if f_ref > 0.0 {
+                    sum[c] += q * diff / f_ref;
+                    weight[c] += q;
+                    counted[c] += 1;
+                }
+            }
+        }
+        (sum, weight, max, counted)
+    }
+
+    #[test]
+    fn blocks_and_shared_taps_give_the_bits_of_one_sample_at_a_time() {
+        let gold = [Index::new(0.18, 3.4), Index::new(0.5, 2.2), Index::new(1.3, 1.9)];
+        for size in [1, 7, 64] {
+            let curve = gold.map(|i| texel_cosines(size).iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect::<Vec<_>>());
+            let decoded = deinterleave(&quantise(Encoding::Unorm8Srgb, &curve).texels.decode(Encoding::Unorm8Srgb));
+            // 1000 samples: several blocks and a short last one; a reference with zeros and
+            // a negative value (excluded from the mean, counted in the maximum).
+            let rule = midpoint_rule(1000);
+            let mut reference = exact_reference(&gold, &rule.cosines);
+            reference[1][3] = 0.0;
+            reference[2][999] = -0.25;
+            let taps = Taps::new(size, &rule.cosines);
+            let fast = lut_error_with_taps(&decoded, &taps, &rule, &reference);
+            assert_eq!(fast, lut_error(&decoded, &rule, &reference));
+            let (sum, weight, max, counted) = lut_error_by_samples(&decoded, &rule, &reference);
+            for c in 0..3 {
+                assert_eq!(fast.mean_relative[c].map(f64::to_bits), Some((sum[c] / weight[c]).to_bits()), "size {size}, channel {c}");
+                assert_eq!(fast.max_absolute[c].to_bits(), max[c].to_bits());
+                assert_eq!(fast.excluded_zero_reference[c], 1000 - counted[c]);
+            }
+            // Taps of another size are not used for this one.
+            assert_eq!(lut_error_with_taps(&decoded, &Taps::new(size + 1, &rule.cosines), &rule, &reference), fast);
+        }
     }
 
     #[test]

@@ -283,6 +283,7 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
 /// against its spectral reference.
 fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
     let midpoint = accuracy::midpoint_rule(accuracy::error_samples(plan.size));
+    let (midpoint_taps, node_taps) = (accuracy::Taps::new(plan.size, &midpoint.cosines), accuracy::Taps::new(plan.size, &color::angle_quadrature().cosines));
     rows.par_iter()
         .map(|row| {
             let reference = accuracy::exact_reference(&row.index, &midpoint.cosines);
@@ -291,8 +292,8 @@ fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>
                     let quantised = texel::quantise(encoding, &row.curves[source]);
                     let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
                     Cell {
-                        error: accuracy::lut_error(&decoded, &midpoint, &reference),
-                        error_vs_spectral: row.spectral.as_ref().map(|s| accuracy::lut_error(&decoded, color::angle_quadrature(), s)),
+                        error: accuracy::lut_error_with_taps(&decoded, &midpoint_taps, &midpoint, &reference),
+                        error_vs_spectral: row.spectral.as_ref().map(|s| accuracy::lut_error_with_taps(&decoded, &node_taps, color::angle_quadrature(), s)),
                         quantised,
                     }
                 })

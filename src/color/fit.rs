@@ -36,11 +36,13 @@ pub struct EffectiveIndex {
 /// `quadrature.cosines[i]`. Nodes where F_ref is 0 or not finite are left out (the
 /// weights of the rest renormalised); with none left the error is 0.
 pub fn mean_relative_error(index: Index, reference: &[f64], quadrature: &AngleQuadrature) -> f64 {
+    let mut curve = vec![0.0; quadrature.cosines.len()];
+    fresnel::ExactTerms::new(fresnel::sanitise(index)).reflectances(&quadrature.cosines, &mut curve);
     let mut sum = 0.0;
     let mut weight = 0.0;
-    for ((&c, &q), &r) in quadrature.cosines.iter().zip(&quadrature.weights).zip(reference) {
+    for ((&f, &q), &r) in curve.iter().zip(&quadrature.weights).zip(reference) {
         if r != 0.0 && r.is_finite() {
-            sum += q * (fresnel::exact(index.n, index.k, c) - r).abs() / r.abs();
+            sum += q * (f - r).abs() / r.abs();
             weight += q;
         }
     }
@@ -149,9 +151,9 @@ impl Problem {
     }
 
     fn residuals(&self, p: [f64; 2], out: &mut [f64]) {
-        let index = to_index(p);
+        fresnel::ExactTerms::new(fresnel::sanitise(to_index(p))).reflectances(&self.cosines, out);
         for (i, out) in out.iter_mut().enumerate() {
-            *out = self.scales[i] * (fresnel::exact(index.n, index.k, self.cosines[i]) - self.targets[i]);
+            *out = self.scales[i] * (*out - self.targets[i]);
         }
     }
 

@@ -122,9 +122,57 @@ impl PreparedSpectrum {
         })
     }
 
-    /// [`PreparedSpectrum::rgb`] at each of `cosines` (e.g. the LUT texel centres).
+    /// [`PreparedSpectrum::rgb`] at each of `cosines` (e.g. the LUT texel centres), with
+    /// the same bits: [`fresnel::LANES`] cosines at a time through
+    /// [`fresnel::ExactTerms::reflectance_lanes`], each lane summing the wavelength groups
+    /// in the same order as `rgb`. The vector width is chosen at run time (AVX-512, AVX2,
+    /// or what the baseline target allows).
     pub fn curve(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
-        cosines.iter().map(|&c| self.rgb(c)).collect()
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has just been found to support AVX-512F.
+                return unsafe { self.curve_avx512(cosines) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has just been found to support AVX2.
+                return unsafe { self.curve_avx2(cosines) };
+            }
+        }
+        self.curve_in_lanes(cosines)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn curve_avx512(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
+        self.curve_in_lanes(cosines)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn curve_avx2(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
+        self.curve_in_lanes(cosines)
+    }
+
+    #[inline(always)]
+    fn curve_in_lanes(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
+        let mut curve = Vec::with_capacity(cosines.len());
+        for chunk in cosines.chunks(fresnel::LANES) {
+            // A short last chunk is padded with normal incidence; those lanes are dropped.
+            let mut lanes = [1.0; fresnel::LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let mut sums = [[0.0; fresnel::LANES]; 3];
+            for (terms, w) in &self.groups {
+                let r = terms.reflectance_lanes(&lanes);
+                for (channel, sum) in sums.iter_mut().enumerate() {
+                    for (s, r) in sum.iter_mut().zip(r) {
+                        *s += r * w[channel];
+                    }
+                }
+            }
+            curve.extend((0..chunk.len()).map(|lane| [sums[0][lane], sums[1][lane], sums[2][lane]]));
+        }
+        curve
     }
 }
 
@@ -233,6 +281,29 @@ mod tests {
                 assert!((m[r][c] - srgb::IEC_XYZ_TO_SRGB[r][c]).abs() < 2e-3, "[{r}][{c}] {}", m[r][c]);
             }
         }
+    }
+
+    #[test]
+    fn curve_has_the_bits_of_one_colour_at_a_time() {
+        // A varying metal, a dielectric with n < 1 somewhere (total reflection), held ends
+        // (runs of equal indices) and a vacuum stretch; cosines incl. a short last chunk.
+        let spectrum: Vec<Index> = (0..SPECTRAL_SAMPLES)
+            .map(|i| match i {
+                0..=30 => Index::new(1.0, 0.0),
+                31..=120 => Index::new(0.9 + i as f64 * 1e-3, 0.0),
+                121..=300 => Index::new(0.2 + i as f64 * 1e-3, 3.0 - i as f64 * 2e-3),
+                _ => Index::new(1.45, 0.0),
+            })
+            .collect();
+        let prepared = PreparedSpectrum::new(&spectrum);
+        let mut cosines = crate::encoding::texel_cosines(37);
+        cosines.extend([0.0, 1.0, -0.1, 1.5]);
+        let curve = prepared.curve(&cosines);
+        assert_eq!(curve.len(), cosines.len());
+        for (c, rgb) in cosines.iter().zip(&curve) {
+            assert_eq!(rgb.map(f64::to_bits), prepared.rgb(*c).map(f64::to_bits), "cosθ = {c}");
+        }
+        assert!(prepared.curve(&[]).is_empty());
     }
 
     #[test]

@@ -96,6 +96,93 @@ impl<T: Real> ExactTerms<T> {
     }
 }
 
+/// How many cosines [`ExactTerms::reflectance_lanes`] evaluates at once: one AVX-512
+/// register of f64, two of AVX2.
+pub const LANES: usize = 8;
+
+impl ExactTerms {
+    /// [`ExactTerms::reflectance`] at `LANES` cosines, each lane with the same operations in
+    /// the same order as the scalar form (so the same bits): the branches on the angle
+    /// become selects between both sides, which lets the compiler keep the lanes in vector
+    /// registers. The branches on the index (vacuum, huge) are taken once for all lanes.
+    #[inline(always)]
+    pub fn reflectance_lanes(&self, cosines: &[f64; LANES]) -> [f64; LANES] {
+        if self.vacuum {
+            return [0.0; LANES];
+        }
+        if self.huge {
+            return cosines.map(|c| self.reflectance(c));
+        }
+        let mut out = [0.0; LANES];
+        for (f, &cos_theta) in out.iter_mut().zip(cosines) {
+            let c = if cos_theta >= 0.0 { cos_theta.min(1.0) } else { 0.0 };
+            let sin2 = (1.0 - c) * (1.0 + c);
+            let c2 = c * c;
+            let big_a = if c2 > 0.5 { self.n2_minus_k2 - sin2 } else { self.a0 + c2 };
+            let r = (big_a * big_a + self.four_nk_squared).sqrt();
+            let larger = 0.5 * (r + big_a.abs());
+            let smaller = if larger > 0.0 { self.nk_squared / larger } else { 0.0 };
+            let above = big_a >= 0.0;
+            let a2 = if above { larger } else { smaller };
+            let b2 = if above { smaller } else { larger };
+            let a = a2.sqrt();
+            let a_plus_c = a + c;
+            let a_minus_c = if above && a_plus_c > 0.0 { (self.a0 + b2) / a_plus_c } else { a - c };
+            let s_num = a_minus_c * a_minus_c + b2;
+            let s_den = a_plus_c * a_plus_c + b2;
+            let ac = a * c;
+            let b2c2 = b2 * c2;
+            let p_num = (ac - sin2) * (ac - sin2) + b2c2;
+            let p_den = (ac + sin2) * (ac + sin2) + b2c2;
+            let denominator = 2.0 * s_den * p_den;
+            let value = (s_num * (p_den + p_num) / denominator).max(0.0).min(1.0);
+            *f = if denominator > 0.0 { value } else { 1.0 };
+        }
+        out
+    }
+
+    /// [`ExactTerms::reflectance`] at each of `cosines`, written to `out` (the shorter of
+    /// the two decides how many): [`LANES`] at a time, same bits. The vector width is
+    /// chosen at run time (AVX-512, AVX2, or what the baseline target allows).
+    pub fn reflectances(&self, cosines: &[f64], out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has just been found to support AVX-512F.
+                return unsafe { self.reflectances_avx512(cosines, out) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has just been found to support AVX2.
+                return unsafe { self.reflectances_avx2(cosines, out) };
+            }
+        }
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn reflectances_avx512(&self, cosines: &[f64], out: &mut [f64]) {
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn reflectances_avx2(&self, cosines: &[f64], out: &mut [f64]) {
+        self.reflectances_in_lanes(cosines, out)
+    }
+
+    #[inline(always)]
+    fn reflectances_in_lanes(&self, cosines: &[f64], out: &mut [f64]) {
+        for (chunk, out) in cosines.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let mut lanes = [1.0; LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let values = self.reflectance_lanes(&lanes);
+            let used = chunk.len().min(out.len());
+            out[..used].copy_from_slice(&values[..used]);
+        }
+    }
+}
+
 /// `exact` (SPEC §5.1) for one channel: unpolarised reflectance of η = n + ik at cosθ.
 /// See [`ExactTerms`] for the formulas and the stable forms. k = 0 is the dielectric
 /// case (n < 1 gives total reflection beyond the critical angle, F = 1); n = 1, k = 0
@@ -148,6 +235,31 @@ mod tests {
         let c = 1.0 / (1.0 + n * n).sqrt();
         let rs = ((n * n - 1.0) / (n * n + 1.0)).powi(2);
         assert!((exact(n, 0.0, c) - rs / 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn lanes_give_the_bits_of_the_scalar_form() {
+        // Every branch of the scalar form: normal/grazing halves (c² ≷ ½), A ≷ 0, total
+        // reflection (n < 1, η = 0), gases (n − 1 tiny), vacuum, huge indices, bad cosines.
+        let indices = [(1.5, 0.0), (0.2, 3.5), (0.8, 0.0), (0.0, 0.0), (1.0, 0.0), (1.0003, 0.0), (1.0, 1e-9), (2.4, 0.01), (1e120, 2.0), (3.0, 1e130), (0.05, 0.0)];
+        let mut cosines: Vec<f64> = (0..=64).map(|i| i as f64 / 64.0).collect();
+        cosines.extend([f64::NAN, -0.5, 2.0, 1e-300, 0.7071067811865476, 0.7071067811865475]);
+        for (n, k) in indices {
+            let terms = ExactTerms::new(sanitise(Index::new(n, k)));
+            for chunk in cosines.chunks(LANES) {
+                let mut lanes = [0.5; LANES];
+                lanes[..chunk.len()].copy_from_slice(chunk);
+                let got = terms.reflectance_lanes(&lanes);
+                for (c, f) in lanes.iter().zip(got) {
+                    assert_eq!(f.to_bits(), terms.reflectance(*c).to_bits(), "n = {n}, k = {k}, c = {c}");
+                }
+            }
+            let mut all = vec![f64::NAN; cosines.len()];
+            terms.reflectances(&cosines, &mut all);
+            for (c, f) in cosines.iter().zip(&all) {
+                assert_eq!(f.to_bits(), terms.reflectance(*c).to_bits(), "n = {n}, k = {k}, c = {c}");
+            }
+        }
     }
 
     #[test]

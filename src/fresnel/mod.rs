@@ -27,7 +27,7 @@ pub use approx::{
     compensation, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation, CompensationFallback, COMPENSATION_COS,
     LAZANYI_COS,
 };
-pub use exact::{exact, exact_f32, ExactTerms};
+pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
 pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use real::Real;

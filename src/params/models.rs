@@ -118,9 +118,10 @@ impl Gulbrandsen {
     /// `reference` (at `rule.cosines`), g ∈ [0, 1].
     pub fn fit(f0: f64, reference: &[f64], rule: &AngleQuadrature) -> Self {
         let r = Self::clamp_r(f0);
+        let mut curve = vec![0.0; rule.cosines.len()];
         let cost = |g: f64| {
-            let terms = ExactTerms::new(Gulbrandsen { r, g }.index());
-            relative_cost(|c| terms.reflectance(c), reference, rule)
+            ExactTerms::new(Gulbrandsen { r, g }.index()).reflectances(&rule.cosines, &mut curve);
+            relative_cost(&curve, reference, rule)
         };
         Self { r, g: minimise_1d(cost, 0.0, 1.0, 16, 1e-7) }
     }
@@ -190,13 +191,13 @@ impl GeneralizedSchlick {
     }
 }
 
-/// Σ_i q_i ((F(μ_i) − F_ref,i)/F_ref,i)² over the nodes where F_ref is finite and not 0;
-/// ∞ when the model gives a non-finite value.
-pub fn relative_cost(model: impl Fn(f64) -> f64, reference: &[f64], rule: &AngleQuadrature) -> f64 {
+/// Σ_i q_i ((F_i − F_ref,i)/F_ref,i)² with F_i = `curve[i]` the model at `rule.cosines[i]`,
+/// over the nodes where F_ref is finite and not 0; ∞ when the model gives a non-finite value.
+pub fn relative_cost(curve: &[f64], reference: &[f64], rule: &AngleQuadrature) -> f64 {
     let mut cost = 0.0;
-    for ((&c, &q), &r) in rule.cosines.iter().zip(&rule.weights).zip(reference) {
+    for ((&f, &q), &r) in curve.iter().zip(&rule.weights).zip(reference) {
         if r != 0.0 && r.is_finite() {
-            let e = (model(c) - r) / r;
+            let e = (f - r) / r;
             cost += q * e * e;
         }
     }
@@ -212,7 +213,7 @@ pub fn relative_cost(model: impl Fn(f64) -> f64, reference: &[f64], rule: &Angle
 /// "Algorithms for Minimization without Derivatives", ch. 5) in the interval of its
 /// neighbours until x is known to `tolerance`. Deterministic; a cost that is not unimodal
 /// within one grid step can only mislead it inside that step.
-pub fn minimise_1d(cost: impl Fn(f64) -> f64, lo: f64, hi: f64, grid: usize, tolerance: f64) -> f64 {
+pub fn minimise_1d(mut cost: impl FnMut(f64) -> f64, lo: f64, hi: f64, grid: usize, tolerance: f64) -> f64 {
     let step = (hi - lo) / grid as f64;
     let at = |i: usize| if i == grid { hi } else { lo + step * i as f64 };
     let (best, best_cost) = (0..=grid).map(|i| (i, cost(at(i)))).fold((0, f64::INFINITY), |b, (i, v)| if v < b.1 { (i, v) } else { b });

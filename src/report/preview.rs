@@ -114,22 +114,57 @@ impl SphereLayout {
 }
 
 /// 8-bit sRGB code of a linear value, clamped to [0, 1]: round(255 · encode(linear)),
-/// found among the codes' rounding thresholds decode((c + ½)/255) instead of a `powf`
-/// per pixel channel.
+/// the number of the codes' rounding thresholds decode((c + ½)/255) at or below it,
+/// instead of a `powf` per pixel channel. The count is looked up for the start of the
+/// value's bucket of width 1/BUCKETS; thresholds lie at least 1/(255 · 12.92) ≈ 3.0e-4
+/// apart (the slope of decode is smallest at 0), more than a bucket, so at most one more
+/// threshold lies inside the bucket and one comparison settles it.
 pub fn encode8(linear: f64) -> u8 {
-    static THRESHOLDS: std::sync::OnceLock<[f64; 255]> = std::sync::OnceLock::new();
-    let thresholds = THRESHOLDS.get_or_init(|| std::array::from_fn(|c| srgb_decode((c as f64 + 0.5) / 255.0)));
-    thresholds.partition_point(|&t| t <= linear) as u8
+    let table = code_table();
+    if !(linear > 0.0) {
+        // 0, negative or NaN: below the first threshold.
+        return 0;
+    }
+    if linear >= 1.0 {
+        return 255;
+    }
+    // linear · BUCKETS is exact (a power of two), so b/BUCKETS ≤ linear.
+    let bucket = ((linear * BUCKETS as f64) as usize).min(BUCKETS - 1);
+    let below = table.below[bucket];
+    below + (table.thresholds[below as usize] <= linear) as u8
+}
+
+/// Buckets of [`encode8`]'s table over [0, 1].
+const BUCKETS: usize = 4096;
+
+/// The rounding thresholds of the 8-bit codes and, per bucket, how many lie at or below
+/// its start.
+struct CodeTable {
+    /// decode((c + ½)/255) for c = 0…254, then +∞.
+    thresholds: [f64; 256],
+    /// Thresholds at or below b/BUCKETS, for each bucket b.
+    below: Vec<u8>,
+}
+
+fn code_table() -> &'static CodeTable {
+    static TABLE: std::sync::OnceLock<CodeTable> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let thresholds: [f64; 256] = std::array::from_fn(|c| if c < 255 { srgb_decode((c as f64 + 0.5) / 255.0) } else { f64::INFINITY });
+        let below = (0..BUCKETS).map(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8).collect();
+        CodeTable { thresholds, below }
+    })
 }
 
 /// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
 pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
     let size = layout.size();
     let mut image = RgbImage::new(size * curves.len() as u32, size);
+    let background = [encode8(BACKGROUND); 3];
     for (i, curve) in curves.iter().enumerate() {
-        for (p, rgb) in layout.shade(curve).into_iter().enumerate() {
+        for (p, (rgb, texel)) in layout.shade(curve).into_iter().zip(&layout.texels).enumerate() {
             let (x, y) = (p as u32 % size, p as u32 / size);
-            image.put_pixel(i as u32 * size + x, y, image::Rgb(rgb.map(encode8)));
+            let pixel = if texel.is_some() { rgb.map(encode8) } else { background };
+            image.put_pixel(i as u32 * size + x, y, image::Rgb(pixel));
         }
     }
     image
@@ -211,12 +246,29 @@ mod tests {
     }
 
     #[test]
+    fn no_bucket_of_the_8_bit_table_holds_two_thresholds() {
+        let table = code_table();
+        for b in 0..BUCKETS {
+            let end = if b + 1 < BUCKETS { table.below[b + 1] as usize } else { 255 };
+            assert!(end - table.below[b] as usize <= 1, "bucket {b}");
+        }
+    }
+
+    #[test]
     fn the_8_bit_encoder_rounds_like_the_transfer_function() {
         for i in 0..=20_000 {
             let linear = i as f64 / 20_000.0;
             assert_eq!(encode8(linear), (crate::encoding::srgb_encode(linear) * 255.0).round() as u8, "{linear}");
         }
-        assert_eq!((encode8(-0.5), encode8(1.7)), (0, 255));
+        assert_eq!((encode8(-0.5), encode8(1.7), encode8(f64::NAN), encode8(0.0), encode8(1.0)), (0, 255, 0, 0, 255));
+        // Exactly at each rounding threshold and one ulp either side: the plain count.
+        for c in 0..255 {
+            let t = srgb_decode((c as f64 + 0.5) / 255.0);
+            for v in [t, f64::from_bits(t.to_bits() - 1), f64::from_bits(t.to_bits() + 1)] {
+                let count = (0..255).filter(|&d| srgb_decode((d as f64 + 0.5) / 255.0) <= v).count();
+                assert_eq!(encode8(v) as usize, count, "{v}");
+            }
+        }
     }
 
     #[test]
