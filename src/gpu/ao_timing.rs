@@ -10,7 +10,7 @@ use anyhow::Result;
 
 use super::context::Gpu;
 use super::passes::ao::{Gather, SurfelAoPass};
-use super::timing::{median_and_iqr, Timer};
+use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::effects::ao::hierarchy::{Closeness, SurfelTree};
 use crate::effects::ao::shadow::ShadowForm;
 use crate::effects::ao::surfel::{decimated, subdivided, surfels, Surfel};
@@ -90,43 +90,19 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
 }
 
 /// Time `passes` passes of `pass`: one sample in milliseconds and the dispatches recorded.
-fn sample(gpu: &Gpu, pass: &SurfelAoPass, passes: u32, queries: Option<&(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>) -> Result<(f64, u64)> {
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    let writes = queries.map(|(set, _, _)| wgpu::ComputePassTimestampWrites { query_set: set, beginning_of_pass_write_index: Some(0), end_of_pass_write_index: Some(1) });
-    let dispatches = pass.encode(gpu, &mut encoder, passes, writes);
-    if let Some((set, resolve, read)) = queries {
-        encoder.resolve_query_set(set, 0..2, resolve, 0);
-        encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
-    }
-    let start = std::time::Instant::now();
-    gpu.queue.submit([encoder.finish()]);
-    gpu.wait()?;
-    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-    Ok(match queries {
-        Some((_, _, read)) => {
-            let bytes = gpu.read_buffer(read)?;
-            let ticks: &[u64] = bytemuck::cast_slice(&bytes);
-            (ticks[1].wrapping_sub(ticks[0]) as f64 * gpu.queue.get_timestamp_period() as f64 / 1e6, dispatches)
-        }
-        None => (wall_ms, dispatches),
-    })
+fn sample(gpu: &Gpu, pass: &SurfelAoPass, passes: u32, stopwatch: &mut Stopwatch) -> Result<(f64, u64)> {
+    let mut dispatches = 0;
+    let ms = stopwatch.time_pass(gpu, |encoder, timestamps| {
+        let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites { query_set: set, beginning_of_pass_write_index: Some(0), end_of_pass_write_index: Some(1) });
+        dispatches = pass.encode(gpu, encoder, passes, writes);
+    })?;
+    Ok((ms, dispatches))
 }
 
 /// Time every mesh by brute force (up to `settings.max_brute` surfels) and through the tree.
 pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mut dyn FnMut(&str)) -> Result<Vec<AoTimingRow>> {
-    let queries = if gpu.timestamps {
-        let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("surfel pass time"), ty: wgpu::QueryType::Timestamp, count: 2 });
-        let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("surfel timestamps"),
-            size: 16,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        Some((set, resolve, super::render::readback_buffer(gpu, 16)?))
-    } else {
-        None
-    };
-    let timer = if queries.is_some() { Timer::Timestamp } else { Timer::Wall };
+    let mut stopwatch = Stopwatch::new(gpu)?;
+    let timer = stopwatch.timer();
     let mut rows = Vec::new();
     for mesh in meshes {
         let tree = SurfelTree::new(&mesh.surfels, settings.form, settings.closeness);
@@ -139,7 +115,7 @@ pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mu
             let mut samples = Vec::new();
             let mut dispatches = 0;
             for round in 0..settings.warmup + settings.repeats {
-                let (ms, d) = sample(gpu, &pass, settings.passes, queries.as_ref())?;
+                let (ms, d) = sample(gpu, &pass, settings.passes, &mut stopwatch)?;
                 dispatches = d;
                 if round >= settings.warmup {
                     samples.push(ms);

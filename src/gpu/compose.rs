@@ -3,7 +3,10 @@
 //! itself composed first; a file imported twice in one module appears once, at its first
 //! import. A name that is not a shader file, or a file that imports itself through others,
 //! is an error naming the chain. The GPU runner keys each composed module by what it
-//! shades (the pass and the Fresnel method), so a module is compiled once per key.
+//! shades (the pass and the Fresnel method), so a module is compiled once per key;
+//! compute kernels are compiled here too ([`compute_pipelines`]).
+
+use anyhow::{bail, Result};
 
 /// The shader files of `shaders/`, by import name.
 pub const SHADERS: [(&str, &str); 5] = [
@@ -34,6 +37,35 @@ pub fn compose_from(files: &[(&str, &str)], source: &str) -> Result<String, Comp
     let mut included = Vec::new();
     expand(files, source, &mut vec!["(root)".to_string()], &mut included, &mut out)?;
     Ok(out)
+}
+
+/// The compute pipelines of `entries` in the module `#import shader`, compiled under one
+/// validation scope: a composition or shader error is an error naming `what`, not a
+/// panic. `layout` `None` lets wgpu derive the bind-group layout from the shader.
+pub fn compute_pipelines<const N: usize>(
+    device: &wgpu::Device,
+    shader: &str,
+    layout: Option<&wgpu::PipelineLayout>,
+    entries: [&str; N],
+    what: &str,
+) -> Result<[wgpu::ComputePipeline; N]> {
+    let source = compose(&format!("#import {shader}"))?;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(shader), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let pipelines = entries.map(|entry| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    });
+    if let Some(error) = pollster::block_on(scope.pop()) {
+        bail!("compiling {what}: {error}");
+    }
+    Ok(pipelines)
 }
 
 /// The name a line imports, if it is an import.

@@ -8,13 +8,11 @@ use anyhow::{bail, Result};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use super::compose::compute_pipelines;
 use super::context::Gpu;
 use super::render::{check_buffer_size, readback_buffer};
 use crate::effects::distance_map::{start_tolerance, DistanceMap};
 use crate::scene::SearchSteps;
-
-/// The search library.
-pub const SEARCH_LIBRARY: &str = super::compose::SHADERS[2].1;
 
 /// The uniform block `SearchParams`.
 #[repr(C)]
@@ -82,19 +80,7 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
         tolerance: start_tolerance(map.size) as f32,
         pad: [0; 2],
     };
-    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("distance-map search"), source: wgpu::ShaderSource::Wgsl(SEARCH_LIBRARY.into()) });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("distance-map search"),
-        layout: None,
-        module: &module,
-        entry_point: Some("cs_search"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    if let Some(error) = pollster::block_on(scope.pop()) {
-        bail!("compiling the distance-map search: {error}");
-    }
+    let [pipeline] = compute_pipelines(device, "distance_map", None, ["cs_search"], "the distance-map search")?;
     let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
     let params_buffer = buffer("search params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
     let texel_buffer = buffer("distance map", bytemuck::cast_slice(&texels), wgpu::BufferUsages::STORAGE);

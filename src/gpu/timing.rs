@@ -80,20 +80,27 @@ impl Stopwatch {
 
     /// Draw `draws` (3-vertex fullscreen triangles) in one pass into `target`; milliseconds.
     pub fn time(&mut self, gpu: &Gpu, target: &Target, draws: &[Draw<'_>]) -> Result<f64> {
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        {
-            let writes = self.queries.as_ref().map(|(set, _, _)| wgpu::RenderPassTimestampWrites {
+        self.time_pass(gpu, |encoder, timestamps| {
+            let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
                 query_set: set,
                 beginning_of_pass_write_index: Some(0),
                 end_of_pass_write_index: Some(1),
             });
-            let mut pass = target.begin(&mut encoder, writes);
+            let mut pass = target.begin(encoder, writes);
             for (pipeline, bind_group) in draws {
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, *bind_group, &[]);
                 pass.draw(0..3, 0..1);
             }
-        }
+        })
+    }
+
+    /// Time the one pass `record` encodes; it writes that pass's start and end into
+    /// timestamp queries 0 and 1 of the set it is handed (none without timestamp queries:
+    /// then wall time). Milliseconds.
+    pub fn time_pass(&mut self, gpu: &Gpu, record: impl FnOnce(&mut wgpu::CommandEncoder, Option<&wgpu::QuerySet>)) -> Result<f64> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        record(&mut encoder, self.queries.as_ref().map(|(set, _, _)| set));
         if let Some((set, resolve, read)) = &self.queries {
             encoder.resolve_query_set(set, 0..2, resolve, 0);
             encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);

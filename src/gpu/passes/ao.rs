@@ -18,11 +18,9 @@ use wgpu::util::DeviceExt;
 use crate::effects::ao::hierarchy::{Closeness, SurfelTree};
 use crate::effects::ao::shadow::ShadowForm;
 use crate::effects::ao::surfel::Surfel;
+use crate::gpu::compose::compute_pipelines;
 use crate::gpu::context::Gpu;
 use crate::gpu::render::{check_buffer_size, readback_buffer};
-
-/// The kernel.
-pub const SURFEL_AO_SHADER: &str = crate::gpu::compose::SHADERS[4].1;
 
 /// Invocations per workgroup of every entry point.
 const WORKGROUP: u32 = 64;
@@ -189,8 +187,6 @@ impl SurfelAoPass {
             weights: 2 * n32,
             pad: 0,
         };
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
         let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -206,20 +202,13 @@ impl SurfelAoPass {
         entries.extend([storage(1, true), storage(2, true), storage(3, false), storage(4, false)]);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel ao"), entries: &entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel ao"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let (brute_force, node_weights, tree_pipeline) = (pipeline("cs_brute_force"), pipeline("cs_node_weights"), pipeline("cs_tree"));
-        if let Some(error) = pollster::block_on(scope.pop()) {
-            bail!("compiling the surfel ambient-occlusion kernel: {error}");
-        }
+        let [brute_force, node_weights, tree_pipeline] = compute_pipelines(
+            device,
+            "surfel_ao",
+            Some(&pipeline_layout),
+            ["cs_brute_force", "cs_node_weights", "cs_tree"],
+            "the surfel ambient-occlusion kernel",
+        )?;
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
@@ -298,21 +287,9 @@ impl SurfelAoPass {
 pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> Result<Vec<[f32; 4]>> {
     let surfels: Vec<Surfel> = pairs.iter().flat_map(|(e, r)| [*e, *r]).collect();
     let pass = SurfelAoPass::new(gpu, &surfels, None, Gather::BruteForce, form, Closeness::default())?;
-    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel ao"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
     let layout = pass.brute_force.get_bind_group_layout(0);
     let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("shadow terms"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-    let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("cs_shadow_terms"),
-        layout: Some(&pipeline_layout),
-        module: &module,
-        entry_point: Some("cs_shadow_terms"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    if let Some(error) = pollster::block_on(scope.pop()) {
-        bail!("compiling the shadow-term kernel: {error}");
-    }
+    let [pipeline] = compute_pipelines(&gpu.device, "surfel_ao", Some(&pipeline_layout), ["cs_shadow_terms"], "the shadow-term kernel")?;
     let bytes = pairs.len() as u64 * 16;
     let readback = readback_buffer(gpu, bytes.max(16))?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());

@@ -15,10 +15,11 @@
 use anyhow::{bail, Result};
 use wgpu::util::DeviceExt;
 
-use super::ao::{GpuDisc, Params, SURFEL_AO_SHADER};
+use super::ao::{GpuDisc, Params};
 use crate::effects::ao::indirect::Rgb;
 use crate::effects::ao::shadow::ShadowForm;
 use crate::effects::ao::surfel::Surfel;
+use crate::gpu::compose::compute_pipelines;
 use crate::gpu::context::Gpu;
 use crate::gpu::render::{check_buffer_size, readback_buffer};
 
@@ -59,8 +60,6 @@ impl IndirectPass {
             check_buffer_size(gpu, bytes as u64, what)?;
         }
         let device = &gpu.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("surfel indirect"), source: wgpu::ShaderSource::Wgsl(SURFEL_AO_SHADER.into()) });
         let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -71,17 +70,7 @@ impl IndirectPass {
         let entries = [entry(0, wgpu::BufferBindingType::Uniform), entry(1, storage(true)), entry(3, storage(false)), entry(5, storage(true)), entry(6, storage(false))];
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel indirect"), entries: &entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel indirect"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cs_indirect"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_indirect"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(error) = pollster::block_on(scope.pop()) {
-            bail!("compiling the surfel indirect-light kernel: {error}");
-        }
+        let [pipeline] = compute_pipelines(device, "surfel_ao", Some(&pipeline_layout), ["cs_indirect"], "the surfel indirect-light kernel")?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
