@@ -74,7 +74,6 @@ fn ingest_records_bad_pages_and_continues() {
     let json: serde_json::Value = serde_json::from_slice(&fs::read(out.join("materials.json")).unwrap()).unwrap();
     assert_eq!(json[0]["kind"], "conductor");
     assert_eq!(&fs::read(out.join("materials.parquet")).unwrap()[..4], b"PAR1");
-    fs::remove_dir_all(&db).unwrap();
 }
 
 #[test]
@@ -88,7 +87,6 @@ fn strict_makes_data_errors_fatal_but_not_coverage() {
     assert!(!stderr.contains("infrared.yml line"), "{stderr}");
     let only_coverage = nklut(&db, &out, &["ingest", "--strict", "--page", "test/X/good", "--page", "test/X/infrared"]);
     assert!(only_coverage.status.success(), "{}", String::from_utf8_lossy(&only_coverage.stderr));
-    fs::remove_dir_all(&db).unwrap();
 }
 
 #[test]
@@ -105,5 +103,4 @@ fn nk_prints_one_line_per_wavelength_and_names_the_range() {
     assert!(stderr.contains("300.0–800.0 nm"), "{stderr}");
     let result = nklut(&db, &out, &["nk", "test/X/nope", "--nm", "500"]);
     assert!(String::from_utf8_lossy(&result.stderr).contains("unknown page"));
-    fs::remove_dir_all(&db).unwrap();
 }

@@ -4,14 +4,41 @@
 
 mod common;
 
-use common::scratch;
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Output};
+
+use common::{database_dir, scratch, Scratch};
 
 use nklut::scene::{Role, Scene};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `nklut effects [flags] SCENE` on `scene` (YAML) written into a fresh folder; the folder
+/// (outputs under `out/`) and what the command printed.
+fn run_effects(name: &str, scene: &str, flags: &[&str]) -> (Scratch, Output) {
+    let dir = scratch(name);
+    let file = dir.join("scene.yaml");
+    std::fs::write(&file, scene).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        .arg("--db")
+        .arg(database_dir())
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("effects")
+        .args(flags)
+        .arg(&file)
+        .output()
+        .unwrap();
+    (dir, output)
+}
+
+/// A CSV table: its header and rows.
+fn read_csv(path: &Path) -> (csv::StringRecord, Vec<csv::StringRecord>) {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let headers = reader.headers().unwrap().clone();
+    (headers, reader.records().map(|r| r.unwrap()).collect())
 }
 
 #[test]
@@ -31,28 +58,15 @@ fn shipped_effects_scenes_parse_and_name_their_effects() {
 
 #[test]
 fn effects_command_splits_geometry_and_fresnel_error() {
-    let dir = scratch("effects");
-    let scene = dir.join("water.yaml");
-    std::fs::write(
-        &scene,
+    let (dir, output) = run_effects(
+        "effects",
         "resolution: [12, 12]\ncamera: {axis: [0, 1, 0.2], distance: 1.6, frames: 1}\neffects:\n  reflection: {max_depth: [1, 3]}\n  refraction: {max_depth: 3}\n  distance_maps: {size: 16, layers: 2, linear_steps: [15, 80], secant_steps: 1}\nobjects:\n  - {mesh: sphere, scale: 0.6, material: 3d/liquids/water, methods: [exact, schlick, constant]}\n  - {mesh: room, scale: 3, diffuse: [0.8, 0.8, 0.8], pattern: {kind: checker, size: 0.75, albedo: [0.1, 0.3, 0.6]}}\nmeasurements: [image_error]\n",
-    )
-    .unwrap();
+        &[],
+    );
     let out = dir.join("out");
-    let output = Command::new(env!("CARGO_BIN_EXE_nklut"))
-        .args(["--db"])
-        .arg(root().join("refractiveindex/database"))
-        .arg("--out")
-        .arg(&out)
-        .arg("effects")
-        .arg(&scene)
-        .output()
-        .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let mut reader = csv::Reader::from_path(out.join("effects_errors.csv")).unwrap();
-    let headers = reader.headers().unwrap().clone();
+    let (headers, rows) = read_csv(&out.join("effects_errors.csv"));
     let column = |name: &str| headers.iter().position(|h| h == name).unwrap();
-    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
     // 2 Fresnel methods (the `constant` baseline has no bounce rule) × 2 depth
     // configurations × 2 search configurations.
     assert_eq!(rows.len(), 8);
@@ -78,7 +92,6 @@ fn effects_command_splits_geometry_and_fresnel_error() {
     frames.sort();
     assert_eq!(frames.len(), 2 * (2 + 3 + 3), "{frames:?}");
     assert!(frames.contains(&"depth3-3_steps80-1_schlick_error.png".to_string()), "{frames:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The shipped AO scenes parse, name only surfel effects, need no specular object, and
@@ -103,30 +116,17 @@ fn shipped_ao_scenes_parse_and_name_surfel_effects() {
 /// effects_errors (the scene names no reflection).
 #[test]
 fn effects_command_measures_ambient_occlusion_against_the_reference() {
-    let dir = scratch("ao-effects");
-    let scene = dir.join("ao.yaml");
-    std::fs::write(
-        &scene,
+    let (dir, output) = run_effects(
+        "ao-effects",
         "resolution: [10, 8]\ncamera: {axis: [0, 1, 0.2], distance: 2.5, frames: 1}\neffects:\n  ambient_occlusion: {passes: 2, bent_normals: true}\n  indirect: {bounces: 1}\nlights:\n  - {kind: directional, direction: [-0.3, -1, -0.2], colour: [1, 1, 1]}\n  - {kind: ambient, colour: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: cube, scale: 0.5, diffuse: [0.8, 0.2, 0.2], subdivide: 1}\n  - {mesh: cube, scale: [2, 0.05, 2], position: [0, -0.32, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2}\nmeasurements: [image_error]\n",
-    )
-    .unwrap();
+        &["--ao-rays", "32"],
+    );
     let out = dir.join("out");
-    let output = Command::new(env!("CARGO_BIN_EXE_nklut"))
-        .args(["--db"])
-        .arg(root().join("refractiveindex/database"))
-        .arg("--out")
-        .arg(&out)
-        .args(["effects", "--ao-rays", "32"])
-        .arg(&scene)
-        .output()
-        .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("0 cube maps") && stderr.contains(" 6 AO passes"), "{stderr}");
-    let mut reader = csv::Reader::from_path(out.join("ao_errors.csv")).unwrap();
-    let headers = reader.headers().unwrap().clone();
+    let (headers, rows) = read_csv(&out.join("ao_errors.csv"));
     let column = |name: &str| headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("{name}"));
-    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
     assert_eq!(rows.len(), 2 * 3 * 2, "2 objects × 3 passes × brute force and tree");
     for row in &rows {
         for name in ["mean_error", "max_error", "reference_standard_error", "indirect_mean_error", "indirect_reference_mean"] {
@@ -141,5 +141,4 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
     pictures.sort();
     assert_eq!(pictures.len(), 4 * 3 + 2 + 2, "{pictures:?}");
     assert!(pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()), "{pictures:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -314,7 +314,6 @@ fn bad_scenes_are_named_errors_not_panics() {
     let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
     let error = nklut::scene::read_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The WGSL distance-map search against its f64 CPU twin, ray by ray: the same layer and

@@ -132,7 +132,6 @@ fn report_is_well_formed_complete_and_traceable() {
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("reached the edge of the search box"), "the bound is explained");
     assert!(gold.contains("outside [0, 1] of linear sRGB"), "the gamut is explained");
-    fs::remove_dir_all(&out).unwrap();
 }
 
 /// Recount a figure the report printed from the table it names.
@@ -197,7 +196,6 @@ fn report_uses_the_channel_wavelengths_of_its_tables() {
     assert!(!mixed.status.success());
     let message = String::from_utf8_lossy(&mixed.stderr);
     assert!(message.contains("errors.csv") && message.contains("different --channels"), "{message}");
-    fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]
@@ -225,7 +223,6 @@ fn report_selects_like_every_command_and_names_missing_pages() {
     assert!(!message.contains("3d/metals/gold "), "gold is there: {message}");
     let shelf = nklut(&out, &["report", "--shelf", "main"]);
     assert!(!shelf.status.success() && String::from_utf8_lossy(&shelf.stderr).contains("shelf main"));
-    fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]
@@ -246,7 +243,6 @@ fn effects_and_engine_panels_appear_when_their_tables_exist() {
     assert!(gold.contains("id=\"paste\""), "paste-in panel");
     assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));
     assert!(gold.contains("f0_srgb8 = #ffd27a"));
-    fs::remove_dir_all(&out).unwrap();
 }
 
 /// What the audit script reads off the rendered page.
@@ -364,7 +360,6 @@ fn rendered_report_is_readable_and_its_counts_are_its_tables() {
         assert!(distinct.len() > 50, "{shot} has only {} colours", distinct.len());
         println!("screenshot kept: {}", artefacts.join(shot).display());
     }
-    fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]
@@ -380,5 +375,4 @@ fn the_audit_sees_small_and_overlapping_plot_text() {
     let seen = audit(&page, &out.join("profile"), &out.join("bad.png"));
     assert_eq!(seen.texts.iter().filter(|t| t.size < 12.0).count(), 2, "{seen:?}");
     assert_eq!(seen.overlaps, vec![("label one".to_string(), "label two".to_string())]);
-    fs::remove_dir_all(&out).unwrap();
 }
