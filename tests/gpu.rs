@@ -93,7 +93,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     let shader = pixels[x as usize * 4 + channel];
                     assert!(shader.is_finite(), "{name} {method} c {c}: {shader}");
                     let (expected, tolerance) = match method {
-                        Shading::Fresnel(nklut::fresnel::Method::Lut) => {
+                        Shading::Fresnel(fresnel::Method::Lut) => {
                             let (model, a, b) = lut_model(&stored, channel, c);
                             // One half-float step, plus the sub-texel weight precision a GPU may
                             // use (8 bits on current hardware; a CPU rasteriser uses floats).
@@ -107,7 +107,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                     // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
                     // exact F is 1 (to an f32 rounding).
                     let Index { n, k } = channels[channel];
-                    if method == Shading::Fresnel(nklut::fresnel::Method::Exact) && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
+                    if method == Shading::Fresnel(fresnel::Method::Exact) && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
                         assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
                     }
                     max_error = max_error.max(error);
@@ -127,7 +127,7 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Shading::Fresnel(nklut::fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform.evaluate_f32(Shading::Fresnel(fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0).unwrap().is_finite());
         }
     }
 }
@@ -179,7 +179,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     let row = |object: &str, method: Shading| report.image_errors.iter().find(|r| r.object == object && r.method == method).unwrap();
     for object in ["sphere", "cube"] {
-        let exact = row(object, Shading::Fresnel(nklut::fresnel::Method::Exact));
+        let exact = row(object, Shading::Fresnel(fresnel::Method::Exact));
         assert_eq!(exact.frames, 4);
         assert!(exact.pixels > 4 * 1000, "{object} covers {} pixels in 4 frames", exact.pixels);
         assert_eq!((exact.mean_rel_error, exact.max_rel_error), (0.0, 0.0), "{object}: exact against itself");
@@ -193,7 +193,7 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
     // magnitude (a factor 10 either way), and must not be zero.
     let function_error = (0..3).map(|ch| schlick_function_error(WATER[ch])).sum::<f64>() / 3.0;
     for object in ["sphere", "cube"] {
-        let image_error = row(object, Shading::Fresnel(nklut::fresnel::Method::Schlick)).mean_rel_error;
+        let image_error = row(object, Shading::Fresnel(fresnel::Method::Schlick)).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
         assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
@@ -253,7 +253,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Shading::Fresnel(nklut::fresnel::Method::Lut), 3));
+    assert_eq!((row.method, row.repeats), (Shading::Fresnel(fresnel::Method::Lut), 3));
     assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
@@ -270,7 +270,7 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(nklut::fresnel::Method::Exact)).unwrap();
+    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);

@@ -6,7 +6,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::fresnel::{Prepared, ShaderParams};
+use crate::fresnel::{Method, Prepared, ShaderParams};
 use crate::scene::Shading;
 use crate::spectrum::ChannelIndex;
 
@@ -89,7 +89,7 @@ impl MaterialUniform {
 
 /// Methods that read the material's texture.
 pub fn needs_texture(method: Shading) -> bool {
-    matches!(method, Shading::Fresnel(crate::fresnel::Method::Lut) | Shading::Texture)
+    matches!(method, Shading::Fresnel(Method::Lut) | Shading::Texture)
 }
 
 #[cfg(test)]

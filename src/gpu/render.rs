@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::Gpu;
 use super::params::MaterialUniform;
+use crate::fresnel::Method;
 use crate::scene::Shading;
 
 /// The Fresnel shader library (`shaders/fresnel.wgsl`), which every pass imports.
@@ -33,7 +34,7 @@ impl Shade {
     /// parameters, or its LUT texture and sampler.
     fn call(self) -> String {
         match self {
-            Shade::Method(Shading::Fresnel(crate::fresnel::Method::Lut)) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
+            Shade::Method(Shading::Fresnel(Method::Lut)) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
             Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
             Shade::Method(method) => format!("fresnel_{}(c, material)", method.name()),
             Shade::Burner => "fresnel_burner(c)".into(),

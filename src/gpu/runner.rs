@@ -27,6 +27,7 @@ use crate::db::Database;
 use crate::effects::experiment::EffectsStats;
 use crate::ingest;
 use crate::output::Table;
+use crate::fresnel::Method;
 use crate::scene::{read_materials, Experiment, MeshSource, Scene, SceneMaterial, Shading};
 use crate::spectrum::Kind;
 
@@ -129,7 +130,7 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
     for SceneMaterial { page, optics } in materials {
         let prepared = params::prepare(&optics.channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
-        let wants_lut = scene.specular_objects().any(|(_, s)| s.material == *page && s.shadings.contains(&Shading::Fresnel(crate::fresnel::Method::Lut)));
+        let wants_lut = scene.specular_objects().any(|(_, s)| s.material == *page && s.shadings.contains(&Shading::Fresnel(Method::Lut)));
         let lut_view = wants_lut.then(|| {
             let texture = lut::upload(gpu, &lut::texels(&prepared, scene.lut.size as usize), page);
             stats.textures_baked += 1;
@@ -197,7 +198,7 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, BoundMaterial>, gpu: &Gpu, 
     }
     stats.timed_passes += stopwatch.passes;
     // The study's normalisation: exact on a dielectric material.
-    let reference = rows.iter().find(|r| r.method == Shading::Fresnel(crate::fresnel::Method::Exact) && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
+    let reference = rows.iter().find(|r| r.method == Shading::Fresnel(Method::Exact) && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
     match reference {
         Some(reference) => rows.iter_mut().for_each(|r| r.relative_to_exact_dielectric = Some(r.median_ms / reference)),
         None => stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into()),
@@ -240,7 +241,7 @@ fn run_image_error(
         }
         let gpu_mesh = &meshes[&object.mesh];
         let material = &bound[&specular.material];
-        let reference = renderer.pipeline(gpu, Shade::Method(Shading::Fresnel(crate::fresnel::Method::Exact)), Pass::Mesh)?.clone();
+        let reference = renderer.pipeline(gpu, Shade::Method(Shading::Fresnel(Method::Exact)), Pass::Mesh)?.clone();
         let mut pipelines = Vec::new();
         for method in &specular.shadings {
             pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Mesh)?.clone());
