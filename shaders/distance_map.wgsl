@@ -1,42 +1,38 @@
-// nklut distance-map search (Umenhoffer, Patow and Szirmay-Kalos, GPU Gems 3 ch. 17): the
-// WGSL twin of src/effects/distance_map.rs, operation for operation in f32. See that file
-// and docs/effects.md for the algorithm: cube-map faces in the Vulkan/WebGPU convention,
-// nearest texel; the ray x + R·d walked in t ∈ [0, 1] with d = |x|·t/(1 − t); against a
-// layer g = 1 − D/|p|; linear steps find front → behind, secant steps refine; a ray that
-// starts on a layer's surface (|g| ≤ tolerance) is neither in front nor behind until it
-// leaves that band; empty texels are neither. The nearest hit over the layers wins.
+// nklut layered distance maps (Umenhoffer, Patow and Szirmay-Kalos, GPU Gems 3 ch. 17): the
+// search of a ray through one object's map, the WGSL twin of src/effects/distance_map.rs,
+// operation for operation in f32. See that file and docs/effects.md for the algorithm:
+// cube-map faces in the Vulkan/WebGPU convention, nearest texel; the ray x + R·d walked in
+// t ∈ [0, 1] with d = |x|·t/(1 − t); against a layer g = 1 − D/|p|; linear steps find
+// front → behind, secant steps refine; a ray that starts on a layer's surface (|g| ≤
+// tolerance = 8/size) is neither in front nor behind until it leaves that band; empty
+// texels are neither. The nearest hit over the layers wins.
+//
+// Every map of a frame lives in one buffer, `map_texels`; a `MapView` says where one map
+// starts. The functions read only that buffer and their arguments.
 
-struct SearchParams {
+// One object's map: its reference point, texels per face edge, layers, and the index of
+// its first texel in `map_texels` (layer-major, then face, row, column).
+struct MapView {
+    centre: vec4<f32>,
     size: u32,
     layers: u32,
+    base: u32,
+    pad: u32,
+}
+
+// Linear and secant step counts of the search.
+struct SearchSteps {
     linear: u32,
     secant: u32,
-    count: u32,
-    tolerance: f32,
     pad0: u32,
     pad1: u32,
 }
 
-// A ray relative to the map's centre.
-struct SearchRay {
-    origin: vec4<f32>,
-    direction: vec4<f32>,
-}
+// Per texel: (distance, normal.xyz); distance < 0: nothing there.
+@group(1) @binding(0) var<storage, read> map_texels: array<vec4<f32>>;
 
-// point.xyz and t in point.w (t < 0: no hit); where.x = layer, where.y = texel index.
-struct SearchHit {
-    point: vec4<f32>,
-    at: vec4<u32>,
-}
-
-@group(0) @binding(0) var<uniform> search: SearchParams;
-// Per layer, 6·size² texels: (distance, normal.xyz); distance < 0: nothing there.
-@group(0) @binding(1) var<storage, read> texels: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> rays: array<SearchRay>;
-@group(0) @binding(3) var<storage, read_write> hits: array<SearchHit>;
-
-// Face and texel index of a direction (major axis, then s = (sc/|ma| + 1)/2, t likewise).
-fn texel_index(d: vec3<f32>) -> u32 {
+// Texel index within a layer of a direction (major axis, then s = (sc/|ma| + 1)/2, t likewise).
+fn map_texel_index(size: u32, d: vec3<f32>) -> u32 {
     let a = abs(d);
     var face = 0u;
     var sc = 0.0;
@@ -55,64 +51,70 @@ fn texel_index(d: vec3<f32>) -> u32 {
         tc = -d.y;
         if (d.z > 0.0) { face = 4u; sc = d.x; } else { face = 5u; sc = -d.x; }
     }
-    let n = f32(search.size);
+    let n = f32(size);
     let s = 0.5 * (sc / ma + 1.0);
     let t = 0.5 * (tc / ma + 1.0);
-    let column = min(u32(max(s * n, 0.0)), search.size - 1u);
-    let row = min(u32(max(t * n, 0.0)), search.size - 1u);
-    return face * search.size * search.size + row * search.size + column;
+    let column = min(u32(max(s * n, 0.0)), size - 1u);
+    let row = min(u32(max(t * n, 0.0)), size - 1u);
+    return face * size * size + row * size + column;
 }
 
-fn texel_at(layer: u32, index: u32) -> vec4<f32> {
-    return texels[layer * 6u * search.size * search.size + index];
+// Where texel `index` of `layer` sits in `map_texels`.
+fn map_slot(map: MapView, layer: u32, index: u32) -> u32 {
+    return map.base + layer * 6u * map.size * map.size + index;
 }
 
-// One probe at t: g in x, the texel index in y (as bits), 1 in z when the texel holds a surface.
+fn map_texel(map: MapView, layer: u32, index: u32) -> vec4<f32> {
+    return map_texels[map_slot(map, layer, index)];
+}
+
+// One probe at t: g, the texel index read, and whether that texel holds a surface.
 struct Probe {
     g: f32,
     index: u32,
     found: bool,
 }
 
-fn probe(layer: u32, x: vec3<f32>, r: vec3<f32>, scale: f32, t: f32) -> Probe {
+fn map_probe(map: MapView, layer: u32, x: vec3<f32>, r: vec3<f32>, scale: f32, t: f32) -> Probe {
     var p: Probe;
     if (t < 1.0) {
         let point = x + r * (scale * t / (1.0 - t));
-        p.index = texel_index(point);
-        let texel = texel_at(layer, p.index);
+        p.index = map_texel_index(map.size, point);
+        let texel = map_texel(map, layer, p.index);
         p.found = texel.x >= 0.0;
         p.g = 1.0 - texel.x / length(point);
     } else {
-        p.index = texel_index(r);
-        p.found = texel_at(layer, p.index).x >= 0.0;
+        p.index = map_texel_index(map.size, r);
+        p.found = map_texel(map, layer, p.index).x >= 0.0;
         p.g = 1.0;
     }
     return p;
 }
 
-// The hit in one layer: t in w (−1: none), the texel index in the second value.
+// The hit in one layer: t (−1: none) and the texel index read there.
 struct LayerHit {
     t: f32,
     index: u32,
 }
 
-fn search_layer(layer: u32, x: vec3<f32>, r: vec3<f32>) -> LayerHit {
+fn map_search_layer(map: MapView, steps: SearchSteps, layer: u32, x: vec3<f32>, r: vec3<f32>) -> LayerHit {
     var none: LayerHit;
     none.t = -1.0;
+    let tolerance = 8.0 / f32(map.size);
     let scale = max(length(x), 1e-9);
-    let start = probe(layer, x, r, scale, 0.0);
-    var on_surface = start.found && abs(start.g) <= search.tolerance;
-    var has_front = start.found && start.g < -search.tolerance;
+    let start = map_probe(map, layer, x, r, scale, 0.0);
+    var on_surface = start.found && abs(start.g) <= tolerance;
+    var has_front = start.found && start.g < -tolerance;
     var ta = 0.0;
     var ga = start.g;
     var tb = 0.0;
     var gb = 0.0;
     var index_b = 0u;
     var bracketed = false;
-    for (var k = 1u; k <= search.linear; k = k + 1u) {
-        let t = f32(k) / f32(search.linear);
-        let sample = probe(layer, x, r, scale, t);
-        on_surface = on_surface && sample.found && abs(sample.g) <= search.tolerance;
+    for (var k = 1u; k <= steps.linear; k = k + 1u) {
+        let t = f32(k) / f32(steps.linear);
+        let sample = map_probe(map, layer, x, r, scale, t);
+        on_surface = on_surface && sample.found && abs(sample.g) <= tolerance;
         if (on_surface) {
             continue;
         }
@@ -136,15 +138,15 @@ fn search_layer(layer: u32, x: vec3<f32>, r: vec3<f32>) -> LayerHit {
     var hit: LayerHit;
     hit.t = tb;
     hit.index = index_b;
-    for (var i = 0u; i < search.secant; i = i + 1u) {
+    for (var i = 0u; i < steps.secant; i = i + 1u) {
         let tm = ta + (tb - ta) * ga / (ga - gb);
-        let sample = probe(layer, x, r, scale, tm);
+        let sample = map_probe(map, layer, x, r, scale, tm);
         if (!sample.found) {
             break;
         }
         hit.t = tm;
         hit.index = sample.index;
-        if (i + 1u == search.secant) {
+        if (i + 1u == steps.secant) {
             break;
         }
         if (sample.g < 0.0) {
@@ -158,27 +160,32 @@ fn search_layer(layer: u32, x: vec3<f32>, r: vec3<f32>) -> LayerHit {
     return hit;
 }
 
-@compute @workgroup_size(64)
-fn cs_search(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= search.count) {
-        return;
-    }
-    let x = rays[id.x].origin.xyz;
-    let r = rays[id.x].direction.xyz;
-    var best: SearchHit;
+// Where a search ended: the point relative to the map's centre and t in `point.w` (t < 0:
+// no hit); the layer and texel index read there.
+struct MapHit {
+    point: vec4<f32>,
+    layer: u32,
+    index: u32,
+}
+
+// The nearest hit over all layers of the ray x + R·d (x relative to the map's centre).
+fn map_search(map: MapView, steps: SearchSteps, x: vec3<f32>, r: vec3<f32>) -> MapHit {
+    var best: MapHit;
     best.point = vec4<f32>(0.0, 0.0, 0.0, -1.0);
-    best.at = vec4<u32>(0u);
-    for (var layer = 0u; layer < search.layers; layer = layer + 1u) {
-        let hit = search_layer(layer, x, r);
+    best.layer = 0u;
+    best.index = 0u;
+    for (var layer = 0u; layer < map.layers; layer = layer + 1u) {
+        let hit = map_search_layer(map, steps, layer, x, r);
         if (hit.t >= 0.0 && (best.point.w < 0.0 || hit.t < best.point.w)) {
-            var point = r * texel_at(layer, hit.index).x;
+            var point = r * map_texel(map, layer, hit.index).x;
             if (hit.t < 1.0) {
                 let scale = max(length(x), 1e-9);
                 point = x + r * (scale * hit.t / (1.0 - hit.t));
             }
             best.point = vec4<f32>(point, hit.t);
-            best.at = vec4<u32>(layer, hit.index, 0u, 0u);
+            best.layer = layer;
+            best.index = hit.index;
         }
     }
-    hits[id.x] = best;
+    return best;
 }

@@ -374,3 +374,104 @@ fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
         assert!(agree * 100 >= rays.len() * 97, "{agree} of {} rays agree", rays.len());
     }
 }
+
+/// A glass sphere and a gold cube in a checkered room, small enough for lavapipe.
+fn effects_stage(refraction: bool) -> (Scene, nklut::effects::trace::Stage) {
+    use nklut::effects::trace::{stage_from_table, SpecularMaterial};
+    let refraction = if refraction { "  refraction: {max_depth: 3}\n" } else { "" };
+    let text = format!(
+        "resolution: [48, 48]\ncamera: {{axis: [0, 1, 0.2], distance: 1.8, frames: 1}}\neffects:\n  reflection: {{max_depth: 3}}\n{refraction}  distance_maps: {{size: 16, layers: 3}}\n\
+         objects:\n  - {{mesh: sphere, scale: 0.5, position: [0.2, 0, 0], material: x/y/glass, methods: [exact, schlick, lut]}}\n  - {{mesh: cube, scale: 0.25, position: [-0.6, -0.2, 0.3], material: x/y/gold, methods: [exact]}}\n\
+         \x20 - {{mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.75], pattern: {{kind: checker, size: 0.5, albedo: [0.1, 0.3, 0.6]}}}}\nmeasurements: [image_error]\n"
+    );
+    let scene = Scene::parse(&text, Path::new("tests/gpu.rs effects scene")).unwrap();
+    let table = [
+        SceneMaterial { page: "x/y/glass".into(), optics: SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric } },
+        SceneMaterial { page: "x/y/gold".into(), optics: SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor } },
+    ];
+    let stage = stage_from_table(&scene, &table).unwrap();
+    (scene, stage)
+}
+
+/// Distance maps rasterised on the GPU against the CPU's ray-cast twin, texel by texel:
+/// the same surface (or none) and the same distance and normal to f32 precision, except a
+/// few texels whose centre ray grazes a triangle edge or a silhouette.
+#[test]
+fn gpu_distance_maps_match_the_ray_cast_twin() {
+    use nklut::effects::distance_map::DistanceMap;
+    use nklut::effects::trace::Surface;
+    use nklut::gpu::passes::distance_maps::{MapRenderer, SceneMeshes};
+    let Some(gpu) = device() else { return };
+    let (_, stage) = effects_stage(true);
+    let renderer = MapRenderer::new(&gpu, &stage).unwrap();
+    let meshes = SceneMeshes::upload(&gpu, &stage).unwrap();
+    let maps = renderer.allocate(&gpu, &stage, 16, 3).unwrap();
+    renderer.render(&gpu, &stage, &meshes, &maps).unwrap();
+    let texels = maps.read(&gpu).unwrap();
+    assert_eq!(texels.views.len(), 2, "one map per specular object");
+    for (m, object) in [(0, 0), (1, 1)] {
+        let gpu_map = texels.unpack(m);
+        let cpu_map = DistanceMap::render(&stage, object, 16, 3);
+        assert!((gpu_map.centre - cpu_map.centre).length() < 1e-6);
+        for layer in 0..3 {
+            let (mut same, mut filled) = (0, 0);
+            for (g, c) in gpu_map.layers[layer].iter().zip(&cpu_map.layers[layer]) {
+                filled += c.is_some() as usize;
+                same += match (g, c) {
+                    (None, None) => true,
+                    (Some(g), Some(c)) => {
+                        let surface = match (g.surface, c.surface) {
+                            (Surface::Specular(a), Surface::Specular(b)) => a == b,
+                            (Surface::Diffuse(a), Surface::Diffuse(b)) => (0..3).all(|i| (a[i] - b[i]).abs() <= 1e-4),
+                            _ => false,
+                        };
+                        surface && (g.distance - c.distance).abs() <= 1e-4 * c.distance && (g.normal - c.normal).length() <= 1e-3
+                    }
+                    _ => false,
+                } as usize;
+            }
+            let total = gpu_map.layers[layer].len();
+            eprintln!("map {m} layer {layer}: {same} of {total} texels agree ({filled} filled on the CPU)");
+            assert!(filled > 0, "layer {layer} of map {m} holds something");
+            assert!(same * 100 >= total * 97, "map {m} layer {layer}: {same} of {total}");
+        }
+    }
+}
+
+/// The WGSL bounce loop against its f64 twin on the same (CPU-rendered) maps: the glass and
+/// gold pixels agree to f32 precision but for a few pixels whose search lands on the other
+/// side of a texel edge; every pixel of the frame is finite.
+#[test]
+fn gpu_specular_pass_matches_the_distance_map_twin() {
+    use nklut::effects::experiment::{distance_maps, twin_frame};
+    use nklut::effects::image_error::compare;
+    use nklut::effects::trace::Camera;
+    use nklut::fresnel::{LutSpec, Method};
+    use nklut::gpu::passes::distance_maps::{GpuMaps, SceneMeshes};
+    use nklut::gpu::passes::specular::{Shot, SpecularPass};
+    use nklut::scene::{Depths, SearchSteps};
+    let Some(gpu) = device() else { return };
+    let (scene, stage) = effects_stage(true);
+    let cpu_maps = distance_maps(&stage, 16, 3);
+    let maps = GpuMaps::upload(&gpu, &stage, &cpu_maps).unwrap();
+    let meshes = SceneMeshes::upload(&gpu, &stage).unwrap();
+    let mut pass = SpecularPass::new(&gpu, &stage, 64).unwrap();
+    let steps = SearchSteps { linear: 15, secant: 4 };
+    let camera = Camera::new(&scene.camera, 0, 48, 48);
+    for (method, depths) in [(Method::Exact, Depths { reflection: 3, refraction: 3 }), (Method::Schlick, Depths { reflection: 2, refraction: 0 }), (Method::Lut, Depths { reflection: 2, refraction: 2 })] {
+        let shot = Shot { camera: &scene.camera, frame: 0, depths, steps };
+        let image = pass.render(&gpu, &meshes, &maps, shot, method, 48, 48).unwrap();
+        let twin = twin_frame(&stage, &camera, &cpu_maps, method, depths, steps, LutSpec::new(64, lut::ENCODING));
+        assert!(image.radiance.iter().flatten().all(|x| x.is_finite()));
+        let seen_same = image.seen.iter().zip(&twin.seen).filter(|(a, b)| a == b).count();
+        assert!(seen_same * 100 >= image.seen.len() * 98, "{method:?}: the rasteriser and the ray caster see the same objects ({seen_same})");
+        let error = compare(&image.traced(), &twin);
+        let close = image.radiance.iter().zip(&twin.radiance).zip(&twin.seen).filter(|((g, c), s)| s.is_some() && (0..3).all(|i| (g[i] as f64 - c[i]).abs() <= 2e-3 * (1.0 + c[i]))).count();
+        eprintln!("{method:?} {depths:?}: {close} of {} specular pixels within 2e-3; mean relative error {:.2e}, max {:.2e}", error.pixels, error.mean_relative, error.max_relative);
+        assert!(error.pixels > 200, "the frame shows the specular objects");
+        assert!(close * 100 >= error.pixels * 95, "{method:?}: {close} of {}", error.pixels);
+        assert!(error.mean_relative < 0.02, "{method:?}: {error:?}");
+    }
+    assert_eq!(pass.pipelines_compiled, 3, "one pipeline per (effect, method) used");
+    assert_eq!(pass.lut_curves, 4, "two curves per specular object, baked once for lut");
+}

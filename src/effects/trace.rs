@@ -21,7 +21,8 @@ use super::geometry::Geometry;
 use super::optics::{scatter, Allowed, SpecularOptics};
 use crate::fresnel::{LutSpec, Method};
 pub use crate::scene::SpecularMaterial;
-use crate::scene::{mesh, CameraPath, Depths, Diffuse, Light, Role, Scene, SceneMaterial};
+use crate::scene::mesh::{self, Mesh};
+use crate::scene::{CameraPath, Depths, Diffuse, Light, Role, Scene, SceneMaterial};
 
 /// What a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +59,8 @@ pub enum ObjectOptics {
 
 /// A scene ready to trace: its triangles, each object's optics and the light.
 pub struct Stage {
+    /// Each object's placed mesh, in the scene's order (what the GPU rasterises).
+    pub meshes: Vec<Mesh>,
     pub geometry: Geometry,
     pub objects: Vec<ObjectOptics>,
     pub light: Light,
@@ -78,7 +81,7 @@ impl Stage {
             });
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(e.to_string()))?;
-        Ok(Stage { geometry, objects, light: scene.light.clone() })
+        Ok(Stage { meshes, geometry, objects, light: scene.light.clone() })
     }
 
     /// The Fresnel curves of every specular object for one method (`None` for diffuse ones).

@@ -23,7 +23,14 @@ pub fn texels(prepared: &[Prepared; 3], size: usize) -> Vec<[f32; 4]> {
 
 /// Upload texels as an N×1 `rgba16float` texture.
 pub fn upload(gpu: &Gpu, texels: &[[f32; 4]], label: &str) -> wgpu::Texture {
-    let size = wgpu::Extent3d { width: texels.len() as u32, height: 1, depth_or_array_layers: 1 };
+    upload_rows(gpu, texels, 1, label)
+}
+
+/// Upload `rows` rows of texels (row-major, one curve per row: an atlas) as an
+/// `rgba16float` texture, read like the shipped atlases (`shaders/lut_sample.wgsl`).
+pub fn upload_rows(gpu: &Gpu, texels: &[[f32; 4]], rows: u32, label: &str) -> wgpu::Texture {
+    let width = texels.len() as u32 / rows.max(1);
+    let size = wgpu::Extent3d { width, height: rows, depth_or_array_layers: 1 };
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size,
@@ -38,10 +45,23 @@ pub fn upload(gpu: &Gpu, texels: &[[f32; 4]], label: &str) -> wgpu::Texture {
     gpu.queue.write_texture(
         wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
         bytemuck::cast_slice(&halves),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(8 * texels.len() as u32), rows_per_image: Some(1) },
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(8 * width), rows_per_image: Some(rows) },
         size,
     );
     texture
+}
+
+/// The sampler every LUT is read with (SPEC §5.7): linear filtering, clamp-to-edge.
+pub fn sampler(gpu: &Gpu) -> wgpu::Sampler {
+    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("lut linear clamp"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        address_mode_w: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    })
 }
 
 #[cfg(test)]

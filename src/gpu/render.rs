@@ -156,16 +156,7 @@ impl Renderer {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        // SPEC §5.7: linear filtering, clamp-to-edge.
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("lut linear clamp"),
-            address_mode_u: wgpu::AddressMode::ClampToEdge,
-            address_mode_v: wgpu::AddressMode::ClampToEdge,
-            address_mode_w: wgpu::AddressMode::ClampToEdge,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
+        let sampler = super::lut::sampler(gpu);
         let blank = super::lut::upload(gpu, &[[1.0, 1.0, 1.0, 1.0]], "blank").create_view(&Default::default());
         Renderer { layout, pipeline_layout, sampler, blank, modules: HashMap::new(), pipelines: HashMap::new(), created: Created::default() }
     }

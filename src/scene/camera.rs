@@ -68,10 +68,15 @@ pub fn multiply(a: &Mat4, b: &Mat4) -> Mat4 {
 /// Frame `i` of the path for a target of `width`×`height`. Objects fit the unit sphere, so
 /// near/far bracket distance ∓ 1 generously.
 pub fn frame(path: &CameraPath, i: u32, width: u32, height: u32) -> Frame {
+    frame_within(path, i, width, height, (path.distance - 1.0) * 0.5, path.distance + 2.0)
+}
+
+/// Frame `i` with depth kept between `near` and `far` from the eye (a scene the camera
+/// stands inside, such as a room, needs more than [`frame`]'s range).
+pub fn frame_within(path: &CameraPath, i: u32, width: u32, height: u32, near: f64, far: f64) -> Frame {
     let eye = eye(path, i);
     let view = look_at_origin(eye, normalise(path.axis));
-    let near = (path.distance - 1.0) * 0.5;
-    let projection = perspective(path.fov_y_degrees, width as f64 / height as f64, near, path.distance + 2.0);
+    let projection = perspective(path.fov_y_degrees, width as f64 / height as f64, near, far);
     Frame { eye, view_proj: multiply(&projection, &view) }
 }
 
