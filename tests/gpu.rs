@@ -238,6 +238,9 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.timed_passes, 0);
     assert!(report.stats.skipped.iter().any(|s| s.starts_with("timing")));
     assert_eq!(report.image_errors.len(), 1);
+    // No effects named: no cube map, no effect pipeline, no reference frame.
+    assert_eq!((report.stats.effects.cube_maps, report.stats.effects.layers, report.stats.effect_pipelines, report.stats.effects.reference_frames), (0, 0, 0, 0));
+    assert!(report.effects.timing.is_empty() && report.effects.errors.is_empty());
 
     let exact_only = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: cube, material: 3d/liquids/water, method: exact}]\nmeasurements: [image_error]\n");
     assert_eq!(gpu::run(&exact_only, &db, &Default::default(), &gpu, log).unwrap().stats.pipelines_compiled, 1, "exact is its own reference");
@@ -394,8 +397,10 @@ fn effects_stage(refraction: bool) -> (Scene, nklut::effects::trace::Stage) {
 }
 
 /// Distance maps rasterised on the GPU against the CPU's ray-cast twin, texel by texel:
-/// the same surface (or none) and the same distance and normal to f32 precision, except a
-/// few texels whose centre ray grazes a triangle edge or a silhouette.
+/// the same surface (or none) and the same distance and normal to f32 precision. The few
+/// texels that differ are rays landing on a checker cell's edge (the sphere's centre lies
+/// on the cell grid, so some texel rays hit edges exactly), where f32 and f64 round the
+/// cell index differently: their distance and normal agree, their colour is the other cell's.
 #[test]
 fn gpu_distance_maps_match_the_ray_cast_twin() {
     use nklut::effects::distance_map::DistanceMap;
@@ -474,4 +479,51 @@ fn gpu_specular_pass_matches_the_distance_map_twin() {
     }
     assert_eq!(pass.pipelines_compiled, 3, "one pipeline per (effect, method) used");
     assert_eq!(pass.lut_curves, 4, "two curves per specular object, baked once for lut");
+}
+
+/// The runner builds only the effect the scene names: a reflection-only scene renders one
+/// cube map per specular object and compiles reflection pipelines only (one per method);
+/// naming refraction compiles the refraction variant instead. Its image error goes to
+/// `effects_errors` rows from the GPU (exact against itself: zero Fresnel error), its timing
+/// to `effects_timing` with the map update apart from the shading pass.
+#[test]
+fn runner_builds_only_the_effects_the_scene_names() {
+    use nklut::fresnel::Method;
+    use nklut::gpu::passes::specular::Effect;
+    let Some(gpu) = device() else { return };
+    let log = &mut |line: &str| eprintln!("{line}");
+    for refraction in [false, true] {
+        let (mut scene, stage) = effects_stage(refraction);
+        scene.resolution = [32, 32];
+        scene.experiments = vec![nklut::scene::Experiment::ImageError, nklut::scene::Experiment::Timing];
+        scene.timing.resolution = [32, 32];
+        scene.timing.warmup = 0;
+        scene.timing.repeats = 2;
+        let materials = [
+            SceneMaterial { page: "x/y/glass".into(), optics: nklut::effects::trace::SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric } },
+            SceneMaterial { page: "x/y/gold".into(), optics: nklut::effects::trace::SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor } },
+        ];
+        let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), log).unwrap();
+        let stats = &report.stats;
+        eprintln!("{stats}");
+        assert_eq!(stats.effects.cube_maps, stage.objects.iter().enumerate().filter(|(o, _)| stage.is_specular(*o)).count());
+        assert_eq!(stats.effects.layers, 3);
+        assert_eq!(stats.effect_pipelines, 3, "exact, schlick, lut: one pipeline each");
+        assert_eq!(stats.refraction_pipelines, if refraction { 3 } else { 0 });
+        assert_eq!(stats.pipelines_compiled, 0, "no F-only pipeline in a scene with effects");
+        assert_eq!(stats.effects.reference_frames, 1, "one camera frame, one depth configuration");
+        let rows = &report.effects.errors;
+        assert!(!rows.is_empty() && rows.iter().all(|r| r.renderer == "gpu"));
+        for row in rows.iter().filter(|r| r.method == Method::Exact) {
+            assert_eq!(row.fresnel.mean_relative(), 0.0, "exact against itself on the same path");
+            assert!(row.total.pixels > 0 && row.geometry.mean_relative() == row.total.mean_relative());
+        }
+        let timing = &report.effects.timing;
+        assert_eq!(timing.len(), 3, "one row per method (one depth, one search configuration)");
+        for row in timing {
+            assert_eq!(row.effect, if refraction { Effect::Refraction } else { Effect::Reflection });
+            assert!(row.map_update_ms > 0.0 && row.shading_ms > 0.0, "{row:?}");
+        }
+        assert_eq!(stats.timed_passes, 2 * (1 + 3), "each round: one map update, one shading pass per method");
+    }
 }

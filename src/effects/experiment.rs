@@ -1,6 +1,6 @@
-//! The image-error experiment of a scene with effects, on the CPU: for every depth and
-//! search configuration the scene names, every camera frame is rendered three ways and
-//! compared per specular object and Fresnel method (docs/effects.md):
+//! The image-error experiment of a scene with effects: for every depth and search
+//! configuration the scene names, every camera frame is rendered three ways and compared
+//! per specular object and Fresnel method (docs/effects.md):
 //!
 //! - the reference: exact geometry (the BVH tracer), exact Fresnel;
 //! - the distance-map twin with exact Fresnel: its error against the reference is the
@@ -8,13 +8,17 @@
 //! - the twin with the method: its error against the twin with exact Fresnel, on the same
 //!   paths, is the *Fresnel* error; against the reference, the *total*.
 //!
-//! The materials come from the database through `ingest` (only the scene's pages); the
-//! result is the `effects_errors` table.
+//! What renders the distance-map frames is a [`MapFrames`]: the f64 CPU twin here
+//! ([`CpuTwin`]), or the GPU runner's passes (`gpu::effects`); the reference is always the
+//! f64 tracer. The materials come from the database through `ingest` (only the scene's
+//! pages); the result is the `effects_errors` table, one row per renderer and configuration.
 
 
 use super::distance_map::{DistanceMap, DistanceMapTracer};
 use super::image_error::{compare_object, FrameError};
 use super::pictures::Picture;
+use anyhow::Result;
+
 use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
 use crate::fresnel::{Encoding, LutSpec, Method};
 use crate::output::Table;
@@ -45,7 +49,7 @@ pub struct ErrorSum {
 }
 
 impl ErrorSum {
-    fn add(&mut self, e: &FrameError) {
+    pub fn add(&mut self, e: &FrameError) {
         self.pixels += e.pixels;
         self.relative += e.mean_relative * e.pixels as f64;
         self.delta_e += e.mean_delta_e2000 * e.pixels as f64;
@@ -74,6 +78,8 @@ impl ErrorSum {
 /// One row of `effects_errors`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EffectErrorRow {
+    /// What traced the distance maps: `cpu-twin` or `gpu`.
+    pub renderer: &'static str,
     pub object: String,
     pub material: String,
     pub method: Method,
@@ -133,15 +139,52 @@ pub struct EffectsStats {
     pub indirect_bounces: u64,
 }
 
-/// Run the experiment; `log` receives progress lines. A scene without effects has no rows.
+/// Renders frames through the distance maps (the maps are the renderer's own).
+pub trait MapFrames {
+    /// `cpu-twin` or `gpu`, for the table's `renderer` column.
+    fn name(&self) -> &'static str;
+    /// Frame `frame` of the scene's camera path (`camera` is its pinhole) with every bounce's
+    /// F from `method`.
+    fn frame(&mut self, frame: u32, camera: &Camera, method: Method, depths: Depths, steps: SearchSteps) -> Result<TracedFrame>;
+}
+
+/// The f64 CPU twin of the GPU algorithm over maps it ray-cast itself.
+pub struct CpuTwin<'a> {
+    pub stage: &'a Stage,
+    pub maps: Vec<Option<DistanceMap>>,
+    pub lut: LutSpec,
+}
+
+impl MapFrames for CpuTwin<'_> {
+    fn name(&self) -> &'static str {
+        "cpu-twin"
+    }
+
+    fn frame(&mut self, _frame: u32, camera: &Camera, method: Method, depths: Depths, steps: SearchSteps) -> Result<TracedFrame> {
+        Ok(twin_frame(self.stage, camera, &self.maps, method, depths, steps, self.lut))
+    }
+}
+
+/// Run the experiment with the CPU twin; `log` receives progress lines. A scene without
+/// effects has no rows.
 pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut dyn FnMut(&str)) -> EffectsReport {
-    let mut report = EffectsReport::default();
-    let Some(effects) = &scene.effects else { return report };
+    let Some(effects) = &scene.effects else { return EffectsReport::default() };
     let maps_settings = &effects.distance_maps;
     let maps = distance_maps(stage, maps_settings.size, maps_settings.layers);
-    report.stats.cube_maps = maps.iter().flatten().count();
-    report.stats.layers = maps_settings.layers;
     log(&format!("effects: {} distance maps of 6×{}² texels × {} layers", maps.iter().flatten().count(), maps_settings.size, maps_settings.layers));
+    let mut twin = CpuTwin { stage, maps, lut: settings.lut };
+    let cube_maps = twin.maps.iter().flatten().count();
+    let mut report = measure(scene, stage, settings, &mut twin, log).expect("the CPU twin cannot fail");
+    report.stats.cube_maps = cube_maps;
+    report.stats.layers = maps_settings.layers;
+    report
+}
+
+/// Run the experiment with `renderer`'s frames against the f64 reference.
+pub fn measure(scene: &Scene, stage: &Stage, settings: Settings, renderer: &mut dyn MapFrames, log: &mut dyn FnMut(&str)) -> Result<EffectsReport> {
+    let mut report = EffectsReport::default();
+    let Some(effects) = &scene.effects else { return Ok(report) };
+    let maps_settings = &effects.distance_maps;
     let methods: Vec<Method> = Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect();
     let [width, height] = settings.resolution;
     let last_steps = maps_settings.steps.last().copied();
@@ -153,7 +196,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
             for frame in 0..settings.frames {
                 let camera = Camera::new(&scene.camera, frame, width, height);
                 let truth = reference(stage, &camera, depths, settings.lut);
-                let exact_twin = twin_frame(stage, &camera, &maps, Method::Exact, depths, steps, settings.lut);
+                let exact_twin = renderer.frame(frame, &camera, Method::Exact, depths, steps)?;
                 report.stats.reference_frames += 1;
                 report.stats.twin_frames += 1;
                 if shown(frame) {
@@ -164,7 +207,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                         exact_twin.clone()
                     } else {
                         report.stats.twin_frames += 1;
-                        twin_frame(stage, &camera, &maps, method, depths, steps, settings.lut)
+                        renderer.frame(frame, &camera, method, depths, steps)?
                     };
                     if shown(frame) {
                         report.pictures.push(Picture { stem: stem(method.name()), frame: with_method.clone(), reference: Some(truth.clone()) });
@@ -194,7 +237,8 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                 let scene_object = &scene.objects[object];
                 let material = scene_object.specular().map(|s| s.material.clone()).unwrap_or_default();
                 log(&format!(
-                    "  {} {material} {method} depth {}/{} steps {}/{}: geometry ΔE {:.3}, Fresnel ΔE {:.3}, total ΔE {:.3}",
+                    "  {} {} {material} {method} depth {}/{} steps {}/{}: geometry ΔE {:.3}, Fresnel ΔE {:.3}, total ΔE {:.3}",
+                    renderer.name(),
                     scene_object.mesh.label(),
                     depths.reflection,
                     depths.refraction,
@@ -205,6 +249,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
                     total.mean_delta_e2000()
                 ));
                 report.rows.push(EffectErrorRow {
+                    renderer: renderer.name(),
                     object: scene_object.mesh.label(),
                     material,
                     method,
@@ -221,7 +266,7 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
             }
         }
     }
-    report
+    Ok(report)
 }
 
 /// `effects_errors.*`: one row per (object, material, method, depths, search steps).
@@ -234,7 +279,7 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
         .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
         .text("material", "page id", text(&|r| r.material.clone()))
         .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text("renderer", "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm)", text(&|_| "cpu-twin".into()))
+        .text("renderer", "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)", text(&|r| r.renderer.into()))
         .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection as i64))
         .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction as i64))
         .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear as i64))

@@ -17,6 +17,7 @@ use wgpu::util::DeviceExt;
 
 use super::camera;
 use super::context::{AdapterLine, Gpu};
+use super::effects::EffectsRun;
 use super::image_error::{self, ErrorSummary};
 use super::lut;
 use super::mesh;
@@ -44,9 +45,14 @@ pub struct RunStats {
     pub frames_rendered: u64,
     /// Timed passes, warm-up included.
     pub timed_passes: u64,
-    /// The surfel effects' counters (surfels, tree nodes, passes, bounces): zero unless the
-    /// scene names ambient occlusion or indirect light.
+    /// The effects' counters: distance maps (cube maps) and their layers, reference and
+    /// distance-map frames, surfels, tree nodes, passes, bounces — zero unless the scene
+    /// names the effect.
     pub effects: EffectsStats,
+    /// Specular-effect shading pipelines compiled (one per effect and method named).
+    pub effect_pipelines: usize,
+    /// Of those, the ones with the refraction branch (none unless the scene names refraction).
+    pub refraction_pipelines: usize,
     pub skipped: Vec<String>,
 }
 
@@ -58,6 +64,11 @@ impl fmt::Display for RunStats {
             self.pipelines_compiled, self.shader_modules_compiled, self.pages_touched, self.textures_baked, self.frames_rendered, self.timed_passes
         )?;
         let e = &self.effects;
+        write!(
+            f,
+            ", {} cube maps × {} layers, {} effect pipelines ({} with refraction), {} reference frames",
+            e.cube_maps, e.layers, self.effect_pipelines, self.refraction_pipelines, e.reference_frames
+        )?;
         write!(f, ", {} surfels, {} tree nodes, {} AO passes, {} indirect bounces", e.surfels, e.tree_nodes, e.ao_passes, e.indirect_bounces)?;
         for skipped in &self.skipped {
             write!(f, "\n  skipped: {skipped}")?;
@@ -97,6 +108,8 @@ pub struct RunReport {
     pub stats: RunStats,
     pub timing: Vec<TimingRow>,
     pub image_errors: Vec<ImageErrorRow>,
+    /// The specular effects' measurements (empty unless the scene names them).
+    pub effects: EffectsRun,
 }
 
 /// A material of the scene, ready to bind.
@@ -124,6 +137,26 @@ pub fn run(scene: &Scene, db: &Database, config: &ingest::Config, gpu: &Gpu, log
 /// Run `scene` with the channel indices already known (`material` ids of the scene map to
 /// these entries; used by `run` and by tests).
 pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+    let specular_effects = scene.effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some());
+    let effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?;
+    if !specular_effects {
+        stats.skipped.push("reflection, refraction: not in the scene's effects (no cube map, no effect pipeline)".into());
+    } else if !scene.effects.as_ref().is_some_and(|e| e.refraction.is_some()) {
+        stats.skipped.push("refraction: not in the scene's effects (reflection-only pipelines)".into());
+    }
+    super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;
+    let (timing, image_errors) = if specular_effects {
+        stats.skipped.push("F-only passes: the scene's effects take its measurements (effects_timing, effects_errors)".into());
+        (Vec::new(), Vec::new())
+    } else {
+        run_fresnel_only(scene, materials, gpu, &mut stats, log)?
+    };
+    Ok(RunReport { adapter: gpu.line.clone(), experiments: scene.experiments.clone(), stats, timing, image_errors, effects })
+}
+
+/// The F-only passes of a scene without specular effects: timing of F(c) on a fullscreen
+/// ramp and image error of F(|N·V|) on the bare objects.
+fn run_fresnel_only(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<(Vec<TimingRow>, Vec<ImageErrorRow>)> {
     let mut renderer = Renderer::new(gpu);
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
@@ -139,10 +172,6 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
         });
         bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
     }
-    if scene.effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some()) {
-        stats.skipped.push("effects (reflections, refractions): no GPU pass yet; `nklut effects` traces them on the CPU".into());
-    }
-    super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
     }
@@ -150,22 +179,21 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
     if !unnamed.is_empty() {
         stats.skipped.push(format!("methods not in the scene (no pipelines): {}", unnamed.join(", ")));
     }
-
     let mut timing = Vec::new();
     if scene.wants(Experiment::Timing) {
-        timing = run_timing(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
+        timing = run_timing(scene, &bound, gpu, &mut renderer, stats, log)?;
     } else {
         stats.skipped.push("timing: not in the scene's measurements".into());
     }
     let mut image_errors = Vec::new();
     if scene.wants(Experiment::ImageError) {
-        image_errors = run_image_error(scene, &bound, gpu, &mut renderer, &mut stats, log)?;
+        image_errors = run_image_error(scene, &bound, gpu, &mut renderer, stats, log)?;
     } else {
         stats.skipped.push("image_error: not in the scene's measurements".into());
     }
     stats.pipelines_compiled = renderer.created.pipelines;
     stats.shader_modules_compiled = renderer.created.shader_modules;
-    Ok(RunReport { adapter: gpu.line.clone(), experiments: scene.experiments.clone(), stats, timing, image_errors })
+    Ok((timing, image_errors))
 }
 
 fn run_timing(scene: &Scene, bound: &HashMap<String, BoundMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
@@ -352,10 +380,16 @@ pub fn image_error_table(report: &RunReport) -> Table {
 /// Write the tables of the measurements the run took under `out`.
 pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    if report.experiments.contains(&Experiment::Timing) {
+    let effects = &report.effects;
+    if !effects.timing.is_empty() {
+        written.extend(super::effects::timing_table(&effects.timing, &report.adapter).write(out, "effects_timing", false)?);
+    } else if report.experiments.contains(&Experiment::Timing) {
         written.extend(timing_table(report).write(out, "gpu_timing", false)?);
     }
-    if report.experiments.contains(&Experiment::ImageError) {
+    if !effects.errors.is_empty() {
+        written.extend(crate::effects::experiment::error_table(&effects.errors).write(out, "effects_errors", false)?);
+        written.extend(crate::effects::pictures::write(&out.join("effects_gpu_frames"), &effects.pictures)?);
+    } else if report.experiments.contains(&Experiment::ImageError) {
         written.extend(image_error_table(report).write(out, "image_errors", false)?);
     }
     Ok(written)

@@ -281,6 +281,11 @@ impl SpecularPass {
         }
     }
 
+    /// The (effect, method) pairs compiled so far.
+    pub fn compiled(&self) -> impl Iterator<Item = (Effect, Method)> + '_ {
+        self.pipelines.keys().copied()
+    }
+
     /// The specular materials' shader parameters, from outside and from inside.
     pub fn materials(&self) -> &[[MaterialUniform; 2]] {
         &self.stage_materials
