@@ -72,10 +72,18 @@ bench: db
 	$(CARGO) bench --bench params
 	$(CARGO) bench --bench report
 
-# The GPU measurements of scenes/default.yaml (timing + image error) → output/gpu_timing.csv,
-# output/image_errors.csv. Meant for a machine with a GPU; `nklut gpu adapters` lists them.
+# The GPU measurements. scenes/default.yaml: the F-only passes (timing + image error) →
+# output/gpu_timing.csv, output/image_errors.csv. The reflection scenes: distance maps and
+# the bounce loop on the GPU → output/gpu-<scene>/effects_timing.csv (map update and shading
+# per configuration), effects_errors.csv (renderer gpu, against the f64 reference) and
+# effects_gpu_frames/. Meant for a machine with a GPU; `nklut gpu adapters` lists them.
+GPU_EFFECTS_SCENES ?= teapot-in-a-box glass-sphere
 gpu: db
-	$(CARGO) run --release --features gpu -- --db $(DB) --out $(OUT) gpu run scenes/default.yaml
+	$(CARGO) build --release --features gpu
+	$(NKLUT) --db $(DB) --out $(OUT) gpu run scenes/default.yaml
+	for scene in $(GPU_EFFECTS_SCENES); do \
+	  $(NKLUT) --db $(DB) --out $(OUT)/gpu-$$scene gpu run scenes/$$scene.yaml || exit 1; \
+	done
 
 # The effects scenes on the CPU, one output folder each (output/<scene>/): multiple
 # reflections and refractions (the f64 reference and the distance-map twin per Fresnel

@@ -7,6 +7,10 @@
 //!   `image_error` → one mesh pipeline per named method + the `exact` mesh pipeline as the
 //!   reference (the same pipeline when `exact` is named).
 //! - Textures: a LUT is baked only for a material some object renders with `lut`.
+//! - Effects: a scene naming `reflection` or `refraction` renders one distance map per
+//!   specular object and compiles one shading pipeline per (effect, method)
+//!   (`super::effects`); its measurements replace the F-only passes. Surfel ambient
+//!   occlusion and indirect light run only when named (`super::passes::ao`).
 
 use std::collections::HashMap;
 use std::fmt;
