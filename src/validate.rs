@@ -33,13 +33,13 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    filter, filter_weights, texel_values, CompensationFallback, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
+    filter, filter_weights, texel_values, CompensationFallback, LANES, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
 use crate::output::{SharedText, Table};
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
 
-use quadrature::{Integral, Sample, Tolerance};
+use quadrature::{Integral, Integrand, Sample, Tolerance};
 
 /// How the integrals are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -209,12 +209,11 @@ impl Family {
         Self { models, lut_size }
     }
 
-    /// Evaluate every member at θ: exact once, each method in f64 and in f32. When every
-    /// member is a LUT of one size, the filter weights are computed once too.
-    fn evaluate(&self, theta: f64, out: &mut [Sample]) {
-        let c = theta.cos();
-        let Some(first) = self.models.first() else { return };
-        let exact = first.prepared.exact.reflectance(c);
+    /// Evaluate every member at θ, where c = cos θ and `exact` is F there: each method in
+    /// f64 and in f32. When every member is a LUT of one size, the filter weights are
+    /// computed once too.
+    #[inline]
+    fn evaluate_at(&self, c: f64, exact: f64, out: &mut [Sample]) {
         if let Some(texels) = self.lut_size {
             let weights = filter_weights(texels, c);
             let weights_f32 = filter_weights(texels, c as f32);
@@ -231,6 +230,24 @@ impl Family {
         }
     }
 
+    /// Evaluate every member at each θ: the cosines one by one, exact at [`LANES`]
+    /// cosines at a time in vector lanes (the bits of one at a time), then the methods.
+    fn evaluate_batch(&self, thetas: &[f64], out: &mut [Sample]) {
+        let Some(first) = self.models.first() else { return };
+        let members = self.models.len();
+        for (block, out) in thetas.chunks(LANES).zip(out.chunks_mut(LANES * members)) {
+            let mut cosines = [0.0; LANES];
+            for (c, theta) in cosines.iter_mut().zip(block) {
+                *c = theta.cos();
+            }
+            let mut exact = [0.0; LANES];
+            first.prepared.exact.reflectances(&cosines[..block.len()], &mut exact[..block.len()]);
+            for (j, samples) in out.chunks_mut(members).enumerate() {
+                self.evaluate_at(cosines[j], exact[j], samples);
+            }
+        }
+    }
+
     /// The union of the members' breakpoints (one LUT size: the first member's, as they
     /// all have the same).
     pub fn breakpoints(&self) -> Vec<f64> {
@@ -242,12 +259,17 @@ impl Family {
 
     /// Measure every member; the integrals are in the order of the models.
     pub fn measure(&self, strategy: Strategy) -> Vec<Integral> {
-        let f = |theta: f64, out: &mut [Sample]| self.evaluate(theta, out);
         let members = self.models.len();
         match strategy {
-            Strategy::Fast => quadrature::adaptive(&f, members, &self.breakpoints(), Tolerance::default()),
-            Strategy::Brute(samples) => quadrature::brute_force(&f, members, samples),
+            Strategy::Fast => quadrature::adaptive(self, members, &self.breakpoints(), Tolerance::default()),
+            Strategy::Brute(samples) => quadrature::brute_force(self, members, samples),
         }
+    }
+}
+
+impl Integrand for Family {
+    fn evaluate(&self, thetas: &[f64], out: &mut [Sample]) {
+        self.evaluate_batch(thetas, out);
     }
 }
 

@@ -7,7 +7,7 @@ use std::collections::BinaryHeap;
 use std::f64::consts::FRAC_PI_2;
 
 use super::rule::{absolute_integral, Rule, GAUSS3, KRONROD7, MAX_ROOTS};
-use super::{figures, Integral, Maximum, Sample, Sums};
+use super::{figures, Integral, Integrand, Maximum, Sample, Sums};
 use crate::fresnel::Precision;
 
 /// Tolerances of the adaptive path.
@@ -182,8 +182,8 @@ fn peak<const M: usize>(rule: &Rule<M>, span: Span, difference: &[f64; M]) -> Pe
 }
 
 /// The state of one adaptive integration of a family.
-struct Adaptive<'a, F: Fn(f64, &mut [Sample]), const M: usize> {
-    evaluate: &'a F,
+struct Adaptive<'a, I: Integrand + ?Sized, const M: usize> {
+    integrand: &'a I,
     rule: &'static Rule<M>,
     members: usize,
     evaluations: u64,
@@ -198,10 +198,10 @@ struct Adaptive<'a, F: Fn(f64, &mut [Sample]), const M: usize> {
     nodes: Vec<Sample>,
 }
 
-impl<'a, F: Fn(f64, &mut [Sample]), const M: usize> Adaptive<'a, F, M> {
-    fn new(rule: &'static Rule<M>, evaluate: &'a F, members: usize, cuts: usize) -> Self {
+impl<'a, I: Integrand + ?Sized, const M: usize> Adaptive<'a, I, M> {
+    fn new(rule: &'static Rule<M>, integrand: &'a I, members: usize, cuts: usize) -> Self {
         Self {
-            evaluate,
+            integrand,
             rule,
             members,
             evaluations: 0,
@@ -214,45 +214,45 @@ impl<'a, F: Fn(f64, &mut [Sample]), const M: usize> Adaptive<'a, F, M> {
         }
     }
 
-    /// Evaluate the family at θ into `out`.
-    fn eval_into(&mut self, theta: f64, out: &mut [Sample]) {
-        (self.evaluate)(theta, out);
-        self.evaluations += 1;
-        self.excluded += u64::from(!out.first().is_some_and(|s| s.exact > 0.0));
-        for (maximum, sample) in self.maxima.iter_mut().zip(out.iter()) {
-            maximum.see(theta, sample);
+    /// Evaluate the family at each of `thetas` into `out` (`members` samples per θ) and
+    /// count and see the points in the order given.
+    fn evaluate(&mut self, thetas: &[f64], out: &mut [Sample]) {
+        let members = self.members;
+        self.integrand.evaluate(thetas, out);
+        for (j, &theta) in thetas.iter().enumerate() {
+            let samples = &out[j * members..(j + 1) * members];
+            self.evaluations += 1;
+            self.excluded += u64::from(!samples.first().is_some_and(|s| s.exact > 0.0));
+            for (maximum, sample) in self.maxima.iter_mut().zip(samples) {
+                maximum.see(theta, sample);
+            }
         }
     }
 
-    /// Evaluate at θ and keep the samples as a panel end; returns the point id.
-    fn point(&mut self, theta: f64) -> usize {
+    /// Keep evaluated samples (`members` of them) as a panel end; returns the point id.
+    fn store_point(&mut self, samples: &[Sample]) -> usize {
         let id = self.points.len() / self.members.max(1);
-        let mut out = vec![Sample::default(); self.members];
-        self.eval_into(theta, &mut out);
-        self.points.extend(out);
+        self.points.extend_from_slice(samples);
         id
     }
 
-    /// The samples at the rule's nodes on the panel into the scratch `nodes`: the ends
-    /// from the point store, the interior evaluated.
-    fn sample_nodes(&mut self, span: Span, ends: [usize; 2]) -> Vec<Sample> {
-        let members = self.members;
-        let mut nodes = std::mem::take(&mut self.nodes);
-        nodes.clear();
-        nodes.resize(M * members, Sample::default());
-        nodes[..members].copy_from_slice(&self.points[ends[0] * members..(ends[0] + 1) * members]);
-        nodes[(M - 1) * members..].copy_from_slice(&self.points[ends[1] * members..(ends[1] + 1) * members]);
-        for i in 1..M - 1 {
-            self.eval_into(span.theta(self.rule.nodes[i]), &mut nodes[i * members..(i + 1) * members]);
-        }
-        nodes
+    /// The θ of the interior nodes of the panel [a, b], in increasing order, appended to
+    /// `thetas`.
+    fn interior_thetas(&self, a: f64, b: f64, thetas: &mut Vec<f64>) {
+        let span = Span::new(a, b);
+        thetas.extend(self.rule.nodes[1..M - 1].iter().map(|&t| span.theta(t)));
     }
 
-    /// Build the panel [a, b] between the stored end points and return its id.
-    fn panel(&mut self, a: f64, b: f64, ends: [usize; 2]) -> usize {
+    /// Build the panel [a, b] between the stored end points, with the samples at its
+    /// interior nodes (`members` per node, in node order), and return its id.
+    fn panel(&mut self, a: f64, b: f64, ends: [usize; 2], interior: &[Sample]) -> usize {
         let (members, rule) = (self.members, self.rule);
         let span = Span::new(a, b);
-        let nodes = self.sample_nodes(span, ends);
+        let mut nodes = std::mem::take(&mut self.nodes);
+        nodes.clear();
+        nodes.extend_from_slice(&self.points[ends[0] * members..(ends[0] + 1) * members]);
+        nodes.extend_from_slice(interior);
+        nodes.extend_from_slice(&self.points[ends[1] * members..(ends[1] + 1) * members]);
         let exact: [f64; M] = std::array::from_fn(|i| nodes[i * members].exact);
         let all_included = exact.iter().all(|&f| f > 0.0);
         let included = if all_included { b - a } else { span.half * rule.integral(&exact.map(|f| if f > 0.0 { 1.0 } else { 0.0 })) };
@@ -278,8 +278,8 @@ impl<'a, F: Fn(f64, &mut [Sample]), const M: usize> Adaptive<'a, F, M> {
 
 /// Adaptive integration over [0, π/2] of a family of `members` integrands, with the
 /// given interior breakpoints (any order; out-of-range and duplicates ignored).
-/// `evaluate(θ, out)` fills one [`Sample`] per member, all with the same exact F.
-pub fn adaptive(evaluate: &impl Fn(f64, &mut [Sample]), members: usize, breakpoints: &[f64], tolerance: Tolerance) -> Vec<Integral> {
+/// `integrand` fills one [`Sample`] per member at each θ, all with the same exact F.
+pub fn adaptive<I: Integrand + ?Sized>(integrand: &I, members: usize, breakpoints: &[f64], tolerance: Tolerance) -> Vec<Integral> {
     let mut cuts: Vec<f64> = breakpoints.iter().copied().filter(|t| *t > 0.0 && *t < FRAC_PI_2).collect();
     cuts.push(0.0);
     cuts.push(FRAC_PI_2);
@@ -287,23 +287,35 @@ pub fn adaptive(evaluate: &impl Fn(f64, &mut [Sample]), members: usize, breakpoi
     cuts.dedup_by(|a, b| (*a - *b).abs() <= 1e-14);
     // Many narrow panels (LUT texel intervals): Gauss; few wide ones: Kronrod.
     if cuts.len() > NARROW_PANELS {
-        integrate(&GAUSS3, evaluate, members, &cuts, tolerance)
+        integrate(&GAUSS3, integrand, members, &cuts, tolerance)
     } else {
-        integrate(&KRONROD7, evaluate, members, &cuts, tolerance)
+        integrate(&KRONROD7, integrand, members, &cuts, tolerance)
     }
 }
 
-fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
+/// The initial panels between the cuts, then the refinement. The cuts and every
+/// initial panel's interior nodes are evaluated as one batch, in the order cuts first,
+/// then the panels' nodes panel by panel.
+fn integrate<I: Integrand + ?Sized, const M: usize>(
     rule: &'static Rule<M>,
-    evaluate: &F,
+    integrand: &I,
     members: usize,
     cuts: &[f64],
     tolerance: Tolerance,
 ) -> Vec<Integral> {
-    let mut state = Adaptive::new(rule, evaluate, members, cuts.len());
-    let ids: Vec<usize> = cuts.iter().map(|&theta| state.point(theta)).collect();
-    for (w, id) in cuts.windows(2).zip(ids.windows(2)) {
-        state.panel(w[0], w[1], [id[0], id[1]]);
+    let mut state = Adaptive::new(rule, integrand, members, cuts.len());
+    let mut thetas = cuts.to_vec();
+    for w in cuts.windows(2) {
+        state.interior_thetas(w[0], w[1], &mut thetas);
+    }
+    let mut samples = vec![Sample::default(); thetas.len() * members];
+    state.evaluate(&thetas, &mut samples);
+    let (ends, interiors) = samples.split_at(cuts.len() * members);
+    let ids: Vec<usize> = ends.chunks(members.max(1)).map(|point| state.store_point(point)).collect();
+    let per_panel = (M - 2) * members;
+    for (p, w) in cuts.windows(2).enumerate() {
+        let ends = if members == 0 { [0, 0] } else { [ids[p], ids[p + 1]] };
+        state.panel(w[0], w[1], ends, &interiors[p * per_panel..(p + 1) * per_panel]);
     }
     refine(&mut state, tolerance);
     totals(&mut state)
@@ -311,7 +323,7 @@ fn integrate<F: Fn(f64, &mut [Sample]), const M: usize>(
 
 /// Per member, the f64 relative and squared integrals of the initial panels: the scales
 /// that make the members' error estimates comparable.
-fn error_scales<F: Fn(f64, &mut [Sample]), const M: usize>(state: &Adaptive<'_, F, M>) -> Vec<Criteria> {
+fn error_scales<I: Integrand + ?Sized, const M: usize>(state: &Adaptive<'_, I, M>) -> Vec<Criteria> {
     let mut scale = vec![Criteria::default(); state.members];
     for panel in 0..state.panels.len() {
         for (s, c) in scale.iter_mut().zip(state.contributions(panel)) {
@@ -337,7 +349,7 @@ fn account(sums: &mut [Criteria], scale: &[Criteria], contributions: &[MemberPan
 
 /// Bisect the panel of largest error estimate until every member's summed estimates are
 /// below the tolerance (or the evaluations run out).
-fn refine<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F, M>, tolerance: Tolerance) {
+fn refine<I: Integrand + ?Sized, const M: usize>(state: &mut Adaptive<'_, I, M>, tolerance: Tolerance) {
     let scale = error_scales(state);
     let mut error_sums = vec![Criteria::default(); state.members];
     let mut heap = BinaryHeap::with_capacity(state.panels.len());
@@ -347,6 +359,8 @@ fn refine<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F,
     }
     let worst = |sums: &[Criteria]| sums.iter().flat_map(|s| [s.relative, s.squared]).fold(0.0, f64::max);
     let mut refinements = 0u64;
+    let members = state.members;
+    let (mut thetas, mut samples) = (Vec::with_capacity(2 * M - 3), Vec::new());
     while worst(&error_sums) > tolerance.relative && state.evaluations < tolerance.max_evaluations {
         let Some(Ranked(_, id)) = heap.pop() else { break };
         let panel = state.panels[id];
@@ -356,10 +370,21 @@ fn refine<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F,
             continue;
         }
         state.panels[id].settled = true;
+        // The midpoint and both halves' interior nodes, evaluated as one batch.
         let middle = 0.5 * (panel.a + panel.b);
-        let mid = state.point(middle);
-        for (a, b, ends) in [(panel.a, middle, [panel.ends[0], mid]), (middle, panel.b, [mid, panel.ends[1]])] {
-            let child = state.panel(a, b, ends);
+        thetas.clear();
+        thetas.push(middle);
+        state.interior_thetas(panel.a, middle, &mut thetas);
+        state.interior_thetas(middle, panel.b, &mut thetas);
+        samples.clear();
+        samples.resize(thetas.len() * members, Sample::default());
+        state.evaluate(&thetas, &mut samples);
+        let mid = state.store_point(&samples[..members]);
+        let per_panel = (M - 2) * members;
+        let halves = [(panel.a, middle, [panel.ends[0], mid]), (middle, panel.b, [mid, panel.ends[1]])];
+        for (half, (a, b, ends)) in halves.into_iter().enumerate() {
+            let interior = &samples[members + half * per_panel..members + (half + 1) * per_panel];
+            let child = state.panel(a, b, ends, interior);
             let priority = account(&mut error_sums, &scale, state.contributions(child), 1.0);
             heap.push(Ranked(priority, child));
         }
@@ -375,7 +400,7 @@ fn refine<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F,
 }
 
 /// The figures of every member from the live panels, the maximum refined.
-fn totals<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F, M>) -> Vec<Integral> {
+fn totals<I: Integrand + ?Sized, const M: usize>(state: &mut Adaptive<'_, I, M>) -> Vec<Integral> {
     let live = state.live();
     let included: f64 = live.iter().map(|&p| state.panels[p].included).sum();
     let mut sums = vec![Sums::default(); state.members];
@@ -399,7 +424,7 @@ fn totals<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F,
 /// Brent's search around the largest node differences of `member`: the largest, and the
 /// runners-up only where their node value comes near the maximum found so far (between
 /// nodes a smooth difference rises by far less than 10 %).
-fn refine_maxima<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F, M>, member: usize, live: &[usize]) {
+fn refine_maxima<I: Integrand + ?Sized, const M: usize>(state: &mut Adaptive<'_, I, M>, member: usize, live: &[usize]) {
     let mut peaks = [Peak::default(); PEAKS_REFINED];
     for &p in live {
         let peak = state.contributions(p)[member].peak;
@@ -419,12 +444,12 @@ fn refine_maxima<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive
 /// the largest f64 |F_m − F_e| of `member` in the peak's bracket, starting from its node;
 /// to 1e-9 relative in θ, which puts a smooth maximum at f64 precision in about ten
 /// evaluations. Every point seen counts for every member and both precisions.
-fn refine_maximum<F: Fn(f64, &mut [Sample]), const M: usize>(state: &mut Adaptive<'_, F, M>, member: usize, peak: &Peak) {
+fn refine_maximum<I: Integrand + ?Sized, const M: usize>(state: &mut Adaptive<'_, I, M>, member: usize, peak: &Peak) {
     const TOLERANCE: f64 = 1e-9;
     let mut out = vec![Sample::default(); state.members];
     // Minimise −|d|; the state records every evaluation.
     let f = |theta: f64| {
-        state.eval_into(theta, &mut out);
+        state.evaluate(&[theta], &mut out);
         -out[member].difference(Precision::F64).abs()
     };
     crate::minimise::brent(f, (peak.lo, peak.hi), (peak.theta, -peak.value), |x| TOLERANCE * x.abs() + 1e-15, 40);

@@ -5,7 +5,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use rayon::prelude::*;
 
-use super::{figures, Integral, Maximum, Sample, Sums};
+use super::{figures, Integral, Integrand, Maximum, Sample, Sums};
 use crate::fresnel::Precision;
 
 /// The number of midpoints of the reference brute force.
@@ -34,29 +34,24 @@ impl Partial {
 }
 
 /// Brute force over `samples` θ-midpoints θ_j = (j + ½)·(π/2)/M, in parallel (rayon);
-/// `evaluate(θ, out)` fills one [`Sample`] per member.
-pub fn brute_force(evaluate: &(impl Fn(f64, &mut [Sample]) + Sync), members: usize, samples: usize) -> Vec<Integral> {
+/// `integrand` fills one [`Sample`] per member at each θ, [`BATCH`] midpoints at a time.
+pub fn brute_force<I: Integrand + Sync + ?Sized>(integrand: &I, members: usize, samples: usize) -> Vec<Integral> {
     const CHUNK: usize = 8192;
     let step = FRAC_PI_2 / samples as f64;
     let total = (0..samples.div_ceil(CHUNK))
         .into_par_iter()
         .map(|chunk| {
             let mut partial = Partial::empty(members);
-            let mut out = vec![Sample::default(); members];
-            for j in chunk * CHUNK..((chunk + 1) * CHUNK).min(samples) {
-                let theta = (j as f64 + 0.5) * step;
-                evaluate(theta, &mut out);
-                let included = out.first().is_some_and(|s| s.exact > 0.0);
-                partial.excluded += u64::from(!included);
-                for (m, sample) in out.iter().enumerate() {
-                    for precision in Precision::ALL {
-                        let difference = sample.difference(precision);
-                        partial.sums[m].squared[precision] += difference * difference;
-                        if included {
-                            partial.sums[m].relative[precision] += difference.abs() / sample.exact;
-                        }
-                    }
-                    partial.maxima[m].see(theta, sample);
+            let mut thetas = Vec::with_capacity(BATCH);
+            let mut batch = vec![Sample::default(); BATCH * members];
+            let (first, last) = (chunk * CHUNK, ((chunk + 1) * CHUNK).min(samples));
+            for start in (first..last).step_by(BATCH) {
+                thetas.clear();
+                thetas.extend((start..(start + BATCH).min(last)).map(|j| (j as f64 + 0.5) * step));
+                let batch = &mut batch[..thetas.len() * members];
+                integrand.evaluate(&thetas, batch);
+                for (j, &theta) in thetas.iter().enumerate() {
+                    partial.see(theta, &batch[j * members..(j + 1) * members]);
                 }
             }
             partial
@@ -71,4 +66,25 @@ pub fn brute_force(evaluate: &(impl Fn(f64, &mut [Sample]) + Sync), members: usi
             evaluations: samples as u64,
         })
         .collect()
+}
+
+/// Midpoints evaluated per call of the integrand.
+const BATCH: usize = 64;
+
+impl Partial {
+    /// Add the family's samples at one midpoint θ.
+    fn see(&mut self, theta: f64, out: &[Sample]) {
+        let included = out.first().is_some_and(|s| s.exact > 0.0);
+        self.excluded += u64::from(!included);
+        for (m, sample) in out.iter().enumerate() {
+            for precision in Precision::ALL {
+                let difference = sample.difference(precision);
+                self.sums[m].squared[precision] += difference * difference;
+                if included {
+                    self.sums[m].relative[precision] += difference.abs() / sample.exact;
+                }
+            }
+            self.maxima[m].see(theta, sample);
+        }
+    }
 }

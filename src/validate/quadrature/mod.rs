@@ -45,6 +45,25 @@ pub use brute_force::{brute_force, BRUTE_FORCE_SAMPLES};
 
 use crate::fresnel::{PerPrecision, Precision};
 
+/// What is integrated: a family of members evaluated together at each θ.
+pub trait Integrand {
+    /// The samples at each of `thetas`, in that order, into `out`: one [`Sample`] per
+    /// member at each θ (point-major, `out.len()` = members × `thetas.len()`), every
+    /// member with the same exact F. Batches let an integrand evaluate several angles in
+    /// vector lanes; each sample must not depend on the others in the batch.
+    fn evaluate(&self, thetas: &[f64], out: &mut [Sample]);
+}
+
+/// A family evaluated one θ at a time by `f(θ, out)` (one sample per member).
+impl<F: Fn(f64, &mut [Sample])> Integrand for F {
+    fn evaluate(&self, thetas: &[f64], out: &mut [Sample]) {
+        let members = out.len() / thetas.len().max(1);
+        for (j, &theta) in thetas.iter().enumerate() {
+            self(theta, &mut out[j * members..(j + 1) * members]);
+        }
+    }
+}
+
 /// One evaluation of one member: exact F and the method in f64 and in f32 (widened).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sample {
