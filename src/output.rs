@@ -13,6 +13,7 @@
 
 use std::fs;
 use std::io::Write;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -54,6 +55,47 @@ pub struct SetFile {
 impl SetFile {
     pub fn new(name: impl Into<String>, bytes: Vec<u8>) -> Self {
         Self { name: name.into(), bytes }
+    }
+}
+
+/// What a file of a set holds: its name in the output folder and a way to write its bytes.
+pub trait SetContent: Sync {
+    fn name(&self) -> &str;
+    /// Write the whole file to `out`.
+    fn write_to(&self, out: &mut dyn Write) -> Result<()>;
+}
+
+impl SetContent for SetFile {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn write_to(&self, out: &mut dyn Write) -> Result<()> {
+        out.write_all(&self.bytes)?;
+        Ok(())
+    }
+}
+
+/// A file of a set produced while it is written (a large table, block by block) instead
+/// of held in memory whole.
+pub struct StreamedFile<'a> {
+    pub name: String,
+    write: Box<dyn Fn(&mut dyn Write) -> Result<()> + Sync + 'a>,
+}
+
+impl<'a> StreamedFile<'a> {
+    pub fn new(name: impl Into<String>, write: impl Fn(&mut dyn Write) -> Result<()> + Sync + 'a) -> Self {
+        Self { name: name.into(), write: Box::new(write) }
+    }
+}
+
+impl SetContent for StreamedFile<'_> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn write_to(&self, out: &mut dyn Write) -> Result<()> {
+        (self.write)(out)
     }
 }
 
@@ -110,12 +152,12 @@ fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
 }
 
 /// Write the files and their folder to disk before the folder is published.
-fn write_generation(dir: &Path, files: &[SetFile]) -> Result<()> {
+fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     files.par_iter().try_for_each(|file| -> Result<()> {
-        let path = dir.join(&file.name);
+        let path = dir.join(file.name());
         let mut f = fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-        f.write_all(&file.bytes).with_context(|| format!("writing {}", path.display()))?;
+        file.write_to(&mut f).with_context(|| format!("writing {}", path.display()))?;
         f.sync_all().ok();
         Ok(())
     })?;
@@ -128,11 +170,11 @@ fn write_generation(dir: &Path, files: &[SetFile]) -> Result<()> {
 /// An output folder written before sets existed holds plain files: move them into a
 /// generation of their own (hard links, so each name keeps its bytes throughout) and
 /// make the names links to it, so that the next switch replaces them all at once.
-fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[SetFile]) -> Result<()> {
+fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[&dyn SetContent]) -> Result<()> {
     if current_generation(sets, set).is_some() {
         return Ok(());
     }
-    let plain: Vec<&str> = files.iter().map(|f| f.name.as_str()).filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
+    let plain: Vec<&str> = files.iter().map(|f| f.name()).filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
     if plain.is_empty() {
         return Ok(());
     }
@@ -153,6 +195,11 @@ fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[SetFile]) -> R
 /// Publish `files` as the new set `set` under `out`, all at once: a run killed at any
 /// point leaves `out` with the previous set or this one. Returns the paths written.
 pub fn publish_set(out: &Path, set: &str, files: &[SetFile]) -> Result<Vec<PathBuf>> {
+    publish_contents(out, set, &files.iter().map(|f| f as &dyn SetContent).collect::<Vec<_>>())
+}
+
+/// [`publish_set`] for files held in memory or streamed ([`SetContent`]).
+pub fn publish_contents(out: &Path, set: &str, files: &[&dyn SetContent]) -> Result<Vec<PathBuf>> {
     let sets = out.join(SETS_DIR);
     fs::create_dir_all(&sets).with_context(|| format!("creating folder {}", sets.display()))?;
     adopt_plain_files(out, &sets, set, files)?;
@@ -164,19 +211,19 @@ pub fn publish_set(out: &Path, set: &str, files: &[SetFile]) -> Result<Vec<PathB
     crash_point("staged");
     // Names new to the set get their link first; it dangles (reads as absent) until the
     // switch, as the previous set had no such file.
-    for file in files.iter().filter(|f| fs::symlink_metadata(out.join(&f.name)).is_err()) {
-        replace_with_link(&Path::new(SETS_DIR).join(set).join(&file.name), &out.join(&file.name))?;
+    for file in files.iter().filter(|f| fs::symlink_metadata(out.join(f.name())).is_err()) {
+        replace_with_link(&Path::new(SETS_DIR).join(set).join(file.name()), &out.join(file.name()))?;
     }
     replace_with_link(Path::new(&generation), &sets.join(set))?;
     crash_point("switched");
-    for file in files.iter().filter(|f| !is_set_link(out, set, &f.name)) {
-        replace_with_link(&Path::new(SETS_DIR).join(set).join(&file.name), &out.join(&file.name))?;
+    for file in files.iter().filter(|f| !is_set_link(out, set, f.name())) {
+        replace_with_link(&Path::new(SETS_DIR).join(set).join(file.name()), &out.join(file.name()))?;
     }
     crash_point("linked");
     if let Some(previous) = previous.filter(|p| *p != generation) {
         let _ = fs::remove_dir_all(sets.join(previous));
     }
-    Ok(files.iter().map(|f| out.join(&f.name)).collect())
+    Ok(files.iter().map(|f| out.join(f.name())).collect())
 }
 
 /// One column of a table: a name, a unit or meaning for the manifest, and the values.
@@ -266,6 +313,83 @@ impl SharedText {
     }
 }
 
+impl Column {
+    /// The column as a polars column (text as strings, floats with nulls for `None`).
+    fn series(&self) -> polars::prelude::Column {
+        use polars::prelude::*;
+        let name = PlSmallStr::from(self.name.as_str());
+        let series = match &self.values {
+            Values::Text(v) => Series::new(name, v.as_slice()),
+            Values::SharedText(v) => Series::new(name, v.iter().map(|s| &**s).collect::<Vec<&str>>().as_slice()),
+            Values::Float(v) => Series::new(name, v.as_slice()),
+            Values::Integer(v) => Series::new(name, v.as_slice()),
+            Values::Boolean(v) => Series::new(name, v.as_slice()),
+        };
+        series.into()
+    }
+}
+
+/// Rows per CSV block: blocks are formatted in parallel.
+const CSV_BLOCK: usize = 16_384;
+
+/// Rows per Parquet row group at most, as polars' writer forms them.
+const PARQUET_ROW_GROUP: usize = 512 * 512;
+
+/// A table too large to hold whole, written in row blocks: `block(range)` builds the table
+/// of the rows in `range` (every block with the same columns). Each writer gives the
+/// bytes that [`Table::to_csv`] and [`Table::to_parquet`] give on the whole table.
+pub struct RowBlocks<'a> {
+    pub rows: usize,
+    pub block: &'a (dyn Fn(Range<usize>) -> Table + Sync),
+}
+
+impl RowBlocks<'_> {
+    /// CSV, [`CSV_BLOCK`] rows per block, a few blocks formatted in parallel at a time
+    /// and written in order.
+    pub fn write_csv(&self, out: &mut dyn Write) -> Result<()> {
+        let rows = self.rows;
+        let blocks = rows.div_ceil(CSV_BLOCK).max(1);
+        let batch = 4 * rayon::current_num_threads().max(1);
+        for first in (0..blocks).step_by(batch) {
+            let texts: Vec<Result<Vec<u8>>> = (first..(first + batch).min(blocks))
+                .into_par_iter()
+                .map(|b| {
+                    let range = b * CSV_BLOCK..((b + 1) * CSV_BLOCK).min(rows);
+                    (self.block)(range.clone()).csv_records(0..range.len(), b == 0)
+                })
+                .collect();
+            for text in texts {
+                out.write_all(&text?)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Parquet, one row group at a time: the row groups polars forms from the whole table
+    /// (⌊rows / 512²⌋ parts of equal size, the last with the remainder; one part below
+    /// 512² rows), each built, encoded and released before the next.
+    pub fn write_parquet(&self, out: &mut dyn Write) -> Result<()> {
+        use polars::prelude::*;
+        let rows = self.rows;
+        let parts = (rows / PARQUET_ROW_GROUP).max(1);
+        let size = rows / parts;
+        let group = |i: usize| if i + 1 == parts { i * size..rows } else { i * size..(i + 1) * size };
+        let mut sink = std::io::BufWriter::with_capacity(1 << 20, out);
+        let first = (self.block)(group(0)).into_frame()?;
+        let mut writer = ParquetWriter::new(&mut sink).batched(first.schema()).map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
+        writer.write_batch(&first).map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
+        drop(first);
+        for i in 1..parts {
+            let frame = (self.block)(group(i)).into_frame()?;
+            writer.write_batch(&frame).map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
+        }
+        writer.finish().map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
+        drop(writer);
+        sink.flush()?;
+        Ok(())
+    }
+}
+
 /// A column-oriented table, built column by column, written as CSV, Parquet and JSON.
 #[derive(Clone, Debug, Default)]
 pub struct Table {
@@ -322,30 +446,31 @@ impl Table {
         self.columns.iter().find(|c| c.name == name)
     }
 
+    /// CSV records of the rows in `rows`, after a header of column names if asked.
+    fn csv_records(&self, rows: Range<usize>, header: bool) -> Result<Vec<u8>> {
+        let mut writer = csv::Writer::from_writer(Vec::new());
+        if header {
+            writer.write_record(self.columns.iter().map(|c| c.name.as_str()))?;
+        }
+        let mut cell = String::new();
+        for row in rows {
+            for column in &self.columns {
+                cell.clear();
+                column.values.write_cell(row, &mut cell);
+                writer.write_field(&cell)?;
+            }
+            writer.write_record(None::<&[u8]>)?;
+        }
+        writer.into_inner().context("flushing CSV")
+    }
+
     /// The table as CSV: a header of column names, then one record per row. Blocks of rows
     /// are formatted in parallel and joined in order (the bytes do not depend on it).
     pub fn to_csv(&self) -> Result<Vec<u8>> {
-        const BLOCK: usize = 16_384;
-        let records = |rows: std::ops::Range<usize>, header: bool| -> Result<Vec<u8>> {
-            let mut writer = csv::Writer::from_writer(Vec::new());
-            if header {
-                writer.write_record(self.columns.iter().map(|c| c.name.as_str()))?;
-            }
-            let mut cell = String::new();
-            for row in rows {
-                for column in &self.columns {
-                    cell.clear();
-                    column.values.write_cell(row, &mut cell);
-                    writer.write_field(&cell)?;
-                }
-                writer.write_record(None::<&[u8]>)?;
-            }
-            writer.into_inner().context("flushing CSV")
-        };
         let rows = self.rows();
-        let blocks: Vec<Result<Vec<u8>>> = (0..rows.div_ceil(BLOCK).max(1))
+        let blocks: Vec<Result<Vec<u8>>> = (0..rows.div_ceil(CSV_BLOCK).max(1))
             .into_par_iter()
-            .map(|block| records(block * BLOCK..((block + 1) * BLOCK).min(rows), block == 0))
+            .map(|block| self.csv_records(block * CSV_BLOCK..((block + 1) * CSV_BLOCK).min(rows), block == 0))
             .collect();
         let blocks = blocks.into_iter().collect::<Result<Vec<_>>>()?;
         // One allocation of the final size: growing by doubling would hold up to twice the
@@ -371,36 +496,35 @@ impl Table {
 
     pub fn to_parquet(&self) -> Result<Vec<u8>> {
         use polars::prelude::*;
-        let columns: Vec<polars::prelude::Column> = self
-            .columns
-            .iter()
-            .map(|c| {
-                let name = PlSmallStr::from(c.name.as_str());
-                let series = match &c.values {
-                    Values::Text(v) => Series::new(name, v.as_slice()),
-                    Values::SharedText(v) => Series::new(name, v.iter().map(|s| &**s).collect::<Vec<&str>>().as_slice()),
-                    Values::Float(v) => Series::new(name, v.as_slice()),
-                    Values::Integer(v) => Series::new(name, v.as_slice()),
-                    Values::Boolean(v) => Series::new(name, v.as_slice()),
-                };
-                series.into()
-            })
-            .collect();
+        let columns = self.columns.iter().map(|c| c.series()).collect();
         let mut frame = DataFrame::new(self.rows(), columns).map_err(|e| anyhow::anyhow!("building the polars DataFrame: {e}"))?;
         let mut bytes = Vec::new();
         ParquetWriter::new(&mut bytes).finish(&mut frame).map_err(|e| anyhow::anyhow!("encoding Parquet: {e}"))?;
         Ok(bytes)
     }
 
+    /// The table as a polars DataFrame, each column released once converted.
+    fn into_frame(self) -> Result<polars::prelude::DataFrame> {
+        let rows = self.rows();
+        let columns = self.columns.into_iter().map(|c| c.series()).collect();
+        polars::prelude::DataFrame::new(rows, columns).map_err(|e| anyhow::anyhow!("building the polars DataFrame: {e}"))
+    }
+
     /// The columns' names and descriptions (units and meaning) as JSON, so that an engine
     /// or a script can read what each column is without reading this code (SPEC §7).
     pub fn columns_json(&self, stem: &str) -> Result<Vec<u8>> {
+        self.columns_json_of(stem, self.rows())
+    }
+
+    /// [`columns_json`](Self::columns_json) of a table of `rows` rows with these columns
+    /// (a table written in blocks: this one holds none or some of them).
+    pub fn columns_json_of(&self, stem: &str, rows: usize) -> Result<Vec<u8>> {
         let columns: Vec<serde_json::Value> = self
             .columns
             .iter()
             .map(|c| serde_json::json!({ "name": c.name, "description": c.description }))
             .collect();
-        let mut bytes = serde_json::to_vec_pretty(&serde_json::json!({ "table": stem, "rows": self.rows(), "columns": columns }))?;
+        let mut bytes = serde_json::to_vec_pretty(&serde_json::json!({ "table": stem, "rows": rows, "columns": columns }))?;
         bytes.push(b'\n');
         Ok(bytes)
     }
@@ -503,6 +627,31 @@ mod tests {
         let (a, b) = (plain.files("t", true).unwrap(), shared.files_in_turn("t", true).unwrap());
         assert_eq!(a, b);
         assert!(Arc::ptr_eq(&values.get("a,b"), &values.get("a,b")));
+    }
+
+    /// A table written in row blocks gives the bytes of the whole table: CSV across
+    /// block boundaries, and Parquet with the row groups polars forms (three here: above
+    /// 2·512² rows), quoted text, missing floats and repeated text included.
+    #[test]
+    fn row_blocks_give_the_bytes_of_the_whole_table() {
+        let rows = 2 * PARQUET_ROW_GROUP + 12_345;
+        let table_of = |range: Range<usize>| {
+            let mut shared = SharedText::default();
+            let mut table = Table::new();
+            table
+                .shared_text("page", "page id", range.clone().map(|i| shared.get(if i % 3 == 0 { "a,b" } else { "main/Au/Johnson" })).collect())
+                .optional_float("x", "a value", range.clone().map(|i| (i % 7 != 0).then_some(i as f64 / 3.0)).collect())
+                .integer("i", "row", range.map(|i| i as i64).collect());
+            table
+        };
+        let whole = table_of(0..rows);
+        let blocks = RowBlocks { rows, block: &table_of };
+        let (mut csv, mut parquet) = (Vec::new(), Vec::new());
+        blocks.write_csv(&mut csv).unwrap();
+        blocks.write_parquet(&mut parquet).unwrap();
+        assert!(csv == whole.to_csv().unwrap(), "CSV differs");
+        assert!(parquet == whole.to_parquet().unwrap(), "Parquet differs");
+        assert_eq!(table_of(0..0).columns_json_of("t", rows).unwrap(), whole.columns_json("t").unwrap());
     }
 
     /// The names of a set read the newest generation; a second publish replaces every

@@ -23,6 +23,7 @@
 
 pub mod quadrature;
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -36,7 +37,7 @@ use crate::fresnel::{
     filter, filter_weights, texel_values, CompensationFallback, LANES, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
-use crate::output::{SharedText, Table};
+use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
 
 use quadrature::{Integral, Integrand, Sample, Tolerance};
@@ -321,30 +322,45 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     measurements
 }
 
+/// A row of `errors.*`: a page, the measurement of its specimen, and the precision.
+#[derive(Clone, Copy, Debug)]
+pub struct ErrorRow<'a> {
+    pub page: &'a str,
+    pub measurement: &'a Measurement,
+    pub precision: Precision,
+}
+
+/// The rows of `errors.*` in order: per measurement, each page of its specimen, f64
+/// then f32.
+pub fn error_rows<'a>(specimens: &'a [Specimen], measurements: &'a [Measurement]) -> Vec<ErrorRow<'a>> {
+    measurements
+        .iter()
+        .flat_map(|m| {
+            specimens[m.specimen].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| ErrorRow { page, measurement: m, precision }))
+        })
+        .collect()
+}
+
 /// `errors.*`: one row per page × method × variant × precision × channel.
 pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channels: &Channels, strategy: Strategy) -> Table {
-    struct Row<'a> {
-        page: &'a str,
-        m: &'a Measurement,
-        precision: Precision,
-    }
-    let rows: Vec<Row> = measurements
-        .iter()
-        .flat_map(|m| specimens[m.specimen].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| Row { page, m, precision })))
-        .collect();
+    errors_table_of(&error_rows(specimens, measurements), specimens, channels, strategy)
+}
+
+/// The table of the given rows of `errors.*` (all of them, or a block).
+pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], channels: &Channels, strategy: Strategy) -> Table {
     let nm = channels.nanometres();
     // Every text column repeats its values down the rows: each distinct value is stored once.
     let mut shared = SharedText::default();
-    let mut text = |value: &dyn Fn(&Row) -> String| -> Vec<Arc<str>> { rows.iter().map(|r| shared.get(&value(r))).collect() };
-    let page = text(&|r| r.page.to_string());
-    let kind = text(&|r| specimens[r.m.specimen].kind.clone());
-    let method = text(&|r| r.m.variant.method.name().to_string());
-    let variant = text(&|r| r.m.variant.name(r.precision));
-    let precision = text(&|r| r.precision.name().to_string());
-    let encoding = text(&|r| r.m.variant.lut.map_or(String::new(), |s| s.encoding.name().into()));
-    let channel = text(&|r| CHANNEL_NAMES[r.m.channel].to_string());
-    let fallback = text(&|r| r.m.fallback.map_or(String::new(), |f| f.name().into()));
-    let strategy_name = text(&|_| strategy.name().to_string());
+    let mut text = |value: &dyn Fn(&ErrorRow<'a>) -> Cow<'a, str>| -> Vec<Arc<str>> { rows.iter().map(|r| shared.get(&value(r))).collect() };
+    let page = text(&|r| r.page.into());
+    let kind = text(&|r| specimens[r.measurement.specimen].kind.as_str().into());
+    let method = text(&|r| r.measurement.variant.method.name().into());
+    let variant = text(&|r| r.measurement.variant.name(r.precision).into());
+    let precision = text(&|r| r.precision.name().into());
+    let encoding = text(&|r| r.measurement.variant.lut.map_or("", |s| s.encoding.name()).into());
+    let channel = text(&|r| CHANNEL_NAMES[r.measurement.channel].into());
+    let fallback = text(&|r| r.measurement.fallback.map_or("", |f| f.name()).into());
+    let strategy_name = text(&|_| strategy.name().into());
     let mut table = Table::new();
     table
         .shared_text("page", "page id shelf/book/page (or nk:... for --nk)", page)
@@ -352,37 +368,37 @@ pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channe
         .shared_text("method", "Fresnel method (SPEC §5)", method)
         .shared_text("variant", "precision (f64 CPU, f32 shader arithmetic); for lut 'N=<texels>,<encoding>,<precision>'", variant)
         .shared_text("precision", "f64 or f32 (shader twin), both against f64 exact", precision)
-        .optional_float("texels", "lut texel count N; empty for analytic methods", rows.iter().map(|r| r.m.variant.lut.map(|s| s.texels as f64)).collect())
+        .optional_float("texels", "lut texel count N; empty for analytic methods", rows.iter().map(|r| r.measurement.variant.lut.map(|s| s.texels as f64)).collect())
         .shared_text("encoding", "lut texel encoding; empty for analytic methods", encoding)
-        .integer("texture_bytes", "bytes of the RGB texture: N x 3 x bytes per channel; 0 for analytic", rows.iter().map(|r| r.m.variant.texture_bytes() as i64).collect())
+        .integer("texture_bytes", "bytes of the RGB texture: N x 3 x bytes per channel; 0 for analytic", rows.iter().map(|r| r.measurement.variant.texture_bytes() as i64).collect())
         .shared_text("channel", "red, green or blue", channel)
-        .float("wavelength_nm", "channel wavelength (nm)", rows.iter().map(|r| nm[r.m.channel]).collect())
-        .float("n", "refractive index of the channel", rows.iter().map(|r| r.m.index.n).collect())
-        .float("k", "extinction coefficient of the channel", rows.iter().map(|r| r.m.index.k).collect())
+        .float("wavelength_nm", "channel wavelength (nm)", rows.iter().map(|r| nm[r.measurement.channel]).collect())
+        .float("n", "refractive index of the channel", rows.iter().map(|r| r.measurement.index.n).collect())
+        .float("k", "extinction coefficient of the channel", rows.iter().map(|r| r.measurement.index.k).collect())
         .optional_float(
             "mean_rel_error",
             "mean over theta uniform in [0,90] deg of |F_m - F_exact|/F_exact (fraction); samples with F_exact = 0 excluded; empty if all are",
-            rows.iter().map(|r| r.m.integral.figures[r.precision].mean_rel_error).collect(),
+            rows.iter().map(|r| r.measurement.integral.figures[r.precision].mean_rel_error).collect(),
         )
-        .float("max_abs_error", "max over theta of |F_m - F_exact|", rows.iter().map(|r| r.m.integral.figures[r.precision].max_abs_error).collect())
-        .float("rms_abs_error", "RMS over theta of F_m - F_exact", rows.iter().map(|r| r.m.integral.figures[r.precision].rms_abs_error).collect())
+        .float("max_abs_error", "max over theta of |F_m - F_exact|", rows.iter().map(|r| r.measurement.integral.figures[r.precision].max_abs_error).collect())
+        .float("rms_abs_error", "RMS over theta of F_m - F_exact", rows.iter().map(|r| r.measurement.integral.figures[r.precision].rms_abs_error).collect())
         .integer(
             "excluded_samples",
             "evaluation points with F_exact = 0, left out of mean_rel_error (only n = 1, k = 0)",
-            rows.iter().map(|r| r.m.integral.excluded_samples as i64).collect(),
+            rows.iter().map(|r| r.measurement.integral.excluded_samples as i64).collect(),
         )
         .integer(
             "evaluations",
             "points theta evaluated (exact once, every method of the family in f64 and f32); shared by the rows of one family: the analytic methods of a channel, or the 5 encodings of one lut size",
-            rows.iter().map(|r| r.m.integral.evaluations as i64).collect(),
+            rows.iter().map(|r| r.measurement.integral.evaluations as i64).collect(),
         )
-        .float("seconds", "wall time of the family's integration divided by its members (shared by the f64/f32 rows)", rows.iter().map(|r| r.m.seconds).collect())
+        .float("seconds", "wall time of the family's integration divided by its members (shared by the f64/f32 rows)", rows.iter().map(|r| r.measurement.seconds).collect())
         .shared_text(
             "fallback",
             "schlick_compensated without a real lambda: wrong-sign / no-decay / negligible (then = schlick_nk); empty otherwise",
             fallback,
         )
-        .optional_float("lambda", "schlick_compensated exponent lambda; empty otherwise or on fallback", rows.iter().map(|r| r.m.lambda).collect())
+        .optional_float("lambda", "schlick_compensated exponent lambda; empty otherwise or on fallback", rows.iter().map(|r| r.measurement.lambda).collect())
         .shared_text("strategy", "adaptive (quadrature) or brute-force (10^6 theta midpoints)", strategy_name);
     table
 }
@@ -554,14 +570,19 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let mut text = String::new();
     summary_text(&mut text, &specimens, &measurements, &spreads, strategy, seconds)?;
     // errors.* has a row per page × variant × precision × channel (≈ 620 k over the whole
-    // database): the measurements go once the table holds them, and the CSV and Parquet
-    // encodings run one after the other so that their working memory is not held at once.
-    let errors = errors_table(&specimens, &measurements, &channels, strategy);
-    drop(measurements);
-    let mut files = errors.files_in_turn("errors", false)?;
-    drop(errors);
-    files.extend(cost_table(&spreads).files("cost", false)?);
-    let written = crate::output::publish_set(out, "validate", &files)?;
+    // database, 130 MB of CSV): it is never held whole. Its CSV is formatted and written
+    // in blocks of rows, its Parquet one row group at a time, straight from the
+    // measurements.
+    let rows = error_rows(&specimens, &measurements);
+    let block = |range: std::ops::Range<usize>| errors_table_of(&rows[range], &specimens, &channels, strategy);
+    let errors = RowBlocks { rows: rows.len(), block: &block };
+    let columns = SetFile::new("errors.columns.json", block(0..0).columns_json_of("errors", rows.len())?);
+    let csv = StreamedFile::new("errors.csv", |out: &mut dyn std::io::Write| errors.write_csv(out));
+    let parquet = StreamedFile::new("errors.parquet", |out: &mut dyn std::io::Write| errors.write_parquet(out));
+    let cost = cost_table(&spreads).files("cost", false)?;
+    let mut files: Vec<&dyn SetContent> = vec![&columns, &csv, &parquet];
+    files.extend(cost.iter().map(|f| f as &dyn SetContent));
+    let written = crate::output::publish_contents(out, "validate", &files)?;
     Ok(Outcome { written, summary: text })
 }
 
