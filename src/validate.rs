@@ -756,6 +756,35 @@ mod tests {
         assert!(failures.is_empty(), "{} disagree:\n{}", failures.len(), failures.join("\n"));
     }
 
+    /// A batch of angles gives each sample the bits of that angle alone (exact in vector
+    /// lanes, partly filled blocks included), for the analytic family and a LUT family,
+    /// on a metal, a dielectric, a gas-like index and vacuum.
+    #[test]
+    fn batches_give_the_bits_of_one_angle_at_a_time() {
+        let analytic: Vec<Variant> = Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
+        let lut: Vec<Variant> =
+            crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(128, e)) }).collect();
+        let thetas: Vec<f64> = (0..37).map(|i| i as f64 * 0.0437).chain([0.0, std::f64::consts::FRAC_PI_2]).collect();
+        for index in [Index::new(0.18, 3.4), Index::new(1.5, 0.0), Index::new(1.0003, 0.0), Index::new(1.0, 0.0)] {
+            for variants in [&analytic, &lut] {
+                let family = Family::new(Prepared::new(index), variants);
+                let members = variants.len();
+                let mut batch = vec![Sample::default(); thetas.len() * members];
+                family.evaluate(&thetas, &mut batch);
+                for (j, &theta) in thetas.iter().enumerate() {
+                    let mut one = vec![Sample::default(); members];
+                    family.evaluate(&[theta], &mut one);
+                    for (a, b) in batch[j * members..(j + 1) * members].iter().zip(&one) {
+                        let bits = |s: &Sample| [s.exact.to_bits(), s.approx.f64.to_bits(), s.approx.f32.to_bits()];
+                        assert_eq!(bits(a), bits(b), "{index:?} θ = {theta}");
+                    }
+                    // One angle alone is the scalar form: exact one cosine at a time.
+                    assert_eq!(one[0].exact.to_bits(), family.models[0].prepared.exact.reflectance(theta.cos()).to_bits());
+                }
+            }
+        }
+    }
+
     #[test]
     fn vacuum_is_excluded_and_reported() {
         let model = Model::new(Index::new(1.0, 0.0), Method::Schlick, LutSpec::default());

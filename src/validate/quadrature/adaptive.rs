@@ -165,7 +165,7 @@ impl<const M: usize> MemberNodes<M> {
 /// One member's contribution to a panel, from its values at the rule's nodes and the
 /// sign changes of its f64 relative difference (none unless F_e > 0 at every node).
 fn member_panel<const M: usize>(rule: &Rule<M>, span: Span, nodes: &MemberNodes<M>, f64_roots: &[f64], all_included: bool) -> MemberPanel {
-    let MemberNodes { d64, d32, g64, g32, coefficients } = *nodes;
+    let MemberNodes { d64, d32, g64, g32, coefficients } = nodes;
 
     // f64 drives the refinement: error estimates, roots, the peak.
     let size = d64.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -216,7 +216,7 @@ struct Adaptive<'a, I: Integrand + ?Sized, const M: usize> {
     /// sign changes of every member (in member order) with their roots, and which
     /// brackets are each member's.
     members_nodes: Vec<MemberNodes<M>>,
-    brackets: Vec<Bracket<M>>,
+    brackets: Vec<Bracket>,
     roots: Vec<f64>,
     root_ranges: Vec<std::ops::Range<usize>>,
 }
@@ -292,14 +292,15 @@ impl<'a, I: Integrand + ?Sized, const M: usize> Adaptive<'a, I, M> {
             let values = MemberNodes::new(rule, std::array::from_fn(|i| nodes[i * members + m]), &inverse);
             let first = self.brackets.len();
             if all_included {
-                rule.sign_change_brackets(&values.g64, &values.coefficients, &mut self.brackets);
+                rule.sign_change_brackets(&values.g64, &values.coefficients, m, &mut self.brackets);
             }
             self.root_ranges.push(first..self.brackets.len());
             self.members_nodes.push(values);
         }
         self.roots.clear();
         self.roots.resize(self.brackets.len(), 0.0);
-        roots_of(&self.brackets, &mut self.roots);
+        let members_nodes = &self.members_nodes;
+        roots_of(&self.brackets, &|m| &members_nodes[m].coefficients, &mut self.roots);
         for (values, range) in self.members_nodes.iter().zip(&self.root_ranges) {
             self.contributions.push(member_panel(rule, span, values, &self.roots[range.clone()], all_included));
         }

@@ -137,24 +137,25 @@ impl<const M: usize> Rule<M> {
     #[cfg(test)]
     pub(super) fn sign_change_roots(&self, g: &[f64; M], coefficients: &[f64; M], roots: &mut [f64; MAX_ROOTS]) -> usize {
         let mut brackets = Vec::new();
-        let count = self.sign_change_brackets(g, coefficients, &mut brackets);
+        let count = self.sign_change_brackets(g, coefficients, 0, &mut brackets);
         for (r, b) in roots.iter_mut().zip(&brackets) {
-            *r = root(&b.coefficients, b.lo, b.hi, b.scale);
+            *r = root(coefficients, b.lo, b.hi, b.scale);
         }
         count
     }
 
     /// The brackets of the sign changes that [`sign_change_roots`](Self::sign_change_roots)
     /// resolves, in increasing order, appended to `brackets`; returns how many (at most
-    /// [`MAX_ROOTS`]). Each root is then [`root`] of its bracket ([`roots_of`]).
-    pub(super) fn sign_change_brackets(&self, g: &[f64; M], coefficients: &[f64; M], brackets: &mut Vec<Bracket<M>>) -> usize {
+    /// [`MAX_ROOTS`]), each naming the interpolant as `polynomial`. Each root is then
+    /// [`root`] of its bracket ([`roots_of`]).
+    pub(super) fn sign_change_brackets(&self, g: &[f64; M], coefficients: &[f64; M], polynomial: usize, brackets: &mut Vec<Bracket>) -> usize {
         let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if scale == 0.0 {
             return 0;
         }
         // The bound on [−1, 1], to rule out most gaps before the finer one on a gap.
         let slope_bound: f64 = coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c.abs()).sum();
-        let mut found = Brackets { coefficients, scale, brackets, count: 0 };
+        let mut found = Brackets { coefficients, polynomial, scale, brackets, count: 0 };
         for i in 0..M - 1 {
             let (lo, hi) = (self.nodes[i], self.nodes[i + 1]);
             if g[i] * g[i + 1] < 0.0 {
@@ -167,12 +168,12 @@ impl<const M: usize> Rule<M> {
     }
 }
 
-/// An interval (lo, hi) of [−1, 1] where a panel's interpolant p (monomial coefficients)
-/// changes sign, and the largest |g| at the panel's nodes (the scale of [`root`]'s
+/// An interval (lo, hi) of [−1, 1] where an interpolant p (named by an index, `polynomial`)
+/// changes sign, and the largest |g| at its panel's nodes (the scale of [`root`]'s
 /// tolerance).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Bracket<const M: usize> {
-    pub coefficients: [f64; M],
+pub(super) struct Bracket {
+    pub polynomial: usize,
     pub lo: f64,
     pub hi: f64,
     pub scale: f64,
@@ -181,15 +182,16 @@ pub(super) struct Bracket<const M: usize> {
 /// The sign changes found so far on a panel, in increasing order.
 struct Brackets<'a, const M: usize> {
     coefficients: &'a [f64; M],
+    polynomial: usize,
     scale: f64,
-    brackets: &'a mut Vec<Bracket<M>>,
+    brackets: &'a mut Vec<Bracket>,
     count: usize,
 }
 
 impl<const M: usize> Brackets<'_, M> {
     fn push(&mut self, lo: f64, hi: f64) {
         if self.count < MAX_ROOTS {
-            self.brackets.push(Bracket { coefficients: *self.coefficients, lo, hi, scale: self.scale });
+            self.brackets.push(Bracket { polynomial: self.polynomial, lo, hi, scale: self.scale });
             self.count += 1;
         }
     }
@@ -332,48 +334,49 @@ fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale
 /// How many brackets [`roots_of`] resolves at once: one AVX-512 register of f64.
 const ROOT_LANES: usize = 8;
 
-/// [`root`] of each bracket into `roots` (the shorter decides how many), [`ROOT_LANES`]
-/// brackets at a time in vector lanes, each lane with the operations of [`root`] in its
-/// order (the same bits). The vector width is chosen at run time (AVX-512, AVX2, or what
-/// the baseline target allows).
-pub(super) fn roots_of<const M: usize>(brackets: &[Bracket<M>], roots: &mut [f64]) {
+/// [`root`] of each bracket into `roots` (the shorter decides how many), the bracket's
+/// polynomial being `polynomials(bracket.polynomial)`: [`ROOT_LANES`] brackets at a time in
+/// vector lanes, each lane with the operations of [`root`] in its order (the same bits).
+/// The vector width is chosen at run time (AVX-512, AVX2, or what the baseline target
+/// allows).
+pub(super) fn roots_of<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU has just been found to support AVX-512F.
-            return unsafe { roots_avx512(brackets, roots) };
+            return unsafe { roots_avx512(brackets, polynomials, roots) };
         }
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has just been found to support AVX2.
-            return unsafe { roots_avx2(brackets, roots) };
+            return unsafe { roots_avx2(brackets, polynomials, roots) };
         }
     }
-    roots_in_lanes(brackets, roots)
+    roots_in_lanes(brackets, polynomials, roots)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-unsafe fn roots_avx512<const M: usize>(brackets: &[Bracket<M>], roots: &mut [f64]) {
-    roots_in_lanes(brackets, roots)
+unsafe fn roots_avx512<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
+    roots_in_lanes(brackets, polynomials, roots)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn roots_avx2<const M: usize>(brackets: &[Bracket<M>], roots: &mut [f64]) {
-    roots_in_lanes(brackets, roots)
+unsafe fn roots_avx2<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
+    roots_in_lanes(brackets, polynomials, roots)
 }
 
 #[inline(always)]
-fn roots_in_lanes<const M: usize>(brackets: &[Bracket<M>], roots: &mut [f64]) {
+fn roots_in_lanes<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
     for (chunk, out) in brackets.chunks(ROOT_LANES).zip(roots.chunks_mut(ROOT_LANES)) {
         if let ([b], [r]) = (chunk, &mut *out) {
-            *r = root(&b.coefficients, b.lo, b.hi, b.scale);
+            *r = root(polynomials(b.polynomial), b.lo, b.hi, b.scale);
             continue;
         }
         // Unused lanes repeat the first bracket.
         let lane = |l: usize| chunk.get(l).unwrap_or(&chunk[0]);
         let lanes: RootLanes<M> = RootLanes {
-            coefficients: std::array::from_fn(|k| std::array::from_fn(|l| lane(l).coefficients[k])),
+            coefficients: std::array::from_fn(|k| std::array::from_fn(|l| polynomials(lane(l).polynomial)[k])),
             lo: std::array::from_fn(|l| lane(l).lo),
             hi: std::array::from_fn(|l| lane(l).hi),
             scale: std::array::from_fn(|l| lane(l).scale),
@@ -553,15 +556,15 @@ mod tests {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
         };
-        fn check<const M: usize>(brackets: &[Bracket<M>]) {
+        fn check<const M: usize>((polynomials, brackets): &(Vec<[f64; M]>, Vec<Bracket>)) {
             let mut lanes = vec![f64::NAN; brackets.len()];
-            roots_of(brackets, &mut lanes);
+            roots_of(brackets, &|p| &polynomials[p], &mut lanes);
             for (b, got) in brackets.iter().zip(&lanes) {
-                let expected = root(&b.coefficients, b.lo, b.hi, b.scale);
+                let expected = root(&polynomials[b.polynomial], b.lo, b.hi, b.scale);
                 assert_eq!(got.to_bits(), expected.to_bits(), "{b:?}: {got} vs {expected}");
             }
         }
-        fn brackets_of<const M: usize>(uniform: &mut impl FnMut() -> f64, count: usize) -> Vec<Bracket<M>> {
+        fn brackets_of<const M: usize>(uniform: &mut impl FnMut() -> f64, count: usize) -> (Vec<[f64; M]>, Vec<Bracket>) {
             (0..count)
                 .map(|i| {
                     // p(t) = s·Π(t − r_j) with M − 1 random roots, bracket around one of them.
@@ -582,15 +585,18 @@ mod tests {
                         _ => (target - 0.05 * (1.0 + uniform().abs()), target + 0.07 * (1.0 + uniform().abs())),
                     };
                     let scale = if i % 11 == 3 { 0.0 } else { coefficients.iter().map(|c| c.abs()).sum() };
-                    Bracket { coefficients, lo, hi, scale }
+                    (coefficients, Bracket { polynomial: i, lo, hi, scale })
                 })
-                .collect()
+                .unzip()
         }
         for count in [1, 3, 8, 19] {
             check::<5>(&brackets_of::<5>(&mut uniform, count));
             check::<9>(&brackets_of::<9>(&mut uniform, count));
         }
-        check::<5>(&[Bracket { coefficients: [0.0; 5], lo: -0.5, hi: 0.5, scale: 1.0 }, Bracket { coefficients: [0.3, -1.0, 0.0, 0.0, 0.0], lo: 0.0, hi: 1.0, scale: 1.0 }]);
+        check::<5>(&(
+            vec![[0.0; 5], [0.3, -1.0, 0.0, 0.0, 0.0]],
+            vec![Bracket { polynomial: 0, lo: -0.5, hi: 0.5, scale: 1.0 }, Bracket { polynomial: 1, lo: 0.0, hi: 1.0, scale: 1.0 }],
+        ));
     }
 
     #[test]
