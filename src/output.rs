@@ -344,12 +344,12 @@ pub struct RowBlocks<'a> {
 }
 
 impl RowBlocks<'_> {
-    /// CSV, [`CSV_BLOCK`] rows per block, a few blocks formatted in parallel at a time
+    /// CSV, [`CSV_BLOCK`] rows per block, one block per thread formatted in parallel at a time
     /// and written in order.
     pub fn write_csv(&self, out: &mut dyn Write) -> Result<()> {
         let rows = self.rows;
         let blocks = rows.div_ceil(CSV_BLOCK).max(1);
-        let batch = 2 * rayon::current_num_threads().max(1);
+        let batch = rayon::current_num_threads().max(1);
         for first in (0..blocks).step_by(batch) {
             let texts: Vec<Result<Vec<u8>>> = (first..(first + batch).min(blocks))
                 .into_par_iter()

@@ -351,7 +351,20 @@ pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], cha
     let nm = channels.nanometres();
     // Every text column repeats its values down the rows: each distinct value is stored once.
     let mut shared = SharedText::default();
-    let mut text = |value: &dyn Fn(&ErrorRow<'a>) -> Cow<'a, str>| -> Vec<Arc<str>> { rows.iter().map(|r| shared.get(&value(r))).collect() };
+    // Neighbouring rows mostly repeat a value (the rows of one measurement, one page):
+    // compared with the previous row's before it is looked up.
+    let mut text = |value: &dyn Fn(&ErrorRow<'a>) -> Cow<'a, str>| -> Vec<Arc<str>> {
+        let mut previous: Option<Arc<str>> = None;
+        rows.iter()
+            .map(|r| {
+                let v = value(r);
+                let same = previous.as_ref().filter(|p| ***p == *v).cloned();
+                let arc = same.unwrap_or_else(|| shared.get(&v));
+                previous = Some(arc.clone());
+                arc
+            })
+            .collect()
+    };
     let page = text(&|r| r.page.into());
     let kind = text(&|r| specimens[r.measurement.specimen].kind.as_str().into());
     let method = text(&|r| r.measurement.variant.method.name().into());

@@ -6,7 +6,7 @@
 use std::collections::BinaryHeap;
 use std::f64::consts::FRAC_PI_2;
 
-use super::rule::{absolute_integral, roots_of, Bracket, Rule, GAUSS3, KRONROD7};
+use super::rule::{absolute_integral, Rule, GAUSS3, KRONROD7, MAX_ROOTS};
 use super::{figures, Integral, Integrand, Maximum, Sample, Sums};
 use crate::fresnel::Precision;
 
@@ -138,39 +138,23 @@ fn single_precision_relative<const M: usize>(
     }
 }
 
-/// One member's values at a panel's nodes: F_m − F_e in both precisions, the same
-/// relative to F_e (g), and the interpolant of the f64 g (monomial coefficients).
-#[derive(Clone, Copy, Debug)]
-struct MemberNodes<const M: usize> {
-    d64: [f64; M],
-    d32: [f64; M],
-    g64: [f64; M],
-    g32: [f64; M],
-    coefficients: [f64; M],
-}
-
-impl<const M: usize> MemberNodes<M> {
-    /// From the member's samples at the rule's nodes; `inverse` holds 1/F_e at the nodes
-    /// (0 where F_e = 0).
-    fn new(rule: &Rule<M>, samples: [Sample; M], inverse: &[f64; M]) -> Self {
-        let difference = |precision| -> [f64; M] { std::array::from_fn(|i| samples[i].difference(precision)) };
-        let relative = |d: &[f64; M]| -> [f64; M] { std::array::from_fn(|i| d[i] * inverse[i]) };
-        let d64 = difference(Precision::F64);
-        let d32 = difference(Precision::F32);
-        let (g64, g32) = (relative(&d64), relative(&d32));
-        Self { d64, d32, g64, g32, coefficients: rule.interpolate(&g64) }
-    }
-}
-
-/// One member's contribution to a panel, from its values at the rule's nodes and the
-/// sign changes of its f64 relative difference (none unless F_e > 0 at every node).
-fn member_panel<const M: usize>(rule: &Rule<M>, span: Span, nodes: &MemberNodes<M>, f64_roots: &[f64], all_included: bool) -> MemberPanel {
-    let MemberNodes { d64, d32, g64, g32, coefficients } = nodes;
+/// One member's contribution to a panel, from its samples at the rule's nodes.
+/// `inverse` holds 1/F_e at the nodes (0 where F_e = 0).
+fn member_panel<const M: usize>(rule: &Rule<M>, span: Span, samples: [Sample; M], inverse: &[f64; M], all_included: bool) -> MemberPanel {
+    let difference = |precision| -> [f64; M] { std::array::from_fn(|i| samples[i].difference(precision)) };
+    let relative = |d: &[f64; M]| -> [f64; M] { std::array::from_fn(|i| d[i] * inverse[i]) };
+    let d64 = difference(Precision::F64);
+    let d32 = difference(Precision::F32);
+    let (g64, g32) = (relative(&d64), relative(&d32));
 
     // f64 drives the refinement: error estimates, roots, the peak.
     let size = d64.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let (squared64, squared_error) = rule.estimate(&d64.map(|x| x * x), || rule.top_coefficient(&d64).abs() * 2.0 * size);
+    let coefficients = rule.interpolate(&g64);
     let (signed64, relative_error) = rule.estimate(&g64, || coefficients[M - 1].abs());
+    let mut roots = [0.0; MAX_ROOTS];
+    let root_count = if all_included { rule.sign_change_roots(&g64, &coefficients, &mut roots) } else { 0 };
+    let f64_roots = &roots[..root_count];
     let relative64 = if !all_included {
         rule.integral(&g64.map(f64::abs))
     } else if f64_roots.is_empty() {
@@ -212,13 +196,6 @@ struct Adaptive<'a, I: Integrand + ?Sized, const M: usize> {
     contributions: Vec<MemberPanel>,
     /// Scratch: the M nodes of the panel being built, `members` samples per node.
     nodes: Vec<Sample>,
-    /// Scratch of the panel being built: each member's node values, the brackets of the
-    /// sign changes of every member (in member order) with their roots, and which
-    /// brackets are each member's.
-    members_nodes: Vec<MemberNodes<M>>,
-    brackets: Vec<Bracket>,
-    roots: Vec<f64>,
-    root_ranges: Vec<std::ops::Range<usize>>,
 }
 
 impl<'a, I: Integrand + ?Sized, const M: usize> Adaptive<'a, I, M> {
@@ -234,10 +211,6 @@ impl<'a, I: Integrand + ?Sized, const M: usize> Adaptive<'a, I, M> {
             panels: Vec::with_capacity(cuts * 2),
             contributions: Vec::with_capacity(cuts * 2 * members),
             nodes: Vec::with_capacity(M * members),
-            members_nodes: Vec::with_capacity(members),
-            brackets: Vec::new(),
-            roots: Vec::new(),
-            root_ranges: Vec::with_capacity(members),
         }
     }
 
@@ -284,25 +257,9 @@ impl<'a, I: Integrand + ?Sized, const M: usize> Adaptive<'a, I, M> {
         let all_included = exact.iter().all(|&f| f > 0.0);
         let included = if all_included { b - a } else { span.half * rule.integral(&exact.map(|f| if f > 0.0 { 1.0 } else { 0.0 })) };
         let inverse: [f64; M] = exact.map(|f| if f > 0.0 { 1.0 / f } else { 0.0 });
-        // Every member's sign changes first, then their roots at once in vector lanes.
-        self.members_nodes.clear();
-        self.brackets.clear();
-        self.root_ranges.clear();
         for m in 0..members {
-            let values = MemberNodes::new(rule, std::array::from_fn(|i| nodes[i * members + m]), &inverse);
-            let first = self.brackets.len();
-            if all_included {
-                rule.sign_change_brackets(&values.g64, &values.coefficients, m, &mut self.brackets);
-            }
-            self.root_ranges.push(first..self.brackets.len());
-            self.members_nodes.push(values);
-        }
-        self.roots.clear();
-        self.roots.resize(self.brackets.len(), 0.0);
-        let members_nodes = &self.members_nodes;
-        roots_of(&self.brackets, &|m| &members_nodes[m].coefficients, &mut self.roots);
-        for (values, range) in self.members_nodes.iter().zip(&self.root_ranges) {
-            self.contributions.push(member_panel(rule, span, values, &self.roots[range.clone()], all_included));
+            let samples = std::array::from_fn(|i| nodes[i * members + m]);
+            self.contributions.push(member_panel(rule, span, samples, &inverse, all_included));
         }
         self.nodes = nodes;
         self.panels.push(Panel { a, b, ends, included, settled: false });

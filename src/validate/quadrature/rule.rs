@@ -134,74 +134,45 @@ impl<const M: usize> Rule<M> {
     /// [lo, hi], x = max(|lo|, |hi|); intervals that pass this test are halved and tested
     /// again, down to 1/32 of the gap between nodes. A dip narrower than that is missed,
     /// and with it an area below max|p'|·(gap/32)².
-    #[cfg(test)]
     pub(super) fn sign_change_roots(&self, g: &[f64; M], coefficients: &[f64; M], roots: &mut [f64; MAX_ROOTS]) -> usize {
-        let mut brackets = Vec::new();
-        let count = self.sign_change_brackets(g, coefficients, 0, &mut brackets);
-        for (r, b) in roots.iter_mut().zip(&brackets) {
-            *r = root(coefficients, b.lo, b.hi, b.scale);
-        }
-        count
-    }
-
-    /// The brackets of the sign changes that [`sign_change_roots`](Self::sign_change_roots)
-    /// resolves, in increasing order, appended to `brackets`; returns how many (at most
-    /// [`MAX_ROOTS`]), each naming the interpolant as `polynomial`. Each root is then
-    /// [`root`] of its bracket ([`roots_of`]).
-    pub(super) fn sign_change_brackets(&self, g: &[f64; M], coefficients: &[f64; M], polynomial: usize, brackets: &mut Vec<Bracket>) -> usize {
         let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if scale == 0.0 {
             return 0;
         }
         // The bound on [−1, 1], to rule out most gaps before the finer one on a gap.
         let slope_bound: f64 = coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c.abs()).sum();
-        let mut found = Brackets { coefficients, polynomial, scale, brackets, count: 0 };
+        let mut found = Roots { roots, count: 0 };
         for i in 0..M - 1 {
             let (lo, hi) = (self.nodes[i], self.nodes[i + 1]);
             if g[i] * g[i + 1] < 0.0 {
-                found.push(lo, hi);
+                found.push(root(coefficients, lo, hi, scale));
             } else if g[i].abs() + g[i + 1].abs() <= slope_bound * (hi - lo) {
-                found.dips(Knot { t: lo, value: g[i] }, Knot { t: hi, value: g[i + 1] }, 5);
+                found.dips(coefficients, scale, Knot { t: lo, value: g[i] }, Knot { t: hi, value: g[i + 1] }, 5);
             }
         }
         found.count
     }
 }
 
-/// An interval (lo, hi) of [−1, 1] where an interpolant p (named by an index, `polynomial`)
-/// changes sign, and the largest |g| at its panel's nodes (the scale of [`root`]'s
-/// tolerance).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Bracket {
-    pub polynomial: usize,
-    pub lo: f64,
-    pub hi: f64,
-    pub scale: f64,
-}
-
-/// The sign changes found so far on a panel, in increasing order.
-struct Brackets<'a, const M: usize> {
-    coefficients: &'a [f64; M],
-    polynomial: usize,
-    scale: f64,
-    brackets: &'a mut Vec<Bracket>,
+/// Roots found so far on a panel, in increasing order.
+struct Roots<'a> {
+    roots: &'a mut [f64; MAX_ROOTS],
     count: usize,
 }
 
-impl<const M: usize> Brackets<'_, M> {
-    fn push(&mut self, lo: f64, hi: f64) {
+impl Roots<'_> {
+    fn push(&mut self, r: f64) {
         if self.count < MAX_ROOTS {
-            self.brackets.push(Bracket { polynomial: self.polynomial, lo, hi, scale: self.scale });
+            self.roots[self.count] = r;
             self.count += 1;
         }
     }
 
     /// Sign changes of p in (lo, hi) where p(lo), p(hi) have the same sign, by bisection
     /// while the slope bound cannot exclude a root, `depth` levels deep.
-    fn dips(&mut self, lo: Knot, hi: Knot, depth: u32) {
-        let coefficients = self.coefficients;
+    fn dips<const M: usize>(&mut self, coefficients: &[f64; M], scale: f64, lo: Knot, hi: Knot, depth: u32) {
         if lo.value * hi.value < 0.0 {
-            self.push(lo.t, hi.t);
+            self.push(root(coefficients, lo.t, hi.t, scale));
             return;
         }
         if depth == 0 || lo.value == 0.0 || hi.value == 0.0 {
@@ -214,8 +185,8 @@ impl<const M: usize> Brackets<'_, M> {
         }
         let middle = Knot { t: 0.5 * (lo.t + hi.t), value: 0.0 };
         let middle = Knot { value: horner(coefficients, middle.t), ..middle };
-        self.dips(lo, middle, depth - 1);
-        self.dips(middle, hi, depth - 1);
+        self.dips(coefficients, scale, lo, middle, depth - 1);
+        self.dips(coefficients, scale, middle, hi, depth - 1);
     }
 }
 
@@ -274,19 +245,12 @@ fn horner<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |acc, c| acc * t + c)
 }
 
-/// The antiderivative of p divided by t: c_k/(k + 1) for the monomial coefficients c_k
-/// of p, lowest power first.
+/// ∫₀ᵗ p by Horner's rule on the antiderivative.
 #[inline]
-fn antiderivative_coefficients<const M: usize>(coefficients: &[f64; M]) -> [f64; M] {
-    std::array::from_fn(|power| coefficients[power] / (power + 1) as f64)
-}
-
-/// ∫₀ᵗ p by Horner's rule on the antiderivative, from [`antiderivative_coefficients`].
-#[inline]
-fn antiderivative<const M: usize>(quotients: &[f64; M], t: f64) -> f64 {
+fn antiderivative<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
     let mut acc = 0.0;
-    for q in quotients.iter().rev() {
-        acc = acc * t + q;
+    for (power, c) in coefficients.iter().enumerate().rev() {
+        acc = acc * t + c / (power + 1) as f64;
     }
     acc * t
 }
@@ -331,148 +295,15 @@ fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale
     0.5 * (lo + hi)
 }
 
-/// How many brackets [`roots_of`] resolves at once: one AVX-512 register of f64.
-const ROOT_LANES: usize = 8;
-
-/// [`root`] of each bracket into `roots` (the shorter decides how many), the bracket's
-/// polynomial being `polynomials(bracket.polynomial)`: [`ROOT_LANES`] brackets at a time in
-/// vector lanes, each lane with the operations of [`root`] in its order (the same bits).
-/// The vector width is chosen at run time (AVX-512, AVX2, or what the baseline target
-/// allows).
-pub(super) fn roots_of<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has just been found to support AVX-512F.
-            return unsafe { roots_avx512(brackets, polynomials, roots) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has just been found to support AVX2.
-            return unsafe { roots_avx2(brackets, polynomials, roots) };
-        }
-    }
-    roots_in_lanes(brackets, polynomials, roots)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn roots_avx512<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
-    roots_in_lanes(brackets, polynomials, roots)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn roots_avx2<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
-    roots_in_lanes(brackets, polynomials, roots)
-}
-
-#[inline(always)]
-fn roots_in_lanes<'a, const M: usize>(brackets: &[Bracket], polynomials: &impl Fn(usize) -> &'a [f64; M], roots: &mut [f64]) {
-    for (chunk, out) in brackets.chunks(ROOT_LANES).zip(roots.chunks_mut(ROOT_LANES)) {
-        if let ([b], [r]) = (chunk, &mut *out) {
-            *r = root(polynomials(b.polynomial), b.lo, b.hi, b.scale);
-            continue;
-        }
-        // Unused lanes repeat the first bracket.
-        let lane = |l: usize| chunk.get(l).unwrap_or(&chunk[0]);
-        let lanes: RootLanes<M> = RootLanes {
-            coefficients: std::array::from_fn(|k| std::array::from_fn(|l| polynomials(lane(l).polynomial)[k])),
-            lo: std::array::from_fn(|l| lane(l).lo),
-            hi: std::array::from_fn(|l| lane(l).hi),
-            scale: std::array::from_fn(|l| lane(l).scale),
-        };
-        let found = lanes.solve();
-        let used = chunk.len().min(out.len());
-        out[..used].copy_from_slice(&found[..used]);
-    }
-}
-
-/// [`ROOT_LANES`] brackets, structure of arrays: coefficient k of every lane together.
-struct RootLanes<const M: usize> {
-    coefficients: [[f64; ROOT_LANES]; M],
-    lo: [f64; ROOT_LANES],
-    hi: [f64; ROOT_LANES],
-    scale: [f64; ROOT_LANES],
-}
-
-impl<const M: usize> RootLanes<M> {
-    /// p of each lane at its t by Horner's rule ([`horner`] lane by lane).
-    #[inline(always)]
-    fn horner(&self, t: &[f64; ROOT_LANES]) -> [f64; ROOT_LANES] {
-        let mut acc = [0.0; ROOT_LANES];
-        for c in self.coefficients.iter().rev() {
-            for l in 0..ROOT_LANES {
-                acc[l] = acc[l] * t[l] + c[l];
-            }
-        }
-        acc
-    }
-
-    /// [`root`] in every lane: the Illinois steps as selects, a lane left alone once it
-    /// has its root, until every lane has one or the 60 steps are spent.
-    #[inline(always)]
-    fn solve(&self) -> [f64; ROOT_LANES] {
-        let (mut lo, mut hi) = (self.lo, self.hi);
-        let (mut f_lo, mut f_hi) = (self.horner(&lo), self.horner(&hi));
-        let mut found = [0.0; ROOT_LANES];
-        let mut active = [false; ROOT_LANES];
-        for l in 0..ROOT_LANES {
-            if f_lo[l] == 0.0 {
-                found[l] = lo[l];
-            } else if f_hi[l] == 0.0 || f_lo[l] * f_hi[l] > 0.0 {
-                found[l] = hi[l];
-            } else {
-                active[l] = true;
-            }
-        }
-        let small: [f64; ROOT_LANES] = std::array::from_fn(|l| 1e-5 * self.scale[l]);
-        // −1: the last step moved lo, +1: hi, 0: none yet.
-        let mut side = [0.0f64; ROOT_LANES];
-        for _ in 0..60 {
-            if !active.iter().any(|&a| a) {
-                return found;
-            }
-            let mut x = [0.0; ROOT_LANES];
-            for l in 0..ROOT_LANES {
-                let step = (lo[l] * f_hi[l] - hi[l] * f_lo[l]) / (f_hi[l] - f_lo[l]);
-                x[l] = if step > lo[l] && step < hi[l] { step } else { 0.5 * (lo[l] + hi[l]) };
-            }
-            let f = self.horner(&x);
-            for l in 0..ROOT_LANES {
-                let done = active[l] && (f[l].abs() <= small[l] || hi[l] - lo[l] < 1e-4);
-                found[l] = if done { x[l] } else { found[l] };
-                let go = active[l] && !done;
-                let same = (f[l] > 0.0) == (f_lo[l] > 0.0);
-                let (move_lo, move_hi) = (go && same, go && !same);
-                let new_f_lo = if move_lo { f[l] } else if move_hi && side[l] == 1.0 { f_lo[l] * 0.5 } else { f_lo[l] };
-                let new_f_hi = if move_hi { f[l] } else if move_lo && side[l] == -1.0 { f_hi[l] * 0.5 } else { f_hi[l] };
-                lo[l] = if move_lo { x[l] } else { lo[l] };
-                hi[l] = if move_hi { x[l] } else { hi[l] };
-                f_lo[l] = new_f_lo;
-                f_hi[l] = new_f_hi;
-                side[l] = if move_lo { -1.0 } else if move_hi { 1.0 } else { side[l] };
-                active[l] = go;
-            }
-        }
-        for l in 0..ROOT_LANES {
-            if active[l] {
-                found[l] = 0.5 * (lo[l] + hi[l]);
-            }
-        }
-        found
-    }
-}
-
 /// At most this many sign changes of p are resolved per panel.
 pub(super) const MAX_ROOTS: usize = 32;
 
 /// ∫_{−1}^{1} |p| given p's sign changes at `roots` (increasing).
 pub(super) fn absolute_integral<const M: usize>(coefficients: &[f64; M], roots: &[f64]) -> f64 {
-    let quotients = antiderivative_coefficients(coefficients);
     let mut total = 0.0;
-    let mut from = antiderivative(&quotients, -1.0);
+    let mut from = antiderivative(coefficients, -1.0);
     for &t in roots.iter().chain(std::iter::once(&1.0)) {
-        let to = antiderivative(&quotients, t);
+        let to = antiderivative(coefficients, t);
         total += (to - from).abs();
         from = to;
     }
@@ -543,60 +374,6 @@ mod tests {
     fn interpolant_reproduces_polynomials_roots_and_absolute_integrals() {
         check_interpolant(&KRONROD7);
         check_interpolant(&GAUSS3);
-    }
-
-    /// The roots in vector lanes are the bits of [`root`] one bracket at a time: sign
-    /// changes of random quartics and octics (p from random roots, so brackets close in),
-    /// a root at an end, ends of one sign, a zero polynomial, a zero scale (only the
-    /// bracket width stops), and batches of 1, 3, 8 and 19 brackets (partly filled lanes).
-    #[test]
-    fn roots_in_lanes_give_the_bits_of_one_at_a_time() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = move || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        fn check<const M: usize>((polynomials, brackets): &(Vec<[f64; M]>, Vec<Bracket>)) {
-            let mut lanes = vec![f64::NAN; brackets.len()];
-            roots_of(brackets, &|p| &polynomials[p], &mut lanes);
-            for (b, got) in brackets.iter().zip(&lanes) {
-                let expected = root(&polynomials[b.polynomial], b.lo, b.hi, b.scale);
-                assert_eq!(got.to_bits(), expected.to_bits(), "{b:?}: {got} vs {expected}");
-            }
-        }
-        fn brackets_of<const M: usize>(uniform: &mut impl FnMut() -> f64, count: usize) -> (Vec<[f64; M]>, Vec<Bracket>) {
-            (0..count)
-                .map(|i| {
-                    // p(t) = s·Π(t − r_j) with M − 1 random roots, bracket around one of them.
-                    let roots: Vec<f64> = (0..M - 1).map(|_| uniform()).collect();
-                    let mut coefficients = [0.0; M];
-                    coefficients[0] = 1e-3 * (1.0 + uniform().abs());
-                    for (degree, r) in roots.iter().enumerate() {
-                        for k in (0..=degree + 1).rev() {
-                            let lower = if k > 0 { coefficients[k - 1] } else { 0.0 };
-                            coefficients[k] = lower - r * coefficients[k];
-                        }
-                    }
-                    let target = roots[i % roots.len()];
-                    let (lo, hi) = match i % 7 {
-                        // One end exactly at a root of p, or both ends on one side.
-                        5 => (target, target + 0.3),
-                        6 => (-1.0, -0.99),
-                        _ => (target - 0.05 * (1.0 + uniform().abs()), target + 0.07 * (1.0 + uniform().abs())),
-                    };
-                    let scale = if i % 11 == 3 { 0.0 } else { coefficients.iter().map(|c| c.abs()).sum() };
-                    (coefficients, Bracket { polynomial: i, lo, hi, scale })
-                })
-                .unzip()
-        }
-        for count in [1, 3, 8, 19] {
-            check::<5>(&brackets_of::<5>(&mut uniform, count));
-            check::<9>(&brackets_of::<9>(&mut uniform, count));
-        }
-        check::<5>(&(
-            vec![[0.0; 5], [0.3, -1.0, 0.0, 0.0, 0.0]],
-            vec![Bracket { polynomial: 0, lo: -0.5, hi: 0.5, scale: 1.0 }, Bracket { polynomial: 1, lo: 0.0, hi: 1.0, scale: 1.0 }],
-        ));
     }
 
     #[test]
