@@ -83,6 +83,7 @@ impl<const M: usize> Rule<M> {
     /// E = |main − embedded| by the integrand's variation V = Σ w_i |f_i − main/2|:
     /// E·min(1, (200 E/V)^1.5). E is the error of the embedded (lower-degree) rule; the
     /// main rule's error falls much faster with the panel width, which the power models.
+    #[inline(always)]
     pub(super) fn estimate(&self, values: &[f64; M], tail: impl FnOnce() -> f64) -> (f64, f64) {
         let main = self.integral(values);
         let error = match &self.estimate {
@@ -104,19 +105,20 @@ impl<const M: usize> Rule<M> {
     }
 
     /// The rule applied to node values (the integral over [−1, 1]).
-    #[inline]
+    #[inline(always)]
     pub(super) fn integral(&self, values: &[f64; M]) -> f64 {
         (0..M).map(|i| self.weights[i] * values[i]).sum()
     }
 
     /// The highest (t^(M−1)) coefficient of the interpolant of node values: the
     /// (M−1)-th divided difference.
-    #[inline]
+    #[inline(always)]
     pub(super) fn top_coefficient(&self, values: &[f64; M]) -> f64 {
         (0..M).map(|i| self.lagrange[i][M - 1] * values[i]).sum()
     }
 
     /// The interpolating polynomial of node values `g` (monomials in t, lowest first).
+    #[inline(always)]
     pub(super) fn interpolate(&self, g: &[f64; M]) -> [f64; M] {
         let mut coefficients = [0.0; M];
         for (value, basis) in g.iter().zip(self.lagrange.iter()) {
@@ -134,6 +136,7 @@ impl<const M: usize> Rule<M> {
     /// [lo, hi], x = max(|lo|, |hi|); intervals that pass this test are halved and tested
     /// again, down to 1/32 of the gap between nodes. A dip narrower than that is missed,
     /// and with it an area below max|p'|·(gap/32)².
+    #[inline(always)]
     pub(super) fn sign_change_roots(&self, g: &[f64; M], coefficients: &[f64; M], roots: &mut [f64; MAX_ROOTS]) -> usize {
         let scale = g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if scale == 0.0 {
@@ -240,13 +243,13 @@ pub const GAUSS3: Rule<5> = Rule::new(
 );
 
 /// p(t) by Horner's rule.
-#[inline]
+#[inline(always)]
 fn horner<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |acc, c| acc * t + c)
 }
 
 /// ∫₀ᵗ p by Horner's rule on the antiderivative.
-#[inline]
+#[inline(always)]
 fn antiderivative<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
     let mut acc = 0.0;
     for (power, c) in coefficients.iter().enumerate().rev() {
@@ -259,6 +262,7 @@ fn antiderivative<const M: usize>(coefficients: &[f64; M], t: f64) -> f64 {
 /// until the bracket is below 1e-4 or |p| below 1e-5 of `scale` (the largest |g| on the
 /// panel). A root off by δ changes ∫|p| by about |p'|δ², below 1e-8 of the panel's
 /// integral.
+#[inline(always)]
 fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale: f64) -> f64 {
     let (mut f_lo, mut f_hi) = (horner(coefficients, lo), horner(coefficients, hi));
     if f_lo == 0.0 {
@@ -299,6 +303,7 @@ fn root<const M: usize>(coefficients: &[f64; M], mut lo: f64, mut hi: f64, scale
 pub(super) const MAX_ROOTS: usize = 32;
 
 /// ∫_{−1}^{1} |p| given p's sign changes at `roots` (increasing).
+#[inline(always)]
 pub(super) fn absolute_integral<const M: usize>(coefficients: &[f64; M], roots: &[f64]) -> f64 {
     let mut total = 0.0;
     let mut from = antiderivative(coefficients, -1.0);
