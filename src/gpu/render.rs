@@ -21,6 +21,17 @@ pub const FLOAT_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const DISPLAY_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// The depth test of every mesh pass: the nearest fragment wins ([`DEPTH`], cleared to 1).
+pub fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
 /// What `shade(c)` returns in a composed pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shade {
@@ -202,13 +213,7 @@ impl Renderer {
                 "fs_mesh",
                 FLOAT_TARGET,
                 &mesh_buffers,
-                Some(wgpu::DepthStencilState {
-                    format: DEPTH,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                Some(depth_test()),
             ),
         };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -23,7 +23,7 @@ use crate::effects::distance_map::{DistanceMap, Texel};
 use crate::effects::trace::{ObjectOptics, Stage, Surface};
 use crate::gpu::compose::compose;
 use crate::gpu::context::Gpu;
-use crate::gpu::render::{check_buffer_size, readback_buffer, DEPTH};
+use crate::gpu::render::{check_buffer_size, depth_test, readback_buffer, DEPTH};
 use crate::scene::{Diffuse, Light, Pattern, SearchSteps};
 
 /// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
@@ -282,13 +282,7 @@ impl MapRenderer {
             layout: None,
             vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_map"), compilation_options: Default::default(), buffers: &[Some(mesh_buffer_layout())] },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_map"), compilation_options: Default::default(), targets: &[target.clone(), target] }),
             multiview_mask: None,
