@@ -15,7 +15,7 @@
 //!   the CPU twin's rows (`effects::experiment::measure`); the reference is traced only
 //!   for this measurement.
 
-use anyhow::Result;
+use anyhow::{anyhow, Result};
 
 use super::context::Gpu;
 use super::passes::distance_maps::{GpuMaps, MapRenderer, SceneMeshes};
@@ -93,7 +93,7 @@ pub fn run_scene(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &
     let settings = &effects.distance_maps;
     let meshes = SceneMeshes::upload(gpu, &stage)?;
     let renderer = MapRenderer::new(gpu, &stage)?;
-    let maps = renderer.allocate(gpu, &stage, settings.size, settings.layers)?;
+    let maps = renderer.allocate(gpu, &stage, settings.size, settings.layers).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
     renderer.render(gpu, &stage, &meshes, &maps)?;
     stats.effects.cube_maps = maps.views.len();
     stats.effects.layers = settings.layers;
@@ -155,7 +155,7 @@ fn time_effects(
     let mut update = Vec::new();
     let mut shading = vec![Vec::new(); configurations.len()];
     for round in 0..settings.warmup + settings.repeats {
-        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(gpu, stage, meshes, maps, encoder, timestamps))?;
+        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(stage, meshes, maps, encoder, timestamps))?;
         if round >= settings.warmup {
             update.push(ms);
         }
