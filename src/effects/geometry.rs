@@ -51,17 +51,28 @@ impl Triangle {
     /// signed edge functions then decide inside-ness exactly on shared edges.
     #[inline]
     fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
-        let kz = direction.abs().max_position();
-        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        let d = [direction[kx], direction[ky], direction[kz]];
-        let (sx, sy, sz) = (-d[0] / d[2], -d[1] / d[2], 1.0 / d[2]);
-        let [p0, p1, p2] = self.corners.map(|corner| {
-            let p = corner - origin;
-            let (x, y, z) = (p[kx], p[ky], p[kz]);
-            (x + sx * z, y + sy * z, z * sz)
-        });
+        // The axis the ray runs most along becomes z; the other two follow it cyclically.
+        match direction.abs().max_position() {
+            0 => self.crossing_along::<1, 2, 0>(origin, direction),
+            1 => self.crossing_along::<2, 0, 1>(origin, direction),
+            _ => self.crossing_along::<0, 1, 2>(origin, direction),
+        }
+    }
+
+    /// The watertight test with the ray's dominant axis `KZ` fixed at compile time, so the
+    /// permutation is a register shuffle rather than indexing. A triangle is rejected as soon
+    /// as two edge functions disagree in sign; the depths are sheared only for a crossing.
+    #[inline(always)]
+    fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
+        let (dx, dy, dz) = (direction[KX], direction[KY], direction[KZ]);
+        let (sx, sy, sz) = (-dx / dz, -dy / dz, 1.0 / dz);
+        let relative = self.corners.map(|corner| corner - origin);
+        let [p0, p1, p2] = relative.map(|p| (p[KX] + sx * p[KZ], p[KY] + sy * p[KZ]));
         let e0 = p1.0 * p2.1 - p1.1 * p2.0;
         let e1 = p2.0 * p0.1 - p2.1 * p0.0;
+        if (e0 < 0.0 && e1 > 0.0) || (e0 > 0.0 && e1 < 0.0) {
+            return None;
+        }
         let e2 = p0.0 * p1.1 - p0.1 * p1.0;
         if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
             return None;
@@ -70,8 +81,9 @@ impl Triangle {
         if determinant == 0.0 || !determinant.is_finite() {
             return None;
         }
+        let [z0, z1, z2] = relative.map(|p| p[KZ] * sz);
         let inverse = 1.0 / determinant;
-        let t = (e0 * p0.2 + e1 * p1.2 + e2 * p2.2) * inverse;
+        let t = (e0 * z0 + e1 * z1 + e2 * z2) * inverse;
         Some(Crossing { t, u: e1 * inverse, v: e2 * inverse })
     }
 
@@ -186,26 +198,22 @@ impl Geometry {
     }
 
     /// Whether the ray meets any triangle at t > [`SELF_HIT_DISTANCE`] (an occlusion query
-    /// for ambient occlusion and shadow rays): the first crossing found shrinks the ray to
-    /// nothing, so the traversal stops instead of searching for the nearest.
+    /// for ambient occlusion and shadow rays): the traversal stops at the first such crossing
+    /// instead of searching for the nearest.
     pub fn occluded(&self, origin: DVec3, direction: DVec3) -> bool {
         if !(origin.is_finite() && direction.is_finite()) {
             return false;
         }
-        let mut found = false;
-        let mut ignored = RayHit::none();
-        self.bvh.ray_traverse(Self::bvh_ray(origin, direction), &mut ignored, |_, id| {
-            if !found {
-                let index = self.bvh.primitive_indices[id];
-                found = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
-            }
-            if found {
-                f32::MIN_POSITIVE
+        let escaped = self.bvh.ray_traverse_miss(Self::bvh_ray(origin, direction), |_, id| {
+            let index = self.bvh.primitive_indices[id];
+            let crossed = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
+            if crossed {
+                0.0
             } else {
                 f32::INFINITY
             }
         });
-        found
+        !escaped
     }
 
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
