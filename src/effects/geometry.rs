@@ -288,6 +288,26 @@ mod tests {
     }
 
     #[test]
+    fn the_watertight_test_is_the_same_along_every_dominant_axis() {
+        // One right triangle with its legs along the two axes other than `axis`, met head-on
+        // along −axis from 2 units away at leg coordinates (0.25, 0.5): t = 2 and the
+        // barycentric weights of the two leg ends are those coordinates, whichever axis the
+        // ray runs along (each dominant axis has its own copy of the test).
+        for axis in 0..3 {
+            let unit = |k: usize| DVec3::from_array(std::array::from_fn(|i| if i == k { 1.0 } else { 0.0 }));
+            let (a, b) = (unit((axis + 1) % 3), unit((axis + 2) % 3));
+            let triangle = Triangle { corners: [DVec3::ZERO, a, b], normals: [unit(axis); 3], object: 0 };
+            let inside = a * 0.25 + b * 0.5 + unit(axis) * 2.0;
+            assert_eq!(triangle.crossing(inside, -unit(axis)), Some(Crossing { t: 2.0, u: 0.25, v: 0.5 }), "axis {axis}");
+            assert_eq!(triangle.crossing(inside - unit(axis) * 4.0, unit(axis)).map(|c| c.t), Some(2.0), "axis {axis}");
+            // Past the hypotenuse (0.75 + 0.5 > 1), and past each leg.
+            for outside in [a * 0.75 + b * 0.5, a * -0.25 + b * 0.5, a * 0.25 + b * -0.5] {
+                assert!(triangle.crossing(outside + unit(axis) * 2.0, -unit(axis)).is_none(), "axis {axis}: {outside:?}");
+            }
+        }
+    }
+
+    #[test]
     fn tiny_direction_components_keep_their_hits() {
         let geometry = Geometry::new(&[sphere(64, 32)]).unwrap();
         for tiny in [-1e-8, -1e-9, -5.5e-25, 1e-8, -1e-6, -1e-5] {
