@@ -9,11 +9,13 @@
 //! ray through a shared edge or vertex (the centre of a UV sphere's face, say) hits at least
 //! one of the triangles there, as a rasteriser would — and the distance it hands
 //! back to the traversal is rounded up to the next f32, so a node is never culled against a
-//! distance shorter than the true nearest hit. One limit is obvhs's: its node test starts
-//! every ray at t = 1e-4 (scene units), so a leaf box the ray has already left by then is
-//! not entered and a crossing nearer than that inside it is lost (on the bunny normalised to
-//! the unit sphere: one ambient-occlusion ray in 8.9 M, an occluder at t = 1.3e-6 in a box
-//! left at 1.6e-6; which rays it touches depends on how the BVH groups the triangles).
+//! distance shorter than the true nearest hit. obvhs's node test starts every ray at
+//! t = 1e-4 (scene units), so a leaf box the ray has already left by then would not be
+//! entered and a crossing nearer than that inside it would be lost (on the bunny normalised
+//! to the unit sphere: one ambient-occlusion ray in 8.9 M, an occluder at t = 1.3e-6 in a
+//! box left at 1.6e-6). So the traversal's ray starts [`TRAVERSAL_BACKOFF`] behind the true
+//! origin and every distance handed to it is shifted by as much; the triangle test keeps
+//! the true origin, so the hits and their distances are unchanged.
 
 use glam::{DVec3, Vec3A};
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -27,6 +29,10 @@ use crate::scene::mesh::Mesh;
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
 /// metres) are the surface the ray leaves, not a new one.
 pub const SELF_HIT_DISTANCE: f64 = 1e-7;
+
+/// How far behind the true origin the traversal's ray starts: more than obvhs's own start
+/// (t = 1e-4), so no box around a crossing near the origin is skipped.
+const TRAVERSAL_BACKOFF: f64 = 2e-4;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the
 /// triangle test).
@@ -169,10 +175,12 @@ impl Geometry {
     /// flushed to +0: obvhs 0.4 loses every hit of a ray whose direction has a tiny
     /// negative component (−1e-8, say; see the test `tiny_direction_components_keep_their_hits`).
     /// That turns the traversal ray by under 1e-6 rad; node boxes are quantised outwards.
+    /// The ray starts [`TRAVERSAL_BACKOFF`] behind `origin`.
     fn bvh_ray(origin: DVec3, direction: DVec3) -> Ray {
         let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
         let flush = |x: f64| if x.abs() < TINY_DIRECTION { 0.0 } else { x };
-        Ray::new(narrow(origin), narrow(DVec3::new(flush(direction.x), flush(direction.y), flush(direction.z))), 0.0, f32::INFINITY)
+        let start = origin - direction * TRAVERSAL_BACKOFF;
+        Ray::new(narrow(start), narrow(DVec3::new(flush(direction.x), flush(direction.y), flush(direction.z))), 0.0, f32::INFINITY)
     }
 
     /// The nearest hit along origin + t·direction (direction of unit length) with
@@ -193,7 +201,7 @@ impl Geometry {
             match triangle.crossing(origin, direction) {
                 Some(c) if c.t > SELF_HIT_DISTANCE && best.is_none_or(|(t, _, _)| c.t < t) => {
                     best = Some((c.t, c, index));
-                    (c.t as f32).next_up()
+                    ((c.t + TRAVERSAL_BACKOFF) as f32).next_up()
                 }
                 _ => f32::INFINITY,
             }
@@ -309,6 +317,23 @@ mod tests {
                 assert!(triangle.crossing(outside + unit(axis) * 2.0, -unit(axis)).is_none(), "axis {axis}: {outside:?}");
             }
         }
+    }
+
+    /// A tiny triangle 5e-6 in front of the ray's origin (its box is left long before
+    /// obvhs's start at t = 1e-4), among a sphere's triangles far away: every query finds it.
+    #[test]
+    fn a_crossing_just_in_front_of_the_origin_is_found() {
+        let far = sphere(16, 8).placed(&Placement { position: [0.0, 0.0, 5.0], scale: [1.0; 3] });
+        let d = 1e-5_f32;
+        let tiny = Mesh { positions: vec![[-d, -d, 5e-6], [d, -d, 5e-6], [0.0, d, 5e-6]], normals: vec![[0.0, 0.0, -1.0]; 3], indices: vec![0, 1, 2] };
+        let geometry = Geometry::new(&[far, tiny]).unwrap();
+        let (origin, direction) = (DVec3::ZERO, DVec3::new(0.01, 0.02, 1.0).normalize());
+        let hit = geometry.nearest(origin, direction, None, |_| true).expect("the tiny triangle");
+        assert_eq!(hit.object, 1);
+        assert!((hit.t - 5e-6 / direction.z).abs() < 1e-12, "{}", hit.t);
+        assert!(geometry.occluded(origin, direction));
+        let hits = geometry.all_hits(origin, direction, |_| true);
+        assert_eq!(hits.iter().map(|h| h.object).collect::<Vec<_>>(), vec![1, 0, 0], "the tiny triangle, then the sphere's two faces");
     }
 
     #[test]
