@@ -23,7 +23,7 @@ use crate::effects::distance_map::{DistanceMap, Texel};
 use crate::effects::trace::{ObjectOptics, Stage, Surface};
 use crate::gpu::compose::compose;
 use crate::gpu::context::Gpu;
-use crate::gpu::render::{check_buffer_size, depth_test, readback_buffer, DEPTH};
+use crate::gpu::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
 use crate::scene::{Diffuse, Light, Pattern, SearchSteps};
 
 /// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
@@ -369,18 +369,7 @@ impl MapRenderer {
         let device = &gpu.device;
         let first = views.first()?;
         let (size, layers) = (first.size, first.layers);
-        let texture = |label, array_layers, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |label, array_layers, format, usage| texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage);
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let geometry = texture("map layer geometry", 6, MAP_FORMAT, attachment);
         let surfaces = texture("map layer surfaces", 6, MAP_FORMAT, attachment);
