@@ -11,6 +11,7 @@
 // surface. The host draws only the objects a layer holds.
 
 #import diffuse
+#import scene_mesh
 
 // One face of one layer: the reference point, the face (0..5 = +x, −x, +y, −y, +z, −z),
 // whether an earlier layer is peeled away, and the projection's near and far distances.
@@ -46,23 +47,11 @@ fn face_coordinates(face: u32, q: vec3<f32>) -> vec3<f32> {
     }
 }
 
-struct MapVertexIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
-struct MapVertexOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) object: u32,
-}
-
 @vertex
-fn vs_map(input: MapVertexIn, @builtin(instance_index) object: u32) -> MapVertexOut {
+fn vs_map(input: MeshVertexIn, @builtin(instance_index) object: u32) -> MeshVertexOut {
     let c = face_coordinates(map_face.face, input.position - map_face.centre.xyz);
     let a = map_face.far / (map_face.far - map_face.near);
-    var out: MapVertexOut;
+    var out: MeshVertexOut;
     out.clip = vec4<f32>(c.x, -c.y, c.z * a - map_face.near * a, c.z);
     out.world = input.position;
     out.normal = input.normal;
@@ -78,7 +67,7 @@ struct MapTexelOut {
 }
 
 @fragment
-fn fs_map(input: MapVertexOut) -> MapTexelOut {
+fn fs_map(input: MeshVertexOut) -> MapTexelOut {
     let distance = length(input.world - map_face.centre.xyz);
     if (map_face.peel == 1u) {
         let before = textureLoad(previous, vec2<i32>(input.clip.xy), i32(map_face.face), 0).x;

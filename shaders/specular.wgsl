@@ -22,6 +22,7 @@
 #import fresnel
 #import distance_map
 #import diffuse
+#import scene_mesh
 #import lut_sample
 
 struct EffectFrame {
@@ -162,22 +163,10 @@ fn path_radiance(first: u32, point: vec3<f32>, normal: vec3<f32>, incoming: vec3
     return total;
 }
 
-struct EffectVertexIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-}
-
-struct EffectVertexOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) object: u32,
-}
-
 // The draw's instance index is the object's index in the scene.
 @vertex
-fn vs_effect(input: EffectVertexIn, @builtin(instance_index) object: u32) -> EffectVertexOut {
-    var out: EffectVertexOut;
+fn vs_effect(input: MeshVertexIn, @builtin(instance_index) object: u32) -> MeshVertexOut {
+    var out: MeshVertexOut;
     out.clip = frame.view_proj * vec4<f32>(input.position, 1.0);
     out.world = input.position;
     out.normal = input.normal;
@@ -187,7 +176,7 @@ fn vs_effect(input: EffectVertexIn, @builtin(instance_index) object: u32) -> Eff
 
 // rgb = radiance (linear); a = 1 + the specular object shown, 0 for a diffuse surface.
 @fragment
-fn fs_effect(input: EffectVertexOut) -> @location(0) vec4<f32> {
+fn fs_effect(input: MeshVertexOut) -> @location(0) vec4<f32> {
     let o = objects[input.object];
     let n = normalize(input.normal);
     if (o.role.x != CONDUCTOR && o.role.x != DIELECTRIC) {

@@ -231,13 +231,21 @@ fn effects_and_engine_panels_appear_when_their_tables_exist() {
     stages(&out, &["3d/metals/gold"], &[]);
     fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n").unwrap();
     fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
-    fs::create_dir_all(out.join("effects")).unwrap();
-    fs::write(out.join("effects/teapot-reference.png"), b"not looked at").unwrap();
+    fs::create_dir_all(out.join("effects_frames")).unwrap();
+    fs::write(out.join("effects_frames/teapot-reference.png"), b"not looked at").unwrap();
+    // `make gpu` writes one folder per effects scene: its tables and frames appear too.
+    fs::create_dir_all(out.join("gpu-glass-sphere/effects_gpu_frames")).unwrap();
+    fs::write(out.join("gpu-glass-sphere/effects_timing.csv"), "method,reflection_depth,shading_ms
+exact,3,2.5
+").unwrap();
+    fs::write(out.join("gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png"), b"not looked at").unwrap();
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
     assert!(index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"), "gallery table");
-    assert!(index.contains("src=\"../effects/teapot-reference.png\""), "frames");
+    assert!(index.contains("src=\"../effects_frames/teapot-reference.png\""), "frames");
+    assert!(index.contains("<h3>gpu-glass-sphere/effects_timing.csv</h3>") && index.contains("<td>exact</td><td>3</td><td>2.50</td>"), "a scene folder's table");
+    assert!(index.contains("src=\"../gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png\""), "a scene folder's frames");
     assert!(index.contains("<code>ao_errors.csv</code> is absent"));
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("id=\"paste\""), "paste-in panel");

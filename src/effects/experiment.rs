@@ -269,6 +269,28 @@ pub fn measure(scene: &Scene, stage: &Stage, settings: Settings, renderer: &mut 
     Ok(report)
 }
 
+/// What a row of the effects' tables measured: the depths and the distance maps' search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Configuration {
+    pub depths: Depths,
+    pub steps: SearchSteps,
+    pub map_size: u32,
+    pub layers: u32,
+}
+
+/// The columns that name each row's [`Configuration`], in the effects' tables' order.
+pub fn configuration_columns(table: &mut Table, rows: impl Iterator<Item = Configuration>) {
+    let rows: Vec<Configuration> = rows.collect();
+    let integer = |f: &dyn Fn(&Configuration) -> u32| rows.iter().map(|r| f(r) as i64).collect::<Vec<_>>();
+    table
+        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection))
+        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction))
+        .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear))
+        .integer("secant_steps", "secant refinements after the linear search", integer(&|r| r.steps.secant))
+        .integer("map_size", "distance-map texels per cube face edge", integer(&|r| r.map_size))
+        .integer("layers", "distance-map layers (all but the last: peeled specular surfaces; last: diffuse)", integer(&|r| r.layers));
+}
+
 /// `effects_errors.*`: one row per (object, material, method, depths, search steps).
 pub fn error_table(rows: &[EffectErrorRow]) -> Table {
     let text = |f: &dyn Fn(&EffectErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
@@ -279,13 +301,9 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
         .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
         .text("material", "page id", text(&|r| r.material.clone()))
         .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text("renderer", "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)", text(&|r| r.renderer.into()))
-        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection as i64))
-        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction as i64))
-        .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear as i64))
-        .integer("secant_steps", "secant refinements after the linear search", integer(&|r| r.steps.secant as i64))
-        .integer("map_size", "distance-map texels per cube face edge", integer(&|r| r.map_size as i64))
-        .integer("layers", "distance-map layers (all but the last: peeled specular surfaces; last: diffuse)", integer(&|r| r.layers as i64))
+        .text("renderer", "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)", text(&|r| r.renderer.into()));
+    configuration_columns(&mut table, rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }));
+    table
         .integer("frames", "camera frames rendered", integer(&|r| r.frames as i64))
         .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
         .integer("pixels", "pixels showing the object, summed over frames", integer(&|r| r.total.pixels as i64))

@@ -9,7 +9,13 @@
 //! ray through a shared edge or vertex (the centre of a UV sphere's face, say) hits at least
 //! one of the triangles there, as a rasteriser would — and the distance it hands
 //! back to the traversal is rounded up to the next f32, so a node is never culled against a
-//! distance shorter than the true nearest hit.
+//! distance shorter than the true nearest hit. obvhs's node test starts every ray at
+//! t = 1e-4 (scene units), so a leaf box the ray has already left by then would not be
+//! entered and a crossing nearer than that inside it would be lost (on the bunny normalised
+//! to the unit sphere: one ambient-occlusion ray in 8.9 M, an occluder at t = 1.3e-6 in a
+//! box left at 1.6e-6). So the traversal's ray starts [`TRAVERSAL_BACKOFF`] behind the true
+//! origin and every distance handed to it is shifted by as much; the triangle test keeps
+//! the true origin, so the hits and their distances are unchanged.
 
 use glam::{DVec3, Vec3A};
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -23,6 +29,10 @@ use crate::scene::mesh::Mesh;
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
 /// metres) are the surface the ray leaves, not a new one.
 pub const SELF_HIT_DISTANCE: f64 = 1e-7;
+
+/// How far behind the true origin the traversal's ray starts: more than obvhs's own start
+/// (t = 1e-4), so no box around a crossing near the origin is skipped.
+const TRAVERSAL_BACKOFF: f64 = 2e-4;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the
 /// triangle test).
@@ -51,17 +61,28 @@ impl Triangle {
     /// signed edge functions then decide inside-ness exactly on shared edges.
     #[inline]
     fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
-        let kz = direction.abs().max_position();
-        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        let d = [direction[kx], direction[ky], direction[kz]];
-        let (sx, sy, sz) = (-d[0] / d[2], -d[1] / d[2], 1.0 / d[2]);
-        let [p0, p1, p2] = self.corners.map(|corner| {
-            let p = corner - origin;
-            let (x, y, z) = (p[kx], p[ky], p[kz]);
-            (x + sx * z, y + sy * z, z * sz)
-        });
+        // The axis the ray runs most along becomes z; the other two follow it cyclically.
+        match direction.abs().max_position() {
+            0 => self.crossing_along::<1, 2, 0>(origin, direction),
+            1 => self.crossing_along::<2, 0, 1>(origin, direction),
+            _ => self.crossing_along::<0, 1, 2>(origin, direction),
+        }
+    }
+
+    /// The watertight test with the ray's dominant axis `KZ` fixed at compile time, so the
+    /// permutation is a register shuffle rather than indexing. A triangle is rejected as soon
+    /// as two edge functions disagree in sign; the depths are sheared only for a crossing.
+    #[inline(always)]
+    fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
+        let (dx, dy, dz) = (direction[KX], direction[KY], direction[KZ]);
+        let (sx, sy, sz) = (-dx / dz, -dy / dz, 1.0 / dz);
+        let relative = self.corners.map(|corner| corner - origin);
+        let [p0, p1, p2] = relative.map(|p| (p[KX] + sx * p[KZ], p[KY] + sy * p[KZ]));
         let e0 = p1.0 * p2.1 - p1.1 * p2.0;
         let e1 = p2.0 * p0.1 - p2.1 * p0.0;
+        if (e0 < 0.0 && e1 > 0.0) || (e0 > 0.0 && e1 < 0.0) {
+            return None;
+        }
         let e2 = p0.0 * p1.1 - p0.1 * p1.0;
         if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
             return None;
@@ -70,8 +91,9 @@ impl Triangle {
         if determinant == 0.0 || !determinant.is_finite() {
             return None;
         }
+        let [z0, z1, z2] = relative.map(|p| p[KZ] * sz);
         let inverse = 1.0 / determinant;
-        let t = (e0 * p0.2 + e1 * p1.2 + e2 * p2.2) * inverse;
+        let t = (e0 * z0 + e1 * z1 + e2 * z2) * inverse;
         Some(Crossing { t, u: e1 * inverse, v: e2 * inverse })
     }
 
@@ -153,10 +175,12 @@ impl Geometry {
     /// flushed to +0: obvhs 0.4 loses every hit of a ray whose direction has a tiny
     /// negative component (−1e-8, say; see the test `tiny_direction_components_keep_their_hits`).
     /// That turns the traversal ray by under 1e-6 rad; node boxes are quantised outwards.
+    /// The ray starts [`TRAVERSAL_BACKOFF`] behind `origin`.
     fn bvh_ray(origin: DVec3, direction: DVec3) -> Ray {
         let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
         let flush = |x: f64| if x.abs() < TINY_DIRECTION { 0.0 } else { x };
-        Ray::new(narrow(origin), narrow(DVec3::new(flush(direction.x), flush(direction.y), flush(direction.z))), 0.0, f32::INFINITY)
+        let start = origin - direction * TRAVERSAL_BACKOFF;
+        Ray::new(narrow(start), narrow(DVec3::new(flush(direction.x), flush(direction.y), flush(direction.z))), 0.0, f32::INFINITY)
     }
 
     /// The nearest hit along origin + t·direction (direction of unit length) with
@@ -177,7 +201,7 @@ impl Geometry {
             match triangle.crossing(origin, direction) {
                 Some(c) if c.t > SELF_HIT_DISTANCE && best.is_none_or(|(t, _, _)| c.t < t) => {
                     best = Some((c.t, c, index));
-                    (c.t as f32).next_up()
+                    ((c.t + TRAVERSAL_BACKOFF) as f32).next_up()
                 }
                 _ => f32::INFINITY,
             }
@@ -186,26 +210,22 @@ impl Geometry {
     }
 
     /// Whether the ray meets any triangle at t > [`SELF_HIT_DISTANCE`] (an occlusion query
-    /// for ambient occlusion and shadow rays): the first crossing found shrinks the ray to
-    /// nothing, so the traversal stops instead of searching for the nearest.
+    /// for ambient occlusion and shadow rays): the traversal stops at the first such crossing
+    /// instead of searching for the nearest.
     pub fn occluded(&self, origin: DVec3, direction: DVec3) -> bool {
         if !(origin.is_finite() && direction.is_finite()) {
             return false;
         }
-        let mut found = false;
-        let mut ignored = RayHit::none();
-        self.bvh.ray_traverse(Self::bvh_ray(origin, direction), &mut ignored, |_, id| {
-            if !found {
-                let index = self.bvh.primitive_indices[id];
-                found = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
-            }
-            if found {
-                f32::MIN_POSITIVE
+        let escaped = self.bvh.ray_traverse_miss(Self::bvh_ray(origin, direction), |_, id| {
+            let index = self.bvh.primitive_indices[id];
+            let crossed = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
+            if crossed {
+                0.0
             } else {
                 f32::INFINITY
             }
         });
-        found
+        !escaped
     }
 
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
@@ -277,6 +297,43 @@ mod tests {
         assert_eq!(crossing, Crossing { t: 2.0, u: 0.25, v: 0.5 });
         assert!(triangle.crossing(DVec3::new(0.75, 0.5, 2.0), DVec3::NEG_Z).is_none());
         assert_eq!(triangle.crossing(DVec3::new(0.25, 0.5, -1.0), DVec3::Z).map(|c| c.t), Some(1.0));
+    }
+
+    #[test]
+    fn the_watertight_test_is_the_same_along_every_dominant_axis() {
+        // One right triangle with its legs along the two axes other than `axis`, met head-on
+        // along −axis from 2 units away at leg coordinates (0.25, 0.5): t = 2 and the
+        // barycentric weights of the two leg ends are those coordinates, whichever axis the
+        // ray runs along (each dominant axis has its own copy of the test).
+        for axis in 0..3 {
+            let unit = |k: usize| DVec3::from_array(std::array::from_fn(|i| if i == k { 1.0 } else { 0.0 }));
+            let (a, b) = (unit((axis + 1) % 3), unit((axis + 2) % 3));
+            let triangle = Triangle { corners: [DVec3::ZERO, a, b], normals: [unit(axis); 3], object: 0 };
+            let inside = a * 0.25 + b * 0.5 + unit(axis) * 2.0;
+            assert_eq!(triangle.crossing(inside, -unit(axis)), Some(Crossing { t: 2.0, u: 0.25, v: 0.5 }), "axis {axis}");
+            assert_eq!(triangle.crossing(inside - unit(axis) * 4.0, unit(axis)).map(|c| c.t), Some(2.0), "axis {axis}");
+            // Past the hypotenuse (0.75 + 0.5 > 1), and past each leg.
+            for outside in [a * 0.75 + b * 0.5, a * -0.25 + b * 0.5, a * 0.25 + b * -0.5] {
+                assert!(triangle.crossing(outside + unit(axis) * 2.0, -unit(axis)).is_none(), "axis {axis}: {outside:?}");
+            }
+        }
+    }
+
+    /// A tiny triangle 5e-6 in front of the ray's origin (its box is left long before
+    /// obvhs's start at t = 1e-4), among a sphere's triangles far away: every query finds it.
+    #[test]
+    fn a_crossing_just_in_front_of_the_origin_is_found() {
+        let far = sphere(16, 8).placed(&Placement { position: [0.0, 0.0, 5.0], scale: [1.0; 3] });
+        let d = 1e-5_f32;
+        let tiny = Mesh { positions: vec![[-d, -d, 5e-6], [d, -d, 5e-6], [0.0, d, 5e-6]], normals: vec![[0.0, 0.0, -1.0]; 3], indices: vec![0, 1, 2] };
+        let geometry = Geometry::new(&[far, tiny]).unwrap();
+        let (origin, direction) = (DVec3::ZERO, DVec3::new(0.01, 0.02, 1.0).normalize());
+        let hit = geometry.nearest(origin, direction, None, |_| true).expect("the tiny triangle");
+        assert_eq!(hit.object, 1);
+        assert!((hit.t - 5e-6 / direction.z).abs() < 1e-12, "{}", hit.t);
+        assert!(geometry.occluded(origin, direction));
+        let hits = geometry.all_hits(origin, direction, |_| true);
+        assert_eq!(hits.iter().map(|h| h.object).collect::<Vec<_>>(), vec![1, 0, 0], "the tiny triangle, then the sphere's two faces");
     }
 
     #[test]

@@ -9,13 +9,14 @@
 use anyhow::{bail, Result};
 
 /// The shader files of `shaders/`, by import name.
-pub const SHADERS: [(&str, &str); 9] = [
+pub const SHADERS: [(&str, &str); 10] = [
     ("fresnel", include_str!("../../shaders/fresnel.wgsl")),
     ("fresnel_pass", include_str!("../../shaders/fresnel_pass.wgsl")),
     ("distance_map", include_str!("../../shaders/distance_map.wgsl")),
     ("distance_search", include_str!("../../shaders/distance_search.wgsl")),
     ("distance_map_render", include_str!("../../shaders/distance_map_render.wgsl")),
     ("diffuse", include_str!("../../shaders/diffuse.wgsl")),
+    ("scene_mesh", include_str!("../../shaders/scene_mesh.wgsl")),
     ("specular", include_str!("../../shaders/specular.wgsl")),
     ("lut_sample", include_str!("../../shaders/lut_sample.wgsl")),
     ("surfel_ao", include_str!("../../shaders/surfel_ao.wgsl")),

@@ -15,7 +15,7 @@
 //!   the CPU twin's rows (`effects::experiment::measure`); the reference is traced only
 //!   for this measurement.
 
-use anyhow::Result;
+use anyhow::{anyhow, Result};
 
 use super::context::Gpu;
 use super::passes::distance_maps::{GpuMaps, MapRenderer, SceneMeshes};
@@ -23,7 +23,7 @@ use super::passes::specular::{Effect, Shot, SpecularPass};
 use super::render::{Target, FLOAT_TARGET};
 use super::runner::RunStats;
 use super::timing::{median_and_iqr, Stopwatch, Timer};
-use crate::effects::experiment::{measure, EffectErrorRow, MapFrames, Settings};
+use crate::effects::experiment::{configuration_columns, measure, Configuration, EffectErrorRow, MapFrames, Settings};
 use crate::effects::pictures::Picture;
 use crate::effects::trace::{stage_from_table, Camera, Stage, TracedFrame};
 use crate::fresnel::Method;
@@ -93,7 +93,7 @@ pub fn run_scene(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &
     let settings = &effects.distance_maps;
     let meshes = SceneMeshes::upload(gpu, &stage)?;
     let renderer = MapRenderer::new(gpu, &stage)?;
-    let maps = renderer.allocate(gpu, &stage, settings.size, settings.layers)?;
+    let maps = renderer.allocate(gpu, &stage, settings.size, settings.layers).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
     renderer.render(gpu, &stage, &meshes, &maps)?;
     stats.effects.cube_maps = maps.views.len();
     stats.effects.layers = settings.layers;
@@ -155,7 +155,7 @@ fn time_effects(
     let mut update = Vec::new();
     let mut shading = vec![Vec::new(); configurations.len()];
     for round in 0..settings.warmup + settings.repeats {
-        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(gpu, stage, meshes, maps, encoder, timestamps))?;
+        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(stage, meshes, maps, encoder, timestamps))?;
         if round >= settings.warmup {
             update.push(ms);
         }
@@ -217,13 +217,9 @@ pub fn timing_table(rows: &[EffectTimingRow], adapter: &super::AdapterLine) -> T
         .text("backend", "wgpu backend", text(&|_| adapter.backend.clone()))
         .text("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
         .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text("effect", "shading pipeline: reflection (refraction compiled out) or refraction (both)", text(&|r| r.effect.name().into()))
-        .integer("reflection_depth", "most reflections along a path", integer(&|r| r.depths.reflection as i64))
-        .integer("refraction_depth", "most refractions along a path", integer(&|r| r.depths.refraction as i64))
-        .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear as i64))
-        .integer("secant_steps", "secant refinements after the linear search", integer(&|r| r.steps.secant as i64))
-        .integer("map_size", "distance-map texels per cube face edge", integer(&|r| r.map_size as i64))
-        .integer("layers", "distance-map layers", integer(&|r| r.layers as i64))
+        .text("effect", "shading pipeline: reflection (refraction compiled out) or refraction (both)", text(&|r| r.effect.name().into()));
+    configuration_columns(&mut table, rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }));
+    table
         .integer("cube_maps", "distance maps updated per frame (one per specular object)", integer(&|r| r.cube_maps as i64))
         .text("resolution", "shading target WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
         .integer("repeats", "timed passes of each kind (after warm-up)", integer(&|r| r.repeats as i64))

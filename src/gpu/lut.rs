@@ -31,16 +31,7 @@ pub fn upload(gpu: &Gpu, texels: &[[f32; 4]], label: &str) -> wgpu::Texture {
 pub fn upload_rows(gpu: &Gpu, texels: &[[f32; 4]], rows: u32, label: &str) -> wgpu::Texture {
     let width = texels.len() as u32 / rows.max(1);
     let size = wgpu::Extent3d { width, height: rows, depth_or_array_layers: 1 };
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let texture = super::render::texture_2d(gpu, label, size, FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
     let halves: Vec<u16> = texels.iter().flat_map(|t| t.map(|x| f16::from_f32(x).to_bits())).collect();
     gpu.queue.write_texture(
         wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },

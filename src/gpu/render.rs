@@ -21,6 +21,17 @@ pub const FLOAT_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const DISPLAY_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// The depth test of every mesh pass: the nearest fragment wins ([`DEPTH`], cleared to 1).
+pub fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
 /// What `shade(c)` returns in a composed pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shade {
@@ -202,13 +213,7 @@ impl Renderer {
                 "fs_mesh",
                 FLOAT_TARGET,
                 &mesh_buffers,
-                Some(wgpu::DepthStencilState {
-                    format: DEPTH,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                Some(depth_test()),
             ),
         };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -294,18 +299,7 @@ impl Target {
     pub fn new(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, depth: bool) -> Result<Self> {
         check_texture_size(gpu, width, height)?;
         let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
-        let texture = |format, usage, label| {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |format, usage, label| texture_2d(gpu, label, size, format, usage);
         let colour = texture(format, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC, "colour");
         let colour_view = colour.create_view(&Default::default());
         let depth_view = depth.then(|| texture(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT, "depth").create_view(&Default::default()));
@@ -361,6 +355,20 @@ impl Target {
         }
         pixels
     }
+}
+
+/// A 2D texture (an array of `size.depth_or_array_layers` layers), one mip level.
+pub fn texture_2d(gpu: &Gpu, label: &str, size: wgpu::Extent3d, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 /// A buffer the CPU can read back, `size` bytes.

@@ -38,21 +38,23 @@ fn generic_table(table: &CsvTable) -> TableText {
 
 /// The gallery's tables and the command that writes each.
 const GALLERY: [(&str, &str); 4] = [
-    ("effects_errors.csv", "multiple reflections and refractions: image error per depth and step counts (`make effects`)"),
-    ("effects_timing.csv", "multiple reflections: GPU time per configuration (`make effects`)"),
+    ("effects_errors.csv", "multiple reflections and refractions: image error per depth and step counts (`make effects` on the CPU, `make gpu` on the GPU)"),
+    ("effects_timing.csv", "multiple reflections and refractions: GPU time of the map update and the shading pass per configuration (`make gpu`)"),
     ("ao_errors.csv", "ambient occlusion: error per passes and hierarchy (`make effects`)"),
     ("ao_timing.csv", "ambient occlusion: GPU time against surfel count (`make effects`)"),
 ];
 
-/// Folders under the output folder where the effects write their frames.
-const FRAME_FOLDERS: [&str; 3] = ["effects", "ao", "frames"];
+/// Folders where the effects write their frames, at the top of the output folder or in a
+/// scene's folder one level down.
+const FRAME_FOLDERS: [&str; 3] = ["effects_frames", "effects_gpu_frames", "ao_frames"];
 
-/// PNG frames under `out/<folder>`, sorted (a reference sorts beside its result when
-/// they share a stem), as paths relative to `out`.
+/// PNG frames under `out/<folder>` and `out/<scene>/<folder>`, sorted (a reference sorts
+/// beside its result when they share a stem), as paths relative to `out`.
 pub fn frames(out: &Path) -> Vec<String> {
     let mut found = Vec::new();
-    for folder in FRAME_FOLDERS {
-        let mut stack = vec![out.join(folder)];
+    let scenes: Vec<String> = std::iter::once(String::new()).chain(super::inputs::scene_folders(out)).collect();
+    for folder in scenes.iter().flat_map(|scene| FRAME_FOLDERS.map(|f| out.join(scene).join(f))) {
+        let mut stack = vec![folder];
         while let Some(dir) = stack.pop() {
             let Ok(entries) = std::fs::read_dir(&dir) else { continue };
             for entry in entries.flatten() {
@@ -76,20 +78,19 @@ pub fn gallery(inputs: &Inputs, frames: &[String]) -> (String, String) {
     let mut html = String::from("<h2 id=\"effects\">Effects gallery</h2>\n");
     let mut markdown = String::from("\n## Effects gallery\n\n");
     for (name, what) in GALLERY {
-        match inputs.extra.get(name) {
-            Some(table) => {
-                let text = generic_table(table);
-                let _ = write!(html, "<h3>{}</h3><p class=\"note\">{}</p>{}", escape(name), escape(what), text.html("effects"));
-                let _ = write!(markdown, "### {name}\n\n{}\n", text.markdown());
-            }
-            None => {
-                let _ = writeln!(html, "<p class=\"absent\"><code>{}</code> is absent: {}.</p>", escape(name), escape(what));
-                let _ = writeln!(markdown, "`{name}` is absent: {what}.\n");
-            }
+        let found: Vec<(&String, &CsvTable)> = inputs.extra.iter().filter(|(path, _)| *path == name || path.ends_with(&format!("/{name}"))).collect();
+        if found.is_empty() {
+            let _ = writeln!(html, "<p class=\"absent\"><code>{}</code> is absent: {}.</p>", escape(name), escape(what));
+            let _ = writeln!(markdown, "`{name}` is absent: {what}.\n");
+        }
+        for (path, table) in found {
+            let text = generic_table(table);
+            let _ = write!(html, "<h3>{}</h3><p class=\"note\">{}</p>{}", escape(path), escape(what), text.html("effects"));
+            let _ = write!(markdown, "### {path}\n\n{}\n", text.markdown());
         }
     }
     if frames.is_empty() {
-        html.push_str("<p class=\"absent\">No rendered frames (PNG under effects/, ao/ or frames/ of the output folder).</p>\n");
+        html.push_str("<p class=\"absent\">No rendered frames (PNG under effects_frames/, effects_gpu_frames/ or ao_frames/ of the output folder or of a scene folder in it).</p>\n");
     } else {
         html.push_str("<div class=\"frames\">");
         for frame in frames {

@@ -33,7 +33,9 @@ pub struct Inputs {
     pub cost: Option<CsvTable>,
     pub gpu_timing: Option<CsvTable>,
     pub warnings: Option<CsvTable>,
-    /// The optional tables of `OPTIONAL_TABLES` that exist, by file name.
+    /// The optional tables of `OPTIONAL_TABLES` that exist, by path relative to the output
+    /// folder: at its top, or in a folder one level down (`make effects` writes one folder
+    /// per scene, `make gpu` one per effects scene).
     pub extra: BTreeMap<String, CsvTable>,
     /// The channel wavelengths `materials.csv` was evaluated at.
     pub channels: Channels,
@@ -56,9 +58,12 @@ impl Inputs {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
         let mut extra = BTreeMap::new();
-        for name in OPTIONAL_TABLES {
-            if let Some(table) = CsvTable::load(&out.join(name))? {
-                extra.insert(name.to_string(), table);
+        for folder in std::iter::once(String::new()).chain(scene_folders(out)) {
+            for name in OPTIONAL_TABLES {
+                let relative = if folder.is_empty() { name.to_string() } else { format!("{folder}/{name}") };
+                if let Some(table) = CsvTable::load(&out.join(&relative))? {
+                    extra.insert(relative, table);
+                }
             }
         }
         Ok(Self {
@@ -73,6 +78,16 @@ impl Inputs {
             channels,
         })
     }
+}
+
+/// The folders directly under `out`, sorted by name (the per-scene output folders).
+pub fn scene_folders(out: &Path) -> Vec<String> {
+    let mut folders: Vec<String> = std::fs::read_dir(out)
+        .map(|entries| entries.flatten().filter(|e| e.path().is_dir()).filter_map(|e| e.file_name().to_str().map(String::from)).collect())
+        .unwrap_or_default();
+    folders.retain(|f| !f.starts_with('.'));
+    folders.sort();
+    folders
 }
 
 /// The channel wavelengths of `materials.csv` (`lambda_red_nm` …): one value per column.

@@ -23,7 +23,7 @@ use crate::effects::distance_map::{DistanceMap, Texel};
 use crate::effects::trace::{ObjectOptics, Stage, Surface};
 use crate::gpu::compose::compose;
 use crate::gpu::context::Gpu;
-use crate::gpu::render::{check_buffer_size, readback_buffer, DEPTH};
+use crate::gpu::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
 use crate::scene::{Diffuse, Light, Pattern, SearchSteps};
 
 /// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
@@ -243,6 +243,20 @@ pub struct GpuMaps {
     pub views: Vec<MapView>,
     /// The map of each object (`None` for diffuse ones).
     pub map_of: Vec<Option<u32>>,
+    /// Where the maps are rendered (`None` for maps uploaded from the CPU).
+    targets: Option<LayerTargets>,
+}
+
+/// The render targets of one layer (six faces, reused layer after layer and map after
+/// map), the previous layer kept for peeling, and one bind group per (map, layer, face).
+struct LayerTargets {
+    geometry: wgpu::Texture,
+    surfaces: wgpu::Texture,
+    previous: wgpu::Texture,
+    depth: wgpu::TextureView,
+    geometry_faces: Vec<wgpu::TextureView>,
+    surface_faces: Vec<wgpu::TextureView>,
+    bind_groups: Vec<wgpu::BindGroup>,
 }
 
 const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -282,13 +296,7 @@ impl MapRenderer {
             layout: None,
             vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_map"), compilation_options: Default::default(), buffers: &[Some(mesh_buffer_layout())] },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_map"), compilation_options: Default::default(), targets: &[target.clone(), target] }),
             multiview_mask: None,
@@ -352,44 +360,22 @@ impl MapRenderer {
                 mapped_at_creation: false,
             })
         };
-        Ok(GpuMaps { geometry: buffer("map geometry"), surfaces: buffer("map surfaces"), views, map_of })
+        let targets = self.targets(gpu, &views);
+        Ok(GpuMaps { geometry: buffer("map geometry"), surfaces: buffer("map surfaces"), views, map_of, targets })
     }
 
-    /// Encode the update of every map in `maps` (all layers, all faces) into `encoder`.
-    /// `timestamps`, where given, are written at the start of the first pass and the end
-    /// of the last.
-    pub fn encode(&self, gpu: &Gpu, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps, encoder: &mut wgpu::CommandEncoder, timestamps: Option<&wgpu::QuerySet>) {
+    /// The render targets of one layer's six faces and each face's bind group, for `maps`.
+    fn targets(&self, gpu: &Gpu, views: &[MapView]) -> Option<LayerTargets> {
         let device = &gpu.device;
-        let Some(first) = maps.views.first() else { return };
+        let first = views.first()?;
         let (size, layers) = (first.size, first.layers);
-        let array = |label, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: MAP_FORMAT,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |label, array_layers, format, usage| texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage);
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let geometry = array("map layer geometry", attachment);
-        let surfaces = array("map layer surfaces", attachment);
-        let previous = array("previous map layer", wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
+        let geometry = texture("map layer geometry", 6, MAP_FORMAT, attachment);
+        let surfaces = texture("map layer surfaces", 6, MAP_FORMAT, attachment);
+        let previous = texture("previous map layer", 6, MAP_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
         let previous_view = previous.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("map depth"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
-        let depth_view = depth.create_view(&Default::default());
+        let depth = texture("map depth", 1, DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT).create_view(&Default::default());
         let face_view = |texture: &wgpu::Texture, face: u32| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),
@@ -398,18 +384,15 @@ impl MapRenderer {
                 ..Default::default()
             })
         };
-        let geometry_faces: Vec<_> = (0..6).map(|f| face_view(&geometry, f)).collect();
-        let surface_faces: Vec<_> = (0..6).map(|f| face_view(&surfaces, f)).collect();
         let layout = self.pipeline.get_bind_group_layout(0);
-        let total_passes = maps.views.len() as u32 * layers * 6;
-        let mut pass_number = 0;
-        for view in &maps.views {
+        let mut bind_groups = Vec::new();
+        for view in views {
             for layer in 0..layers {
-                let diffuse_layer = layer + 1 == layers;
                 for face in 0..6u32 {
-                    let uniform = FaceUniform { centre: view.centre, face, peel: (layer > 0 && !diffuse_layer) as u32, near: self.near, far: self.far };
+                    let peel = (layer > 0 && layer + 1 < layers) as u32;
+                    let uniform = FaceUniform { centre: view.centre, face, peel, near: self.near, far: self.far };
                     let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("map face"), contents: bytemuck::bytes_of(&uniform), usage: wgpu::BufferUsages::UNIFORM });
-                    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("map face"),
                         layout: &layout,
                         entries: &[
@@ -418,13 +401,40 @@ impl MapRenderer {
                             wgpu::BindGroupEntry { binding: 2, resource: self.objects.as_entire_binding() },
                             wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&previous_view) },
                         ],
-                    });
+                    }));
+                }
+            }
+        }
+        Some(LayerTargets {
+            geometry_faces: (0..6).map(|f| face_view(&geometry, f)).collect(),
+            surface_faces: (0..6).map(|f| face_view(&surfaces, f)).collect(),
+            geometry,
+            surfaces,
+            previous,
+            depth,
+            bind_groups,
+        })
+    }
+
+    /// Encode the update of every map in `maps` (all layers, all faces) into `encoder`: 6 ×
+    /// layers render passes per map, each layer's faces copied into the map buffers (and,
+    /// below the diffuse layer, kept for the next layer's peel). `timestamps`, where given,
+    /// are written at the start of the first pass and the end of the last. Maps uploaded
+    /// from the CPU have no targets: nothing is encoded.
+    pub fn encode(&self, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps, encoder: &mut wgpu::CommandEncoder, timestamps: Option<&wgpu::QuerySet>) {
+        let (Some(targets), Some(first)) = (&maps.targets, maps.views.first()) else { return };
+        let (size, layers) = (first.size, first.layers);
+        let total_passes = targets.bind_groups.len();
+        for (m, view) in maps.views.iter().enumerate() {
+            for layer in 0..layers {
+                let diffuse_layer = layer + 1 == layers;
+                for face in 0..6usize {
+                    let pass_number = (m * layers as usize + layer as usize) * 6 + face;
                     let writes = timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| wgpu::RenderPassTimestampWrites {
                         query_set: set,
                         beginning_of_pass_write_index: (pass_number == 0).then_some(0),
                         end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
                     });
-                    pass_number += 1;
                     let clear = |view, colour| wgpu::RenderPassColorAttachment {
                         view,
                         depth_slice: None,
@@ -434,11 +444,11 @@ impl MapRenderer {
                     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                         label: Some("distance-map face"),
                         color_attachments: &[
-                            Some(clear(&geometry_faces[face as usize], wgpu::Color { r: -1.0, g: 0.0, b: 0.0, a: 0.0 })),
-                            Some(clear(&surface_faces[face as usize], wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: -1.0 })),
+                            Some(clear(&targets.geometry_faces[face], wgpu::Color { r: -1.0, g: 0.0, b: 0.0, a: 0.0 })),
+                            Some(clear(&targets.surface_faces[face], wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: -1.0 })),
                         ],
                         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &depth_view,
+                            view: &targets.depth,
                             depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                             stencil_ops: None,
                         }),
@@ -447,16 +457,16 @@ impl MapRenderer {
                         multiview_mask: None,
                     });
                     pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &bind_group, &[]);
+                    pass.set_bind_group(0, &targets.bind_groups[pass_number], &[]);
                     meshes.draw(&mut pass, |object| stage.is_specular(object) != diffuse_layer);
                 }
                 let whole = wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 };
                 let at = |texture| wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All };
                 if !diffuse_layer {
-                    encoder.copy_texture_to_texture(at(&geometry), at(&previous), whole);
+                    encoder.copy_texture_to_texture(at(&targets.geometry), at(&targets.previous), whole);
                 }
                 let offset = (view.base as u64 + (layer * 6 * size * size) as u64) * 16;
-                for (texture, buffer) in [(&geometry, &maps.geometry), (&surfaces, &maps.surfaces)] {
+                for (texture, buffer) in [(&targets.geometry, &maps.geometry), (&targets.surfaces, &maps.surfaces)] {
                     encoder.copy_texture_to_buffer(
                         at(texture),
                         wgpu::TexelCopyBufferInfo { buffer, layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(size * 16), rows_per_image: Some(size) } },
@@ -470,7 +480,7 @@ impl MapRenderer {
     /// Update every map and wait for it.
     pub fn render(&self, gpu: &Gpu, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps) -> Result<()> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        self.encode(gpu, stage, meshes, maps, &mut encoder, None);
+        self.encode(stage, meshes, maps, &mut encoder, None);
         gpu.queue.submit([encoder.finish()]);
         gpu.wait()?;
         gpu.take_errors()
@@ -510,6 +520,6 @@ impl GpuMaps {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         check_buffer_size(gpu, (texels.geometry.len() * 16) as u64, "distance maps")?;
-        Ok(GpuMaps { geometry: buffer("map geometry", &texels.geometry), surfaces: buffer("map surfaces", &texels.surfaces), views: texels.views, map_of })
+        Ok(GpuMaps { geometry: buffer("map geometry", &texels.geometry), surfaces: buffer("map surfaces", &texels.surfaces), views: texels.views, map_of, targets: None })
     }
 }

@@ -29,7 +29,7 @@ use crate::fresnel::Method;
 use crate::gpu::compose::compose;
 use crate::gpu::context::Gpu;
 use crate::gpu::params::{prepare, MaterialUniform};
-use crate::gpu::render::{readback_buffer, Target, DEPTH, FLOAT_TARGET};
+use crate::gpu::render::{depth_test, readback_buffer, Target, FLOAT_TARGET};
 use crate::gpu::{camera, lut};
 use crate::scene::{CameraPath, Depths, SearchSteps};
 use crate::spectrum::Kind;
@@ -241,13 +241,7 @@ impl SpecularPass {
                 layout: Some(&self.pipeline_layout),
                 vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_effect"), compilation_options: Default::default(), buffers: &[Some(mesh_buffer_layout())] },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(depth_test()),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
