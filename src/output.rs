@@ -545,23 +545,6 @@ impl Table {
         Ok(files)
     }
 
-    /// [`files`](Self::files) with the CSV and the Parquet encoded one after the other
-    /// rather than side by side: the same bytes, with the working memory of one encoding at
-    /// a time (each is parallel inside), for tables of hundreds of MB.
-    pub fn files_in_turn(&self, stem: &str, json: bool) -> Result<Vec<SetFile>> {
-        let csv = self.to_csv()?;
-        let parquet = self.to_parquet()?;
-        let mut files = vec![
-            SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
-            SetFile::new(format!("{stem}.csv"), csv),
-            SetFile::new(format!("{stem}.parquet"), parquet),
-        ];
-        if json {
-            files.push(SetFile::new(format!("{stem}.json"), self.to_json()?));
-        }
-        Ok(files)
-    }
-
     /// Publish the table's [`files`](Self::files) under `dir` as the set `stem`.
     pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
         publish_set(dir, stem, &self.files(stem, json)?)
@@ -611,10 +594,9 @@ mod tests {
         assert_eq!(&bytes[bytes.len() - 4..], b"PAR1");
     }
 
-    /// Shared text writes as plain text in every format, and encoding in turn gives the
-    /// bytes of encoding side by side.
+    /// Shared text writes as plain text in every format: the same bytes.
     #[test]
-    fn shared_text_and_encoding_in_turn_give_the_same_bytes() {
+    fn shared_text_gives_the_same_bytes() {
         let plain = sample();
         let mut shared = plain.clone();
         let mut values = SharedText::default();
@@ -624,7 +606,7 @@ mod tests {
             }
         }
         assert!(shared.columns.iter().any(|c| matches!(c.values, Values::SharedText(_))));
-        let (a, b) = (plain.files("t", true).unwrap(), shared.files_in_turn("t", true).unwrap());
+        let (a, b) = (plain.files("t", true).unwrap(), shared.files("t", true).unwrap());
         assert_eq!(a, b);
         assert!(Arc::ptr_eq(&values.get("a,b"), &values.get("a,b")));
     }
