@@ -465,7 +465,7 @@ fn gpu_specular_pass_matches_the_distance_map_twin() {
     let camera = Camera::new(&scene.camera, 0, 48, 48);
     for (method, depths) in [(Method::Exact, Depths { reflection: 3, refraction: 3 }), (Method::Schlick, Depths { reflection: 2, refraction: 0 }), (Method::Lut, Depths { reflection: 2, refraction: 2 })] {
         let shot = Shot { camera: &scene.camera, frame: 0, depths, steps };
-        let image = pass.render(&gpu, &meshes, &maps, shot, method, 48, 48).unwrap();
+        let image = pass.render(&gpu, &meshes, &maps, shot, method, [48, 48]).unwrap();
         let twin = twin_frame(&stage, &camera, &cpu_maps, method, depths, steps, LutSpec::new(64, lut::ENCODING));
         assert!(image.radiance.iter().flatten().all(|x| x.is_finite()));
         let seen_same = image.seen.iter().zip(&twin.seen).filter(|(a, b)| a == b).count();

@@ -79,7 +79,7 @@ impl MapFrames for GpuFrames<'_> {
 
     fn frame(&mut self, frame: u32, camera: &Camera, method: Method, depths: Depths, steps: SearchSteps) -> Result<TracedFrame> {
         let shot = Shot { camera: &self.scene.camera, frame, depths, steps };
-        Ok(self.pass.render(self.gpu, self.meshes, self.maps, shot, method, camera.width, camera.height)?.traced())
+        Ok(self.pass.render(self.gpu, self.meshes, self.maps, shot, method, [camera.width, camera.height])?.traced())
     }
 }
 

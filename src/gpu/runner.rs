@@ -145,7 +145,7 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
     let effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?;
     if !specular_effects {
         stats.skipped.push("reflection, refraction: not in the scene's effects (no cube map, no effect pipeline)".into());
-    } else if !scene.effects.as_ref().is_some_and(|e| e.refraction.is_some()) {
+    } else if scene.effects.as_ref().is_none_or(|e| e.refraction.is_none()) {
         stats.skipped.push("refraction: not in the scene's effects (reflection-only pipelines)".into());
     }
     super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;

@@ -275,7 +275,7 @@ pub struct MapRenderer {
 /// multiple of 256) and fit the device's texture limits.
 pub fn check_map_size(gpu: &Gpu, size: u32, layers: u32) -> Result<()> {
     let limits = gpu.device.limits();
-    if size == 0 || size % 16 != 0 {
+    if size == 0 || !size.is_multiple_of(16) {
         bail!("distance_maps.size {size}: the GPU maps need a multiple of 16 texels per face edge");
     }
     if size > limits.max_texture_dimension_2d || 6 * layers > limits.max_texture_array_layers {

@@ -145,7 +145,6 @@ pub struct SpecularPass {
     /// LUT curves baked (two per specular object, only when a `lut` pipeline was asked for).
     pub lut_curves: usize,
     lut_size: usize,
-    stage_materials: Vec<[MaterialUniform; 2]>,
     stage_channels: Vec<crate::spectrum::ChannelIndex>,
 }
 
@@ -220,7 +219,6 @@ impl SpecularPass {
             pipelines_compiled: 0,
             lut_curves: 0,
             lut_size,
-            stage_materials,
             stage_channels,
         })
     }
@@ -280,11 +278,6 @@ impl SpecularPass {
         self.pipelines.keys().copied()
     }
 
-    /// The specular materials' shader parameters, from outside and from inside.
-    pub fn materials(&self) -> &[[MaterialUniform; 2]] {
-        &self.stage_materials
-    }
-
     /// Encode one frame of (effect, method) into `target`, with optional timestamps at the
     /// start and end of the pass. The pipeline must have been compiled ([`Self::pipeline`]).
     #[allow(clippy::too_many_arguments)]
@@ -341,8 +334,8 @@ impl SpecularPass {
         Ok(())
     }
 
-    /// Render one frame and read it back.
-    pub fn render(&mut self, gpu: &Gpu, meshes: &SceneMeshes, maps: &GpuMaps, shot: Shot, method: Method, width: u32, height: u32) -> Result<EffectImage> {
+    /// Render one frame of `width`×`height` pixels and read it back.
+    pub fn render(&mut self, gpu: &Gpu, meshes: &SceneMeshes, maps: &GpuMaps, shot: Shot, method: Method, [width, height]: [u32; 2]) -> Result<EffectImage> {
         self.pipeline(gpu, Effect::of(shot.depths), method)?;
         let target = Target::new(gpu, width, height, FLOAT_TARGET, true)?;
         let buffer = readback_buffer(gpu, target.readback_bytes())?;
