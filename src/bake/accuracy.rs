@@ -140,35 +140,12 @@ fn channel_sums(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: 
     if texels.len() != taps.texels {
         return channel_sums(texels, &Taps::new(texels.len(), &rule.cosines), rule, reference);
     }
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has just been found to support AVX-512F.
-            return unsafe { channel_sums_avx512(texels, taps, rule, reference) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has just been found to support AVX2.
-            return unsafe { channel_sums_avx2(texels, taps, rule, reference) };
-        }
-    }
-    channel_sums_in_blocks(texels, taps, rule, reference)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn channel_sums_avx512(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
-    channel_sums_in_blocks(texels, taps, rule, reference)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn channel_sums_avx2(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
     channel_sums_in_blocks(texels, taps, rule, reference)
 }
 
 /// F_lut = T[lower](1 − t) + T[upper] t ([`fresnel::lut::filter`]) and the error terms per
 /// sample, then the sums in the rule's order — the same operations as one sample at a time.
-#[inline(always)]
+#[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn channel_sums_in_blocks(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
     let mut sums = ChannelSums::default();
     let count = rule.cosines.len().min(reference.len());

@@ -128,52 +128,29 @@ impl PreparedSpectrum {
     /// in the same order as `rgb`. The vector width is chosen at run time (AVX-512, AVX2,
     /// or what the baseline target allows).
     pub fn curve(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has just been found to support AVX-512F.
-                return unsafe { self.curve_avx512(cosines) };
-            }
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU has just been found to support AVX2.
-                return unsafe { self.curve_avx2(cosines) };
-            }
-        }
-        self.curve_in_lanes(cosines)
+        curve_in_lanes(self, cosines)
     }
+}
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn curve_avx512(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
-        self.curve_in_lanes(cosines)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn curve_avx2(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
-        self.curve_in_lanes(cosines)
-    }
-
-    #[inline(always)]
-    fn curve_in_lanes(&self, cosines: &[f64]) -> Vec<[f64; 3]> {
-        let mut curve = Vec::with_capacity(cosines.len());
-        for chunk in cosines.chunks(fresnel::LANES) {
-            // A short last chunk is padded with normal incidence; those lanes are dropped.
-            let mut lanes = [1.0; fresnel::LANES];
-            lanes[..chunk.len()].copy_from_slice(chunk);
-            let mut sums = [[0.0; fresnel::LANES]; 3];
-            for (terms, w) in &self.groups {
-                let r = terms.reflectance_lanes(&lanes);
-                for (channel, sum) in sums.iter_mut().enumerate() {
-                    for (s, r) in sum.iter_mut().zip(r) {
-                        *s += r * w[channel];
-                    }
+#[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn curve_in_lanes(spectrum: &PreparedSpectrum, cosines: &[f64]) -> Vec<[f64; 3]> {
+    let mut curve = Vec::with_capacity(cosines.len());
+    for chunk in cosines.chunks(fresnel::LANES) {
+        // A short last chunk is padded with normal incidence; those lanes are dropped.
+        let mut lanes = [1.0; fresnel::LANES];
+        lanes[..chunk.len()].copy_from_slice(chunk);
+        let mut sums = [[0.0; fresnel::LANES]; 3];
+        for (terms, w) in &spectrum.groups {
+            let r = terms.reflectance_lanes(&lanes);
+            for (channel, sum) in sums.iter_mut().enumerate() {
+                for (s, r) in sum.iter_mut().zip(r) {
+                    *s += r * w[channel];
                 }
             }
-            curve.extend((0..chunk.len()).map(|lane| [sums[0][lane], sums[1][lane], sums[2][lane]]));
         }
-        curve
+        curve.extend((0..chunk.len()).map(|lane| [sums[0][lane], sums[1][lane], sums[2][lane]]));
     }
+    curve
 }
 
 /// The spectral reference colour (linear sRGB) at cosθ = `cos_theta` of a material whose

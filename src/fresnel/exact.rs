@@ -145,41 +145,18 @@ impl ExactTerms {
     /// the two decides how many): [`LANES`] at a time, same bits. The vector width is
     /// chosen at run time (AVX-512, AVX2, or what the baseline target allows).
     pub fn reflectances(&self, cosines: &[f64], out: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has just been found to support AVX-512F.
-                return unsafe { self.reflectances_avx512(cosines, out) };
-            }
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU has just been found to support AVX2.
-                return unsafe { self.reflectances_avx2(cosines, out) };
-            }
-        }
-        self.reflectances_in_lanes(cosines, out)
+        reflectances_in_lanes(self, cosines, out)
     }
+}
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn reflectances_avx512(&self, cosines: &[f64], out: &mut [f64]) {
-        self.reflectances_in_lanes(cosines, out)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn reflectances_avx2(&self, cosines: &[f64], out: &mut [f64]) {
-        self.reflectances_in_lanes(cosines, out)
-    }
-
-    #[inline(always)]
-    fn reflectances_in_lanes(&self, cosines: &[f64], out: &mut [f64]) {
-        for (chunk, out) in cosines.chunks(LANES).zip(out.chunks_mut(LANES)) {
-            let mut lanes = [1.0; LANES];
-            lanes[..chunk.len()].copy_from_slice(chunk);
-            let values = self.reflectance_lanes(&lanes);
-            let used = chunk.len().min(out.len());
-            out[..used].copy_from_slice(&values[..used]);
-        }
+#[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn reflectances_in_lanes(terms: &ExactTerms, cosines: &[f64], out: &mut [f64]) {
+    for (chunk, out) in cosines.chunks(LANES).zip(out.chunks_mut(LANES)) {
+        let mut lanes = [1.0; LANES];
+        lanes[..chunk.len()].copy_from_slice(chunk);
+        let values = terms.reflectance_lanes(&lanes);
+        let used = chunk.len().min(out.len());
+        out[..used].copy_from_slice(&values[..used]);
     }
 }
 

@@ -304,53 +304,8 @@ pub fn adaptive<I: Integrand + ?Sized>(integrand: &I, members: usize, breakpoint
 /// The panel arithmetic is compiled for the widest vector unit the CPU has (AVX-512,
 /// AVX2, or the baseline target), chosen at run time; the operations and their order are
 /// the same in each (Rust never fuses a multiply and an add), so the bits are too.
+#[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn integrate<I: Integrand + ?Sized, const M: usize>(
-    rule: &'static Rule<M>,
-    integrand: &I,
-    members: usize,
-    cuts: &[f64],
-    tolerance: Tolerance,
-) -> Vec<Integral> {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has just been found to support AVX-512F.
-            return unsafe { integrate_avx512(rule, integrand, members, cuts, tolerance) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has just been found to support AVX2.
-            return unsafe { integrate_avx2(rule, integrand, members, cuts, tolerance) };
-        }
-    }
-    integrate_here(rule, integrand, members, cuts, tolerance)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn integrate_avx512<I: Integrand + ?Sized, const M: usize>(
-    rule: &'static Rule<M>,
-    integrand: &I,
-    members: usize,
-    cuts: &[f64],
-    tolerance: Tolerance,
-) -> Vec<Integral> {
-    integrate_here(rule, integrand, members, cuts, tolerance)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn integrate_avx2<I: Integrand + ?Sized, const M: usize>(
-    rule: &'static Rule<M>,
-    integrand: &I,
-    members: usize,
-    cuts: &[f64],
-    tolerance: Tolerance,
-) -> Vec<Integral> {
-    integrate_here(rule, integrand, members, cuts, tolerance)
-}
-
-#[inline(always)]
-fn integrate_here<I: Integrand + ?Sized, const M: usize>(
     rule: &'static Rule<M>,
     integrand: &I,
     members: usize,
