@@ -1,16 +1,18 @@
 //! Surfel ambient occlusion: cost and accuracy.
 //!
 //! 1. Speed of the ray-traced reference (rays/s, cosine-weighted hemisphere rays on the
-//!    Stanford bunny) against an anchor measured in the same run: brute-force shadow
-//!    evaluations per second (one pass on a 4 k-surfel torus).
+//!    Stanford bunny), ray by ray and in packets (asserted to give the same values), against
+//!    an anchor measured in the same run: brute-force shadow evaluations per second (one pass
+//!    on a 4 k-surfel torus).
 //! 2. Accuracy: accessibility against the reference on the bunny and the sculpture
 //!    (nefertiti), 1–3 passes, receiver gain g = 1 and 4, hierarchy off and on — the rows of
 //!    the `ao_errors` table; the reference's time and noise are printed.
 //! 3. Cost over scene size: one pass by brute force and by the hierarchy on tori of growing
 //!    surfel count, with the fitted exponent p of time ∝ nᵖ for each.
 //!
-//! `cargo bench --bench ao` (RAYON_NUM_THREADS sets the cores; NKLUT_AO_RAYS the reference's
-//! rays per vertex, 1024 by default; NKLUT_AO_MAX_BRUTE the largest n run by brute force,
+//! `cargo bench --bench ao` (RAYON_NUM_THREADS sets the cores; NKLUT_AO_SPEED_RAYS the rays
+//! per vertex of the speed run, ray by ray and in packets, 1024 by default; NKLUT_AO_RAYS the
+//! reference's rays per vertex in the accuracy runs, 1024 by default; NKLUT_AO_MAX_BRUTE the largest n run by brute force,
 //! 40 000: the bunny but not the sculpture, tori to 33 k).
 //! Results and the predictions: BENCHMARKS.md.
 
@@ -93,9 +95,18 @@ fn main() {
     let bunny = load_obj(&meshes.join("stanford-bunny.obj")).expect("../shared/meshes/stanford-bunny.obj");
     let bunny_surfels = surfels(&bunny);
     let geometry = Geometry::new(std::slice::from_ref(&bunny)).unwrap();
-    let (seconds, speed) = timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: 256, ..RaySettings::default() }));
-    let rate = speed.rays as f64 / seconds;
-    println!("  reference on the bunny: {} rays in {seconds:.3} s = {:.2} M rays/s ({:.3}× the anchor's rate)", speed.rays, rate / 1e6, rate / anchor_rate);
+    let speed_rays = env_number("NKLUT_AO_SPEED_RAYS", 1024) as u32;
+    let (one_s, one_by_one) = timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, packets: false, ..RaySettings::default() }));
+    let (seconds, speed) = timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, ..RaySettings::default() }));
+    assert_eq!(speed.values, one_by_one.values, "packets count what their rays count one by one");
+    let (one_rate, rate) = (one_by_one.rays as f64 / one_s, speed.rays as f64 / seconds);
+    println!("  reference on the bunny, {speed_rays} rays per vertex, ray by ray: {} rays in {one_s:.3} s = {:.2} M rays/s ({:.3}× the anchor's rate)", one_by_one.rays, one_rate / 1e6, one_rate / anchor_rate);
+    println!(
+        "  reference on the bunny, in packets: {seconds:.3} s = {:.2} M rays/s ({:.3}× the anchor's rate, {:.2}× ray by ray; same values)",
+        rate / 1e6,
+        rate / anchor_rate,
+        rate / one_rate
+    );
 
     // 2. Accuracy (the ao_errors rows).
     println!("accuracy against the reference ({rays} rays per vertex):");

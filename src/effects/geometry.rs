@@ -16,6 +16,12 @@
 //! box left at 1.6e-6). So the traversal's ray starts [`TRAVERSAL_BACKOFF`] behind the true
 //! origin and every distance handed to it is shifted by as much; the triangle test keeps
 //! the true origin, so the hits and their distances are unchanged.
+//!
+//! Rays that share an origin and nearly a direction (the ambient-occlusion reference's) can
+//! instead be traced as packets over a second, binary BVH (`super::packet`), with the same
+//! triangle test and so the same answers.
+
+use std::sync::OnceLock;
 
 use glam::{DVec3, Vec3A};
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
@@ -24,6 +30,7 @@ use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle as BvhTriangle;
 use obvhs::BvhBuildParams;
 
+use super::packet::{Corners, Packet, PacketTree, PACKET_RAYS};
 use crate::scene::mesh::Mesh;
 
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
@@ -59,42 +66,9 @@ impl Triangle {
     /// The watertight test, both faces; `None` when the ray misses or runs in the plane.
     /// Coordinates are moved to the ray's origin and sheared so the ray runs along +z; the
     /// signed edge functions then decide inside-ness exactly on shared edges.
-    #[inline]
-    fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
-        // The axis the ray runs most along becomes z; the other two follow it cyclically.
-        match direction.abs().max_position() {
-            0 => self.crossing_along::<1, 2, 0>(origin, direction),
-            1 => self.crossing_along::<2, 0, 1>(origin, direction),
-            _ => self.crossing_along::<0, 1, 2>(origin, direction),
-        }
-    }
-
-    /// The watertight test with the ray's dominant axis `KZ` fixed at compile time, so the
-    /// permutation is a register shuffle rather than indexing. A triangle is rejected as soon
-    /// as two edge functions disagree in sign; the depths are sheared only for a crossing.
     #[inline(always)]
-    fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
-        let (dx, dy, dz) = (direction[KX], direction[KY], direction[KZ]);
-        let (sx, sy, sz) = (-dx / dz, -dy / dz, 1.0 / dz);
-        let relative = self.corners.map(|corner| corner - origin);
-        let [p0, p1, p2] = relative.map(|p| (p[KX] + sx * p[KZ], p[KY] + sy * p[KZ]));
-        let e0 = p1.0 * p2.1 - p1.1 * p2.0;
-        let e1 = p2.0 * p0.1 - p2.1 * p0.0;
-        if (e0 < 0.0 && e1 > 0.0) || (e0 > 0.0 && e1 < 0.0) {
-            return None;
-        }
-        let e2 = p0.0 * p1.1 - p0.1 * p1.0;
-        if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
-            return None;
-        }
-        let determinant = e0 + e1 + e2;
-        if determinant == 0.0 || !determinant.is_finite() {
-            return None;
-        }
-        let [z0, z1, z2] = relative.map(|p| p[KZ] * sz);
-        let inverse = 1.0 / determinant;
-        let t = (e0 * z0 + e1 * z1 + e2 * z2) * inverse;
-        Some(Crossing { t, u: e1 * inverse, v: e2 * inverse })
+    fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
+        crossing(self.corners, origin, &Shear::of(direction))
     }
 
     /// The interpolated vertex normal at (u, v), normalised.
@@ -104,6 +78,72 @@ impl Triangle {
         let [a, b, c] = self.corners;
         let geometric = (b - a).cross(c - a);
         n.try_normalize().or_else(|| geometric.try_normalize()).unwrap_or(DVec3::Z)
+    }
+}
+
+/// The watertight test of a ray (origin, shear) against a triangle's corners.
+#[inline(always)]
+fn crossing(corners: [DVec3; 3], origin: DVec3, shear: &Shear) -> Option<Crossing> {
+    match shear.axis {
+        Axis::X => crossing_along::<1, 2, 0>(corners, origin, shear.factors),
+        Axis::Y => crossing_along::<2, 0, 1>(corners, origin, shear.factors),
+        Axis::Z => crossing_along::<0, 1, 2>(corners, origin, shear.factors),
+    }
+}
+
+/// The watertight test with the ray's dominant axis `KZ` fixed at compile time, so the
+/// permutation is a register shuffle rather than indexing. A triangle is rejected as soon
+/// as two edge functions disagree in sign; the depths are sheared only for a crossing.
+#[inline(always)]
+fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(corners: [DVec3; 3], origin: DVec3, [sx, sy, sz]: [f64; 3]) -> Option<Crossing> {
+    let relative = corners.map(|corner| corner - origin);
+    let [p0, p1, p2] = relative.map(|p| (p[KX] + sx * p[KZ], p[KY] + sy * p[KZ]));
+    let e0 = p1.0 * p2.1 - p1.1 * p2.0;
+    let e1 = p2.0 * p0.1 - p2.1 * p0.0;
+    if (e0 < 0.0 && e1 > 0.0) || (e0 > 0.0 && e1 < 0.0) {
+        return None;
+    }
+    let e2 = p0.0 * p1.1 - p0.1 * p1.0;
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return None;
+    }
+    let determinant = e0 + e1 + e2;
+    if determinant == 0.0 || !determinant.is_finite() {
+        return None;
+    }
+    let [z0, z1, z2] = relative.map(|p| p[KZ] * sz);
+    let inverse = 1.0 / determinant;
+    let t = (e0 * z0 + e1 * z1 + e2 * z2) * inverse;
+    Some(Crossing { t, u: e1 * inverse, v: e2 * inverse })
+}
+
+/// A coordinate axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+/// A ray's shear for the watertight test (Woop et al.): the axis it runs most along, which
+/// becomes z (the other two following it cyclically), and the factors (−dx/dz, −dy/dz,
+/// 1/dz) in that frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    axis: Axis,
+    factors: [f64; 3],
+}
+
+impl Shear {
+    #[inline(always)]
+    pub fn of(direction: DVec3) -> Shear {
+        let (axis, [kx, ky, kz]) = match direction.abs().max_position() {
+            0 => (Axis::X, [1, 2, 0]),
+            1 => (Axis::Y, [2, 0, 1]),
+            _ => (Axis::Z, [0, 1, 2]),
+        };
+        let (dx, dy, dz) = (direction[kx], direction[ky], direction[kz]);
+        Shear { axis, factors: [-dx / dz, -dy / dz, 1.0 / dz] }
     }
 }
 
@@ -120,11 +160,16 @@ pub struct Hit {
     pub triangle: u32,
 }
 
-/// All of a scene's triangles and their BVH.
+/// All of a scene's triangles and their BVH; the binary BVH for ray packets is built the
+/// first time a packet asks for it.
 pub struct Geometry {
     triangles: Vec<Triangle>,
     bvh: CwBvh,
+    packet_tree: OnceLock<PacketTree>,
 }
+
+/// Triangles per leaf of the packets' binary BVH.
+const PACKET_LEAF_TRIANGLES: u32 = 2;
 
 /// A scene with nothing to trace.
 #[derive(Debug, thiserror::Error)]
@@ -153,7 +198,7 @@ impl Geometry {
         let boxes: Vec<BvhTriangle> =
             triangles.iter().map(|t| BvhTriangle { v0: narrow(t.corners[0]), v1: narrow(t.corners[1]), v2: narrow(t.corners[2]) }).collect();
         let bvh = build_cwbvh_from_tris(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
-        Ok(Geometry { triangles, bvh })
+        Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new() })
     }
 
     /// The centre of the bounding box of `object`'s triangles (the origin if it has none).
@@ -226,6 +271,34 @@ impl Geometry {
             }
         });
         !escaped
+    }
+
+    /// How many of the rays from `origin` along `directions` (unit vectors, best close to one
+    /// another: the rays of one vertex in one direction bin) meet no triangle at
+    /// t > [`SELF_HIT_DISTANCE`] — the count [`Geometry::occluded`] gives ray by ray, found
+    /// by tracing them as packets of up to [`PACKET_RAYS`] (`super::packet`).
+    pub fn open_rays(&self, origin: DVec3, directions: &[DVec3]) -> usize {
+        if !origin.is_finite() {
+            return directions.len();
+        }
+        let tree = self.packet_tree.get_or_init(|| {
+            let narrow = |p: DVec3| [p.x as f32, p.y as f32, p.z as f32];
+            let corners: Vec<Corners> = self.triangles.iter().map(|t| t.corners.map(narrow)).collect();
+            PacketTree::new(&corners, PACKET_LEAF_TRIANGLES)
+        });
+        directions
+            .chunks(PACKET_RAYS)
+            .map(|chunk| {
+                if !chunk.iter().all(|d| d.is_finite()) {
+                    return chunk.iter().filter(|d| !self.occluded(origin, **d)).count();
+                }
+                let packet = Packet::new(origin, chunk);
+                let shears: Vec<Shear> = chunk.iter().map(|d| Shear::of(*d)).collect();
+                tree.open_rays(&packet, |corners, ray| {
+                    crossing(corners.map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)), origin, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE)
+                })
+            })
+            .sum()
     }
 
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {

@@ -10,6 +10,8 @@
 //!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
 //!   split an image's error into geometry (the map) and Fresnel (the method).
 //! - [`image_error`]: a frame against its reference.
+//! - [`packet`]: packets of rays from one origin traced together for occlusion (the
+//!   ambient-occlusion reference's hemisphere rays).
 //! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
@@ -23,6 +25,7 @@ pub mod experiment;
 pub mod geometry;
 pub mod image_error;
 pub mod optics;
+pub mod packet;
 pub mod pictures;
 pub mod trace;
 

@@ -16,18 +16,21 @@ use glam::DVec3;
 use super::surfel::Surfel;
 use crate::effects::geometry::Geometry;
 
-/// How many rays, from which seed, and how far along its normal a ray starts off the
-/// surface (scene units; so a ray leaving a vertex does not meet the faces there).
+/// How many rays, from which seed, how far along its normal a ray starts off the surface
+/// (scene units; so a ray leaving a vertex does not meet the faces there), and whether the
+/// rays go in packets (one BVH walk per direction bin) or one by one — the same counts
+/// either way; one by one is the benchmark's anchor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RaySettings {
     pub rays: u32,
     pub seed: u64,
     pub offset: f64,
+    pub packets: bool,
 }
 
 impl Default for RaySettings {
     fn default() -> RaySettings {
-        RaySettings { rays: 4096, seed: 0x005e_eda0, offset: 1e-6 }
+        RaySettings { rays: 4096, seed: 0x005e_eda0, offset: 1e-6, packets: true }
     }
 }
 
@@ -99,17 +102,82 @@ pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }
 
-/// The fraction of rays from `surfel` that meet nothing, and its standard error.
+/// Rays per direction bin (on average): the packets [`Geometry::open_rays`] traces together.
+const RAYS_PER_BUNDLE: u32 = 32;
+
+/// The fraction of rays from `surfel` that meet nothing, and its standard error. The rays
+/// are drawn in turn from the surfel's stream; in packets they are grouped by where their
+/// (u1, u2) fall on a grid of the unit square — neighbouring cells of the square are
+/// neighbouring patches of the hemisphere under Malley's map — and each group is traced as
+/// one packet, which counts what its rays count one by one.
 fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: RaySettings) -> (f64, f64) {
     let mut random = SplitMix64::new(settings.seed, stream);
     let origin = surfel.centre + surfel.normal * settings.offset;
     let rays = settings.rays.max(1);
-    let open = (0..rays)
-        .filter(|_| {
-            let direction = cosine_direction(surfel.normal, random.next_f64(), random.next_f64());
-            !geometry.occluded(origin, direction)
-        })
-        .count();
+    let open = if settings.packets { open_in_packets(geometry, origin, surfel.normal, rays, &mut random) } else { open_one_by_one(geometry, origin, surfel.normal, rays, &mut random) };
     let p = open as f64 / rays as f64;
     (p, (p * (1.0 - p) / rays as f64).sqrt())
+}
+
+/// How many of `rays` cosine-weighted rays about `normal` meet nothing, traced one by one.
+fn open_one_by_one(geometry: &Geometry, origin: DVec3, normal: DVec3, rays: u32, random: &mut SplitMix64) -> usize {
+    (0..rays)
+        .filter(|_| {
+            let direction = cosine_direction(normal, random.next_f64(), random.next_f64());
+            !geometry.occluded(origin, direction)
+        })
+        .count()
+}
+
+/// The same rays as [`open_one_by_one`], grouped by direction bin (a counting sort by
+/// cell) and traced as packets.
+fn open_in_packets(geometry: &Geometry, origin: DVec3, normal: DVec3, rays: u32, random: &mut SplitMix64) -> usize {
+    let grid = DirectionGrid::for_rays(rays);
+    let drawn: Vec<(usize, DVec3)> = (0..rays)
+        .map(|_| {
+            let (u1, u2) = (random.next_f64(), random.next_f64());
+            (grid.cell(u1, u2), cosine_direction(normal, u1, u2))
+        })
+        .collect();
+    let mut starts = vec![0usize; grid.cells() + 1];
+    for (cell, _) in &drawn {
+        starts[cell + 1] += 1;
+    }
+    for cell in 0..grid.cells() {
+        starts[cell + 1] += starts[cell];
+    }
+    let mut next = starts.clone();
+    let mut sorted = vec![DVec3::ZERO; drawn.len()];
+    for (cell, direction) in drawn {
+        sorted[next[cell]] = direction;
+        next[cell] += 1;
+    }
+    starts.windows(2).map(|bin| geometry.open_rays(origin, &sorted[bin[0]..bin[1]])).sum()
+}
+
+/// A grid over the unit square of (u1, u2) — u1 is sin²θ, u2 the azimuth over 2π — with
+/// about [`RAYS_PER_BUNDLE`] rays per cell and twice as many azimuth columns as rows, so a
+/// cell spans comparable angles both ways.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DirectionGrid {
+    rows: usize,
+    columns: usize,
+}
+
+impl DirectionGrid {
+    fn for_rays(rays: u32) -> DirectionGrid {
+        let cells = (rays / RAYS_PER_BUNDLE).max(1) as f64;
+        let rows = (cells / 2.0).sqrt().round().max(1.0) as usize;
+        DirectionGrid { rows, columns: ((cells / rows as f64).round() as usize).max(1) }
+    }
+
+    fn cells(&self) -> usize {
+        self.rows * self.columns
+    }
+
+    fn cell(&self, u1: f64, u2: f64) -> usize {
+        let row = ((u1 * self.rows as f64) as usize).min(self.rows - 1);
+        let column = ((u2 * self.columns as f64) as usize).min(self.columns - 1);
+        row * self.columns + column
+    }
 }

@@ -299,6 +299,43 @@ fn occlusion_query_agrees_with_the_nearest_hit() {
     assert!(!geometry.occluded(DVec3::splat(f64::NAN), DVec3::Z));
 }
 
+/// A packet of rays gives the count its rays give one by one: from every vertex of a torus
+/// (just off the surface, as the reference starts them) and from points around and inside
+/// it, packets of directions spread from a few degrees to the whole hemisphere — escaping,
+/// running into the torus, grazing the faces at the origin — of 16 rays and of 100 (more
+/// than one packet's worth), one of them along a coordinate axis.
+#[test]
+fn packets_count_what_their_rays_count_one_by_one() {
+    let mesh = torus(1.0, 0.6, 24, 12);
+    let geometry = Geometry::new(std::slice::from_ref(&mesh)).unwrap();
+    let mut random = super::reference::SplitMix64::new(11, 0);
+    let mut origins: Vec<(DVec3, DVec3)> = surfels(&mesh).into_iter().map(|s| (s.centre + s.normal * 1e-6, s.normal)).collect();
+    for _ in 0..200 {
+        let point = DVec3::new(random.next_f64(), random.next_f64(), random.next_f64()) * 4.0 - DVec3::splat(2.0);
+        origins.push((point, DVec3::new(random.next_f64() - 0.5, random.next_f64() - 0.5, 0.3).normalize()));
+    }
+    let (mut packets, mut open, mut blocked) = (0, 0, 0);
+    for (k, (origin, normal)) in origins.into_iter().enumerate() {
+        for width in [0.05, 0.2, 0.5, 1.0] {
+            let (u1, u2) = (random.next_f64() * (1.0 - width), random.next_f64());
+            let rays = if k % 7 == 0 { 100 } else { 16 };
+            let mut directions: Vec<DVec3> =
+                (0..rays).map(|_| super::reference::cosine_direction(normal, u1 + width * random.next_f64(), u2 + width * random.next_f64())).collect();
+            directions[0] = if k % 5 == 0 { DVec3::Y } else { directions[0] };
+            let one_by_one = directions.iter().filter(|d| !geometry.occluded(origin, **d)).count();
+            assert_eq!(geometry.open_rays(origin, &directions), one_by_one, "{origin:?} {normal:?} width {width}");
+            packets += 1;
+            open += one_by_one;
+            blocked += directions.len() - one_by_one;
+        }
+    }
+    // Both outcomes were exercised in earnest.
+    assert!(open > packets && blocked > packets, "{open} open, {blocked} blocked rays in {packets} packets");
+    // A ray that is not finite meets nothing, in a packet as alone.
+    assert_eq!(geometry.open_rays(DVec3::splat(f64::NAN), &[DVec3::Z; 3]), 3);
+    assert_eq!(geometry.open_rays(DVec3::new(0.0, 0.0, 10.0), &[DVec3::Z, DVec3::new(f64::NAN, 0.0, 1.0)]), 2, "away from the torus, and not finite");
+}
+
 /// The `ao_errors` rows of a small torus: one per g × hierarchy × pass, each the mean and
 /// max of |a − ref| recomputed here, and a table with those columns.
 #[test]
