@@ -113,13 +113,15 @@ impl Packet {
                     exit[lane] = if high_t < exit[lane] { high_t } else { exit[lane] };
                 }
             }
-            // A byte of lanes (one vector comparison's mask); the exit rounded outwards,
-            // relatively and by 10⁻¹² scene units.
-            let mut bits = 0u8;
+            // A lane is entered when exit − enter ≥ 0, its sign bit clear (the exit rounded
+            // outwards, relatively and by 10⁻¹² scene units; neither side is NaN); the sign
+            // bits gather into one byte (a vector's sign mask).
+            let mut missed = 0u64;
             for lane in 0..8 {
-                bits |= u8::from(enter[lane] <= exit[lane] + (exit[lane].abs() * 1e-12 + 1e-12)) << lane;
+                let margin = exit[lane] + (exit[lane].abs() * 1e-12 + 1e-12) - enter[lane];
+                missed |= (margin.to_bits() >> 63) << lane;
             }
-            entered |= RayMask::from(bits) << base;
+            entered |= (!missed & 0xff) << base;
         }
         entered & live
     }
@@ -132,11 +134,22 @@ impl PacketTree {
         let boxes: Vec<BvhTriangle> = triangles.iter().map(|[a, b, c]| BvhTriangle { v0: point(*a), v1: point(*b), v2: point(*c) }).collect();
         let params = BvhBuildParams { max_prims_per_leaf: leaf_size, ..BvhBuildParams::medium_build() };
         let bvh = build_bvh2_from_tris(&boxes, params, &mut Default::default());
-        let nodes = bvh
-            .nodes
-            .iter()
-            .map(|node| PacketNode { low: node.aabb.min.into(), high: node.aabb.max.into(), first: node.first_index, count: node.prim_count })
-            .collect();
+        let node = |i: usize| {
+            let n = &bvh.nodes[i];
+            PacketNode { low: n.aabb.min.into(), high: n.aabb.max.into(), first: n.first_index, count: n.prim_count }
+        };
+        // Depth first, each pair of siblings together: a walk down the first children reads
+        // nodes that lie close in memory.
+        let mut nodes = vec![node(0)];
+        let mut pending = vec![0usize];
+        while let Some(at) = pending.pop() {
+            if nodes[at].count == 0 {
+                let (old, new) = (nodes[at].first as usize, nodes.len());
+                nodes.extend([node(old), node(old + 1)]);
+                nodes[at].first = new as u32;
+                pending.extend([new + 1, new]);
+            }
+        }
         let corners = bvh.primitive_indices.iter().map(|&i| triangles[i as usize]).collect();
         PacketTree { nodes, corners }
     }
