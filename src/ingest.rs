@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 
-use crate::db::{CatalogPage, DataError, Database, Reason};
+use crate::db::{book_dir, CatalogPage, DataError, Database, Reason};
 use crate::output::{SetFile, Table};
 use crate::spectrum::{self, Channels, Coverage, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
 
@@ -164,16 +164,21 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     files.sort_unstable();
     files.dedup();
     let bar = crate::progress::bar(files.len(), "ingest");
-    let evaluated: HashMap<&str, (Result<Arc<Material>, DataError>, Option<Vec<String>>)> = files
+    let evaluated: HashMap<&str, Result<Arc<Material>, DataError>> = files
         .par_iter()
         .map(|&file| {
             let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
-            let names = result.is_ok().then(|| db.book_names(file)).flatten();
             bar.inc(1);
-            (file, (result, names))
+            (file, result)
         })
         .collect();
     bar.finish_and_clear();
+    // The names of each book with a kept data file, its about.yml read once.
+    let mut books: Vec<&Path> = files.iter().filter(|&&file| evaluated[file].is_ok()).filter_map(|&file| book_dir(file)).collect();
+    books.sort_unstable();
+    books.dedup();
+    let book_names: HashMap<&Path, Option<Vec<String>>> = books.par_iter().map(|&book| (book, db.about_names(book))).collect();
+    let names_of = |file: &str| book_dir(file).and_then(|book| book_names.get(book).cloned().flatten());
 
     let mut ids_by_file: HashMap<&str, Vec<String>> = HashMap::new();
     for page in &pages {
@@ -207,16 +212,16 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     for page in &pages {
         let id = page.id();
         match &evaluated[page.data.as_str()] {
-            (Ok(material), names) => {
+            Ok(material) => {
                 result.warnings.extend(material.data.warnings.iter().map(|w| Warning { page: id.clone(), error: w.clone() }));
                 result.kept.push(KeptPage {
-                names: names.clone().unwrap_or_else(|| vec![page.book_name.clone()]),
+                names: names_of(&page.data).unwrap_or_else(|| vec![page.book_name.clone()]),
                 material: material.clone(),
                 shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).cloned().collect(),
                 page: page.clone(),
             })
             }
-            (Err(error), _) => result.excluded.push(Excluded { page: id, error: error.clone() }),
+            Err(error) => result.excluded.push(Excluded { page: id, error: error.clone() }),
         }
     }
     Ok(result)

@@ -146,17 +146,44 @@ pub fn strip_html(text: &str) -> String {
     out.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// 1-based line numbers of the `data:` keys of the DATA blocks, in file order, so that
-/// row i of the j-th tabulated block is at line `data_lines[j] + 1 + i`.
-fn data_key_lines(text: &str) -> Vec<usize> {
-    text.lines()
-        .enumerate()
-        .filter(|(_, line)| {
-            let t = line.trim_start();
-            t.starts_with("data:") && line.len() - t.len() >= 2
-        })
-        .map(|(i, _)| i + 1)
-        .collect()
+/// What the line scans of a data file's text find, in one pass over its lines.
+struct TextKeys {
+    /// 1-based line numbers of the `data:` keys of the DATA blocks, in file order, so that
+    /// row i of the j-th tabulated block is at line `data_lines[j] + 1 + i`.
+    data_lines: Vec<usize>,
+    /// `PROPERTIES.nd` and `PROPERTIES.Vd` as printed.
+    nd: Option<Printed>,
+    vd: Option<Printed>,
+}
+
+impl TextKeys {
+    fn scan(text: &str) -> Self {
+        let mut data_lines = Vec::new();
+        // The first `nd:` / `Vd:` line under PROPERTIES decides (a value that is not a
+        // number gives none).
+        let mut nd: Option<Option<Printed>> = None;
+        let mut vd: Option<Option<Printed>> = None;
+        let mut in_properties = false;
+        for (i, line) in table_lines(text).enumerate() {
+            let trimmed = line.trim_start();
+            if trimmed.starts_with("data:") && line.len() - trimmed.len() >= 2 {
+                data_lines.push(i + 1);
+            }
+            if !line.starts_with(' ') && !line.is_empty() {
+                in_properties = line.starts_with("PROPERTIES:");
+                continue;
+            }
+            // Direct children of PROPERTIES only (4 spaces in the database's layout, any > 0 here).
+            if in_properties {
+                for (key, slot) in [("nd", &mut nd), ("Vd", &mut vd)] {
+                    if slot.is_none() && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
+                        *slot = Some(printed_value(&trimmed[key.len() + 1..]));
+                    }
+                }
+            }
+        }
+        Self { data_lines, nd: nd.flatten(), vd: vd.flatten() }
+    }
 }
 
 /// The literal block scalars (`data: |`) of a data file, cut out of its text: the numeric
@@ -177,24 +204,34 @@ impl<'a> CutTables<'a> {
     /// tab in the indentation): the YAML parser then reads the whole text, as before.
     fn cut(text: &'a str) -> Option<Self> {
         let mut tables = Vec::new();
-        let mut blank: Vec<(usize, usize)> = Vec::new();
+        let mut blank: Vec<Blanked> = Vec::new();
         let mut lines = LineOffsets::new(text).peekable();
         while let Some((number, start, line)) = lines.next() {
             let Some(indent) = literal_data_key(line) else { continue };
             let body_start = start + line.len() + newline_len(text, start + line.len());
             let mut body_end = body_start;
             let mut block_indent: Option<usize> = None;
+            let mut body_lines = 0;
             while let Some(&(_, line_start, next)) = lines.peek() {
-                let content = next.trim_start_matches(' ');
-                let spaces = next.len() - content.len();
-                if content.trim().is_empty() {
-                    if content.starts_with('\t') {
+                let bytes = next.as_bytes();
+                let spaces = bytes.iter().take_while(|&&b| b == b' ').count();
+                let content = &next[spaces..];
+                let (content_line, tab) = match bytes.get(spaces) {
+                    // A table row: printable ASCII after the spaces.
+                    Some(&b) if b > b' ' && b.is_ascii() => (true, false),
+                    None => (false, false),
+                    // Anything else (a tab, other whitespace, a non-ASCII character): the
+                    // general rule, by the `str` methods.
+                    Some(_) => (!content.trim().is_empty(), content.starts_with('\t')),
+                };
+                if !content_line {
+                    if tab {
                         return None;
                     }
                 } else if spaces <= indent {
                     break;
                 } else {
-                    if content.starts_with('\t') {
+                    if tab {
                         return None;
                     }
                     match block_indent {
@@ -204,22 +241,24 @@ impl<'a> CutTables<'a> {
                     }
                 }
                 body_end = line_start + next.len();
+                body_lines += 1;
                 lines.next();
             }
             tables.push((number, &text[body_start.min(body_end)..body_end]));
-            blank.push((body_start, body_end));
+            // Every body line but the last ends inside the body.
+            blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1 });
         }
         if tables.is_empty() {
             return None;
         }
         let mut yaml = String::with_capacity(text.len() / 8);
         let mut at = 0;
-        for (start, end) in blank {
+        for Blanked { start, end, newlines } in blank {
             if start >= end {
                 continue;
             }
             yaml.push_str(&text[at..start]);
-            yaml.extend(text[start..end].bytes().filter(|&b| b == b'\n').map(|_| '\n'));
+            yaml.extend(std::iter::repeat_n('\n', newlines));
             at = end;
         }
         yaml.push_str(&text[at..]);
@@ -230,6 +269,13 @@ impl<'a> CutTables<'a> {
     fn table(&self, line: usize) -> Option<&'a str> {
         self.tables.iter().find(|(l, _)| *l == line).map(|(_, body)| *body)
     }
+}
+
+/// A table's bytes `start..end` in the text, replaced by its `newlines` line ends.
+struct Blanked {
+    start: usize,
+    end: usize,
+    newlines: usize,
 }
 
 /// The indentation of a `data: |` key (a literal block, clip/strip/keep chomping, no
@@ -271,7 +317,7 @@ impl<'a> Iterator for LineOffsets<'a> {
             return None;
         }
         let rest = &self.text[self.at..];
-        let end = rest.find('\n').map_or(rest.len(), |i| i);
+        let end = memchr::memchr(b'\n', rest.as_bytes()).unwrap_or(rest.len());
         let line = rest[..end].strip_suffix('\r').unwrap_or(&rest[..end]);
         let start = self.at;
         self.at += end + 1;
@@ -280,24 +326,12 @@ impl<'a> Iterator for LineOffsets<'a> {
     }
 }
 
-/// `PROPERTIES.<key>` as printed in the text (decimals matter for the nd check).
-fn printed_property(text: &str, key: &str) -> Option<Printed> {
-    let mut in_properties = false;
-    for line in text.lines() {
-        if !line.starts_with(' ') && !line.is_empty() {
-            in_properties = line.starts_with("PROPERTIES:");
-            continue;
-        }
-        let trimmed = line.trim_start();
-        // Direct children of PROPERTIES only (4 spaces in the database's layout, any > 0 here).
-        if in_properties && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
-            let raw = trimmed[key.len() + 1..].trim();
-            let value: f64 = raw.parse().ok()?;
-            let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
-            return Some(Printed { value, decimals });
-        }
-    }
-    None
+/// A property value as printed after its key (decimals matter for the nd check).
+fn printed_value(after_key: &str) -> Option<Printed> {
+    let raw = after_key.trim();
+    let value: f64 = raw.parse().ok()?;
+    let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
+    Some(Printed { value, decimals })
 }
 
 /// One tabulated row (λ and one or two values; unused slots are 0) and its line.
@@ -306,20 +340,137 @@ struct Row {
     line: Option<usize>,
 }
 
+/// The lines of `text` exactly as [`str::lines`] cuts them (a `\r` dropped only before a
+/// `\n`), found by `memchr`: the tables are a million short lines.
+fn table_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut at = 0;
+    std::iter::from_fn(move || {
+        let rest = text.get(at..).filter(|r| !r.is_empty())?;
+        Some(match memchr::memchr(b'\n', rest.as_bytes()) {
+            Some(end) => {
+                at += end + 1;
+                rest[..end].strip_suffix('\r').unwrap_or(&rest[..end])
+            }
+            None => {
+                at = text.len();
+                rest
+            }
+        })
+    })
+}
+
+/// What a byte is to the field splitter of the tables.
+#[derive(Clone, Copy, PartialEq)]
+enum ByteClass {
+    /// Whitespace as [`char::is_whitespace`] sees it among ASCII bytes: tab, line feed,
+    /// vertical tab, form feed, carriage return, space.
+    Space,
+    /// A byte of a plain decimal number: digits, `.`, `+`, `-`, `e`, `E`.
+    Numeric,
+    /// Any other ASCII byte.
+    Other,
+    /// A byte of a multi-byte character (≥ 0x80).
+    NonAscii,
+}
+
+const BYTE_CLASSES: [ByteClass; 256] = {
+    let mut classes = [ByteClass::Other; 256];
+    let mut b = 0;
+    while b < 256 {
+        classes[b] = match b as u8 {
+            b'\t'..=b'\r' | b' ' => ByteClass::Space,
+            b'0'..=b'9' | b'.' | b'+' | b'-' | b'e' | b'E' => ByteClass::Numeric,
+            0x80..=0xFF => ByteClass::NonAscii,
+            _ => ByteClass::Other,
+        };
+        b += 1;
+    }
+    classes
+};
+
+/// One field of a table row, and whether all its bytes are [`ByteClass::Numeric`].
+#[derive(Clone, Copy, Default)]
+struct Field<'a> {
+    text: &'a str,
+    plain: bool,
+}
+
+/// The whitespace-separated fields of `line` as [`str::split_whitespace`] gives them: the
+/// first three in `fields`, and their count. A line of ASCII is split byte by byte; any
+/// other goes through `split_whitespace` itself (Unicode spaces separate fields too).
+fn split_fields<'a>(line: &'a str, fields: &mut [Field<'a>; 3]) -> usize {
+    let bytes = line.as_bytes();
+    let mut count = 0;
+    let mut at = 0;
+    while at < bytes.len() {
+        match BYTE_CLASSES[bytes[at] as usize] {
+            ByteClass::Space => {
+                at += 1;
+                continue;
+            }
+            ByteClass::NonAscii => return split_fields_unicode(line, fields),
+            _ => {}
+        }
+        let start = at;
+        let mut plain = true;
+        while at < bytes.len() {
+            match BYTE_CLASSES[bytes[at] as usize] {
+                ByteClass::Space => break,
+                ByteClass::Numeric => {}
+                ByteClass::Other => plain = false,
+                ByteClass::NonAscii => return split_fields_unicode(line, fields),
+            }
+            at += 1;
+        }
+        if let Some(slot) = fields.get_mut(count) {
+            *slot = Field { text: &line[start..at], plain };
+        }
+        count += 1;
+    }
+    count
+}
+
+/// [`split_fields`] of a line holding a non-ASCII character, by `split_whitespace`.
+fn split_fields_unicode<'a>(line: &'a str, fields: &mut [Field<'a>; 3]) -> usize {
+    let mut count = 0;
+    for text in line.split_whitespace() {
+        if let Some(slot) = fields.get_mut(count) {
+            *slot = Field { text, plain: false };
+        }
+        count += 1;
+    }
+    count
+}
+
+/// A field read as `f64`'s [`FromStr`](std::str::FromStr) reads it. Fields of up to 64
+/// digits, signs, points and exponent marks (every table number) go to `fast-float2`,
+/// whose grammar for them is the same and whose result is the same correctly rounded
+/// value; anything else (`inf`, `NaN`, stray text, longer fields) to the standard parser.
+pub fn parse_float(field: &str) -> Option<f64> {
+    let plain = field.bytes().all(|b| BYTE_CLASSES[b as usize] == ByteClass::Numeric);
+    parse_field(Field { text: field, plain })
+}
+
+/// [`parse_float`] of a field whose bytes were classified while it was split off.
+fn parse_field(field: Field) -> Option<f64> {
+    if field.plain && field.text.len() <= 64 {
+        fast_float2::parse(field.text).ok()
+    } else {
+        field.text.parse().ok()
+    }
+}
+
 /// Parse rows of `columns` numbers each, wavelength first and positive.
 fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<Row>, DataError> {
-    let mut rows: Vec<Row> = Vec::new();
-    for (i, line) in block.lines().enumerate() {
+    // One row per line at most, and a row takes at least 4 bytes ("1 2" and its line end):
+    // counting the line ends is cheaper than growing the list.
+    let lines = memchr::memchr_iter(b'\n', block.as_bytes()).count() + 1;
+    let mut rows: Vec<Row> = Vec::with_capacity(lines.min(block.len() / 4 + 1));
+    for (i, line) in table_lines(block).enumerate() {
         let line_no = first_line.map(|l| l + i);
         // At most three fields are kept; the count says whether the row has `columns`.
-        let mut fields = [""; 3];
-        let mut count = 0;
-        for field in line.split_whitespace() {
-            if let Some(slot) = fields.get_mut(count) {
-                *slot = field;
-            }
-            count += 1;
-        }
+        let mut fields = [Field::default(); 3];
+        let count = split_fields(line, &mut fields);
         if count == 0 {
             continue;
         }
@@ -333,9 +484,9 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
         }
         let mut values = [0.0; 3];
         for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
-            match field.parse::<f64>() {
-                Ok(x) if x.is_finite() => *slot = x,
-                _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {field:?}"))),
+            match parse_field(*field) {
+                Some(x) if x.is_finite() => *slot = x,
+                _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {:?}", field.text))),
             }
         }
         if values[0] <= 0.0 {
@@ -508,7 +659,8 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string())
     })?;
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
-    let data_lines = data_key_lines(text);
+    let keys = TextKeys::scan(text);
+    let data_lines = &keys.data_lines;
     let mut data_block_index = 0;
     let mut n: Option<Curve> = None;
     let mut k: Option<Curve> = None;
@@ -579,8 +731,8 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         n,
         k,
         reference,
-        nd: printed_property(text, "nd"),
-        vd: printed_property(text, "Vd"),
+        nd: keys.nd,
+        vd: keys.vd,
         warnings,
     })
 }
@@ -685,5 +837,184 @@ mod tests {
         // Far-infrared rows beyond the window's neighbours are not read, so not judged.
         let far = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.9 3.0 1.0\n        50 20 2e3\n        90 30 4e3\n";
         assert!(parse_page("far.yml", far).is_ok());
+    }
+
+    /// The line scans as they were written first, on `str` methods: the reference the
+    /// byte-level scans must agree with.
+    mod reference {
+        use super::super::Printed;
+
+        pub fn data_key_lines(text: &str) -> Vec<usize> {
+            text.lines()
+                .enumerate()
+                .filter(|(_, line)| {
+                    let t = line.trim_start();
+                    t.starts_with("data:") && line.len() - t.len() >= 2
+                })
+                .map(|(i, _)| i + 1)
+                .collect()
+        }
+
+        pub fn printed_property(text: &str, key: &str) -> Option<Printed> {
+            let mut in_properties = false;
+            for line in text.lines() {
+                if !line.starts_with(' ') && !line.is_empty() {
+                    in_properties = line.starts_with("PROPERTIES:");
+                    continue;
+                }
+                let trimmed = line.trim_start();
+                if in_properties && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
+                    let raw = trimmed[key.len() + 1..].trim();
+                    let value: f64 = raw.parse().ok()?;
+                    let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
+                    return Some(Printed { value, decimals });
+                }
+            }
+            None
+        }
+
+        /// The table cut by `str` methods: the blanked text and (key line, body) pairs.
+        pub fn cut(text: &str) -> Option<(String, Vec<(usize, &str)>)> {
+            let mut lines: Vec<(usize, usize, &str)> = Vec::new();
+            let mut at = 0;
+            for (i, piece) in text.split_inclusive('\n').enumerate() {
+                let line = piece.strip_suffix('\n').unwrap_or(piece);
+                let line = line.strip_suffix('\r').unwrap_or(line);
+                lines.push((i + 1, at, line));
+                at += piece.len();
+            }
+            let mut tables = Vec::new();
+            let mut blank = Vec::new();
+            let mut i = 0;
+            while i < lines.len() {
+                let (number, start, line) = lines[i];
+                i += 1;
+                let trimmed = line.trim_start_matches(' ');
+                let indent = line.len() - trimmed.len();
+                let Some(value) = trimmed.strip_prefix("data:").map(str::trim) else { continue };
+                if !(indent >= 2 && matches!(value, "|" | "|-" | "|+")) {
+                    continue;
+                }
+                let after = start + line.len();
+                let body_start = after + if text[after..].starts_with("\r\n") { 2 } else if text[after..].starts_with('\n') { 1 } else { 0 };
+                let mut body_end = body_start;
+                let mut block_indent: Option<usize> = None;
+                while i < lines.len() {
+                    let (_, line_start, next) = lines[i];
+                    let content = next.trim_start_matches(' ');
+                    let spaces = next.len() - content.len();
+                    if content.trim().is_empty() {
+                        if content.starts_with('\t') {
+                            return None;
+                        }
+                    } else if spaces <= indent {
+                        break;
+                    } else {
+                        if content.starts_with('\t') {
+                            return None;
+                        }
+                        match block_indent {
+                            None => block_indent = Some(spaces),
+                            Some(b) if spaces < b => return None,
+                            Some(_) => {}
+                        }
+                    }
+                    body_end = line_start + next.len();
+                    i += 1;
+                }
+                tables.push((number, &text[body_start.min(body_end)..body_end]));
+                blank.push((body_start, body_end));
+            }
+            if tables.is_empty() {
+                return None;
+            }
+            let mut yaml = String::new();
+            let mut at = 0;
+            for (start, end) in blank {
+                if start >= end {
+                    continue;
+                }
+                yaml.push_str(&text[at..start]);
+                yaml.extend(text[start..end].bytes().filter(|&b| b == b'\n').map(|_| '\n'));
+                at = end;
+            }
+            yaml.push_str(&text[at..]);
+            Some((yaml, tables))
+        }
+    }
+
+    /// Lines of a data file's layout with the characters that make scanning hard: tabs,
+    /// carriage returns, vertical tabs, Unicode spaces, numbers and words.
+    fn layout_line() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let piece = prop_oneof![
+            Just(" ".to_string()),
+            Just("    ".to_string()),
+            Just("\t".to_string()),
+            Just("\r".to_string()),
+            Just("\u{b}".to_string()),
+            Just("\u{a0}".to_string()),
+            Just("\u{3000}".to_string()),
+            Just("data: |".to_string()),
+            Just("data: |-".to_string()),
+            Just("data:".to_string()),
+            Just("PROPERTIES:".to_string()),
+            Just("nd: 1.52".to_string()),
+            Just("Vd: x".to_string()),
+            Just("- type: tabulated n".to_string()),
+            "[0-9.eE+-]{1,8}",
+            "[a-zé]{1,3}",
+        ];
+        proptest::collection::vec(piece, 0..6).prop_map(|pieces| pieces.concat())
+    }
+
+    fn layout_text() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        (proptest::collection::vec(layout_line(), 0..14), prop_oneof![Just("\n"), Just("\r\n")], any::<bool>())
+            .prop_map(|(lines, end, last_end)| lines.join(end) + if last_end { end } else { "" })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(3000))]
+
+        /// Same value bits, same rejections as `str::parse::<f64>`.
+        #[test]
+        fn fast_numbers_are_the_standard_parser_s(text in "[0-9.eE+-]{0,24}|[0-9]{1,3}\\.[0-9]{1,25}([eE][+-]?[0-9]{1,3})?|\\PC{0,8}") {
+            let standard = text.parse::<f64>().ok().map(f64::to_bits);
+            proptest::prop_assert_eq!(parse_float(&text).map(f64::to_bits), standard);
+        }
+
+        /// The fields and their count are those of `split_whitespace`; the lines those of `lines`.
+        #[test]
+        fn fields_and_lines_are_the_str_methods(text in layout_text()) {
+            proptest::prop_assert_eq!(table_lines(&text).collect::<Vec<_>>(), text.lines().collect::<Vec<_>>());
+            for line in text.lines() {
+                let mut fields = [Field::default(); 3];
+                let count = split_fields(line, &mut fields);
+                let expected: Vec<&str> = line.split_whitespace().collect();
+                proptest::prop_assert_eq!(count, expected.len());
+                let kept: Vec<&str> = fields[..count.min(3)].iter().map(|f| f.text).collect();
+                proptest::prop_assert_eq!(&kept[..], &expected[..count.min(3)]);
+            }
+        }
+
+        /// The one-pass scan finds what the three `str` scans found, and the byte-level cut
+        /// gives the text and tables of the `str` cut.
+        #[test]
+        fn byte_scans_are_the_str_scans(text in layout_text()) {
+            let keys = TextKeys::scan(&text);
+            proptest::prop_assert_eq!(keys.data_lines, reference::data_key_lines(&text));
+            proptest::prop_assert_eq!(keys.nd, reference::printed_property(&text, "nd"));
+            proptest::prop_assert_eq!(keys.vd, reference::printed_property(&text, "Vd"));
+            let cut = CutTables::cut(&text).map(|c| (c.yaml, c.tables));
+            proptest::prop_assert_eq!(cut, reference::cut(&text));
+        }
+    }
+
+    #[test]
+    fn table_numbers_and_edge_cases_parse_as_the_standard_parser() {
+        for text in ["1.28246E+00", "1.11870E-06", "0.39", "+.5", "5.", ".", "-", "+", "1e", "1e+", "e5", "1..2", "1e5e5", "-0", "1e400", "1e-400", "inf", "NaN", "0x10", "1_0"] {
+            assert_eq!(parse_float(text).map(f64::to_bits), text.parse::<f64>().ok().map(f64::to_bits), "{text}");
+        }
     }
 }
