@@ -45,9 +45,22 @@ impl Database {
     }
 
     pub fn catalog(&self) -> Result<Catalog> {
-        let path = self.root.join("catalog-nk.yml");
-        let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-        Catalog::parse(&text).with_context(|| format!("parsing {}", path.display()))
+        self.parse_catalog(&self.catalog_text()?)
+    }
+
+    fn catalog_path(&self) -> PathBuf {
+        self.root.join("catalog-nk.yml")
+    }
+
+    /// The text of `catalog-nk.yml`.
+    pub fn catalog_text(&self) -> Result<String> {
+        let path = self.catalog_path();
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))
+    }
+
+    /// [`Catalog::parse`] of the catalog's text, errors naming the file.
+    pub fn parse_catalog(&self, text: &str) -> Result<Catalog> {
+        Catalog::parse(text).with_context(|| format!("parsing {}", self.catalog_path().display()))
     }
 
     pub fn data_path(&self, data: &str) -> PathBuf {
