@@ -460,35 +460,166 @@ fn parse_field(field: Field) -> Option<f64> {
     }
 }
 
-/// Parse rows of `columns` numbers each, wavelength first and positive.
+/// The numbers of the row that starts at byte `at` of a table, read in one pass when the
+/// row is plain: ASCII whitespace around exactly `columns` numbers, each finite, of at most
+/// 64 bytes and ending at whitespace, read by fast-float2 (the standard parser's value: a
+/// finite result comes from the plain decimal grammar, which the two share). Returns the
+/// values and the offset of the row's line end (its `\n`, or the end of the table); `None`
+/// for any other row (blank, short, long, not numbers), which [`general_row`] then reads.
+fn plain_row(bytes: &[u8], mut at: usize, columns: usize) -> Option<([f64; 3], usize)> {
+    let mut values = [0.0; 3];
+    let mut count = 0;
+    loop {
+        // Whitespace within the line: every ASCII whitespace byte but the line feed.
+        while at < bytes.len() && matches!(bytes[at], b'\t' | b'\x0B' | b'\x0C' | b'\r' | b' ') {
+            at += 1;
+        }
+        if at == bytes.len() || bytes[at] == b'\n' || count == columns {
+            break;
+        }
+        let (value, length) = exact_decimal(&bytes[at..]).or_else(|| fast_float2::parse_partial::<f64, _>(&bytes[at..]).ok())?;
+        at += length;
+        let ends_at_space = bytes.get(at).is_none_or(|&b| BYTE_CLASSES[b as usize] == ByteClass::Space);
+        if length > 64 || !value.is_finite() || !ends_at_space {
+            return None;
+        }
+        values[count] = value;
+        count += 1;
+    }
+    let line_end = at == bytes.len() || bytes[at] == b'\n';
+    (count == columns && line_end).then_some((values, at))
+}
+
+/// The number at the start of `bytes` when it is a short decimal that one IEEE operation
+/// reads exactly (Clinger's fast path, which the standard parser and fast-float2 take first
+/// too): `[+-]digits[.digits][(e|E)[+-]digits]`, at most 19 digits whose integer m ≤ 2⁵³,
+/// and a power of ten 10^e with |e| ≤ 22. m and 10^|e| are exact doubles, so m·10^e or
+/// m/10^|e| is the correctly rounded value, the bits any correct parser gives. Returns the
+/// value and the number's length; `None` for anything else (fast-float2 reads it then).
+fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
+    const POWERS: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+        1e21, 1e22,
+    ];
+    let digit = |at: usize| bytes.get(at).filter(|b| b.is_ascii_digit()).map(|b| u64::from(b - b'0'));
+    let mut at = 0;
+    let negative = match bytes.first() {
+        Some(b'-') => {
+            at = 1;
+            true
+        }
+        Some(b'+') => {
+            at = 1;
+            false
+        }
+        _ => false,
+    };
+    let mut mantissa: u64 = 0;
+    let mut digits = 0;
+    let mut exponent: i64 = 0;
+    while let Some(d) = digit(at) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
+        digits += 1;
+        at += 1;
+    }
+    if bytes.get(at) == Some(&b'.') {
+        at += 1;
+        while let Some(d) = digit(at) {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
+            digits += 1;
+            exponent -= 1;
+            at += 1;
+        }
+    }
+    if digits == 0 || digits > 19 || mantissa > 1 << 53 {
+        return None;
+    }
+    if matches!(bytes.get(at), Some(b'e' | b'E')) {
+        at += 1;
+        let negative_exponent = match bytes.get(at) {
+            Some(b'-') => {
+                at += 1;
+                true
+            }
+            Some(b'+') => {
+                at += 1;
+                false
+            }
+            _ => false,
+        };
+        let start = at;
+        let mut written: i64 = 0;
+        while let Some(d) = digit(at) {
+            written = (10 * written + d as i64).min(1 << 20);
+            at += 1;
+        }
+        if at == start {
+            return None;
+        }
+        exponent += if negative_exponent { -written } else { written };
+    }
+    let power = *POWERS.get(exponent.unsigned_abs() as usize)?;
+    let magnitude = if exponent >= 0 { mantissa as f64 * power } else { mantissa as f64 / power };
+    Some((if negative { -magnitude } else { magnitude }, at))
+}
+
+/// The numbers of one row by the general rule (fields split as `split_whitespace` splits
+/// them, read as `f64`'s `FromStr` reads them): `None` for a blank line, the named error
+/// for a row that does not hold `columns` finite numbers.
+fn general_row(file: &str, line: &str, columns: usize, line_no: Option<usize>) -> Result<Option<[f64; 3]>, DataError> {
+    // At most three fields are kept; the count says whether the row has `columns`.
+    let mut fields = [Field::default(); 3];
+    let count = split_fields(line, &mut fields);
+    if count == 0 {
+        return Ok(None);
+    }
+    if count != columns {
+        return Err(DataError::new(
+            Reason::BadRow,
+            file,
+            line_no,
+            format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
+        ));
+    }
+    let mut values = [0.0; 3];
+    for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
+        match parse_field(*field) {
+            Some(x) if x.is_finite() => *slot = x,
+            _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {:?}", field.text))),
+        }
+    }
+    Ok(Some(values))
+}
+
+/// Parse rows of `columns` numbers each, wavelength first and positive. Lines as
+/// [`str::lines`] cuts them; each row read by [`plain_row`], else by [`general_row`].
 fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<Row>, DataError> {
+    let bytes = block.as_bytes();
     // One row per line at most, and a row takes at least 4 bytes ("1 2" and its line end):
     // counting the line ends is cheaper than growing the list.
-    let lines = memchr::memchr_iter(b'\n', block.as_bytes()).count() + 1;
-    let mut rows: Vec<Row> = Vec::with_capacity(lines.min(block.len() / 4 + 1));
-    for (i, line) in table_lines(block).enumerate() {
+    let lines = memchr::memchr_iter(b'\n', bytes).count() + 1;
+    let mut rows: Vec<Row> = Vec::with_capacity(lines.min(bytes.len() / 4 + 1));
+    let mut at = 0;
+    let mut i = 0;
+    while at < bytes.len() {
         let line_no = first_line.map(|l| l + i);
-        // At most three fields are kept; the count says whether the row has `columns`.
-        let mut fields = [Field::default(); 3];
-        let count = split_fields(line, &mut fields);
-        if count == 0 {
-            continue;
-        }
-        if count != columns {
-            return Err(DataError::new(
-                Reason::BadRow,
-                file,
-                line_no,
-                format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
-            ));
-        }
-        let mut values = [0.0; 3];
-        for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
-            match parse_field(*field) {
-                Some(x) if x.is_finite() => *slot = x,
-                _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {:?}", field.text))),
+        i += 1;
+        let (values, end) = match plain_row(bytes, at, columns) {
+            Some(row) => row,
+            None => {
+                let end = memchr::memchr(b'\n', &bytes[at..]).map_or(bytes.len(), |e| at + e);
+                let line = &block[at..end];
+                let line = if end < bytes.len() { line.strip_suffix('\r').unwrap_or(line) } else { line };
+                match general_row(file, line, columns, line_no)? {
+                    Some(values) => (values, end),
+                    None => {
+                        at = end + 1;
+                        continue;
+                    }
+                }
             }
-        }
+        };
+        at = end + 1;
         if values[0] <= 0.0 {
             return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
         }
@@ -873,6 +1004,38 @@ mod tests {
             None
         }
 
+        /// Rows read by `lines`, `split_whitespace` and `str::parse`: (values, line) per row,
+        /// or the error's reason, line and detail.
+        pub fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<([u64; 3], Option<usize>)>, String> {
+            let mut rows = Vec::new();
+            for (i, line) in block.lines().enumerate() {
+                let line_no = first_line.map(|l| l + i);
+                let fields: Vec<&str> = line.split_whitespace().collect();
+                if fields.is_empty() {
+                    continue;
+                }
+                if fields.len() != columns {
+                    return Err(format!("bad-row {line_no:?} expected {columns} numbers, found {}: {:?}", fields.len(), line.trim()));
+                }
+                let mut values = [0.0f64; 3];
+                for (slot, field) in values.iter_mut().zip(&fields) {
+                    match field.parse::<f64>() {
+                        Ok(x) if x.is_finite() => *slot = x,
+                        _ => return Err(format!("bad-row {line_no:?} not a finite number: {field:?}")),
+                    }
+                }
+                if values[0] <= 0.0 {
+                    return Err(format!("bad-row {line_no:?} wavelength {} µm is not positive", values[0]));
+                }
+                rows.push((values.map(f64::to_bits), line_no));
+            }
+            if rows.is_empty() {
+                return Err(format!("no-data {first_line:?} tabulated block has no rows"));
+            }
+            let _ = file;
+            Ok(rows)
+        }
+
         /// The table cut by `str` methods: the blanked text and (key line, body) pairs.
         pub fn cut(text: &str) -> Option<(String, Vec<(usize, &str)>)> {
             let mut lines: Vec<(usize, usize, &str)> = Vec::new();
@@ -984,6 +1147,14 @@ mod tests {
             proptest::prop_assert_eq!(parse_float(&text).map(f64::to_bits), standard);
         }
 
+        /// Where the fast path reads a number, it is the standard parser's value, bit for bit.
+        #[test]
+        fn exact_decimals_are_the_standard_parser_s(text in "[+-]?[0-9]{0,12}(\\.[0-9]{0,12})?([eE][+-]?[0-9]{1,3})?|[0-9]{14,20}\\.?[0-9]{0,3}") {
+            if let Some((value, length)) = exact_decimal(text.as_bytes()) {
+                proptest::prop_assert_eq!(Some(value.to_bits()), text[..length].parse::<f64>().ok().map(f64::to_bits), "{}", text);
+            }
+        }
+
         /// The fields and their count are those of `split_whitespace`; the lines those of `lines`.
         #[test]
         fn fields_and_lines_are_the_str_methods(text in layout_text()) {
@@ -1008,6 +1179,53 @@ mod tests {
             proptest::prop_assert_eq!(keys.vd, reference::printed_property(&text, "Vd"));
             let cut = CutTables::cut(&text).map(|c| (c.yaml, c.tables));
             proptest::prop_assert_eq!(cut, reference::cut(&text));
+        }
+    }
+
+    /// Table bodies of rows that are mostly plain numbers, with the defects and layouts the
+    /// general rule must handle.
+    fn table_body() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let field = prop_oneof![
+            8 => (0.01f64..100.0).prop_map(|x| format!("{x}")),
+            4 => (0.1f64..10.0, -8i32..3).prop_map(|(m, e)| format!("{m:.5}E{e:+03}")),
+            1 => Just("-1.5".to_string()),
+            1 => Just("0".to_string()),
+            1 => Just("1e400".to_string()),
+            1 => Just("inf".to_string()),
+            1 => Just("nan".to_string()),
+            1 => Just("1.5e".to_string()),
+            1 => Just("+.5".to_string()),
+            1 => Just("2.".to_string()),
+            1 => Just("1,5".to_string()),
+            1 => Just("0.1234567890123456789012345678901234567890123456789012345678901234567".to_string()),
+            1 => "[0-9.eE+-]{1,6}",
+            1 => "[a-zé]{1,3}",
+        ];
+        let space = prop_oneof![8 => Just(" "), 1 => Just("  "), 1 => Just("\t"), 1 => Just("\r"), 1 => Just("\u{b}"), 1 => Just("\u{a0}"), 1 => Just("\u{3000}")];
+        let row = (space.clone(), proptest::collection::vec((field, space.clone()), 0..5)).prop_map(|(lead, fields)| {
+            let mut row = String::from(lead);
+            for (field, space) in fields {
+                row.push_str(&field);
+                row.push_str(space);
+            }
+            row
+        });
+        (proptest::collection::vec(row, 0..8), prop_oneof![Just("\n"), Just("\r\n")], any::<bool>())
+            .prop_map(|(rows, end, last_end)| rows.join(end) + if last_end { end } else { "" })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+
+        /// Rows read the plain way or the general way are the rows (or the error) of the
+        /// `str` methods and the standard float parser.
+        #[test]
+        fn rows_are_those_of_the_str_methods(body in table_body(), columns in 2usize..=3) {
+            let ours = parse_rows("t.yml", &body, columns, Some(7)).map(|rows| rows.iter().map(|r| (r.values.map(f64::to_bits), r.line)).collect::<Vec<_>>()).map_err(|e| {
+                format!("{} {:?} {}", e.reason.code(), e.line, e.detail)
+            });
+            proptest::prop_assert_eq!(ours, reference::parse_rows("t.yml", &body, columns, Some(7)));
         }
     }
 
