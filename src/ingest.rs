@@ -191,8 +191,7 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     // decides which results are used, and any file the scan missed is read after.
     let whole = selection.shelves.is_empty() && selection.pages.is_empty();
     let (catalog, early) = if whole {
-        let guessed = crate::db::catalog::guess_data_paths(&text);
-        rayon::join(|| db.parse_catalog(&text), || evaluate_files(db, &guessed, config))
+        rayon::join(|| db.parse_catalog(&text), || evaluate_files(db, &crate::db::catalog::guess_data_paths(&text), config))
     } else {
         (db.parse_catalog(&text), Evaluated::empty())
     };
