@@ -219,14 +219,19 @@ impl<'a> CutTables<'a> {
     fn cut(text: &'a str) -> Option<Self> {
         let mut tables = Vec::new();
         let mut blank: Vec<Blanked> = Vec::new();
-        let mut lines = LineOffsets::new(text).peekable();
+        let mut lines = LineOffsets::new(text);
         while let Some((number, start, line)) = lines.next() {
             let Some(indent) = literal_data_key(line) else { continue };
             let body_start = start + line.len() + newline_len(text, start + line.len());
             let mut body_end = body_start;
             let mut block_indent: Option<usize> = None;
             let mut body_lines = 0;
-            while let Some(&(_, line_start, next)) = lines.peek() {
+            // The body's lines, as `LineOffsets` cuts them, read in place.
+            let mut line_start = lines.at;
+            while line_start < text.len() {
+                let end = memchr::memchr(b'\n', &text.as_bytes()[line_start..]).map_or(text.len(), |e| line_start + e);
+                let next = &text[line_start..end];
+                let next = next.strip_suffix('\r').unwrap_or(next);
                 let bytes = next.as_bytes();
                 let spaces = bytes.iter().take_while(|&&b| b == b' ').count();
                 let content = &next[spaces..];
@@ -256,8 +261,9 @@ impl<'a> CutTables<'a> {
                 }
                 body_end = line_start + next.len();
                 body_lines += 1;
-                lines.next();
+                line_start = end + 1;
             }
+            lines.skip_to(line_start, body_lines);
             tables.push((number, &text[body_start.min(body_end)..body_end]));
             // Every body line but the last ends inside the body.
             blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1 });
@@ -320,6 +326,12 @@ struct LineOffsets<'a> {
 impl<'a> LineOffsets<'a> {
     fn new(text: &'a str) -> Self {
         Self { text, at: 0, number: 0 }
+    }
+
+    /// Continue at byte `at`, the start of a line, after `lines` lines read elsewhere.
+    fn skip_to(&mut self, at: usize, lines: usize) {
+        self.at = at;
+        self.number += lines;
     }
 }
 
