@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 
-use crate::db::{book_dir, CatalogPage, DataError, Database, Reason};
+use crate::db::{book_dir, check_data_path, CatalogPage, DataError, Database, Reason};
 use crate::output::{SetFile, Table};
 use crate::spectrum::{self, Channels, Coverage, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
 
@@ -162,7 +162,8 @@ fn evaluate_files<'a>(db: &Database, files: &[&'a str], config: &Config) -> Eval
     if files.is_empty() {
         return Evaluated::empty();
     }
-    let mut books: Vec<&Path> = files.iter().filter_map(|&file| book_dir(file)).collect();
+    // Only paths that stay inside the database name a book (the others are never opened).
+    let mut books: Vec<&Path> = files.iter().filter(|&&file| check_data_path(file).is_ok()).filter_map(|&file| book_dir(file)).collect();
     books.sort_unstable();
     books.dedup();
     let bar = crate::progress::bar(files.len(), "ingest");
