@@ -36,7 +36,7 @@ impl Selection {
     }
 
     fn includes(&self, page: &CatalogPage) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| *s == page.shelf) || self.pages.iter().any(|p| page.has_id(p))
+        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.contains(&page.shelf) || self.pages.iter().any(|p| page.has_id(p))
     }
 
     /// Whether the page `id` on `shelf` is selected: the whole catalog when nothing is
