@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 
-use crate::db::{CatalogPage, DataError, Database, Reason};
+use crate::db::{book_dir, check_data_path, CatalogPage, DataError, Database, Reason};
 use crate::output::{SetFile, Table};
 use crate::spectrum::{self, Channels, Coverage, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
 
@@ -36,7 +36,7 @@ impl Selection {
     }
 
     fn includes(&self, page: &CatalogPage) -> bool {
-        self.includes_id(&page.shelf, &page.id())
+        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.contains(&page.shelf) || self.pages.iter().any(|p| page.has_id(p))
     }
 
     /// Whether the page `id` on `shelf` is selected: the whole catalog when nothing is
@@ -111,7 +111,7 @@ pub struct Ingest {
 
 impl Ingest {
     pub fn find(&self, id: &str) -> Option<&KeptPage> {
-        self.kept.iter().find(|p| p.id() == id)
+        self.kept.iter().find(|p| p.page.has_id(id))
     }
 
     /// Excluded pages counted by reason code.
@@ -143,9 +143,60 @@ impl Ingest {
     }
 }
 
+/// Data files read and evaluated, and the names of their books.
+struct Evaluated<'a> {
+    materials: HashMap<&'a str, Result<Arc<Material>, DataError>>,
+    /// `NAMES` of each book's about.yml, read once per book.
+    names: HashMap<&'a Path, Option<Vec<String>>>,
+}
+
+impl Evaluated<'_> {
+    fn empty() -> Self {
+        Self { materials: HashMap::new(), names: HashMap::new() }
+    }
+}
+
+/// Read and evaluate each of `files` (sorted, each once) and the about.yml of each of their
+/// books, in parallel.
+fn evaluate_files<'a>(db: &Database, files: &[&'a str], config: &Config) -> Evaluated<'a> {
+    if files.is_empty() {
+        return Evaluated::empty();
+    }
+    // Only paths that stay inside the database name a book (the others are never opened).
+    let mut books: Vec<&Path> = files.iter().filter(|&&file| check_data_path(file).is_ok()).filter_map(|&file| book_dir(file)).collect();
+    books.sort_unstable();
+    books.dedup();
+    let bar = crate::progress::bar(files.len(), "ingest");
+    let (materials, names) = rayon::join(
+        || {
+            files
+                .par_iter()
+                .map(|&file| {
+                    let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
+                    bar.inc(1);
+                    (file, result)
+                })
+                .collect()
+        },
+        || books.par_iter().map(|&book| (book, db.about_names(book))).collect(),
+    );
+    bar.finish_and_clear();
+    Evaluated { materials, names }
+}
+
 /// Read, filter and evaluate the selected pages. Data errors are recorded, never fatal.
 pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<Ingest> {
-    let catalog = db.catalog()?;
+    let text = db.catalog_text()?;
+    // The whole catalog: the files a line scan of its text names are read and evaluated
+    // while it is parsed (one core parses, the other reads); the parsed catalog then
+    // decides which results are used, and any file the scan missed is read after.
+    let whole = selection.shelves.is_empty() && selection.pages.is_empty();
+    let (catalog, early) = if whole {
+        rayon::join(|| db.parse_catalog(&text), || evaluate_files(db, &crate::db::catalog::guess_data_paths(&text), config))
+    } else {
+        (db.parse_catalog(&text), Evaluated::empty())
+    };
+    let catalog = catalog?;
     for wanted in &selection.pages {
         if catalog.find(wanted).is_none() {
             bail!("unknown page {wanted:?} (ids look like main/Au/Johnson or 3d/metals/gold)");
@@ -157,27 +208,21 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
             bail!("unknown shelf {shelf:?}; the catalog has {}", known_shelves.join(", "));
         }
     }
-    let pages: Vec<CatalogPage> = catalog.pages.iter().filter(|p| selection.includes(p)).cloned().collect();
+    let pages: Vec<&CatalogPage> = catalog.pages.iter().filter(|p| selection.includes(p)).collect();
+    let ids: Vec<String> = pages.iter().map(|p| p.id()).collect();
 
     // Each data file once, in parallel.
     let mut files: Vec<&str> = pages.iter().map(|p| p.data.as_str()).collect();
     files.sort_unstable();
     files.dedup();
-    let bar = crate::progress::bar(files.len(), "ingest");
-    let evaluated: HashMap<&str, (Result<Arc<Material>, DataError>, Option<Vec<String>>)> = files
-        .par_iter()
-        .map(|&file| {
-            let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
-            let names = result.is_ok().then(|| db.book_names(file)).flatten();
-            bar.inc(1);
-            (file, (result, names))
-        })
-        .collect();
-    bar.finish_and_clear();
+    let missing: Vec<&str> = files.iter().copied().filter(|file| !early.materials.contains_key(file)).collect();
+    let late = evaluate_files(db, &missing, config);
+    let material_of = |file: &str| early.materials.get(file).or_else(|| late.materials.get(file));
+    let names_of = |file: &str| book_dir(file).and_then(|book| early.names.get(book).or_else(|| late.names.get(book)).cloned().flatten());
 
-    let mut ids_by_file: HashMap<&str, Vec<String>> = HashMap::new();
-    for page in &pages {
-        ids_by_file.entry(page.data.as_str()).or_default().push(page.id());
+    let mut ids_by_file: HashMap<&str, Vec<&str>> = HashMap::new();
+    for (page, id) in pages.iter().zip(&ids) {
+        ids_by_file.entry(page.data.as_str()).or_default().push(id);
     }
     let mut result = Ingest { selected: pages.len(), config: *config, ..Default::default() };
     for rejected in catalog.rejected.iter().filter(|r| selection.includes_id(&r.shelf, &r.id)) {
@@ -185,16 +230,17 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
         result.excluded.push(Excluded { page: rejected.id.clone(), error: rejected.error.clone() });
     }
     for duplicate in catalog.duplicates.iter().filter(|p| selection.includes(p)) {
-        let first = catalog.find(&duplicate.id()).map(|p| p.data.as_str());
+        let id = duplicate.id();
+        let first = catalog.find(&id).map(|p| p.data.as_str());
         if first == Some(duplicate.data.as_str()) {
             // A page listed three times is still named once.
-            if !result.listed_twice.contains(&duplicate.id()) {
-                result.listed_twice.push(duplicate.id());
+            if !result.listed_twice.contains(&id) {
+                result.listed_twice.push(id);
             }
         } else {
             result.selected += 1;
             result.excluded.push(Excluded {
-                page: duplicate.id(),
+                page: id,
                 error: DataError::new(
                     Reason::DuplicatePageId,
                     &duplicate.data,
@@ -204,19 +250,18 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
             });
         }
     }
-    for page in &pages {
-        let id = page.id();
-        match &evaluated[page.data.as_str()] {
-            (Ok(material), names) => {
+    for (page, id) in pages.iter().zip(ids.iter()) {
+        match material_of(&page.data).expect("every selected data file was evaluated") {
+            Ok(material) => {
                 result.warnings.extend(material.data.warnings.iter().map(|w| Warning { page: id.clone(), error: w.clone() }));
                 result.kept.push(KeptPage {
-                names: names.clone().unwrap_or_else(|| vec![page.book_name.clone()]),
-                material: material.clone(),
-                shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).cloned().collect(),
-                page: page.clone(),
-            })
+                    names: names_of(&page.data).unwrap_or_else(|| vec![page.book_name.clone()]),
+                    material: material.clone(),
+                    shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).map(|other| other.to_string()).collect(),
+                    page: (*page).clone(),
+                })
             }
-            (Err(error), _) => result.excluded.push(Excluded { page: id, error: error.clone() }),
+            Err(error) => result.excluded.push(Excluded { page: id.clone(), error: error.clone() }),
         }
     }
     Ok(result)

@@ -291,6 +291,62 @@ impl Values {
     }
 }
 
+/// The rows of a table as JSON objects, keys in `order` (column indices by name).
+struct JsonRows<'a> {
+    table: &'a Table,
+    order: &'a [usize],
+}
+
+/// One row of [`JsonRows`].
+struct JsonRow<'a> {
+    rows: &'a JsonRows<'a>,
+    row: usize,
+}
+
+/// One cell of a [`JsonRow`], serialized as [`Values::json`] gives it.
+struct JsonCell<'a> {
+    values: &'a Values,
+    row: usize,
+}
+
+impl serde::Serialize for JsonRows<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeSeq;
+        let mut seq = serializer.serialize_seq(Some(self.table.rows()))?;
+        for row in 0..self.table.rows() {
+            seq.serialize_element(&JsonRow { rows: self, row })?;
+        }
+        seq.end()
+    }
+}
+
+impl serde::Serialize for JsonRow<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(Some(self.rows.order.len()))?;
+        for &c in self.rows.order {
+            let column = &self.rows.table.columns[c];
+            map.serialize_entry(&column.name, &JsonCell { values: &column.values, row: self.row })?;
+        }
+        map.end()
+    }
+}
+
+impl serde::Serialize for JsonCell<'_> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self.values {
+            Values::Text(v) => serializer.serialize_str(&v[self.row]),
+            Values::SharedText(v) => serializer.serialize_str(&v[self.row]),
+            Values::Float(v) => match v[self.row].filter(|x| x.is_finite()) {
+                Some(x) => serializer.serialize_f64(x),
+                None => serializer.serialize_unit(),
+            },
+            Values::Integer(v) => serializer.serialize_i64(v[self.row]),
+            Values::Boolean(v) => serializer.serialize_bool(v[self.row]),
+        }
+    }
+}
+
 /// Shortest text that reads back to the same f64 (Rust's `Display` is round-trip exact).
 pub fn format_float(x: f64) -> String {
     format!("{x}")
@@ -482,14 +538,24 @@ impl Table {
         Ok(bytes)
     }
 
+    /// The table as a pretty-printed JSON array of one object per row, keys in name order
+    /// (as a `serde_json::Map` orders them), missing and non-finite floats as null.
     pub fn to_json(&self) -> Result<Vec<u8>> {
-        let rows: Vec<serde_json::Value> = (0..self.rows())
-            .map(|row| {
-                let object = self.columns.iter().map(|c| (c.name.clone(), c.values.json(row))).collect();
-                serde_json::Value::Object(object)
-            })
-            .collect();
-        let mut bytes = serde_json::to_vec_pretty(&rows)?;
+        let mut order: Vec<usize> = (0..self.columns.len()).collect();
+        order.sort_by(|&a, &b| self.columns[a].name.cmp(&self.columns[b].name));
+        let mut bytes = if order.windows(2).any(|w| self.columns[w[0]].name == self.columns[w[1]].name) {
+            // Two columns of one name: a map keeps one of them, as it always did.
+            let rows: Vec<serde_json::Value> = (0..self.rows())
+                .map(|row| {
+                    let object = self.columns.iter().map(|c| (c.name.clone(), c.values.json(row))).collect();
+                    serde_json::Value::Object(object)
+                })
+                .collect();
+            serde_json::to_vec_pretty(&rows)?
+        } else {
+            // Streamed from the columns: no value tree per row.
+            serde_json::to_vec_pretty(&JsonRows { table: self, order: &order })?
+        };
         bytes.push(b'\n');
         Ok(bytes)
     }
@@ -532,15 +598,16 @@ impl Table {
     /// The files of the table: `<stem>.columns.json` (the column documentation),
     /// `<stem>.csv`, `<stem>.parquet` and, when asked, `<stem>.json`.
     pub fn files(&self, stem: &str, json: bool) -> Result<Vec<SetFile>> {
-        // The two encodings of a large table take about as long each: one per core.
-        let (csv, parquet) = rayon::join(|| self.to_csv(), || self.to_parquet());
+        // The encodings of a large table take about as long each: side by side on the cores.
+        let (csv, (parquet, rows_json)) =
+            rayon::join(|| self.to_csv(), || rayon::join(|| self.to_parquet(), || json.then(|| self.to_json()).transpose()));
         let mut files = vec![
             SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
             SetFile::new(format!("{stem}.csv"), csv?),
             SetFile::new(format!("{stem}.parquet"), parquet?),
         ];
-        if json {
-            files.push(SetFile::new(format!("{stem}.json"), self.to_json()?));
+        if let Some(bytes) = rows_json? {
+            files.push(SetFile::new(format!("{stem}.json"), bytes));
         }
         Ok(files)
     }
@@ -577,6 +644,26 @@ mod tests {
         assert_eq!(value[0]["n"], 0.25);
         assert!(value[1]["n"].is_null());
         assert_eq!(value[1]["page"], "a,b");
+    }
+
+    /// The streamed JSON is the text of a `serde_json::Value` tree of the rows.
+    #[test]
+    fn json_rows_are_the_value_tree_s_text() {
+        let mut table = sample();
+        table
+            .float("a_first", "sorted before the others", vec![f64::NAN, 1e300])
+            .shared_text("z \"quoted\"", "escaped", vec![Arc::from("é\n"), Arc::from("")]);
+        let rows: Vec<serde_json::Value> = (0..2)
+            .map(|row| serde_json::Value::Object(table.columns.iter().map(|c| (c.name.clone(), c.values.json(row))).collect()))
+            .collect();
+        let mut expected = serde_json::to_vec_pretty(&rows).unwrap();
+        expected.push(b'\n');
+        assert_eq!(String::from_utf8(table.to_json().unwrap()).unwrap(), String::from_utf8(expected).unwrap());
+        assert_eq!(Table::new().to_json().unwrap(), b"[]\n");
+        // Two columns of one name: the later one, as a map keeps it.
+        let mut twice = Table::new();
+        twice.integer("x", "first", vec![1]).integer("x", "second", vec![2]);
+        assert_eq!(twice.to_json().unwrap(), b"[\n  {\n    \"x\": 2\n  }\n]\n");
     }
 
     #[test]

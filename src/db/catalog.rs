@@ -26,6 +26,31 @@ impl CatalogPage {
     pub fn id(&self) -> String {
         format!("{}/{}/{}", self.shelf, self.book, self.page)
     }
+
+    /// `self.id() == id`, without building the id.
+    pub fn has_id(&self, id: &str) -> bool {
+        let page = id
+            .strip_prefix(self.shelf.as_str())
+            .and_then(|rest| rest.strip_prefix('/'))
+            .and_then(|rest| rest.strip_prefix(self.book.as_str()))
+            .and_then(|rest| rest.strip_prefix('/'));
+        page == Some(self.page.as_str())
+    }
+}
+
+/// The data paths a line scan of the catalog's text finds (`data: <path>` with a plain
+/// value), sorted, each once: a guess made before the catalog is parsed, so that reading
+/// the files can start meanwhile. The parsed catalog decides which files are used.
+pub fn guess_data_paths(text: &str) -> Vec<&str> {
+    let mut paths: Vec<&str> = text
+        .lines()
+        .filter_map(|line| line.trim_start().strip_prefix("data:"))
+        .map(str::trim)
+        .filter(|path| path.ends_with(".yml") && !path.starts_with(['"', '\'', '[', '{', '&', '*', '!', '|', '>']))
+        .collect();
+    paths.sort_unstable();
+    paths.dedup();
+    paths
 }
 
 /// The whole catalog, pages in file order, each id once.
@@ -128,7 +153,7 @@ impl Catalog {
     }
 
     pub fn find(&self, id: &str) -> Option<&CatalogPage> {
-        self.pages.iter().find(|p| p.id() == id)
+        self.pages.iter().find(|p| p.has_id(id))
     }
 
     pub fn shelves(&self) -> Vec<String> {
@@ -195,5 +220,10 @@ mod tests {
         assert_eq!(catalog.duplicates.len(), 1);
         assert_eq!(catalog.duplicates[0].divider.as_deref(), Some("Again"));
         assert_eq!(catalog.shelves(), vec!["main", "3d"]);
+        assert!(catalog.pages[0].has_id("main/Au/Johnson"));
+        for other in ["main/Au/Johnso", "main/Au/Johnson/", "main/AuJohnson", "main//Au/Johnson", "3d/metals/gold", ""] {
+            assert!(!catalog.pages[0].has_id(other), "{other}");
+        }
+        assert_eq!(guess_data_paths(text), vec!["main/Au/nk/Johnson.yml"]);
     }
 }

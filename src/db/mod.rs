@@ -45,9 +45,22 @@ impl Database {
     }
 
     pub fn catalog(&self) -> Result<Catalog> {
-        let path = self.root.join("catalog-nk.yml");
-        let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-        Catalog::parse(&text).with_context(|| format!("parsing {}", path.display()))
+        self.parse_catalog(&self.catalog_text()?)
+    }
+
+    fn catalog_path(&self) -> PathBuf {
+        self.root.join("catalog-nk.yml")
+    }
+
+    /// The text of `catalog-nk.yml`.
+    pub fn catalog_text(&self) -> Result<String> {
+        let path = self.catalog_path();
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))
+    }
+
+    /// [`Catalog::parse`] of the catalog's text, errors naming the file.
+    pub fn parse_catalog(&self, text: &str) -> Result<Catalog> {
+        Catalog::parse(text).with_context(|| format!("parsing {}", self.catalog_path().display()))
     }
 
     pub fn data_path(&self, data: &str) -> PathBuf {
@@ -60,24 +73,36 @@ impl Database {
     pub fn read_page(&self, data: &str) -> Result<PageData, DataError> {
         check_data_path(data)?;
         let path = self.data_path(data);
-        if path.is_dir() {
-            return Err(DataError::new(Reason::MissingFile, data, None, "the data path names a folder, not a file"));
+        // Each worker thread reads its files into one buffer it keeps: no allocation and no
+        // fresh pages per file.
+        thread_local! {
+            static BUFFER: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
         }
-        let bytes = std::fs::read(&path).map_err(|e| DataError::new(Reason::MissingFile, data, None, e.to_string()))?;
-        let text = utf8_text(data, bytes)?;
-        parse_page(data, &text)
+        BUFFER.with_borrow_mut(|buffer| {
+            let length = read_into(&path, buffer).map_err(|e| {
+                // A folder opens but does not read: named as such, as before reading.
+                let detail = if path.is_dir() { "the data path names a folder, not a file".to_string() } else { e.to_string() };
+                DataError::new(Reason::MissingFile, data, None, detail)
+            })?;
+            parse_page(data, utf8_str(data, &buffer[..length])?)
+        })
     }
 
     /// The material names of the book a data file belongs to: `NAMES` of the `about.yml`
     /// beside its `nk/` folder, HTML removed. `None` when there is no such file.
     pub fn book_names(&self, data: &str) -> Option<Vec<String>> {
+        self.about_names(book_dir(data)?)
+    }
+
+    /// `NAMES` of `data/<book>/about.yml`, HTML removed; `None` when the file is missing,
+    /// unreadable or names nothing. Pages of one book share it: read it once per book.
+    pub fn about_names(&self, book: &Path) -> Option<Vec<String>> {
         #[derive(Deserialize)]
         struct About {
             #[serde(rename = "NAMES", default)]
             names: Vec<serde_yaml::Value>,
         }
-        let book_dir = Path::new(data).parent()?.parent()?;
-        let text = std::fs::read_to_string(self.root.join("data").join(book_dir).join("about.yml")).ok()?;
+        let text = std::fs::read_to_string(self.root.join("data").join(book).join("about.yml")).ok()?;
         let about: About = serde_yaml::from_str(&text).ok()?;
         let names: Vec<String> = about
             .names
@@ -87,6 +112,12 @@ impl Database {
             .collect();
         (!names.is_empty()).then_some(names)
     }
+}
+
+/// The book folder of a data file (`main/Au/nk/Johnson.yml` → `main/Au`): the folder above
+/// the one holding the file, where its `about.yml` lives. `None` for a path too short.
+pub fn book_dir(data: &str) -> Option<&Path> {
+    Path::new(data).parent()?.parent()
 }
 
 /// A catalog data path must be a non-empty relative path that stays inside `data/`: no
@@ -108,18 +139,38 @@ pub fn check_data_path(data: &str) -> Result<(), DataError> {
     Ok(())
 }
 
+/// The whole file at `path` into `buffer` (kept initialised and reused: its length only
+/// grows), without asking the file's size first. Returns the number of bytes read.
+fn read_into(path: &Path, buffer: &mut Vec<u8>) -> std::io::Result<usize> {
+    use std::io::Read;
+    let mut file = std::fs::File::open(path)?;
+    let mut length = 0;
+    loop {
+        if length == buffer.len() {
+            buffer.resize((2 * buffer.len()).max(1 << 16), 0);
+        }
+        match file.read(&mut buffer[length..]) {
+            Ok(0) => return Ok(length),
+            Ok(read) => length += read,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
 /// The file's bytes as text. A UTF-8 byte-order mark is dropped (YAML allows one);
 /// anything that is not UTF-8 (a Latin-1 file, say) is `not-utf8` at the line of the
 /// first bad byte.
 pub fn utf8_text(file: &str, bytes: Vec<u8>) -> Result<String, DataError> {
+    utf8_str(file, &bytes).map(str::to_owned)
+}
+
+/// [`utf8_text`] of borrowed bytes.
+pub fn utf8_str<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, DataError> {
     const BOM: &[u8] = b"\xEF\xBB\xBF";
-    let bytes = match bytes.strip_prefix(BOM) {
-        Some(rest) => rest.to_vec(),
-        None => bytes,
-    };
-    String::from_utf8(bytes).map_err(|e| {
-        let valid = e.utf8_error().valid_up_to();
-        let bytes = e.as_bytes();
+    let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
+    std::str::from_utf8(bytes).map_err(|e| {
+        let valid = e.valid_up_to();
         let line = 1 + bytes[..valid].iter().filter(|&&b| b == b'\n').count();
         DataError::new(
             Reason::NotUtf8,

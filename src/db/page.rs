@@ -146,17 +146,58 @@ pub fn strip_html(text: &str) -> String {
     out.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// 1-based line numbers of the `data:` keys of the DATA blocks, in file order, so that
-/// row i of the j-th tabulated block is at line `data_lines[j] + 1 + i`.
-fn data_key_lines(text: &str) -> Vec<usize> {
-    text.lines()
-        .enumerate()
-        .filter(|(_, line)| {
-            let t = line.trim_start();
-            t.starts_with("data:") && line.len() - t.len() >= 2
-        })
-        .map(|(i, _)| i + 1)
-        .collect()
+/// What the line scans of a data file's text find, in one pass over its lines.
+struct TextKeys {
+    /// 1-based line numbers of the `data:` keys of the DATA blocks, in file order, so that
+    /// row i of the j-th tabulated block is at line `data_lines[j] + 1 + i`.
+    data_lines: Vec<usize>,
+    /// `PROPERTIES.nd` and `PROPERTIES.Vd` as printed.
+    nd: Option<Printed>,
+    vd: Option<Printed>,
+}
+
+impl TextKeys {
+    fn scan(text: &str) -> Self {
+        let mut data_lines = Vec::new();
+        // The first `nd:` / `Vd:` line under PROPERTIES decides (a value that is not a
+        // number gives none).
+        let mut nd: Option<Option<Printed>> = None;
+        let mut vd: Option<Option<Printed>> = None;
+        let mut in_properties = false;
+        let bytes = text.as_bytes();
+        // Lines as `str::lines` cuts them, numbered from 1.
+        let mut at = 0;
+        let mut number = 0;
+        while at < bytes.len() {
+            number += 1;
+            // An empty line (a blanked table row, mostly) changes nothing but the count.
+            if bytes[at] == b'\n' {
+                at += 1;
+                continue;
+            }
+            let end = memchr::memchr(b'\n', &bytes[at..]).map_or(bytes.len(), |e| at + e);
+            let line = &text[at..end];
+            let line = if end < bytes.len() { line.strip_suffix('\r').unwrap_or(line) } else { line };
+            at = end + 1;
+            let trimmed = line.trim_start();
+            if trimmed.starts_with("data:") && line.len() - trimmed.len() >= 2 {
+                data_lines.push(number);
+            }
+            if !line.starts_with(' ') && !line.is_empty() {
+                in_properties = line.starts_with("PROPERTIES:");
+                continue;
+            }
+            // Direct children of PROPERTIES only (4 spaces in the database's layout, any > 0 here).
+            if in_properties {
+                for (key, slot) in [("nd", &mut nd), ("Vd", &mut vd)] {
+                    if slot.is_none() && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
+                        *slot = Some(printed_value(&trimmed[key.len() + 1..]));
+                    }
+                }
+            }
+        }
+        Self { data_lines, nd: nd.flatten(), vd: vd.flatten() }
+    }
 }
 
 /// The literal block scalars (`data: |`) of a data file, cut out of its text: the numeric
@@ -177,24 +218,39 @@ impl<'a> CutTables<'a> {
     /// tab in the indentation): the YAML parser then reads the whole text, as before.
     fn cut(text: &'a str) -> Option<Self> {
         let mut tables = Vec::new();
-        let mut blank: Vec<(usize, usize)> = Vec::new();
-        let mut lines = LineOffsets::new(text).peekable();
+        let mut blank: Vec<Blanked> = Vec::new();
+        let mut lines = LineOffsets::new(text);
         while let Some((number, start, line)) = lines.next() {
             let Some(indent) = literal_data_key(line) else { continue };
             let body_start = start + line.len() + newline_len(text, start + line.len());
             let mut body_end = body_start;
             let mut block_indent: Option<usize> = None;
-            while let Some(&(_, line_start, next)) = lines.peek() {
-                let content = next.trim_start_matches(' ');
-                let spaces = next.len() - content.len();
-                if content.trim().is_empty() {
-                    if content.starts_with('\t') {
+            let mut body_lines = 0;
+            // The body's lines, as `LineOffsets` cuts them, read in place.
+            let mut line_start = lines.at;
+            while line_start < text.len() {
+                let end = memchr::memchr(b'\n', &text.as_bytes()[line_start..]).map_or(text.len(), |e| line_start + e);
+                let next = &text[line_start..end];
+                let next = next.strip_suffix('\r').unwrap_or(next);
+                let bytes = next.as_bytes();
+                let spaces = bytes.iter().take_while(|&&b| b == b' ').count();
+                let content = &next[spaces..];
+                let (content_line, tab) = match bytes.get(spaces) {
+                    // A table row: printable ASCII after the spaces.
+                    Some(&b) if b > b' ' && b.is_ascii() => (true, false),
+                    None => (false, false),
+                    // Anything else (a tab, other whitespace, a non-ASCII character): the
+                    // general rule, by the `str` methods.
+                    Some(_) => (!content.trim().is_empty(), content.starts_with('\t')),
+                };
+                if !content_line {
+                    if tab {
                         return None;
                     }
                 } else if spaces <= indent {
                     break;
                 } else {
-                    if content.starts_with('\t') {
+                    if tab {
                         return None;
                     }
                     match block_indent {
@@ -204,22 +260,25 @@ impl<'a> CutTables<'a> {
                     }
                 }
                 body_end = line_start + next.len();
-                lines.next();
+                body_lines += 1;
+                line_start = end + 1;
             }
+            lines.skip_to(line_start, body_lines);
             tables.push((number, &text[body_start.min(body_end)..body_end]));
-            blank.push((body_start, body_end));
+            // Every body line but the last ends inside the body.
+            blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1 });
         }
         if tables.is_empty() {
             return None;
         }
         let mut yaml = String::with_capacity(text.len() / 8);
         let mut at = 0;
-        for (start, end) in blank {
+        for Blanked { start, end, newlines } in blank {
             if start >= end {
                 continue;
             }
             yaml.push_str(&text[at..start]);
-            yaml.extend(text[start..end].bytes().filter(|&b| b == b'\n').map(|_| '\n'));
+            yaml.extend(std::iter::repeat_n('\n', newlines));
             at = end;
         }
         yaml.push_str(&text[at..]);
@@ -230,6 +289,13 @@ impl<'a> CutTables<'a> {
     fn table(&self, line: usize) -> Option<&'a str> {
         self.tables.iter().find(|(l, _)| *l == line).map(|(_, body)| *body)
     }
+}
+
+/// A table's bytes `start..end` in the text, replaced by its `newlines` line ends.
+struct Blanked {
+    start: usize,
+    end: usize,
+    newlines: usize,
 }
 
 /// The indentation of a `data: |` key (a literal block, clip/strip/keep chomping, no
@@ -261,6 +327,12 @@ impl<'a> LineOffsets<'a> {
     fn new(text: &'a str) -> Self {
         Self { text, at: 0, number: 0 }
     }
+
+    /// Continue at byte `at`, the start of a line, after `lines` lines read elsewhere.
+    fn skip_to(&mut self, at: usize, lines: usize) {
+        self.at = at;
+        self.number += lines;
+    }
 }
 
 impl<'a> Iterator for LineOffsets<'a> {
@@ -271,7 +343,7 @@ impl<'a> Iterator for LineOffsets<'a> {
             return None;
         }
         let rest = &self.text[self.at..];
-        let end = rest.find('\n').map_or(rest.len(), |i| i);
+        let end = memchr::memchr(b'\n', rest.as_bytes()).unwrap_or(rest.len());
         let line = rest[..end].strip_suffix('\r').unwrap_or(&rest[..end]);
         let start = self.at;
         self.at += end + 1;
@@ -280,24 +352,12 @@ impl<'a> Iterator for LineOffsets<'a> {
     }
 }
 
-/// `PROPERTIES.<key>` as printed in the text (decimals matter for the nd check).
-fn printed_property(text: &str, key: &str) -> Option<Printed> {
-    let mut in_properties = false;
-    for line in text.lines() {
-        if !line.starts_with(' ') && !line.is_empty() {
-            in_properties = line.starts_with("PROPERTIES:");
-            continue;
-        }
-        let trimmed = line.trim_start();
-        // Direct children of PROPERTIES only (4 spaces in the database's layout, any > 0 here).
-        if in_properties && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
-            let raw = trimmed[key.len() + 1..].trim();
-            let value: f64 = raw.parse().ok()?;
-            let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
-            return Some(Printed { value, decimals });
-        }
-    }
-    None
+/// A property value as printed after its key (decimals matter for the nd check).
+fn printed_value(after_key: &str) -> Option<Printed> {
+    let raw = after_key.trim();
+    let value: f64 = raw.parse().ok()?;
+    let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
+    Some(Printed { value, decimals })
 }
 
 /// One tabulated row (λ and one or two values; unused slots are 0) and its line.
@@ -306,38 +366,267 @@ struct Row {
     line: Option<usize>,
 }
 
-/// Parse rows of `columns` numbers each, wavelength first and positive.
+/// What a byte is to the field splitter of the tables.
+#[derive(Clone, Copy, PartialEq)]
+enum ByteClass {
+    /// Whitespace as [`char::is_whitespace`] sees it among ASCII bytes: tab, line feed,
+    /// vertical tab, form feed, carriage return, space.
+    Space,
+    /// A byte of a plain decimal number: digits, `.`, `+`, `-`, `e`, `E`.
+    Numeric,
+    /// Any other ASCII byte.
+    Other,
+    /// A byte of a multi-byte character (≥ 0x80).
+    NonAscii,
+}
+
+const BYTE_CLASSES: [ByteClass; 256] = {
+    let mut classes = [ByteClass::Other; 256];
+    let mut b = 0;
+    while b < 256 {
+        classes[b] = match b as u8 {
+            b'\t'..=b'\r' | b' ' => ByteClass::Space,
+            b'0'..=b'9' | b'.' | b'+' | b'-' | b'e' | b'E' => ByteClass::Numeric,
+            0x80..=0xFF => ByteClass::NonAscii,
+            _ => ByteClass::Other,
+        };
+        b += 1;
+    }
+    classes
+};
+
+/// One field of a table row, and whether all its bytes are [`ByteClass::Numeric`].
+#[derive(Clone, Copy, Default)]
+struct Field<'a> {
+    text: &'a str,
+    plain: bool,
+}
+
+/// The whitespace-separated fields of `line` as [`str::split_whitespace`] gives them: the
+/// first three in `fields`, and their count. A line of ASCII is split byte by byte; any
+/// other goes through `split_whitespace` itself (Unicode spaces separate fields too).
+fn split_fields<'a>(line: &'a str, fields: &mut [Field<'a>; 3]) -> usize {
+    let bytes = line.as_bytes();
+    let mut count = 0;
+    let mut at = 0;
+    while at < bytes.len() {
+        match BYTE_CLASSES[bytes[at] as usize] {
+            ByteClass::Space => {
+                at += 1;
+                continue;
+            }
+            ByteClass::NonAscii => return split_fields_unicode(line, fields),
+            _ => {}
+        }
+        let start = at;
+        let mut plain = true;
+        while at < bytes.len() {
+            match BYTE_CLASSES[bytes[at] as usize] {
+                ByteClass::Space => break,
+                ByteClass::Numeric => {}
+                ByteClass::Other => plain = false,
+                ByteClass::NonAscii => return split_fields_unicode(line, fields),
+            }
+            at += 1;
+        }
+        if let Some(slot) = fields.get_mut(count) {
+            *slot = Field { text: &line[start..at], plain };
+        }
+        count += 1;
+    }
+    count
+}
+
+/// [`split_fields`] of a line holding a non-ASCII character, by `split_whitespace`.
+fn split_fields_unicode<'a>(line: &'a str, fields: &mut [Field<'a>; 3]) -> usize {
+    let mut count = 0;
+    for text in line.split_whitespace() {
+        if let Some(slot) = fields.get_mut(count) {
+            *slot = Field { text, plain: false };
+        }
+        count += 1;
+    }
+    count
+}
+
+/// A field read as `f64`'s [`FromStr`](std::str::FromStr) reads it. Fields of up to 64
+/// digits, signs, points and exponent marks (every table number) go to `fast-float2`,
+/// whose grammar for them is the same and whose result is the same correctly rounded
+/// value; anything else (`inf`, `NaN`, stray text, longer fields) to the standard parser.
+pub fn parse_float(field: &str) -> Option<f64> {
+    let plain = field.bytes().all(|b| BYTE_CLASSES[b as usize] == ByteClass::Numeric);
+    parse_field(Field { text: field, plain })
+}
+
+/// [`parse_float`] of a field whose bytes were classified while it was split off.
+fn parse_field(field: Field) -> Option<f64> {
+    if field.plain && field.text.len() <= 64 {
+        fast_float2::parse(field.text).ok()
+    } else {
+        field.text.parse().ok()
+    }
+}
+
+/// The numbers of the row that starts at byte `at` of a table, read in one pass when the
+/// row is plain: ASCII whitespace around exactly `columns` numbers, each finite, of at most
+/// 64 bytes and ending at whitespace, read by fast-float2 (the standard parser's value: a
+/// finite result comes from the plain decimal grammar, which the two share). Returns the
+/// values and the offset of the row's line end (its `\n`, or the end of the table); `None`
+/// for any other row (blank, short, long, not numbers), which [`general_row`] then reads.
+fn plain_row(bytes: &[u8], mut at: usize, columns: usize) -> Option<([f64; 3], usize)> {
+    let mut values = [0.0; 3];
+    let mut count = 0;
+    loop {
+        // Whitespace within the line: every ASCII whitespace byte but the line feed.
+        while at < bytes.len() && matches!(bytes[at], b'\t' | b'\x0B' | b'\x0C' | b'\r' | b' ') {
+            at += 1;
+        }
+        if at == bytes.len() || bytes[at] == b'\n' || count == columns {
+            break;
+        }
+        let (value, length) = exact_decimal(&bytes[at..]).or_else(|| fast_float2::parse_partial::<f64, _>(&bytes[at..]).ok())?;
+        at += length;
+        let ends_at_space = bytes.get(at).is_none_or(|&b| BYTE_CLASSES[b as usize] == ByteClass::Space);
+        if length > 64 || !value.is_finite() || !ends_at_space {
+            return None;
+        }
+        values[count] = value;
+        count += 1;
+    }
+    let line_end = at == bytes.len() || bytes[at] == b'\n';
+    (count == columns && line_end).then_some((values, at))
+}
+
+/// The number at the start of `bytes` when it is a short decimal that one IEEE operation
+/// reads exactly (Clinger's fast path, which the standard parser and fast-float2 take first
+/// too): `[+-]digits[.digits][(e|E)[+-]digits]`, at most 19 digits whose integer m ≤ 2⁵³,
+/// and a power of ten 10^e with |e| ≤ 22. m and 10^|e| are exact doubles, so m·10^e or
+/// m/10^|e| is the correctly rounded value, the bits any correct parser gives. Returns the
+/// value and the number's length; `None` for anything else (fast-float2 reads it then).
+fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
+    const POWERS: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+        1e21, 1e22,
+    ];
+    let digit = |at: usize| bytes.get(at).filter(|b| b.is_ascii_digit()).map(|b| u64::from(b - b'0'));
+    let mut at = 0;
+    let negative = match bytes.first() {
+        Some(b'-') => {
+            at = 1;
+            true
+        }
+        Some(b'+') => {
+            at = 1;
+            false
+        }
+        _ => false,
+    };
+    let mut mantissa: u64 = 0;
+    let mut digits = 0;
+    let mut exponent: i64 = 0;
+    while let Some(d) = digit(at) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
+        digits += 1;
+        at += 1;
+    }
+    if bytes.get(at) == Some(&b'.') {
+        at += 1;
+        while let Some(d) = digit(at) {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
+            digits += 1;
+            exponent -= 1;
+            at += 1;
+        }
+    }
+    if digits == 0 || digits > 19 || mantissa > 1 << 53 {
+        return None;
+    }
+    if matches!(bytes.get(at), Some(b'e' | b'E')) {
+        at += 1;
+        let negative_exponent = match bytes.get(at) {
+            Some(b'-') => {
+                at += 1;
+                true
+            }
+            Some(b'+') => {
+                at += 1;
+                false
+            }
+            _ => false,
+        };
+        let start = at;
+        let mut written: i64 = 0;
+        while let Some(d) = digit(at) {
+            written = (10 * written + d as i64).min(1 << 20);
+            at += 1;
+        }
+        if at == start {
+            return None;
+        }
+        exponent += if negative_exponent { -written } else { written };
+    }
+    let power = *POWERS.get(exponent.unsigned_abs() as usize)?;
+    let magnitude = if exponent >= 0 { mantissa as f64 * power } else { mantissa as f64 / power };
+    Some((if negative { -magnitude } else { magnitude }, at))
+}
+
+/// The numbers of one row by the general rule (fields split as `split_whitespace` splits
+/// them, read as `f64`'s `FromStr` reads them): `None` for a blank line, the named error
+/// for a row that does not hold `columns` finite numbers.
+fn general_row(file: &str, line: &str, columns: usize, line_no: Option<usize>) -> Result<Option<[f64; 3]>, DataError> {
+    // At most three fields are kept; the count says whether the row has `columns`.
+    let mut fields = [Field::default(); 3];
+    let count = split_fields(line, &mut fields);
+    if count == 0 {
+        return Ok(None);
+    }
+    if count != columns {
+        return Err(DataError::new(
+            Reason::BadRow,
+            file,
+            line_no,
+            format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
+        ));
+    }
+    let mut values = [0.0; 3];
+    for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
+        match parse_field(*field) {
+            Some(x) if x.is_finite() => *slot = x,
+            _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {:?}", field.text))),
+        }
+    }
+    Ok(Some(values))
+}
+
+/// Parse rows of `columns` numbers each, wavelength first and positive. Lines as
+/// [`str::lines`] cuts them; each row read by [`plain_row`], else by [`general_row`].
 fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<Row>, DataError> {
-    let mut rows: Vec<Row> = Vec::new();
-    for (i, line) in block.lines().enumerate() {
+    let bytes = block.as_bytes();
+    // One row per line at most, and a row takes at least 4 bytes ("1 2" and its line end):
+    // counting the line ends is cheaper than growing the list.
+    let lines = memchr::memchr_iter(b'\n', bytes).count() + 1;
+    let mut rows: Vec<Row> = Vec::with_capacity(lines.min(bytes.len() / 4 + 1));
+    let mut at = 0;
+    let mut i = 0;
+    while at < bytes.len() {
         let line_no = first_line.map(|l| l + i);
-        // At most three fields are kept; the count says whether the row has `columns`.
-        let mut fields = [""; 3];
-        let mut count = 0;
-        for field in line.split_whitespace() {
-            if let Some(slot) = fields.get_mut(count) {
-                *slot = field;
+        i += 1;
+        let (values, end) = match plain_row(bytes, at, columns) {
+            Some(row) => row,
+            None => {
+                let end = memchr::memchr(b'\n', &bytes[at..]).map_or(bytes.len(), |e| at + e);
+                let line = &block[at..end];
+                let line = if end < bytes.len() { line.strip_suffix('\r').unwrap_or(line) } else { line };
+                match general_row(file, line, columns, line_no)? {
+                    Some(values) => (values, end),
+                    None => {
+                        at = end + 1;
+                        continue;
+                    }
+                }
             }
-            count += 1;
-        }
-        if count == 0 {
-            continue;
-        }
-        if count != columns {
-            return Err(DataError::new(
-                Reason::BadRow,
-                file,
-                line_no,
-                format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
-            ));
-        }
-        let mut values = [0.0; 3];
-        for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
-            match field.parse::<f64>() {
-                Ok(x) if x.is_finite() => *slot = x,
-                _ => return Err(DataError::new(Reason::BadRow, file, line_no, format!("not a finite number: {field:?}"))),
-            }
-        }
+        };
+        at = end + 1;
         if values[0] <= 0.0 {
             return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
         }
@@ -508,7 +797,8 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string())
     })?;
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
-    let data_lines = data_key_lines(text);
+    let keys = TextKeys::scan(text);
+    let data_lines = &keys.data_lines;
     let mut data_block_index = 0;
     let mut n: Option<Curve> = None;
     let mut k: Option<Curve> = None;
@@ -579,8 +869,8 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         n,
         k,
         reference,
-        nd: printed_property(text, "nd"),
-        vd: printed_property(text, "Vd"),
+        nd: keys.nd,
+        vd: keys.vd,
         warnings,
     })
 }
@@ -685,5 +975,270 @@ mod tests {
         // Far-infrared rows beyond the window's neighbours are not read, so not judged.
         let far = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.9 3.0 1.0\n        50 20 2e3\n        90 30 4e3\n";
         assert!(parse_page("far.yml", far).is_ok());
+    }
+
+    /// The line scans as they were written first, on `str` methods: the reference the
+    /// byte-level scans must agree with.
+    mod reference {
+        use super::super::Printed;
+
+        pub fn data_key_lines(text: &str) -> Vec<usize> {
+            text.lines()
+                .enumerate()
+                .filter(|(_, line)| {
+                    let t = line.trim_start();
+                    t.starts_with("data:") && line.len() - t.len() >= 2
+                })
+                .map(|(i, _)| i + 1)
+                .collect()
+        }
+
+        pub fn printed_property(text: &str, key: &str) -> Option<Printed> {
+            let mut in_properties = false;
+            for line in text.lines() {
+                if !line.starts_with(' ') && !line.is_empty() {
+                    in_properties = line.starts_with("PROPERTIES:");
+                    continue;
+                }
+                let trimmed = line.trim_start();
+                if in_properties && trimmed.starts_with(key) && trimmed[key.len()..].starts_with(':') {
+                    let raw = trimmed[key.len() + 1..].trim();
+                    let value: f64 = raw.parse().ok()?;
+                    let decimals = raw.split_once('.').map(|(_, d)| d.chars().take_while(|c| c.is_ascii_digit()).count()).unwrap_or(0);
+                    return Some(Printed { value, decimals });
+                }
+            }
+            None
+        }
+
+        /// Rows read by `lines`, `split_whitespace` and `str::parse`: (values, line) per row,
+        /// or the error's reason, line and detail.
+        pub fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<([u64; 3], Option<usize>)>, String> {
+            let mut rows = Vec::new();
+            for (i, line) in block.lines().enumerate() {
+                let line_no = first_line.map(|l| l + i);
+                let fields: Vec<&str> = line.split_whitespace().collect();
+                if fields.is_empty() {
+                    continue;
+                }
+                if fields.len() != columns {
+                    return Err(format!("bad-row {line_no:?} expected {columns} numbers, found {}: {:?}", fields.len(), line.trim()));
+                }
+                let mut values = [0.0f64; 3];
+                for (slot, field) in values.iter_mut().zip(&fields) {
+                    match field.parse::<f64>() {
+                        Ok(x) if x.is_finite() => *slot = x,
+                        _ => return Err(format!("bad-row {line_no:?} not a finite number: {field:?}")),
+                    }
+                }
+                if values[0] <= 0.0 {
+                    return Err(format!("bad-row {line_no:?} wavelength {} µm is not positive", values[0]));
+                }
+                rows.push((values.map(f64::to_bits), line_no));
+            }
+            if rows.is_empty() {
+                return Err(format!("no-data {first_line:?} tabulated block has no rows"));
+            }
+            let _ = file;
+            Ok(rows)
+        }
+
+        /// The table cut by `str` methods: the blanked text and (key line, body) pairs.
+        pub fn cut(text: &str) -> Option<(String, Vec<(usize, &str)>)> {
+            let mut lines: Vec<(usize, usize, &str)> = Vec::new();
+            let mut at = 0;
+            for (i, piece) in text.split_inclusive('\n').enumerate() {
+                let line = piece.strip_suffix('\n').unwrap_or(piece);
+                let line = line.strip_suffix('\r').unwrap_or(line);
+                lines.push((i + 1, at, line));
+                at += piece.len();
+            }
+            let mut tables = Vec::new();
+            let mut blank = Vec::new();
+            let mut i = 0;
+            while i < lines.len() {
+                let (number, start, line) = lines[i];
+                i += 1;
+                let trimmed = line.trim_start_matches(' ');
+                let indent = line.len() - trimmed.len();
+                let Some(value) = trimmed.strip_prefix("data:").map(str::trim) else { continue };
+                if !(indent >= 2 && matches!(value, "|" | "|-" | "|+")) {
+                    continue;
+                }
+                let after = start + line.len();
+                let body_start = after + if text[after..].starts_with("\r\n") { 2 } else if text[after..].starts_with('\n') { 1 } else { 0 };
+                let mut body_end = body_start;
+                let mut block_indent: Option<usize> = None;
+                while i < lines.len() {
+                    let (_, line_start, next) = lines[i];
+                    let content = next.trim_start_matches(' ');
+                    let spaces = next.len() - content.len();
+                    if content.trim().is_empty() {
+                        if content.starts_with('\t') {
+                            return None;
+                        }
+                    } else if spaces <= indent {
+                        break;
+                    } else {
+                        if content.starts_with('\t') {
+                            return None;
+                        }
+                        match block_indent {
+                            None => block_indent = Some(spaces),
+                            Some(b) if spaces < b => return None,
+                            Some(_) => {}
+                        }
+                    }
+                    body_end = line_start + next.len();
+                    i += 1;
+                }
+                tables.push((number, &text[body_start.min(body_end)..body_end]));
+                blank.push((body_start, body_end));
+            }
+            if tables.is_empty() {
+                return None;
+            }
+            let mut yaml = String::new();
+            let mut at = 0;
+            for (start, end) in blank {
+                if start >= end {
+                    continue;
+                }
+                yaml.push_str(&text[at..start]);
+                yaml.extend(text[start..end].bytes().filter(|&b| b == b'\n').map(|_| '\n'));
+                at = end;
+            }
+            yaml.push_str(&text[at..]);
+            Some((yaml, tables))
+        }
+    }
+
+    /// Lines of a data file's layout with the characters that make scanning hard: tabs,
+    /// carriage returns, vertical tabs, Unicode spaces, numbers and words.
+    fn layout_line() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let piece = prop_oneof![
+            Just(" ".to_string()),
+            Just("    ".to_string()),
+            Just("\t".to_string()),
+            Just("\r".to_string()),
+            Just("\u{b}".to_string()),
+            Just("\u{a0}".to_string()),
+            Just("\u{3000}".to_string()),
+            Just("data: |".to_string()),
+            Just("data: |-".to_string()),
+            Just("data:".to_string()),
+            Just("PROPERTIES:".to_string()),
+            Just("nd: 1.52".to_string()),
+            Just("Vd: x".to_string()),
+            Just("- type: tabulated n".to_string()),
+            "[0-9.eE+-]{1,8}",
+            "[a-zé]{1,3}",
+        ];
+        proptest::collection::vec(piece, 0..6).prop_map(|pieces| pieces.concat())
+    }
+
+    fn layout_text() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        (proptest::collection::vec(layout_line(), 0..14), prop_oneof![Just("\n"), Just("\r\n")], any::<bool>())
+            .prop_map(|(lines, end, last_end)| lines.join(end) + if last_end { end } else { "" })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(3000))]
+
+        /// Same value bits, same rejections as `str::parse::<f64>`.
+        #[test]
+        fn fast_numbers_are_the_standard_parser_s(text in "[0-9.eE+-]{0,24}|[0-9]{1,3}\\.[0-9]{1,25}([eE][+-]?[0-9]{1,3})?|\\PC{0,8}") {
+            let standard = text.parse::<f64>().ok().map(f64::to_bits);
+            proptest::prop_assert_eq!(parse_float(&text).map(f64::to_bits), standard);
+        }
+
+        /// Where the fast path reads a number, it is the standard parser's value, bit for bit.
+        #[test]
+        fn exact_decimals_are_the_standard_parser_s(text in "[+-]?[0-9]{0,12}(\\.[0-9]{0,12})?([eE][+-]?[0-9]{1,3})?|[0-9]{14,20}\\.?[0-9]{0,3}") {
+            if let Some((value, length)) = exact_decimal(text.as_bytes()) {
+                proptest::prop_assert_eq!(Some(value.to_bits()), text[..length].parse::<f64>().ok().map(f64::to_bits), "{}", text);
+            }
+        }
+
+        /// The fields and their count are those of `split_whitespace`.
+        #[test]
+        fn fields_are_those_of_split_whitespace(text in layout_text()) {
+            for line in text.lines() {
+                let mut fields = [Field::default(); 3];
+                let count = split_fields(line, &mut fields);
+                let expected: Vec<&str> = line.split_whitespace().collect();
+                proptest::prop_assert_eq!(count, expected.len());
+                let kept: Vec<&str> = fields[..count.min(3)].iter().map(|f| f.text).collect();
+                proptest::prop_assert_eq!(&kept[..], &expected[..count.min(3)]);
+            }
+        }
+
+        /// The one-pass scan finds what the three `str` scans found, and the byte-level cut
+        /// gives the text and tables of the `str` cut.
+        #[test]
+        fn byte_scans_are_the_str_scans(text in layout_text()) {
+            let keys = TextKeys::scan(&text);
+            proptest::prop_assert_eq!(keys.data_lines, reference::data_key_lines(&text));
+            proptest::prop_assert_eq!(keys.nd, reference::printed_property(&text, "nd"));
+            proptest::prop_assert_eq!(keys.vd, reference::printed_property(&text, "Vd"));
+            let cut = CutTables::cut(&text).map(|c| (c.yaml, c.tables));
+            proptest::prop_assert_eq!(cut, reference::cut(&text));
+        }
+    }
+
+    /// Table bodies of rows that are mostly plain numbers, with the defects and layouts the
+    /// general rule must handle.
+    fn table_body() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let field = prop_oneof![
+            8 => (0.01f64..100.0).prop_map(|x| format!("{x}")),
+            4 => (0.1f64..10.0, -8i32..3).prop_map(|(m, e)| format!("{m:.5}E{e:+03}")),
+            1 => Just("-1.5".to_string()),
+            1 => Just("0".to_string()),
+            1 => Just("1e400".to_string()),
+            1 => Just("inf".to_string()),
+            1 => Just("nan".to_string()),
+            1 => Just("1.5e".to_string()),
+            1 => Just("+.5".to_string()),
+            1 => Just("2.".to_string()),
+            1 => Just("1,5".to_string()),
+            1 => Just("0.1234567890123456789012345678901234567890123456789012345678901234567".to_string()),
+            1 => "[0-9.eE+-]{1,6}",
+            1 => "[a-zé]{1,3}",
+        ];
+        let space = prop_oneof![8 => Just(" "), 1 => Just("  "), 1 => Just("\t"), 1 => Just("\r"), 1 => Just("\u{b}"), 1 => Just("\u{a0}"), 1 => Just("\u{3000}")];
+        let row = (space.clone(), proptest::collection::vec((field, space.clone()), 0..5)).prop_map(|(lead, fields)| {
+            let mut row = String::from(lead);
+            for (field, space) in fields {
+                row.push_str(&field);
+                row.push_str(space);
+            }
+            row
+        });
+        (proptest::collection::vec(row, 0..8), prop_oneof![Just("\n"), Just("\r\n")], any::<bool>())
+            .prop_map(|(rows, end, last_end)| rows.join(end) + if last_end { end } else { "" })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4000))]
+
+        /// Rows read the plain way or the general way are the rows (or the error) of the
+        /// `str` methods and the standard float parser.
+        #[test]
+        fn rows_are_those_of_the_str_methods(body in table_body(), columns in 2usize..=3) {
+            let ours = parse_rows("t.yml", &body, columns, Some(7)).map(|rows| rows.iter().map(|r| (r.values.map(f64::to_bits), r.line)).collect::<Vec<_>>()).map_err(|e| {
+                format!("{} {:?} {}", e.reason.code(), e.line, e.detail)
+            });
+            proptest::prop_assert_eq!(ours, reference::parse_rows("t.yml", &body, columns, Some(7)));
+        }
+    }
+
+    #[test]
+    fn table_numbers_and_edge_cases_parse_as_the_standard_parser() {
+        for text in ["1.28246E+00", "1.11870E-06", "0.39", "+.5", "5.", ".", "-", "+", "1e", "1e+", "e5", "1..2", "1e5e5", "-0", "1e400", "1e-400", "inf", "NaN", "0x10", "1_0"] {
+            assert_eq!(parse_float(text).map(f64::to_bits), text.parse::<f64>().ok().map(f64::to_bits), "{text}");
+        }
     }
 }
