@@ -161,22 +161,34 @@ impl PacketTree {
 }
 
 /// The rays of `packet` for which `crosses(corners, ray)` is true for no triangle whose
-/// box the ray enters, as a mask. Children are visited in the builder's order; the walk
-/// ends once every ray has met a triangle.
+/// box the ray enters, as a mask. A node's two children are tested together when it is
+/// reached (they lie side by side in memory) and only a child some ray enters is stacked,
+/// with the rays that enter it; the first child is walked first. The walk ends once every
+/// ray has met a triangle.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn open<F: Fn(&Corners, usize) -> bool>(tree: &PacketTree, packet: &Packet, crosses: F) -> RayMask {
     let mut open = packet.all();
     let Some(root) = tree.nodes.first() else { return open };
     let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
-    stack.push((root, open));
+    let entering_root = packet.entering(root.low, root.high, open);
+    if entering_root != 0 {
+        stack.push((root, entering_root));
+    }
     while let Some((node, rays)) = stack.pop() {
-        let rays = packet.entering(node.low, node.high, rays & open);
+        let rays = rays & open;
         if rays == 0 {
             continue;
         }
         if node.count == 0 {
-            stack.push((&tree.nodes[node.first as usize + 1], rays));
-            stack.push((&tree.nodes[node.first as usize], rays));
+            let (first, second) = (&tree.nodes[node.first as usize], &tree.nodes[node.first as usize + 1]);
+            let into_second = packet.entering(second.low, second.high, rays);
+            if into_second != 0 {
+                stack.push((second, into_second));
+            }
+            let into_first = packet.entering(first.low, first.high, rays);
+            if into_first != 0 {
+                stack.push((first, into_first));
+            }
             continue;
         }
         for corners in &tree.corners[node.first as usize..(node.first + node.count) as usize] {
