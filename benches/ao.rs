@@ -12,8 +12,8 @@
 //!
 //! `cargo bench --bench ao` (RAYON_NUM_THREADS sets the cores; NKLUT_AO_SPEED_RAYS the rays
 //! per vertex of the speed run, ray by ray and in packets, 1024 by default; NKLUT_AO_RAYS the
-//! reference's rays per vertex in the accuracy runs, 1024 by default; NKLUT_AO_MAX_BRUTE the largest n run by brute force,
-//! 40 000: the bunny but not the sculpture, tori to 33 k).
+//! reference's rays per vertex in the accuracy runs, 1024 by default; NKLUT_AO_MAX_BRUTE the
+//! largest n run by brute force, 40 000: the bunny but not the sculpture, tori to 33 k).
 //! Results and the predictions: BENCHMARKS.md.
 
 use std::path::Path;

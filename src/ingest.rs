@@ -35,14 +35,20 @@ impl Selection {
         Self { shelves: vec![name.to_string()], pages: vec![] }
     }
 
+    /// [`Selection::includes_id`] of a catalog page, without formatting its id.
     fn includes(&self, page: &CatalogPage) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.contains(&page.shelf) || self.pages.iter().any(|p| page.has_id(p))
+        self.selects(&page.shelf, |id| page.has_id(id))
     }
 
-    /// Whether the page `id` on `shelf` is selected: the whole catalog when nothing is
-    /// named, else the named shelves and pages. Tables are filtered by the same rule.
+    /// Whether the page `id` on `shelf` is selected. Tables are filtered by this rule.
     pub fn includes_id(&self, shelf: &str, id: &str) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| s == shelf) || self.pages.iter().any(|p| p == id)
+        self.selects(shelf, |named| named == id)
+    }
+
+    /// The rule: the whole catalog when nothing is named, else the named shelves and the
+    /// pages for which `is_page` holds of a named id.
+    fn selects(&self, shelf: &str, is_page: impl Fn(&str) -> bool) -> bool {
+        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| s == shelf) || self.pages.iter().any(|id| is_page(id))
     }
 }
 

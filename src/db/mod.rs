@@ -88,12 +88,6 @@ impl Database {
         })
     }
 
-    /// The material names of the book a data file belongs to: `NAMES` of the `about.yml`
-    /// beside its `nk/` folder, HTML removed. `None` when there is no such file.
-    pub fn book_names(&self, data: &str) -> Option<Vec<String>> {
-        self.about_names(book_dir(data)?)
-    }
-
     /// `NAMES` of `data/<book>/about.yml`, HTML removed; `None` when the file is missing,
     /// unreadable or names nothing. Pages of one book share it: read it once per book.
     pub fn about_names(&self, book: &Path) -> Option<Vec<String>> {
@@ -161,11 +155,6 @@ fn read_into(path: &Path, buffer: &mut Vec<u8>) -> std::io::Result<usize> {
 /// The file's bytes as text. A UTF-8 byte-order mark is dropped (YAML allows one);
 /// anything that is not UTF-8 (a Latin-1 file, say) is `not-utf8` at the line of the
 /// first bad byte.
-pub fn utf8_text(file: &str, bytes: Vec<u8>) -> Result<String, DataError> {
-    utf8_str(file, &bytes).map(str::to_owned)
-}
-
-/// [`utf8_text`] of borrowed bytes.
 pub fn utf8_str<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, DataError> {
     const BOM: &[u8] = b"\xEF\xBB\xBF";
     let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
@@ -197,8 +186,8 @@ mod tests {
 
     #[test]
     fn byte_order_mark_is_dropped_and_latin1_is_named_with_its_line() {
-        assert_eq!(utf8_text("a.yml", b"\xEF\xBB\xBFDATA: x\n".to_vec()).unwrap(), "DATA: x\n");
-        let e = utf8_text("b.yml", b"REFERENCES: ok\nCOMMENTS: caf\xE9\n".to_vec()).unwrap_err();
+        assert_eq!(utf8_str("a.yml", b"\xEF\xBB\xBFDATA: x\n").unwrap(), "DATA: x\n");
+        let e = utf8_str("b.yml", b"REFERENCES: ok\nCOMMENTS: caf\xE9\n").unwrap_err();
         assert_eq!((e.reason, e.line), (Reason::NotUtf8, Some(2)));
         assert!(e.detail.contains("0xE9"), "{}", e.detail);
     }

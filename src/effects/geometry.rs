@@ -295,7 +295,7 @@ impl Geometry {
                 let packet = Packet::new(origin, chunk);
                 let shears: Vec<Shear> = chunk.iter().map(|d| Shear::of(*d)).collect();
                 tree.open_rays(&packet, |corners, ray| {
-                    crossing(corners.map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)), origin, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE)
+                    crossing(corners.map(widen), origin, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE)
                 })
             })
             .sum()

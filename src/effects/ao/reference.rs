@@ -103,7 +103,7 @@ pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings
 }
 
 /// Rays per direction bin (on average): the packets [`Geometry::open_rays`] traces together.
-const RAYS_PER_BUNDLE: u32 = 32;
+const RAYS_PER_PACKET: u32 = 32;
 
 /// The fraction of rays from `surfel` that meet nothing, and its standard error. The rays
 /// are drawn in turn from the surfel's stream; in packets they are grouped by where their
@@ -156,7 +156,7 @@ fn open_in_packets(geometry: &Geometry, origin: DVec3, normal: DVec3, rays: u32,
 }
 
 /// A grid over the unit square of (u1, u2) — u1 is sin²θ, u2 the azimuth over 2π — with
-/// about [`RAYS_PER_BUNDLE`] rays per cell and twice as many azimuth columns as rows, so a
+/// about [`RAYS_PER_PACKET`] rays per cell and twice as many azimuth columns as rows, so a
 /// cell spans comparable angles both ways.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct DirectionGrid {
@@ -166,7 +166,7 @@ struct DirectionGrid {
 
 impl DirectionGrid {
     fn for_rays(rays: u32) -> DirectionGrid {
-        let cells = (rays / RAYS_PER_BUNDLE).max(1) as f64;
+        let cells = (rays / RAYS_PER_PACKET).max(1) as f64;
         let rows = (cells / 2.0).sqrt().round().max(1.0) as usize;
         DirectionGrid { rows, columns: ((cells / rows as f64).round() as usize).max(1) }
     }
