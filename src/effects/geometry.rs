@@ -84,10 +84,17 @@ impl Triangle {
 /// The watertight test of a ray (origin, shear) against a triangle's corners.
 #[inline(always)]
 fn crossing(corners: [DVec3; 3], origin: DVec3, shear: &Shear) -> Option<Crossing> {
+    crossing_from(corners.map(|corner| corner - origin), shear)
+}
+
+/// [`crossing`] with the corners given relative to the ray's origin (`corner − origin`,
+/// formed once for the rays of a packet).
+#[inline(always)]
+pub fn crossing_from(relative: [DVec3; 3], shear: &Shear) -> Option<Crossing> {
     match shear.axis {
-        Axis::X => crossing_along::<1, 2, 0>(corners, origin, shear.factors),
-        Axis::Y => crossing_along::<2, 0, 1>(corners, origin, shear.factors),
-        Axis::Z => crossing_along::<0, 1, 2>(corners, origin, shear.factors),
+        Axis::X => crossing_along::<1, 2, 0>(relative, shear.factors),
+        Axis::Y => crossing_along::<2, 0, 1>(relative, shear.factors),
+        Axis::Z => crossing_along::<0, 1, 2>(relative, shear.factors),
     }
 }
 
@@ -95,8 +102,7 @@ fn crossing(corners: [DVec3; 3], origin: DVec3, shear: &Shear) -> Option<Crossin
 /// permutation is a register shuffle rather than indexing. A triangle is rejected as soon
 /// as two edge functions disagree in sign; the depths are sheared only for a crossing.
 #[inline(always)]
-fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(corners: [DVec3; 3], origin: DVec3, [sx, sy, sz]: [f64; 3]) -> Option<Crossing> {
-    let relative = corners.map(|corner| corner - origin);
+fn crossing_along<const KX: usize, const KY: usize, const KZ: usize>(relative: [DVec3; 3], [sx, sy, sz]: [f64; 3]) -> Option<Crossing> {
     let [p0, p1, p2] = relative.map(|p| (p[KX] + sx * p[KZ], p[KY] + sy * p[KZ]));
     let e0 = p1.0 * p2.1 - p1.1 * p2.0;
     let e1 = p2.0 * p0.1 - p2.1 * p0.0;
@@ -294,9 +300,7 @@ impl Geometry {
                 }
                 let packet = Packet::new(origin, chunk);
                 let shears: Vec<Shear> = chunk.iter().map(|d| Shear::of(*d)).collect();
-                tree.open_rays(&packet, |corners, ray| {
-                    crossing(corners.map(widen), origin, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE)
-                })
+                tree.open_rays(&packet, #[inline(always)] |relative, ray| crossing_from(*relative, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE))
             })
             .sum()
     }

@@ -29,8 +29,9 @@ type RayMask = u64;
 pub type Corners = [[f32; 3]; 3];
 
 /// A node's box (f32, as the builder made it; widened exactly for the test) and either its
-/// two children (`first`, `first + 1`) or, for a leaf, its triangles `first .. first +
-/// count` of the tree's corner list. 32 bytes: two to a cache line, half the size of f64 boxes.
+/// two children (the pair `first` of the tree's sibling pairs) or, for a leaf, its
+/// triangles `first .. first + count` of the tree's corner list. 32 bytes, half the size
+/// of f64 boxes.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 struct PacketNode {
@@ -40,10 +41,17 @@ struct PacketNode {
     count: u32,
 }
 
-/// A binary BVH over triangles for packets, the corners stored in leaf order next to one
-/// another (the traversal's memory traffic, not its arithmetic, is what a ray costs).
+/// Two siblings, tested together when their parent is reached: one cache line.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct SiblingPair([PacketNode; 2]);
+
+/// A binary BVH over triangles for packets: the root, the other nodes in sibling pairs, and
+/// the corners stored in leaf order next to one another (the traversal's memory traffic,
+/// not its arithmetic, is what a ray costs).
 pub struct PacketTree {
-    nodes: Vec<PacketNode>,
+    root: PacketNode,
+    pairs: Vec<SiblingPair>,
     corners: Vec<Corners>,
 }
 
@@ -138,37 +146,51 @@ impl PacketTree {
             let n = &bvh.nodes[i];
             PacketNode { low: n.aabb.min.into(), high: n.aabb.max.into(), first: n.first_index, count: n.prim_count }
         };
-        // Depth first, each pair of siblings together: a walk down the first children reads
-        // nodes that lie close in memory.
-        let mut nodes = vec![node(0)];
-        let mut pending = vec![0usize];
-        while let Some(at) = pending.pop() {
-            if nodes[at].count == 0 {
-                let (old, new) = (nodes[at].first as usize, nodes.len());
-                nodes.extend([node(old), node(old + 1)]);
-                nodes[at].first = new as u32;
-                pending.extend([new + 1, new]);
+        // Depth first, each pair of siblings in one cache line: a walk down the first
+        // children reads pairs that lie close in memory.
+        let mut pairs = Vec::new();
+        if triangles.is_empty() {
+            return PacketTree { root: PacketNode { low: [0.0; 3], high: [0.0; 3], first: 0, count: 0 }, pairs, corners: Vec::new() };
+        }
+        let mut root = node(0);
+        let mut pending: Vec<(usize, usize)> = Vec::new();
+        let open_pair = |parent: &mut PacketNode, pairs: &mut Vec<SiblingPair>, pending: &mut Vec<(usize, usize)>| {
+            if parent.count == 0 {
+                let (old, new) = (parent.first as usize, pairs.len());
+                pairs.push(SiblingPair([node(old), node(old + 1)]));
+                parent.first = new as u32;
+                pending.extend([(new, 1), (new, 0)]);
             }
+        };
+        open_pair(&mut root, &mut pairs, &mut pending);
+        while let Some((pair, side)) = pending.pop() {
+            let mut parent = pairs[pair].0[side];
+            open_pair(&mut parent, &mut pairs, &mut pending);
+            pairs[pair].0[side] = parent;
         }
         let corners = bvh.primitive_indices.iter().map(|&i| triangles[i as usize]).collect();
-        PacketTree { nodes, corners }
+        PacketTree { root, pairs, corners }
     }
 
     /// How many rays of `packet` cross no triangle (`crosses` as in [`open`]).
-    pub fn open_rays(&self, packet: &Packet, crosses: impl Fn(&Corners, usize) -> bool) -> usize {
+    pub fn open_rays(&self, packet: &Packet, crosses: impl Fn(&[DVec3; 3], usize) -> bool) -> usize {
         open(self, packet, crosses).count_ones() as usize
     }
 }
 
-/// The rays of `packet` for which `crosses(corners, ray)` is true for no triangle whose
-/// box the ray enters, as a mask. A node's two children are tested together when it is
-/// reached (they lie side by side in memory) and only a child some ray enters is stacked,
-/// with the rays that enter it; the first child is walked first. The walk ends once every
-/// ray has met a triangle.
+/// The rays of `packet` for which `crosses(relative, ray)` is true for no triangle whose
+/// box the ray enters, as a mask; `relative` holds the triangle's corners less the
+/// packet's origin, formed once for all its rays. A node's two children are tested
+/// together when it is reached (they share a cache line) and only a child some ray enters
+/// is stacked, with the rays that enter it (and the line of its own children asked for);
+/// the first child is walked first. The walk ends once every ray has met a triangle.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn open<F: Fn(&Corners, usize) -> bool>(tree: &PacketTree, packet: &Packet, crosses: F) -> RayMask {
+fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, crosses: F) -> RayMask {
     let mut open = packet.all();
-    let Some(root) = tree.nodes.first() else { return open };
+    if tree.corners.is_empty() {
+        return open;
+    }
+    let root = &tree.root;
     let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
     let entering_root = packet.entering(root.low, root.high, open);
     if entering_root != 0 {
@@ -180,23 +202,25 @@ fn open<F: Fn(&Corners, usize) -> bool>(tree: &PacketTree, packet: &Packet, cros
             continue;
         }
         if node.count == 0 {
-            let (first, second) = (&tree.nodes[node.first as usize], &tree.nodes[node.first as usize + 1]);
-            let into_second = packet.entering(second.low, second.high, rays);
-            if into_second != 0 {
-                stack.push((second, into_second));
-            }
-            let into_first = packet.entering(first.low, first.high, rays);
-            if into_first != 0 {
-                stack.push((first, into_first));
+            let [first, second] = &tree.pairs[node.first as usize].0;
+            for child in [second, first] {
+                let into = packet.entering(child.low, child.high, rays);
+                if into != 0 {
+                    if child.count == 0 {
+                        prefetch(&tree.pairs[child.first as usize]);
+                    }
+                    stack.push((child, into));
+                }
             }
             continue;
         }
         for corners in &tree.corners[node.first as usize..(node.first + node.count) as usize] {
+            let relative = corners.map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) - packet.origin);
             let mut live = rays & open;
             while live != 0 {
                 let ray = live.trailing_zeros() as usize;
                 live &= live - 1;
-                if crosses(corners, ray) {
+                if crosses(&relative, ray) {
                     open &= !(1 << ray);
                 }
             }
@@ -208,9 +232,28 @@ fn open<F: Fn(&Corners, usize) -> bool>(tree: &PacketTree, packet: &Packet, cros
     open
 }
 
+/// Asks for the cache line of `pair` ahead of its use (a hint; no effect elsewhere).
+#[inline(always)]
+fn prefetch(pair: &SiblingPair) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing architecturally and `pair` is a valid reference.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>((pair as *const SiblingPair).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = pair;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_tree_without_triangles_blocks_nothing() {
+        let tree = PacketTree::new(&[], 2);
+        let packet = Packet::new(DVec3::ZERO, &[DVec3::Z, DVec3::X]);
+        assert_eq!(tree.open_rays(&packet, |_, _| true), 2);
+    }
 
     #[test]
     fn the_slab_test_takes_rays_into_boxes_ahead_and_around_them() {
