@@ -105,6 +105,11 @@ impl Packet {
     fn entering(&self, low: [f32; 3], high: [f32; 3], live: RayMask) -> RayMask {
         let widen = |p: [f32; 3]| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
         let (near, far) = (widen(low) - self.origin, widen(high) - self.origin);
+        // A box around the origin holds every ray at t = 0 (so for the boxes down to the
+        // origin's own leaf, which every packet of a vertex walks, no ray is tested).
+        if near.cmple(DVec3::ZERO).all() && far.cmpge(DVec3::ZERO).all() {
+            return live;
+        }
         let mut entered: RayMask = 0;
         for block in 0..self.rays.div_ceil(8) {
             let base = block * 8;

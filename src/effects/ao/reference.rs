@@ -150,7 +150,7 @@ pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings
 }
 
 /// Rays per direction bin (on average): the packets [`Geometry::open_rays`] traces together.
-const RAYS_PER_PACKET: u32 = 32;
+const RAYS_PER_PACKET: u32 = 48;
 
 /// The fraction of rays from `surfel` that meet nothing, and its standard error. The rays
 /// are drawn in turn from the surfel's stream; in packets they are grouped by where their
