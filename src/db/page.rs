@@ -43,6 +43,22 @@ impl Curve {
     /// Value at λ (µm), or `None` outside the range. Tabulated: linear in λ between the
     /// neighbouring rows (what the database's site does).
     pub fn at(&self, um: f64) -> Option<f64> {
+        self.value_at(um, |x| x.partition_point(|&w| w <= um))
+    }
+
+    /// [`at`](Self::at) for wavelengths read in increasing order: `row` holds the row the
+    /// previous call found (start with 0) and is moved forward a few rows at a time instead
+    /// of searching the whole table again. Any `row` gives the same value as `at`.
+    pub fn at_near(&self, um: f64, row: &mut usize) -> Option<f64> {
+        self.value_at(um, |x| {
+            *row = rows_not_above(x, um, *row);
+            *row
+        })
+    }
+
+    /// The value at λ, `rows(x)` giving how many tabulated wavelengths are ≤ λ.
+    #[inline(always)]
+    fn value_at(&self, um: f64, rows: impl FnOnce(&[f64]) -> usize) -> Option<f64> {
         let (lo, hi) = self.range_um();
         if !(um >= lo && um <= hi) {
             return None;
@@ -50,7 +66,7 @@ impl Curve {
         Some(match self {
             Curve::Formula(f) => f.refractive_index(um),
             Curve::Tabulated { wavelengths_um: x, values: y } => {
-                let i = x.partition_point(|&w| w <= um);
+                let i = rows(x);
                 if i == 0 {
                     y[0]
                 } else if i >= x.len() {
@@ -76,6 +92,26 @@ impl Curve {
             Curve::Formula(_) => None,
         }
     }
+}
+
+/// How many of the increasing wavelengths `x` are ≤ `um` (`x.partition_point(|&w| w <= um)`),
+/// found by stepping forward from `from` when the answer lies a few rows on, else by a binary
+/// search. The count is the same whatever `from` is.
+fn rows_not_above(x: &[f64], um: f64, from: usize) -> usize {
+    /// Rows stepped over before a binary search of the rest takes over.
+    const STEPS: usize = 8;
+    if from > x.len() || (from > 0 && !(x[from - 1] <= um)) {
+        return x.partition_point(|&w| w <= um);
+    }
+    // Every row before `from` is ≤ um.
+    let mut i = from;
+    for _ in 0..STEPS {
+        if i == x.len() || !(x[i] <= um) {
+            return i;
+        }
+        i += 1;
+    }
+    i + x[i..].partition_point(|&w| w <= um)
 }
 
 /// A printed property value and its number of decimals (e.g. `nd: 1.523` → 3).
@@ -1239,6 +1275,34 @@ mod tests {
     fn table_numbers_and_edge_cases_parse_as_the_standard_parser() {
         for text in ["1.28246E+00", "1.11870E-06", "0.39", "+.5", "5.", ".", "-", "+", "1e", "1e+", "e5", "1..2", "1e5e5", "-0", "1e400", "1e-400", "inf", "NaN", "0x10", "1_0"] {
             assert_eq!(parse_float(text).map(f64::to_bits), text.parse::<f64>().ok().map(f64::to_bits), "{text}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+
+        /// The forward search counts the rows `partition_point` counts, from any start row.
+        #[test]
+        fn rows_not_above_is_the_partition_point(steps in proptest::collection::vec(1e-6f64..0.5, 0..40), um in -0.5f64..12.0, from in 0usize..45) {
+            let x: Vec<f64> = steps.iter().scan(0.0, |w, s| { *w += s; Some(*w) }).collect();
+            proptest::prop_assert_eq!(rows_not_above(&x, um, from), x.partition_point(|&w| w <= um));
+            // The table's own wavelengths, where `<=` changes from true to false.
+            for &w in &x {
+                proptest::prop_assert_eq!(rows_not_above(&x, w, from), x.partition_point(|&v| v <= w));
+            }
+        }
+
+        /// Read in increasing order (then again from the start), `at_near` gives the bits `at` gives.
+        #[test]
+        fn at_near_gives_the_values_of_at(steps in proptest::collection::vec(1e-4f64..0.2, 2..60), values in proptest::collection::vec(-5.0f64..5.0, 60), points in proptest::collection::vec(0.0f64..8.0, 0..80)) {
+            let x: Vec<f64> = steps.iter().scan(0.1, |w, s| { *w += s; Some(*w) }).collect();
+            let curve = Curve::Tabulated { values: values[..x.len()].to_vec(), wavelengths_um: x.clone() };
+            let mut sorted = points.clone();
+            sorted.sort_by(f64::total_cmp);
+            let mut row = 0;
+            for um in sorted.iter().chain(&x).chain(&sorted) {
+                proptest::prop_assert_eq!(curve.at_near(*um, &mut row).map(f64::to_bits), curve.at(*um).map(f64::to_bits));
+            }
         }
     }
 }
