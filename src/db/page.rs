@@ -269,7 +269,7 @@ impl<'a> CutTables<'a> {
                 let next = &text[line_start..end];
                 let next = next.strip_suffix('\r').unwrap_or(next);
                 let bytes = next.as_bytes();
-                let spaces = bytes.iter().take_while(|&&b| b == b' ').count();
+                let spaces = leading_spaces(bytes, 0);
                 let content = &next[spaces..];
                 let (content_line, tab) = match bytes.get(spaces) {
                     // A table row: printable ASCII after the spaces.
@@ -509,9 +509,11 @@ fn parse_field(field: Field) -> Option<f64> {
 /// finite result comes from the plain decimal grammar, which the two share). Returns the
 /// values and the offset of the row's line end (its `\n`, or the end of the table); `None`
 /// for any other row (blank, short, long, not numbers), which [`general_row`] then reads.
-fn plain_row(bytes: &[u8], mut at: usize, columns: usize) -> Option<([f64; 3], usize)> {
+fn plain_row(bytes: &[u8], at: usize, columns: usize) -> Option<([f64; 3], usize)> {
     let mut values = [0.0; 3];
     let mut count = 0;
+    // The row's indentation (spaces, most of a row's whitespace) eight bytes at a time.
+    let mut at = at + leading_spaces(bytes, at);
     loop {
         // Whitespace within the line: every ASCII whitespace byte but the line feed.
         while at < bytes.len() && matches!(bytes[at], b'\t' | b'\x0B' | b'\x0C' | b'\r' | b' ') {
@@ -557,22 +559,17 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
         }
         _ => false,
     };
-    let mut mantissa: u64 = 0;
-    let mut digits = 0;
     let mut exponent: i64 = 0;
-    while let Some(d) = digit(at) {
-        mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
-        digits += 1;
-        at += 1;
-    }
+    let (whole, mut mantissa) = read_digits(bytes, at, 0);
+    at += whole;
+    let mut digits = whole;
     if bytes.get(at) == Some(&b'.') {
         at += 1;
-        while let Some(d) = digit(at) {
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
-            digits += 1;
-            exponent -= 1;
-            at += 1;
-        }
+        let (fraction, with_fraction) = read_digits(bytes, at, mantissa);
+        mantissa = with_fraction;
+        digits += fraction;
+        exponent -= fraction as i64;
+        at += fraction;
     }
     if digits == 0 || digits > 19 || mantissa > 1 << 53 {
         return None;
@@ -605,6 +602,67 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
     let magnitude = if exponent >= 0 { mantissa as f64 * power } else { mantissa as f64 / power };
     Some((if negative { -magnitude } else { magnitude }, at))
 }
+
+/// The run of ASCII digits at byte `at` of `bytes` appended to `mantissa` (×10 plus the
+/// digit, wrapping, for each digit): the run's length and the new mantissa. Eight bytes are
+/// looked at at once while eight remain (Lemire's SWAR digit test and combination, as in
+/// fast_float), so a table number's few digits take one step instead of one per digit.
+#[inline(always)]
+fn read_digits(bytes: &[u8], at: usize, mut mantissa: u64) -> (usize, u64) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let mut length = 0;
+    while let Some(chunk) = bytes.get(at + length..at + length + 8) {
+        let word = u64::from_le_bytes(chunk.try_into().expect("eight bytes"));
+        // The high bit of each byte set where the byte is not '0'..='9'. A byte below '0'
+        // borrows from, and one above '9' may carry into, only the bytes after it, which
+        // follow the first non-digit and are not read.
+        let values = word.wrapping_sub(0x30 * ONES);
+        let not_digit = (values | word.wrapping_add(0x46 * ONES)) & (0x80 * ONES);
+        let run = (not_digit.trailing_zeros() / 8) as usize;
+        if run == 0 {
+            return (length, mantissa);
+        }
+        // The run's digit values as the last `run` bytes of eight, zeros before them (the
+        // first byte is the most significant digit), combined into their integer.
+        let aligned = values << (8 * (8 - run));
+        let pairs = aligned.wrapping_mul(10).wrapping_add(aligned >> 8);
+        let mask = 0x0000_00FF_0000_00FF;
+        let number = ((pairs & mask).wrapping_mul(0x000F_4240_0000_0064)).wrapping_add(((pairs >> 16) & mask).wrapping_mul(0x0000_2710_0000_0001)) >> 32;
+        mantissa = mantissa.wrapping_mul(POWERS_OF_TEN[run]).wrapping_add(number);
+        length += run;
+        if run < 8 {
+            return (length, mantissa);
+        }
+    }
+    while let Some(&b) = bytes.get(at + length).filter(|b| b.is_ascii_digit()) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+        length += 1;
+    }
+    (length, mantissa)
+}
+
+/// How many bytes from `at` on are spaces (b' '), counted eight at a time while eight bytes
+/// remain and a byte at a time after.
+#[inline(always)]
+fn leading_spaces(bytes: &[u8], at: usize) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let mut length = 0;
+    while let Some(chunk) = bytes.get(at + length..at + length + 8) {
+        // Zero bytes where there are spaces; the high bit of each byte set where there is
+        // not (per byte, no carries between bytes).
+        let other = u64::from_le_bytes(chunk.try_into().expect("eight bytes")) ^ (b' ' as u64 * ONES);
+        let not_space = ((other & (0x7F * ONES)).wrapping_add(0x7F * ONES) | other) & (0x80 * ONES);
+        let run = (not_space.trailing_zeros() / 8) as usize;
+        length += run;
+        if run < 8 {
+            return length;
+        }
+    }
+    length + bytes[(at + length).min(bytes.len())..].iter().take_while(|&&b| b == b' ').count()
+}
+
+/// 10^i for i = 0..=8.
+const POWERS_OF_TEN: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000];
 
 /// The numbers of one row by the general rule (fields split as `split_whitespace` splits
 /// them, read as `f64`'s `FromStr` reads them): `None` for a blank line, the named error
@@ -1196,6 +1254,28 @@ mod tests {
             if let Some((value, length)) = exact_decimal(text.as_bytes()) {
                 proptest::prop_assert_eq!(Some(value.to_bits()), text[..length].parse::<f64>().ok().map(f64::to_bits), "{}", text);
             }
+        }
+
+        /// Eight digits at a time, the run's length and mantissa are those of one at a time.
+        #[test]
+        fn digit_runs_are_read_as_one_by_one(text in "[0-9]{0,30}[^0-9]?[0-9]{0,12}|[0-9/:.eE +-]{0,24}|\\PC{0,12}", at in 0usize..8, start in proptest::prelude::any::<u64>()) {
+            let bytes = text.as_bytes();
+            let at = at.min(bytes.len());
+            let mut mantissa = start;
+            let mut length = 0;
+            while let Some(&b) = bytes.get(at + length).filter(|b| b.is_ascii_digit()) {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                length += 1;
+            }
+            proptest::prop_assert_eq!(read_digits(bytes, at, start), (length, mantissa), "{:?} at {}", text, at);
+        }
+
+        /// Spaces counted eight at a time are those counted one at a time.
+        #[test]
+        fn leading_spaces_are_counted_as_one_by_one(text in "[ ]{0,20}[^ ]?[ 0-9\t]{0,12}|\\PC{0,12}", at in 0usize..8) {
+            let bytes = text.as_bytes();
+            let at = at.min(bytes.len());
+            proptest::prop_assert_eq!(leading_spaces(bytes, at), bytes[at..].iter().take_while(|&&b| b == b' ').count());
         }
 
         /// The fields and their count are those of `split_whitespace`.
