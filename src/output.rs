@@ -151,29 +151,37 @@ fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
     Ok(())
 }
 
-/// Write the files and their folder to disk before the folder is published. Each file is
-/// written (and, when streamed, produced) on a thread of its own, all at once: one file's
-/// `fsync` waits on the disk while the others are still being encoded. A set has a handful
-/// of files.
+/// Write the files and their folder to disk before the folder is published. The files are
+/// created first; then the folder's `fsync` and each file (written, and when streamed
+/// produced, then `fsync`ed) run on threads of their own, all at once: one file waits on the
+/// disk while the others are still being encoded. A set has a handful of files.
 fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let write = |file: &dyn SetContent| -> Result<()> {
-        let path = dir.join(file.name());
-        let mut f = fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-        file.write_to(&mut f).with_context(|| format!("writing {}", path.display()))?;
+    let created = files
+        .iter()
+        .map(|file| {
+            let path = dir.join(file.name());
+            fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
+        })
+        .collect::<Result<Vec<fs::File>>>()?;
+    let write = |file: &dyn SetContent, mut f: fs::File| -> Result<()> {
+        file.write_to(&mut f).with_context(|| format!("writing {}", dir.join(file.name()).display()))?;
         f.sync_all().ok();
         Ok(())
     };
     std::thread::scope(|scope| {
-        let writers: Vec<_> = files.iter().map(|&file| scope.spawn(move || write(file))).collect();
+        // Every file is named in the folder by now: its entries go to disk beside the bytes.
+        let folder = scope.spawn(|| {
+            if let Ok(d) = fs::File::open(dir) {
+                d.sync_all().ok();
+            }
+        });
+        let writers: Vec<_> = files.iter().zip(created).map(|(&file, f)| scope.spawn(move || write(file, f))).collect();
         // Every writer is joined; the first error in set order is returned, a panic goes on.
         let results: Vec<Result<()>> = writers.into_iter().map(|w| w.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect();
+        folder.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
         results.into_iter().collect::<Result<()>>()
-    })?;
-    if let Ok(d) = fs::File::open(dir) {
-        d.sync_all().ok();
-    }
-    Ok(())
+    })
 }
 
 /// An output folder written before sets existed holds plain files: move them into a

@@ -930,17 +930,18 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
                 _ => check_domain(file, &rows, 1, Quantity::K)?,
             }
             let wavelengths_um = column(&rows, 0);
-            let tabulated = |i| Curve::Tabulated { wavelengths_um: wavelengths_um.clone(), values: column(&rows, i) };
+            // The wavelengths are copied only for a table that gives both n and k.
+            let tabulated = |wavelengths_um, i| Curve::Tabulated { wavelengths_um, values: column(&rows, i) };
             match kind {
                 // A formula n followed by tabulated nk (e.g. organic/PVP/Konig): the
                 // formula stays the n source and the table supplies k, as on the site.
-                "tabulated nk" if matches!(n, Some(Curve::Formula(_))) => set(&mut k, tabulated(2), "k")?,
+                "tabulated nk" if matches!(n, Some(Curve::Formula(_))) => set(&mut k, tabulated(wavelengths_um, 2), "k")?,
                 "tabulated nk" => {
-                    set(&mut n, tabulated(1), "n")?;
-                    set(&mut k, tabulated(2), "k")?;
+                    set(&mut n, tabulated(wavelengths_um.clone(), 1), "n")?;
+                    set(&mut k, tabulated(wavelengths_um, 2), "k")?;
                 }
-                "tabulated n" => set(&mut n, tabulated(1), "n")?,
-                _ => set(&mut k, tabulated(1), "k")?,
+                "tabulated n" => set(&mut n, tabulated(wavelengths_um, 1), "n")?,
+                _ => set(&mut k, tabulated(wavelengths_um, 1), "k")?,
             }
         } else if let Some(number) = kind.strip_prefix("formula ").and_then(|d| d.trim().parse::<u8>().ok()).filter(|d| (1..=9).contains(d)) {
             if block.data.is_some() {
