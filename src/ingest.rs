@@ -10,7 +10,7 @@ use anyhow::{bail, Result};
 use rayon::prelude::*;
 
 use crate::db::{book_dir, check_data_path, CatalogPage, DataError, Database, Reason};
-use crate::output::{SetFile, Table};
+use crate::output::{SetContent, SetFile, Table};
 use crate::spectrum::{self, Channels, Coverage, Material, CHANNEL_NAMES, SPARSE_GAP_NM};
 
 /// How pages are read: the channel wavelengths and the coverage rule. Every stage that
@@ -202,7 +202,7 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     } else {
         (db.parse_catalog(&text), Evaluated::empty())
     };
-    let catalog = catalog?;
+    let mut catalog = catalog?;
     for wanted in &selection.pages {
         if catalog.find(wanted).is_none() {
             bail!("unknown page {wanted:?} (ids look like main/Au/Johnson or 3d/metals/gold)");
@@ -214,23 +214,7 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
             bail!("unknown shelf {shelf:?}; the catalog has {}", known_shelves.join(", "));
         }
     }
-    let pages: Vec<&CatalogPage> = catalog.pages.iter().filter(|p| selection.includes(p)).collect();
-    let ids: Vec<String> = pages.iter().map(|p| p.id()).collect();
-
-    // Each data file once, in parallel.
-    let mut files: Vec<&str> = pages.iter().map(|p| p.data.as_str()).collect();
-    files.sort_unstable();
-    files.dedup();
-    let missing: Vec<&str> = files.iter().copied().filter(|file| !early.materials.contains_key(file)).collect();
-    let late = evaluate_files(db, &missing, config);
-    let material_of = |file: &str| early.materials.get(file).or_else(|| late.materials.get(file));
-    let names_of = |file: &str| book_dir(file).and_then(|book| early.names.get(book).or_else(|| late.names.get(book)).cloned().flatten());
-
-    let mut ids_by_file: HashMap<&str, Vec<&str>> = HashMap::new();
-    for (page, id) in pages.iter().zip(&ids) {
-        ids_by_file.entry(page.data.as_str()).or_default().push(id);
-    }
-    let mut result = Ingest { selected: pages.len(), config: *config, ..Default::default() };
+    let mut result = Ingest { config: *config, ..Default::default() };
     for rejected in catalog.rejected.iter().filter(|r| selection.includes_id(&r.shelf, &r.id)) {
         result.selected += 1;
         result.excluded.push(Excluded { page: rejected.id.clone(), error: rejected.error.clone() });
@@ -256,18 +240,51 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
             });
         }
     }
-    for (page, id) in pages.iter().zip(ids.iter()) {
-        match material_of(&page.data).expect("every selected data file was evaluated") {
-            Ok(material) => {
-                result.warnings.extend(material.data.warnings.iter().map(|w| Warning { page: id.clone(), error: w.clone() }));
-                result.kept.push(KeptPage {
-                    names: names_of(&page.data).unwrap_or_else(|| vec![page.book_name.clone()]),
-                    material: material.clone(),
-                    shared_with: ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).map(|other| other.to_string()).collect(),
-                    page: (*page).clone(),
-                })
+    // The selected pages are moved out of the catalog (each is kept or excluded once).
+    let pages: Vec<CatalogPage> = std::mem::take(&mut catalog.pages).into_iter().filter(|p| selection.includes(p)).collect();
+    // What is left of the catalog is freed on a worker, beside the assembly.
+    rayon::spawn(move || drop(catalog));
+    result.selected += pages.len();
+    let ids: Vec<String> = pages.par_iter().map(|p| p.id()).collect();
+
+    // Each data file once, in parallel.
+    let mut files: Vec<&str> = pages.iter().map(|p| p.data.as_str()).collect();
+    files.sort_unstable();
+    files.dedup();
+    let missing: Vec<String> = files.iter().filter(|file| !early.materials.contains_key(*file)).map(|file| file.to_string()).collect();
+    let missing: Vec<&str> = missing.iter().map(String::as_str).collect();
+    let late = evaluate_files(db, &missing, config);
+    let material_of = |file: &str| early.materials.get(file).or_else(|| late.materials.get(file));
+    let names_of = |file: &str| book_dir(file).and_then(|book| early.names.get(book).or_else(|| late.names.get(book)).cloned().flatten());
+
+    let mut ids_by_file: HashMap<&str, Vec<&str>> = HashMap::new();
+    for (page, id) in pages.iter().zip(&ids) {
+        ids_by_file.entry(page.data.as_str()).or_default().push(id);
+    }
+    let shared_with: Vec<Vec<String>> =
+        pages.par_iter().zip(&ids).map(|(page, id)| ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).map(|other| other.to_string()).collect()).collect();
+    // Each page's outcome, built in parallel (the page moved into it) and taken in catalog order.
+    let outcomes: Vec<Result<KeptPage, Excluded>> = pages
+        .into_par_iter()
+        .zip(ids)
+        .zip(shared_with)
+        .map(|((page, id), shared_with)| match material_of(&page.data).expect("every selected data file was evaluated") {
+            Ok(material) => Ok(KeptPage {
+                names: names_of(&page.data).unwrap_or_else(|| vec![page.book_name.clone()]),
+                material: material.clone(),
+                shared_with,
+                page,
+            }),
+            Err(error) => Err(Excluded { page: id, error: error.clone() }),
+        })
+        .collect();
+    for outcome in outcomes {
+        match outcome {
+            Ok(kept) => {
+                result.warnings.extend(kept.material.data.warnings.iter().map(|w| Warning { page: kept.id(), error: w.clone() }));
+                result.kept.push(kept);
             }
-            Err(error) => result.excluded.push(Excluded { page: id.clone(), error: error.clone() }),
+            Err(excluded) => result.excluded.push(excluded),
         }
     }
     Ok(result)
@@ -277,7 +294,8 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
 pub fn materials_table(ingest: &Ingest) -> Table {
     let channels = &ingest.config.channels;
     let kept = &ingest.kept;
-    let text = |f: &dyn Fn(&KeptPage) -> String| kept.iter().map(f).collect::<Vec<_>>();
+    // Each text column formatted in parallel (rows in order).
+    let text = |f: &(dyn Fn(&KeptPage) -> String + Sync)| kept.par_iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("page", "page id shelf/book/page", text(&|p| p.id()))
@@ -327,10 +345,12 @@ pub fn problems_table(rows: &[Excluded]) -> Table {
 }
 
 /// Publish `materials.{csv,parquet,json}` (+ columns), `excluded.csv` and `warnings.csv`
-/// under `out` as one set.
+/// under `out` as one set; the materials' encodings run as their files are written.
 pub fn write_tables(ingest: &Ingest, out: &Path) -> Result<Vec<PathBuf>> {
-    let mut files = materials_table(ingest).files("materials", true)?;
-    files.push(SetFile::new("excluded.csv", problems_table(&ingest.excluded).to_csv()?));
-    files.push(SetFile::new("warnings.csv", problems_table(&ingest.warnings).to_csv()?));
-    crate::output::publish_set(out, "ingest", &files)
+    let materials = materials_table(ingest);
+    let excluded = SetFile::new("excluded.csv", problems_table(&ingest.excluded).to_csv()?);
+    let warnings = SetFile::new("warnings.csv", problems_table(&ingest.warnings).to_csv()?);
+    let streamed = materials.streamed_files("materials", true);
+    let files: Vec<&dyn SetContent> = streamed.iter().map(|f| f as &dyn SetContent).chain([&excluded as &dyn SetContent, &warnings]).collect();
+    crate::output::publish_contents(out, "ingest", &files)
 }

@@ -151,20 +151,37 @@ fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
     Ok(())
 }
 
-/// Write the files and their folder to disk before the folder is published.
+/// Write the files and their folder to disk before the folder is published. The files are
+/// created first; then the folder's `fsync` and each file (written, and when streamed
+/// produced, then `fsync`ed) run on threads of their own, all at once: one file waits on the
+/// disk while the others are still being encoded. A set has a handful of files.
 fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    files.par_iter().try_for_each(|file| -> Result<()> {
-        let path = dir.join(file.name());
-        let mut f = fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-        file.write_to(&mut f).with_context(|| format!("writing {}", path.display()))?;
+    let created = files
+        .iter()
+        .map(|file| {
+            let path = dir.join(file.name());
+            fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
+        })
+        .collect::<Result<Vec<fs::File>>>()?;
+    let write = |file: &dyn SetContent, mut f: fs::File| -> Result<()> {
+        file.write_to(&mut f).with_context(|| format!("writing {}", dir.join(file.name()).display()))?;
         f.sync_all().ok();
         Ok(())
-    })?;
-    if let Ok(d) = fs::File::open(dir) {
-        d.sync_all().ok();
-    }
-    Ok(())
+    };
+    std::thread::scope(|scope| {
+        // Every file is named in the folder by now: its entries go to disk beside the bytes.
+        let folder = scope.spawn(|| {
+            if let Ok(d) = fs::File::open(dir) {
+                d.sync_all().ok();
+            }
+        });
+        let writers: Vec<_> = files.iter().zip(created).map(|(&file, f)| scope.spawn(move || write(file, f))).collect();
+        // Every writer is joined; the first error in set order is returned, a panic goes on.
+        let results: Vec<Result<()>> = writers.into_iter().map(|w| w.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect();
+        folder.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        results.into_iter().collect::<Result<()>>()
+    })
 }
 
 /// An output folder written before sets existed holds plain files: move them into a
@@ -612,9 +629,27 @@ impl Table {
         Ok(files)
     }
 
+    /// The same files as [`files`](Self::files), each encoded while it is written: handed
+    /// to [`publish_contents`], the encodings run side by side and each file goes to disk
+    /// as soon as its own encoding is done.
+    pub fn streamed_files(&self, stem: &str, json: bool) -> Vec<StreamedFile<'_>> {
+        let encoded = |encode: fn(&Table) -> Result<Vec<u8>>| move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&encode(self)?)?) };
+        let stem_owned = stem.to_string();
+        let mut files = vec![
+            StreamedFile::new(format!("{stem}.columns.json"), move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&self.columns_json(&stem_owned)?)?) }),
+            StreamedFile::new(format!("{stem}.csv"), encoded(Table::to_csv)),
+            StreamedFile::new(format!("{stem}.parquet"), encoded(Table::to_parquet)),
+        ];
+        if json {
+            files.push(StreamedFile::new(format!("{stem}.json"), encoded(Table::to_json)));
+        }
+        files
+    }
+
     /// Publish the table's [`files`](Self::files) under `dir` as the set `stem`.
     pub fn write(&self, dir: &Path, stem: &str, json: bool) -> Result<Vec<PathBuf>> {
-        publish_set(dir, stem, &self.files(stem, json)?)
+        let files = self.streamed_files(stem, json);
+        publish_contents(dir, stem, &files.iter().map(|f| f as &dyn SetContent).collect::<Vec<_>>())
     }
 }
 

@@ -192,7 +192,11 @@ pub fn index_held(data: &PageData, nm: f64) -> Index {
 /// The largest spacing between tabulated rows that overlaps `VISIBLE_NM`.
 fn visible_gap_nm(samples_um: &[f64]) -> f64 {
     let (lo, hi) = VISIBLE_NM;
-    samples_um
+    // The spacings that overlap are one stretch of the increasing rows (×1000 keeps their
+    // order): from the last row at or below lo to the first at or above hi.
+    let first = samples_um.partition_point(|s| s * 1000.0 <= lo).saturating_sub(1);
+    let end = (samples_um.partition_point(|s| s * 1000.0 < hi) + 1).min(samples_um.len()).max(first);
+    samples_um[first..end]
         .windows(2)
         .map(|w| (w[0] * 1000.0, w[1] * 1000.0))
         .filter(|&(a, b)| b > lo && a < hi)
@@ -201,16 +205,51 @@ fn visible_gap_nm(samples_um: &[f64]) -> f64 {
 }
 
 /// Wavelengths (nm) the filter checks: every 5 nm over the visible window plus every
-/// tabulated row inside it.
-fn visible_check_points(data: &PageData) -> Vec<f64> {
+/// tabulated row inside it (n's, then k's). Each of the three runs increases.
+fn visible_check_points(data: &PageData) -> impl Iterator<Item = f64> + '_ {
     let (lo, hi) = VISIBLE_NM;
-    let mut points: Vec<f64> = (0..).map(|i| lo + 5.0 * i as f64).take_while(|&x| x <= hi).collect();
-    for curve in std::iter::once(&data.n).chain(data.k.as_ref()) {
-        if let Some(samples) = curve.samples_um() {
-            points.extend(samples.iter().map(|s| s * 1000.0).filter(|&x| x >= lo && x <= hi));
-        }
+    let grid = (0..).map(move |i| lo + 5.0 * i as f64).take_while(move |&x| x <= hi);
+    let rows = std::iter::once(&data.n).chain(data.k.as_ref()).filter_map(Curve::samples_um).flat_map(move |samples| {
+        // The rows whose wavelength in nm lies in [lo, hi]: one stretch of the increasing
+        // wavelengths (×1000 keeps their order), found by two binary searches.
+        let first = samples.partition_point(|s| s * 1000.0 < lo);
+        let end = samples.partition_point(|s| s * 1000.0 <= hi).max(first);
+        samples[first..end].iter().map(|s| s * 1000.0)
+    });
+    grid.chain(rows)
+}
+
+/// The rows [`index_near`] last found in n and k.
+#[derive(Default)]
+struct Rows {
+    n: usize,
+    k: usize,
+}
+
+/// [`index_at`] with each curve's row looked for from the last one found
+/// ([`Curve::at_near`]): the same index, or at a point where `index_at` fails its error.
+fn index_near(data: &PageData, nm: f64, rows: &mut Rows) -> Result<Index, DataError> {
+    let n = data.n.at_near(um(nm), &mut rows.n);
+    let k = match &data.k {
+        Some(curve) => curve.at_near(um(nm), &mut rows.k),
+        None => Some(0.0),
+    };
+    match (n, k) {
+        (Some(n), Some(k)) => check_index(data, nm, n, k),
+        _ => index_at(data, nm),
     }
-    points
+}
+
+/// The largest k at the visible check points, each clamped to `[visible_lo, visible_hi]`
+/// (where the data meet the visible window), or the first point's error in the order of
+/// [`visible_check_points`].
+fn visible_max_k(data: &PageData, visible_lo: f64, visible_hi: f64) -> Result<f64, DataError> {
+    let mut max_k: f64 = 0.0;
+    let mut rows = Rows::default();
+    for nm in visible_check_points(data).map(|nm| nm.clamp(visible_lo, visible_hi)) {
+        max_k = max_k.max(index_near(data, nm, &mut rows)?.k);
+    }
+    Ok(max_k)
 }
 
 /// The coverage filter (SPEC §2) and channel evaluation (SPEC §3): n (and k where the
@@ -235,11 +274,10 @@ pub fn evaluate(data: PageData, channels: &Channels, coverage: Coverage) -> Resu
         };
         return Err(DataError::new(Reason::NoVisibleCoverage, &data.file, None, format!("n {n_lo:.1}–{n_hi:.1} nm{k_text}; {need}")));
     }
-    let mut max_k: f64 = 0.0;
+    let mut max_k = 0.0;
     let (visible_lo, visible_hi) = (VISIBLE_NM.0.max(lo), VISIBLE_NM.1.min(hi));
-    let checked = visible_check_points(&data).into_iter().filter(|_| visible_lo <= visible_hi).map(|nm| nm.clamp(visible_lo, visible_hi));
-    for nm in checked {
-        max_k = max_k.max(index_at(&data, nm)?.k);
+    if visible_lo <= visible_hi {
+        max_k = visible_max_k(&data, visible_lo, visible_hi)?;
     }
     let [r, g, b] = wavelengths;
     let channel_index = [index_at(&data, r)?, index_at(&data, g)?, index_at(&data, b)?];
@@ -263,6 +301,73 @@ mod tests {
 
     fn page(text: &str) -> PageData {
         parse_page("t.yml", text).unwrap()
+    }
+
+    /// `visible_max_k` as it was first written: the check points collected, each looked up
+    /// by [`index_at`] (a binary search per curve).
+    fn visible_max_k_by_index_at(data: &PageData, visible_lo: f64, visible_hi: f64) -> Result<f64, DataError> {
+        let (lo, hi) = VISIBLE_NM;
+        let mut points: Vec<f64> = (0..).map(|i| lo + 5.0 * i as f64).take_while(|&x| x <= hi).collect();
+        for curve in std::iter::once(&data.n).chain(data.k.as_ref()) {
+            if let Some(samples) = curve.samples_um() {
+                points.extend(samples.iter().map(|s| s * 1000.0).filter(|&x| x >= lo && x <= hi));
+            }
+        }
+        let mut max_k: f64 = 0.0;
+        for nm in points.into_iter().map(|nm| nm.clamp(visible_lo, visible_hi)) {
+            max_k = max_k.max(index_at(data, nm)?.k);
+        }
+        Ok(max_k)
+    }
+
+    /// A table of `rows` rows from `start` µm in steps of `step` µm, n and k from a seed
+    /// (k dips below 0, and n too, when `negative` says so).
+    fn table_page(start: f64, step: f64, rows: usize, seed: u64, negative: bool) -> PageData {
+        let mut state = seed;
+        let mut next = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut text = String::from("DATA:\n  - type: tabulated nk\n    data: |\n");
+        for i in 0..rows {
+            let (a, b) = (next(), next());
+            let n = if negative && a < 0.02 { -0.5 - a } else { 0.1 + 3.0 * a };
+            let k = if negative && b < 0.02 { -0.1 } else { 2.0 * b };
+            text.push_str(&format!("        {} {n} {k}\n", start + step * i as f64));
+        }
+        page(&text)
+    }
+
+    #[test]
+    fn visible_checks_by_nearby_rows_match_index_at() {
+        let mut pages = vec![page("DATA:\n  - type: formula 3\n    wavelength_range: 0.3 1.0\n    coefficients: 1.0 -8.0 2\n")];
+        for (seed, (start, step, rows)) in [(0.2, 0.001, 900), (0.38, 0.0173, 40), (0.391, 0.005, 62), (0.1, 0.3, 5), (0.45, 0.0001, 3000), (0.25, 0.05, 12)].into_iter().enumerate() {
+            for negative in [false, true] {
+                pages.push(table_page(start, step, rows, seed as u64, negative));
+            }
+        }
+        // A formula n beside a tabulated k.
+        pages.push(page("DATA:\n  - type: formula 2\n    wavelength_range: 0.3 2.5\n    coefficients: 0 1.0 0.01\n  - type: tabulated k\n    data: |\n        0.3 1e-8\n        0.41 -2e-13\n        0.52 0.5\n        2.5 2e-8\n"));
+        for data in &pages {
+            let (lo, hi) = (range_nm(&data.n).0.max(VISIBLE_NM.0), range_nm(&data.n).1.min(VISIBLE_NM.1));
+            for (visible_lo, visible_hi) in [(lo, hi), (VISIBLE_NM.0, VISIBLE_NM.1), (450.0, 600.0)] {
+                let ours = visible_max_k(data, visible_lo, visible_hi).map(f64::to_bits).map_err(|e| (e.reason, e.detail));
+                let reference = visible_max_k_by_index_at(data, visible_lo, visible_hi).map(f64::to_bits).map_err(|e| (e.reason, e.detail));
+                assert_eq!(ours, reference, "{visible_lo}-{visible_hi} nm");
+            }
+        }
+        // The largest visible spacing, from the rows near the window, is that of all rows.
+        for samples in pages.iter().flat_map(|d| std::iter::once(&d.n).chain(d.k.as_ref())).filter_map(Curve::samples_um) {
+            let all = samples.windows(2).map(|w| (w[0] * 1000.0, w[1] * 1000.0)).filter(|&(a, b)| b > 390.0 && a < 700.0).map(|(a, b)| b - a).fold(0.0, f64::max);
+            assert_eq!(visible_gap_nm(samples).to_bits(), all.to_bits());
+        }
+        for samples in [&[0.3, 0.39, 0.7, 0.8][..], &[0.39, 0.7], &[0.2, 0.3], &[0.8, 0.9], &[0.5], &[]] {
+            let all = samples.windows(2).map(|w| (w[0] * 1000.0, w[1] * 1000.0)).filter(|&(a, b)| b > 390.0 && a < 700.0).map(|(a, b)| b - a).fold(0.0, f64::max);
+            assert_eq!(visible_gap_nm(samples).to_bits(), all.to_bits(), "{samples:?}");
+        }
+        // Both outcomes are covered.
+        assert!(pages.iter().any(|d| visible_max_k(d, 390.0, 700.0).is_err()));
+        assert!(pages.iter().any(|d| visible_max_k(d, 390.0, 700.0).is_ok_and(|k| k > 1.0)));
     }
 
     #[test]

@@ -43,6 +43,22 @@ impl Curve {
     /// Value at λ (µm), or `None` outside the range. Tabulated: linear in λ between the
     /// neighbouring rows (what the database's site does).
     pub fn at(&self, um: f64) -> Option<f64> {
+        self.value_at(um, |x| x.partition_point(|&w| w <= um))
+    }
+
+    /// [`at`](Self::at) for wavelengths read in increasing order: `row` holds the row the
+    /// previous call found (start with 0) and is moved forward a few rows at a time instead
+    /// of searching the whole table again. Any `row` gives the same value as `at`.
+    pub fn at_near(&self, um: f64, row: &mut usize) -> Option<f64> {
+        self.value_at(um, |x| {
+            *row = rows_not_above(x, um, *row);
+            *row
+        })
+    }
+
+    /// The value at λ, `rows(x)` giving how many tabulated wavelengths are ≤ λ.
+    #[inline(always)]
+    fn value_at(&self, um: f64, rows: impl FnOnce(&[f64]) -> usize) -> Option<f64> {
         let (lo, hi) = self.range_um();
         if !(um >= lo && um <= hi) {
             return None;
@@ -50,7 +66,7 @@ impl Curve {
         Some(match self {
             Curve::Formula(f) => f.refractive_index(um),
             Curve::Tabulated { wavelengths_um: x, values: y } => {
-                let i = x.partition_point(|&w| w <= um);
+                let i = rows(x);
                 if i == 0 {
                     y[0]
                 } else if i >= x.len() {
@@ -76,6 +92,26 @@ impl Curve {
             Curve::Formula(_) => None,
         }
     }
+}
+
+/// How many of the increasing wavelengths `x` are ≤ `um` (`x.partition_point(|&w| w <= um)`),
+/// found by stepping forward from `from` when the answer lies a few rows on, else by a binary
+/// search. The count is the same whatever `from` is.
+fn rows_not_above(x: &[f64], um: f64, from: usize) -> usize {
+    /// Rows stepped over before a binary search of the rest takes over.
+    const STEPS: usize = 8;
+    if from > x.len() || (from > 0 && !(x[from - 1] <= um)) {
+        return x.partition_point(|&w| w <= um);
+    }
+    // Every row before `from` is ≤ um.
+    let mut i = from;
+    for _ in 0..STEPS {
+        if i == x.len() || !(x[i] <= um) {
+            return i;
+        }
+        i += 1;
+    }
+    i + x[i..].partition_point(|&w| w <= um)
 }
 
 /// A printed property value and its number of decimals (e.g. `nd: 1.523` → 3).
@@ -233,7 +269,7 @@ impl<'a> CutTables<'a> {
                 let next = &text[line_start..end];
                 let next = next.strip_suffix('\r').unwrap_or(next);
                 let bytes = next.as_bytes();
-                let spaces = bytes.iter().take_while(|&&b| b == b' ').count();
+                let spaces = leading_spaces(bytes, 0);
                 let content = &next[spaces..];
                 let (content_line, tab) = match bytes.get(spaces) {
                     // A table row: printable ASCII after the spaces.
@@ -473,9 +509,11 @@ fn parse_field(field: Field) -> Option<f64> {
 /// finite result comes from the plain decimal grammar, which the two share). Returns the
 /// values and the offset of the row's line end (its `\n`, or the end of the table); `None`
 /// for any other row (blank, short, long, not numbers), which [`general_row`] then reads.
-fn plain_row(bytes: &[u8], mut at: usize, columns: usize) -> Option<([f64; 3], usize)> {
+fn plain_row(bytes: &[u8], at: usize, columns: usize) -> Option<([f64; 3], usize)> {
     let mut values = [0.0; 3];
     let mut count = 0;
+    // The row's indentation (spaces, most of a row's whitespace) eight bytes at a time.
+    let mut at = at + leading_spaces(bytes, at);
     loop {
         // Whitespace within the line: every ASCII whitespace byte but the line feed.
         while at < bytes.len() && matches!(bytes[at], b'\t' | b'\x0B' | b'\x0C' | b'\r' | b' ') {
@@ -521,22 +559,17 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
         }
         _ => false,
     };
-    let mut mantissa: u64 = 0;
-    let mut digits = 0;
     let mut exponent: i64 = 0;
-    while let Some(d) = digit(at) {
-        mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
-        digits += 1;
-        at += 1;
-    }
+    let (whole, mut mantissa) = read_digits(bytes, at, 0);
+    at += whole;
+    let mut digits = whole;
     if bytes.get(at) == Some(&b'.') {
         at += 1;
-        while let Some(d) = digit(at) {
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
-            digits += 1;
-            exponent -= 1;
-            at += 1;
-        }
+        let (fraction, with_fraction) = read_digits(bytes, at, mantissa);
+        mantissa = with_fraction;
+        digits += fraction;
+        exponent -= fraction as i64;
+        at += fraction;
     }
     if digits == 0 || digits > 19 || mantissa > 1 << 53 {
         return None;
@@ -569,6 +602,67 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
     let magnitude = if exponent >= 0 { mantissa as f64 * power } else { mantissa as f64 / power };
     Some((if negative { -magnitude } else { magnitude }, at))
 }
+
+/// The run of ASCII digits at byte `at` of `bytes` appended to `mantissa` (×10 plus the
+/// digit, wrapping, for each digit): the run's length and the new mantissa. Eight bytes are
+/// looked at at once while eight remain (Lemire's SWAR digit test and combination, as in
+/// fast_float), so a table number's few digits take one step instead of one per digit.
+#[inline(always)]
+fn read_digits(bytes: &[u8], at: usize, mut mantissa: u64) -> (usize, u64) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let mut length = 0;
+    while let Some(chunk) = bytes.get(at + length..at + length + 8) {
+        let word = u64::from_le_bytes(chunk.try_into().expect("eight bytes"));
+        // The high bit of each byte set where the byte is not '0'..='9'. A byte below '0'
+        // borrows from, and one above '9' may carry into, only the bytes after it, which
+        // follow the first non-digit and are not read.
+        let values = word.wrapping_sub(0x30 * ONES);
+        let not_digit = (values | word.wrapping_add(0x46 * ONES)) & (0x80 * ONES);
+        let run = (not_digit.trailing_zeros() / 8) as usize;
+        if run == 0 {
+            return (length, mantissa);
+        }
+        // The run's digit values as the last `run` bytes of eight, zeros before them (the
+        // first byte is the most significant digit), combined into their integer.
+        let aligned = values << (8 * (8 - run));
+        let pairs = aligned.wrapping_mul(10).wrapping_add(aligned >> 8);
+        let mask = 0x0000_00FF_0000_00FF;
+        let number = ((pairs & mask).wrapping_mul(0x000F_4240_0000_0064)).wrapping_add(((pairs >> 16) & mask).wrapping_mul(0x0000_2710_0000_0001)) >> 32;
+        mantissa = mantissa.wrapping_mul(POWERS_OF_TEN[run]).wrapping_add(number);
+        length += run;
+        if run < 8 {
+            return (length, mantissa);
+        }
+    }
+    while let Some(&b) = bytes.get(at + length).filter(|b| b.is_ascii_digit()) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+        length += 1;
+    }
+    (length, mantissa)
+}
+
+/// How many bytes from `at` on are spaces (b' '), counted eight at a time while eight bytes
+/// remain and a byte at a time after.
+#[inline(always)]
+fn leading_spaces(bytes: &[u8], at: usize) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let mut length = 0;
+    while let Some(chunk) = bytes.get(at + length..at + length + 8) {
+        // Zero bytes where there are spaces; the high bit of each byte set where there is
+        // not (per byte, no carries between bytes).
+        let other = u64::from_le_bytes(chunk.try_into().expect("eight bytes")) ^ (b' ' as u64 * ONES);
+        let not_space = ((other & (0x7F * ONES)).wrapping_add(0x7F * ONES) | other) & (0x80 * ONES);
+        let run = (not_space.trailing_zeros() / 8) as usize;
+        length += run;
+        if run < 8 {
+            return length;
+        }
+    }
+    length + bytes[(at + length).min(bytes.len())..].iter().take_while(|&&b| b == b' ').count()
+}
+
+/// 10^i for i = 0..=8.
+const POWERS_OF_TEN: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000];
 
 /// The numbers of one row by the general rule (fields split as `split_whitespace` splits
 /// them, read as `f64`'s `FromStr` reads them): `None` for a blank line, the named error
@@ -836,17 +930,18 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
                 _ => check_domain(file, &rows, 1, Quantity::K)?,
             }
             let wavelengths_um = column(&rows, 0);
-            let tabulated = |i| Curve::Tabulated { wavelengths_um: wavelengths_um.clone(), values: column(&rows, i) };
+            // The wavelengths are copied only for a table that gives both n and k.
+            let tabulated = |wavelengths_um, i| Curve::Tabulated { wavelengths_um, values: column(&rows, i) };
             match kind {
                 // A formula n followed by tabulated nk (e.g. organic/PVP/Konig): the
                 // formula stays the n source and the table supplies k, as on the site.
-                "tabulated nk" if matches!(n, Some(Curve::Formula(_))) => set(&mut k, tabulated(2), "k")?,
+                "tabulated nk" if matches!(n, Some(Curve::Formula(_))) => set(&mut k, tabulated(wavelengths_um, 2), "k")?,
                 "tabulated nk" => {
-                    set(&mut n, tabulated(1), "n")?;
-                    set(&mut k, tabulated(2), "k")?;
+                    set(&mut n, tabulated(wavelengths_um.clone(), 1), "n")?;
+                    set(&mut k, tabulated(wavelengths_um, 2), "k")?;
                 }
-                "tabulated n" => set(&mut n, tabulated(1), "n")?,
-                _ => set(&mut k, tabulated(1), "k")?,
+                "tabulated n" => set(&mut n, tabulated(wavelengths_um, 1), "n")?,
+                _ => set(&mut k, tabulated(wavelengths_um, 1), "k")?,
             }
         } else if let Some(number) = kind.strip_prefix("formula ").and_then(|d| d.trim().parse::<u8>().ok()).filter(|d| (1..=9).contains(d)) {
             if block.data.is_some() {
@@ -1162,6 +1257,28 @@ mod tests {
             }
         }
 
+        /// Eight digits at a time, the run's length and mantissa are those of one at a time.
+        #[test]
+        fn digit_runs_are_read_as_one_by_one(text in "[0-9]{0,30}[^0-9]?[0-9]{0,12}|[0-9/:.eE +-]{0,24}|\\PC{0,12}", at in 0usize..8, start in proptest::prelude::any::<u64>()) {
+            let bytes = text.as_bytes();
+            let at = at.min(bytes.len());
+            let mut mantissa = start;
+            let mut length = 0;
+            while let Some(&b) = bytes.get(at + length).filter(|b| b.is_ascii_digit()) {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                length += 1;
+            }
+            proptest::prop_assert_eq!(read_digits(bytes, at, start), (length, mantissa), "{:?} at {}", text, at);
+        }
+
+        /// Spaces counted eight at a time are those counted one at a time.
+        #[test]
+        fn leading_spaces_are_counted_as_one_by_one(text in "[ ]{0,20}[^ ]?[ 0-9\t]{0,12}|\\PC{0,12}", at in 0usize..8) {
+            let bytes = text.as_bytes();
+            let at = at.min(bytes.len());
+            proptest::prop_assert_eq!(leading_spaces(bytes, at), bytes[at..].iter().take_while(|&&b| b == b' ').count());
+        }
+
         /// The fields and their count are those of `split_whitespace`.
         #[test]
         fn fields_are_those_of_split_whitespace(text in layout_text()) {
@@ -1239,6 +1356,34 @@ mod tests {
     fn table_numbers_and_edge_cases_parse_as_the_standard_parser() {
         for text in ["1.28246E+00", "1.11870E-06", "0.39", "+.5", "5.", ".", "-", "+", "1e", "1e+", "e5", "1..2", "1e5e5", "-0", "1e400", "1e-400", "inf", "NaN", "0x10", "1_0"] {
             assert_eq!(parse_float(text).map(f64::to_bits), text.parse::<f64>().ok().map(f64::to_bits), "{text}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+
+        /// The forward search counts the rows `partition_point` counts, from any start row.
+        #[test]
+        fn rows_not_above_is_the_partition_point(steps in proptest::collection::vec(1e-6f64..0.5, 0..40), um in -0.5f64..12.0, from in 0usize..45) {
+            let x: Vec<f64> = steps.iter().scan(0.0, |w, s| { *w += s; Some(*w) }).collect();
+            proptest::prop_assert_eq!(rows_not_above(&x, um, from), x.partition_point(|&w| w <= um));
+            // The table's own wavelengths, where `<=` changes from true to false.
+            for &w in &x {
+                proptest::prop_assert_eq!(rows_not_above(&x, w, from), x.partition_point(|&v| v <= w));
+            }
+        }
+
+        /// Read in increasing order (then again from the start), `at_near` gives the bits `at` gives.
+        #[test]
+        fn at_near_gives_the_values_of_at(steps in proptest::collection::vec(1e-4f64..0.2, 2..60), values in proptest::collection::vec(-5.0f64..5.0, 60), points in proptest::collection::vec(0.0f64..8.0, 0..80)) {
+            let x: Vec<f64> = steps.iter().scan(0.1, |w, s| { *w += s; Some(*w) }).collect();
+            let curve = Curve::Tabulated { values: values[..x.len()].to_vec(), wavelengths_um: x.clone() };
+            let mut sorted = points.clone();
+            sorted.sort_by(f64::total_cmp);
+            let mut row = 0;
+            for um in sorted.iter().chain(&x).chain(&sorted) {
+                proptest::prop_assert_eq!(curve.at_near(*um, &mut row).map(f64::to_bits), curve.at(*um).map(f64::to_bits));
+            }
         }
     }
 }
