@@ -12,7 +12,7 @@
 //! builder's f32 boxes is conservative — reciprocal directions are held finite, so no
 //! product is NaN, and the exit is rounded outwards — so every triangle a ray may cross is
 //! tested, and a ray's answer is the one the triangle test gives it alone. The tree is
-//! obvhs's binary BVH.
+//! obvhs's binary BVH, stored as sibling pairs of one cache line each.
 
 use glam::{DVec3, Vec3A};
 use obvhs::bvh2::builder::build_bvh2_from_tris;
