@@ -31,7 +31,7 @@ use obvhs::triangle::Triangle as BvhTriangle;
 use obvhs::BvhBuildParams;
 
 use super::packet::{Corners, Packet, PacketTree, PACKET_RAYS};
-use crate::scene::mesh::Mesh;
+use crate::scene::mesh::{widen, Mesh};
 
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
 /// metres) are the surface the ray leaves, not a new one.
@@ -68,7 +68,7 @@ impl Triangle {
     /// signed edge functions then decide inside-ness exactly on shared edges.
     #[inline(always)]
     fn crossing(&self, origin: DVec3, direction: DVec3) -> Option<Crossing> {
-        crossing(self.corners, origin, &Shear::of(direction))
+        crossing_from(self.corners.map(|corner| corner - origin), &Shear::of(direction))
     }
 
     /// The interpolated vertex normal at (u, v), normalised.
@@ -81,14 +81,9 @@ impl Triangle {
     }
 }
 
-/// The watertight test of a ray (origin, shear) against a triangle's corners.
-#[inline(always)]
-fn crossing(corners: [DVec3; 3], origin: DVec3, shear: &Shear) -> Option<Crossing> {
-    crossing_from(corners.map(|corner| corner - origin), shear)
-}
-
-/// [`crossing`] with the corners given relative to the ray's origin (`corner − origin`,
-/// formed once for the rays of a packet).
+/// The watertight test of a ray (its shear) against a triangle whose corners are given
+/// relative to the ray's origin (`corner − origin`: per ray in [`Triangle::crossing`], once
+/// for all the rays of a packet in [`Geometry::open_rays`]).
 #[inline(always)]
 pub fn crossing_from(relative: [DVec3; 3], shear: &Shear) -> Option<Crossing> {
     match shear.axis {
@@ -181,10 +176,6 @@ const PACKET_LEAF_TRIANGLES: u32 = 2;
 #[derive(Debug, thiserror::Error)]
 #[error("the scene has no triangles to trace")]
 pub struct EmptyGeometry;
-
-fn widen(p: [f32; 3]) -> DVec3 {
-    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
-}
 
 impl Geometry {
     /// The placed meshes, one per object, in the scene's object order.

@@ -19,6 +19,8 @@ use obvhs::bvh2::builder::build_bvh2_from_tris;
 use obvhs::triangle::Triangle as BvhTriangle;
 use obvhs::BvhBuildParams;
 
+use crate::scene::mesh::widen;
+
 /// The most rays a packet holds (one bit each in its masks).
 pub const PACKET_RAYS: usize = 64;
 
@@ -50,7 +52,8 @@ struct SiblingPair([PacketNode; 2]);
 /// the corners stored in leaf order next to one another (the traversal's memory traffic,
 /// not its arithmetic, is what a ray costs).
 pub struct PacketTree {
-    root: PacketNode,
+    /// None for a tree without triangles.
+    root: Option<PacketNode>,
     pairs: Vec<SiblingPair>,
     corners: Vec<Corners>,
 }
@@ -103,7 +106,6 @@ impl Packet {
     /// (there are no NaNs to order: see [`reciprocal_of`]).
     #[inline(always)]
     fn entering(&self, low: [f32; 3], high: [f32; 3], live: RayMask) -> RayMask {
-        let widen = |p: [f32; 3]| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
         let (near, far) = (widen(low) - self.origin, widen(high) - self.origin);
         // A box around the origin holds every ray at t = 0 (so for the boxes down to the
         // origin's own leaf, which every packet of a vertex walks, no ray is tested).
@@ -155,7 +157,7 @@ impl PacketTree {
         // children reads pairs that lie close in memory.
         let mut pairs = Vec::new();
         if triangles.is_empty() {
-            return PacketTree { root: PacketNode { low: [0.0; 3], high: [0.0; 3], first: 0, count: 0 }, pairs, corners: Vec::new() };
+            return PacketTree { root: None, pairs, corners: Vec::new() };
         }
         let mut root = node(0);
         let mut pending: Vec<(usize, usize)> = Vec::new();
@@ -174,7 +176,7 @@ impl PacketTree {
             pairs[pair].0[side] = parent;
         }
         let corners = bvh.primitive_indices.iter().map(|&i| triangles[i as usize]).collect();
-        PacketTree { root, pairs, corners }
+        PacketTree { root: Some(root), pairs, corners }
     }
 
     /// How many rays of `packet` cross no triangle (`crosses` as in [`open`]).
@@ -192,10 +194,7 @@ impl PacketTree {
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, crosses: F) -> RayMask {
     let mut open = packet.all();
-    if tree.corners.is_empty() {
-        return open;
-    }
-    let root = &tree.root;
+    let Some(root) = &tree.root else { return open };
     let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
     let entering_root = packet.entering(root.low, root.high, open);
     if entering_root != 0 {
@@ -220,7 +219,7 @@ fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, c
             continue;
         }
         for corners in &tree.corners[node.first as usize..(node.first + node.count) as usize] {
-            let relative = corners.map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) - packet.origin);
+            let relative = corners.map(|p| widen(p) - packet.origin);
             let mut live = rays & open;
             while live != 0 {
                 let ray = live.trailing_zeros() as usize;

@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::DVec3;
+
 use crate::scene::{MeshSource, Placement};
 
 /// Indexed triangles with one normal per vertex.
@@ -41,6 +43,11 @@ impl Mesh {
     pub fn interleaved(&self) -> Vec<f32> {
         self.positions.iter().zip(&self.normals).flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]]).collect()
     }
+}
+
+/// A mesh's point or normal (f32, as meshes store them) in f64, exactly.
+pub fn widen(p: [f32; 3]) -> DVec3 {
+    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
 }
 
 /// Load a scene mesh; `path` resolves file paths.

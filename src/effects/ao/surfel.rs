@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::scene::mesh::{smooth_normals, Mesh};
+use crate::scene::mesh::{smooth_normals, widen, Mesh};
 
 /// An oriented disc: centre, unit normal, area.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,10 +25,6 @@ pub struct Surfel {
 
 /// The normal of a vertex with nothing to define one.
 pub const FALLBACK_NORMAL: DVec3 = DVec3::Z;
-
-fn widen(p: [f32; 3]) -> DVec3 {
-    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
-}
 
 /// One surfel per vertex of `mesh`, in vertex order.
 pub fn surfels(mesh: &Mesh) -> Vec<Surfel> {

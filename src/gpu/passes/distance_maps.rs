@@ -24,6 +24,7 @@ use crate::effects::trace::{ObjectOptics, Stage, Surface};
 use crate::gpu::compose::compose;
 use crate::gpu::context::Gpu;
 use crate::gpu::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
+use crate::scene::mesh::widen;
 use crate::scene::{Diffuse, Light, Pattern, SearchSteps};
 
 /// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
@@ -316,7 +317,7 @@ impl MapRenderer {
         let buffer = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         // The projection spans the whole scene from any reference point inside its box.
         let (low, high) = stage.meshes.iter().flat_map(|m| &m.positions).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| {
-            let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            let p = widen(*p);
             (low.min(p), high.max(p))
         });
         let far = 2.0 * (high - low).length().max(1e-6);
