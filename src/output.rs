@@ -612,26 +612,24 @@ impl Table {
         Ok(bytes)
     }
 
-    /// The files of the table: `<stem>.columns.json` (the column documentation),
-    /// `<stem>.csv`, `<stem>.parquet` and, when asked, `<stem>.json`.
+    /// The files of the table ([`streamed_files`](Self::streamed_files)) encoded into
+    /// memory, side by side on the cores (the encodings of a large table take about as long
+    /// each).
     pub fn files(&self, stem: &str, json: bool) -> Result<Vec<SetFile>> {
-        // The encodings of a large table take about as long each: side by side on the cores.
-        let (csv, (parquet, rows_json)) =
-            rayon::join(|| self.to_csv(), || rayon::join(|| self.to_parquet(), || json.then(|| self.to_json()).transpose()));
-        let mut files = vec![
-            SetFile::new(format!("{stem}.columns.json"), self.columns_json(stem)?),
-            SetFile::new(format!("{stem}.csv"), csv?),
-            SetFile::new(format!("{stem}.parquet"), parquet?),
-        ];
-        if let Some(bytes) = rows_json? {
-            files.push(SetFile::new(format!("{stem}.json"), bytes));
-        }
-        Ok(files)
+        self.streamed_files(stem, json)
+            .par_iter()
+            .map(|file| {
+                let mut bytes = Vec::new();
+                file.write_to(&mut bytes)?;
+                Ok(SetFile::new(file.name.clone(), bytes))
+            })
+            .collect()
     }
 
-    /// The same files as [`files`](Self::files), each encoded while it is written: handed
-    /// to [`publish_contents`], the encodings run side by side and each file goes to disk
-    /// as soon as its own encoding is done.
+    /// The files of the table: `<stem>.columns.json` (the column documentation),
+    /// `<stem>.csv`, `<stem>.parquet` and, when asked, `<stem>.json`, each encoded while it
+    /// is written: handed to [`publish_contents`], the encodings run side by side and each
+    /// file goes to disk as soon as its own encoding is done.
     pub fn streamed_files(&self, stem: &str, json: bool) -> Vec<StreamedFile<'_>> {
         let encoded = |encode: fn(&Table) -> Result<Vec<u8>>| move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&encode(self)?)?) };
         let stem_owned = stem.to_string();

@@ -211,9 +211,7 @@ impl TextKeys {
                 at += 1;
                 continue;
             }
-            let end = memchr::memchr(b'\n', &bytes[at..]).map_or(bytes.len(), |e| at + e);
-            let line = &text[at..end];
-            let line = if end < bytes.len() { line.strip_suffix('\r').unwrap_or(line) } else { line };
+            let (line, end) = str_lines_line(text, at);
             at = end + 1;
             let trimmed = line.trim_start();
             if trimmed.starts_with("data:") && line.len() - trimmed.len() >= 2 {
@@ -265,9 +263,7 @@ impl<'a> CutTables<'a> {
             // The body's lines, as `LineOffsets` cuts them, read in place.
             let mut line_start = lines.at;
             while line_start < text.len() {
-                let end = memchr::memchr(b'\n', &text.as_bytes()[line_start..]).map_or(text.len(), |e| line_start + e);
-                let next = &text[line_start..end];
-                let next = next.strip_suffix('\r').unwrap_or(next);
+                let (next, end) = line_at(text, line_start);
                 let bytes = next.as_bytes();
                 let spaces = leading_spaces(bytes, 0);
                 let content = &next[spaces..];
@@ -378,14 +374,27 @@ impl<'a> Iterator for LineOffsets<'a> {
         if self.at >= self.text.len() {
             return None;
         }
-        let rest = &self.text[self.at..];
-        let end = memchr::memchr(b'\n', rest.as_bytes()).unwrap_or(rest.len());
-        let line = rest[..end].strip_suffix('\r').unwrap_or(&rest[..end]);
+        let (line, end) = line_at(self.text, self.at);
         let start = self.at;
-        self.at += end + 1;
+        self.at = end + 1;
         self.number += 1;
         Some((self.number, start, line))
     }
+}
+
+/// The line of `text` that starts at byte `at`, as [`LineOffsets`] cuts it (a `\r` before
+/// its end dropped), and the byte where it ends (its `\n`, or the end of the text).
+fn line_at(text: &str, at: usize) -> (&str, usize) {
+    let end = memchr::memchr(b'\n', &text.as_bytes()[at..]).map_or(text.len(), |e| at + e);
+    let line = &text[at..end];
+    (line.strip_suffix('\r').unwrap_or(line), end)
+}
+
+/// [`line_at`] as `str::lines` cuts the line: a `\r` is dropped only before a `\n`, so the
+/// text's last line keeps a bare one.
+fn str_lines_line(text: &str, at: usize) -> (&str, usize) {
+    let (line, end) = line_at(text, at);
+    (if end < text.len() { line } else { &text[at..end] }, end)
 }
 
 /// A property value as printed after its key (decimals matter for the nd check).
@@ -548,17 +557,7 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
     ];
     let digit = |at: usize| bytes.get(at).filter(|b| b.is_ascii_digit()).map(|b| u64::from(b - b'0'));
     let mut at = 0;
-    let negative = match bytes.first() {
-        Some(b'-') => {
-            at = 1;
-            true
-        }
-        Some(b'+') => {
-            at = 1;
-            false
-        }
-        _ => false,
-    };
+    let negative = sign(bytes, &mut at);
     let mut exponent: i64 = 0;
     let (whole, mut mantissa) = read_digits(bytes, at, 0);
     at += whole;
@@ -576,17 +575,7 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
     }
     if matches!(bytes.get(at), Some(b'e' | b'E')) {
         at += 1;
-        let negative_exponent = match bytes.get(at) {
-            Some(b'-') => {
-                at += 1;
-                true
-            }
-            Some(b'+') => {
-                at += 1;
-                false
-            }
-            _ => false,
-        };
+        let negative_exponent = sign(bytes, &mut at);
         let start = at;
         let mut written: i64 = 0;
         while let Some(d) = digit(at) {
@@ -601,6 +590,18 @@ fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
     let power = *POWERS.get(exponent.unsigned_abs() as usize)?;
     let magnitude = if exponent >= 0 { mantissa as f64 * power } else { mantissa as f64 / power };
     Some((if negative { -magnitude } else { magnitude }, at))
+}
+
+/// An optional sign at byte `at`, stepped over: whether it is `-`.
+#[inline(always)]
+fn sign(bytes: &[u8], at: &mut usize) -> bool {
+    match bytes.get(*at) {
+        Some(&sign @ (b'-' | b'+')) => {
+            *at += 1;
+            sign == b'-'
+        }
+        _ => false,
+    }
 }
 
 /// The run of ASCII digits at byte `at` of `bytes` appended to `mantissa` (×10 plus the
@@ -708,9 +709,7 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
         let (values, end) = match plain_row(bytes, at, columns) {
             Some(row) => row,
             None => {
-                let end = memchr::memchr(b'\n', &bytes[at..]).map_or(bytes.len(), |e| at + e);
-                let line = &block[at..end];
-                let line = if end < bytes.len() { line.strip_suffix('\r').unwrap_or(line) } else { line };
+                let (line, end) = str_lines_line(block, at);
                 match general_row(file, line, columns, line_no)? {
                     Some(values) => (values, end),
                     None => {
