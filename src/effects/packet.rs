@@ -15,6 +15,7 @@
 //! obvhs's binary BVH, stored as sibling pairs of one cache line each.
 
 use glam::{DVec3, Vec3A};
+use multiversion::target::match_target;
 use obvhs::bvh2::builder::build_bvh2_from_tris;
 use obvhs::triangle::Triangle as BvhTriangle;
 use obvhs::BvhBuildParams;
@@ -104,8 +105,15 @@ impl Packet {
     /// The rays of `live` that enter the box [`low`, `high`] at some t ≥ 0: blocks of eight
     /// rays, each lane's interval narrowed axis by axis, written so the lanes vectorise
     /// (there are no NaNs to order: see [`reciprocal_of`]).
-    #[inline(always)]
+    #[cfg(test)]
     fn entering(&self, low: [f32; 3], high: [f32; 3], live: RayMask) -> RayMask {
+        self.entering_by(low, high, live, nonnegative_lanes)
+    }
+
+    /// [`Packet::entering`] with the lanes of a block gathered by `lanes` (one of the
+    /// equivalent [`nonnegative_lanes`] forms).
+    #[inline(always)]
+    fn entering_by(&self, low: [f32; 3], high: [f32; 3], live: RayMask, lanes: impl Fn(&[f64; 8]) -> u8) -> RayMask {
         let (near, far) = (widen(low) - self.origin, widen(high) - self.origin);
         // A box around the origin holds every ray at t = 0 (so for the boxes down to the
         // origin's own leaf, which every packet of a vertex walks, no ray is tested).
@@ -128,15 +136,10 @@ impl Packet {
                     exit[lane] = if high_t < exit[lane] { high_t } else { exit[lane] };
                 }
             }
-            // A lane is entered when exit − enter ≥ 0, its sign bit clear (the exit rounded
-            // outwards, relatively and by 10⁻¹² scene units; neither side is NaN); the sign
-            // bits gather into one byte (a vector's sign mask).
-            let mut missed = 0u64;
-            for lane in 0..8 {
-                let margin = exit[lane] + (exit[lane].abs() * 1e-12 + 1e-12) - enter[lane];
-                missed |= (margin.to_bits() >> 63) << lane;
-            }
-            entered |= (!missed & 0xff) << base;
+            // A lane is entered when exit − enter ≥ 0 (the exit rounded outwards, relatively
+            // and by 10⁻¹² scene units; neither side is NaN).
+            let margins: [f64; 8] = std::array::from_fn(|lane| exit[lane] + (exit[lane].abs() * 1e-12 + 1e-12) - enter[lane]);
+            entered |= RayMask::from(lanes(&margins)) << base;
         }
         entered & live
     }
@@ -196,7 +199,12 @@ fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, c
     let mut open = packet.all();
     let Some(root) = &tree.root else { return open };
     let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
-    let entering_root = packet.entering(root.low, root.high, open);
+    let lanes = match_target! {
+        "x86_64+avx512f" => |margins: &[f64; 8]| nonnegative_lanes_avx512(margins),
+        "x86_64+avx2" => |margins: &[f64; 8]| nonnegative_lanes_avx2(margins),
+        _ => nonnegative_lanes,
+    };
+    let entering_root = packet.entering_by(root.low, root.high, open, lanes);
     if entering_root != 0 {
         stack.push((root, entering_root));
     }
@@ -208,7 +216,7 @@ fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, c
         if node.count == 0 {
             let [first, second] = &tree.pairs[node.first as usize].0;
             for child in [second, first] {
-                let into = packet.entering(child.low, child.high, rays);
+                let into = packet.entering_by(child.low, child.high, rays, lanes);
                 if into != 0 {
                     if child.count == 0 {
                         prefetch(&tree.pairs[child.first as usize]);
@@ -236,6 +244,36 @@ fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, c
     open
 }
 
+/// The lanes of `margins` that are ≥ 0, one bit each (bit i for lane i).
+#[inline(always)]
+fn nonnegative_lanes(margins: &[f64; 8]) -> u8 {
+    (0..8).fold(0, |lanes, lane| lanes | u8::from(margins[lane] >= 0.0) << lane)
+}
+
+/// [`nonnegative_lanes`] as one AVX-512 comparison into a mask register (LLVM does not
+/// find it in the portable form and reduces the lanes through shuffles instead).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn nonnegative_lanes_avx512(margins: &[f64; 8]) -> u8 {
+    use std::arch::x86_64::{_mm512_cmp_pd_mask, _mm512_loadu_pd, _mm512_setzero_pd, _CMP_GE_OQ};
+    // SAFETY: `margins` is eight readable f64s; the load has no alignment requirement.
+    let margins = unsafe { _mm512_loadu_pd(margins.as_ptr()) };
+    _mm512_cmp_pd_mask::<_CMP_GE_OQ>(margins, _mm512_setzero_pd())
+}
+
+/// [`nonnegative_lanes`] as two AVX comparisons and their sign masks.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn nonnegative_lanes_avx2(margins: &[f64; 8]) -> u8 {
+    use std::arch::x86_64::{_mm256_cmp_pd, _mm256_loadu_pd, _mm256_movemask_pd, _mm256_setzero_pd, _CMP_GE_OQ};
+    let half = |at: usize| {
+        // SAFETY: `margins[at..at + 4]` is four readable f64s; the load has no alignment requirement.
+        let half = unsafe { _mm256_loadu_pd(margins[at..at + 4].as_ptr()) };
+        _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GE_OQ>(half, _mm256_setzero_pd())) as u8
+    };
+    half(0) | half(4) << 4
+}
+
 /// Asks for the cache line of `pair` ahead of its use (a hint; no effect elsewhere).
 #[inline(always)]
 fn prefetch(pair: &SiblingPair) {
@@ -251,6 +289,28 @@ fn prefetch(pair: &SiblingPair) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_vector_lane_masks_are_the_portable_one() {
+        let values = [0.0, -0.0, 1e-300, -1e-300, 2.5, -7.0, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, -f64::MAX];
+        for start in 0..values.len() {
+            let margins: [f64; 8] = std::array::from_fn(|lane| values[(start + lane * 3) % values.len()]);
+            let portable = nonnegative_lanes(&margins);
+            let expected = (0..8).filter(|&lane| margins[lane] >= 0.0).fold(0u8, |m, lane| m | 1 << lane);
+            assert_eq!(portable, expected, "{margins:?}");
+            #[cfg(target_arch = "x86_64")]
+            {
+                if is_x86_feature_detected!("avx512f") {
+                    // SAFETY: the CPU has AVX-512F.
+                    assert_eq!(unsafe { nonnegative_lanes_avx512(&margins) }, expected, "{margins:?}");
+                }
+                if is_x86_feature_detected!("avx2") {
+                    // SAFETY: the CPU has AVX2.
+                    assert_eq!(unsafe { nonnegative_lanes_avx2(&margins) }, expected, "{margins:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_tree_without_triangles_blocks_nothing() {
