@@ -237,11 +237,20 @@ impl TextKeys {
 /// The literal block scalars (`data: |`) of a data file, cut out of its text: the numeric
 /// tables are most of the database's 47 MB, and a YAML parser spends nearly all its time
 /// scanning them character by character. The YAML parser gets the text with each table's
-/// lines blanked (line numbers unchanged, the block reads as empty); the table text is
-/// taken from here, by the line of its `data:` key.
+/// lines removed but the last line end (the block reads as empty); the table text is taken
+/// from here, by the line of its `data:` key. Lines found in the compact text are numbered
+/// as in the file by [`CutTables::file_line`]; a YAML error is reported from the text with
+/// the tables blanked instead ([`CutTables::blanked`]: every line kept, so the parser's
+/// own line and column are the file's).
 struct CutTables<'a> {
+    text: &'a str,
     /// The text for the YAML parser.
-    yaml: String,
+    compact: String,
+    /// Per table, the compact text's line of its `data:` key and how many lines the cut
+    /// removed after it, in file order.
+    removed: Vec<(usize, usize)>,
+    /// The tables' bytes in the text.
+    blank: Vec<Blanked>,
     /// (line of the `data:` key, the raw lines of its block) in file order.
     tables: Vec<(usize, &'a str)>,
 }
@@ -303,18 +312,44 @@ impl<'a> CutTables<'a> {
         if tables.is_empty() {
             return None;
         }
-        let mut yaml = String::with_capacity(text.len() / 8);
+        let mut compact = String::with_capacity(text.len() / 8);
+        let mut removed = Vec::with_capacity(tables.len());
+        let mut lines_removed = 0;
         let mut at = 0;
-        for Blanked { start, end, newlines } in blank {
+        for (&(key_line, _), &Blanked { start, end, newlines }) in tables.iter().zip(&blank) {
             if start >= end {
                 continue;
             }
-            yaml.push_str(&text[at..start]);
+            compact.push_str(&text[at..start]);
+            removed.push((key_line - lines_removed, newlines));
+            lines_removed += newlines;
+            at = end;
+        }
+        compact.push_str(&text[at..]);
+        Some(Self { text, compact, removed, blank, tables })
+    }
+
+    /// The text with each table's lines blanked: every line of the file, so a YAML error
+    /// in it is at the file's line and column.
+    fn blanked(&self) -> String {
+        let mut yaml = String::with_capacity(self.compact.len() + self.removed.iter().map(|(_, n)| n).sum::<usize>());
+        let mut at = 0;
+        for &Blanked { start, end, newlines } in &self.blank {
+            if start >= end {
+                continue;
+            }
+            yaml.push_str(&self.text[at..start]);
             yaml.extend(std::iter::repeat_n('\n', newlines));
             at = end;
         }
-        yaml.push_str(&text[at..]);
-        Some(Self { yaml, tables })
+        yaml.push_str(&self.text[at..]);
+        yaml
+    }
+
+    /// The file's number of line `line` of the compact text (the tables' keys and every
+    /// line outside the tables are in both).
+    fn file_line(&self, line: usize) -> usize {
+        line + self.removed.iter().take_while(|(key, _)| *key < line).map(|(_, n)| n).sum::<usize>()
     }
 
     /// The table text of the `data:` key on line `line`.
@@ -884,14 +919,20 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
 /// errors. Never panics on any input (a property test feeds it arbitrary text).
 pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
     let cut = CutTables::cut(text);
-    // The text without its tables has the same lines and keys: the line scans below read it.
-    let text = cut.as_ref().map_or(text, |c| c.yaml.as_str());
-    let raw: RawPage = serde_yaml::from_str(text).map_err(|e| {
-        DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string())
-    })?;
+    // The text without its tables has the same keys: the line scans below read it.
+    let text = cut.as_ref().map_or(text, |c| c.compact.as_str());
+    let yaml_error = |e: serde_yaml::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
+    let raw: RawPage = match (serde_yaml::from_str(text), &cut) {
+        (Ok(raw), _) => raw,
+        (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
+        (Err(e), None) => return Err(yaml_error(e)),
+    };
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
     let keys = TextKeys::scan(text);
-    let data_lines = &keys.data_lines;
+    let data_lines: Vec<usize> = match &cut {
+        Some(cut) => keys.data_lines.iter().map(|&line| cut.file_line(line)).collect(),
+        None => keys.data_lines.clone(),
+    };
     let mut data_block_index = 0;
     let mut n: Option<Curve> = None;
     let mut k: Option<Curve> = None;
@@ -1031,7 +1072,11 @@ mod tests {
     fn tables_cut_out_of_the_text_match_the_yaml_blocks() {
         let text = "REFERENCES: x\r\nDATA:\r\n  - type: tabulated n\r\n    data: |\r\n        0.4 1.0\r\n\r\n        0.5 2.0\r\n  - type: tabulated k\r\n    data: |-\r\n        0.4 0.1\r\n        0.5 0.2\r\nPROPERTIES:\r\n    nd: 1.5\r\n";
         let cut = CutTables::cut(text).unwrap();
-        assert_eq!(cut.yaml.lines().count(), text.lines().count());
+        assert_eq!(cut.blanked().lines().count(), text.lines().count());
+        // Three table lines removed (two of the first table, one of the second); the keys
+        // and the lines after each table are numbered as in the file.
+        assert_eq!(cut.compact.lines().count(), text.lines().count() - 3);
+        assert_eq!([4, 5, 6, 7, 8, 10].map(|line| cut.file_line(line)), [4, 7, 8, 9, 11, 13]);
         let raw: RawPage = serde_yaml::from_str(text).unwrap();
         let words = |t: &str| t.split_whitespace().map(String::from).collect::<Vec<_>>();
         let blocks = raw.data.unwrap();
@@ -1232,6 +1277,52 @@ mod tests {
         proptest::collection::vec(piece, 0..6).prop_map(|pieces| pieces.concat())
     }
 
+    /// Pages of tabulated blocks in the database's layout with the variations a table
+    /// may have: chomping, blank and deeper-indented rows, CRLF, a missing last line end,
+    /// keys after the tables.
+    fn page_text() -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let row = prop_oneof![6 => Just("        0.5 1.5 0.1"), 1 => Just(""), 1 => Just("          0.6 1.6"), 1 => Just("        x")];
+        let table = (prop_oneof![Just("|"), Just("|-"), Just("|+")], proptest::collection::vec(row, 0..6), prop_oneof![Just("tabulated nk"), Just("tabulated n"), Just("tabulated k")]);
+        let after = prop_oneof![Just(""), Just("COMMENTS: \"c\""), Just("PROPERTIES:\n    nd: 1.5\n    Vd: 60"), Just("  - bad: [")];
+        (proptest::collection::vec(table, 0..4), after, prop_oneof![Just("\n"), Just("\r\n")], any::<bool>()).prop_map(|(tables, after, end, last_end)| {
+            let mut lines = vec!["REFERENCES: \"r\"".to_string(), "DATA:".to_string()];
+            for (chomp, rows, kind) in tables {
+                lines.push(format!("  - type: {kind}"));
+                lines.push(format!("    data: {chomp}"));
+                lines.extend(rows.into_iter().map(String::from));
+            }
+            lines.extend(after.lines().map(String::from));
+            lines.join(end) + if last_end { end } else { "" }
+        })
+    }
+
+    /// A parsed YAML value with every string of line ends only emptied: a table's block
+    /// reads as empty in the compact and the blanked text, but with keep chomping (`|+`) it
+    /// keeps as many line ends as each has, which nothing reads.
+    fn line_ends_emptied(value: serde_yaml::Value) -> serde_yaml::Value {
+        use serde_yaml::Value;
+        match value {
+            Value::String(s) if s.chars().all(|c| c == '\n') => Value::String(String::new()),
+            Value::Sequence(items) => Value::Sequence(items.into_iter().map(line_ends_emptied).collect()),
+            Value::Mapping(map) => Value::Mapping(map.into_iter().map(|(k, v)| (k, line_ends_emptied(v))).collect()),
+            other => other,
+        }
+    }
+
+    /// The compact text parses as the blanked one, or fails where it fails, and the keys
+    /// found in it are on the file's lines.
+    fn compact_is_blanked(text: &str) -> Result<(), proptest::test_runner::TestCaseError> {
+        if let Some(cut) = CutTables::cut(text) {
+            let blanked = cut.blanked();
+            let value = |t: &str| serde_yaml::from_str::<serde_yaml::Value>(t).ok().map(line_ends_emptied);
+            proptest::prop_assert_eq!(value(&cut.compact), value(&blanked), "{:?}", text);
+            let lines: Vec<usize> = TextKeys::scan(&cut.compact).data_lines.iter().map(|&line| cut.file_line(line)).collect();
+            proptest::prop_assert_eq!(lines, TextKeys::scan(&blanked).data_lines, "{:?}", text);
+        }
+        Ok(())
+    }
+
     fn layout_text() -> impl proptest::strategy::Strategy<Value = String> {
         use proptest::prelude::*;
         (proptest::collection::vec(layout_line(), 0..14), prop_oneof![Just("\n"), Just("\r\n")], any::<bool>())
@@ -1278,6 +1369,16 @@ mod tests {
             proptest::prop_assert_eq!(leading_spaces(bytes, at), bytes[at..].iter().take_while(|&&b| b == b' ').count());
         }
 
+        #[test]
+        fn compact_pages_parse_as_blanked_pages(text in page_text()) {
+            compact_is_blanked(&text)?;
+        }
+
+        #[test]
+        fn compact_layouts_parse_as_blanked_layouts(text in layout_text()) {
+            compact_is_blanked(&text)?;
+        }
+
         /// The fields and their count are those of `split_whitespace`.
         #[test]
         fn fields_are_those_of_split_whitespace(text in layout_text()) {
@@ -1299,7 +1400,7 @@ mod tests {
             proptest::prop_assert_eq!(keys.data_lines, reference::data_key_lines(&text));
             proptest::prop_assert_eq!(keys.nd, reference::printed_property(&text, "nd"));
             proptest::prop_assert_eq!(keys.vd, reference::printed_property(&text, "Vd"));
-            let cut = CutTables::cut(&text).map(|c| (c.yaml, c.tables));
+            let cut = CutTables::cut(&text).map(|c| (c.blanked(), c.tables));
             proptest::prop_assert_eq!(cut, reference::cut(&text));
         }
     }
