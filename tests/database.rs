@@ -131,3 +131,15 @@ fn johnson_gold_channels_match_the_table_rows() {
         assert!((material.channels[channel].k - k).abs() < 1e-12, "k at {nm}");
     }
 }
+
+/// Both catalogs keep to the block layout, so they are read without the YAML parser, and
+/// to the parser's own value.
+#[test]
+fn the_catalogs_are_read_without_the_yaml_parser_to_its_value() {
+    let db = database();
+    for name in ["catalog-nk.yml", "catalog-n2.yml"] {
+        let text = std::fs::read_to_string(db.root.join(name)).unwrap();
+        let value = nklut::db::block_yaml::block_value(&text).unwrap_or_else(|| panic!("{name} left the layout"));
+        assert_eq!(value, serde_yaml::from_str::<serde_yaml::Value>(&text).unwrap(), "{name}");
+    }
+}

@@ -103,7 +103,10 @@ impl Catalog {
     /// it is a `no-data-file` error); entries with unusable ids go to `rejected`. Never
     /// panics.
     pub fn parse(yaml: &str) -> Result<Catalog, serde_yaml::Error> {
-        let root: Value = serde_yaml::from_str(yaml)?;
+        let root: Value = match super::block_yaml::block_value(yaml) {
+            Some(root) => root,
+            None => serde_yaml::from_str(yaml)?,
+        };
         let mut catalog = Catalog::default();
         let mut seen = std::collections::HashSet::new();
         for shelf in root.as_sequence().map(Vec::as_slice).unwrap_or(&[]) {

@@ -1,6 +1,7 @@
 //! The refractiveindex.info database on disk: the catalog, the data files, the book
 //! `about.yml` names (SPEC §1).
 
+pub mod block_yaml;
 pub mod catalog;
 pub mod error;
 pub mod formula;
