@@ -143,3 +143,29 @@ fn the_catalogs_are_read_without_the_yaml_parser_to_its_value() {
         assert_eq!(value, serde_yaml::from_str::<serde_yaml::Value>(&text).unwrap(), "{name}");
     }
 }
+
+/// The data pages are read without the YAML parser where they keep to the block layout
+/// (most of them), each to the parser's own value.
+#[test]
+fn data_pages_in_the_block_layout_read_to_the_parser_s_value() {
+    let db = database();
+    let (mut read, mut total) = (0, 0);
+    let mut folders = vec![db.root.join("data")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+                continue;
+            }
+            let Ok(text) = std::fs::read_to_string(&path) else { continue };
+            total += 1;
+            if let Some(value) = nklut::db::block_yaml::block_value(&text) {
+                read += 1;
+                assert_eq!(Some(value), serde_yaml::from_str::<serde_yaml::Value>(&text).ok(), "{}", path.display());
+            }
+        }
+    }
+    println!("{read} of {total} data files read in the block layout");
+    assert!(total > 4000 && read * 10 >= total * 9, "{read} of {total}");
+}

@@ -1,14 +1,16 @@
-//! The catalog's YAML read without the YAML parser, when the text keeps to the block layout
-//! the database writes it in (YAML 1.2, chapter 8: block sequences of block mappings): one
-//! `key: value` per line, each value a plain scalar or a double-quoted one without escapes
-//! on its line, or a block sequence on the lines below its key; comments on lines of their
-//! own. The result is the `Value` serde_yaml builds from the same text. Any line outside
-//! that layout gives `None`, and serde_yaml reads the text, with its own errors. libyaml
-//! spends about 330 instructions a byte on the catalog, most of a command's serial start.
+//! The database's YAML read without the YAML parser, when the text keeps to the block
+//! layout the database writes (YAML 1.2, chapter 8): block mappings and sequences, one
+//! `key: value` or `- entry` per line; scalars plain, quoted without escapes, or literal
+//! blocks (`|`, `|-`); comments on lines of their own. The result is the `Value` serde_yaml
+//! builds from the same text, plain scalars resolved as it resolves them (null, booleans,
+//! integers, floats, else text). Any line outside that layout gives `None`, and serde_yaml
+//! reads the text, with its own errors. libyaml spends about 330 instructions a byte of
+//! metadata; the catalog is read at every command's start, the pages' metadata is a third
+//! of the ingest's instructions.
 
 use serde_yaml::{Mapping, Value};
 
-/// The value of `text`, when every line keeps to the catalog's layout; `None` otherwise.
+/// The value of `text`, when every line keeps to the block layout; `None` otherwise.
 pub fn block_value(text: &str) -> Option<Value> {
     if !text.chars().all(plain_text_char) {
         return None;
@@ -17,7 +19,7 @@ pub fn block_value(text: &str) -> Option<Value> {
     if lines.peek()?.indent != 0 {
         return None;
     }
-    let value = sequence(&mut lines, 0)?;
+    let value = node(&mut lines, 0)?;
     lines.peek().is_none().then_some(value)
 }
 
@@ -28,23 +30,26 @@ fn plain_text_char(c: char) -> bool {
     matches!(c, '\n' | ' '..='~' | '\u{a0}'..='\u{2027}' | '\u{202a}'..='\u{d7ff}' | '\u{e000}'..='\u{fefe}' | '\u{ff00}'..='\u{fffd}' | '\u{10000}'..)
 }
 
-/// A line with content: its indentation (spaces) and the rest.
+/// A line with content: its indentation (spaces), the rest, and where the next line starts.
 #[derive(Clone, Copy)]
 struct Line<'a> {
     indent: usize,
     content: &'a str,
+    next: usize,
 }
 
-/// The lines with content, comment lines and blank lines left out.
+/// The text's lines: the next one with content (blank lines and comment lines passed
+/// over), or the next one as it is (inside a literal block).
 struct Lines<'a> {
-    lines: std::str::Lines<'a>,
+    text: &'a str,
+    at: usize,
     next: Option<Line<'a>>,
 }
 
 impl<'a> Lines<'a> {
     fn new(text: &'a str) -> Self {
-        let mut lines = Lines { lines: text.lines(), next: None };
-        lines.advance();
+        let mut lines = Lines { text, at: 0, next: None };
+        lines.next = lines.find_content();
         lines
     }
 
@@ -52,15 +57,65 @@ impl<'a> Lines<'a> {
         self.next
     }
 
+    /// Past the line [`Lines::peek`] gives.
     fn advance(&mut self) {
-        self.next = self.lines.by_ref().find_map(|line| {
+        if let Some(line) = self.next {
+            self.at = line.next;
+            self.next = self.find_content();
+        }
+    }
+
+    /// The next line as it is, without its line feed, and whether it has one.
+    fn peek_raw(&self) -> Option<(&'a str, bool)> {
+        let rest = self.text.get(self.at..).filter(|rest| !rest.is_empty())?;
+        Some(match memchr::memchr(b'\n', rest.as_bytes()) {
+            Some(end) => (&rest[..end], true),
+            None => (rest, false),
+        })
+    }
+
+    /// Past the line [`Lines::peek_raw`] gives.
+    fn advance_raw(&mut self) {
+        if let Some((line, _)) = self.peek_raw() {
+            self.at += line.len() + 1;
+            self.next = self.find_content();
+        }
+    }
+
+    fn find_content(&self) -> Option<Line<'a>> {
+        let mut at = self.at;
+        while let Some(rest) = self.text.get(at..).filter(|rest| !rest.is_empty()) {
+            let end = memchr::memchr(b'\n', rest.as_bytes()).unwrap_or(rest.len());
+            let line = &rest[..end];
             let content = line.trim_start_matches(' ');
-            (!content.is_empty() && !content.starts_with('#')).then_some(Line { indent: line.len() - content.len(), content })
-        });
+            if !content.is_empty() && !content.starts_with('#') {
+                return Some(Line { indent: line.len() - content.len(), content, next: at + end + 1 });
+            }
+            at += end + 1;
+        }
+        None
     }
 }
 
-/// A block sequence whose `- ` indicators stand at `indent`, each entry a block mapping.
+/// Whether a line's content is a block sequence's entry.
+fn is_entry(content: &str) -> bool {
+    content == "-" || content.starts_with("- ")
+}
+
+/// The block node whose lines start at `indent` (the next line's): a sequence when that
+/// line is an entry, a mapping otherwise.
+fn node(lines: &mut Lines, indent: usize) -> Option<Value> {
+    let first = lines.peek()?;
+    if is_entry(first.content) {
+        sequence(lines, indent)
+    } else {
+        lines.advance();
+        mapping(lines, indent, first.content)
+    }
+}
+
+/// A block sequence whose `- ` indicators stand at `indent`; an entry is a mapping when it
+/// starts with a key, a scalar otherwise.
 fn sequence(lines: &mut Lines, indent: usize) -> Option<Value> {
     let mut entries = Vec::new();
     while let Some(line) = lines.peek().filter(|line| line.indent >= indent) {
@@ -69,13 +124,13 @@ fn sequence(lines: &mut Lines, indent: usize) -> Option<Value> {
         }
         let first = line.content.strip_prefix("- ")?;
         lines.advance();
-        entries.push(mapping(lines, indent + 2, first)?);
+        entries.push(if key_of(first).is_some() { mapping(lines, indent + 2, first)? } else { scalar(first)? });
     }
     Some(Value::Sequence(entries))
 }
 
-/// A block mapping whose keys stand at `column`, its first entry `first` (the rest of a
-/// sequence entry's line).
+/// A block mapping whose keys stand at `column`, its first entry `first` (on a line
+/// already passed).
 fn mapping(lines: &mut Lines, column: usize, first: &str) -> Option<Value> {
     let mut map = Mapping::new();
     entry(lines, column, first, &mut map)?;
@@ -89,51 +144,143 @@ fn mapping(lines: &mut Lines, column: usize, first: &str) -> Option<Value> {
     Some(Value::Mapping(map))
 }
 
-/// One `key: value` of a mapping at `column` (a key without a value on its line owns the
-/// block sequence below it), added to `map`; a repeated key is left to serde_yaml.
+/// The key of a `key:` or `key: value` line, and the rest after the colon; keys are
+/// identifiers (letters, digits, `_`, `-`, not first) other than null and the booleans.
+fn key_of(text: &str) -> Option<(&str, &str)> {
+    let (key, rest) = text.split_once(':')?;
+    let identifier = key.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+    (identifier && reserved(key).is_none() && (rest.is_empty() || rest.starts_with(' '))).then_some((key, rest))
+}
+
+/// One `key: value` of a mapping at `column`, added to `map` (a repeated key is left to
+/// serde_yaml). A key without a value on its line owns the block node below it, more
+/// indented, or is null; `key: |` and `key: |-` own the literal block below.
 fn entry(lines: &mut Lines, column: usize, text: &str, map: &mut Mapping) -> Option<()> {
-    let (key, value) = text.split_once(':')?;
-    let key_is_text = key.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
-    if !key_is_text || reserved_word(key) {
-        return None;
-    }
-    let value = if value.is_empty() {
-        let nested = lines.peek().filter(|line| line.indent > column && line.content.starts_with("- "))?;
-        sequence(lines, nested.indent)?
-    } else {
-        scalar(value.strip_prefix(' ')?)?
+    let (key, rest) = key_of(text)?;
+    let rest = rest.trim_matches(' ');
+    let value = match rest {
+        "" => match lines.peek() {
+            Some(next) if next.indent > column => node(lines, next.indent)?,
+            Some(next) if next.indent == column && is_entry(next.content) => return None,
+            _ => Value::Null,
+        },
+        "|" => literal(lines, column, true)?,
+        "|-" => literal(lines, column, false)?,
+        _ => scalar(rest)?,
     };
     map.insert(Value::String(key.to_string()), value).is_none().then_some(())
 }
 
-/// A scalar alone on the rest of its line: a double-quoted one without escapes, or a plain
-/// one resolved as serde_yaml resolves it (text unless it reads as null, a boolean or a
-/// number; those, and plain scalars starting with punctuation, are left to serde_yaml).
+/// A literal block scalar (YAML 1.2 §8.1.2) whose header closed the previous line, for a
+/// key at `column`: its lines are the following ones indented as its first line with
+/// content, deeper than the key (blank lines among them are empty lines of the text); the
+/// final line feed kept (clip) or not (strip), blank lines after the text dropped either
+/// way. Blank lines holding more spaces than the block's indentation, and a first text line
+/// indented less than a blank line before it, are left to serde_yaml.
+fn literal(lines: &mut Lines, column: usize, clip: bool) -> Option<Value> {
+    let mut indent: Option<usize> = None;
+    let mut widest_blank = 0;
+    // The block's lines (blank ones empty), up to its last text line, and whether that
+    // line ends in a line feed.
+    let mut kept: Vec<&str> = Vec::new();
+    let (mut text_lines, mut line_feed) = (0, false);
+    while let Some((line, has_feed)) = lines.peek_raw() {
+        let spaces = line.len() - line.trim_start_matches(' ').len();
+        if spaces == line.len() {
+            match indent {
+                None => widest_blank = widest_blank.max(spaces),
+                Some(n) if spaces > n => return None,
+                Some(_) => {}
+            }
+            kept.push("");
+        } else {
+            let n = *indent.get_or_insert(spaces);
+            if spaces < n || spaces <= column {
+                if spaces > column {
+                    return None;
+                }
+                break;
+            }
+            if widest_blank > n {
+                return None;
+            }
+            kept.push(&line[n..]);
+            (text_lines, line_feed) = (kept.len(), has_feed);
+        }
+        lines.advance_raw();
+    }
+    let mut text = kept[..text_lines].join("\n");
+    if clip && line_feed {
+        text.push('\n');
+    }
+    Some(Value::String(text))
+}
+
+/// A scalar alone on the rest of its line: double- or single-quoted without escapes, or
+/// plain, resolved as serde_yaml resolves it (null, a boolean, an integer, a float, else
+/// text); quoted scalars with escapes and plain ones starting with punctuation are left to
+/// serde_yaml.
 fn scalar(text: &str) -> Option<Value> {
     let text = text.trim_end_matches(' ');
-    if let Some(quoted) = text.strip_prefix('"') {
-        let inner = quoted.strip_suffix('"')?;
-        return (!inner.contains(['"', '\\'])).then(|| Value::String(inner.to_string()));
+    // Double quotes escape with a backslash, single quotes by doubling the quote.
+    for (quote, escape) in [('"', '\\'), ('\'', '\'')] {
+        if let Some(quoted) = text.strip_prefix(quote) {
+            let inner = quoted.strip_suffix(quote)?;
+            return (!inner.contains([quote, escape])).then(|| Value::String(inner.to_string()));
+        }
     }
     if text.contains(": ") || text.contains(" #") || text.ends_with(':') {
         return None;
     }
+    if let Some(value) = reserved(text) {
+        return Some(value);
+    }
     let mut chars = text.chars();
     let (first, second) = (chars.next()?, chars.next());
     if first.is_ascii_alphabetic() || !first.is_ascii() {
-        return (!reserved_word(text)).then(|| Value::String(text.to_string()));
+        return Some(Value::String(text.to_string()));
     }
-    // A number's start: serde_yaml reads the scalar alone (the same resolution).
-    let number_start = first.is_ascii_digit() || (matches!(first, '+' | '-' | '.') && second.is_some_and(|c| c.is_ascii_digit()));
-    if !number_start || !text.bytes().all(|b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'.' | b'+' | b'-')) {
+    let number_start = first.is_ascii_digit() || (matches!(first, '-' | '.') && second.is_some_and(|c| c.is_ascii_digit()));
+    if !number_start {
         return None;
     }
-    serde_yaml::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_)))
+    number_or_text(text).or_else(|| serde_yaml::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_))))
 }
 
-/// The plain scalars serde_yaml reads as null or a boolean.
-fn reserved_word(text: &str) -> bool {
-    matches!(text, "null" | "Null" | "NULL" | "true" | "True" | "TRUE" | "false" | "False" | "FALSE")
+/// serde_yaml's resolution of a plain scalar that starts as a number does (a digit, or `-`
+/// or `.` before one), for the forms it is sure of: text with a space (no integer or
+/// float has one), digits with a leading zero (text, YAML 1.2), decimal integers, and
+/// decimal floats (Rust's parser, as serde_yaml's); `None` for the rest.
+fn number_or_text(text: &str) -> Option<Value> {
+    if text.contains(' ') {
+        return Some(Value::String(text.to_string()));
+    }
+    let unsigned = text.strip_prefix('-').unwrap_or(text);
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    if digits(unsigned) {
+        if unsigned.len() > 1 && unsigned.starts_with('0') {
+            return Some(Value::String(text.to_string()));
+        }
+        return if unsigned.len() == text.len() { text.parse::<u64>().ok().map(Value::from) } else { text.parse::<i64>().ok().map(Value::from) };
+    }
+    let (mantissa, exponent) = unsigned.split_once(['e', 'E']).map_or((unsigned, None), |(m, e)| (m, Some(e)));
+    let (whole, fraction) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let mantissa_ok = (digits(whole) || whole.is_empty()) && (digits(fraction) || fraction.is_empty()) && !(whole.is_empty() && fraction.is_empty());
+    let exponent_ok = exponent.is_none_or(|e| digits(e.strip_prefix(['+', '-']).unwrap_or(e)));
+    if !(mantissa_ok && exponent_ok) {
+        return None;
+    }
+    text.parse::<f64>().ok().filter(|x| x.is_finite()).map(Value::from)
+}
+
+/// The plain scalars serde_yaml reads as null or a boolean, as that value.
+fn reserved(text: &str) -> Option<Value> {
+    match text {
+        "null" | "Null" | "NULL" | "~" => Some(Value::Null),
+        "true" | "True" | "TRUE" => Some(Value::Bool(true)),
+        "false" | "False" | "FALSE" => Some(Value::Bool(false)),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -158,29 +305,48 @@ mod tests {
     }
 
     #[test]
+    fn block_mappings_scalars_and_literal_blocks_read_as_the_parser_reads_them() {
+        for text in [
+            "KEY: value\n",
+            "- a\n- 1.5\n- 'single'\n",
+            "- KEY:value\n",
+            "- KEY: true\n  B: False\n  C: null\n  D: ~\n  E: NULL\n",
+            "- KEY: 'single'\n",
+            "- KEY:\n  other: x\n",
+            "A:\nB: 1\n",
+            "A: 12\nB: -7\nC: 0\nD: -0\nE: 007\nF: 1.5e-3\nG: .5\nH: 5.\nI: 2E+05\nJ: 1 2 3\nK: 3d\nL: 1.2.3\nM: 0x1F\nO: 20 °C\n",
+            "A: |\n  x\n\n  y\n\n\nB: 1\n",
+            "A: |-\n  x\n  y\n",
+            "A: |\n\n  x\n",
+            "A: |\n  x\n    deeper\n  z",
+            "A: |\n    \nB: 2\n",
+            "A: |\nB: 2\n",
+            "A: |\n  # not a comment\n  x: y\n",
+            "- data: |\n    1 2\n    3 4\n  other: x\n",
+            "P:\n    nd: 1.5\n    density:\n      - value: 3610\n      - value: 3.5\n        unit: kg\n    list:\n      - a b\n      - 2\n",
+        ] {
+            let value = block_value(text);
+            assert!(value.is_some(), "{text:?}");
+            assert_eq!(value, parser(text), "{text:?}");
+        }
+    }
+
+    #[test]
     fn anything_outside_the_layout_is_left_to_the_parser() {
         for text in [
             "",
             "# only a comment\n",
-            "KEY: value\n",
-            "- a\n",
             "- KEY: \"esc\\\"aped\"\n",
             "- KEY: \"two\n  lines\"\n",
             "- KEY: plain\n  continued\n",
             "- KEY: a: b\n",
             "- KEY: value # comment\n",
-            "- KEY: true\n",
-            "- KEY: null\n",
-            "- KEY: ~\n",
-            "- KEY: 'single'\n",
             "- KEY: &anchor x\n",
             "- KEY: [1, 2]\n",
-            "- KEY: |\n    block\n",
             "- KEY: -\n",
+            "- KEY: +1\n",
             "- KEY: x\n  KEY: y\n",
-            "- KEY:\n  other: x\n",
             "- KEY:\n  - x: 1\n",
-            "- KEY:value\n",
             "- KEY: x\r\n",
             "- KEY: x\t\n",
             "- KEY: x\u{85}y\n",
@@ -192,6 +358,13 @@ mod tests {
             "-  KEY: x\n",
             "- true: x\n",
             "- 1: x\n",
+            "A: |+\n  x\n",
+            "A: |2\n  x\n",
+            "A: >\n  x\n",
+            "A: | # c\n  x\n",
+            "A: |\n     \n  x\n",
+            "A: |\n  x\n     \n  y\n",
+            "A:\n  B: |\n   x\n  y\n",
         ] {
             assert_eq!(block_value(text), None, "{text:?}");
         }
@@ -216,6 +389,84 @@ mod tests {
             proptest::prop_assert!(value.is_some(), "{:?}", text);
             proptest::prop_assert_eq!(value, parser(&text), "{:?}", text);
         }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(3000))]
+
+        /// Where the reader gives a value for a data page, it is the parser's.
+        #[test]
+        fn a_page_read_is_the_parser_s(text in page_text(true)) {
+            if let Some(value) = block_value(&text) {
+                proptest::prop_assert_eq!(Some(value), parser(&text), "{:?}", text);
+            }
+        }
+
+        /// Data pages in the database's layout are read, to the parser's value.
+        #[test]
+        fn the_page_layout_is_read(text in page_text(false)) {
+            let value = block_value(&text);
+            proptest::prop_assert!(value.is_some(), "{:?}", text);
+            proptest::prop_assert_eq!(value, parser(&text), "{:?}", text);
+        }
+    }
+
+    /// Data pages: references as a literal block or quoted, DATA blocks of tables and
+    /// formulas, conditions and properties with numbers, booleans, nulls and lists; with
+    /// `wild`, lines from just outside the layout too.
+    fn page_text(wild: bool) -> impl proptest::strategy::Strategy<Value = String> {
+        use proptest::prelude::*;
+        let tame_scalar = prop_oneof![
+            "[A-Za-z][A-Za-z0-9_./()+,<>= -]{0,10}[A-Za-z0-9)]".prop_map(|s| s),
+            "\"[ !#-\\[\\]-~µ]{0,10}\"".prop_map(|s| s),
+            "'[ -&(-~]{0,8}'".prop_map(|s| s),
+            "-?[0-9]{1,4}(\\.[0-9]{0,3})?([eE][+-]?[0-9]{1,2})?".prop_map(|s| s),
+            prop_oneof![Just("true"), Just("False"), Just("null"), Just("~"), Just("20 °C"), Just("0.4 0.7"), Just("007"), Just(".5")].prop_map(String::from),
+        ];
+        let wild_scalar = prop_oneof![
+            6 => tame_scalar.clone(),
+            1 => "[ -~]{0,8}".prop_map(|s| s),
+            1 => prop_oneof![Just("|+"), Just("|2"), Just(">"), Just("a: b"), Just("x #c"), Just("+1"), Just("0x1F"), Just("\"a\\nb\""), Just("-")].prop_map(String::from),
+        ];
+        let scalar = if wild { wild_scalar.boxed() } else { tame_scalar.boxed() };
+        let text_line = if wild { "[ ]{0,3}[ -~]{0,12}".boxed() } else { "[A-Za-z0-9<>/.:#-][ -~]{0,12}[!-~]".boxed() };
+        let block = proptest::collection::vec(prop_oneof![6 => text_line, 1 => Just(String::new()), 1 => Just("  more".to_string())], 0..5);
+        let row = prop_oneof![6 => Just("        0.5 1.5 0.1".to_string()), 1 => Just(String::new()), 1 => Just("          0.6 1.6".to_string()), 1 => if wild { Just("      0.7 1".to_string()) } else { Just("        0.7 1".to_string()) }];
+        let table = (prop_oneof![Just("|"), Just("|-")], proptest::collection::vec(row, 0..5), scalar.clone());
+        let property = ("[a-z][a-z_]{0,6}", scalar.clone());
+        (any::<bool>(), block, proptest::collection::vec(table, 0..3), proptest::collection::vec(property, 0..4), proptest::collection::vec(scalar.clone(), 0..3), any::<bool>()).prop_map(
+            |(block_references, references, tables, properties, list, blank_comments)| {
+                let mut lines = vec!["# this file is part of a database".to_string(), String::new()];
+                if block_references {
+                    lines.extend(["REFERENCES: |".to_string(), "    <b>Author</b> 2020".to_string()]);
+                    lines.extend(references.iter().map(|line| format!("    {line}")));
+                } else {
+                    lines.push("REFERENCES: \"r\"".to_string());
+                }
+                if blank_comments {
+                    lines.extend(["COMMENTS: |".to_string(), "    ".to_string()]);
+                }
+                lines.push("DATA:".to_string());
+                for (chomp, rows, coefficients) in &tables {
+                    lines.push("  - type: tabulated nk".to_string());
+                    lines.push(format!("    coefficients: {coefficients}"));
+                    lines.extend([format!("    data: {chomp}"), "        0.4 1.4 0.2".to_string()]);
+                    lines.extend(rows.iter().cloned());
+                }
+                lines.push("PROPERTIES:".to_string());
+                let mut seen = std::collections::HashSet::new();
+                for (key, value) in properties.iter().filter(|(key, _)| seen.insert(key.clone()) && reserved(key).is_none()) {
+                    lines.push(format!("    {key}: {value}"));
+                }
+                lines.push("    density:".to_string());
+                lines.push("      - value: 3610".to_string());
+                if !list.is_empty() {
+                    lines.push("    list:".to_string());
+                    lines.extend(list.iter().map(|item| format!("      - {item}")));
+                }
+                lines.join("\n") + "\n"
+            },
+        )
     }
 
     /// Catalog texts: shelves of books of pages with dividers and comments; with `wild`,

@@ -922,10 +922,16 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
     // The text without its tables has the same keys: the line scans below read it.
     let text = cut.as_ref().map_or(text, |c| c.compact.as_str());
     let yaml_error = |e: serde_yaml::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
-    let raw: RawPage = match (serde_yaml::from_str(text), &cut) {
-        (Ok(raw), _) => raw,
-        (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
-        (Err(e), None) => return Err(yaml_error(e)),
+    // The block layout the database writes is read directly (`block_yaml`), to the value
+    // the parser would give; anything else, and any error, is the parser's.
+    let direct = super::block_yaml::block_value(text).and_then(|value| serde_yaml::from_value::<RawPage>(value).ok());
+    let raw: RawPage = match direct {
+        Some(raw) => raw,
+        None => match (serde_yaml::from_str(text), &cut) {
+            (Ok(raw), _) => raw,
+            (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
+            (Err(e), None) => return Err(yaml_error(e)),
+        },
     };
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
     let keys = TextKeys::scan(text);
