@@ -12,7 +12,7 @@ use serde_yaml::{Mapping, Value};
 
 /// The value of `text`, when every line keeps to the block layout; `None` otherwise.
 pub fn block_value(text: &str) -> Option<Value> {
-    if !text.chars().all(plain_text_char) {
+    if !plain_text(text) {
         return None;
     }
     let mut lines = Lines::new(text);
@@ -21,6 +21,16 @@ pub fn block_value(text: &str) -> Option<Value> {
     }
     let value = node(&mut lines, 0)?;
     lines.peek().is_none().then_some(value)
+}
+
+/// Whether every character of `text` is a [`plain_text_char`]: ASCII text byte by byte in
+/// blocks the compiler vectorises, other text character by character.
+fn plain_text(text: &str) -> bool {
+    if text.is_ascii() {
+        let plain = |b: u8| (b' '..=b'~').contains(&b) || b == b'\n';
+        return text.as_bytes().chunks(64).all(|block| block.iter().fold(true, |all, &b| all & plain(b)));
+    }
+    text.chars().all(plain_text_char)
 }
 
 /// The characters that mean themselves everywhere in this layout: the line feed and the
