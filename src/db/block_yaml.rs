@@ -380,44 +380,45 @@ mod tests {
         }
     }
 
-    proptest::proptest! {
-        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(3000))]
-
-        /// Where the reader gives a value, it is the parser's, for catalogs built from the
-        /// layout's pieces and the pieces just outside it.
-        #[test]
-        fn a_value_read_is_the_parser_s(text in catalog_text(true)) {
-            if let Some(value) = block_value(&text) {
-                proptest::prop_assert_eq!(Some(value), parser(&text), "{:?}", text);
-            }
+    /// Where the reader gives a value, it is the parser's.
+    fn read_as_the_parser_reads(text: &str) -> Result<(), proptest::test_runner::TestCaseError> {
+        if let Some(value) = block_value(text) {
+            proptest::prop_assert_eq!(Some(value), parser(text), "{:?}", text);
         }
+        Ok(())
+    }
 
-        /// Catalogs that keep to the layout are read (the fast path is the one taken).
-        #[test]
-        fn the_layout_is_read(text in catalog_text(false)) {
-            let value = block_value(&text);
-            proptest::prop_assert!(value.is_some(), "{:?}", text);
-            proptest::prop_assert_eq!(value, parser(&text), "{:?}", text);
-        }
+    /// A text in the layout is read (the direct path is the one taken), to the parser's value.
+    fn read_in_the_layout(text: &str) -> Result<(), proptest::test_runner::TestCaseError> {
+        let value = block_value(text);
+        proptest::prop_assert!(value.is_some(), "{:?}", text);
+        proptest::prop_assert_eq!(value, parser(text), "{:?}", text);
+        Ok(())
     }
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(3000))]
 
-        /// Where the reader gives a value for a data page, it is the parser's.
+        /// Catalogs built from the layout's pieces and the pieces just outside it.
         #[test]
-        fn a_page_read_is_the_parser_s(text in page_text(true)) {
-            if let Some(value) = block_value(&text) {
-                proptest::prop_assert_eq!(Some(value), parser(&text), "{:?}", text);
-            }
+        fn a_catalog_read_is_the_parser_s(text in catalog_text(true)) {
+            read_as_the_parser_reads(&text)?;
         }
 
-        /// Data pages in the database's layout are read, to the parser's value.
         #[test]
-        fn the_page_layout_is_read(text in page_text(false)) {
-            let value = block_value(&text);
-            proptest::prop_assert!(value.is_some(), "{:?}", text);
-            proptest::prop_assert_eq!(value, parser(&text), "{:?}", text);
+        fn catalogs_in_the_layout_are_read(text in catalog_text(false)) {
+            read_in_the_layout(&text)?;
+        }
+
+        /// Data pages, likewise.
+        #[test]
+        fn a_page_read_is_the_parser_s(text in page_text(true)) {
+            read_as_the_parser_reads(&text)?;
+        }
+
+        #[test]
+        fn pages_in_the_layout_are_read(text in page_text(false)) {
+            read_in_the_layout(&text)?;
         }
     }
 

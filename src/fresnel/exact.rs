@@ -220,7 +220,9 @@ mod tests {
         // reflection (n < 1, η = 0), gases (n − 1 tiny), vacuum, huge indices, bad cosines.
         let indices = [(1.5, 0.0), (0.2, 3.5), (0.8, 0.0), (0.0, 0.0), (1.0, 0.0), (1.0003, 0.0), (1.0, 1e-9), (2.4, 0.01), (1e120, 2.0), (3.0, 1e130), (0.05, 0.0)];
         let mut cosines: Vec<f64> = (0..=64).map(|i| i as f64 / 64.0).collect();
-        cosines.extend([f64::NAN, -0.5, 2.0, 1e-300, 0.7071067811865476, 0.7071067811865475]);
+        // 1/√2 and the double below it: c² on either side of ½.
+        let diagonal = std::f64::consts::FRAC_1_SQRT_2;
+        cosines.extend([f64::NAN, -0.5, 2.0, 1e-300, diagonal, f64::from_bits(diagonal.to_bits() - 1)]);
         for (n, k) in indices {
             let terms = ExactTerms::new(sanitise(Index::new(n, k)));
             for chunk in cosines.chunks(LANES) {
