@@ -26,7 +26,7 @@ use crate::scene::mesh::widen;
 pub const PACKET_RAYS: usize = 64;
 
 /// A set of a packet's rays, one bit per ray.
-type RayMask = u64;
+pub type RayMask = u64;
 
 /// A triangle's corners in f32, as the meshes give them (widened to f64 exactly).
 pub type Corners = [[f32; 3]; 3];
@@ -182,20 +182,20 @@ impl PacketTree {
         PacketTree { root: Some(root), pairs, corners }
     }
 
-    /// How many rays of `packet` cross no triangle (`crosses` as in [`open`]).
-    pub fn open_rays(&self, packet: &Packet, crosses: impl Fn(&[DVec3; 3], usize) -> bool) -> usize {
-        open(self, packet, crosses).count_ones() as usize
+    /// How many rays of `packet` cross no triangle (`blocked` as in [`open`]).
+    pub fn open_rays(&self, packet: &Packet, blocked: impl Fn(&[DVec3; 3], RayMask) -> RayMask) -> usize {
+        open(self, packet, blocked).count_ones() as usize
     }
 }
 
-/// The rays of `packet` for which `crosses(relative, ray)` is true for no triangle whose
-/// box the ray enters, as a mask; `relative` holds the triangle's corners less the
-/// packet's origin, formed once for all its rays. A node's two children are tested
+/// The rays of `packet` that no triangle whose box they enter blocks, as a mask:
+/// `blocked(relative, rays)` gives those of `rays` a triangle blocks, `relative` holding
+/// its corners less the packet's origin, formed once for all its rays. A node's two children are tested
 /// together when it is reached (they share a cache line) and only a child some ray enters
 /// is stacked, with the rays that enter it (and the line of its own children asked for);
 /// the first child is walked first. The walk ends once every ray has met a triangle.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, crosses: F) -> RayMask {
+fn open<F: Fn(&[DVec3; 3], RayMask) -> RayMask>(tree: &PacketTree, packet: &Packet, blocked: F) -> RayMask {
     let mut open = packet.all();
     let Some(root) = &tree.root else { return open };
     let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
@@ -228,13 +228,9 @@ fn open<F: Fn(&[DVec3; 3], usize) -> bool>(tree: &PacketTree, packet: &Packet, c
         }
         for corners in &tree.corners[node.first as usize..(node.first + node.count) as usize] {
             let relative = corners.map(|p| widen(p) - packet.origin);
-            let mut live = rays & open;
-            while live != 0 {
-                let ray = live.trailing_zeros() as usize;
-                live &= live - 1;
-                if crosses(&relative, ray) {
-                    open &= !(1 << ray);
-                }
+            let live = rays & open;
+            if live != 0 {
+                open &= !blocked(&relative, live);
             }
         }
         if open == 0 {
@@ -316,7 +312,7 @@ mod tests {
     fn a_tree_without_triangles_blocks_nothing() {
         let tree = PacketTree::new(&[], 2);
         let packet = Packet::new(DVec3::ZERO, &[DVec3::Z, DVec3::X]);
-        assert_eq!(tree.open_rays(&packet, |_, _| true), 2);
+        assert_eq!(tree.open_rays(&packet, |_, rays| rays), 2);
     }
 
     #[test]
