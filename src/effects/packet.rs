@@ -2,8 +2,9 @@
 //! direction bin — traced together for occlusion: one walk of a binary BVH in which each
 //! node's box is tested against every live ray of the packet at once (the slab test over
 //! arrays of directions, in vector lanes), descending while any ray enters it; at a leaf
-//! each ray that entered its box runs the triangle test, and a ray that meets a triangle
-//! leaves the packet. Ambient-occlusion rays mostly escape, and rays of one origin and
+//! the caller's test decides which of the rays that entered its box each triangle blocks
+//! (`Geometry::open_rays`: the watertight test, skipped for rays the triangle lies behind),
+//! and a blocked ray leaves the packet. Ambient-occlusion rays mostly escape, and rays of one origin and
 //! nearly one direction enter nearly the same boxes, so the packet walks each shared node
 //! once instead of once per ray (Wald, Slusallek, Benthin and Wagner, "Interactive Rendering
 //! with Coherent Ray Tracing", Eurographics 2001, traced packets of four).
