@@ -54,11 +54,17 @@ struct Lines<'a> {
     text: &'a str,
     at: usize,
     next: Option<Line<'a>>,
+    /// The collections open around the line (sequences and mappings).
+    depth: usize,
 }
+
+/// The deepest nesting read here (the database nests four deep); deeper text is left to
+/// serde_yaml, whose own limit then reports it, instead of recursing without bound.
+const MAX_DEPTH: usize = 32;
 
 impl<'a> Lines<'a> {
     fn new(text: &'a str) -> Self {
-        let mut lines = Lines { text, at: 0, next: None };
+        let mut lines = Lines { text, at: 0, next: None, depth: 0 };
         lines.next = lines.find_content();
         lines
     }
@@ -90,6 +96,12 @@ impl<'a> Lines<'a> {
             self.at += line.len() + 1;
             self.next = self.find_content();
         }
+    }
+
+    /// One collection deeper; `None` past [`MAX_DEPTH`].
+    fn enter(&mut self) -> Option<()> {
+        self.depth += 1;
+        (self.depth <= MAX_DEPTH).then_some(())
     }
 
     fn find_content(&self) -> Option<Line<'a>> {
@@ -127,6 +139,7 @@ fn node(lines: &mut Lines, indent: usize) -> Option<Value> {
 /// A block sequence whose `- ` indicators stand at `indent`; an entry is a mapping when it
 /// starts with a key, a scalar otherwise.
 fn sequence(lines: &mut Lines, indent: usize) -> Option<Value> {
+    lines.enter()?;
     let mut entries = Vec::new();
     while let Some(line) = lines.peek().filter(|line| line.indent >= indent) {
         if line.indent > indent {
@@ -136,12 +149,14 @@ fn sequence(lines: &mut Lines, indent: usize) -> Option<Value> {
         lines.advance();
         entries.push(if key_of(first).is_some() { mapping(lines, indent + 2, first)? } else { scalar(first)? });
     }
+    lines.depth -= 1;
     Some(Value::Sequence(entries))
 }
 
 /// A block mapping whose keys stand at `column`, its first entry `first` (on a line
 /// already passed).
 fn mapping(lines: &mut Lines, column: usize, first: &str) -> Option<Value> {
+    lines.enter()?;
     let mut map = Mapping::new();
     entry(lines, column, first, &mut map)?;
     while let Some(line) = lines.peek().filter(|line| line.indent >= column) {
@@ -151,6 +166,7 @@ fn mapping(lines: &mut Lines, column: usize, first: &str) -> Option<Value> {
         lines.advance();
         entry(lines, column, line.content, &mut map)?;
     }
+    lines.depth -= 1;
     Some(Value::Mapping(map))
 }
 
@@ -339,6 +355,16 @@ mod tests {
             assert!(value.is_some(), "{text:?}");
             assert_eq!(value, parser(text), "{text:?}");
         }
+    }
+
+    #[test]
+    fn deep_nesting_is_left_to_the_parser() {
+        let nested = |depth: usize| (0..depth).map(|level| format!("{}k{level}:\n", " ".repeat(level))).collect::<String>() + &" ".repeat(depth) + "leaf: 1\n";
+        assert!(block_value(&nested(MAX_DEPTH - 1)).is_some());
+        assert_eq!(block_value(&nested(MAX_DEPTH)), None);
+        // Deeper than a test thread's stack holds for a recursive reader without the limit
+        // (checked: it overflows there): no recursion beyond the limit.
+        assert_eq!(block_value(&nested(3_000)), None);
     }
 
     #[test]
