@@ -23,6 +23,15 @@ pub fn block_value(text: &str) -> Option<Value> {
     lines.peek().is_none().then_some(value)
 }
 
+/// A `T` from `text` as serde_yaml's `from_str` gives it: the block layout read directly,
+/// anything else — and a value `T` does not take — by serde_yaml, with its errors.
+pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_yaml::Error> {
+    match block_value(text).and_then(|value| serde_yaml::from_value(value).ok()) {
+        Some(read) => Ok(read),
+        None => serde_yaml::from_str(text),
+    }
+}
+
 /// Whether every character of `text` is a [`plain_text_char`]: ASCII text byte by byte in
 /// blocks the compiler vectorises, other text character by character.
 fn plain_text(text: &str) -> bool {

@@ -98,12 +98,7 @@ impl Database {
             names: Vec<serde_yaml::Value>,
         }
         let text = std::fs::read_to_string(self.root.join("data").join(book).join("about.yml")).ok()?;
-        // The block layout read directly (`block_yaml`), anything else by the parser.
-        let direct = block_yaml::block_value(&text).and_then(|value| serde_yaml::from_value::<About>(value).ok());
-        let about: About = match direct {
-            Some(about) => about,
-            None => serde_yaml::from_str(&text).ok()?,
-        };
+        let about: About = block_yaml::from_str(&text).ok()?;
         let names: Vec<String> = about
             .names
             .iter()

@@ -312,38 +312,25 @@ impl<'a> CutTables<'a> {
         if tables.is_empty() {
             return None;
         }
-        let mut compact = String::with_capacity(text.len() / 8);
-        let mut removed = Vec::with_capacity(tables.len());
-        let mut lines_removed = 0;
-        let mut at = 0;
-        for (&(key_line, _), &Blanked { start, end, newlines }) in tables.iter().zip(&blank) {
-            if start >= end {
-                continue;
-            }
-            compact.push_str(&text[at..start]);
-            removed.push((key_line - lines_removed, newlines));
-            lines_removed += newlines;
-            at = end;
-        }
-        compact.push_str(&text[at..]);
+        // Each table's key line in the compact text and the lines removed after it.
+        let removed = tables
+            .iter()
+            .zip(&blank)
+            .filter(|(_, table)| table.start < table.end)
+            .scan(0, |lines_removed, (&(key_line, _), table)| {
+                let entry = (key_line - *lines_removed, table.newlines);
+                *lines_removed += table.newlines;
+                Some(entry)
+            })
+            .collect();
+        let compact = replace_tables(text, &blank, false);
         Some(Self { text, compact, removed, blank, tables })
     }
 
     /// The text with each table's lines blanked: every line of the file, so a YAML error
     /// in it is at the file's line and column.
     fn blanked(&self) -> String {
-        let mut yaml = String::with_capacity(self.compact.len() + self.removed.iter().map(|(_, n)| n).sum::<usize>());
-        let mut at = 0;
-        for &Blanked { start, end, newlines } in &self.blank {
-            if start >= end {
-                continue;
-            }
-            yaml.push_str(&self.text[at..start]);
-            yaml.extend(std::iter::repeat_n('\n', newlines));
-            at = end;
-        }
-        yaml.push_str(&self.text[at..]);
-        yaml
+        replace_tables(self.text, &self.blank, true)
     }
 
     /// The file's number of line `line` of the compact text (the tables' keys and every
@@ -356,6 +343,25 @@ impl<'a> CutTables<'a> {
     fn table(&self, line: usize) -> Option<&'a str> {
         self.tables.iter().find(|(l, _)| *l == line).map(|(_, body)| *body)
     }
+}
+
+/// `text` with each table's bytes replaced by its line ends (`keep_lines`, so every line
+/// keeps its number) or by nothing.
+fn replace_tables(text: &str, tables: &[Blanked], keep_lines: bool) -> String {
+    let kept = |table: &Blanked| if keep_lines { table.newlines } else { 0 };
+    let length = tables.iter().filter(|t| t.start < t.end).fold(text.len(), |length, t| length - (t.end - t.start) + kept(t));
+    let mut out = String::with_capacity(length);
+    let mut at = 0;
+    for table @ &Blanked { start, end, .. } in tables {
+        if start >= end {
+            continue;
+        }
+        out.push_str(&text[at..start]);
+        out.extend(std::iter::repeat_n('\n', kept(table)));
+        at = end;
+    }
+    out.push_str(&text[at..]);
+    out
 }
 
 /// A table's bytes `start..end` in the text, replaced by its `newlines` line ends.
@@ -922,23 +928,18 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
     // The text without its tables has the same keys: the line scans below read it.
     let text = cut.as_ref().map_or(text, |c| c.compact.as_str());
     let yaml_error = |e: serde_yaml::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
-    // The block layout the database writes is read directly (`block_yaml`), to the value
-    // the parser would give; anything else, and any error, is the parser's.
-    let direct = super::block_yaml::block_value(text).and_then(|value| serde_yaml::from_value::<RawPage>(value).ok());
-    let raw: RawPage = match direct {
-        Some(raw) => raw,
-        None => match (serde_yaml::from_str(text), &cut) {
-            (Ok(raw), _) => raw,
-            (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
-            (Err(e), None) => return Err(yaml_error(e)),
-        },
+    // An error is taken from the text with the tables blanked: its line is the file's.
+    let raw: RawPage = match (super::block_yaml::from_str(text), &cut) {
+        (Ok(raw), _) => raw,
+        (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
+        (Err(e), None) => return Err(yaml_error(e)),
     };
     let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
     let keys = TextKeys::scan(text);
-    let data_lines: Vec<usize> = match &cut {
-        Some(cut) => keys.data_lines.iter().map(|&line| cut.file_line(line)).collect(),
-        None => keys.data_lines.clone(),
-    };
+    let mut data_lines = keys.data_lines;
+    if let Some(cut) = &cut {
+        data_lines.iter_mut().for_each(|line| *line = cut.file_line(*line));
+    }
     let mut data_block_index = 0;
     let mut n: Option<Curve> = None;
     let mut k: Option<Curve> = None;

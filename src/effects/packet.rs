@@ -4,10 +4,11 @@
 //! arrays of directions, in vector lanes), descending while any ray enters it; at a leaf
 //! the caller's test decides which of the rays that entered its box each triangle blocks
 //! (`Geometry::open_rays`: the watertight test, skipped for rays the triangle lies behind),
-//! and a blocked ray leaves the packet. Ambient-occlusion rays mostly escape, and rays of one origin and
-//! nearly one direction enter nearly the same boxes, so the packet walks each shared node
-//! once instead of once per ray (Wald, Slusallek, Benthin and Wagner, "Interactive Rendering
-//! with Coherent Ray Tracing", Eurographics 2001, traced packets of four).
+//! and a blocked ray leaves the packet. Ambient-occlusion rays mostly escape, and rays of
+//! one origin and nearly one direction enter nearly the same boxes, so the packet walks
+//! each shared node once instead of once per ray (Wald, Slusallek, Benthin and Wagner,
+//! "Interactive Rendering with Coherent Ray Tracing", Eurographics 2001, traced packets of
+//! four).
 //!
 //! The slab test (Kay and Kajiya, SIGGRAPH 1986) in f64 on boxes widened from the
 //! builder's f32 boxes is conservative — reciprocal directions are held finite, so no
@@ -191,10 +192,11 @@ impl PacketTree {
 
 /// The rays of `packet` that no triangle whose box they enter blocks, as a mask:
 /// `blocked(relative, rays)` gives those of `rays` a triangle blocks, `relative` holding
-/// its corners less the packet's origin, formed once for all its rays. A node's two children are tested
-/// together when it is reached (they share a cache line) and only a child some ray enters
-/// is stacked, with the rays that enter it (and the line of its own children asked for);
-/// the first child is walked first. The walk ends once every ray has met a triangle.
+/// its corners less the packet's origin, formed once for all its rays. A node's two
+/// children are tested together when it is reached (they share a cache line) and only a
+/// child some ray enters is stacked, with the rays that enter it (and the line of its own
+/// children asked for); the first child is walked first. The walk ends once every ray has
+/// met a triangle.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
 fn open<F: Fn(&[DVec3; 3], RayMask) -> RayMask>(tree: &PacketTree, packet: &Packet, blocked: F) -> RayMask {
     let mut open = packet.all();
