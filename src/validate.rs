@@ -24,7 +24,7 @@
 pub mod quadrature;
 
 use std::borrow::Cow;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    filter, filter_weights, texel_values, CompensationFallback, LANES, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
+    filter, filter_weights, sanitise, texel_values, CompensationFallback, LANES, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
 use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
@@ -279,47 +279,81 @@ pub fn measure(model: &Model, strategy: Strategy) -> Integral {
     Family::of(vec![model.clone()]).measure(strategy)[0]
 }
 
-/// Measure every specimen × variant × channel, in parallel, one family at a time.
+/// Measure every specimen × variant × channel, in parallel, one family at a time. A
+/// channel index that several specimens or channels share (bit for bit, after
+/// sanitising) is measured once: its figures are a function of the index alone, and each
+/// of its rows carries that measurement's time.
 pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
-    let prepared: Vec<[Prepared; 3]> = specimens.par_iter().map(|t| t.channels.map(Prepared::new)).collect();
+    let (distinct, index_of) = distinct_channels(specimens);
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
-    let mut jobs: Vec<(usize, usize, usize)> =
-        (0..specimens.len()).flat_map(|t| (0..groups.len()).flat_map(move |g| (0..3).map(move |c| (t, g, c)))).collect();
+    let mut jobs: Vec<(usize, usize)> = (0..distinct.len()).flat_map(|d| (0..groups.len()).map(move |g| (d, g))).collect();
     let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
-    jobs.sort_by_key(|&(t, g, c)| (std::cmp::Reverse(weight(g)), t, c));
+    jobs.sort_by_key(|&(d, g)| (std::cmp::Reverse(weight(g)), d));
     let bar = crate::progress::bar(jobs.len(), "validate");
-    let mut measurements: Vec<Measurement> = jobs
+    let measured: Vec<(Vec<Integral>, f64)> = jobs
         .par_iter()
-        .flat_map_iter(|&(specimen, g, channel)| {
+        .map(|&(d, g)| {
             let start = Instant::now();
-            let p = prepared[specimen][channel];
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
-            let integrals = Family::new(p, &members).measure(strategy);
-            let seconds = start.elapsed().as_secs_f64() / members.len() as f64;
+            let integrals = Family::new(distinct[d], &members).measure(strategy);
             bar.inc(1);
-            let shared = members.len();
-            members.into_iter().zip(integrals).map(move |(variant, integral)| {
-                let compensated = variant.method == Method::SchlickCompensated;
-                Measurement {
-                    specimen,
-                    variant,
-                    channel,
-                    index: p.index,
-                    integral,
-                    seconds,
-                    shared,
-                    fallback: if compensated { p.compensation.fallback } else { None },
-                    lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
-                }
-            })
+            (integrals, start.elapsed().as_secs_f64() / members.len() as f64)
         })
         .collect();
     bar.finish_and_clear();
-    // Rows in specimen, variant, channel order, whatever the schedule.
+    let mut of_job = vec![vec![usize::MAX; groups.len()]; distinct.len()];
+    for (j, &(d, g)) in jobs.iter().enumerate() {
+        of_job[d][g] = j;
+    }
+    let mut measurements = Vec::with_capacity(specimens.len() * 3 * variants.len());
+    for (specimen, indices) in index_of.iter().enumerate() {
+        for (channel, &d) in indices.iter().enumerate() {
+            let p = distinct[d];
+            for (g, group) in groups.iter().enumerate() {
+                let (integrals, seconds) = &measured[of_job[d][g]];
+                for (&v, integral) in group.iter().zip(integrals) {
+                    let variant = variants[v];
+                    let compensated = variant.method == Method::SchlickCompensated;
+                    measurements.push(Measurement {
+                        specimen,
+                        variant,
+                        channel,
+                        index: p.index,
+                        integral: *integral,
+                        seconds: *seconds,
+                        shared: group.len(),
+                        fallback: if compensated { p.compensation.fallback } else { None },
+                        lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
+                    });
+                }
+            }
+        }
+    }
+    // Rows in specimen, variant, channel order.
     let order: BTreeMap<Variant, usize> = variants.iter().enumerate().map(|(i, v)| (*v, i)).collect();
     measurements.sort_by_key(|m| (m.specimen, order[&m.variant], m.channel));
     measurements
+}
+
+/// The distinct channel indices of `specimens` (sanitised, compared bit for bit),
+/// prepared once each, and for every specimen the position of each channel among them.
+fn distinct_channels(specimens: &[Specimen]) -> (Vec<Prepared>, Vec<[usize; 3]>) {
+    let mut position: HashMap<[u64; 2], usize> = HashMap::new();
+    let mut indices = Vec::new();
+    let index_of = specimens
+        .iter()
+        .map(|specimen| {
+            specimen.channels.map(|index| {
+                let index = sanitise(index);
+                *position.entry([index.n.to_bits(), index.k.to_bits()]).or_insert_with(|| {
+                    indices.push(index);
+                    indices.len() - 1
+                })
+            })
+        })
+        .collect();
+    (indices.par_iter().map(|&index| Prepared::new(index)).collect(), index_of)
 }
 
 /// A row of `errors.*`: a page, the measurement of its specimen, and the precision.
@@ -767,6 +801,48 @@ mod tests {
             })
             .collect();
         assert!(failures.is_empty(), "{} disagree:\n{}", failures.len(), failures.join("\n"));
+    }
+
+    /// An index that several specimens or channels share is measured once, and every row
+    /// of it has the figures of a family measured on that index alone; indices that differ
+    /// in one bit (or in the sign of a zero k) are measured apart.
+    #[test]
+    fn shared_channel_indices_have_the_figures_of_their_own_measurement() {
+        let gold = Index::new(0.18, 3.4);
+        let glass = Index::new(1.5, 0.0);
+        let next = Index::new(f64::from_bits(1.5f64.to_bits() + 1), 0.0);
+        let negative_zero = Index::new(1.5, -0.0);
+        let specimen = |channels: ChannelIndex| Specimen { pages: vec!["p".into()], kind: "test".into(), channels };
+        let specimens = [specimen([gold, glass, glass]), specimen([next, gold, negative_zero])];
+        let (distinct, index_of) = distinct_channels(&specimens);
+        // −0 is sanitised to itself and kept apart from +0, as its bits differ.
+        assert_eq!(distinct.len(), 4);
+        assert_eq!(index_of, vec![[0, 1, 1], [2, 0, 3]]);
+        let variants: Vec<Variant> = Variant::expand(&[Method::Schlick, Method::Nvidia])
+            .into_iter()
+            .chain(crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(16, e)) }))
+            .collect();
+        let measurements = measure_all(&specimens, &variants, Strategy::Fast);
+        assert_eq!(measurements.len(), specimens.len() * 3 * variants.len());
+        let groups = Family::groups(&variants);
+        let bits = |i: &Integral| {
+            [i.figures.f64, i.figures.f32].map(|f| (f.mean_rel_error.map(f64::to_bits), f.max_abs_error.to_bits(), f.rms_abs_error.to_bits()))
+        };
+        for m in &measurements {
+            // The reference: the variant's family measured on this specimen's channel alone.
+            let index = specimens[m.specimen].channels[m.channel];
+            let group = groups.iter().find(|g| g.iter().any(|&v| variants[v] == m.variant)).unwrap();
+            let family: Vec<Variant> = group.iter().map(|&v| variants[v]).collect();
+            let member = family.iter().position(|v| *v == m.variant).unwrap();
+            let alone = Family::new(Prepared::new(index), &family).measure(Strategy::Fast)[member];
+            assert_eq!(bits(&m.integral), bits(&alone), "{:?} {index:?}", m.variant);
+            assert_eq!((m.integral.evaluations, m.shared), (alone.evaluations, family.len()));
+            assert_eq!(m.index, crate::fresnel::sanitise(index));
+        }
+        // The rows of a shared index carry one measurement's time.
+        let seconds = |specimen: usize, channel: usize| measurements.iter().find(|m| (m.specimen, m.channel) == (specimen, channel)).unwrap().seconds;
+        assert_eq!(seconds(0, 1), seconds(0, 2));
+        assert_eq!(seconds(0, 0), seconds(1, 1));
     }
 
     /// A batch of angles gives each sample the bits of that angle alone (exact in vector

@@ -118,7 +118,7 @@ fn colours_are_finite_for_every_kept_page() {
     assert!(all.kept.len() > 1000);
     let rule = AngleQuadrature::new(2, 2);
     for page in &all.kept {
-        let reference = color::spectral_reference(&page.material, &rule, &[0.5, 0.001]);
+        let reference = color::spectral_reference(&page.material, &rule, &[0.5, 0.001], &Default::default());
         let values = reference.at_nodes.iter().chain(&reference.at_texels).chain(std::iter::once(&reference.f0));
         for rgb in values {
             assert!(rgb.iter().all(|v| v.is_finite() && v.abs() < 10.0), "{}: {rgb:?}", page.id());
@@ -137,7 +137,7 @@ fn colours_are_finite_for_every_kept_page() {
 fn effective_indices_meet_the_target_on_3d_metals() {
     let metals: Vec<_> = shelf("3d").kept.into_iter().filter(|p| p.page.book == "metals").collect();
     assert!(metals.len() >= 8);
-    let colors = color::compute(&metals, 0, &mut Default::default());
+    let colors = color::compute(&metals, 0, &mut Default::default(), &Default::default());
     let mut unmatched = vec![];
     for (page, colors) in metals.iter().zip(&colors) {
         for c in 0..3 {

@@ -151,7 +151,7 @@ fn metals_agree_with_the_physically_based_database() {
     let published: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     let selection = Selection { pages: published.iter().map(|r| r[1].to_string()).collect(), ..Default::default() };
     let ingested = nklut::ingest::ingest(&database(), &selection, &nklut::ingest::Config::default()).unwrap();
-    let params = nklut::params::compute(&ingested.kept, &mut Default::default()).unwrap();
+    let params = nklut::params::compute(&ingested.kept, &mut Default::default(), &Default::default()).unwrap();
     let mut compared = 0;
     for record in &published {
         let Some(position) = ingested.kept.iter().position(|p| p.id() == record[1]) else {

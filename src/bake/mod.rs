@@ -109,6 +109,8 @@ impl Layout {
 pub struct PageReference {
     /// The page's spectrum prepared once for every reference colour the bake needs.
     pub spectrum: color::PreparedSpectrum,
+    /// The bits of the sampled spectrum, the memo's key.
+    pub fingerprint: color::Fingerprint,
     /// Per channel, the spectral reference at `color::angle_quadrature().cosines`.
     pub at_nodes: [Vec<f64>; 3],
     /// Share of the luminance weight ∫ S ȳ outside the page's data, where n and k are
@@ -117,11 +119,13 @@ pub struct PageReference {
 }
 
 impl PageReference {
-    pub fn new(page: &KeptPage) -> Self {
-        let (spectrum, extrapolated_share) = color::sample_spectrum(&page.material.data);
-        let spectrum = color::PreparedSpectrum::new(&spectrum);
-        let at_nodes = by_channel(&spectrum.curve(&color::angle_quadrature().cosines));
-        Self { spectrum, at_nodes, extrapolated_share }
+    /// The page's reference, its curves from `memo` where it holds them.
+    pub fn new(page: &KeptPage, memo: &color::CurveMemo) -> Self {
+        let (sampled, extrapolated_share) = color::sample_spectrum(&page.material.data);
+        let spectrum = color::PreparedSpectrum::new(&sampled);
+        let fingerprint = color::Fingerprint::of_spectrum(&sampled);
+        let at_nodes = by_channel(&memo.curve(fingerprint, &spectrum, &color::angle_quadrature().cosines));
+        Self { spectrum, fingerprint, at_nodes, extrapolated_share }
     }
 
     /// Per channel, the (n, k) whose exact Fresnel curve best fits the spectral reference
@@ -133,11 +137,11 @@ impl PageReference {
 
     /// F of `source` for `page` (the page this reference was made from) at the texel
     /// cosines of an N-texel LUT.
-    pub fn curve(&self, source: Source, page: &KeptPage, size: usize) -> ChannelCurve {
+    pub fn curve(&self, source: Source, page: &KeptPage, size: usize, memo: &color::CurveMemo) -> ChannelCurve {
         match source {
             Source::ThreeChannel => exact_curve(&page.material.channels, size),
             Source::Effective => exact_curve(&self.effective_index(&page.material.channels), size),
-            Source::Spectral => by_channel(&self.spectrum.curve(&crate::encoding::texel_cosines(size))),
+            Source::Spectral => by_channel(&memo.curve(self.fingerprint, &self.spectrum, &crate::encoding::texel_cosines(size))),
         }
     }
 }
@@ -152,7 +156,10 @@ fn by_channel(rgb: &[[f64; 3]]) -> [Vec<f64>; 3] {
 pub fn curve(source: Source, page: &KeptPage, size: usize) -> ChannelCurve {
     match source {
         Source::ThreeChannel => exact_curve(&page.material.channels, size),
-        _ => PageReference::new(page).curve(source, page, size),
+        _ => {
+            let memo = color::CurveMemo::default();
+            PageReference::new(page, &memo).curve(source, page, size, &memo)
+        }
     }
 }
 
@@ -465,15 +472,15 @@ fn check_named_pages_kept(ingest: &Ingest, named: &[String]) -> Result<()> {
 
 /// The rows of `pages`: curves computed per source, and the spectral reference of
 /// `error_vs_spectral`, all from one [`PageReference`] per page.
-pub fn rows(pages: &[&KeptPage], plan: &Plan) -> Vec<Row> {
+pub fn rows(pages: &[&KeptPage], plan: &Plan, memo: &color::CurveMemo) -> Vec<Row> {
     pages
         .par_iter()
         .map(|page| {
-            let reference = PageReference::new(page);
+            let reference = PageReference::new(page, memo);
             let fitted = reference.effective_index(&page.material.channels);
             let curve = |source: Source| match source {
                 Source::Effective => exact_curve(&fitted, plan.size),
-                _ => reference.curve(source, page, plan.size),
+                _ => reference.curve(source, page, plan.size, memo),
             };
             Row {
                 page: page.id(),
@@ -533,7 +540,8 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     let pages: Vec<&KeptPage> = ingest.kept.iter().collect();
     let mut duplicates = ingest.listed_twice.clone();
     duplicates.sort();
-    let rows = rows(&pages, &plan);
+    let memo = color::CurveMemo::load(out);
+    let rows = rows(&pages, &plan, &memo);
     let mut baked = bake(&rows, &plan)?;
     baked.manifest.duplicate_catalog_pages = duplicates;
     let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
@@ -541,6 +549,7 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     // Table paths are relative to luts/: "../x" is out/x.
     files.extend(documents(baked.manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file())?);
     let luts = publish::publish(out, &files, before_write)?;
+    memo.save_or_warn(out);
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }
 

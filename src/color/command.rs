@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 
+use super::memo::CurveMemo;
 use super::page::{page_colors, spectral_reference, PageColors};
 use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::srgb;
@@ -29,14 +30,15 @@ pub struct Timings {
 
 /// The colours of every material of `kept`, each distinct data file computed once (in
 /// parallel); `texels` is the LUT size whose texel centres are checked for out-of-gamut
-/// values. Returns one `PageColors` per kept page, in order.
-pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings) -> Vec<PageColors> {
+/// values; the spectral curves come from `memo` where it holds them. Returns one
+/// `PageColors` per kept page, in order.
+pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &CurveMemo) -> Vec<PageColors> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let quadrature = angle_quadrature();
     let cosines = texel_cosines(texels);
 
     let start = Instant::now();
-    let references = crate::progress::par_map(unique.len(), "spectra", |i| spectral_reference(&unique[i], quadrature, &cosines));
+    let references = crate::progress::par_map(unique.len(), "spectra", |i| spectral_reference(&unique[i], quadrature, &cosines, memo));
     timings.spectral_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
@@ -124,8 +126,10 @@ pub fn command(db: &Database, selection: &Selection, config: &Config, out: &Path
     ingested.check_strict()?;
     let channels = &config.channels;
     let mut timings = Timings { ingest_s: start.elapsed().as_secs_f64(), ..Default::default() };
-    let colors = compute(&ingested.kept, texels, &mut timings);
+    let memo = CurveMemo::load(out);
+    let colors = compute(&ingested.kept, texels, &mut timings, &memo);
     let written = colors_table(&ingested.kept, &colors, channels, texels).write(out, "colors", false)?;
+    memo.save_or_warn(out);
     eprintln!(
         "colors: {} pages ({} excluded); ingest {:.2} s, spectra + {texels}-texel curves {:.2} s, errors + fits {:.2} s",
         ingested.kept.len(),

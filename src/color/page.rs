@@ -3,6 +3,7 @@
 
 use super::fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
 use super::lab::delta_e2000;
+use super::memo::{CurveMemo, Fingerprint};
 use super::angle_average::AngleQuadrature;
 use super::spectral::{sample_spectrum, spectral_weights, PreparedSpectrum};
 use crate::fresnel;
@@ -24,14 +25,16 @@ pub struct SpectralReference {
 }
 
 /// Sample the spectrum of `material` and its reference colour at normal incidence, at
-/// the quadrature nodes and at `texel_cosines`.
-pub fn spectral_reference(material: &Material, quadrature: &AngleQuadrature, texel_cosines: &[f64]) -> SpectralReference {
+/// the quadrature nodes and at `texel_cosines` (the curves from `memo` when it holds
+/// them).
+pub fn spectral_reference(material: &Material, quadrature: &AngleQuadrature, texel_cosines: &[f64], memo: &CurveMemo) -> SpectralReference {
     let (spectrum, extrapolated_share) = sample_spectrum(&material.data);
     let prepared = PreparedSpectrum::new(&spectrum);
+    let sampled = Fingerprint::of_spectrum(&spectrum);
     SpectralReference {
         f0: prepared.rgb(1.0),
-        at_nodes: prepared.curve(&quadrature.cosines),
-        at_texels: prepared.curve(texel_cosines),
+        at_nodes: memo.curve(sampled, &prepared, &quadrature.cosines),
+        at_texels: if texel_cosines.is_empty() { Vec::new() } else { memo.curve(sampled, &prepared, texel_cosines) },
         extrapolated_share,
         spectrum,
     }

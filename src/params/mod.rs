@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use crate::color::{self, PreparedSpectrum};
+use crate::color::{self, CurveMemo, Fingerprint, PreparedSpectrum};
 use crate::db::Database;
 use crate::ingest::{self, KeptPage, Selection};
 use crate::output::SetFile;
@@ -30,10 +30,13 @@ pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
 pub use page::{engine_params, EngineModel, EngineParams, ModelError, Reference};
 pub use table::engine_params_table;
 
-/// The spectral reference of a material on the angle quadrature.
-pub fn reference(material: &Material) -> Reference {
+/// The spectral reference of a material on the angle quadrature (its curve from `memo`
+/// when it holds it).
+pub fn reference(material: &Material, memo: &CurveMemo) -> Reference {
     let (spectrum, _) = color::sample_spectrum(&material.data);
-    Reference::new(&PreparedSpectrum::new(&spectrum), color::angle_quadrature())
+    let rule = color::angle_quadrature();
+    let prepared = PreparedSpectrum::new(&spectrum);
+    Reference::from_curve(&prepared, &memo.curve(Fingerprint::of_spectrum(&spectrum), &prepared, &rule.cosines))
 }
 
 
@@ -48,10 +51,10 @@ pub struct ParamsTimings {
 
 /// The parameters of every page of `kept`, each distinct data file computed once (in
 /// parallel), in the order of `kept`.
-pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings) -> Result<Vec<EngineParams>> {
+pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings, memo: &CurveMemo) -> Result<Vec<EngineParams>> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let start = Instant::now();
-    let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i]));
+    let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i], memo));
     timings.reference_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let rule = color::angle_quadrature();
@@ -69,7 +72,9 @@ pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, ou
     anyhow::ensure!(!ingested.kept.is_empty(), "no page of the selection passed the coverage filter; no engine parameters to write");
     let ingest_s = start.elapsed().as_secs_f64();
     let mut timings = ParamsTimings::default();
-    let params = compute(&ingested.kept, &mut timings)?;
+    let memo = CurveMemo::load(out);
+    let params = compute(&ingested.kept, &mut timings, &memo)?;
+    memo.save_or_warn(out);
     let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
     let pages: Vec<mtlx::ExportPage> = ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));

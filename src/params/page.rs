@@ -150,7 +150,11 @@ pub struct Reference {
 
 impl Reference {
     pub fn new(spectrum: &PreparedSpectrum, rule: &AngleQuadrature) -> Self {
-        let curve = spectrum.curve(&rule.cosines);
+        Self::from_curve(spectrum, &spectrum.curve(&rule.cosines))
+    }
+
+    /// The reference with `curve`, the spectrum's colour at the quadrature's nodes.
+    pub fn from_curve(spectrum: &PreparedSpectrum, curve: &[[f64; 3]]) -> Self {
         let weights = color::spectral_weights();
         Self {
             f0: spectrum.rgb(1.0),
