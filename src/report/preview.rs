@@ -100,16 +100,18 @@ impl SphereLayout {
     /// Linear sRGB of every pixel of the sphere shaded with `curve` (F per channel on the
     /// layout's θ grid), row-major; the background outside the disc.
     pub fn shade(&self, curve: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        self.texels
-            .iter()
-            .map(|texel| match texel {
-                None => [BACKGROUND; 3],
-                Some(t) => {
-                    let (a, b) = (curve[t.lower], curve[t.lower + 1]);
-                    [0, 1, 2].map(|c| (a[c] + (b[c] - a[c]) * t.weight) * t.radiance)
-                }
-            })
-            .collect()
+        self.texels.iter().map(|texel| texel.map_or([BACKGROUND; 3], |t| t.shade(curve))).collect()
+    }
+}
+
+impl Texel {
+    /// F(θ) · L(r) of this pixel: the curve interpolated linearly between the grid's
+    /// samples, times the environment's radiance.
+    #[inline(always)]
+    fn shade(&self, curve: &[[f64; 3]]) -> [f64; 3] {
+        let (a, b) = (curve[self.lower], curve[self.lower + 1]);
+        let channel = |c: usize| (a[c] + (b[c] - a[c]) * self.weight) * self.radiance;
+        [channel(0), channel(1), channel(2)]
     }
 }
 
@@ -119,6 +121,7 @@ impl SphereLayout {
 /// value's bucket of width 1/BUCKETS; thresholds lie at least 1/(255 · 12.92) ≈ 3.0e-4
 /// apart (the slope of decode is smallest at 0), more than a bucket, so at most one more
 /// threshold lies inside the bucket and one comparison settles it.
+#[inline]
 pub fn encode8(linear: f64) -> u8 {
     let table = code_table();
     if !(linear > 0.0) {
@@ -157,14 +160,22 @@ fn code_table() -> &'static CodeTable {
 
 /// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
 pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
-    let size = layout.size();
-    let mut image = RgbImage::new(size * curves.len() as u32, size);
+    let size = layout.size() as usize;
+    let width = size * curves.len();
+    let mut image = RgbImage::new(width as u32, size as u32);
     let background = [encode8(BACKGROUND); 3];
+    // Row by row of each sphere, straight into the image's bytes (3 per pixel).
+    let bytes: &mut [u8] = &mut image;
     for (i, curve) in curves.iter().enumerate() {
-        for (p, (rgb, texel)) in layout.shade(curve).into_iter().zip(&layout.texels).enumerate() {
-            let (x, y) = (p as u32 % size, p as u32 / size);
-            let pixel = if texel.is_some() { rgb.map(encode8) } else { background };
-            image.put_pixel(i as u32 * size + x, y, image::Rgb(pixel));
+        for (y, row) in layout.texels.chunks(size).enumerate() {
+            let start = 3 * (y * width + i * size);
+            for (pixel, texel) in bytes[start..start + 3 * size].chunks_exact_mut(3).zip(row) {
+                let rgb = texel.map_or(background, |t| {
+                    let [r, g, b] = t.shade(curve);
+                    [encode8(r), encode8(g), encode8(b)]
+                });
+                pixel.copy_from_slice(&rgb);
+            }
         }
     }
     image
