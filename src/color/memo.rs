@@ -8,7 +8,7 @@
 //!
 //! The file `<out>/.cache/spectral-curves.bin` (little-endian) holds a magic line, the
 //! executable's identity, then per curve: the spectrum's and the cosines' fingerprints
-//! and the RGB triples; last, a fingerprint of everything before it. A missing, foreign
+//! and the RGB triples; last, a checksum of everything before it. A missing, foreign
 //! or damaged file reads as empty, so the memo is written without waiting for the disk:
 //! a file torn by a power cut is a miss, not a wrong curve.
 
@@ -110,7 +110,7 @@ impl CurveMemo {
             }
         }
         let check = checksum(&bytes);
-        bytes.extend(check.0.iter().flat_map(|w| w.to_le_bytes()));
+        bytes.extend_from_slice(&check);
         bytes
     }
 
@@ -121,8 +121,8 @@ impl CurveMemo {
     }
 
     fn read(bytes: &[u8], identity: &str) -> Option<Self> {
-        let (body, check) = bytes.split_at_checked(bytes.len().checked_sub(16)?)?;
-        if check != checksum(body).0.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>() {
+        let (body, check) = bytes.split_at_checked(bytes.len().checked_sub(8)?)?;
+        if check != checksum(body) {
             return None;
         }
         let mut reader = Reader { bytes: body.strip_prefix(MAGIC)? };
@@ -194,13 +194,12 @@ pub fn executable_identity() -> String {
     format!("{} {} {modified}", path.display(), metadata.len())
 }
 
-/// The fingerprint of the memo's bytes, in 8-byte words (the tail is zero-padded).
-fn checksum(bytes: &[u8]) -> Fingerprint {
-    Fingerprint::of(bytes.chunks(8).map(|word| {
-        let mut padded = [0u8; 8];
-        padded[..word.len()].copy_from_slice(word);
-        f64::from_bits(u64::from_le_bytes(padded))
-    }))
+/// A SipHash-1-3 sum of the memo's bytes (one pass; it guards against a torn or damaged
+/// file, not against a forger).
+fn checksum(bytes: &[u8]) -> [u8; 8] {
+    let mut hasher = std::hash::DefaultHasher::new();
+    hasher.write(bytes);
+    hasher.finish().to_le_bytes()
 }
 
 fn put_u64(bytes: &mut Vec<u8>, value: u64) {
@@ -282,11 +281,11 @@ mod tests {
             assert!(CurveMemo::decode(&flipped, "nklut 1").curves.is_empty(), "byte {at} changed");
         }
         // A count that claims more than the file holds.
-        let mut huge = bytes[..bytes.len() - 16].to_vec();
+        let mut huge = bytes[..bytes.len() - 8].to_vec();
         let at = MAGIC.len() + 8 + "nklut 1".len();
         huge[at..at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
         let check = checksum(&huge);
-        huge.extend(check.0.iter().flat_map(|w| w.to_le_bytes()));
+        huge.extend_from_slice(&check);
         assert!(CurveMemo::decode(&huge, "nklut 1").curves.is_empty());
     }
 
