@@ -32,14 +32,19 @@ fn bake(out: &Path) {
     nklut::bake::run(&database(), out, &request).unwrap();
 }
 
-/// Every output file under `out` (the memo aside) and its bytes, by relative path.
-fn outputs(out: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut all: Vec<(String, Vec<u8>)> = files(out)
+/// Every output file under `out` (the memo aside) and a hash of its bytes, by relative
+/// path.
+fn outputs(out: &Path) -> Vec<(String, u64)> {
+    let mut all: Vec<(String, u64)> = files(out)
         .into_iter()
         .filter(|p| p.is_file())
         .map(|p| p.strip_prefix(out).unwrap().to_string_lossy().into_owned())
         .filter(|name| !name.starts_with(".cache") && !name.starts_with(".sets"))
-        .map(|name| (name.clone(), fs::read(out.join(&name)).unwrap()))
+        .map(|name| {
+            let mut hasher = std::hash::DefaultHasher::new();
+            std::hash::Hasher::write(&mut hasher, &fs::read(out.join(&name)).unwrap());
+            (name, std::hash::Hasher::finish(&hasher))
+        })
         .collect();
     all.sort();
     all
@@ -51,11 +56,9 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
     colors(&remembered);
     let memo = remembered.join(MEMO_PATH);
     let written = fs::read(&memo).expect("colors remembers its curves");
-    // params and bake find every curve they need (the nodes; the 64 texel centres): the
-    // memo does not grow, so it is not written again.
     params(&remembered);
     bake(&remembered);
-    assert_eq!(fs::read(&memo).unwrap(), written, "the memo grew: a curve was computed again");
+    assert_eq!(fs::read(&memo).unwrap(), written, "params and bake leave the memo as it was");
 
     let fresh = scratch("memo-fresh");
     colors(&fresh);
@@ -64,13 +67,54 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
     bake(&fresh);
     assert_eq!(outputs(&remembered), outputs(&fresh));
     assert!(!outputs(&fresh).is_empty());
+
+    // The curves are read: halve every value in the memo (its checksum made again) and
+    // params writes other parameters.
+    let halved = scratch("memo-halved");
+    fs::create_dir_all(halved.join(MEMO_PATH).parent().unwrap()).unwrap();
+    fs::write(halved.join(MEMO_PATH), halve_every_curve(&written)).unwrap();
+    params(&halved);
+    params(&fresh);
+    let table = |out: &Path| fs::read(out.join("engine_params.csv")).unwrap();
+    assert_ne!(table(&halved), table(&fresh));
+}
+
+/// The memo's bytes with every curve value halved and the checksum made again (the
+/// layout of `color::memo`: magic line, identity, count, then per curve two 16-byte
+/// fingerprints, the point count and the RGB triples; last, SipHash-1-3 of the rest).
+fn halve_every_curve(memo: &[u8]) -> Vec<u8> {
+    let mut bytes = memo[..memo.len() - 8].to_vec();
+    let word = |bytes: &[u8], at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize;
+    let mut at = b"nklut spectral curves 1\n".len();
+    at += 8 + word(&bytes, at);
+    let count = word(&bytes, at);
+    at += 8;
+    for _ in 0..count {
+        at += 32;
+        let values = 3 * word(&bytes, at);
+        at += 8;
+        for _ in 0..values {
+            let value = f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+            bytes[at..at + 8].copy_from_slice(&(0.5 * value).to_le_bytes());
+            at += 8;
+        }
+    }
+    assert_eq!(at, bytes.len());
+    let mut hasher = std::hash::DefaultHasher::new();
+    std::hash::Hasher::write(&mut hasher, &bytes);
+    let check = std::hash::Hasher::finish(&hasher);
+    bytes.extend_from_slice(&check.to_le_bytes());
+    bytes
 }
 
 #[test]
 fn a_damaged_memo_is_not_read() {
+    let remembered = scratch("memo-source");
+    colors(&remembered);
+    let memo = fs::read(remembered.join(MEMO_PATH)).expect("colors remembers its curves");
     let reference = scratch("memo-reference");
     params(&reference);
-    let memo = fs::read(reference.join(MEMO_PATH)).expect("params remembers the curves it computed");
+    assert!(!reference.join(MEMO_PATH).exists(), "params reads the memo, never writes it");
     let mut flipped = memo.clone();
     flipped[memo.len() / 2] ^= 1;
     for (name, bytes) in [("torn", memo[..memo.len() / 2].to_vec()), ("one byte changed", flipped), ("garbage", vec![0x5a; 1000])] {
@@ -78,8 +122,8 @@ fn a_damaged_memo_is_not_read() {
         fs::create_dir_all(out.join(MEMO_PATH).parent().unwrap()).unwrap();
         fs::write(out.join(MEMO_PATH), &bytes).unwrap();
         params(&out);
+        // A changed curve value that was read would change the parameters.
         assert_eq!(outputs(&out), outputs(&reference), "{name}");
-        // Not read, so every curve was computed and the memo written anew.
-        assert_eq!(fs::read(out.join(MEMO_PATH)).unwrap(), memo, "{name}");
+        assert_eq!(fs::read(out.join(MEMO_PATH)).unwrap(), bytes, "{name}: params leaves the memo as it was");
     }
 }

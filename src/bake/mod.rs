@@ -549,7 +549,6 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     // Table paths are relative to luts/: "../x" is out/x.
     files.extend(documents(baked.manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file())?);
     let luts = publish::publish(out, &files, before_write)?;
-    memo.save_or_warn(out);
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }
 

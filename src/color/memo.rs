@@ -1,10 +1,12 @@
 //! The spectral reference curves RGB(θ) of SPEC §4 remembered between the commands of
 //! one output folder: `colors`, `params` and `bake` each need a page's curve at the same
 //! cosines (the angle quadrature's nodes, the texel centres), and in separate processes
-//! each would sum the 421 wavelengths again. A curve is a function of the sampled
-//! spectrum and the cosines alone, so it is looked up by their bits — and only by the
-//! executable that computed it (its size and modification time), so a rebuilt `nklut`
-//! never reads a curve its predecessor computed.
+//! each would sum the 421 wavelengths again. `colors`, whose product these curves are,
+//! writes them; `params` and `bake` read them and compute what is missing, leaving their
+//! own outputs as they were. A curve is a function of the sampled spectrum and the
+//! cosines alone, so it is looked up by their bits — and only by the executable that
+//! computed it (its path, size and modification time), so a rebuilt `nklut` never reads a
+//! curve its predecessor computed.
 //!
 //! The file `<out>/.cache/spectral-curves.bin` (little-endian) holds a magic line, the
 //! executable's identity, then per curve: the spectrum's and the cosines' fingerprints

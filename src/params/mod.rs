@@ -74,7 +74,6 @@ pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, ou
     let mut timings = ParamsTimings::default();
     let memo = CurveMemo::load(out);
     let params = compute(&ingested.kept, &mut timings, &memo)?;
-    memo.save_or_warn(out);
     let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
     let pages: Vec<mtlx::ExportPage> = ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
