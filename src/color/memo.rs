@@ -145,9 +145,12 @@ impl CurveMemo {
     }
 
     /// The memo of the output folder `out` for the running executable (empty when there
-    /// is none or it is another executable's).
+    /// is none, it is another executable's, or the executable cannot be identified).
     pub fn load(out: &Path) -> Self {
         let identity = executable_identity();
+        if identity.is_empty() {
+            return Self::default();
+        }
         match std::fs::read(memo_path(out)) {
             Ok(bytes) => Self::decode(&bytes, &identity),
             Err(_) => Self::new(&identity),
@@ -157,7 +160,8 @@ impl CurveMemo {
     /// Write the memo under `out` when it grew: to a temporary name, then renamed (no
     /// fsync; see the module doc).
     pub fn save(&self, out: &Path) -> Result<()> {
-        if !self.grew() {
+        // Without an identity no later run could tell this memo is its own.
+        if self.identity.is_empty() || !self.grew() {
             return Ok(());
         }
         let path = memo_path(out);
@@ -187,8 +191,8 @@ fn memo_path(out: &Path) -> PathBuf {
 }
 
 /// The running executable as a memo sees it: its path, size and modification time (a
-/// rebuild changes them). Empty when they cannot be read, which matches no memo written
-/// by an executable that could read them.
+/// rebuild changes them). Empty when they cannot be read; such a run neither reads nor
+/// writes a memo.
 pub fn executable_identity() -> String {
     let Ok(path) = std::env::current_exe() else { return String::new() };
     let Ok(metadata) = std::fs::metadata(&path) else { return String::new() };
