@@ -24,13 +24,26 @@ use rayon::prelude::*;
 /// folder, are flushed, then renamed over `path`. A crash leaves either the old file or
 /// the new one, plus at worst a stray `.tmp-` file, never a truncated `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    replace_file(path, bytes, true)
+}
+
+/// [`write_atomic`] without the flush: a crash of the process still leaves the old file or
+/// the new one, but a power cut right after may leave `path` truncated. For caches whose
+/// reader checks what it reads.
+pub fn write_atomic_unflushed(path: &Path, bytes: &[u8]) -> Result<()> {
+    replace_file(path, bytes, false)
+}
+
+fn replace_file(path: &Path, bytes: &[u8], flush: bool) -> Result<()> {
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     fs::create_dir_all(dir).with_context(|| format!("creating folder {}", dir.display()))?;
     let tmp = temp_path(path);
     let result = (|| -> Result<()> {
         let mut file = fs::File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
         file.write_all(bytes).with_context(|| format!("writing {}", tmp.display()))?;
-        file.sync_all().ok();
+        if flush {
+            file.sync_all().ok();
+        }
         fs::rename(&tmp, path).with_context(|| format!("renaming {} to {}", tmp.display(), path.display()))
     })();
     if result.is_err() {

@@ -19,7 +19,7 @@ use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use super::spectral::PreparedSpectrum;
 use crate::spectrum::Index;
@@ -157,24 +157,14 @@ impl CurveMemo {
         }
     }
 
-    /// Write the memo under `out` when it grew: to a temporary name, then renamed (no
-    /// fsync; see the module doc).
+    /// Write the memo under `out` when it grew, atomically but without waiting for the
+    /// disk (see the module doc).
     pub fn save(&self, out: &Path) -> Result<()> {
         // Without an identity no later run could tell this memo is its own.
         if self.identity.is_empty() || !self.grew() {
             return Ok(());
         }
-        let path = memo_path(out);
-        let folder = path.parent().expect("MEMO_PATH names a file in a folder");
-        std::fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
-        let temporary = crate::output::temp_path(&path);
-        let written = std::fs::write(&temporary, self.encode())
-            .with_context(|| format!("writing {}", temporary.display()))
-            .and_then(|()| std::fs::rename(&temporary, &path).with_context(|| format!("renaming {} to {}", temporary.display(), path.display())));
-        if written.is_err() {
-            let _ = std::fs::remove_file(&temporary);
-        }
-        written
+        crate::output::write_atomic_unflushed(&memo_path(out), &self.encode())
     }
 
     /// [`CurveMemo::save`], a failure reported as a warning: the outputs are written
