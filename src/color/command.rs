@@ -126,7 +126,7 @@ pub fn command(db: &Database, selection: &Selection, config: &Config, out: &Path
     ingested.check_strict()?;
     let channels = &config.channels;
     let mut timings = Timings { ingest_s: start.elapsed().as_secs_f64(), ..Default::default() };
-    let memo = CurveMemo::load(out);
+    let memo = CurveMemo::load(out).recording();
     let colors = compute(&ingested.kept, texels, &mut timings, &memo);
     let written = colors_table(&ingested.kept, &colors, channels, texels).write(out, "colors", false)?;
     memo.save_or_warn(out);

@@ -59,12 +59,14 @@ impl Fingerprint {
 /// A key: which spectrum, at which cosines.
 type Key = (Fingerprint, Fingerprint);
 
-/// The remembered curves of one executable, and the ones computed since they were read.
+/// The remembered curves of one executable and, when it records (`colors`), the ones
+/// computed since they were read. A memo that only reads (`params`, `bake`) keeps nothing
+/// it computes.
 #[derive(Debug, Default)]
 pub struct CurveMemo {
     identity: String,
     curves: HashMap<Key, Vec<[f64; 3]>>,
-    fresh: Mutex<Vec<(Key, Vec<[f64; 3]>)>>,
+    fresh: Option<Mutex<Vec<(Key, Vec<[f64; 3]>)>>>,
 }
 
 impl CurveMemo {
@@ -73,29 +75,39 @@ impl CurveMemo {
         Self { identity: identity.to_string(), ..Self::default() }
     }
 
+    /// This memo, keeping the curves it computes for [`CurveMemo::encode`].
+    pub fn recording(self) -> Self {
+        Self { fresh: Some(Mutex::default()), ..self }
+    }
+
     /// `spectrum.curve(cosines)` (the spectrum sampled as `sampled`), from the memo
-    /// when it holds it, else computed and kept for [`CurveMemo::encode`].
+    /// when it holds it, else computed (and kept, when recording). No cosines, no curve.
     pub fn curve(&self, sampled: Fingerprint, spectrum: &PreparedSpectrum, cosines: &[f64]) -> Vec<[f64; 3]> {
+        if cosines.is_empty() {
+            return Vec::new();
+        }
         let key = (sampled, Fingerprint::of_cosines(cosines));
         if let Some(curve) = self.curves.get(&key).filter(|c| c.len() == cosines.len()) {
             return curve.clone();
         }
         let curve = spectrum.curve(cosines);
-        self.fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push((key, curve.clone()));
+        if let Some(fresh) = &self.fresh {
+            fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push((key, curve.clone()));
+        }
         curve
     }
 
-    /// Whether curves were computed that the memo did not hold.
+    /// Whether curves were recorded that the memo did not hold.
     pub fn grew(&self) -> bool {
-        !self.fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).is_empty()
+        self.fresh.as_ref().is_some_and(|fresh| !fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).is_empty())
     }
 
-    /// The memo's bytes: every curve it held and every one computed since, in key order
+    /// The memo's bytes: every curve it held and every one recorded since, in key order
     /// (the same curves give the same bytes).
     pub fn encode(&self) -> Vec<u8> {
-        let fresh = self.fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let fresh = self.fresh.as_ref().map(|fresh| fresh.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
         let mut all: Vec<(&Key, &Vec<[f64; 3]>)> = self.curves.iter().collect();
-        all.extend(fresh.iter().map(|(k, c)| (k, c)));
+        all.extend(fresh.iter().flat_map(|fresh| fresh.iter().map(|(k, c)| (k, c))));
         all.sort_by_key(|(k, _)| **k);
         all.dedup_by_key(|(k, _)| **k);
         let mut bytes = MAGIC.to_vec();
@@ -141,7 +153,7 @@ impl CurveMemo {
             let curve = raw.chunks_exact(24).map(|rgb| [0, 1, 2].map(|c| f64::from_le_bytes(rgb[8 * c..8 * c + 8].try_into().expect("8 bytes")))).collect();
             curves.insert((Fingerprint([words[0], words[1]]), Fingerprint([words[2], words[3]])), curve);
         }
-        reader.bytes.is_empty().then(|| Self { identity: identity.to_string(), curves, fresh: Mutex::default() })
+        reader.bytes.is_empty().then(|| Self { identity: identity.to_string(), curves, fresh: None })
     }
 
     /// The memo of the output folder `out` for the running executable (empty when there
@@ -183,7 +195,7 @@ fn memo_path(out: &Path) -> PathBuf {
 /// The running executable as a memo sees it: its path, size and modification time (a
 /// rebuild changes them). Empty when they cannot be read; such a run neither reads nor
 /// writes a memo.
-pub fn executable_identity() -> String {
+fn executable_identity() -> String {
     let Ok(path) = std::env::current_exe() else { return String::new() };
     let Ok(metadata) = std::fs::metadata(&path) else { return String::new() };
     let modified = metadata.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map_or(0, |d| d.as_nanos());
@@ -237,10 +249,10 @@ mod tests {
         let sampled = spectrum(3.0);
         let prepared = PreparedSpectrum::new(&sampled);
         let key = Fingerprint::of_spectrum(&sampled);
-        let first = CurveMemo::new("nklut 1");
+        let first = CurveMemo::new("nklut 1").recording();
         let computed = first.curve(key, &prepared, &cosines);
         assert!(first.grew());
-        let second = CurveMemo::decode(&first.encode(), "nklut 1");
+        let second = CurveMemo::decode(&first.encode(), "nklut 1").recording();
         assert!(!second.grew());
         // Looked up with a prepared spectrum of another material: the memo answers.
         let other = PreparedSpectrum::new(&spectrum(0.0));
@@ -249,16 +261,32 @@ mod tests {
         let bits = |c: &[[f64; 3]]| c.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&remembered), bits(&computed));
         assert_eq!(bits(&computed), bits(&prepared.curve(&cosines)));
-        // Other cosines are another key.
+        // Other cosines are another key; no cosines, no curve and nothing recorded.
+        assert!(second.curve(key, &prepared, &[]).is_empty());
+        assert!(!second.grew());
         second.curve(key, &prepared, &cosines[1..]);
         assert!(second.grew());
+    }
+
+    #[test]
+    fn a_memo_that_only_reads_keeps_nothing_it_computes() {
+        let cosines = [1.0, 0.5, 0.0];
+        let (a, b) = (spectrum(1.0), spectrum(2.0));
+        let recorder = CurveMemo::new("nklut 1").recording();
+        recorder.curve(Fingerprint::of_spectrum(&a), &PreparedSpectrum::new(&a), &cosines);
+        let bytes = recorder.encode();
+        let reader = CurveMemo::decode(&bytes, "nklut 1");
+        let computed = reader.curve(Fingerprint::of_spectrum(&b), &PreparedSpectrum::new(&b), &cosines);
+        assert_eq!(computed, PreparedSpectrum::new(&b).curve(&cosines));
+        assert!(!reader.grew());
+        assert_eq!(reader.encode(), bytes);
     }
 
     #[test]
     fn another_executable_or_damaged_bytes_read_as_empty() {
         let cosines = [1.0, 0.5, 0.0];
         let sampled = spectrum(1.0);
-        let memo = CurveMemo::new("nklut 1");
+        let memo = CurveMemo::new("nklut 1").recording();
         memo.curve(Fingerprint::of_spectrum(&sampled), &PreparedSpectrum::new(&sampled), &cosines);
         let bytes = memo.encode();
         assert_eq!(CurveMemo::decode(&bytes, "nklut 1").curves.len(), 1);
@@ -289,7 +317,7 @@ mod tests {
     fn the_same_curves_give_the_same_bytes() {
         let cosines = crate::encoding::texel_cosines(7);
         let memos = [[0.5, 2.0], [2.0, 0.5]].map(|order| {
-            let memo = CurveMemo::new("x");
+            let memo = CurveMemo::new("x").recording();
             for k in order {
                 let sampled = spectrum(k);
                 memo.curve(Fingerprint::of_spectrum(&sampled), &PreparedSpectrum::new(&sampled), &cosines);

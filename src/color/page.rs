@@ -34,7 +34,7 @@ pub fn spectral_reference(material: &Material, quadrature: &AngleQuadrature, tex
     SpectralReference {
         f0: prepared.rgb(1.0),
         at_nodes: memo.curve(sampled, &prepared, &quadrature.cosines),
-        at_texels: if texel_cosines.is_empty() { Vec::new() } else { memo.curve(sampled, &prepared, texel_cosines) },
+        at_texels: memo.curve(sampled, &prepared, texel_cosines),
         extrapolated_share,
         spectrum,
     }
