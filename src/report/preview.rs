@@ -96,12 +96,6 @@ impl SphereLayout {
     pub fn size(&self) -> u32 {
         self.size
     }
-
-    /// Linear sRGB of every pixel of the sphere shaded with `curve` (F per channel on the
-    /// layout's θ grid), row-major; the background outside the disc.
-    pub fn shade(&self, curve: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        self.texels.iter().map(|texel| texel.map_or([BACKGROUND; 3], |t| t.shade(curve))).collect()
-    }
 }
 
 impl Texel {
