@@ -291,48 +291,48 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
     jobs.sort_by_key(|&(d, g)| (std::cmp::Reverse(weight(g)), d));
     let bar = crate::progress::bar(jobs.len(), "validate");
-    let measured: Vec<(Vec<Integral>, f64)> = jobs
+    let mut measured: Vec<((usize, usize), Vec<Integral>, f64)> = jobs
         .par_iter()
         .map(|&(d, g)| {
             let start = Instant::now();
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
             let integrals = Family::new(distinct[d], &members).measure(strategy);
             bar.inc(1);
-            (integrals, start.elapsed().as_secs_f64() / members.len() as f64)
+            ((d, g), integrals, start.elapsed().as_secs_f64() / members.len() as f64)
         })
         .collect();
     bar.finish_and_clear();
-    let mut of_job = vec![vec![usize::MAX; groups.len()]; distinct.len()];
-    for (j, &(d, g)) in jobs.iter().enumerate() {
-        of_job[d][g] = j;
-    }
-    let mut measurements = Vec::with_capacity(specimens.len() * 3 * variants.len());
-    for (specimen, indices) in index_of.iter().enumerate() {
-        for (channel, &d) in indices.iter().enumerate() {
-            let p = distinct[d];
-            for (g, group) in groups.iter().enumerate() {
-                let (integrals, seconds) = &measured[of_job[d][g]];
-                for (&v, integral) in group.iter().zip(integrals) {
-                    let variant = variants[v];
-                    let compensated = variant.method == Method::SchlickCompensated;
-                    measurements.push(Measurement {
-                        specimen,
-                        variant,
-                        channel,
-                        index: p.index,
-                        integral: *integral,
-                        seconds: *seconds,
-                        shared: group.len(),
-                        fallback: if compensated { p.compensation.fallback } else { None },
-                        lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
-                    });
-                }
-            }
+    // Back in (index, family) order, whatever the schedule: family g of index d at d·G + g.
+    measured.sort_unstable_by_key(|(job, ..)| *job);
+    // Each variant's family and its place in it.
+    let mut place = vec![(0, 0); variants.len()];
+    for (g, group) in groups.iter().enumerate() {
+        for (member, &v) in group.iter().enumerate() {
+            place[v] = (g, member);
         }
     }
     // Rows in specimen, variant, channel order.
-    let order: BTreeMap<Variant, usize> = variants.iter().enumerate().map(|(i, v)| (*v, i)).collect();
-    measurements.sort_by_key(|m| (m.specimen, order[&m.variant], m.channel));
+    let mut measurements = Vec::with_capacity(specimens.len() * variants.len() * 3);
+    for (specimen, indices) in index_of.iter().enumerate() {
+        for (&variant, &(g, member)) in variants.iter().zip(&place) {
+            for (channel, &d) in indices.iter().enumerate() {
+                let p = distinct[d];
+                let (_, integrals, seconds) = &measured[d * groups.len() + g];
+                let compensated = variant.method == Method::SchlickCompensated;
+                measurements.push(Measurement {
+                    specimen,
+                    variant,
+                    channel,
+                    index: p.index,
+                    integral: integrals[member],
+                    seconds: *seconds,
+                    shared: groups[g].len(),
+                    fallback: if compensated { p.compensation.fallback } else { None },
+                    lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
+                });
+            }
+        }
+    }
     measurements
 }
 
