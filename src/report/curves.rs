@@ -76,10 +76,12 @@ pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted:
     curves
 }
 
-/// CIEDE2000 between `curve` and `reference` at each angle (CIELAB, D65 white).
-pub fn delta_e_over_angle(reference: &PlotCurve, curve: &PlotCurve) -> Vec<f64> {
+/// CIEDE2000 of each of `curves` against `reference` at each angle (CIELAB, D65 white);
+/// the reference's Lab is computed once.
+pub fn delta_e_over_angle(reference: &PlotCurve, curves: &[PlotCurve]) -> Vec<Vec<f64>> {
     let weights = color::spectral_weights();
-    reference.rgb.iter().zip(&curve.rgb).map(|(r, c)| color::delta_e2000(weights.lab(*r), weights.lab(*c))).collect()
+    let reference: Vec<color::Lab> = reference.rgb.iter().map(|r| weights.lab(*r)).collect();
+    curves.iter().map(|curve| reference.iter().zip(&curve.rgb).map(|(r, c)| color::delta_e2000(*r, weights.lab(*c))).collect()).collect()
 }
 
 #[cfg(test)]
@@ -103,7 +105,7 @@ mod tests {
         }
         // F0 of n = 1.5 is ((n - 1)/(n + 1))^2 = 0.04.
         assert!((curves[1].rgb[0][0] - 0.04).abs() < 1e-12);
-        let de = delta_e_over_angle(&curves[0], &curves[1]);
+        let de = &delta_e_over_angle(&curves[0], &curves[1..2])[0];
         assert!(de.iter().all(|d| *d < 0.2), "{de:?}");
     }
 }

@@ -9,7 +9,7 @@ use anyhow::Result;
 
 use super::charts::{self, css, DeltaE};
 use super::context::{channel_flags, channel_triple, fitted_index, preview_path, three_channel_index, up_from_material, Context};
-use super::curves::{delta_e_over_angle, material_curves, PlotCurve, REFERENCE};
+use super::curves::{delta_e_over_angle, material_curves, PlotCurve};
 use super::html::{delta_e, escape, href, index, percent, reflectance, TableText};
 use super::preview;
 use crate::color::fit::{K_MAX, N_BOUNDS};
@@ -98,9 +98,11 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
         preview::data_uri(png),
         curves.len()
     );
-    let mean_de: Vec<f64> = curves.iter().map(|c| mean(&delta_e_over_angle(reference, c))).collect();
-    for (c, de) in curves.iter().zip(&mean_de) {
-        let detail = if c.name == REFERENCE { "reference".to_string() } else { format!("mean ΔE {}", delta_e(*de)) };
+    // Every curve after the reference, against it.
+    let series: Vec<DeltaE> = curves[1..].iter().zip(delta_e_over_angle(reference, &curves[1..])).map(|(curve, values)| DeltaE { curve, values }).collect();
+    let mean_de = std::iter::once(None).chain(series.iter().map(|s| Some(mean(&s.values))));
+    for (c, de) in curves.iter().zip(mean_de) {
+        let detail = de.map_or_else(|| "reference".to_string(), |de| format!("mean ΔE {}", delta_e(de)));
         let _ = write!(html, "<span class=\"method\">{}<br>{}</span>", escape(&c.name), detail);
     }
     html.push_str("</div></figure>\n<h2 id=\"angle\">Colour over angle</h2>\n<div class=\"strips\">");
@@ -109,7 +111,6 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
     }
     html.push_str("<div class=\"strip-row\"><span class=\"strip-name\"></span><span class=\"strip-axis\"><span>0°</span><span>30°</span><span>60°</span><span>90°</span></span></div></div>\n");
     html.push_str("<p class=\"note\">Reflected colour under white light from normal incidence (left) to grazing (right).</p>\n");
-    let series: Vec<DeltaE> = curves.iter().skip(1).map(|c| DeltaE { curve: c, values: delta_e_over_angle(reference, c) }).collect();
     let _ = write!(html, "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{}{}</figure>\n", charts::delta_e_chart(&ctx.theta, &series, (760, 320))?, legend(&curves[1..]));
     let _ = write!(
         html,

@@ -117,18 +117,7 @@ impl Texel {
 /// threshold lies inside the bucket and one comparison settles it.
 #[inline]
 pub fn encode8(linear: f64) -> u8 {
-    let table = code_table();
-    if !(linear > 0.0) {
-        // 0, negative or NaN: below the first threshold.
-        return 0;
-    }
-    if linear >= 1.0 {
-        return 255;
-    }
-    // linear · BUCKETS is exact (a power of two), so b/BUCKETS ≤ linear.
-    let bucket = ((linear * BUCKETS as f64) as usize).min(BUCKETS - 1);
-    let below = table.below[bucket];
-    below + (table.thresholds[below as usize] <= linear) as u8
+    code_table().encode(linear)
 }
 
 /// Buckets of [`encode8`]'s table over [0, 1].
@@ -140,14 +129,32 @@ struct CodeTable {
     /// decode((c + ½)/255) for c = 0…254, then +∞.
     thresholds: [f64; 256],
     /// Thresholds at or below b/BUCKETS, for each bucket b.
-    below: Vec<u8>,
+    below: [u8; BUCKETS],
+}
+
+impl CodeTable {
+    /// [`encode8`] with the table in hand.
+    #[inline(always)]
+    fn encode(&self, linear: f64) -> u8 {
+        if !(linear > 0.0) {
+            // 0, negative or NaN: below the first threshold.
+            return 0;
+        }
+        if linear >= 1.0 {
+            return 255;
+        }
+        // linear · BUCKETS is exact (a power of two), so b/BUCKETS ≤ linear.
+        let bucket = ((linear * BUCKETS as f64) as usize).min(BUCKETS - 1);
+        let below = self.below[bucket];
+        below + (self.thresholds[below as usize] <= linear) as u8
+    }
 }
 
 fn code_table() -> &'static CodeTable {
     static TABLE: std::sync::OnceLock<CodeTable> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
         let thresholds: [f64; 256] = std::array::from_fn(|c| if c < 255 { srgb_decode((c as f64 + 0.5) / 255.0) } else { f64::INFINITY });
-        let below = (0..BUCKETS).map(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8).collect();
+        let below = std::array::from_fn(|b| thresholds.partition_point(|&t| t <= b as f64 / BUCKETS as f64) as u8);
         CodeTable { thresholds, below }
     })
 }
@@ -157,7 +164,8 @@ pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
     let size = layout.size() as usize;
     let width = size * curves.len();
     let mut image = RgbImage::new(width as u32, size as u32);
-    let background = [encode8(BACKGROUND); 3];
+    let table = code_table();
+    let background = [table.encode(BACKGROUND); 3];
     // Row by row of each sphere, straight into the image's bytes (3 per pixel).
     let bytes: &mut [u8] = &mut image;
     for (i, curve) in curves.iter().enumerate() {
@@ -166,7 +174,7 @@ pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
             for (pixel, texel) in bytes[start..start + 3 * size].chunks_exact_mut(3).zip(row) {
                 let rgb = texel.map_or(background, |t| {
                     let [r, g, b] = t.shade(curve);
-                    [encode8(r), encode8(g), encode8(b)]
+                    [table.encode(r), table.encode(g), table.encode(b)]
                 });
                 pixel.copy_from_slice(&rgb);
             }
@@ -190,13 +198,14 @@ pub fn data_uri(png: &[u8]) -> String {
 /// A CSS `linear-gradient` left (0°) to right (90°) through the colour of each sample of
 /// a curve on a θ grid uniform over [0°, 90°] (clamped, sRGB-encoded).
 pub fn angle_gradient(curve: &[[f64; 3]]) -> String {
+    use std::fmt::Write;
     let last = (curve.len() - 1) as f64;
-    let stops: Vec<String> = curve
-        .iter()
-        .enumerate()
-        .map(|(i, rgb)| format!("{} {:.1}%", crate::color::hex_swatch(*rgb), 100.0 * i as f64 / last))
-        .collect();
-    format!("linear-gradient(to right,{})", stops.join(","))
+    let mut css = String::from("linear-gradient(to right");
+    for (i, rgb) in curve.iter().enumerate() {
+        let _ = write!(css, ",{} {:.1}%", crate::color::hex_swatch(*rgb), 100.0 * i as f64 / last);
+    }
+    css.push(')');
+    css
 }
 
 #[cfg(test)]
