@@ -101,8 +101,7 @@ pub fn lut_error_with_taps(decoded: &[Vec<f64>; 3], taps: &Taps, rule: &AngleQua
     let mut mean_relative = [None; 3];
     let mut max_absolute = [0.0; 3];
     let mut excluded = [0; 3];
-    for c in 0..3 {
-        let sums = channel_sums(&decoded[c], taps, rule, &reference[c]);
+    for (c, sums) in channel_sums(decoded, taps, rule, reference).iter().enumerate() {
         max_absolute[c] = sums.max_absolute;
         excluded[c] = rule.cosines.len() - sums.counted;
         mean_relative[c] = (sums.counted > 0).then(|| sums.sum / sums.weight);
@@ -132,42 +131,68 @@ struct ChannelSums {
 /// vector registers, then added in order.
 const BLOCK: usize = 64;
 
-fn channel_sums(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
+/// The sums of the three channels. Channels that share the taps and the reference's
+/// length are summed side by side, each in the rule's order (three independent chains of
+/// additions instead of one after another); any other channel alone.
+fn channel_sums(decoded: &[Vec<f64>; 3], taps: &Taps, rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> [ChannelSums; 3] {
+    let fits = |c: usize| !decoded[c].is_empty() && decoded[c].len() == taps.texels && reference[c].len() == reference[0].len();
+    if (0..3).all(fits) {
+        return channel_sums_in_blocks(decoded.each_ref().map(Vec::as_slice), taps, rule, reference.each_ref().map(Vec::as_slice));
+    }
+    std::array::from_fn(|c| one_channel_sums(&decoded[c], taps, rule, &reference[c]))
+}
+
+/// The sums of one channel, whatever its texel count.
+fn one_channel_sums(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
     if texels.is_empty() {
         // No texture samples as 0, as a one-texel texture of 0 does.
-        return channel_sums(&[0.0], &Taps::new(1, &rule.cosines), rule, reference);
+        return one_channel_sums(&[0.0], &Taps::new(1, &rule.cosines), rule, reference);
     }
     if texels.len() != taps.texels {
-        return channel_sums(texels, &Taps::new(texels.len(), &rule.cosines), rule, reference);
+        return one_channel_sums(texels, &Taps::new(texels.len(), &rule.cosines), rule, reference);
     }
-    channel_sums_in_blocks(texels, taps, rule, reference)
+    let [sums] = channel_sums_in_blocks([texels], taps, rule, [reference]);
+    sums
 }
 
 /// F_lut = T[lower](1 − t) + T[upper] t ([`fresnel::lut::filter`]) and the error terms per
-/// sample, then the sums in the rule's order — the same operations as one sample at a time.
+/// sample, then the sums in the rule's order — the same operations as one sample at a time,
+/// for `C` channels that share the taps and the reference's length.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn channel_sums_in_blocks(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, reference: &[f64]) -> ChannelSums {
-    let mut sums = ChannelSums::default();
-    let count = rule.cosines.len().min(reference.len());
-    let (mut diff, mut term) = ([0.0; BLOCK], [0.0; BLOCK]);
+fn channel_sums_in_blocks<const C: usize>(texels: [&[f64]; C], taps: &Taps, rule: &AngleQuadrature, reference: [&[f64]; C]) -> [ChannelSums; C] {
+    let mut sums = [ChannelSums::default(); C];
+    let count = reference.first().map_or(0, |r| rule.cosines.len().min(r.len()));
+    let (mut diff, mut term) = ([[0.0; BLOCK]; C], [[0.0; BLOCK]; C]);
     let mut start = 0;
     while start < count {
         let end = (start + BLOCK).min(count);
         let len = end - start;
         let (lower, upper) = (&taps.lower[start..end], &taps.upper[start..end]);
         let (lower_weight, upper_weight) = (&taps.lower_weight[start..end], &taps.upper_weight[start..end]);
-        let (q, f_ref) = (&rule.weights[start..end], &reference[start..end]);
-        for j in 0..len {
-            let value = texels[lower[j] as usize] * lower_weight[j] + texels[upper[j] as usize] * upper_weight[j];
-            diff[j] = (value - f_ref[j]).abs();
-            term[j] = q[j] * diff[j] / f_ref[j];
+        let q = &rule.weights[start..end];
+        for c in 0..C {
+            let (texels, f_ref) = (texels[c], &reference[c][start..end]);
+            // Taps lie below the texel count; the clamp only lets the loop run in vector lanes.
+            // Callers pass no empty texture (see `channel_sums`).
+            let Some(last) = texels.len().checked_sub(1) else { continue };
+            let taps = lower.iter().zip(upper).zip(lower_weight.iter().zip(upper_weight));
+            let terms = diff[c][..len].iter_mut().zip(&mut term[c][..len]);
+            for ((((&lo, &hi), (&lw, &uw)), (&q, &f_ref)), (diff, term)) in taps.zip(q.iter().zip(f_ref)).zip(terms) {
+                let (lo, hi) = ((lo as usize).min(last), (hi as usize).min(last));
+                let value = texels[lo] * lw + texels[hi] * uw;
+                *diff = (value - f_ref).abs();
+                *term = q * *diff / f_ref;
+            }
         }
         for j in 0..len {
-            sums.max_absolute = f64::max(sums.max_absolute, diff[j]);
-            if f_ref[j] > 0.0 {
-                sums.sum += term[j];
-                sums.weight += q[j];
-                sums.counted += 1;
+            for c in 0..C {
+                let sums = &mut sums[c];
+                sums.max_absolute = f64::max(sums.max_absolute, diff[c][j]);
+                if reference[c][start + j] > 0.0 {
+                    sums.sum += term[c][j];
+                    sums.weight += q[j];
+                    sums.counted += 1;
+                }
             }
         }
         start = end;
