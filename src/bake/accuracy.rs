@@ -265,6 +265,16 @@ mod tests {
             }
             // Taps of another size are not used for this one.
             assert_eq!(lut_error_with_taps(&decoded, &Taps::new(size + 1, &rule.cosines), &rule, &reference), fast);
+            // Channels of different sizes (each alone) against channels summed side by side.
+            let mut mixed = decoded.clone();
+            mixed[1] = decoded[1].iter().chain(&decoded[1]).copied().collect();
+            let mixed_error = lut_error_with_taps(&mixed, &taps, &rule, &reference);
+            let (sum, weight, max, _) = lut_error_by_samples(&mixed, &rule, &reference);
+            for c in 0..3 {
+                assert_eq!(mixed_error.mean_relative[c].map(f64::to_bits), Some((sum[c] / weight[c]).to_bits()), "mixed, size {size}, channel {c}");
+                assert_eq!(mixed_error.max_absolute[c].to_bits(), max[c].to_bits());
+            }
+            assert_eq!((mixed_error.mean_relative[0], mixed_error.mean_relative[2]), (fast.mean_relative[0], fast.mean_relative[2]));
         }
     }
 
