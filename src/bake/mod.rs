@@ -313,6 +313,14 @@ fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>
 /// listed set by set (sources, then encodings, in plan order), atlas first, then strips
 /// in row order.
 pub fn bake(rows: &[Row], plan: &Plan) -> Result<Baked> {
+    let (files, manifest) = bake_then(rows, plan, |manifest| manifest)?;
+    Ok(Baked { files, manifest })
+}
+
+/// [`bake`], with `finish` applied to the manifest while the image files are encoded (on
+/// the whole database, writing the manifest out as JSON takes a core for a third of a
+/// second).
+fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -> R + Send) -> Result<(Vec<OutFile>, R)> {
     plan.validate()?;
     check_rows(rows, plan)?;
     let sets = plan.sets();
@@ -323,26 +331,27 @@ pub fn bake(rows: &[Row], plan: &Plan) -> Result<Baked> {
     let jobs: Vec<(usize, Option<usize>)> = (0..sets.len())
         .flat_map(|s| atlas.then_some((s, None)).into_iter().chain((0..rows.len()).filter(|_| strips).map(move |r| (s, Some(r)))))
         .collect();
-    let files = jobs
-        .par_iter()
-        .map(|&(s, row)| {
-            let (_, encoding) = sets[s];
-            let folder = set_folder(plan, sets[s]);
-            match row {
-                None => {
-                    let texels = Texels::concat(encoding, cells.iter().map(|c| &c[s].quantised.texels));
-                    let bytes = files::encode(encoding, plan.size, rows.len(), &texels)?;
-                    Ok(OutFile { path: format!("{folder}/atlas.{}", encoding.extension()), bytes })
+    let encode = || -> Result<Vec<OutFile>> {
+        jobs.par_iter()
+            .map(|&(s, row)| {
+                let (_, encoding) = sets[s];
+                let folder = set_folder(plan, sets[s]);
+                match row {
+                    None => {
+                        let texels = Texels::concat(encoding, cells.iter().map(|c| &c[s].quantised.texels));
+                        let bytes = files::encode(encoding, plan.size, rows.len(), &texels)?;
+                        Ok(OutFile { path: format!("{folder}/atlas.{}", encoding.extension()), bytes })
+                    }
+                    Some(r) => {
+                        let bytes = files::encode(encoding, plan.size, 1, &cells[r][s].quantised.texels)?;
+                        Ok(OutFile { path: strip_path(&folder, &rows[r].page, encoding), bytes })
+                    }
                 }
-                Some(r) => {
-                    let bytes = files::encode(encoding, plan.size, 1, &cells[r][s].quantised.texels)?;
-                    Ok(OutFile { path: strip_path(&folder, &rows[r].page, encoding), bytes })
-                }
-            }
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let manifest = build_manifest(rows, plan, &sets, &cells, strips, atlas);
-    Ok(Baked { files, manifest })
+            })
+            .collect()
+    };
+    let (files, finished) = rayon::join(encode, || finish(build_manifest(rows, plan, &sets, &cells, strips, atlas)));
+    Ok((files?, finished))
 }
 
 fn strip_path(folder: &str, page: &str, encoding: Encoding) -> String {
@@ -542,12 +551,14 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     duplicates.sort();
     let memo = color::CurveMemo::load(out);
     let rows = rows(&pages, &plan, &memo);
-    let mut baked = bake(&rows, &plan)?;
-    baked.manifest.duplicate_catalog_pages = duplicates;
-    let clamped_texels = baked.manifest.textures.iter().map(|t| t.clamped_texels).sum();
-    let mut files = baked.files;
-    // Table paths are relative to luts/: "../x" is out/x.
-    files.extend(documents(baked.manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file())?);
+    let (mut files, documented) = bake_then(&rows, &plan, |mut manifest| {
+        manifest.duplicate_catalog_pages = duplicates;
+        let clamped_texels: usize = manifest.textures.iter().map(|t| t.clamped_texels).sum();
+        // Table paths are relative to luts/: "../x" is out/x.
+        documents(manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file()).map(|documents| (documents, clamped_texels))
+    })?;
+    let (documents, clamped_texels) = documented?;
+    files.extend(documents);
     let luts = publish::publish(out, &files, before_write)?;
     Ok(Summary { luts, rows: rows.len(), files: files.len(), clamped_texels })
 }

@@ -137,7 +137,9 @@ pub fn shown(column: &str, value: f64) -> String {
 /// The spectrum of each data file of `pages` (each file read once, in parallel).
 fn read_spectra(db: &Database, inputs: &Inputs, pages: &[String]) -> Spectra {
     let m = &inputs.materials;
-    let mut files: Vec<String> = pages.iter().filter_map(|p| m.rows_where("page", p).next().map(|r| m.text(r, "data_file").to_string())).collect();
+    // The data file of each page's first row, in one pass over the rows.
+    let mut wanted: std::collections::HashSet<&str> = pages.iter().map(String::as_str).collect();
+    let mut files: Vec<String> = m.rows.iter().filter(|r| wanted.remove(m.text(r, "page"))).map(|r| m.text(r, "data_file").to_string()).collect();
     files.sort();
     files.dedup();
     files
