@@ -175,9 +175,9 @@ fn evaluate_files<'a>(db: &Database, files: &[&'a str], config: &Config) -> Eval
     let bar = crate::progress::bar(files.len(), "ingest");
     let (materials, names) = rayon::join(
         || {
-            // Short jobs (a page each, a few at most): rayon otherwise leaves runs of about a
-            // quarter of the files unsplit on the thread that started them, and the other
-            // thread, back from the catalog, finds nothing to take.
+            // Jobs of at most four files: otherwise rayon leaves runs of about a quarter of
+            // the files unsplit on the thread that started the loop, and the other thread,
+            // back from the catalog, finds nothing to take.
             files
                 .par_iter()
                 .with_max_len(4)
