@@ -28,7 +28,7 @@ use crate::db::Database;
 use crate::ingest::Selection;
 use crate::bake::publish::publish_with;
 use crate::spectrum::Index;
-use context::{material_path, preview_path, Context};
+use context::{material_path, preview_path, ByPage, Context};
 pub use inputs::Inputs;
 use page::MaterialPage;
 
@@ -136,10 +136,8 @@ pub fn shown(column: &str, value: f64) -> String {
 
 /// The spectrum of each data file of `pages` (each file read once, in parallel).
 fn read_spectra(db: &Database, inputs: &Inputs, pages: &[String]) -> Spectra {
-    let m = &inputs.materials;
-    // The data file of each page's first row, in one pass over the rows.
-    let mut wanted: std::collections::HashSet<&str> = pages.iter().map(String::as_str).collect();
-    let mut files: Vec<String> = m.rows.iter().filter(|r| wanted.remove(m.text(r, "page"))).map(|r| m.text(r, "data_file").to_string()).collect();
+    let m = ByPage::new(&inputs.materials);
+    let mut files: Vec<String> = pages.iter().filter_map(|p| m.first(p).map(|r| m.table.text(r, "data_file").to_string())).collect();
     files.sort();
     files.dedup();
     files
