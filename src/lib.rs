@@ -14,7 +14,8 @@
 //!
 //! Leaves any module may use: `encoding` (sRGB transfer function, texel encodings and
 //! centres), `output` (tables, atomic publishing of a set of files), `progress` (bars on a
-//! terminal, quiet in CI), `minimise` (Brent's 1D minimiser). The command line lives in the
+//! terminal, quiet in CI), `minimise` (Brent's 1D minimiser), `memo` (results remembered
+//! between the commands of one output folder). The command line lives in the
 //! binary (`src/main.rs`, `src/cli.rs`); stages take plain values.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
@@ -29,6 +30,7 @@ pub mod fresnel;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod ingest;
+pub mod memo;
 pub mod minimise;
 pub mod output;
 pub mod params;

@@ -21,6 +21,7 @@
 //! where that noise dominates (`exact` in f32, `lut` with f32 texels) the fast figure is
 //! a quadrature-weighted sample mean, not a 4-digit integral (docs/precision.md).
 
+pub mod memo;
 pub mod quadrature;
 
 use std::borrow::Cow;
@@ -40,6 +41,7 @@ use crate::ingest::{self, Selection};
 use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
 use crate::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
 
+use memo::{FamilyMeasurement, IntegralMemo};
 use quadrature::{Integral, Integrand, Sample, Tolerance};
 
 /// How the integrals are computed.
@@ -282,8 +284,9 @@ pub fn measure(model: &Model, strategy: Strategy) -> Integral {
 /// Measure every specimen × variant × channel, in parallel, one family at a time. A
 /// channel index that several specimens or channels share (bit for bit, after
 /// sanitising) is measured once: its figures are a function of the index alone, and each
-/// of its rows carries that measurement's time.
-pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy) -> Vec<Measurement> {
+/// of its rows carries that measurement's time. A family `memo` holds is not measured
+/// again.
+pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy, memo: &IntegralMemo) -> Vec<Measurement> {
     let (distinct, index_of) = distinct_channels(specimens);
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
@@ -294,11 +297,14 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     let mut measured: Vec<((usize, usize), Vec<Integral>, f64)> = jobs
         .par_iter()
         .map(|&(d, g)| {
-            let start = Instant::now();
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
-            let integrals = Family::new(distinct[d], &members).measure(strategy);
+            let FamilyMeasurement { integrals, seconds } = memo.family(distinct[d].index, &members, strategy, || {
+                let start = Instant::now();
+                let integrals = Family::new(distinct[d], &members).measure(strategy);
+                FamilyMeasurement { integrals, seconds: start.elapsed().as_secs_f64() / members.len() as f64 }
+            });
             bar.inc(1);
-            ((d, g), integrals, start.elapsed().as_secs_f64() / members.len() as f64)
+            ((d, g), integrals, seconds)
         })
         .collect();
     bar.finish_and_clear();
@@ -611,11 +617,17 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let variants = Variant::expand(&methods);
     let strategy = request.strategy;
     let start = Instant::now();
-    let measurements = measure_all(&specimens, &variants, strategy);
+    let memo = IntegralMemo::load(out).recording();
+    let measurements = measure_all(&specimens, &variants, strategy, &memo);
     let seconds = start.elapsed().as_secs_f64();
+    let measured = Measured { families: memo.asked(), measured: memo.measured(), seconds };
+    // Remembered now and let go: the memo (≈ 25 MB over the whole database) is not held
+    // while errors.* is written, the run's memory peak.
+    memo.save_or_warn(out);
+    drop(memo);
     let spreads = spreads(&measurements);
     let mut text = String::new();
-    summary_text(&mut text, &specimens, &measurements, &spreads, strategy, seconds)?;
+    summary_text(&mut text, &specimens, &measurements, &spreads, strategy, &measured)?;
     // errors.* has a row per page × variant × precision × channel (≈ 620 k over the whole
     // database, 130 MB of CSV): it is never held whole. Its CSV is formatted and written
     // in blocks of rows, its Parquet one row group at a time, straight from the
@@ -633,25 +645,37 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     Ok(Outcome { written, summary: text })
 }
 
+/// How the figures of a run came about: families looked up, of them measured (the rest
+/// remembered), and the wall time.
+struct Measured {
+    families: usize,
+    measured: usize,
+    seconds: f64,
+}
+
 fn summary_text(
     out: &mut String,
     specimens: &[Specimen],
     measurements: &[Measurement],
     spreads: &Spreads,
     strategy: Strategy,
-    seconds: f64,
+    measured: &Measured,
 ) -> std::fmt::Result {
     use std::fmt::Write as _;
     // Each family's evaluations once (its members share them).
     let evaluations = measurements.iter().map(|m| m.integral.evaluations as f64 / m.shared as f64).sum::<f64>().round() as u64;
     writeln!(
         out,
-        "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s",
+        "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s; {} of {} families measured, the others remembered ({})",
         specimens.len(),
         specimens.iter().map(|t| t.pages.len()).sum::<usize>(),
         measurements.len(),
         evaluations,
+        measured.measured,
+        measured.families,
+        memo::MEMO_PATH,
         strategy = strategy.name(),
+        seconds = measured.seconds,
     )?;
     writeln!(out, "{:<20} {:<24} {:>12} {:>12} {:>12} {:>9}", "method", "variant", "mean_rel", "median_rel", "max_rel", "bytes")?;
     for (&(variant, precision), spread) in spreads {
@@ -822,7 +846,7 @@ mod tests {
             .into_iter()
             .chain(crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(16, e)) }))
             .collect();
-        let measurements = measure_all(&specimens, &variants, Strategy::Fast);
+        let measurements = measure_all(&specimens, &variants, Strategy::Fast, &IntegralMemo::default());
         assert_eq!(measurements.len(), specimens.len() * 3 * variants.len());
         let groups = Family::groups(&variants);
         let bits = |i: &Integral| {

@@ -1,7 +1,11 @@
-//! The spectral curves remembered between commands (`<out>/.cache/spectral-curves.bin`):
-//! `colors` writes them, `params` and `bake` read them and write the same bytes as they do
-//! without them, and a damaged memo is not read (one of another executable neither: see
-//! the unit tests of `color::memo`).
+//! What is remembered between commands of one output folder (the unit tests of `memo`:
+//! another executable's or a damaged file is not read):
+//! - the spectral curves (`<out>/.cache/spectral-curves.bin`): `colors` writes them,
+//!   `params` and `bake` read them and write the same bytes as they do without them, and a
+//!   damaged memo is not read;
+//! - the error integrals (`<out>/.cache/error-integrals.bin`): a second `validate` into the
+//!   folder measures nothing and writes the bytes of the first, seconds included; without
+//!   the memo it measures again and writes the same figures.
 
 mod common;
 
@@ -11,7 +15,9 @@ use std::path::Path;
 use common::{database, files, scratch};
 use nklut::bake::{BakeRequest, Source};
 use nklut::color::memo::MEMO_PATH;
+use nklut::fresnel::Method;
 use nklut::ingest::{Config, Selection};
+use nklut::validate::{Strategy, ValidateRequest};
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/glass/BK7", "3d/liquids/water"];
 
@@ -126,4 +132,57 @@ fn a_damaged_memo_is_not_read() {
         assert_eq!(outputs(&out), outputs(&reference), "{name}");
         assert_eq!(fs::read(out.join(MEMO_PATH)).unwrap(), bytes, "{name}: params leaves the memo as it was");
     }
+}
+
+fn validate(out: &Path) -> String {
+    let request = ValidateRequest {
+        selection: selection(),
+        reading: Config::default(),
+        nk: None,
+        methods: vec![Method::Schlick, Method::Nvidia, Method::Lut],
+        strategy: Strategy::Fast,
+    };
+    nklut::validate::run(&request, Some(&database()), out).unwrap().summary
+}
+
+/// The records of `errors.csv` without its `seconds` column (the time of a measurement).
+fn errors_without_seconds(out: &Path) -> Vec<Vec<String>> {
+    let mut reader = csv::Reader::from_path(out.join("errors.csv")).unwrap();
+    let column = reader.headers().unwrap().iter().position(|c| c == "seconds").expect("a seconds column");
+    reader
+        .records()
+        .map(|record| record.unwrap().iter().enumerate().filter(|(i, _)| *i != column).map(|(_, v)| v.to_string()).collect())
+        .collect()
+}
+
+#[test]
+fn a_second_validate_remembers_every_integral_and_writes_the_same_bytes() {
+    let measured_line = |summary: &str| summary.lines().next().unwrap().split("; ").nth(1).unwrap().to_string();
+    let out = scratch("memo-validate");
+    let first = validate(&out);
+    // Per distinct channel index, the analytic family and one per LUT size: seven.
+    let families: usize = measured_line(&first).split(" of ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(families >= 7 * 3, "{first}");
+    assert!(measured_line(&first).starts_with(&format!("{families} of {families} families measured")), "{first}");
+    let memo = out.join(nklut::validate::memo::MEMO_PATH);
+    let written = fs::read(&memo).expect("validate remembers its integrals");
+    let before = outputs(&out);
+
+    let second = validate(&out);
+    assert!(measured_line(&second).starts_with(&format!("0 of {families} families measured")), "{second}");
+    assert_eq!(outputs(&out), before, "errors.* and cost.* with the same bytes, seconds included");
+    assert_eq!(fs::read(&memo).unwrap(), written, "nothing new to remember");
+
+    // Without the memo every family is measured again, to the same figures.
+    let fresh = scratch("memo-validate-fresh");
+    let third = validate(&fresh);
+    assert!(measured_line(&third).starts_with(&format!("{families} of {families}")), "{third}");
+    assert_eq!(errors_without_seconds(&fresh), errors_without_seconds(&out));
+    // A damaged memo is measured past, not read.
+    let mut flipped = written.clone();
+    flipped[written.len() / 2] ^= 1;
+    fs::write(fresh.join(nklut::validate::memo::MEMO_PATH), &flipped).unwrap();
+    let fourth = validate(&fresh);
+    assert!(measured_line(&fourth).starts_with(&format!("{families} of {families}")), "{fourth}");
+    assert_eq!(errors_without_seconds(&fresh), errors_without_seconds(&out));
 }

@@ -1,0 +1,347 @@
+//! Results remembered between the commands of one output folder, each a function of its
+//! key alone: a file under `<out>/.cache/` of records, a 256-bit key and a value of
+//! 64-bit words. A record is only ever read by the executable that computed it (its path,
+//! size and modification time), so a rebuilt `nklut` never reads what its predecessor
+//! computed. What is remembered: the spectral curves (`color::memo`), the error integrals
+//! (`validate::memo`).
+//!
+//! The file (little-endian) holds a magic line naming what is remembered, the
+//! executable's identity, the record count, then per record the key's four words, the
+//! value's length in units (a unit is a fixed number of words, e.g. an RGB triple) and the
+//! words; last, a checksum of everything before it. A missing, foreign or damaged file
+//! reads as empty, so a memo is written without waiting for the disk: a file torn by a
+//! power cut is a miss, not a wrong value.
+
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::ops::Range;
+use std::path::Path;
+use std::sync::{Mutex, MutexGuard};
+
+use anyhow::Result;
+
+/// 128 bits of a sequence of words or f64 (two SipHash-1-3 sums with different prefixes,
+/// over the bit patterns): the key of a spectrum, a set of cosines, a family of methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Fingerprint(pub [u64; 2]);
+
+impl Fingerprint {
+    pub fn of(values: impl Iterator<Item = f64> + Clone) -> Self {
+        Self::of_words(values.map(f64::to_bits))
+    }
+
+    pub fn of_words(words: impl Iterator<Item = u64> + Clone) -> Self {
+        Self([0u8, 1u8].map(|prefix| {
+            let mut hasher = std::hash::DefaultHasher::new();
+            prefix.hash(&mut hasher);
+            for word in words.clone() {
+                word.hash(&mut hasher);
+            }
+            hasher.finish()
+        }))
+    }
+}
+
+/// A record's key.
+pub type Key = [u64; 4];
+
+/// What a memo file holds and how it is named: the magic line and the words per unit of
+/// a value.
+#[derive(Clone, Copy, Debug)]
+pub struct Format {
+    pub magic: &'static [u8],
+    pub unit: usize,
+}
+
+/// The records of one executable and, when it records, the ones computed since they were
+/// read. A memo that only reads keeps nothing it computes.
+#[derive(Debug)]
+pub struct Memo {
+    format: Format,
+    identity: String,
+    remembered: Records,
+    /// Where each remembered key is in `remembered`.
+    lookup: HashMap<Key, usize>,
+    fresh: Option<Mutex<Records>>,
+}
+
+/// Records with their words in one buffer: one allocation, which the allocator hands
+/// back whole when the memo is let go (tens of thousands of small ones would stay in its
+/// free lists and add to the peak of what a command does next).
+#[derive(Debug, Default)]
+struct Records {
+    /// Each record's key and its range in `words`.
+    ranges: Vec<(Key, Range<usize>)>,
+    words: Vec<u64>,
+}
+
+impl Records {
+    fn push(&mut self, key: Key, words: &[u64]) {
+        let start = self.words.len();
+        self.words.extend_from_slice(words);
+        self.ranges.push((key, start..start + words.len()));
+    }
+
+    fn iter(&self) -> impl Iterator<Item = (&Key, &[u64])> {
+        self.ranges.iter().map(|(key, range)| (key, &self.words[range.clone()]))
+    }
+}
+
+impl Memo {
+    /// An empty memo for the executable named by `identity` (empty: one that neither
+    /// reads nor writes a file).
+    pub fn new(format: Format, identity: &str) -> Self {
+        Self { format, identity: identity.to_string(), remembered: Records::default(), lookup: HashMap::new(), fresh: None }
+    }
+
+    /// This memo, keeping the records computed for [`Memo::encode`].
+    pub fn recording(self) -> Self {
+        Self { fresh: Some(Mutex::default()), ..self }
+    }
+
+    /// The remembered value of `key`, if it has `units` units.
+    pub fn get(&self, key: &Key, units: usize) -> Option<&[u64]> {
+        let (_, range) = &self.remembered.ranges[*self.lookup.get(key)?];
+        Some(&self.remembered.words[range.clone()]).filter(|words| words.len() == units * self.format.unit)
+    }
+
+    /// Keep a computed value (when recording; otherwise it is dropped).
+    pub fn record(&self, key: Key, words: &[u64]) {
+        debug_assert_eq!(words.len() % self.format.unit, 0);
+        if let Some(fresh) = &self.fresh {
+            lock(fresh).push(key, words);
+        }
+    }
+
+    /// Whether values were recorded that the memo did not hold.
+    pub fn grew(&self) -> bool {
+        self.fresh.as_ref().is_some_and(|fresh| !lock(fresh).ranges.is_empty())
+    }
+
+    /// Records kept since the memo was read (0 when it does not record).
+    pub fn recorded(&self) -> usize {
+        self.fresh.as_ref().map_or(0, |fresh| lock(fresh).ranges.len())
+    }
+
+    /// The remembered records held.
+    pub fn len(&self) -> usize {
+        self.lookup.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lookup.is_empty()
+    }
+
+    /// The memo's bytes: every record it held and every one recorded since, in key order
+    /// (the same records give the same bytes).
+    pub fn encode(&self) -> Vec<u8> {
+        let fresh = self.fresh.as_ref().map(lock);
+        let mut all: Vec<(&Key, &[u64])> = self.remembered.iter().collect();
+        all.extend(fresh.iter().flat_map(|fresh| fresh.iter()));
+        all.sort_by_key(|(k, _)| **k);
+        all.dedup_by_key(|(k, _)| **k);
+        let words: usize = all.iter().map(|(_, words)| 5 + words.len()).sum();
+        let mut bytes = Vec::with_capacity(self.format.magic.len() + 8 * (3 + words) + self.identity.len());
+        bytes.extend_from_slice(self.format.magic);
+        put_u64(&mut bytes, self.identity.len() as u64);
+        bytes.extend_from_slice(self.identity.as_bytes());
+        put_u64(&mut bytes, all.len() as u64);
+        for (key, words) in all {
+            for word in key {
+                put_u64(&mut bytes, *word);
+            }
+            put_u64(&mut bytes, (words.len() / self.format.unit) as u64);
+            for word in words {
+                put_u64(&mut bytes, *word);
+            }
+        }
+        let check = checksum(&bytes);
+        bytes.extend_from_slice(&check);
+        bytes
+    }
+
+    /// The memo in `bytes` if it is of `format` and was written by the executable named
+    /// `identity`; an empty one for any other executable, a damaged file or one of
+    /// another format.
+    pub fn decode(bytes: &[u8], format: Format, identity: &str) -> Self {
+        Self::read(bytes, format, identity).unwrap_or_else(|| Self::new(format, identity))
+    }
+
+    fn read(bytes: &[u8], format: Format, identity: &str) -> Option<Self> {
+        let (body, check) = bytes.split_at_checked(bytes.len().checked_sub(8)?)?;
+        if check != checksum(body) {
+            return None;
+        }
+        let mut reader = Reader { bytes: body.strip_prefix(format.magic)? };
+        let length = usize::try_from(reader.u64()?).ok()?;
+        if reader.take(length)? != identity.as_bytes() {
+            return None;
+        }
+        let count = reader.u64()?;
+        let mut remembered = Records { ranges: Vec::new(), words: Vec::with_capacity(body.len() / 8) };
+        let mut lookup = HashMap::new();
+        for _ in 0..count {
+            let key: Key = [reader.u64()?, reader.u64()?, reader.u64()?, reader.u64()?];
+            let units = usize::try_from(reader.u64()?).ok()?;
+            let raw = reader.take(units.checked_mul(8 * format.unit)?)?;
+            // A key written twice (only by hand): the first stands.
+            lookup.entry(key).or_insert(remembered.ranges.len());
+            let start = remembered.words.len();
+            remembered.words.extend(raw.chunks_exact(8).map(|word| u64::from_le_bytes(word.try_into().expect("8 bytes"))));
+            remembered.ranges.push((key, start..remembered.words.len()));
+        }
+        reader.bytes.is_empty().then(|| Self { format, identity: identity.to_string(), remembered, lookup, fresh: None })
+    }
+
+    /// The memo at `path` for the running executable (empty when there is none, it is
+    /// another executable's, or the executable cannot be identified).
+    pub fn load(path: &Path, format: Format) -> Self {
+        let identity = executable_identity();
+        if identity.is_empty() {
+            return Self::new(format, "");
+        }
+        match std::fs::read(path) {
+            Ok(bytes) => Self::decode(&bytes, format, &identity),
+            Err(_) => Self::new(format, &identity),
+        }
+    }
+
+    /// Write the memo to `path` when it grew, atomically but without waiting for the disk
+    /// (see the module doc).
+    pub fn save(&self, path: &Path) -> Result<()> {
+        // Without an identity no later run could tell this memo is its own.
+        if self.identity.is_empty() || !self.grew() {
+            return Ok(());
+        }
+        crate::output::write_atomic_unflushed(path, &self.encode())
+    }
+
+    /// [`Memo::save`], a failure reported as a warning naming `what` was not remembered:
+    /// the outputs are written already, and the next command computes them itself.
+    pub fn save_or_warn(&self, path: &Path, what: &str) {
+        if let Err(error) = self.save(path) {
+            eprintln!("warning: the {what} were not remembered: {error:#}");
+        }
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// The running executable as a memo sees it: its path, size and modification time (a
+/// rebuild changes them). Empty when they cannot be read; such a run neither reads nor
+/// writes a memo.
+fn executable_identity() -> String {
+    let Ok(path) = std::env::current_exe() else { return String::new() };
+    let Ok(metadata) = std::fs::metadata(&path) else { return String::new() };
+    let modified = metadata.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map_or(0, |d| d.as_nanos());
+    format!("{} {} {modified}", path.display(), metadata.len())
+}
+
+/// A SipHash-1-3 sum of the memo's bytes (one pass; it guards against a torn or damaged
+/// file, not against a forger).
+fn checksum(bytes: &[u8]) -> [u8; 8] {
+    let mut hasher = std::hash::DefaultHasher::new();
+    hasher.write(bytes);
+    hasher.finish().to_le_bytes()
+}
+
+fn put_u64(bytes: &mut Vec<u8>, value: u64) {
+    bytes.extend_from_slice(&value.to_le_bytes());
+}
+
+/// Bounds-checked reads from the memo's bytes.
+struct Reader<'a> {
+    bytes: &'a [u8],
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, count: usize) -> Option<&'a [u8]> {
+        if count > self.bytes.len() {
+            return None;
+        }
+        let (head, tail) = self.bytes.split_at(count);
+        self.bytes = tail;
+        Some(head)
+    }
+
+    fn u64(&mut self) -> Option<u64> {
+        Some(u64::from_le_bytes(self.take(8)?.try_into().ok()?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAIRS: Format = Format { magic: b"nklut test pairs 1\n", unit: 2 };
+
+    fn memo_of(identity: &str, records: &[(Key, Vec<u64>)]) -> Memo {
+        let memo = Memo::new(PAIRS, identity).recording();
+        for (key, words) in records {
+            memo.record(*key, words);
+        }
+        memo
+    }
+
+    #[test]
+    fn records_come_back_by_key_with_their_length_checked() {
+        let memo = memo_of("nklut 1", &[([1, 2, 3, 4], vec![5, 6, 7, 8]), ([0; 4], vec![])]);
+        assert!(memo.grew());
+        let read = Memo::decode(&memo.encode(), PAIRS, "nklut 1");
+        assert_eq!(read.len(), 2);
+        assert_eq!(read.get(&[1, 2, 3, 4], 2), Some(&[5, 6, 7, 8][..]));
+        assert_eq!(read.get(&[1, 2, 3, 4], 1), None, "another length is a miss");
+        assert_eq!(read.get(&[0; 4], 0), Some(&[][..]));
+        assert_eq!(read.get(&[1, 2, 3, 5], 2), None);
+        // A memo that only reads keeps nothing it computes.
+        read.record([9; 4], &[1, 2]);
+        assert!(!read.grew());
+        assert_eq!(read.encode(), memo.encode());
+    }
+
+    #[test]
+    fn another_executable_another_format_or_damaged_bytes_read_as_empty() {
+        let bytes = memo_of("nklut 1", &[([1, 2, 3, 4], vec![5, 6, 7, 8])]).encode();
+        assert_eq!(Memo::decode(&bytes, PAIRS, "nklut 1").len(), 1);
+        assert!(Memo::decode(&bytes, PAIRS, "nklut 2").is_empty());
+        assert!(Memo::decode(&bytes, Format { magic: b"nklut test other 1\n", unit: 2 }, "nklut 1").is_empty());
+        // Every truncation and a trailing byte: empty, never a panic.
+        for cut in 0..bytes.len() {
+            assert!(Memo::decode(&bytes[..cut], PAIRS, "nklut 1").is_empty(), "cut at {cut}");
+        }
+        let mut longer = bytes.clone();
+        longer.push(0);
+        assert!(Memo::decode(&longer, PAIRS, "nklut 1").is_empty());
+        // Any one byte changed (a value torn by a power cut, say).
+        for at in 0..bytes.len() {
+            let mut flipped = bytes.clone();
+            flipped[at] ^= 0x10;
+            assert!(Memo::decode(&flipped, PAIRS, "nklut 1").is_empty(), "byte {at} changed");
+        }
+        // A count that claims more than the file holds.
+        let mut huge = bytes[..bytes.len() - 8].to_vec();
+        let at = PAIRS.magic.len() + 8 + "nklut 1".len();
+        huge[at..at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
+        let check = checksum(&huge);
+        huge.extend_from_slice(&check);
+        assert!(Memo::decode(&huge, PAIRS, "nklut 1").is_empty());
+    }
+
+    #[test]
+    fn the_same_records_give_the_same_bytes() {
+        let a = ([1, 0, 0, 0], vec![1, 2]);
+        let b = ([0, 1, 0, 0], vec![3, 4]);
+        assert_eq!(memo_of("x", &[a.clone(), b.clone()]).encode(), memo_of("x", &[b, a]).encode());
+    }
+
+    #[test]
+    fn fingerprints_tell_the_sign_of_zero_and_the_order_apart() {
+        let a = Fingerprint::of([0.0, 1.0].into_iter());
+        assert_ne!(a, Fingerprint::of([-0.0, 1.0].into_iter()));
+        assert_ne!(a, Fingerprint::of([1.0, 0.0].into_iter()));
+        assert_eq!(a, Fingerprint::of([0.0, 1.0].into_iter()));
+        assert_eq!(a, Fingerprint::of_words([0.0f64.to_bits(), 1.0f64.to_bits()].into_iter()));
+    }
+}

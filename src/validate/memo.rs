@@ -1,0 +1,221 @@
+//! The error integrals of `validate` remembered between its runs into one output folder,
+//! in `<out>/.cache/error-integrals.bin` (the layout of [`crate::memo`]). A family's
+//! integrals are a function of the channel index, the family's members and the strategy
+//! alone (the tolerances belong to the executable, which the memo names), so they are
+//! looked up by those bits: a re-run measures only the indices it has not met, and its
+//! figures have the bits of a measurement. With them is remembered the time their
+//! measurement took, which the `seconds` column of a remembered row reports.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::quadrature::{Figures, Integral};
+use super::{Strategy, Variant};
+use crate::fresnel::{Encoding, Method, PerPrecision};
+use crate::memo::{Fingerprint, Format, Key, Memo};
+use crate::spectrum::Index;
+
+/// Where the memo lives under an output folder.
+pub const MEMO_PATH: &str = ".cache/error-integrals.bin";
+
+/// A value is one word of seconds, then [`MEMBER_WORDS`] per member.
+const FORMAT: Format = Format { magic: b"nklut error integrals 1\n", unit: 1 };
+
+/// Per precision: whether there is a mean relative error, its bits, the maximum's and
+/// the RMS's; then the excluded samples and the evaluations.
+const MEMBER_WORDS: usize = 10;
+
+/// A family's measurement: each member's integral, and the wall time of the family's
+/// integration divided by its members.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FamilyMeasurement {
+    pub integrals: Vec<Integral>,
+    pub seconds: f64,
+}
+
+/// The remembered integrals of one executable; when recording, the ones measured since
+/// they were read.
+#[derive(Debug)]
+pub struct IntegralMemo {
+    memo: Memo,
+    /// Families looked up.
+    asked: AtomicUsize,
+}
+
+impl Default for IntegralMemo {
+    /// A memo that holds nothing and is never written: every family is measured.
+    fn default() -> Self {
+        Self::of(Memo::new(FORMAT, ""))
+    }
+}
+
+impl IntegralMemo {
+    /// An empty memo for the executable named by `identity`.
+    pub fn new(identity: &str) -> Self {
+        Self::of(Memo::new(FORMAT, identity))
+    }
+
+    fn of(memo: Memo) -> Self {
+        Self { memo, asked: AtomicUsize::new(0) }
+    }
+
+    /// This memo, keeping what it measures for [`IntegralMemo::encode`].
+    pub fn recording(self) -> Self {
+        Self::of(self.memo.recording())
+    }
+
+    /// The family `members` on `index` with `strategy`, from the memo when it holds it,
+    /// else from `measure` (and kept, when recording).
+    pub fn family(&self, index: Index, members: &[Variant], strategy: Strategy, measure: impl FnOnce() -> FamilyMeasurement) -> FamilyMeasurement {
+        self.asked.fetch_add(1, Ordering::Relaxed);
+        let key = key(index, members, strategy);
+        if let Some(remembered) = self.memo.get(&key, 1 + MEMBER_WORDS * members.len()).map(decode) {
+            return remembered;
+        }
+        let measured = measure();
+        self.memo.record(key, &encode(&measured));
+        measured
+    }
+
+    /// Families measured (and recorded) since the memo was read.
+    pub fn measured(&self) -> usize {
+        self.memo.recorded()
+    }
+
+    /// Families looked up, remembered or measured.
+    pub fn asked(&self) -> usize {
+        self.asked.load(Ordering::Relaxed)
+    }
+
+    pub fn encode(&self) -> Vec<u8> {
+        self.memo.encode()
+    }
+
+    /// The memo in `bytes` if it was written by the executable named `identity`; an empty
+    /// one otherwise (see [`Memo::decode`]).
+    pub fn decode(bytes: &[u8], identity: &str) -> Self {
+        Self::of(Memo::decode(bytes, FORMAT, identity))
+    }
+
+    /// The memo of the output folder `out` for the running executable.
+    pub fn load(out: &Path) -> Self {
+        Self::of(Memo::load(&memo_path(out), FORMAT))
+    }
+
+    /// [`Memo::save`] under `out`, a failure reported as a warning.
+    pub fn save_or_warn(&self, out: &Path) {
+        self.memo.save_or_warn(&memo_path(out), "error integrals");
+    }
+}
+
+fn memo_path(out: &Path) -> PathBuf {
+    out.join(MEMO_PATH)
+}
+
+/// The index's bits, and a fingerprint of the strategy and the members in order.
+fn key(index: Index, members: &[Variant], strategy: Strategy) -> Key {
+    let strategy = match strategy {
+        Strategy::Fast => 0,
+        Strategy::Brute(samples) => 1 + samples as u64,
+    };
+    let position = |found: Option<usize>| found.map_or(0, |p| 1 + p as u64);
+    let words = members.iter().flat_map(|variant| {
+        [
+            position(Method::ALL.iter().position(|m| *m == variant.method)),
+            variant.lut.map_or(0, |spec| spec.texels as u64),
+            position(variant.lut.and_then(|spec| Encoding::ALL.iter().position(|e| *e == spec.encoding))),
+        ]
+    });
+    let Fingerprint([a, b]) = Fingerprint::of_words(std::iter::once(strategy).chain(words));
+    [index.n.to_bits(), index.k.to_bits(), a, b]
+}
+
+fn encode(measured: &FamilyMeasurement) -> Vec<u64> {
+    let mut words = vec![measured.seconds.to_bits()];
+    for integral in &measured.integrals {
+        for figures in [integral.figures.f64, integral.figures.f32] {
+            words.extend([
+                u64::from(figures.mean_rel_error.is_some()),
+                figures.mean_rel_error.unwrap_or(0.0).to_bits(),
+                figures.max_abs_error.to_bits(),
+                figures.rms_abs_error.to_bits(),
+            ]);
+        }
+        words.extend([integral.excluded_samples, integral.evaluations]);
+    }
+    words
+}
+
+fn decode(words: &[u64]) -> FamilyMeasurement {
+    let figures = |w: &[u64]| Figures {
+        mean_rel_error: (w[0] != 0).then(|| f64::from_bits(w[1])),
+        max_abs_error: f64::from_bits(w[2]),
+        rms_abs_error: f64::from_bits(w[3]),
+    };
+    let integrals = words[1..]
+        .chunks_exact(MEMBER_WORDS)
+        .map(|w| Integral { figures: PerPrecision { f64: figures(&w[0..4]), f32: figures(&w[4..8]) }, excluded_samples: w[8], evaluations: w[9] })
+        .collect();
+    FamilyMeasurement { integrals, seconds: f64::from_bits(words[0]) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fresnel::{LutSpec, Prepared};
+    use crate::validate::Family;
+
+    fn lut(texels: usize) -> Vec<Variant> {
+        Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(texels, e)) }).collect()
+    }
+
+    fn measure(index: Index, members: &[Variant]) -> FamilyMeasurement {
+        FamilyMeasurement { integrals: Family::new(Prepared::new(index), members).measure(Strategy::Fast), seconds: 0.25 }
+    }
+
+    #[test]
+    fn remembered_integrals_have_the_bits_of_the_measured_ones() {
+        let analytic = Variant::expand(&[Method::Schlick, Method::Nvidia, Method::SchlickCompensated]);
+        // A metal, glass, and vacuum (no mean relative error: F_exact = 0 throughout).
+        let cases = [(Index::new(0.18, 3.4), lut(16)), (Index::new(1.5, 0.0), analytic.clone()), (Index::new(1.0, 0.0), analytic)];
+        let first = IntegralMemo::new("nklut 1").recording();
+        let measured: Vec<FamilyMeasurement> = cases.iter().map(|(index, members)| first.family(*index, members, Strategy::Fast, || measure(*index, members))).collect();
+        assert_eq!(first.measured(), cases.len());
+        assert_eq!(measured[2].integrals[0].figures.f64.mean_rel_error, None);
+        let second = IntegralMemo::decode(&first.encode(), "nklut 1").recording();
+        for ((index, members), measured) in cases.iter().zip(&measured) {
+            let remembered = second.family(*index, members, Strategy::Fast, || panic!("measured again: {index:?}"));
+            assert_eq!(format!("{remembered:?}"), format!("{measured:?}"));
+            assert_eq!(encode(&remembered), encode(measured), "the same bits");
+        }
+        assert_eq!((second.measured(), second.asked()), (0, cases.len()));
+        // Another executable remembers nothing.
+        let other = IntegralMemo::decode(&first.encode(), "nklut 2");
+        let (index, members) = &cases[0];
+        assert_eq!(other.family(*index, members, Strategy::Fast, || measure(*index, members)).seconds, 0.25);
+    }
+
+    #[test]
+    fn a_family_is_remembered_for_its_index_members_and_strategy_only() {
+        let glass = Index::new(1.5, 0.0);
+        let base = key(glass, &lut(64), Strategy::Fast);
+        let mut reordered = lut(64);
+        reordered.swap(0, 1);
+        let mut one_bit = glass;
+        one_bit.n = f64::from_bits(glass.n.to_bits() + 1);
+        let others = [
+            key(Index::new(1.5, -0.0), &lut(64), Strategy::Fast),
+            key(one_bit, &lut(64), Strategy::Fast),
+            key(glass, &lut(128), Strategy::Fast),
+            key(glass, &lut(64)[..4], Strategy::Fast),
+            key(glass, &reordered, Strategy::Fast),
+            key(glass, &lut(64), Strategy::Brute(1000)),
+            key(glass, &Variant::expand(&[Method::Schlick]), Strategy::Fast),
+            key(glass, &Variant::expand(&[Method::SchlickNk]), Strategy::Fast),
+        ];
+        for other in others {
+            assert_ne!(other, base);
+        }
+        assert_eq!(key(glass, &lut(64), Strategy::Fast), base);
+    }
+}
