@@ -294,17 +294,17 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
     jobs.sort_by_key(|&(d, g)| (std::cmp::Reverse(weight(g)), d));
     let bar = crate::progress::bar(jobs.len(), "validate");
-    let mut measured: Vec<((usize, usize), Vec<Integral>, f64)> = jobs
+    let mut measured: Vec<((usize, usize), FamilyMeasurement)> = jobs
         .par_iter()
         .map(|&(d, g)| {
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
-            let FamilyMeasurement { integrals, seconds } = memo.family(distinct[d].index, &members, strategy, || {
+            let family = memo.family(distinct[d].index, &members, strategy, || {
                 let start = Instant::now();
                 let integrals = Family::new(distinct[d], &members).measure(strategy);
                 FamilyMeasurement { integrals, seconds: start.elapsed().as_secs_f64() / members.len() as f64 }
             });
             bar.inc(1);
-            ((d, g), integrals, seconds)
+            ((d, g), family)
         })
         .collect();
     bar.finish_and_clear();
@@ -323,15 +323,15 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
         for (&variant, &(g, member)) in variants.iter().zip(&place) {
             for (channel, &d) in indices.iter().enumerate() {
                 let p = distinct[d];
-                let (_, integrals, seconds) = &measured[d * groups.len() + g];
+                let (_, family) = &measured[d * groups.len() + g];
                 let compensated = variant.method == Method::SchlickCompensated;
                 measurements.push(Measurement {
                     specimen,
                     variant,
                     channel,
                     index: p.index,
-                    integral: integrals[member],
-                    seconds: *seconds,
+                    integral: family.integrals[member],
+                    seconds: family.seconds,
                     shared: groups[g].len(),
                     fallback: if compensated { p.compensation.fallback } else { None },
                     lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
