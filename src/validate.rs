@@ -666,13 +666,13 @@ fn summary_text(
     let evaluations = measurements.iter().map(|m| m.integral.evaluations as f64 / m.shared as f64).sum::<f64>().round() as u64;
     writeln!(
         out,
-        "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s; {} of {} families measured, the others remembered ({})",
+        "validate: {} materials ({} pages), {} integrations, {} evaluations, {strategy} path, {seconds:.2} s; {} families measured, {} remembered ({})",
         specimens.len(),
         specimens.iter().map(|t| t.pages.len()).sum::<usize>(),
         measurements.len(),
         evaluations,
         measured.measured,
-        measured.families,
+        measured.families - measured.measured,
         memo::MEMO_PATH,
         strategy = strategy.name(),
         seconds = measured.seconds,
