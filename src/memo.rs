@@ -76,10 +76,10 @@ struct Records {
 }
 
 impl Records {
-    fn push(&mut self, key: Key, words: &[u64]) {
+    fn push(&mut self, key: Key, words: impl IntoIterator<Item = u64>) {
         let start = self.words.len();
-        self.words.extend_from_slice(words);
-        self.ranges.push((key, start..start + words.len()));
+        self.words.extend(words);
+        self.ranges.push((key, start..self.words.len()));
     }
 
     fn iter(&self) -> impl Iterator<Item = (&Key, &[u64])> {
@@ -105,11 +105,13 @@ impl Memo {
         Some(&self.remembered.words[range.clone()]).filter(|words| words.len() == units * self.format.unit)
     }
 
-    /// Keep a computed value (when recording; otherwise it is dropped).
-    pub fn record(&self, key: Key, words: &[u64]) {
-        debug_assert_eq!(words.len() % self.format.unit, 0);
+    /// Keep a computed value (when recording; otherwise `words` is not even read).
+    pub fn record(&self, key: Key, words: impl IntoIterator<Item = u64>) {
         if let Some(fresh) = &self.fresh {
-            lock(fresh).push(key, words);
+            let mut fresh = lock(fresh);
+            let start = fresh.words.len();
+            fresh.push(key, words);
+            debug_assert_eq!((fresh.words.len() - start) % self.format.unit, 0, "a value of whole units");
         }
     }
 
@@ -280,7 +282,7 @@ mod tests {
     fn memo_of(identity: &str, records: &[(Key, Vec<u64>)]) -> Memo {
         let memo = Memo::new(PAIRS, identity).recording();
         for (key, words) in records {
-            memo.record(*key, words);
+            memo.record(*key, words.iter().copied());
         }
         memo
     }
@@ -296,7 +298,7 @@ mod tests {
         assert_eq!(read.get(&[0; 4], 0), Some(&[][..]));
         assert_eq!(read.get(&[1, 2, 3, 5], 2), None);
         // A memo that only reads keeps nothing it computes.
-        read.record([9; 4], &[1, 2]);
+        read.record([9; 4], [1, 2]);
         assert!(!read.grew());
         assert_eq!(read.encode(), memo.encode());
     }

@@ -72,7 +72,7 @@ impl CurveMemo {
             return words.chunks_exact(3).map(|rgb| [0, 1, 2].map(|c| f64::from_bits(rgb[c]))).collect();
         }
         let curve = spectrum.curve(cosines);
-        self.0.record(key, &curve.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>());
+        self.0.record(key, curve.iter().flatten().map(|v| v.to_bits()));
         curve
     }
 

@@ -73,7 +73,7 @@ impl IntegralMemo {
             return remembered;
         }
         let measured = measure();
-        self.memo.record(key, &encode(&measured));
+        self.memo.record(key, encode(&measured));
         measured
     }
 
