@@ -77,7 +77,8 @@ impl IntegralMemo {
         measured
     }
 
-    /// Families measured (and recorded) since the memo was read.
+    /// Families measured and recorded since the memo was read (0 when it does not
+    /// record).
     pub fn measured(&self) -> usize {
         self.memo.recorded()
     }
