@@ -27,7 +27,7 @@ pub mod quadrature;
 use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
@@ -35,7 +35,8 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    filter, filter_weights, sanitise, texel_values, CompensationFallback, LANES, Lut, LutSpec, Method, Model, PerPrecision, Precision, Prepared,
+    compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, LANES, Lut, LutSpec, Method, Model,
+    PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
 use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
@@ -290,7 +291,7 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     let (distinct, index_of) = distinct_channels(specimens);
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
-    let mut jobs: Vec<(usize, usize)> = (0..distinct.len()).flat_map(|d| (0..groups.len()).map(move |g| (d, g))).collect();
+    let mut jobs: Vec<(usize, usize)> = (0..distinct.indices.len()).flat_map(|d| (0..groups.len()).map(move |g| (d, g))).collect();
     let weight = |g: usize| groups[g].iter().map(|&v| variants[v].lut.map_or(64, |s| s.texels)).sum::<usize>();
     jobs.sort_by_key(|&(d, g)| (std::cmp::Reverse(weight(g)), d));
     let bar = crate::progress::bar(jobs.len(), "validate");
@@ -298,9 +299,10 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
         .par_iter()
         .map(|&(d, g)| {
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
-            let family = memo.family(distinct[d].index, &members, strategy, || {
+            let family = memo.family(distinct.indices[d], &members, strategy, || {
+                let prepared = distinct.prepared(d);
                 let start = Instant::now();
-                let integrals = Family::new(distinct[d], &members).measure(strategy);
+                let integrals = Family::new(prepared, &members).measure(strategy);
                 FamilyMeasurement { integrals, seconds: start.elapsed().as_secs_f64() / members.len() as f64 }
             });
             bar.inc(1);
@@ -322,19 +324,19 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     for (specimen, indices) in index_of.iter().enumerate() {
         for (&variant, &(g, member)) in variants.iter().zip(&place) {
             for (channel, &d) in indices.iter().enumerate() {
-                let p = distinct[d];
+                let compensation = distinct.compensations[d];
                 let (_, family) = &measured[d * groups.len() + g];
                 let compensated = variant.method == Method::SchlickCompensated;
                 measurements.push(Measurement {
                     specimen,
                     variant,
                     channel,
-                    index: p.index,
+                    index: distinct.indices[d],
                     integral: family.integrals[member],
                     seconds: family.seconds,
                     shared: groups[g].len(),
-                    fallback: if compensated { p.compensation.fallback } else { None },
-                    lambda: (compensated && p.compensation.fallback.is_none()).then_some(p.compensation.lambda),
+                    fallback: if compensated { compensation.fallback } else { None },
+                    lambda: (compensated && compensation.fallback.is_none()).then_some(compensation.lambda),
                 });
             }
         }
@@ -342,9 +344,25 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
     measurements
 }
 
-/// The distinct channel indices of `specimens` (sanitised, compared bit for bit),
-/// prepared once each, and for every specimen the position of each channel among them.
-fn distinct_channels(specimens: &[Specimen]) -> (Vec<Prepared>, Vec<[usize; 3]>) {
+/// The distinct channel indices of a run: each index with its `schlick_compensated`
+/// exponent (which the rows report), and everything else the methods need, prepared when
+/// a family of it is first measured (a run whose families are all remembered fits no
+/// `nvidia` curve).
+struct Distinct {
+    indices: Vec<Index>,
+    compensations: Vec<Compensation>,
+    prepared: Vec<OnceLock<Prepared>>,
+}
+
+impl Distinct {
+    fn prepared(&self, d: usize) -> Prepared {
+        *self.prepared[d].get_or_init(|| Prepared::new(self.indices[d]))
+    }
+}
+
+/// The distinct channel indices of `specimens` (sanitised, compared bit for bit), and for
+/// every specimen the position of each channel among them.
+fn distinct_channels(specimens: &[Specimen]) -> (Distinct, Vec<[usize; 3]>) {
     let mut position: HashMap<[u64; 2], usize> = HashMap::new();
     let mut indices = Vec::new();
     let index_of = specimens
@@ -359,7 +377,9 @@ fn distinct_channels(specimens: &[Specimen]) -> (Vec<Prepared>, Vec<[usize; 3]>)
             })
         })
         .collect();
-    (indices.par_iter().map(|&index| Prepared::new(index)).collect(), index_of)
+    let compensations = indices.iter().map(|&index| compensation(index, &ExactTerms::new(index))).collect();
+    let prepared = indices.iter().map(|_| OnceLock::new()).collect();
+    (Distinct { indices, compensations, prepared }, index_of)
 }
 
 /// A row of `errors.*`: a page, the measurement of its specimen, and the precision.
@@ -840,7 +860,7 @@ mod tests {
         let specimens = [specimen([gold, glass, glass]), specimen([next, gold, negative_zero])];
         let (distinct, index_of) = distinct_channels(&specimens);
         // −0 is sanitised to itself and kept apart from +0, as its bits differ.
-        assert_eq!(distinct.len(), 4);
+        assert_eq!(distinct.indices.len(), 4);
         assert_eq!(index_of, vec![[0, 1, 1], [2, 0, 3]]);
         let variants: Vec<Variant> = Variant::expand(&[Method::Schlick, Method::Nvidia])
             .into_iter()
