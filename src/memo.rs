@@ -188,9 +188,7 @@ impl Memo {
             let raw = reader.take(units.checked_mul(8 * format.unit)?)?;
             // A key written twice (only by hand): the first stands.
             lookup.entry(key).or_insert(remembered.ranges.len());
-            let start = remembered.words.len();
-            remembered.words.extend(raw.chunks_exact(8).map(|word| u64::from_le_bytes(word.try_into().expect("8 bytes"))));
-            remembered.ranges.push((key, start..remembered.words.len()));
+            remembered.push(key, raw.chunks_exact(8).map(|word| u64::from_le_bytes(word.try_into().expect("8 bytes"))));
         }
         reader.bytes.is_empty().then(|| Self { format, identity: identity.to_string(), remembered, lookup, fresh: None })
     }
