@@ -101,8 +101,10 @@ fn main() {
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(5).max(1);
     let scratch = std::env::temp_dir().join(format!("nklut-bench-whole-{}", std::process::id()));
 
+    // A job's output folder, named after it.
+    let folder = |name: &str| scratch.join(name.replace([' ', ','], "-"));
     let nklut_job = |name: &'static str, args: &[&str]| {
-        let out = scratch.join(name.replace([' ', ','], "-"));
+        let out = folder(name);
         let mut command = Command::new(nklut);
         command.arg("--db").arg(&db).arg("--out").arg(&out).args(args);
         Job { name, command, fresh: Some(out), prime: false, runs: Vec::new() }
@@ -127,7 +129,7 @@ fn main() {
     }
     // The Makefile's own recipe with this build's binary; CARGO=true skips its release build.
     let make_luts = |name: &'static str| {
-        let out = scratch.join(name.replace([' ', ','], "-"));
+        let out = folder(name);
         let mut make = Command::new("make");
         make.current_dir(root).arg("--no-print-directory").arg("luts").arg("ALL=1").arg("CARGO=true");
         make.arg(format!("NKLUT={}", nklut.display())).arg(format!("OUT={}", out.display())).arg(format!("DB={}", db.display()));
