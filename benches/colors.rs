@@ -17,6 +17,12 @@ fn whole_database(c: &mut Criterion) {
     let materials = common::materials();
     let texels = nklut::encoding::texel_cosines(256);
     let rule: &AngleQuadrature = color::angle_quadrature();
+    // The exact reflectances `nklut colors --all` sums: each distinct index of a material's
+    // spectrum at the angle rule's nodes and at the 256 texel centres. Their count times
+    // the ns of one (`cargo bench --bench fresnel -- lanes`) is the floor of its spectra.
+    let indices: usize = materials.par_iter().map(|m| color::PreparedSpectrum::new(&color::sample_spectrum(&m.data).0).distinct_indices()).sum();
+    let evaluations = indices * (rule.cosines.len() + texels.len());
+    eprintln!("{} materials: {indices} distinct indices on the grid; colors evaluates exact Fresnel {evaluations} times", materials.len());
     let mut group = c.benchmark_group(format!("{} materials", materials.len()));
     group.sample_size(10);
     group.bench_function("spectrum + F0 + 256-texel curve", |b| {

@@ -1,6 +1,7 @@
 //! CPU cost of every Fresnel method: ns per evaluation over a batch of 10⁶ cosines, f64
 //! and f32 (shader twin), one core; and the brute-force throughput of `exact`
-//! (conductor, f64) over 10⁶ cosines with rayon on every core.
+//! (conductor, f64) over 10⁶ cosines with rayon on every core, and on one core one
+//! cosine at a time and in vector lanes.
 //!
 //! `cargo bench --bench fresnel -- --warm-up-time 1 --measurement-time 3`
 
@@ -51,6 +52,14 @@ fn brute_force(c: &mut Criterion) {
         b.iter(|| cos64.par_chunks(16_384).map(|chunk| chunk.iter().map(|&c| terms.reflectance(c)).sum::<f64>()).sum::<f64>())
     });
     group.bench_function("exact/f64/one-core", |b| b.iter(|| cos64.iter().map(|&c| terms.reflectance(black_box(c))).sum::<f64>()));
+    // In vector lanes, as the spectral curves and validate evaluate it: the same bits.
+    let mut reflectances = vec![0.0; BATCH];
+    group.bench_function("exact/f64/lanes/one-core", |b| {
+        b.iter(|| {
+            terms.reflectances(black_box(&cos64), &mut reflectances);
+            reflectances[BATCH / 2]
+        })
+    });
     group.finish();
 }
 

@@ -114,6 +114,12 @@ impl PreparedSpectrum {
         Self { groups }
     }
 
+    /// How many exact reflectances one colour sums: the distinct indices of the spectrum's
+    /// weighted wavelengths (a run of equal indices counts once).
+    pub fn distinct_indices(&self) -> usize {
+        self.groups.len()
+    }
+
     /// The reference colour (linear sRGB) at cosθ = `cos_theta`, R from [`fresnel::exact`].
     pub fn rgb(&self, cos_theta: f64) -> [f64; 3] {
         self.groups.iter().fold([0.0; 3], |rgb, (terms, w)| {
