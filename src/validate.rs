@@ -35,7 +35,7 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, LANES, Lut, LutSpec, Method, Model,
+    compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, FitMemo, LANES, Lut, LutSpec, Method, Model,
     PerPrecision, Precision, Prepared,
 };
 use crate::ingest::{self, Selection};
@@ -287,7 +287,7 @@ pub fn measure(model: &Model, strategy: Strategy) -> Integral {
 /// sanitising) is measured once: its figures are a function of the index alone, and each
 /// of its rows carries that measurement's time. A family `memo` holds is not measured
 /// again.
-pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy, memo: &IntegralMemo) -> Vec<Measurement> {
+pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy, memo: &IntegralMemo, fits: &FitMemo) -> Vec<Measurement> {
     let (distinct, index_of) = distinct_channels(specimens);
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
@@ -300,7 +300,7 @@ pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strat
         .map(|&(d, g)| {
             let members: Vec<Variant> = groups[g].iter().map(|&v| variants[v]).collect();
             let family = memo.family(distinct.indices[d], &members, strategy, || {
-                let prepared = distinct.prepared(d);
+                let prepared = distinct.prepared(d, fits);
                 let start = Instant::now();
                 let integrals = Family::new(prepared, &members).measure(strategy);
                 FamilyMeasurement { integrals, seconds: start.elapsed().as_secs_f64() / members.len() as f64 }
@@ -355,8 +355,8 @@ struct Distinct {
 }
 
 impl Distinct {
-    fn prepared(&self, d: usize) -> Prepared {
-        *self.prepared[d].get_or_init(|| Prepared::new(self.indices[d]))
+    fn prepared(&self, d: usize, fits: &FitMemo) -> Prepared {
+        *self.prepared[d].get_or_init(|| fits.prepared(self.indices[d]))
     }
 }
 
@@ -638,13 +638,17 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let strategy = request.strategy;
     let start = Instant::now();
     let memo = IntegralMemo::load(out).recording();
-    let measurements = measure_all(&specimens, &variants, strategy, &memo);
+    let fits = FitMemo::load(out).recording();
+    let measurements = measure_all(&specimens, &variants, strategy, &memo, &fits);
     let seconds = start.elapsed().as_secs_f64();
     let measured = Measured { families: memo.asked(), measured: memo.measured(), seconds };
     // Remembered now and let go: the memo (≈ 25 MB over the whole database) is not held
-    // while errors.* is written, the run's memory peak.
+    // while errors.* is written, the run's memory peak. The nvidia fits are kept for the
+    // report, which draws each page's curves.
     memo.save_or_warn(out);
     drop(memo);
+    fits.save_or_warn(out);
+    drop(fits);
     let spreads = spreads(&measurements);
     let mut text = String::new();
     summary_text(&mut text, &specimens, &measurements, &spreads, strategy, &measured)?;
@@ -866,7 +870,7 @@ mod tests {
             .into_iter()
             .chain(crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(16, e)) }))
             .collect();
-        let measurements = measure_all(&specimens, &variants, Strategy::Fast, &IntegralMemo::default());
+        let measurements = measure_all(&specimens, &variants, Strategy::Fast, &IntegralMemo::default(), &FitMemo::default());
         assert_eq!(measurements.len(), specimens.len() * 3 * variants.len());
         let groups = Family::groups(&variants);
         let bits = |i: &Integral| {

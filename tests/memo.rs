@@ -5,7 +5,9 @@
 //!   damaged memo is not read;
 //! - the error integrals (`<out>/.cache/error-integrals.bin`): a second `validate` into the
 //!   folder measures nothing and writes the bytes of the first, seconds included; without
-//!   the memo it measures again and writes the same figures.
+//!   the memo it measures again and writes the same figures;
+//! - the `nvidia` fits (`<out>/.cache/nvidia-fits.bin`): `validate` writes them, `report`
+//!   reads them and writes the same bytes as it does without them.
 
 mod common;
 
@@ -90,14 +92,13 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
 /// fingerprints, the point count and the RGB triples; last, SipHash-1-3 of the rest).
 fn halve_every_curve(memo: &[u8]) -> Vec<u8> {
     let mut bytes = memo[..memo.len() - 8].to_vec();
-    let word = |bytes: &[u8], at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize;
     let mut at = b"nklut spectral curves 1\n".len();
-    at += 8 + word(&bytes, at);
-    let count = word(&bytes, at);
+    at += 8 + word_at(&bytes, at);
+    let count = word_at(&bytes, at);
     at += 8;
     for _ in 0..count {
         at += 32;
-        let values = 3 * word(&bytes, at);
+        let values = 3 * word_at(&bytes, at);
         at += 8;
         for _ in 0..values {
             let value = f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
@@ -106,11 +107,7 @@ fn halve_every_curve(memo: &[u8]) -> Vec<u8> {
         }
     }
     assert_eq!(at, bytes.len());
-    let mut hasher = std::hash::DefaultHasher::new();
-    std::hash::Hasher::write(&mut hasher, &bytes);
-    let check = std::hash::Hasher::finish(&hasher);
-    bytes.extend_from_slice(&check.to_le_bytes());
-    bytes
+    with_checksum(bytes)
 }
 
 #[test]
@@ -185,4 +182,74 @@ fn a_second_validate_remembers_every_integral_and_writes_the_same_bytes() {
     fs::write(fresh.join(nklut::validate::memo::MEMO_PATH), &flipped).unwrap();
     assert_eq!(counts(&validate(&fresh)), [families, 0]);
     assert_eq!(errors_without_seconds(&fresh), errors_without_seconds(&out));
+}
+
+/// The report of `PAGES` after ingest, colors and validate, its pages' bytes by path.
+fn report(out: &Path) -> Vec<(String, u64)> {
+    nklut::report::command(&database(), out, &selection()).unwrap();
+    outputs(&out.join(nklut::report::REPORT_DIR))
+}
+
+fn stages_before_the_report(out: &Path) {
+    let database = database();
+    nklut::ingest::write_tables(&nklut::ingest::ingest(&database, &selection(), &Config::default()).unwrap(), out).unwrap();
+    colors(out);
+    validate(out);
+}
+
+#[test]
+fn the_report_draws_the_nvidia_fits_validate_kept_with_the_same_bytes() {
+    let fits = nklut::fresnel::memo::MEMO_PATH;
+    let kept = scratch("memo-fits-kept");
+    stages_before_the_report(&kept);
+    let written = fs::read(kept.join(fits)).expect("validate keeps its nvidia fits");
+    let with_fits = report(&kept);
+    assert_eq!(fs::read(kept.join(fits)).unwrap(), written, "the report reads the fits, never writes them");
+
+    let fresh = scratch("memo-fits-fresh");
+    stages_before_the_report(&fresh);
+    fs::remove_file(fresh.join(fits)).unwrap();
+    assert_eq!(report(&fresh), with_fits);
+    assert!(!with_fits.is_empty());
+
+    // The fits are read: with every scale halved the nvidia curves, and so the pages,
+    // change.
+    fs::write(fresh.join(fits), halve_every_scale(&written)).unwrap();
+    assert_ne!(report(&fresh), with_fits);
+}
+
+/// The fit memo's bytes with every fit's scale halved and the checksum made again (the
+/// layout of `fresnel::memo`: magic line, identity, count, then per fit a 32-byte key, the
+/// unit count and bias, scale, power, RMS residual; last, SipHash-1-3 of the rest).
+fn halve_every_scale(memo: &[u8]) -> Vec<u8> {
+    let mut bytes = memo[..memo.len() - 8].to_vec();
+    let mut at = b"nklut nvidia fits 1\n".len();
+    at += 8 + word_at(&bytes, at);
+    let count = word_at(&bytes, at);
+    at += 8;
+    for _ in 0..count {
+        at += 32;
+        assert_eq!(word_at(&bytes, at), 1, "one fit per key");
+        let scale = at + 16;
+        let value = f64::from_le_bytes(bytes[scale..scale + 8].try_into().unwrap());
+        bytes[scale..scale + 8].copy_from_slice(&(0.5 * value).to_le_bytes());
+        at += 8 + 32;
+    }
+    assert_eq!(at, bytes.len());
+    with_checksum(bytes)
+}
+
+/// A memo file's body followed by its checksum: SipHash-1-3 (the standard library's
+/// default hasher, keys 0) of the body.
+fn with_checksum(mut bytes: Vec<u8>) -> Vec<u8> {
+    let mut hasher = std::hash::DefaultHasher::new();
+    std::hash::Hasher::write(&mut hasher, &bytes);
+    let check = std::hash::Hasher::finish(&hasher);
+    bytes.extend_from_slice(&check.to_le_bytes());
+    bytes
+}
+
+/// The little-endian word at byte `at`.
+fn word_at(bytes: &[u8], at: usize) -> usize {
+    u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize
 }

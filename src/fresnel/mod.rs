@@ -12,13 +12,15 @@
 //! Public entry points for other stages:
 //! - [`exact`], [`exact_f32`] and the closed forms in [`approx`], generic over [`Real`];
 //! - [`Prepared::new`] (F0, compensated λ with its [`CompensationFallback`], Lazányi a,
-//!   the nvidia fit), [`ShaderParams`] (the f32 uniforms a shader needs);
+//!   the nvidia fit), [`FitMemo`] (the nvidia fits kept between commands),
+//!   [`ShaderParams`] (the f32 uniforms a shader needs);
 //! - for textures: [`Encoding`] (`quantise`, `encode`, `decode`),
 //!   [`sample_lut`], [`Lut::bake`].
 
 pub mod approx;
 mod exact;
 pub mod lut;
+pub mod memo;
 pub mod nvidia;
 pub mod real;
 pub mod reference;
@@ -28,6 +30,7 @@ pub use approx::{
     LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms, LANES};
+pub use memo::FitMemo;
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
 pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use real::Real;
@@ -172,6 +175,12 @@ pub struct Prepared {
 
 impl Prepared {
     pub fn new(index: Index) -> Self {
+        Self::with_nvidia_fit(index, fit_nvidia)
+    }
+
+    /// [`Prepared::new`] with the `nvidia` fit from `fit` (given the exact terms of the
+    /// sanitised index): [`fit_nvidia`], or a fit it made before ([`FitMemo`]).
+    pub fn with_nvidia_fit(index: Index, fit: impl FnOnce(&ExactTerms) -> NvidiaFit) -> Self {
         let index = sanitise(index);
         let exact = ExactTerms::new(index);
         Self {
@@ -180,7 +189,7 @@ impl Prepared {
             exact,
             compensation: compensation(index, &exact),
             lazanyi_a: lazanyi_a(index, &exact),
-            nvidia: fit_nvidia(&exact),
+            nvidia: fit(&exact),
         }
     }
 

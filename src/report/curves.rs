@@ -6,7 +6,7 @@
 
 use super::charts::PALETTE;
 use crate::color::{self, PreparedSpectrum};
-use crate::fresnel::{self, Encoding, ExactTerms, LutSpec, Method, Model, Prepared};
+use crate::fresnel::{self, Encoding, ExactTerms, FitMemo, LutSpec, Method, Model};
 use crate::spectrum::{ChannelIndex, Index};
 
 /// Angles of every curve: 0°, 1°, …, 90°.
@@ -44,10 +44,11 @@ pub const FITTED: &str = "exact, fitted index";
 
 /// Exact and each approximation for `index` (per channel) on the θ grid `theta_deg`.
 /// `schlick_nk` equals `schlick` with F0 from (n, k) and is not drawn twice.
-pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<PlotCurve> {
+/// The `nvidia` fits come from `fits` where it holds them.
+pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64], fits: &FitMemo) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
     // Each channel's fits (compensation, Lazányi, Nvidia) once, shared by every method.
-    let prepared = index.map(Prepared::new);
+    let prepared = index.map(|index| fits.prepared(index));
     Method::ALL
         .iter()
         .filter(|m| **m != Method::SchlickNk)
@@ -64,7 +65,7 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64]) -> Vec<PlotCurve> 
 /// The curves of a material: the spectral reference (from the page's spectrum on the
 /// 1 nm grid), exact Fresnel with the fitted indices when fitted, then exact and every
 /// approximation with the three-channel indices.
-pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted: Option<&ChannelIndex>, theta_deg: &[f64]) -> Vec<PlotCurve> {
+pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted: Option<&ChannelIndex>, theta_deg: &[f64], fits: &FitMemo) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
     let mut curves = vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
     if let Some(fitted) = fitted {
@@ -72,7 +73,7 @@ pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted:
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
         curves.push(PlotCurve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
     }
-    curves.extend(method_curves(three_channel, theta_deg));
+    curves.extend(method_curves(three_channel, theta_deg, fits));
     curves
 }
 
@@ -95,7 +96,7 @@ mod tests {
         // reference colour of a flat spectrum is exact Fresnel of its index in every channel.
         let index = Index::new(1.5, 0.0);
         let theta = theta_grid(10);
-        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], None, &theta);
+        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], None, &theta, &FitMemo::default());
         assert_eq!(curves[0].name, REFERENCE);
         assert_eq!(curves[1].name, "exact");
         for (r, e) in curves[0].rgb.iter().zip(&curves[1].rgb) {

@@ -8,6 +8,7 @@ use std::path::Path;
 use anyhow::{bail, Result};
 
 use super::csvdata::CsvTable;
+use crate::fresnel::FitMemo;
 use crate::ingest::Selection;
 use crate::spectrum::{Channels, CHANNEL_NAMES};
 
@@ -39,6 +40,9 @@ pub struct Inputs {
     pub extra: BTreeMap<String, CsvTable>,
     /// The channel wavelengths `materials.csv` was evaluated at.
     pub channels: Channels,
+    /// The `nvidia` fits `validate` kept (`.cache/nvidia-fits.bin`), read only: the
+    /// curves fit what it lacks.
+    pub fits: FitMemo,
 }
 
 impl Inputs {
@@ -76,6 +80,7 @@ impl Inputs {
             warnings: CsvTable::load(&out.join("warnings.csv"))?,
             extra,
             channels,
+            fits: FitMemo::load(out),
         })
     }
 }

@@ -63,7 +63,7 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
     let mut preview_png = None;
     match spectrum {
         Ok(spectrum) => {
-            let curves = material_curves(spectrum, &three, fitted.as_ref(), &ctx.theta);
+            let curves = material_curves(spectrum, &three, fitted.as_ref(), &ctx.theta, &ctx.inputs.fits);
             let png = preview::png(&preview::sheet(&ctx.layout, &curves.iter().map(|c| c.rgb.as_slice()).collect::<Vec<_>>()))?;
             figures(&mut html, ctx, page, &curves, &png)?;
             preview_png = Some(png);

@@ -1,0 +1,155 @@
+//! The `nvidia` fits (SPEC §5.6) remembered between the commands run into one output
+//! folder, in `<out>/.cache/nvidia-fits.bin` (the layout of [`crate::memo`]). A fit is a
+//! function of the sanitised channel index alone, so it is looked up by the index's bits:
+//! `validate` fits every channel index it measures and keeps the fits, and `report`, which
+//! draws the `nvidia` curve of every page, reads them instead of fitting again. A fit read
+//! back has the bits of the one made.
+
+use std::path::{Path, PathBuf};
+
+use super::nvidia::{fit_nvidia, NvidiaFit};
+use super::{sanitise, Prepared};
+use crate::memo::{Format, Key, Memo};
+use crate::spectrum::Index;
+
+/// Where the memo lives under an output folder.
+pub const MEMO_PATH: &str = ".cache/nvidia-fits.bin";
+
+/// A value is one fit: bias, scale, power and the RMS residual.
+const FORMAT: Format = Format { magic: b"nklut nvidia fits 1\n", unit: 4 };
+
+/// The remembered fits of one executable; when recording, the ones made since they were
+/// read.
+#[derive(Debug)]
+pub struct FitMemo(Memo);
+
+impl Default for FitMemo {
+    /// A memo that holds nothing and is never written: every fit is made.
+    fn default() -> Self {
+        Self(Memo::new(FORMAT, ""))
+    }
+}
+
+impl FitMemo {
+    /// An empty memo for the executable named by `identity`.
+    pub fn new(identity: &str) -> Self {
+        Self(Memo::new(FORMAT, identity))
+    }
+
+    /// This memo, keeping the fits it makes for [`FitMemo::encode`].
+    pub fn recording(self) -> Self {
+        Self(self.0.recording())
+    }
+
+    /// [`Prepared::new`] of `index`, its `nvidia` fit from the memo when it holds it,
+    /// else fitted (and kept, when recording).
+    pub fn prepared(&self, index: Index) -> Prepared {
+        let key = key(sanitise(index));
+        Prepared::with_nvidia_fit(index, |exact| {
+            if let Some(words) = self.0.get(&key, 1) {
+                return decode(words);
+            }
+            let fit = fit_nvidia(exact);
+            self.0.record(key, encode(&fit));
+            fit
+        })
+    }
+
+    /// Fits made and recorded since the memo was read (0 when it does not record).
+    pub fn fitted(&self) -> usize {
+        self.0.recorded()
+    }
+
+    pub fn encode(&self) -> Vec<u8> {
+        self.0.encode()
+    }
+
+    /// The memo in `bytes` if it was written by the executable named `identity`; an empty
+    /// one otherwise (see [`Memo::decode`]).
+    pub fn decode(bytes: &[u8], identity: &str) -> Self {
+        Self(Memo::decode(bytes, FORMAT, identity))
+    }
+
+    /// The memo of the output folder `out` for the running executable.
+    pub fn load(out: &Path) -> Self {
+        Self(Memo::load(&memo_path(out), FORMAT))
+    }
+
+    /// [`Memo::save`] under `out`, a failure reported as a warning.
+    pub fn save_or_warn(&self, out: &Path) {
+        self.0.save_or_warn(&memo_path(out), "nvidia fits");
+    }
+}
+
+fn memo_path(out: &Path) -> PathBuf {
+    out.join(MEMO_PATH)
+}
+
+/// The sanitised index's bits.
+fn key(index: Index) -> Key {
+    [index.n.to_bits(), index.k.to_bits(), 0, 0]
+}
+
+fn encode(fit: &NvidiaFit) -> [u64; 4] {
+    [fit.bias, fit.scale, fit.power, fit.rms_residual].map(f64::to_bits)
+}
+
+fn decode(words: &[u64]) -> NvidiaFit {
+    let value = |i: usize| f64::from_bits(words[i]);
+    NvidiaFit { bias: value(0), scale: value(1), power: value(2), rms_residual: value(3) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(prepared: &Prepared) -> [u64; 4] {
+        encode(&prepared.nvidia)
+    }
+
+    #[test]
+    fn a_remembered_fit_has_the_bits_of_a_fit_made() {
+        // A metal, a glass, a gas and an index that sanitising changes (negative k).
+        let indices = [Index::new(0.17, 3.75), Index::new(1.5168, 0.0), Index::new(1.000293, 0.0), Index::new(1.4, -0.5)];
+        let memo = FitMemo::new("this executable").recording();
+        for index in indices {
+            assert_eq!(memo.prepared(index), Prepared::new(index));
+        }
+        assert_eq!(memo.fitted(), 4);
+        let read = FitMemo::decode(&memo.encode(), "this executable");
+        for index in indices {
+            let remembered = read.prepared(index);
+            assert_eq!(bits(&remembered), bits(&Prepared::new(index)), "{index:?}");
+            assert_eq!(remembered, Prepared::new(index));
+        }
+        // Nothing was fitted again: a memo that only reads records nothing, and a
+        // recording one over the same file records nothing new.
+        let again = FitMemo::decode(&memo.encode(), "this executable").recording();
+        for index in indices {
+            again.prepared(index);
+        }
+        assert_eq!(again.fitted(), 0);
+    }
+
+    #[test]
+    fn another_executables_fits_are_not_read() {
+        let memo = FitMemo::new("one executable").recording();
+        memo.prepared(Index::new(0.17, 3.75));
+        let other = FitMemo::decode(&memo.encode(), "another executable").recording();
+        other.prepared(Index::new(0.17, 3.75));
+        assert_eq!(other.fitted(), 1);
+    }
+
+    #[test]
+    fn a_fit_is_keyed_by_the_sanitised_index() {
+        // k = −0.5 sanitises to k = 0: its fit is the one of k = 0. One bit of n apart is
+        // another index.
+        let memo = FitMemo::new("this executable").recording();
+        memo.prepared(Index::new(1.4, -0.5));
+        let read = FitMemo::decode(&memo.encode(), "this executable").recording();
+        assert_eq!(read.prepared(Index::new(1.4, 0.0)), Prepared::new(Index::new(1.4, 0.0)));
+        assert_eq!(read.fitted(), 0);
+        read.prepared(Index::new(f64::from_bits(1.4f64.to_bits() + 1), 0.0));
+        assert_eq!(read.fitted(), 1);
+    }
+}
