@@ -3,7 +3,7 @@
 //! 64-bit words. A record is only ever read by the executable that computed it (its path,
 //! size and modification time), so a rebuilt `nklut` never reads what its predecessor
 //! computed. What is remembered: the spectral curves (`color::memo`), the error integrals
-//! (`validate::memo`).
+//! (`validate::memo`), the `nvidia` fits (`fresnel::memo`), each a [`Kind`] of [`Memo`].
 //!
 //! The file (little-endian) holds a magic line naming what is remembered, the
 //! executable's identity, the record count, then per record the key's four words, the
@@ -14,8 +14,10 @@
 
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
+use std::marker::PhantomData;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
 use anyhow::Result;
@@ -45,24 +47,35 @@ impl Fingerprint {
 /// A record's key.
 pub type Key = [u64; 4];
 
-/// What a memo file holds and how it is named: the magic line and the words per unit of
-/// a value.
-#[derive(Clone, Copy, Debug)]
-pub struct Format {
-    pub magic: &'static [u8],
-    pub unit: usize,
+/// One kind of memo: the magic line of its file, the words per unit of a value (an RGB
+/// triple is a unit of three), its place under an output folder, and what a warning calls
+/// its records.
+pub trait Kind {
+    const MAGIC: &'static [u8];
+    const UNIT: usize;
+    const PATH: &'static str;
+    const RECORDS: &'static str;
 }
 
-/// The records of one executable and, when it records, the ones computed since they were
-/// read. A memo that only reads keeps nothing it computes.
+/// The records of one kind and one executable and, when it records, the ones computed
+/// since they were read. A memo that only reads keeps nothing it computes.
 #[derive(Debug)]
-pub struct Memo {
-    format: Format,
+pub struct Memo<K: Kind> {
     identity: String,
     remembered: Records,
     /// Where each remembered key is in `remembered`.
     lookup: HashMap<Key, usize>,
     fresh: Option<Mutex<Records>>,
+    /// Lookups made, found or not.
+    asked: AtomicUsize,
+    kind: PhantomData<fn() -> K>,
+}
+
+impl<K: Kind> Default for Memo<K> {
+    /// A memo that holds nothing and is never written: everything is computed.
+    fn default() -> Self {
+        Self::new("")
+    }
 }
 
 /// Records with their words in one buffer: one allocation, which the allocator hands
@@ -87,11 +100,15 @@ impl Records {
     }
 }
 
-impl Memo {
+impl<K: Kind> Memo<K> {
     /// An empty memo for the executable named by `identity` (empty: one that neither
     /// reads nor writes a file).
-    pub fn new(format: Format, identity: &str) -> Self {
-        Self { format, identity: identity.to_string(), remembered: Records::default(), lookup: HashMap::new(), fresh: None }
+    pub fn new(identity: &str) -> Self {
+        Self::of(identity, Records::default(), HashMap::new())
+    }
+
+    fn of(identity: &str, remembered: Records, lookup: HashMap<Key, usize>) -> Self {
+        Self { identity: identity.to_string(), remembered, lookup, fresh: None, asked: AtomicUsize::new(0), kind: PhantomData }
     }
 
     /// This memo, keeping the records computed for [`Memo::encode`].
@@ -101,8 +118,9 @@ impl Memo {
 
     /// The remembered value of `key`, if it has `units` units.
     pub fn get(&self, key: &Key, units: usize) -> Option<&[u64]> {
+        self.asked.fetch_add(1, Ordering::Relaxed);
         let (_, range) = &self.remembered.ranges[*self.lookup.get(key)?];
-        Some(&self.remembered.words[range.clone()]).filter(|words| words.len() == units * self.format.unit)
+        Some(&self.remembered.words[range.clone()]).filter(|words| words.len() == units * K::UNIT)
     }
 
     /// Keep a computed value (when recording; otherwise `words` is not even read).
@@ -111,13 +129,18 @@ impl Memo {
             let mut fresh = lock(fresh);
             let start = fresh.words.len();
             fresh.push(key, words);
-            debug_assert_eq!((fresh.words.len() - start) % self.format.unit, 0, "a value of whole units");
+            debug_assert_eq!((fresh.words.len() - start) % K::UNIT, 0, "a value of whole units");
         }
     }
 
     /// Whether values were recorded that the memo did not hold.
     pub fn grew(&self) -> bool {
         self.fresh.as_ref().is_some_and(|fresh| !lock(fresh).ranges.is_empty())
+    }
+
+    /// Lookups made ([`Memo::get`]), found or not.
+    pub fn asked(&self) -> usize {
+        self.asked.load(Ordering::Relaxed)
     }
 
     /// Records kept since the memo was read (0 when it does not record).
@@ -143,8 +166,8 @@ impl Memo {
         all.sort_by_key(|(k, _)| **k);
         all.dedup_by_key(|(k, _)| **k);
         let words: usize = all.iter().map(|(_, words)| 5 + words.len()).sum();
-        let mut bytes = Vec::with_capacity(self.format.magic.len() + 8 * (3 + words) + self.identity.len());
-        bytes.extend_from_slice(self.format.magic);
+        let mut bytes = Vec::with_capacity(K::MAGIC.len() + 8 * (3 + words) + self.identity.len());
+        bytes.extend_from_slice(K::MAGIC);
         put_u64(&mut bytes, self.identity.len() as u64);
         bytes.extend_from_slice(self.identity.as_bytes());
         put_u64(&mut bytes, all.len() as u64);
@@ -152,7 +175,7 @@ impl Memo {
             for word in key {
                 put_u64(&mut bytes, *word);
             }
-            put_u64(&mut bytes, (words.len() / self.format.unit) as u64);
+            put_u64(&mut bytes, (words.len() / K::UNIT) as u64);
             for word in words {
                 put_u64(&mut bytes, *word);
             }
@@ -162,19 +185,19 @@ impl Memo {
         bytes
     }
 
-    /// The memo in `bytes` if it is of `format` and was written by the executable named
+    /// The memo in `bytes` if it is of this kind and was written by the executable named
     /// `identity`; an empty one for any other executable, a damaged file or one of
-    /// another format.
-    pub fn decode(bytes: &[u8], format: Format, identity: &str) -> Self {
-        Self::read(bytes, format, identity).unwrap_or_else(|| Self::new(format, identity))
+    /// another kind.
+    pub fn decode(bytes: &[u8], identity: &str) -> Self {
+        Self::read(bytes, identity).unwrap_or_else(|| Self::new(identity))
     }
 
-    fn read(bytes: &[u8], format: Format, identity: &str) -> Option<Self> {
+    fn read(bytes: &[u8], identity: &str) -> Option<Self> {
         let (body, check) = bytes.split_at_checked(bytes.len().checked_sub(8)?)?;
         if check != checksum(body) {
             return None;
         }
-        let mut reader = Reader { bytes: body.strip_prefix(format.magic)? };
+        let mut reader = Reader { bytes: body.strip_prefix(K::MAGIC)? };
         let length = usize::try_from(reader.u64()?).ok()?;
         if reader.take(length)? != identity.as_bytes() {
             return None;
@@ -185,42 +208,42 @@ impl Memo {
         for _ in 0..count {
             let key: Key = [reader.u64()?, reader.u64()?, reader.u64()?, reader.u64()?];
             let units = usize::try_from(reader.u64()?).ok()?;
-            let raw = reader.take(units.checked_mul(8 * format.unit)?)?;
+            let raw = reader.take(units.checked_mul(8 * K::UNIT)?)?;
             // A key written twice (only by hand): the first stands.
             lookup.entry(key).or_insert(remembered.ranges.len());
             remembered.push(key, raw.chunks_exact(8).map(|word| u64::from_le_bytes(word.try_into().expect("8 bytes"))));
         }
-        reader.bytes.is_empty().then(|| Self { format, identity: identity.to_string(), remembered, lookup, fresh: None })
+        reader.bytes.is_empty().then(|| Self::of(identity, remembered, lookup))
     }
 
-    /// The memo at `path` for the running executable (empty when there is none, it is
-    /// another executable's, or the executable cannot be identified).
-    pub fn load(path: &Path, format: Format) -> Self {
+    /// The memo of the output folder `out` for the running executable (empty when there
+    /// is none, it is another executable's, or the executable cannot be identified).
+    pub fn load(out: &Path) -> Self {
         let identity = executable_identity();
         if identity.is_empty() {
-            return Self::new(format, "");
+            return Self::new("");
         }
-        match std::fs::read(path) {
-            Ok(bytes) => Self::decode(&bytes, format, &identity),
-            Err(_) => Self::new(format, &identity),
+        match std::fs::read(out.join(K::PATH)) {
+            Ok(bytes) => Self::decode(&bytes, &identity),
+            Err(_) => Self::new(&identity),
         }
     }
 
-    /// Write the memo to `path` when it grew, atomically but without waiting for the disk
-    /// (see the module doc).
-    pub fn save(&self, path: &Path) -> Result<()> {
+    /// Write the memo under `out` when it grew, atomically but without waiting for the
+    /// disk (see the module doc).
+    pub fn save(&self, out: &Path) -> Result<()> {
         // Without an identity no later run could tell this memo is its own.
         if self.identity.is_empty() || !self.grew() {
             return Ok(());
         }
-        crate::output::write_atomic_unflushed(path, &self.encode())
+        crate::output::write_atomic_unflushed(&out.join(K::PATH), &self.encode())
     }
 
-    /// [`Memo::save`], a failure reported as a warning naming `what` was not remembered:
-    /// the outputs are written already, and the next command computes them itself.
-    pub fn save_or_warn(&self, path: &Path, what: &str) {
-        if let Err(error) = self.save(path) {
-            eprintln!("warning: the {what} were not remembered: {error:#}");
+    /// [`Memo::save`], a failure reported as a warning: the outputs are written already,
+    /// and the next command computes what was not remembered.
+    pub fn save_or_warn(&self, out: &Path) {
+        if let Err(error) = self.save(out) {
+            eprintln!("warning: the {} were not remembered: {error:#}", K::RECORDS);
         }
     }
 }
@@ -275,10 +298,26 @@ impl<'a> Reader<'a> {
 mod tests {
     use super::*;
 
-    const PAIRS: Format = Format { magic: b"nklut test pairs 1\n", unit: 2 };
+    #[derive(Debug)]
+    struct Pairs;
+    impl Kind for Pairs {
+        const MAGIC: &'static [u8] = b"nklut test pairs 1\n";
+        const UNIT: usize = 2;
+        const PATH: &'static str = ".cache/test-pairs.bin";
+        const RECORDS: &'static str = "test pairs";
+    }
 
-    fn memo_of(identity: &str, records: &[(Key, Vec<u64>)]) -> Memo {
-        let memo = Memo::new(PAIRS, identity).recording();
+    #[derive(Debug)]
+    struct Other;
+    impl Kind for Other {
+        const MAGIC: &'static [u8] = b"nklut test other 1\n";
+        const UNIT: usize = 2;
+        const PATH: &'static str = ".cache/test-other.bin";
+        const RECORDS: &'static str = "test others";
+    }
+
+    fn memo_of(identity: &str, records: &[(Key, Vec<u64>)]) -> Memo<Pairs> {
+        let memo = Memo::new(identity).recording();
         for (key, words) in records {
             memo.record(*key, words.iter().copied());
         }
@@ -289,12 +328,13 @@ mod tests {
     fn records_come_back_by_key_with_their_length_checked() {
         let memo = memo_of("nklut 1", &[([1, 2, 3, 4], vec![5, 6, 7, 8]), ([0; 4], vec![])]);
         assert!(memo.grew());
-        let read = Memo::decode(&memo.encode(), PAIRS, "nklut 1");
+        let read = Memo::<Pairs>::decode(&memo.encode(), "nklut 1");
         assert_eq!(read.len(), 2);
         assert_eq!(read.get(&[1, 2, 3, 4], 2), Some(&[5, 6, 7, 8][..]));
         assert_eq!(read.get(&[1, 2, 3, 4], 1), None, "another length is a miss");
         assert_eq!(read.get(&[0; 4], 0), Some(&[][..]));
         assert_eq!(read.get(&[1, 2, 3, 5], 2), None);
+        assert_eq!(read.asked(), 4, "every lookup counted, found or not");
         // A memo that only reads keeps nothing it computes.
         read.record([9; 4], [1, 2]);
         assert!(!read.grew());
@@ -304,29 +344,29 @@ mod tests {
     #[test]
     fn another_executable_another_format_or_damaged_bytes_read_as_empty() {
         let bytes = memo_of("nklut 1", &[([1, 2, 3, 4], vec![5, 6, 7, 8])]).encode();
-        assert_eq!(Memo::decode(&bytes, PAIRS, "nklut 1").len(), 1);
-        assert!(Memo::decode(&bytes, PAIRS, "nklut 2").is_empty());
-        assert!(Memo::decode(&bytes, Format { magic: b"nklut test other 1\n", unit: 2 }, "nklut 1").is_empty());
+        assert_eq!(Memo::<Pairs>::decode(&bytes, "nklut 1").len(), 1);
+        assert!(Memo::<Pairs>::decode(&bytes, "nklut 2").is_empty());
+        assert!(Memo::<Other>::decode(&bytes, "nklut 1").is_empty());
         // Every truncation and a trailing byte: empty, never a panic.
         for cut in 0..bytes.len() {
-            assert!(Memo::decode(&bytes[..cut], PAIRS, "nklut 1").is_empty(), "cut at {cut}");
+            assert!(Memo::<Pairs>::decode(&bytes[..cut], "nklut 1").is_empty(), "cut at {cut}");
         }
         let mut longer = bytes.clone();
         longer.push(0);
-        assert!(Memo::decode(&longer, PAIRS, "nklut 1").is_empty());
+        assert!(Memo::<Pairs>::decode(&longer, "nklut 1").is_empty());
         // Any one byte changed (a value torn by a power cut, say).
         for at in 0..bytes.len() {
             let mut flipped = bytes.clone();
             flipped[at] ^= 0x10;
-            assert!(Memo::decode(&flipped, PAIRS, "nklut 1").is_empty(), "byte {at} changed");
+            assert!(Memo::<Pairs>::decode(&flipped, "nklut 1").is_empty(), "byte {at} changed");
         }
         // A count that claims more than the file holds.
         let mut huge = bytes[..bytes.len() - 8].to_vec();
-        let at = PAIRS.magic.len() + 8 + "nklut 1".len();
+        let at = Pairs::MAGIC.len() + 8 + "nklut 1".len();
         huge[at..at + 8].copy_from_slice(&u64::MAX.to_le_bytes());
         let check = checksum(&huge);
         huge.extend_from_slice(&check);
-        assert!(Memo::decode(&huge, PAIRS, "nklut 1").is_empty());
+        assert!(Memo::<Pairs>::decode(&huge, "nklut 1").is_empty());
     }
 
     #[test]

@@ -11,19 +11,14 @@
 //! The file is `<out>/.cache/spectral-curves.bin` in the layout of [`crate::memo`]: per
 //! curve, the spectrum's and the cosines' fingerprints and the RGB triples.
 
-use std::path::{Path, PathBuf};
-
 use super::spectral::PreparedSpectrum;
-use crate::memo::{Format, Key, Memo};
+use crate::memo::{Key, Kind, Memo};
 use crate::spectrum::Index;
 
 pub use crate::memo::Fingerprint;
 
 /// Where the memo lives under an output folder.
 pub const MEMO_PATH: &str = ".cache/spectral-curves.bin";
-
-/// A curve's value: RGB triples.
-const FORMAT: Format = Format { magic: b"nklut spectral curves 1\n", unit: 3 };
 
 impl Fingerprint {
     /// Of a spectrum sampled on the 1 nm grid (`sample_spectrum`).
@@ -36,30 +31,23 @@ impl Fingerprint {
     }
 }
 
+/// The spectral curves: a value is RGB triples.
+#[derive(Debug)]
+pub struct SpectralCurves;
+
+impl Kind for SpectralCurves {
+    const MAGIC: &'static [u8] = b"nklut spectral curves 1\n";
+    const UNIT: usize = 3;
+    const PATH: &'static str = MEMO_PATH;
+    const RECORDS: &'static str = "spectral curves";
+}
+
 /// The remembered curves of one executable, looked up by spectrum and cosines; when it
 /// records (`colors`), the ones computed since they were read. A memo that only reads
 /// (`params`, `bake`) keeps nothing it computes.
-#[derive(Debug)]
-pub struct CurveMemo(Memo);
+pub type CurveMemo = Memo<SpectralCurves>;
 
-impl Default for CurveMemo {
-    /// A memo that holds nothing and is never written.
-    fn default() -> Self {
-        Self(Memo::new(FORMAT, ""))
-    }
-}
-
-impl CurveMemo {
-    /// An empty memo for the executable named by `identity`.
-    pub fn new(identity: &str) -> Self {
-        Self(Memo::new(FORMAT, identity))
-    }
-
-    /// This memo, keeping the curves it computes for [`CurveMemo::encode`].
-    pub fn recording(self) -> Self {
-        Self(self.0.recording())
-    }
-
+impl Memo<SpectralCurves> {
     /// `spectrum.curve(cosines)` (the spectrum sampled as `sampled`), from the memo
     /// when it holds it, else computed (and kept, when recording). No cosines, no curve.
     pub fn curve(&self, sampled: Fingerprint, spectrum: &PreparedSpectrum, cosines: &[f64]) -> Vec<[f64; 3]> {
@@ -68,46 +56,13 @@ impl CurveMemo {
         }
         let at = Fingerprint::of_cosines(cosines);
         let key: Key = [sampled.0[0], sampled.0[1], at.0[0], at.0[1]];
-        if let Some(words) = self.0.get(&key, cosines.len()) {
+        if let Some(words) = self.get(&key, cosines.len()) {
             return words.chunks_exact(3).map(|rgb| [0, 1, 2].map(|c| f64::from_bits(rgb[c]))).collect();
         }
         let curve = spectrum.curve(cosines);
-        self.0.record(key, curve.iter().flatten().map(|v| v.to_bits()));
+        self.record(key, curve.iter().flatten().map(|v| v.to_bits()));
         curve
     }
-
-    /// Whether curves were recorded that the memo did not hold.
-    pub fn grew(&self) -> bool {
-        self.0.grew()
-    }
-
-    /// The memo's bytes: every curve it held and every one recorded since, in key order
-    /// (the same curves give the same bytes).
-    pub fn encode(&self) -> Vec<u8> {
-        self.0.encode()
-    }
-
-    /// The memo in `bytes` if it was written by the executable named `identity`; an empty
-    /// one for any other executable, a damaged file or one of another format.
-    pub fn decode(bytes: &[u8], identity: &str) -> Self {
-        Self(Memo::decode(bytes, FORMAT, identity))
-    }
-
-    /// The memo of the output folder `out` for the running executable (empty when there
-    /// is none, it is another executable's, or the executable cannot be identified).
-    pub fn load(out: &Path) -> Self {
-        Self(Memo::load(&memo_path(out), FORMAT))
-    }
-
-    /// [`Memo::save`] under `out`, a failure reported as a warning: the outputs are
-    /// written already, and the next command computes its curves itself.
-    pub fn save_or_warn(&self, out: &Path) {
-        self.0.save_or_warn(&memo_path(out), "spectral curves");
-    }
-}
-
-fn memo_path(out: &Path) -> PathBuf {
-    out.join(MEMO_PATH)
 }
 
 #[cfg(test)]
@@ -165,8 +120,8 @@ mod tests {
         let memo = CurveMemo::new("nklut 1").recording();
         memo.curve(Fingerprint::of_spectrum(&sampled), &PreparedSpectrum::new(&sampled), &cosines);
         let bytes = memo.encode();
-        assert_eq!(CurveMemo::decode(&bytes, "nklut 1").0.len(), 1);
-        assert!(CurveMemo::decode(&bytes, "nklut 2").0.is_empty());
+        assert_eq!(CurveMemo::decode(&bytes, "nklut 1").len(), 1);
+        assert!(CurveMemo::decode(&bytes, "nklut 2").is_empty());
     }
 
     #[test]

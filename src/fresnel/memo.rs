@@ -5,84 +5,48 @@
 //! draws the `nvidia` curve of every page, reads them instead of fitting again. A fit read
 //! back has the bits of the one made.
 
-use std::path::{Path, PathBuf};
-
 use super::nvidia::{fit_nvidia, NvidiaFit};
 use super::{sanitise, Prepared};
-use crate::memo::{Format, Key, Memo};
+use crate::memo::{Key, Kind, Memo};
 use crate::spectrum::Index;
 
 /// Where the memo lives under an output folder.
 pub const MEMO_PATH: &str = ".cache/nvidia-fits.bin";
 
-/// A value is one fit: bias, scale, power and the RMS residual.
-const FORMAT: Format = Format { magic: b"nklut nvidia fits 1\n", unit: 4 };
+/// The `nvidia` fits: a value is one fit, its bias, scale, power and RMS residual.
+#[derive(Debug)]
+pub struct NvidiaFits;
+
+impl Kind for NvidiaFits {
+    const MAGIC: &'static [u8] = b"nklut nvidia fits 1\n";
+    const UNIT: usize = 4;
+    const PATH: &'static str = MEMO_PATH;
+    const RECORDS: &'static str = "nvidia fits";
+}
 
 /// The remembered fits of one executable; when recording, the ones made since they were
 /// read.
-#[derive(Debug)]
-pub struct FitMemo(Memo);
+pub type FitMemo = Memo<NvidiaFits>;
 
-impl Default for FitMemo {
-    /// A memo that holds nothing and is never written: every fit is made.
-    fn default() -> Self {
-        Self(Memo::new(FORMAT, ""))
-    }
-}
-
-impl FitMemo {
-    /// An empty memo for the executable named by `identity`.
-    pub fn new(identity: &str) -> Self {
-        Self(Memo::new(FORMAT, identity))
-    }
-
-    /// This memo, keeping the fits it makes for [`FitMemo::encode`].
-    pub fn recording(self) -> Self {
-        Self(self.0.recording())
-    }
-
+impl Memo<NvidiaFits> {
     /// [`Prepared::new`] of `index`, its `nvidia` fit from the memo when it holds it,
     /// else fitted (and kept, when recording).
     pub fn prepared(&self, index: Index) -> Prepared {
         let key = key(sanitise(index));
         Prepared::with_nvidia_fit(index, |exact| {
-            if let Some(words) = self.0.get(&key, 1) {
+            if let Some(words) = self.get(&key, 1) {
                 return decode(words);
             }
             let fit = fit_nvidia(exact);
-            self.0.record(key, encode(&fit));
+            self.record(key, encode(&fit));
             fit
         })
     }
 
     /// Fits made and recorded since the memo was read (0 when it does not record).
     pub fn fitted(&self) -> usize {
-        self.0.recorded()
+        self.recorded()
     }
-
-    pub fn encode(&self) -> Vec<u8> {
-        self.0.encode()
-    }
-
-    /// The memo in `bytes` if it was written by the executable named `identity`; an empty
-    /// one otherwise (see [`Memo::decode`]).
-    pub fn decode(bytes: &[u8], identity: &str) -> Self {
-        Self(Memo::decode(bytes, FORMAT, identity))
-    }
-
-    /// The memo of the output folder `out` for the running executable.
-    pub fn load(out: &Path) -> Self {
-        Self(Memo::load(&memo_path(out), FORMAT))
-    }
-
-    /// [`Memo::save`] under `out`, a failure reported as a warning.
-    pub fn save_or_warn(&self, out: &Path) {
-        self.0.save_or_warn(&memo_path(out), "nvidia fits");
-    }
-}
-
-fn memo_path(out: &Path) -> PathBuf {
-    out.join(MEMO_PATH)
 }
 
 /// The sanitised index's bits.

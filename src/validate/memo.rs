@@ -6,20 +6,15 @@
 //! figures have the bits of a measurement. With them is remembered the time their
 //! measurement took, which the `seconds` column of a remembered row reports.
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::quadrature::{Figures, Integral};
 use super::{Strategy, Variant};
 use crate::fresnel::{Encoding, Method, PerPrecision};
-use crate::memo::{Fingerprint, Format, Key, Memo};
+use crate::memo::{Fingerprint, Key, Kind, Memo};
 use crate::spectrum::Index;
 
 /// Where the memo lives under an output folder.
 pub const MEMO_PATH: &str = ".cache/error-integrals.bin";
-
-/// A value is one word of seconds, then [`MEMBER_WORDS`] per member.
-const FORMAT: Format = Format { magic: b"nklut error integrals 1\n", unit: 1 };
 
 /// Per precision: whether there is a mean relative error, its bits, the maximum's and
 /// the RMS's; then the excluded samples and the evaluations.
@@ -33,84 +28,39 @@ pub struct FamilyMeasurement {
     pub seconds: f64,
 }
 
+/// The error integrals: a value is one word of seconds, then [`MEMBER_WORDS`] per member.
+#[derive(Debug)]
+pub struct ErrorIntegrals;
+
+impl Kind for ErrorIntegrals {
+    const MAGIC: &'static [u8] = b"nklut error integrals 1\n";
+    const UNIT: usize = 1;
+    const PATH: &'static str = MEMO_PATH;
+    const RECORDS: &'static str = "error integrals";
+}
+
 /// The remembered integrals of one executable; when recording, the ones measured since
 /// they were read.
-#[derive(Debug)]
-pub struct IntegralMemo {
-    memo: Memo,
-    /// Families looked up.
-    asked: AtomicUsize,
-}
+pub type IntegralMemo = Memo<ErrorIntegrals>;
 
-impl Default for IntegralMemo {
-    /// A memo that holds nothing and is never written: every family is measured.
-    fn default() -> Self {
-        Self::of(Memo::new(FORMAT, ""))
-    }
-}
-
-impl IntegralMemo {
-    /// An empty memo for the executable named by `identity`.
-    pub fn new(identity: &str) -> Self {
-        Self::of(Memo::new(FORMAT, identity))
-    }
-
-    fn of(memo: Memo) -> Self {
-        Self { memo, asked: AtomicUsize::new(0) }
-    }
-
-    /// This memo, keeping what it measures for [`IntegralMemo::encode`].
-    pub fn recording(self) -> Self {
-        Self::of(self.memo.recording())
-    }
-
+impl Memo<ErrorIntegrals> {
     /// The family `members` on `index` with `strategy`, from the memo when it holds it,
     /// else from `measure` (and kept, when recording).
     pub fn family(&self, index: Index, members: &[Variant], strategy: Strategy, measure: impl FnOnce() -> FamilyMeasurement) -> FamilyMeasurement {
-        self.asked.fetch_add(1, Ordering::Relaxed);
         let key = key(index, members, strategy);
-        if let Some(remembered) = self.memo.get(&key, 1 + MEMBER_WORDS * members.len()).map(decode) {
+        if let Some(remembered) = self.get(&key, 1 + MEMBER_WORDS * members.len()).map(decode) {
             return remembered;
         }
         let measured = measure();
-        self.memo.record(key, encode(&measured));
+        self.record(key, encode(&measured));
         measured
     }
 
     /// Families measured and recorded since the memo was read (0 when it does not
     /// record).
     pub fn measured(&self) -> usize {
-        self.memo.recorded()
+        self.recorded()
     }
-
-    /// Families looked up, remembered or measured.
-    pub fn asked(&self) -> usize {
-        self.asked.load(Ordering::Relaxed)
-    }
-
-    pub fn encode(&self) -> Vec<u8> {
-        self.memo.encode()
-    }
-
-    /// The memo in `bytes` if it was written by the executable named `identity`; an empty
-    /// one otherwise (see [`Memo::decode`]).
-    pub fn decode(bytes: &[u8], identity: &str) -> Self {
-        Self::of(Memo::decode(bytes, FORMAT, identity))
-    }
-
-    /// The memo of the output folder `out` for the running executable.
-    pub fn load(out: &Path) -> Self {
-        Self::of(Memo::load(&memo_path(out), FORMAT))
-    }
-
-    /// [`Memo::save`] under `out`, a failure reported as a warning.
-    pub fn save_or_warn(&self, out: &Path) {
-        self.memo.save_or_warn(&memo_path(out), "error integrals");
-    }
-}
-
-fn memo_path(out: &Path) -> PathBuf {
-    out.join(MEMO_PATH)
 }
 
 /// The index's bits, and a fingerprint of the strategy and the members in order.
