@@ -161,6 +161,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("  wrote {}", path.display());
             }
             result.check_strict()?;
+            exiting_with(result);
         }
         Command::Report { pages } => {
             let written = nklut::report::command(&db, &cli.paths.out, &pages.selection())?;
@@ -255,6 +256,14 @@ fn limit_malloc_arenas() {
 
 #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
 fn limit_malloc_arenas() {}
+
+/// Let go of `value` without handing its memory back: the process ends after this
+/// command, and the operating system takes the memory back whole, where freeing a
+/// database's pages one allocation at a time is milliseconds of work after the outputs
+/// are written.
+fn exiting_with<T>(value: T) {
+    std::mem::forget(value);
+}
 
 fn main() -> ExitCode {
     limit_malloc_arenas();
