@@ -30,8 +30,8 @@ pub use approx::{
     LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms, LANES};
-pub use memo::FitMemo;
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
+pub use memo::FitMemo;
 pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use real::Real;
 
