@@ -13,7 +13,7 @@
 //! except the two that are measured warm: `validate --all` and `make luts ALL=1` again
 //! into a folder where they ran before (once before the rounds, not counted), so that
 //! they read what the earlier run remembered (`.cache/`: the spectral curves, the error
-//! integrals).
+//! integrals, the `nvidia` fits).
 //!
 //! Targets (BENCHMARKS.md): ingest ≥ 20× the peer and ≤ 100 MB; validate ≤ 2 s and
 //! ≤ 300 MB; colors ≤ 1 s; params ≤ 2 s; `make luts ALL=1` ≤ 5 s.

@@ -19,6 +19,7 @@ use nklut::bake::{BakeRequest, Source};
 use nklut::color::memo::MEMO_PATH;
 use nklut::fresnel::Method;
 use nklut::ingest::{Config, Selection};
+use nklut::memo::Kind;
 use nklut::validate::{Strategy, ValidateRequest};
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/glass/BK7", "3d/liquids/water"];
@@ -87,27 +88,9 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
     assert_ne!(table(&halved), table(&fresh));
 }
 
-/// The memo's bytes with every curve value halved and the checksum made again (the
-/// layout of `color::memo`: magic line, identity, count, then per curve two 16-byte
-/// fingerprints, the point count and the RGB triples; last, SipHash-1-3 of the rest).
+/// The memo's bytes with every curve value (the RGB triples) halved.
 fn halve_every_curve(memo: &[u8]) -> Vec<u8> {
-    let mut bytes = memo[..memo.len() - 8].to_vec();
-    let mut at = b"nklut spectral curves 1\n".len();
-    at += 8 + word_at(&bytes, at);
-    let count = word_at(&bytes, at);
-    at += 8;
-    for _ in 0..count {
-        at += 32;
-        let values = 3 * word_at(&bytes, at);
-        at += 8;
-        for _ in 0..values {
-            let value = f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
-            bytes[at..at + 8].copy_from_slice(&(0.5 * value).to_le_bytes());
-            at += 8;
-        }
-    }
-    assert_eq!(at, bytes.len());
-    with_checksum(bytes)
+    halve_values::<nklut::color::memo::SpectralCurves>(memo, |_| true)
 }
 
 #[test]
@@ -218,22 +201,35 @@ fn the_report_draws_the_nvidia_fits_validate_kept_with_the_same_bytes() {
     assert_ne!(report(&fresh), with_fits);
 }
 
-/// The fit memo's bytes with every fit's scale halved and the checksum made again (the
-/// layout of `fresnel::memo`: magic line, identity, count, then per fit a 32-byte key, the
-/// unit count and bias, scale, power, RMS residual; last, SipHash-1-3 of the rest).
+/// The fit memo's bytes with every fit's scale halved (a fit is bias, scale, power, RMS
+/// residual).
 fn halve_every_scale(memo: &[u8]) -> Vec<u8> {
+    halve_values::<nklut::fresnel::memo::NvidiaFits>(memo, |word| word % 4 == 1)
+}
+
+/// A memo file of kind `K` with the value words that `chosen` picks (by their place in the
+/// record's value) halved as f64, and the checksum made again. The layout of
+/// `nklut::memo`: the magic line, the identity's length and bytes, the record count, then
+/// per record a 32-byte key, the value's length in units of `K::UNIT` words and the
+/// words; last, SipHash-1-3 of the rest.
+fn halve_values<K: Kind>(memo: &[u8], chosen: impl Fn(usize) -> bool) -> Vec<u8> {
     let mut bytes = memo[..memo.len() - 8].to_vec();
-    let mut at = b"nklut nvidia fits 1\n".len();
+    assert!(bytes.starts_with(K::MAGIC));
+    let mut at = K::MAGIC.len();
     at += 8 + word_at(&bytes, at);
     let count = word_at(&bytes, at);
     at += 8;
     for _ in 0..count {
         at += 32;
-        assert_eq!(word_at(&bytes, at), 1, "one fit per key");
-        let scale = at + 16;
-        let value = f64::from_le_bytes(bytes[scale..scale + 8].try_into().unwrap());
-        bytes[scale..scale + 8].copy_from_slice(&(0.5 * value).to_le_bytes());
-        at += 8 + 32;
+        let words = K::UNIT * word_at(&bytes, at);
+        at += 8;
+        for word in 0..words {
+            if chosen(word) {
+                let value = f64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+                bytes[at..at + 8].copy_from_slice(&(0.5 * value).to_le_bytes());
+            }
+            at += 8;
+        }
     }
     assert_eq!(at, bytes.len());
     with_checksum(bytes)

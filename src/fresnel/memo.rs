@@ -42,11 +42,6 @@ impl Memo<NvidiaFits> {
             fit
         })
     }
-
-    /// Fits made and recorded since the memo was read (0 when it does not record).
-    pub fn fitted(&self) -> usize {
-        self.recorded()
-    }
 }
 
 /// The sanitised index's bits.
@@ -79,7 +74,7 @@ mod tests {
         for index in indices {
             assert_eq!(memo.prepared(index), Prepared::new(index));
         }
-        assert_eq!(memo.fitted(), 4);
+        assert_eq!(memo.recorded(), 4);
         let read = FitMemo::decode(&memo.encode(), "this executable");
         for index in indices {
             let remembered = read.prepared(index);
@@ -92,7 +87,7 @@ mod tests {
         for index in indices {
             again.prepared(index);
         }
-        assert_eq!(again.fitted(), 0);
+        assert_eq!(again.recorded(), 0);
     }
 
     #[test]
@@ -101,7 +96,7 @@ mod tests {
         memo.prepared(Index::new(0.17, 3.75));
         let other = FitMemo::decode(&memo.encode(), "another executable").recording();
         other.prepared(Index::new(0.17, 3.75));
-        assert_eq!(other.fitted(), 1);
+        assert_eq!(other.recorded(), 1);
     }
 
     #[test]
@@ -112,8 +107,8 @@ mod tests {
         memo.prepared(Index::new(1.4, -0.5));
         let read = FitMemo::decode(&memo.encode(), "this executable").recording();
         assert_eq!(read.prepared(Index::new(1.4, 0.0)), Prepared::new(Index::new(1.4, 0.0)));
-        assert_eq!(read.fitted(), 0);
+        assert_eq!(read.recorded(), 0);
         read.prepared(Index::new(f64::from_bits(1.4f64.to_bits() + 1), 0.0));
-        assert_eq!(read.fitted(), 1);
+        assert_eq!(read.recorded(), 1);
     }
 }

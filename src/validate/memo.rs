@@ -6,7 +6,6 @@
 //! figures have the bits of a measurement. With them is remembered the time their
 //! measurement took, which the `seconds` column of a remembered row reports.
 
-
 use super::quadrature::{Figures, Integral};
 use super::{Strategy, Variant};
 use crate::fresnel::{Encoding, Method, PerPrecision};
