@@ -289,6 +289,18 @@ impl Values {
         }
     }
 
+    /// Whether rows `a` and `b` hold the same value, so that their cells are the same text
+    /// (floats compared bit for bit; shared text by its one stored copy).
+    fn same(&self, a: usize, b: usize) -> bool {
+        match self {
+            Values::Text(v) => v[a] == v[b],
+            Values::SharedText(v) => Arc::ptr_eq(&v[a], &v[b]),
+            Values::Float(v) => v[a].map(f64::to_bits) == v[b].map(f64::to_bits),
+            Values::Integer(v) => v[a] == v[b],
+            Values::Boolean(v) => v[a] == v[b],
+        }
+    }
+
     /// Append the CSV text of a cell (floats as [`format_float`]; empty for `None`).
     fn write_cell(&self, row: usize, out: &mut String) {
         use std::fmt::Write as _;
@@ -538,12 +550,16 @@ impl Table {
         if header {
             writer.write_record(self.columns.iter().map(|c| c.name.as_str()))?;
         }
-        let mut cell = String::new();
-        for row in rows {
-            for column in &self.columns {
-                cell.clear();
-                column.values.write_cell(row, &mut cell);
-                writer.write_field(&cell)?;
+        // Each column's cell of the previous row, formatted again only when the value changes
+        // (down a column, values repeat: the page, the channel's index, the method).
+        let mut cells = vec![String::new(); self.columns.len()];
+        for row in rows.clone() {
+            for (column, cell) in self.columns.iter().zip(&mut cells) {
+                if row == rows.start || !column.values.same(row - 1, row) {
+                    cell.clear();
+                    column.values.write_cell(row, cell);
+                }
+                writer.write_field(&*cell)?;
             }
             writer.write_record(None::<&[u8]>)?;
         }
@@ -682,6 +698,24 @@ mod tests {
     fn csv_quotes_and_leaves_missing_floats_empty() {
         let text = String::from_utf8(sample().to_csv().unwrap()).unwrap();
         assert_eq!(text, "page,n,count,flag\nmain/Au/Johnson,0.25,3,true\n\"a,b\",,-1,false\n");
+    }
+
+    /// A cell that repeats the one above it is the same text, and a value that only looks
+    /// like its neighbour (−0 after 0, a missing float after an empty text, equal text in
+    /// another copy) is written as itself; a block that starts below a repeat writes it.
+    #[test]
+    fn csv_writes_every_cell_as_its_own_value() {
+        let mut table = Table::new();
+        let shared: Arc<str> = Arc::from("x");
+        table
+            .optional_float("f", "", vec![Some(0.0), Some(0.0), Some(-0.0), Some(-0.0), None, None, Some(0.1), Some(f64::NAN)])
+            .shared_text("s", "", vec![shared.clone(), shared.clone(), Arc::from("x"), Arc::from(""), Arc::from(""), shared.clone(), shared, Arc::from("y")])
+            .integer("i", "", vec![1, 1, 1, 2, 2, 2, 1, 1])
+            .boolean("b", "", vec![true, true, false, false, true, true, true, false]);
+        let text = String::from_utf8(table.to_csv().unwrap()).unwrap();
+        assert_eq!(text, "f,s,i,b\n0,x,1,true\n0,x,1,true\n-0,x,1,false\n-0,,2,false\n,,2,true\n,x,2,true\n0.1,x,1,true\nNaN,y,1,false\n");
+        let block = String::from_utf8(table.csv_records(3..5, false).unwrap()).unwrap();
+        assert_eq!(block, "-0,,2,false\n,,2,true\n");
     }
 
     #[test]

@@ -411,29 +411,15 @@ pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], cha
     let nm = channels.nanometres();
     // Every text column repeats its values down the rows: each distinct value is stored once.
     let mut shared = SharedText::default();
-    // Neighbouring rows mostly repeat a value (the rows of one measurement, one page):
-    // compared with the previous row's before it is looked up.
-    let mut text = |value: &dyn Fn(&ErrorRow<'a>) -> Cow<'a, str>| -> Vec<Arc<str>> {
-        let mut previous: Option<Arc<str>> = None;
-        rows.iter()
-            .map(|r| {
-                let v = value(r);
-                let same = previous.as_ref().filter(|p| ***p == *v).cloned();
-                let arc = same.unwrap_or_else(|| shared.get(&v));
-                previous = Some(arc.clone());
-                arc
-            })
-            .collect()
-    };
-    let page = text(&|r| r.page.into());
-    let kind = text(&|r| specimens[r.measurement.specimen].kind.as_str().into());
-    let method = text(&|r| r.measurement.variant.method.name().into());
-    let variant = text(&|r| r.measurement.variant.name(r.precision).into());
-    let precision = text(&|r| r.precision.name().into());
-    let encoding = text(&|r| r.measurement.variant.lut.map_or("", |s| s.encoding.name()).into());
-    let channel = text(&|r| CHANNEL_NAMES[r.measurement.channel].into());
-    let fallback = text(&|r| r.measurement.fallback.map_or("", |f| f.name()).into());
-    let strategy_name = text(&|_| strategy.name().into());
+    let page = text_column(rows, &mut shared, |r| r.page, |r| r.page.into());
+    let kind = text_column(rows, &mut shared, |r| r.measurement.specimen, |r| specimens[r.measurement.specimen].kind.as_str().into());
+    let method = text_column(rows, &mut shared, |r| r.measurement.variant.method, |r| r.measurement.variant.method.name().into());
+    let variant = text_column(rows, &mut shared, |r| (r.measurement.variant, r.precision), |r| r.measurement.variant.name(r.precision).into());
+    let precision = text_column(rows, &mut shared, |r| r.precision, |r| r.precision.name().into());
+    let encoding = text_column(rows, &mut shared, |r| r.measurement.variant.lut, |r| r.measurement.variant.lut.map_or("", |s| s.encoding.name()).into());
+    let channel = text_column(rows, &mut shared, |r| r.measurement.channel, |r| CHANNEL_NAMES[r.measurement.channel].into());
+    let fallback = text_column(rows, &mut shared, |r| r.measurement.fallback, |r| r.measurement.fallback.map_or("", |f| f.name()).into());
+    let strategy_name = text_column(rows, &mut shared, |_| (), |_| strategy.name().into());
     let mut table = Table::new();
     table
         .shared_text("page", "page id shelf/book/page (or nk:... for --nk)", page)
@@ -476,6 +462,31 @@ pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], cha
     table
 }
 
+/// A text column of `rows` whose value is `text` of a row, a function of its `key`.
+/// Neighbouring rows mostly share a key or alternate between two (the f64 and f32 rows of
+/// one measurement, the rows of one page), so the text is made and looked up in `shared`
+/// only for a key other than the last two.
+fn text_column<'a, K: PartialEq>(
+    rows: &[ErrorRow<'a>],
+    shared: &mut SharedText,
+    key: impl Fn(&ErrorRow<'a>) -> K,
+    text: impl Fn(&ErrorRow<'a>) -> Cow<'a, str>,
+) -> Vec<Arc<str>> {
+    let mut recent: [Option<(K, Arc<str>)>; 2] = [None, None];
+    rows.iter()
+        .map(|r| {
+            let k = key(r);
+            if let Some((_, value)) = recent.iter().flatten().find(|(p, _)| *p == k) {
+                return value.clone();
+            }
+            let value = shared.get(&text(r));
+            recent.rotate_right(1);
+            recent[0] = Some((k, value.clone()));
+            value
+        })
+        .collect()
+}
+
 /// Measured CPU cost of one evaluation (ns), from `cargo bench --bench fresnel` (criterion,
 /// batch of 10⁶ cosines, one core; BENCHMARKS.md records the run these come from).
 /// `lut` is the same for every N and encoding on the CPU.
@@ -503,16 +514,56 @@ pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {
 /// Material figure (SPEC §6): mean over the three channels of
 /// `mean_rel_error`, per specimen, variant and precision; `None` where a channel has none.
 pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, Precision, usize), Option<f64>> {
-    let mut per: BTreeMap<(Variant, Precision, usize), Vec<Option<f64>>> = BTreeMap::new();
+    // One slot per key, numbered in the map's key order: variant (by rank), precision,
+    // specimen; each slot's channel figures kept in the order of the measurements.
+    let mut variants: Vec<Variant> = Vec::new();
     for m in measurements {
-        for precision in Precision::ALL {
-            per.entry((m.variant, precision, m.specimen)).or_default().push(m.integral.figures[precision].mean_rel_error);
+        if variants.last() != Some(&m.variant) {
+            variants.push(m.variant);
         }
     }
-    per.into_iter()
-        .map(|(key, values)| {
-            let all: Option<Vec<f64>> = values.into_iter().collect();
-            (key, all.map(|v| v.iter().sum::<f64>() / v.len() as f64))
+    variants.sort_unstable();
+    variants.dedup();
+    let specimens = measurements.iter().map(|m| m.specimen + 1).max().unwrap_or(0);
+    let mut rank = 0;
+    let first_slots: Vec<usize> = measurements
+        .iter()
+        .map(|m| {
+            if variants[rank] != m.variant {
+                rank = variants.binary_search(&m.variant).unwrap_or_default();
+            }
+            rank * Precision::ALL.len() * specimens + m.specimen
+        })
+        .collect();
+    let slot = |first: usize, p: usize| first + p * specimens;
+    let slots = variants.len() * Precision::ALL.len() * specimens;
+    // Slot s's figures are figures[start[s]..start[s + 1]].
+    let mut start = vec![0usize; slots + 1];
+    for &first in &first_slots {
+        for p in 0..Precision::ALL.len() {
+            start[slot(first, p) + 1] += 1;
+        }
+    }
+    for s in 0..slots {
+        start[s + 1] += start[s];
+    }
+    let mut filled = start.clone();
+    let mut figures = vec![None; start[slots]];
+    for (m, &first) in measurements.iter().zip(&first_slots) {
+        for (p, precision) in Precision::ALL.into_iter().enumerate() {
+            let s = slot(first, p);
+            figures[filled[s]] = m.integral.figures[precision].mean_rel_error;
+            filled[s] += 1;
+        }
+    }
+    (0..slots)
+        .filter(|&s| start[s + 1] > start[s])
+        .map(|s| {
+            let values = &figures[start[s]..start[s + 1]];
+            let (p, specimen) = (s / specimens % Precision::ALL.len(), s % specimens);
+            let key = (variants[s / specimens / Precision::ALL.len()], Precision::ALL[p], specimen);
+            let mean = values.iter().all(Option::is_some).then(|| values.iter().flatten().sum::<f64>() / values.len() as f64);
+            (key, mean)
         })
         .collect()
 }
@@ -735,7 +786,7 @@ fn summary_text(
 
 #[cfg(test)]
 mod tests {
-    use super::quadrature::BRUTE_FORCE_SAMPLES;
+    use super::quadrature::{Figures, BRUTE_FORCE_SAMPLES};
     use super::*;
 
     /// 20 real pages: metals (gold, platinum, silver, aluminium, copper, sodium, mercury),
@@ -929,5 +980,55 @@ mod tests {
         assert_eq!(integral.figures.f64.mean_rel_error, None);
         assert_eq!(integral.excluded_samples, integral.evaluations);
         assert!((integral.figures.f64.max_abs_error - 1.0).abs() < 1e-12); // schlick reaches 1 at grazing
+    }
+
+    /// The material figure is the mean of a specimen's three channel figures per variant
+    /// and precision, whatever order the measurements come in; a channel without a
+    /// figure leaves the material without one.
+    #[test]
+    fn material_figures_are_channel_means_in_any_order() {
+        let figures = |f64: Option<f64>, f32: Option<f64>| {
+            let of = |mean_rel_error| Figures { mean_rel_error, max_abs_error: 0.0, rms_abs_error: 0.0 };
+            PerPrecision { f64: of(f64), f32: of(f32) }
+        };
+        let schlick = Variant { method: Method::Schlick, lut: None };
+        let lut = Variant { method: Method::Lut, lut: Some(LutSpec::default()) };
+        let measurement = |specimen, variant, channel, f64, f32| Measurement {
+            specimen,
+            variant,
+            channel,
+            index: Index::new(1.5, 0.0),
+            integral: Integral { figures: figures(f64, f32), excluded_samples: 0, evaluations: 1 },
+            seconds: 0.0,
+            shared: 1,
+            fallback: None,
+            lambda: None,
+        };
+        // Specimen 2 before 0, variants interleaved, channels out of order; no specimen 1.
+        let measurements = [
+            measurement(2, lut, 1, Some(0.5), Some(1.0)),
+            measurement(0, schlick, 2, Some(0.25), Some(0.75)),
+            measurement(2, lut, 0, Some(0.25), None),
+            measurement(0, lut, 0, Some(3.0), Some(6.0)),
+            measurement(0, schlick, 0, Some(0.5), Some(0.0)),
+            measurement(2, lut, 2, Some(0.75), Some(2.0)),
+            measurement(0, lut, 1, Some(0.0), Some(0.0)),
+            measurement(0, schlick, 1, Some(0.75), Some(0.75)),
+            measurement(0, lut, 2, Some(0.0), Some(3.0)),
+        ];
+        let expected = BTreeMap::from([
+            ((schlick, Precision::F64, 0), Some(0.5)),
+            ((schlick, Precision::F32, 0), Some(0.5)),
+            ((lut, Precision::F64, 0), Some(1.0)),
+            ((lut, Precision::F64, 2), Some(0.5)),
+            ((lut, Precision::F32, 0), Some(3.0)),
+            ((lut, Precision::F32, 2), None),
+        ]);
+        assert_eq!(material_errors(&measurements), expected);
+        assert!(material_errors(&[]).is_empty());
+        // Spreads over the materials with a figure: lut f32 has one (3.0), lut f64 two.
+        let spread = spreads(&measurements);
+        assert_eq!(spread[&(lut, Precision::F32)], Spread { mean: 3.0, median: 3.0, max: 3.0, materials: 1 });
+        assert_eq!(spread[&(lut, Precision::F64)], Spread { mean: 0.75, median: 1.0, max: 1.0, materials: 2 });
     }
 }
