@@ -7,7 +7,9 @@
 //!   folder measures nothing and writes the bytes of the first, seconds included; without
 //!   the memo it measures again and writes the same figures;
 //! - the `nvidia` fits (`<out>/.cache/nvidia-fits.bin`): `validate` writes them, `report`
-//!   reads them and writes the same bytes as it does without them.
+//!   reads them and writes the same bytes as it does without them;
+//! - the effective channel indices (`<out>/.cache/effective-fits.bin`): `colors` writes
+//!   them, `bake` reads them and writes the same bytes as it does without them.
 
 mod common;
 
@@ -16,7 +18,7 @@ use std::path::Path;
 
 use common::{database, files, scratch};
 use nklut::bake::{BakeRequest, Source};
-use nklut::color::memo::MEMO_PATH;
+use nklut::color::memo::{EffectiveFits, FITS_PATH, MEMO_PATH};
 use nklut::fresnel::Method;
 use nklut::ingest::{Config, Selection};
 use nklut::memo::Kind;
@@ -72,6 +74,7 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
     let fresh = scratch("memo-fresh");
     colors(&fresh);
     fs::remove_file(fresh.join(MEMO_PATH)).unwrap();
+    fs::remove_file(fresh.join(FITS_PATH)).unwrap();
     params(&fresh);
     bake(&fresh);
     assert_eq!(outputs(&remembered), outputs(&fresh));
@@ -86,6 +89,29 @@ fn params_and_bake_read_the_curves_colors_remembered_and_write_the_same_bytes() 
     params(&fresh);
     let table = |out: &Path| fs::read(out.join("engine_params.csv")).unwrap();
     assert_ne!(table(&halved), table(&fresh));
+}
+
+#[test]
+fn bake_records_the_effective_fits_colors_remembered_with_the_same_bytes() {
+    let remembered = scratch("fits-remembered");
+    colors(&remembered);
+    let fits = remembered.join(FITS_PATH);
+    let written = fs::read(&fits).expect("colors remembers its effective fits");
+    bake(&remembered);
+    assert_eq!(fs::read(&fits).unwrap(), written, "bake leaves the fits as they were");
+
+    let fresh = scratch("fits-fresh");
+    colors(&fresh);
+    fs::remove_file(fresh.join(FITS_PATH)).unwrap();
+    bake(&fresh);
+    assert_eq!(outputs(&remembered), outputs(&fresh));
+    assert!(!fresh.join(FITS_PATH).exists(), "bake reads the fits, never writes them");
+
+    // The fits are read: with every fitted n halved (a fit is n, k, error), the manifest's
+    // effective indices change.
+    fs::write(fresh.join(FITS_PATH), halve_values::<EffectiveFits>(&written, |word| word % 3 == 0)).unwrap();
+    bake(&fresh);
+    assert_ne!(outputs(&remembered), outputs(&fresh));
 }
 
 /// The memo's bytes with every curve value (the RGB triples) halved.

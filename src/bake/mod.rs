@@ -129,10 +129,11 @@ impl PageReference {
     }
 
     /// Per channel, the (n, k) whose exact Fresnel curve best fits the spectral reference
-    /// over θ (`color::fit_effective_index`, started from the three-channel index).
-    pub fn effective_index(&self, channels: &ChannelIndex) -> ChannelIndex {
+    /// over θ (`color::fit_effective_index`, started from the three-channel index), from
+    /// `fits` where it holds them.
+    pub fn effective_index(&self, channels: &ChannelIndex, fits: &color::EffectiveMemo) -> ChannelIndex {
         let rule = color::angle_quadrature();
-        std::array::from_fn(|c| color::fit_effective_index(&self.at_nodes[c], channels[c], rule).index)
+        std::array::from_fn(|c| fits.effective(&self.at_nodes[c], channels[c], rule).index)
     }
 
     /// F of `source` for `page` (the page this reference was made from) at the texel
@@ -140,7 +141,7 @@ impl PageReference {
     pub fn curve(&self, source: Source, page: &KeptPage, size: usize, memo: &color::CurveMemo) -> ChannelCurve {
         match source {
             Source::ThreeChannel => exact_curve(&page.material.channels, size),
-            Source::Effective => exact_curve(&self.effective_index(&page.material.channels), size),
+            Source::Effective => exact_curve(&self.effective_index(&page.material.channels, &color::EffectiveMemo::default()), size),
             Source::Spectral => by_channel(&memo.curve(self.fingerprint, &self.spectrum, &crate::encoding::texel_cosines(size))),
         }
     }
@@ -480,13 +481,14 @@ fn check_named_pages_kept(ingest: &Ingest, named: &[String]) -> Result<()> {
 }
 
 /// The rows of `pages`: curves computed per source, and the spectral reference of
-/// `error_vs_spectral`, all from one [`PageReference`] per page.
-pub fn rows(pages: &[&KeptPage], plan: &Plan, memo: &color::CurveMemo) -> Vec<Row> {
+/// `error_vs_spectral`, all from one [`PageReference`] per page (its curves from `memo`,
+/// its effective indices from `fits`, where they hold them).
+pub fn rows(pages: &[&KeptPage], plan: &Plan, memo: &color::CurveMemo, fits: &color::EffectiveMemo) -> Vec<Row> {
     pages
         .par_iter()
         .map(|page| {
             let reference = PageReference::new(page, memo);
-            let fitted = reference.effective_index(&page.material.channels);
+            let fitted = reference.effective_index(&page.material.channels, fits);
             let curve = |source: Source| match source {
                 Source::Effective => exact_curve(&fitted, plan.size),
                 _ => reference.curve(source, page, plan.size, memo),
@@ -550,7 +552,8 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     let mut duplicates = ingest.listed_twice.clone();
     duplicates.sort();
     let memo = color::CurveMemo::load(out);
-    let rows = rows(&pages, &plan, &memo);
+    let fits = color::EffectiveMemo::load(out);
+    let rows = rows(&pages, &plan, &memo, &fits);
     let (mut files, documented) = bake_then(&rows, &plan, |mut manifest| {
         manifest.duplicate_catalog_pages = duplicates;
         let clamped_texels: usize = manifest.textures.iter().map(|t| t.clamped_texels).sum();

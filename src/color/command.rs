@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use super::memo::CurveMemo;
+use super::memo::{CurveMemo, EffectiveMemo};
 use super::page::{page_colors, spectral_reference, PageColors};
 use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::srgb;
@@ -30,9 +30,9 @@ pub struct Timings {
 
 /// The colours of every material of `kept`, each distinct data file computed once (in
 /// parallel); `texels` is the LUT size whose texel centres are checked for out-of-gamut
-/// values; the spectral curves come from `memo` where it holds them. Returns one
-/// `PageColors` per kept page, in order.
-pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &CurveMemo) -> Vec<PageColors> {
+/// values; the spectral curves come from `memo` and the effective fits from `fits` where
+/// they hold them. Returns one `PageColors` per kept page, in order.
+pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &CurveMemo, fits: &EffectiveMemo) -> Vec<PageColors> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let quadrature = angle_quadrature();
     let cosines = texel_cosines(texels);
@@ -42,7 +42,7 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &C
     timings.spectral_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
-    let colors: Vec<PageColors> = crate::progress::par_map(unique.len(), "fits", |i| page_colors(&unique[i], &references[i], quadrature));
+    let colors: Vec<PageColors> = crate::progress::par_map(unique.len(), "fits", |i| page_colors(&unique[i], &references[i], quadrature, fits));
     timings.fit_s = start.elapsed().as_secs_f64();
     positions.into_iter().map(|i| colors[i].clone()).collect()
 }
@@ -127,9 +127,11 @@ pub fn command(db: &Database, selection: &Selection, config: &Config, out: &Path
     let channels = &config.channels;
     let mut timings = Timings { ingest_s: start.elapsed().as_secs_f64(), ..Default::default() };
     let memo = CurveMemo::load(out).recording();
-    let colors = compute(&ingested.kept, texels, &mut timings, &memo);
+    let fits = EffectiveMemo::load(out).recording();
+    let colors = compute(&ingested.kept, texels, &mut timings, &memo, &fits);
     let written = colors_table(&ingested.kept, &colors, channels, texels).write(out, "colors", false)?;
     memo.save_or_warn(out);
+    fits.save_or_warn(out);
     eprintln!(
         "colors: {} pages ({} excluded); ingest {:.2} s, spectra + {texels}-texel curves {:.2} s, errors + fits {:.2} s",
         ingested.kept.len(),

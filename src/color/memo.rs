@@ -10,7 +10,14 @@
 //!
 //! The file is `<out>/.cache/spectral-curves.bin` in the layout of [`crate::memo`]: per
 //! curve, the spectrum's and the cosines' fingerprints and the RGB triples.
+//!
+//! Beside it, `<out>/.cache/effective-fits.bin` holds the effective channel indices
+//! (`fit_effective_index`) that `colors` fits to those curves and `bake` records in its
+//! manifest: a fit is a function of the channel's reference curve, its first guess and
+//! the angle quadrature, so it is looked up by their bits.
 
+use super::angle_average::AngleQuadrature;
+use super::fit::{fit_effective_index, EffectiveIndex};
 use super::spectral::PreparedSpectrum;
 use crate::memo::{Key, Kind, Memo};
 use crate::spectrum::Index;
@@ -65,6 +72,42 @@ impl Memo<SpectralCurves> {
     }
 }
 
+/// Where the effective fits live under an output folder.
+pub const FITS_PATH: &str = ".cache/effective-fits.bin";
+
+/// The effective channel indices: a value is one fit, its n, k and mean relative error.
+#[derive(Debug)]
+pub struct EffectiveFits;
+
+impl Kind for EffectiveFits {
+    const MAGIC: &'static [u8] = b"nklut effective fits 1\n";
+    const UNIT: usize = 3;
+    const PATH: &'static str = FITS_PATH;
+    const RECORDS: &'static str = "effective fits";
+}
+
+/// The remembered effective fits of one executable; when it records (`colors`), the ones
+/// fitted since they were read.
+pub type EffectiveMemo = Memo<EffectiveFits>;
+
+impl Memo<EffectiveFits> {
+    /// [`fit_effective_index`] of one channel's `reference` at the nodes of `quadrature`
+    /// from `start`: from the memo when it holds it, else fitted (and kept, when
+    /// recording).
+    pub fn effective(&self, reference: &[f64], start: Index, quadrature: &AngleQuadrature) -> EffectiveIndex {
+        let problem = Fingerprint::of(reference.iter().copied().chain([start.n, start.k]));
+        let rule = Fingerprint::of(quadrature.cosines.iter().chain(&quadrature.weights).copied());
+        let key: Key = [problem.0[0], problem.0[1], rule.0[0], rule.0[1]];
+        if let Some(words) = self.get(&key, 1) {
+            let value = |i: usize| f64::from_bits(words[i]);
+            return EffectiveIndex { index: Index::new(value(0), value(1)), error: value(2) };
+        }
+        let fit = fit_effective_index(reference, start, quadrature);
+        self.record(key, [fit.index.n, fit.index.k, fit.error].map(f64::to_bits));
+        fit
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,6 +140,34 @@ mod tests {
         assert!(!second.grew());
         second.curve(key, &prepared, &cosines[1..]);
         assert!(second.grew());
+    }
+
+    /// A fit read back has the bits of the fit made; another first guess or another
+    /// reference curve is another fit.
+    #[test]
+    fn a_remembered_effective_fit_has_the_bits_of_the_fit_made() {
+        let quadrature = crate::color::angle_quadrature();
+        let gold = Index::new(0.18, 3.0);
+        let reference: Vec<f64> = quadrature.cosines.iter().map(|&c| 0.9 * crate::fresnel::exact(0.2, 3.2, c)).collect();
+        let recorder = EffectiveMemo::new("nklut 1").recording();
+        let fitted = recorder.effective(&reference, gold, quadrature);
+        assert!(recorder.grew());
+        let made = fit_effective_index(&reference, gold, quadrature);
+        let bits = |f: &EffectiveIndex| [f.index.n, f.index.k, f.error].map(f64::to_bits);
+        assert_eq!(bits(&fitted), bits(&made));
+        let reader = EffectiveMemo::decode(&recorder.encode(), "nklut 1");
+        assert_eq!(reader.len(), 1);
+        assert_eq!(bits(&reader.effective(&reference, gold, quadrature)), bits(&made));
+        // Another start or a curve one bit away is looked up under another key.
+        let nudged: Vec<f64> = reference.iter().enumerate().map(|(i, &r)| if i == 3 { f64::from_bits(r.to_bits() + 1) } else { r }).collect();
+        let recorder = EffectiveMemo::decode(&recorder.encode(), "nklut 1").recording();
+        recorder.effective(&reference, Index::new(0.2, 3.0), quadrature);
+        recorder.effective(&nudged, gold, quadrature);
+        assert_eq!(recorder.recorded(), 2);
+        // A memo that only reads keeps nothing it fits.
+        let reader = EffectiveMemo::decode(&recorder.encode(), "nklut 1");
+        reader.effective(&reference, Index::new(1.5, 0.0), quadrature);
+        assert!(!reader.grew());
     }
 
     #[test]

@@ -20,7 +20,7 @@ pub mod srgb;
 pub use command::{colors_table, command, compute, hex_swatch};
 pub use fit::{fit_effective_index, fit_effective_index_from, mean_relative_error, EffectiveIndex};
 pub use lab::{delta_e2000, xyz_to_lab, Lab};
-pub use memo::{CurveMemo, Fingerprint};
+pub use memo::{CurveMemo, EffectiveMemo, Fingerprint};
 pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
 pub use angle_average::{angle_quadrature, AngleQuadrature};
 pub use spectral::{

@@ -1,9 +1,9 @@
 //! Per-page colour figures: the spectral reference (SPEC §4), the index-approximation
 //! error of the three-wavelength shortcut, and the effective channel indices.
 
-use super::fit::{fit_effective_index, mean_relative_error, EffectiveIndex};
+use super::fit::{mean_relative_error, EffectiveIndex};
 use super::lab::delta_e2000;
-use super::memo::{CurveMemo, Fingerprint};
+use super::memo::{CurveMemo, EffectiveMemo, Fingerprint};
 use super::angle_average::AngleQuadrature;
 use super::spectral::{sample_spectrum, spectral_weights, PreparedSpectrum};
 use crate::fresnel;
@@ -80,8 +80,9 @@ fn outside_unit(value: f64) -> bool {
     !(0.0..=1.0).contains(&value)
 }
 
-/// The per-page figures from a material and its spectral reference.
-pub fn page_colors(material: &Material, reference: &SpectralReference, quadrature: &AngleQuadrature) -> PageColors {
+/// The per-page figures from a material and its spectral reference (the effective fits
+/// from `fits` where it holds them).
+pub fn page_colors(material: &Material, reference: &SpectralReference, quadrature: &AngleQuadrature, fits: &EffectiveMemo) -> PageColors {
     let channels = material.channels;
     let channel_curve = |c: usize| -> Vec<f64> { reference.at_nodes.iter().map(|rgb| rgb[c]).collect() };
     let f0_three_channel = channels.map(|index| fresnel::exact(index.n, index.k, 1.0));
@@ -92,7 +93,7 @@ pub fn page_colors(material: &Material, reference: &SpectralReference, quadratur
         index_error_f0: [0, 1, 2].map(|c| relative_error(f0_three_channel[c], reference.f0[c])),
         index_error_angle: [0, 1, 2].map(|c| mean_relative_error(channels[c], &channel_curve(c), quadrature)),
         delta_e2000_f0: delta_e2000(weights.lab(f0_three_channel), weights.lab(reference.f0)),
-        effective: [0, 1, 2].map(|c| fit_effective_index(&channel_curve(c), channels[c], quadrature)),
+        effective: [0, 1, 2].map(|c| fits.effective(&channel_curve(c), channels[c], quadrature)),
         reference_in_unit_range: [false; 3],
         extrapolated_share: reference.extrapolated_share,
         out_of_gamut_f0: reference.f0.map(outside_unit),
