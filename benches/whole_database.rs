@@ -10,10 +10,10 @@
 //! (every job once per round, so a change of background load touches all of them); per job
 //! the median, min and max wall time, the median user + sys CPU time and the largest peak
 //! RSS (from `wait4`). Every job writes into a fresh folder under the system temp dir,
-//! except the two that are measured warm: `validate --all` and `make luts ALL=1` again
-//! into a folder where they ran before (once before the rounds, not counted), so that
-//! they read what the earlier run remembered (`.cache/`: the spectral curves, the error
-//! integrals, the `nvidia` fits).
+//! except the three that are measured warm: `colors --all`, `validate --all` and
+//! `make luts ALL=1` again into a folder where they ran before (once before the rounds,
+//! not counted), so that they read what the earlier run remembered (`.cache/`: the
+//! spectral curves, the effective fits, the error integrals, the `nvidia` fits).
 //!
 //! Targets (BENCHMARKS.md): ingest ≥ 20× the peer and ≤ 100 MB; validate ≤ 2 s and
 //! ≤ 300 MB; colors ≤ 1 s; params ≤ 2 s; `make luts ALL=1` ≤ 5 s.
@@ -114,6 +114,7 @@ fn main() {
     let mut jobs = vec![
         nklut_job("ingest --all", &["ingest", "--all"]),
         nklut_job("colors --all", &["colors", "--all"]),
+        warm(nklut_job("colors --all, warm", &["colors", "--all"])),
         nklut_job("params --all", &["params", "--all"]),
         nklut_job("validate --all", &["validate", "--all"]),
         warm(nklut_job("validate --all, warm", &["validate", "--all"])),
