@@ -514,8 +514,8 @@ pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {
 /// Material figure (SPEC §6): mean over the three channels of
 /// `mean_rel_error`, per specimen, variant and precision; `None` where a channel has none.
 pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, Precision, usize), Option<f64>> {
-    // One slot per key, numbered in the map's key order: variant (by rank), precision,
-    // specimen; each slot's channel figures kept in the order of the measurements.
+    // A key as one number in the map's order: the variant's rank, the precision, the
+    // specimen.
     let mut variants: Vec<Variant> = Vec::new();
     for m in measurements {
         if variants.last() != Some(&m.variant) {
@@ -525,44 +525,26 @@ pub fn material_errors(measurements: &[Measurement]) -> BTreeMap<(Variant, Preci
     variants.sort_unstable();
     variants.dedup();
     let specimens = measurements.iter().map(|m| m.specimen + 1).max().unwrap_or(0);
+    let precisions = Precision::ALL.len();
+    let mut figures: Vec<(usize, Option<f64>)> = Vec::with_capacity(precisions * measurements.len());
     let mut rank = 0;
-    let first_slots: Vec<usize> = measurements
-        .iter()
-        .map(|m| {
-            if variants[rank] != m.variant {
-                rank = variants.binary_search(&m.variant).unwrap_or_default();
-            }
-            rank * Precision::ALL.len() * specimens + m.specimen
-        })
-        .collect();
-    let slot = |first: usize, p: usize| first + p * specimens;
-    let slots = variants.len() * Precision::ALL.len() * specimens;
-    // Slot s's figures are figures[start[s]..start[s + 1]].
-    let mut start = vec![0usize; slots + 1];
-    for &first in &first_slots {
-        for p in 0..Precision::ALL.len() {
-            start[slot(first, p) + 1] += 1;
+    for m in measurements {
+        if variants[rank] != m.variant {
+            rank = variants.binary_search(&m.variant).unwrap_or_default();
         }
-    }
-    for s in 0..slots {
-        start[s + 1] += start[s];
-    }
-    let mut filled = start.clone();
-    let mut figures = vec![None; start[slots]];
-    for (m, &first) in measurements.iter().zip(&first_slots) {
         for (p, precision) in Precision::ALL.into_iter().enumerate() {
-            let s = slot(first, p);
-            figures[filled[s]] = m.integral.figures[precision].mean_rel_error;
-            filled[s] += 1;
+            figures.push(((rank * precisions + p) * specimens + m.specimen, m.integral.figures[precision].mean_rel_error));
         }
     }
-    (0..slots)
-        .filter(|&s| start[s + 1] > start[s])
-        .map(|s| {
-            let values = &figures[start[s]..start[s + 1]];
-            let (p, specimen) = (s / specimens % Precision::ALL.len(), s % specimens);
-            let key = (variants[s / specimens / Precision::ALL.len()], Precision::ALL[p], specimen);
-            let mean = values.iter().all(Option::is_some).then(|| values.iter().flatten().sum::<f64>() / values.len() as f64);
+    // A stable sort: each key's channel figures stay in the order of the measurements.
+    figures.sort_by_key(|&(key, _)| key);
+    figures
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|channels| {
+            let number = channels[0].0;
+            let key = (variants[number / specimens / precisions], Precision::ALL[number / specimens % precisions], number % specimens);
+            let all = channels.iter().all(|(_, figure)| figure.is_some());
+            let mean = all.then(|| channels.iter().filter_map(|&(_, figure)| figure).sum::<f64>() / channels.len() as f64);
             (key, mean)
         })
         .collect()
