@@ -2,8 +2,10 @@
 //! key alone: a file under `<out>/.cache/` of records, a 256-bit key and a value of
 //! 64-bit words. A record is only ever read by the executable that computed it (its path,
 //! size and modification time), so a rebuilt `nklut` never reads what its predecessor
-//! computed. What is remembered: the spectral curves (`color::memo`), the error integrals
-//! (`validate::memo`), the `nvidia` fits (`fresnel::memo`), each a [`Kind`] of [`Memo`].
+//! computed. What is remembered: the spectral curves and the effective fits
+//! (`color::memo`), the error integrals (`validate::memo`), the `nvidia` fits
+//! (`fresnel::memo`), each a [`Kind`] of [`Memo`] with its value's words; one lookup,
+//! [`Memo::remembered`], serves them all.
 //!
 //! The file (little-endian) holds a magic line naming what is remembered, the
 //! executable's identity, the record count, then per record the key's four words, the
@@ -48,13 +50,19 @@ impl Fingerprint {
 pub type Key = [u64; 4];
 
 /// One kind of memo: the magic line of its file, the words per unit of a value (an RGB
-/// triple is a unit of three), its place under an output folder, and what a warning calls
-/// its records.
+/// triple is a unit of three), its place under an output folder, what a warning calls
+/// its records, and what a record holds with its words.
 pub trait Kind {
     const MAGIC: &'static [u8];
     const UNIT: usize;
     const PATH: &'static str;
     const RECORDS: &'static str;
+    /// What a record holds.
+    type Value;
+    /// The value's words: a whole number of units, which [`Kind::decode`] reads back with
+    /// every bit.
+    fn encode(value: &Self::Value) -> Vec<u64>;
+    fn decode(words: &[u64]) -> Self::Value;
 }
 
 /// The records of one kind and one executable and, when it records, the ones computed
@@ -121,6 +129,19 @@ impl<K: Kind> Memo<K> {
         self.asked.fetch_add(1, Ordering::Relaxed);
         let (_, range) = &self.remembered.ranges[*self.lookup.get(key)?];
         Some(&self.remembered.words[range.clone()]).filter(|words| words.len() == units * K::UNIT)
+    }
+
+    /// The value of `key`: from the memo when it holds one of `units` units, else
+    /// `compute`d (and kept, when recording).
+    pub fn remembered(&self, key: Key, units: usize, compute: impl FnOnce() -> K::Value) -> K::Value {
+        if let Some(words) = self.get(&key, units) {
+            return K::decode(words);
+        }
+        let value = compute();
+        if self.fresh.is_some() {
+            self.record(key, K::encode(&value));
+        }
+        value
     }
 
     /// Keep a computed value (when recording; otherwise `words` is not even read).
@@ -305,6 +326,13 @@ mod tests {
         const UNIT: usize = 2;
         const PATH: &'static str = ".cache/test-pairs.bin";
         const RECORDS: &'static str = "test pairs";
+        type Value = Vec<u64>;
+        fn encode(value: &Vec<u64>) -> Vec<u64> {
+            value.clone()
+        }
+        fn decode(words: &[u64]) -> Vec<u64> {
+            words.to_vec()
+        }
     }
 
     #[derive(Debug)]
@@ -314,6 +342,13 @@ mod tests {
         const UNIT: usize = 2;
         const PATH: &'static str = ".cache/test-other.bin";
         const RECORDS: &'static str = "test others";
+        type Value = Vec<u64>;
+        fn encode(value: &Vec<u64>) -> Vec<u64> {
+            value.clone()
+        }
+        fn decode(words: &[u64]) -> Vec<u64> {
+            words.to_vec()
+        }
     }
 
     fn memo_of(identity: &str, records: &[(Key, Vec<u64>)]) -> Memo<Pairs> {
@@ -335,6 +370,10 @@ mod tests {
         assert_eq!(read.get(&[0; 4], 0), Some(&[][..]));
         assert_eq!(read.get(&[1, 2, 3, 5], 2), None);
         assert_eq!(read.asked(), 4, "every lookup counted, found or not");
+        // `remembered` answers a held record without computing; a record of another
+        // length is computed.
+        assert_eq!(read.remembered([1, 2, 3, 4], 2, || panic!("computed again")), vec![5, 6, 7, 8]);
+        assert_eq!(read.remembered([1, 2, 3, 4], 1, || vec![9, 9]), vec![9, 9]);
         // A memo that only reads keeps nothing it computes.
         read.record([9; 4], [1, 2]);
         assert!(!read.grew());

@@ -28,7 +28,7 @@ pub fn error_cosines(samples: usize) -> Vec<f64> {
 
 /// The midpoint rule of `error_cosines` as a quadrature (equal weights 1/M).
 pub fn midpoint_rule(samples: usize) -> AngleQuadrature {
-    AngleQuadrature { cosines: error_cosines(samples), weights: vec![1.0 / samples as f64; samples] }
+    AngleQuadrature::of_nodes(error_cosines(samples), vec![1.0 / samples as f64; samples])
 }
 
 /// `exact` (SPEC §5.1) per channel at each cosine: the reference of the three-channel error.

@@ -12,6 +12,8 @@
 use std::f64::consts::FRAC_PI_2;
 use std::sync::OnceLock;
 
+use crate::memo::Fingerprint;
+
 /// Panels and nodes per panel of the default rule.
 pub const PANELS: usize = 24;
 pub const NODES: usize = 8;
@@ -21,9 +23,22 @@ pub const NODES: usize = 8;
 pub struct AngleQuadrature {
     pub cosines: Vec<f64>,
     pub weights: Vec<f64>,
+    /// The nodes' and weights' fingerprint, made when first asked for.
+    fingerprint: OnceLock<Fingerprint>,
 }
 
 impl AngleQuadrature {
+    /// The rule of these nodes and weights.
+    pub fn of_nodes(cosines: Vec<f64>, weights: Vec<f64>) -> Self {
+        Self { cosines, weights, fingerprint: OnceLock::new() }
+    }
+
+    /// The bits of the nodes and weights, as a memo's key of what is computed over the
+    /// rule (made once per rule).
+    pub fn fingerprint(&self) -> Fingerprint {
+        *self.fingerprint.get_or_init(|| Fingerprint::of(self.cosines.iter().chain(&self.weights).copied()))
+    }
+
     /// Composite Gauss–Legendre with `panels` × `nodes` points.
     pub fn new(panels: usize, nodes: usize) -> Self {
         let (points, point_weights) = gauss_legendre(nodes);
@@ -38,7 +53,7 @@ impl AngleQuadrature {
                 weights.push(0.5 * width * w / FRAC_PI_2);
             }
         }
-        Self { cosines, weights }
+        Self::of_nodes(cosines, weights)
     }
 
     /// Σ weight·value: the mean over θ of a function sampled at `cosines`.

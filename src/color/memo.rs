@@ -47,6 +47,15 @@ impl Kind for SpectralCurves {
     const UNIT: usize = 3;
     const PATH: &'static str = MEMO_PATH;
     const RECORDS: &'static str = "spectral curves";
+    type Value = Vec<[f64; 3]>;
+
+    fn encode(curve: &Vec<[f64; 3]>) -> Vec<u64> {
+        curve.iter().flatten().map(|v| v.to_bits()).collect()
+    }
+
+    fn decode(words: &[u64]) -> Vec<[f64; 3]> {
+        words.chunks_exact(3).map(|rgb| [0, 1, 2].map(|c| f64::from_bits(rgb[c]))).collect()
+    }
 }
 
 /// The remembered curves of one executable, looked up by spectrum and cosines; when it
@@ -63,12 +72,7 @@ impl Memo<SpectralCurves> {
         }
         let at = Fingerprint::of_cosines(cosines);
         let key: Key = [sampled.0[0], sampled.0[1], at.0[0], at.0[1]];
-        if let Some(words) = self.get(&key, cosines.len()) {
-            return words.chunks_exact(3).map(|rgb| [0, 1, 2].map(|c| f64::from_bits(rgb[c]))).collect();
-        }
-        let curve = spectrum.curve(cosines);
-        self.record(key, curve.iter().flatten().map(|v| v.to_bits()));
-        curve
+        self.remembered(key, cosines.len(), || spectrum.curve(cosines))
     }
 }
 
@@ -84,6 +88,16 @@ impl Kind for EffectiveFits {
     const UNIT: usize = 3;
     const PATH: &'static str = FITS_PATH;
     const RECORDS: &'static str = "effective fits";
+    type Value = EffectiveIndex;
+
+    fn encode(fit: &EffectiveIndex) -> Vec<u64> {
+        [fit.index.n, fit.index.k, fit.error].map(f64::to_bits).to_vec()
+    }
+
+    fn decode(words: &[u64]) -> EffectiveIndex {
+        let value = |i: usize| f64::from_bits(words[i]);
+        EffectiveIndex { index: Index::new(value(0), value(1)), error: value(2) }
+    }
 }
 
 /// The remembered effective fits of one executable; when it records (`colors`), the ones
@@ -96,15 +110,9 @@ impl Memo<EffectiveFits> {
     /// recording).
     pub fn effective(&self, reference: &[f64], start: Index, quadrature: &AngleQuadrature) -> EffectiveIndex {
         let problem = Fingerprint::of(reference.iter().copied().chain([start.n, start.k]));
-        let rule = Fingerprint::of(quadrature.cosines.iter().chain(&quadrature.weights).copied());
+        let rule = quadrature.fingerprint();
         let key: Key = [problem.0[0], problem.0[1], rule.0[0], rule.0[1]];
-        if let Some(words) = self.get(&key, 1) {
-            let value = |i: usize| f64::from_bits(words[i]);
-            return EffectiveIndex { index: Index::new(value(0), value(1)), error: value(2) };
-        }
-        let fit = fit_effective_index(reference, start, quadrature);
-        self.record(key, [fit.index.n, fit.index.k, fit.error].map(f64::to_bits));
-        fit
+        self.remembered(key, 1, || fit_effective_index(reference, start, quadrature))
     }
 }
 

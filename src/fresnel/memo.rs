@@ -22,6 +22,16 @@ impl Kind for NvidiaFits {
     const UNIT: usize = 4;
     const PATH: &'static str = MEMO_PATH;
     const RECORDS: &'static str = "nvidia fits";
+    type Value = NvidiaFit;
+
+    fn encode(fit: &NvidiaFit) -> Vec<u64> {
+        [fit.bias, fit.scale, fit.power, fit.rms_residual].map(f64::to_bits).to_vec()
+    }
+
+    fn decode(words: &[u64]) -> NvidiaFit {
+        let value = |i: usize| f64::from_bits(words[i]);
+        NvidiaFit { bias: value(0), scale: value(1), power: value(2), rms_residual: value(3) }
+    }
 }
 
 /// The remembered fits of one executable; when recording, the ones made since they were
@@ -33,14 +43,7 @@ impl Memo<NvidiaFits> {
     /// else fitted (and kept, when recording).
     pub fn prepared(&self, index: Index) -> Prepared {
         let key = key(sanitise(index));
-        Prepared::with_nvidia_fit(index, |exact| {
-            if let Some(words) = self.get(&key, 1) {
-                return decode(words);
-            }
-            let fit = fit_nvidia(exact);
-            self.record(key, encode(&fit));
-            fit
-        })
+        Prepared::with_nvidia_fit(index, |exact| self.remembered(key, 1, || fit_nvidia(exact)))
     }
 }
 
@@ -49,21 +52,12 @@ fn key(index: Index) -> Key {
     [index.n.to_bits(), index.k.to_bits(), 0, 0]
 }
 
-fn encode(fit: &NvidiaFit) -> [u64; 4] {
-    [fit.bias, fit.scale, fit.power, fit.rms_residual].map(f64::to_bits)
-}
-
-fn decode(words: &[u64]) -> NvidiaFit {
-    let value = |i: usize| f64::from_bits(words[i]);
-    NvidiaFit { bias: value(0), scale: value(1), power: value(2), rms_residual: value(3) }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn bits(prepared: &Prepared) -> [u64; 4] {
-        encode(&prepared.nvidia)
+    fn bits(prepared: &Prepared) -> Vec<u64> {
+        NvidiaFits::encode(&prepared.nvidia)
     }
 
     #[test]

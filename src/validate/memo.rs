@@ -36,6 +36,36 @@ impl Kind for ErrorIntegrals {
     const UNIT: usize = 1;
     const PATH: &'static str = MEMO_PATH;
     const RECORDS: &'static str = "error integrals";
+    type Value = FamilyMeasurement;
+
+    fn encode(measured: &FamilyMeasurement) -> Vec<u64> {
+        let mut words = vec![measured.seconds.to_bits()];
+        for integral in &measured.integrals {
+            for figures in [integral.figures.f64, integral.figures.f32] {
+                words.extend([
+                    u64::from(figures.mean_rel_error.is_some()),
+                    figures.mean_rel_error.unwrap_or(0.0).to_bits(),
+                    figures.max_abs_error.to_bits(),
+                    figures.rms_abs_error.to_bits(),
+                ]);
+            }
+            words.extend([integral.excluded_samples, integral.evaluations]);
+        }
+        words
+    }
+
+    fn decode(words: &[u64]) -> FamilyMeasurement {
+        let figures = |w: &[u64]| Figures {
+            mean_rel_error: (w[0] != 0).then(|| f64::from_bits(w[1])),
+            max_abs_error: f64::from_bits(w[2]),
+            rms_abs_error: f64::from_bits(w[3]),
+        };
+        let integrals = words[1..]
+            .chunks_exact(MEMBER_WORDS)
+            .map(|w| Integral { figures: PerPrecision { f64: figures(&w[0..4]), f32: figures(&w[4..8]) }, excluded_samples: w[8], evaluations: w[9] })
+            .collect();
+        FamilyMeasurement { integrals, seconds: f64::from_bits(words[0]) }
+    }
 }
 
 /// The remembered integrals of one executable; when recording, the ones measured since
@@ -46,13 +76,7 @@ impl Memo<ErrorIntegrals> {
     /// The family `members` on `index` with `strategy`, from the memo when it holds it,
     /// else from `measure` (and kept, when recording).
     pub fn family(&self, index: Index, members: &[Variant], strategy: Strategy, measure: impl FnOnce() -> FamilyMeasurement) -> FamilyMeasurement {
-        let key = key(index, members, strategy);
-        if let Some(remembered) = self.get(&key, 1 + MEMBER_WORDS * members.len()).map(decode) {
-            return remembered;
-        }
-        let measured = measure();
-        self.record(key, encode(&measured));
-        measured
+        self.remembered(key(index, members, strategy), 1 + MEMBER_WORDS * members.len(), measure)
     }
 
     /// Families measured and recorded since the memo was read (0 when it does not
@@ -78,35 +102,6 @@ fn key(index: Index, members: &[Variant], strategy: Strategy) -> Key {
     });
     let Fingerprint([a, b]) = Fingerprint::of_words(std::iter::once(strategy).chain(words));
     [index.n.to_bits(), index.k.to_bits(), a, b]
-}
-
-fn encode(measured: &FamilyMeasurement) -> Vec<u64> {
-    let mut words = vec![measured.seconds.to_bits()];
-    for integral in &measured.integrals {
-        for figures in [integral.figures.f64, integral.figures.f32] {
-            words.extend([
-                u64::from(figures.mean_rel_error.is_some()),
-                figures.mean_rel_error.unwrap_or(0.0).to_bits(),
-                figures.max_abs_error.to_bits(),
-                figures.rms_abs_error.to_bits(),
-            ]);
-        }
-        words.extend([integral.excluded_samples, integral.evaluations]);
-    }
-    words
-}
-
-fn decode(words: &[u64]) -> FamilyMeasurement {
-    let figures = |w: &[u64]| Figures {
-        mean_rel_error: (w[0] != 0).then(|| f64::from_bits(w[1])),
-        max_abs_error: f64::from_bits(w[2]),
-        rms_abs_error: f64::from_bits(w[3]),
-    };
-    let integrals = words[1..]
-        .chunks_exact(MEMBER_WORDS)
-        .map(|w| Integral { figures: PerPrecision { f64: figures(&w[0..4]), f32: figures(&w[4..8]) }, excluded_samples: w[8], evaluations: w[9] })
-        .collect();
-    FamilyMeasurement { integrals, seconds: f64::from_bits(words[0]) }
 }
 
 #[cfg(test)]
@@ -136,7 +131,7 @@ mod tests {
         for ((index, members), measured) in cases.iter().zip(&measured) {
             let remembered = second.family(*index, members, Strategy::Fast, || panic!("measured again: {index:?}"));
             assert_eq!(format!("{remembered:?}"), format!("{measured:?}"));
-            assert_eq!(encode(&remembered), encode(measured), "the same bits");
+            assert_eq!(ErrorIntegrals::encode(&remembered), ErrorIntegrals::encode(measured), "the same bits");
         }
         assert_eq!((second.measured(), second.asked()), (0, cases.len()));
         // Another executable remembers nothing.
