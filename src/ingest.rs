@@ -60,13 +60,35 @@ pub struct KeptPage {
     pub names: Vec<String>,
     /// Shared by every page pointing at the same data file (evaluated once).
     pub material: Arc<Material>,
-    /// Other selected page ids that use the same data file.
-    pub shared_with: Vec<String>,
+    /// The selected page ids that use the same data file, this one included, in catalog
+    /// order: one list per file, shared by its pages (memory linear in the pages however
+    /// many share a file).
+    pub sharing: Arc<[String]>,
 }
+
+/// How many of the other pages sharing a data file `materials.*` lists by id; more are
+/// counted ("… and N more"), so the table grows linearly with the pages.
+pub const SHARED_WITH_LISTED: usize = 8;
 
 impl KeptPage {
     pub fn id(&self) -> String {
         self.page.id()
+    }
+
+    /// The other selected page ids that use the same data file.
+    pub fn shared_with(&self) -> impl Iterator<Item = &str> {
+        self.sharing.iter().map(String::as_str).filter(move |other| !self.page.has_id(other))
+    }
+
+    /// [`KeptPage::shared_with`] as `materials.*` writes it: '; '-separated, the first
+    /// [`SHARED_WITH_LISTED`] by id and the rest counted.
+    pub fn shared_with_text(&self) -> String {
+        let others = self.sharing.len().saturating_sub(1);
+        let mut text = self.shared_with().take(SHARED_WITH_LISTED).collect::<Vec<_>>().join("; ");
+        if others > SHARED_WITH_LISTED {
+            text.push_str(&format!("; … and {} more", others - SHARED_WITH_LISTED));
+        }
+        text
     }
 }
 
@@ -261,22 +283,22 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     let material_of = |file: &str| early.materials.get(file).or_else(|| late.materials.get(file));
     let names_of = |file: &str| book_dir(file).and_then(|book| early.names.get(book).or_else(|| late.names.get(book)).cloned().flatten());
 
-    let mut ids_by_file: HashMap<&str, Vec<&str>> = HashMap::new();
+    let mut ids_by_file: HashMap<&str, Vec<String>> = HashMap::new();
     for (page, id) in pages.iter().zip(&ids) {
-        ids_by_file.entry(page.data.as_str()).or_default().push(id);
+        ids_by_file.entry(page.data.as_str()).or_default().push(id.clone());
     }
-    let shared_with: Vec<Vec<String>> =
-        pages.par_iter().zip(&ids).map(|(page, id)| ids_by_file[page.data.as_str()].iter().filter(|other| **other != id).map(|other| other.to_string()).collect()).collect();
+    let groups: HashMap<&str, Arc<[String]>> = ids_by_file.into_iter().map(|(file, ids)| (file, Arc::from(ids))).collect();
+    let shared_with: Vec<Arc<[String]>> = pages.iter().map(|page| groups[page.data.as_str()].clone()).collect();
     // Each page's outcome, built in parallel (the page moved into it) and taken in catalog order.
     let outcomes: Vec<Result<KeptPage, Excluded>> = pages
         .into_par_iter()
         .zip(ids)
         .zip(shared_with)
-        .map(|((page, id), shared_with)| match material_of(&page.data).expect("every selected data file was evaluated") {
+        .map(|((page, id), sharing)| match material_of(&page.data).expect("every selected data file was evaluated") {
             Ok(material) => Ok(KeptPage {
                 names: names_of(&page.data).unwrap_or_else(|| vec![page.book_name.clone()]),
                 material: material.clone(),
-                shared_with,
+                sharing,
                 page,
             }),
             Err(error) => Err(Excluded { page: id, error: error.clone() }),
@@ -309,7 +331,11 @@ pub fn materials_table(ingest: &Ingest) -> Table {
         .text("names", "material names, '; '-separated (about.yml NAMES, else the catalog book name)", text(&|p| p.names.join("; ")))
         .text("catalog_name", "the catalog's display name of the page", text(&|p| p.page.page_name.clone()))
         .text("data_file", "data file relative to database/data/", text(&|p| p.page.data.clone()))
-        .text("shared_with", "other page ids using the same data file, '; '-separated", text(&|p| p.shared_with.join("; ")))
+        .text(
+            "shared_with",
+            &format!("other page ids using the same data file, '; '-separated (the first {SHARED_WITH_LISTED}; more are counted: '… and N more')"),
+            text(&|p| p.shared_with_text()),
+        )
         .text("kind", "conductor (k >= 1 somewhere in 390-700 nm where the data reach) or dielectric", text(&|p| p.material.kind.as_str().into()));
     for (c, (name, nm)) in CHANNEL_NAMES.iter().zip(channels.nanometres()).enumerate() {
         table.float(&format!("n_{name}"), &format!("refractive index n at {nm} nm"), kept.iter().map(|p| p.material.channels[c].n).collect());

@@ -12,7 +12,8 @@
 //! `effects` (the CPU tracers: reference and distance-map twin, surfel AO) → `gpu`
 //! (feature `gpu`: wgpu timing and rendering).
 //!
-//! Leaves any module may use: `encoding` (sRGB transfer function, texel encodings and
+//! Leaves any module may use: `budget` (the memory a run may take, checked before large
+//! allocations), `encoding` (sRGB transfer function, texel encodings and
 //! centres), `output` (tables, atomic publishing of a set of files), `progress` (bars on a
 //! terminal, quiet in CI), `minimise` (Brent's 1D minimiser), `memo` (results remembered
 //! between the commands of one output folder). The command line lives in the
@@ -22,6 +23,7 @@
 //! repository.
 
 pub mod bake;
+pub mod budget;
 pub mod color;
 pub mod db;
 pub mod effects;

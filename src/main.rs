@@ -65,7 +65,7 @@ enum Command {
         /// Frame size WxH (default: the scene's resolution).
         #[arg(long, value_parser = parse_resolution)]
         resolution: Option<[u32; 2]>,
-        /// Reference rays per vertex for ambient occlusion and indirect light.
+        /// Reference rays per vertex for ambient occlusion and indirect light (1..=2^20).
         #[arg(long, default_value_t = 256)]
         ao_rays: u32,
         /// The largest surfel count run by brute force (n² per pass); above it, the tree only.
@@ -139,7 +139,33 @@ fn run(cli: Cli) -> Result<()> {
         Command::Gpu { command } => return gpu_cli::run(command, &cli.paths),
         other => other,
     };
-    let db = Database::open(cli.paths.db.as_deref())?;
+    let open_db = || Database::open(cli.paths.db.as_deref());
+    // The effects open the database only when their scene needs materials.
+    let command = match command {
+        Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, channels } => {
+        let request = nklut::effects::command::EffectsRequest {
+            scene,
+            frames,
+            resolution,
+            ao_rays,
+            ao_max_brute,
+            config: channels.config(),
+            budget: nklut::budget::MemoryBudget::of_machine(),
+        };
+        let outcome = nklut::effects::command::command(&request, &open_db, &cli.paths.out, &mut |line| eprintln!("{line}"))?;
+        for path in &outcome.written {
+            eprintln!("  wrote {}", path.display());
+        }
+        let stats = outcome.stats;
+        eprintln!(
+            "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames; {} surfels, {} tree nodes, {} AO passes, {} indirect gathers",
+            stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames, stats.surfels, stats.tree_nodes, stats.ao_passes, stats.indirect_bounces
+        );
+        return Ok(());
+        }
+        other => other,
+    };
+    let db = open_db()?;
     match command {
         Command::Ingest { pages, channels } => {
             let result = ingest::ingest(&db, &pages.selection(), &channels.config())?;
@@ -196,41 +222,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("  wrote {}", path.display());
             }
         }
-        Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, channels } => {
-            let scene = nklut::scene::Scene::load(&scene)?;
-            let Some(effects) = scene.effects.clone() else {
-                anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
-            };
-            let mut stats = nklut::effects::experiment::EffectsStats::default();
-            if effects.reflection.is_some() || effects.refraction.is_some() {
-                let (materials, _) = nklut::scene::read_materials(&scene, &db, &channels.config())?;
-                let stage = nklut::effects::trace::stage_from_table(&scene, &materials)?;
-                let mut settings = nklut::effects::experiment::Settings::of(&scene);
-                settings.frames = frames.unwrap_or(settings.frames).max(1);
-                settings.resolution = resolution.unwrap_or(settings.resolution);
-                let report = nklut::effects::experiment::image_errors(&scene, &stage, settings, &mut |line| eprintln!("{line}"));
-                stats = report.stats;
-                for path in nklut::effects::experiment::error_table(&report.rows).write(&cli.paths.out, "effects_errors", false)? {
-                    eprintln!("  wrote {}", path.display());
-                }
-                let frames = nklut::effects::pictures::write(&cli.paths.out.join("effects_frames"), &report.pictures)?;
-                eprintln!("  wrote {} frames under {}", frames.len(), cli.paths.out.join("effects_frames").display());
-            }
-            if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
-                let mut settings = nklut::effects::ao::experiment::AoSettings { max_brute: ao_max_brute, resolution: resolution.unwrap_or(scene.resolution), ..Default::default() };
-                settings.rays.rays = ao_rays.max(1);
-                let report = nklut::effects::ao::experiment::run(&scene, &settings, &mut stats, &mut |line| eprintln!("{line}"))?;
-                for path in nklut::effects::ao::errors::ao_errors_table(&report.rows).write(&cli.paths.out, "ao_errors", false)? {
-                    eprintln!("  wrote {}", path.display());
-                }
-                let frames = nklut::effects::pictures::write(&cli.paths.out.join("ao_frames"), &report.pictures)?;
-                eprintln!("  wrote {} pictures under {}", frames.len(), cli.paths.out.join("ao_frames").display());
-            }
-            eprintln!(
-                "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames; {} surfels, {} tree nodes, {} AO passes, {} indirect gathers",
-                stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames, stats.surfels, stats.tree_nodes, stats.ao_passes, stats.indirect_bounces
-            );
-        }
+        Command::Effects { .. } => unreachable!("handled before the database is opened"),
         Command::Colors { pages, channels, texels } => {
             for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());

@@ -6,10 +6,16 @@
 //!
 //! How a set is published: every file goes to a fresh generation folder
 //! `<out>/.sets/<set>-<stamp>`; one symbolic link `<out>/.sets/<set>` names the current
-//! generation and is replaced by a single rename; each `<out>/<file>` is a fixed link to
-//! `.sets/<set>/<file>`. Readers open `<out>/<file>` as before and see whichever
-//! generation the one link names. For tests, the environment variable `NKLUT_CRASH_AT`
-//! (`staged`, `switched` or `linked`) aborts the process at that step.
+//! generation and is replaced by a single rename; each `<out>/<name>` (a file, or a folder
+//! such as `luts/` or `effects_frames/`) is a fixed link to `.sets/<set>/<name>`. Readers
+//! open `<out>/<name>` as before and see whichever generation the one link names. A
+//! generation whose writing fails is removed at once (a full disk stays full no longer than
+//! the failed run). Runs that publish into one output folder take turns: each holds an
+//! exclusive lock on `<out>/.sets/.lock` (released by the kernel when the process ends,
+//! however it ends) from before it tidies the folder until its set is switched in, so no
+//! run removes a generation another is still writing; a run that has to wait says so. For
+//! tests, the environment variable `NKLUT_CRASH_AT` (`staged`, `switched` or `linked`)
+//! aborts the process at that step.
 
 use std::fs;
 use std::io::Write;
@@ -122,6 +128,50 @@ fn crash_point(step: &str) {
     }
 }
 
+/// The exclusive lock on an output folder's sets, held while a run publishes into it.
+struct SetsLock {
+    _file: fs::File,
+}
+
+/// The lock file under `.sets/`.
+const LOCK_FILE: &str = ".lock";
+
+impl SetsLock {
+    /// Take the lock of `sets`, waiting (and saying so once) while another run holds it.
+    fn take(sets: &Path) -> Result<SetsLock> {
+        let path = sets.join(LOCK_FILE);
+        let file = fs::OpenOptions::new().create(true).truncate(false).read(true).write(true).open(&path).with_context(|| format!("opening the lock {}", path.display()))?;
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsRawFd;
+            // SAFETY: flock on a descriptor this function owns.
+            let try_lock = || unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+            if try_lock() != 0 {
+                let holder = fs::read_to_string(&path).unwrap_or_default();
+                eprintln!(
+                    "waiting: another nklut run ({}) is publishing into {}; its outputs are switched in first",
+                    if holder.trim().is_empty() { "pid unknown".to_string() } else { holder.trim().to_string() },
+                    sets.parent().unwrap_or(sets).display()
+                );
+                loop {
+                    // SAFETY: as above, blocking until the holder ends or lets go.
+                    if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } == 0 {
+                        break;
+                    }
+                    let error = std::io::Error::last_os_error();
+                    if error.kind() != std::io::ErrorKind::Interrupted {
+                        return Err(error).with_context(|| format!("locking {}", path.display()));
+                    }
+                }
+            }
+        }
+        // Who holds it, for a run that has to wait (best effort: the lock is the flock).
+        let _ = (&file).set_len(0);
+        let _ = (&file).write_all(format!("pid {}", std::process::id()).as_bytes());
+        Ok(SetsLock { _file: file })
+    }
+}
+
 /// Where the link `<out>/.sets/<set>` points, if it exists.
 fn current_generation(sets: &Path, set: &str) -> Option<String> {
     fs::read_link(sets.join(set)).ok().map(|t| t.to_string_lossy().into_owned())
@@ -147,7 +197,19 @@ fn is_set_link(out: &Path, set: &str, name: &str) -> bool {
     fs::read_link(out.join(name)).is_ok_and(|t| t == Path::new(SETS_DIR).join(set).join(name))
 }
 
-/// Remove generations of `set` that the link does not name (left by a killed run).
+/// Make `<out>/<name>` the fixed link into the set. A real folder there (written before
+/// sets, or by hand) is moved under `.sets/` first, where the next run removes it.
+fn link_entry(out: &Path, sets: &Path, set: &str, name: &str) -> Result<()> {
+    let path = out.join(name);
+    if fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir()) {
+        let aside = sets.join(format!("{set}-0-displaced-{}-{name}", std::process::id()));
+        fs::rename(&path, &aside).with_context(|| format!("moving the folder {} aside", path.display()))?;
+    }
+    replace_with_link(&Path::new(SETS_DIR).join(set).join(name), &path)
+}
+
+/// Remove generations of `set` that the link does not name (left by a killed or failed
+/// run; called with the lock held, so none is being written).
 fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
     let current = current_generation(sets, set);
     let prefix = format!("{set}-");
@@ -165,15 +227,20 @@ fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
 }
 
 /// Write the files and their folder to disk before the folder is published. The files are
-/// created first; then the folder's `fsync` and each file (written, and when streamed
-/// produced, then `fsync`ed) run on threads of their own, all at once: one file waits on the
-/// disk while the others are still being encoded. A set has a handful of files.
+/// created first (with the folders their names hold); then the folder's `fsync` and each
+/// file (written, and when streamed produced, then `fsync`ed) run on threads of their own,
+/// all at once: one file waits on the disk while the others are still being encoded. A set
+/// of tables has a handful of files; a set of many (a bake's strips) is written by
+/// [`publish_folder_with`]'s filler instead.
 fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let created = files
         .iter()
         .map(|file| {
             let path = dir.join(file.name());
+            if let Some(folder) = path.parent().filter(|folder| *folder != dir) {
+                fs::create_dir_all(folder).with_context(|| format!("creating {}", folder.display()))?;
+            }
             fs::File::create(&path).with_context(|| format!("creating {}", path.display()))
         })
         .collect::<Result<Vec<fs::File>>>()?;
@@ -189,9 +256,17 @@ fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
                 d.sync_all().ok();
             }
         });
-        let writers: Vec<_> = files.iter().zip(created).map(|(&file, f)| scope.spawn(move || write(file, f))).collect();
-        // Every writer is joined; the first error in set order is returned, a panic goes on.
-        let results: Vec<Result<()>> = writers.into_iter().map(|w| w.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect();
+        // At most a few writers at a time: a set of many files is written in rounds.
+        let mut results: Vec<Result<()>> = Vec::with_capacity(files.len());
+        let mut pending = files.iter().zip(created);
+        loop {
+            let round: Vec<_> = pending.by_ref().take(16).map(|(&file, f)| scope.spawn(move || write(file, f))).collect();
+            if round.is_empty() {
+                break;
+            }
+            // Every writer is joined; the first error in set order is returned, a panic goes on.
+            results.extend(round.into_iter().map(|w| w.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))));
+        }
         folder.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
         results.into_iter().collect::<Result<()>>()
     })
@@ -199,12 +274,13 @@ fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
 
 /// An output folder written before sets existed holds plain files: move them into a
 /// generation of their own (hard links, so each name keeps its bytes throughout) and
-/// make the names links to it, so that the next switch replaces them all at once.
-fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[&dyn SetContent]) -> Result<()> {
+/// make the names links to it, so that the next switch replaces them all at once. (Plain
+/// folders are moved aside when their link is made: [`link_entry`].)
+fn adopt_plain_files(out: &Path, sets: &Path, set: &str, names: &[&str]) -> Result<()> {
     if current_generation(sets, set).is_some() {
         return Ok(());
     }
-    let plain: Vec<&str> = files.iter().map(|f| f.name()).filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
+    let plain: Vec<&str> = names.iter().copied().filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
     if plain.is_empty() {
         return Ok(());
     }
@@ -222,38 +298,91 @@ fn adopt_plain_files(out: &Path, sets: &Path, set: &str, files: &[&dyn SetConten
     Ok(())
 }
 
+/// The names a set's files take in the output folder: the first component of each file's
+/// path, each once, in order.
+fn top_level_names<'a>(paths: impl Iterator<Item = &'a str>) -> Vec<&'a str> {
+    let mut names: Vec<&str> = Vec::new();
+    for path in paths {
+        let name = path.split('/').next().unwrap_or(path);
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    names
+}
+
 /// Publish `files` as the new set `set` under `out`, all at once: a run killed at any
 /// point leaves `out` with the previous set or this one. Returns the paths written.
 pub fn publish_set(out: &Path, set: &str, files: &[SetFile]) -> Result<Vec<PathBuf>> {
     publish_contents(out, set, &files.iter().map(|f| f as &dyn SetContent).collect::<Vec<_>>())
 }
 
-/// [`publish_set`] for files held in memory or streamed ([`SetContent`]).
+/// [`publish_set`] for files held in memory or streamed ([`SetContent`]). A name may hold
+/// folders (`effects_frames/x.png`): its first component is then the set's name for it.
 pub fn publish_contents(out: &Path, set: &str, files: &[&dyn SetContent]) -> Result<Vec<PathBuf>> {
+    for file in files {
+        check_relative(file.name())?;
+    }
+    let names = top_level_names(files.iter().map(|f| f.name()));
+    publish_generation(out, set, &names, &|generation| write_generation(generation, files))?;
+    Ok(files.iter().map(|f| out.join(f.name())).collect())
+}
+
+/// Publish the folder `<out>/<folder>` (`luts`, `report`) as the set of the same name,
+/// all at once: `fill` writes the whole folder into the empty folder it is given (as its
+/// files are computed, say); if it fails, nothing of it stays. Returns `<out>/<folder>`.
+pub fn publish_folder_with(out: &Path, folder: &str, fill: &dyn Fn(&Path) -> Result<()>) -> Result<PathBuf> {
+    check_relative(folder)?;
+    publish_generation(out, folder, &[folder], &|generation| {
+        let dir = generation.join(folder);
+        fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        fill(&dir)
+    })?;
+    Ok(out.join(folder))
+}
+
+/// A file's path in a set: relative, '/'-separated, with no empty, `.` or `..` part.
+fn check_relative(path: &str) -> Result<()> {
+    if path.is_empty() || path.split('/').any(|part| part.is_empty() || part == "." || part == "..") || path.contains('\\') {
+        anyhow::bail!("bad output path {path:?}");
+    }
+    Ok(())
+}
+
+/// The steps every set takes: under the lock, tidy the folder, have `fill` write a fresh
+/// generation (removed again if it fails), link names new to the set, switch the set's link
+/// to the generation, relink the other names, and remove the previous generation.
+fn publish_generation(out: &Path, set: &str, names: &[&str], fill: &dyn Fn(&Path) -> Result<()>) -> Result<()> {
     let sets = out.join(SETS_DIR);
     fs::create_dir_all(&sets).with_context(|| format!("creating folder {}", sets.display()))?;
-    adopt_plain_files(out, &sets, set, files)?;
+    let _lock = SetsLock::take(&sets)?;
+    adopt_plain_files(out, &sets, set, names)?;
     remove_stale_generations(&sets, set)?;
     let previous = current_generation(&sets, set);
     let stamp = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos()).unwrap_or(0);
     let generation = format!("{set}-{stamp}-{}", std::process::id());
-    write_generation(&sets.join(&generation), files)?;
+    let dir = sets.join(&generation);
+    let written = fs::create_dir(&dir).with_context(|| format!("creating {}", dir.display())).and_then(|_| fill(&dir));
+    if let Err(error) = written {
+        let _ = fs::remove_dir_all(&dir);
+        return Err(error);
+    }
     crash_point("staged");
     // Names new to the set get their link first; it dangles (reads as absent) until the
     // switch, as the previous set had no such file.
-    for file in files.iter().filter(|f| fs::symlink_metadata(out.join(f.name())).is_err()) {
-        replace_with_link(&Path::new(SETS_DIR).join(set).join(file.name()), &out.join(file.name()))?;
+    for name in names.iter().filter(|name| fs::symlink_metadata(out.join(name)).is_err()) {
+        link_entry(out, &sets, set, name)?;
     }
     replace_with_link(Path::new(&generation), &sets.join(set))?;
     crash_point("switched");
-    for file in files.iter().filter(|f| !is_set_link(out, set, f.name())) {
-        replace_with_link(&Path::new(SETS_DIR).join(set).join(file.name()), &out.join(file.name()))?;
+    for name in names.iter().filter(|name| !is_set_link(out, set, name)) {
+        link_entry(out, &sets, set, name)?;
     }
     crash_point("linked");
     if let Some(previous) = previous.filter(|p| *p != generation) {
         let _ = fs::remove_dir_all(sets.join(previous));
     }
-    Ok(files.iter().map(|f| out.join(f.name())).collect())
+    Ok(())
 }
 
 /// One column of a table: a name, a unit or meaning for the manifest, and the values.
@@ -556,6 +685,13 @@ impl Table {
         for row in rows.clone() {
             for (column, cell) in self.columns.iter().zip(&mut cells) {
                 if row == rows.start || !column.values.same(row - 1, row) {
+                    // No table holds NaN or an infinity: a stage that computed one has a
+                    // defect to name, not a cell to write.
+                    if let Values::Float(values) = &column.values {
+                        if let Some(x) = values[row].filter(|x| !x.is_finite()) {
+                            anyhow::bail!("column {} of row {row} holds {x}, not a finite number", column.name);
+                        }
+                    }
                     cell.clear();
                     column.values.write_cell(row, cell);
                 }

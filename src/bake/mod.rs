@@ -21,7 +21,7 @@ pub mod manifest;
 pub mod publish;
 pub mod texel;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, ensure, Result};
@@ -278,12 +278,32 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
             ensure!(reference.len() == nodes, "{}: spectral reference of {} values for {nodes} nodes", row.page, reference.len());
             ensure!(reference.iter().all(|v| v.is_finite()), "{}: spectral reference has a non-finite value", row.page);
         }
-        // Unique ignoring case, so that the strips also survive case-insensitive file systems.
-        if let Some(other) = stems.insert(strip_stem(&row.page).to_lowercase(), &row.page) {
+    }
+    // Unique ignoring case, so that the strips also survive case-insensitive file systems.
+    for (row, stem) in rows.iter().zip(strip_stems(rows)) {
+        if let Some(other) = stems.insert(stem.to_lowercase(), &row.page) {
             bail!("pages {other:?} and {:?} map to the same strip file name (ignoring case)", row.page);
         }
     }
     Ok(())
+}
+
+/// The strip file stem of each row: [`strip_stem`] of its page id, and where two ids give
+/// stems equal ignoring case (`J` and `j`, or `a/b__c` and `a__b/c`), each of them followed
+/// by `~` and eight hex digits of a hash of its id, so that no page of a catalog disables
+/// the bake. Only identical ids still collide.
+pub fn strip_stems(rows: &[Row]) -> Vec<String> {
+    let stems: Vec<String> = rows.iter().map(|r| strip_stem(&r.page)).collect();
+    let mut count: HashMap<String, usize> = HashMap::new();
+    for stem in &stems {
+        *count.entry(stem.to_lowercase()).or_default() += 1;
+    }
+    stems.into_iter().zip(rows).map(|(stem, row)| if count[&stem.to_lowercase()] > 1 { format!("{stem}~{:08x}", fnv1a(&row.page) >> 32) } else { stem }).collect()
+}
+
+/// FNV-1a (64-bit) of a text: a fixed hash, the same on every machine and run.
+fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 /// Quantise every row in every set and measure its error against `exact` of its
@@ -328,6 +348,7 @@ fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -
     let cells = cells(rows, plan, &sets);
     let strips = plan.layouts.contains(&Layout::Strip);
     let atlas = plan.layouts.contains(&Layout::Atlas);
+    let stems = strip_stems(rows);
     // (set, None) = the set's atlas, (set, Some(row)) = a strip.
     let jobs: Vec<(usize, Option<usize>)> = (0..sets.len())
         .flat_map(|s| atlas.then_some((s, None)).into_iter().chain((0..rows.len()).filter(|_| strips).map(move |r| (s, Some(r)))))
@@ -345,21 +366,21 @@ fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -
                     }
                     Some(r) => {
                         let bytes = files::encode(encoding, plan.size, 1, &cells[r][s].quantised.texels)?;
-                        Ok(OutFile { path: strip_path(&folder, &rows[r].page, encoding), bytes })
+                        Ok(OutFile { path: strip_path(&folder, &stems[r], encoding), bytes })
                     }
                 }
             })
             .collect()
     };
-    let (files, finished) = rayon::join(encode, || finish(build_manifest(rows, plan, &sets, &cells, strips, atlas)));
+    let (files, finished) = rayon::join(encode, || finish(build_manifest(rows, &stems, plan, &sets, &cells, strips, atlas)));
     Ok((files?, finished))
 }
 
-fn strip_path(folder: &str, page: &str, encoding: Encoding) -> String {
-    format!("{folder}/strips/{}.{}", strip_stem(page), encoding.extension())
+fn strip_path(folder: &str, stem: &str, encoding: Encoding) -> String {
+    format!("{folder}/strips/{stem}.{}", encoding.extension())
 }
 
-fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: &[Vec<Cell>], strips: bool, atlas: bool) -> Manifest {
+fn build_manifest(rows: &[Row], stems: &[String], plan: &Plan, sets: &[(usize, Encoding)], cells: &[Vec<Cell>], strips: bool, atlas: bool) -> Manifest {
     let textures = sets
         .iter()
         .enumerate()
@@ -383,7 +404,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                     folder: format!("{folder}/strips"),
                     width: plan.size,
                     height: 1,
-                    file_name_rule: "page id with '/' replaced by '__' (and \\ : * ? \" < > | % and control characters as %XX), then the extension".into(),
+                    file_name_rule: "page id with '/' replaced by '__' (and \\ : * ? \" < > | % and control characters as %XX); where two ids give names equal ignoring case, each followed by '~' and the top 8 hex digits of the FNV-1a (64-bit) hash of its id; then the extension".into(),
                 }),
                 rows: rows
                     .iter()
@@ -397,7 +418,7 @@ fn build_manifest(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)], cells: 
                         data_file: row.data_file.clone(),
                         index_three_channel: manifest::index_entries(&row.index, Some(&plan.channels)),
                         index_fitted: row.fitted.as_ref().map(|f| manifest::index_entries(f, None)),
-                        strip_file: strips.then(|| strip_path(&folder, &row.page, encoding)),
+                        strip_file: strips.then(|| strip_path(&folder, &stems[r], encoding)),
                         clamped_texels: cell[s].quantised.clamped,
                         error_vs_exact: cell[s].error.clone(),
                         error_vs_spectral: cell[s].error_vs_spectral.clone(),
@@ -642,6 +663,27 @@ mod tests {
         assert_eq!(strip_stem("3d/metals/gold"), "3d__metals__gold");
         assert_eq!(strip_stem("main/Y/a:b%"), "main__Y__a%3Ab%25");
         assert_eq!(strip_stem("other/C2ClF3_n - x/FDS90(P)"), "other__C2ClF3_n - x__FDS90(P)");
+    }
+
+    /// Ids whose stems meet ignoring case each get a hash of their own id; the others keep
+    /// the plain stem, and every stem is distinct.
+    #[test]
+    fn colliding_strip_names_are_told_apart_by_a_hash_of_the_id() {
+        let mut rows = rows(4);
+        let template = rows[0].clone();
+        rows.clear();
+        for page in ["h/X/J", "h/X/j", "h/X__Y/z", "h/X/Y__z", "h/X/alone"] {
+            rows.push(Row { page: page.into(), ..template.clone() });
+        }
+        let stems = strip_stems(&rows);
+        assert_eq!(stems[4], "h__X__alone");
+        // FNV-1a of "h/X/J", computed by hand from its definition, top 32 bits.
+        let fnv = |text: &str| text.bytes().fold(0xcbf29ce484222325u64, |h, b| (h ^ b as u64).wrapping_mul(0x100000001b3));
+        assert_eq!(stems[0], format!("h__X__J~{:08x}", fnv("h/X/J") >> 32));
+        assert!(stems[2].starts_with("h__X__Y__z~") && stems[3].starts_with("h__X__Y__z~") && stems[2] != stems[3]);
+        let lower: std::collections::BTreeSet<String> = stems.iter().map(|s| s.to_lowercase()).collect();
+        assert_eq!(lower.len(), 5);
+        assert!(bake(&rows, &plan(4)).is_ok());
     }
 
     #[test]

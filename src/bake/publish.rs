@@ -1,7 +1,8 @@
-//! Writing a bake (or the report): all files go to a staging folder `<out>/.luts.staging-<pid>`,
-//! which replaces `<out>/luts` by rename only once every file is written. The staging folder is
-//! the temporary name (the folder-level form of `output::write_atomic`): readers see the
-//! previous bake or the new one, never a mix, and a failure removes the staging folder.
+//! Writing a bake (or the report): `<out>/luts` is published as one set
+//! ([`crate::output::publish_folder_with`]): every file goes to a fresh generation under
+//! `<out>/.sets/`, which one rename of a link switches in only once every file is written.
+//! Readers see the previous bake or the new one, never a mix (a kill at any moment
+//! included), and a failure removes the new generation.
 //!
 //! Files inside the private staging folder are written without a per-file fsync: at
 //! ~3 ms per fsync on this machine's ext4, the tens of thousands of strips of `--all`
@@ -50,8 +51,7 @@ pub fn check_writable(out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Leftovers of a bake that was killed (not of one that failed: those clean up). One bake
-/// per output folder at a time.
+/// Leftovers of a bake killed while earlier versions staged it beside `<out>/luts`.
 fn remove_leftovers(out: &Path, folder: &str) -> Result<()> {
     let (staging_prefix, old_prefix) = prefixes(folder);
     for entry in fs::read_dir(out).with_context(|| format!("listing {}", out.display()))? {
@@ -87,27 +87,6 @@ fn write_all(staging: &Path, files: &[OutFile], before_write: BeforeWrite) -> Re
     })
 }
 
-/// Replace `<out>/<folder>` by `staging`: move the old folder aside, move the new one in,
-/// remove the old one. If the second rename fails the old folder is put back.
-fn swap_in(out: &Path, folder: &str, staging: &Path) -> Result<PathBuf> {
-    let luts = out.join(folder);
-    let old = out.join(format!("{}{}", prefixes(folder).1, std::process::id()));
-    let had_old = luts.exists();
-    if had_old {
-        fs::rename(&luts, &old).with_context(|| format!("moving {} aside", luts.display()))?;
-    }
-    if let Err(e) = fs::rename(staging, &luts) {
-        if had_old {
-            let _ = fs::rename(&old, &luts);
-        }
-        return Err(e).with_context(|| format!("renaming {} to {}", staging.display(), luts.display()));
-    }
-    if had_old {
-        fs::remove_dir_all(&old).with_context(|| format!("removing the previous bake {}", old.display()))?;
-    }
-    Ok(luts)
-}
-
 /// Write `files` as the new `<out>/luts`, all or nothing. Returns the folder.
 pub fn publish(out: &Path, files: &[OutFile], before_write: BeforeWrite) -> Result<PathBuf> {
     publish_folder(out, LUTS_DIR, files, before_write)
@@ -118,18 +97,10 @@ pub fn publish_folder(out: &Path, folder: &str, files: &[OutFile], before_write:
     publish_with(out, folder, &|staging| write_all(staging, files, before_write))
 }
 
-/// Fill a fresh staging folder with `fill` (which writes its files into the folder it is
-/// given, e.g. as they are computed), then make it the new `<out>/<folder>`, all or
-/// nothing. Returns the folder.
+/// Fill a fresh folder with `fill` (which writes its files into the folder it is given,
+/// e.g. as they are computed), then make it the new `<out>/<folder>`, all or nothing.
+/// Returns the folder.
 pub fn publish_with(out: &Path, folder: &str, fill: &dyn Fn(&Path) -> Result<()>) -> Result<PathBuf> {
     remove_leftovers(out, folder)?;
-    let staging = out.join(format!("{}{}", prefixes(folder).0, std::process::id()));
-    let result = fs::create_dir_all(&staging)
-        .with_context(|| format!("creating {}", staging.display()))
-        .and_then(|_| fill(&staging))
-        .and_then(|_| swap_in(out, folder, &staging));
-    if result.is_err() {
-        let _ = fs::remove_dir_all(&staging);
-    }
-    result
+    crate::output::publish_folder_with(out, folder, fill)
 }

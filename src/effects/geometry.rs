@@ -212,24 +212,37 @@ pub struct Geometry {
 /// Triangles per leaf of the packets' binary BVH.
 const PACKET_LEAF_TRIANGLES: u32 = 2;
 
-/// A scene with nothing to trace.
+/// The largest coordinate a triangle's corner may have: the BVH is built in f32 (boxes,
+/// Morton codes of their centres), where a corner near f32's range turns into infinities,
+/// and the builder then indexes out of bounds. Placed scenes stay within ±2e4
+/// (`scene::MAX_COORDINATE` and `SCALE_RANGE`).
+pub const MAX_CORNER: f64 = 1e6;
+
+/// A scene that cannot be traced.
 #[derive(Debug, thiserror::Error)]
-#[error("the scene has no triangles to trace")]
-pub struct EmptyGeometry;
+pub enum GeometryError {
+    #[error("the scene has no triangles to trace")]
+    Empty,
+    #[error("object {object}'s triangle {triangle} has a corner at {corner:?}, beyond the ±{MAX_CORNER:e} the tracer takes")]
+    OutOfBounds { object: usize, triangle: usize, corner: [f64; 3] },
+}
 
 impl Geometry {
     /// The placed meshes, one per object, in the scene's object order.
-    pub fn new(meshes: &[Mesh]) -> Result<Geometry, EmptyGeometry> {
+    pub fn new(meshes: &[Mesh]) -> Result<Geometry, GeometryError> {
         let mut triangles = Vec::new();
         for (object, mesh) in meshes.iter().enumerate() {
             for corner in mesh.indices.chunks_exact(3) {
                 let [a, b, c] = [0, 1, 2].map(|i| widen(mesh.positions[corner[i] as usize]));
+                if let Some(far) = [a, b, c].into_iter().find(|p| !(p.abs().max_element() <= MAX_CORNER)) {
+                    return Err(GeometryError::OutOfBounds { object, triangle: triangles.len(), corner: far.to_array() });
+                }
                 let normals = [0, 1, 2].map(|i| widen(mesh.normals[corner[i] as usize]));
                 triangles.push(Triangle { corners: [a, b, c], normals, object: object as u32 });
             }
         }
         if triangles.is_empty() {
-            return Err(EmptyGeometry);
+            return Err(GeometryError::Empty);
         }
         let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
         let boxes: Vec<BvhTriangle> =

@@ -16,10 +16,13 @@
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
+//! - [`command`]: the `effects` stage: the scene with its overrides, the memory check of
+//!   every size it asks for, the experiments it names, and their outputs as one set.
 //!
 //! Pure computation on plain data; scene files come in through `crate::scene`.
 
 pub mod ao;
+pub mod command;
 pub mod distance_map;
 pub mod experiment;
 pub mod geometry;

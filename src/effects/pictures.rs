@@ -1,8 +1,8 @@
 //! Frames a person can look at: the reference beside the distance-map renders, as linear
 //! OpenEXR (float) and sRGB PNG, and a false-colour PNG of each render's error against the
-//! reference. Encoding through `bake::files` (the textures' encoders); writing atomically.
-
-use std::path::{Path, PathBuf};
+//! reference. Encoding through `bake::files` (the textures' encoders); the files join the
+//! set of the command that made them (`output::publish_contents`), so frames of a killed
+//! or earlier run never mix with this one's.
 
 use anyhow::Result;
 
@@ -10,7 +10,7 @@ use super::trace::TracedFrame;
 use crate::bake::files::encode;
 use crate::bake::texel::{Encoding, Texels};
 use crate::color::srgb;
-use crate::output::write_atomic;
+use crate::output::SetFile;
 
 /// One frame to show: a file stem, the frame and, for an error image, its reference.
 #[derive(Clone, Debug)]
@@ -38,9 +38,9 @@ fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>) -> 
     encode(Encoding::Unorm8Srgb, width as usize, height as usize, &Texels::U8(bytes))
 }
 
-/// Write `<dir>/<stem>.exr` (linear) and `<stem>.png` (sRGB) per picture, and for a
+/// The files `<folder>/<stem>.exr` (linear) and `<stem>.png` (sRGB) per picture, and for a
 /// picture with a reference `<stem>_error.png` (false colour of |Δ| summed over channels).
-pub fn write(dir: &Path, pictures: &[Picture]) -> Result<Vec<PathBuf>> {
+pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
     let mut written = Vec::new();
     for picture in pictures {
         let frame = &picture.frame;
@@ -54,11 +54,7 @@ pub fn write(dir: &Path, pictures: &[Picture]) -> Result<Vec<PathBuf>> {
             let bytes = errors.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
             files.push((format!("{}_error.png", picture.stem), encode(Encoding::Unorm8, w as usize, h as usize, &Texels::U8(bytes))?));
         }
-        for (name, bytes) in files {
-            let path = dir.join(name);
-            write_atomic(&path, &bytes)?;
-            written.push(path);
-        }
+        written.extend(files.into_iter().map(|(name, bytes)| SetFile::new(format!("{folder}/{name}"), bytes)));
     }
     Ok(written)
 }
@@ -82,18 +78,17 @@ mod tests {
 
     #[test]
     fn pictures_are_written_as_exr_png_and_error_png() {
-        let dir = std::env::temp_dir().join(format!("nklut-pictures-{}", std::process::id()));
         let frame = TracedFrame { width: 2, height: 1, radiance: vec![[0.5, 0.25, 1.0], [0.0, 0.0, 0.0]], seen: vec![Some(0), None], rays: 2 };
         let mut other = frame.clone();
         other.radiance[0][0] = 0.6;
-        let written = write(&dir, &[Picture { stem: "reference".into(), frame: frame.clone(), reference: None }, Picture { stem: "schlick".into(), frame: other, reference: Some(frame) }]).unwrap();
-        let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
-        assert_eq!(names, ["reference.exr", "reference.png", "schlick.exr", "schlick.png", "schlick_error.png"]);
-        let decoded = crate::bake::files::decode(Encoding::F32, &std::fs::read(dir.join("schlick.exr")).unwrap()).unwrap();
+        let written = files("f", &[Picture { stem: "reference".into(), frame: frame.clone(), reference: None }, Picture { stem: "schlick".into(), frame: other, reference: Some(frame) }]).unwrap();
+        let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names, ["f/reference.exr", "f/reference.png", "f/schlick.exr", "f/schlick.png", "f/schlick_error.png"]);
+        let bytes = |name: &str| written.iter().find(|f| f.name == name).unwrap().bytes.clone();
+        let decoded = crate::bake::files::decode(Encoding::F32, &bytes("f/schlick.exr")).unwrap();
         assert_eq!(decoded.texels, Texels::F32(vec![0.6, 0.25, 1.0, 0.0, 0.0, 0.0]));
-        let error = crate::bake::files::decode(Encoding::Unorm8, &std::fs::read(dir.join("schlick_error.png")).unwrap()).unwrap();
+        let error = crate::bake::files::decode(Encoding::Unorm8, &bytes("f/schlick_error.png")).unwrap();
         // |Δ| = 0.1 at the first pixel: white; none at the second: black.
         assert_eq!(error.texels, Texels::U8(vec![255, 255, 255, 0, 0, 0]));
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

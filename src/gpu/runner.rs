@@ -381,20 +381,24 @@ pub fn image_error_table(report: &RunReport) -> Table {
     table
 }
 
-/// Write the tables of the measurements the run took under `out`.
+/// Publish the tables of the measurements the run took, and its frames, under `out` as
+/// one set (`gpu`).
 pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
     let effects = &report.effects;
+    let mut tables: Vec<(Table, &str)> = Vec::new();
     if !effects.timing.is_empty() {
-        written.extend(super::effects::timing_table(&effects.timing, &report.adapter).write(out, "effects_timing", false)?);
+        tables.push((super::effects::timing_table(&effects.timing, &report.adapter), "effects_timing"));
     } else if report.experiments.contains(&Experiment::Timing) {
-        written.extend(timing_table(report).write(out, "gpu_timing", false)?);
+        tables.push((timing_table(report), "gpu_timing"));
     }
+    let mut frames = Vec::new();
     if !effects.errors.is_empty() {
-        written.extend(crate::effects::experiment::error_table(&effects.errors).write(out, "effects_errors", false)?);
-        written.extend(crate::effects::pictures::write(&out.join("effects_gpu_frames"), &effects.pictures)?);
+        tables.push((crate::effects::experiment::error_table(&effects.errors), "effects_errors"));
+        frames = crate::effects::pictures::files("effects_gpu_frames", &effects.pictures)?;
     } else if report.experiments.contains(&Experiment::ImageError) {
-        written.extend(image_error_table(report).write(out, "image_errors", false)?);
+        tables.push((image_error_table(report), "image_errors"));
     }
-    Ok(written)
+    let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
+    let files: Vec<&dyn crate::output::SetContent> = streamed.iter().map(|f| f as &dyn crate::output::SetContent).chain(frames.iter().map(|f| f as &dyn crate::output::SetContent)).collect();
+    crate::output::publish_contents(out, "gpu", &files)
 }

@@ -7,7 +7,7 @@ use std::fmt::Write;
 use std::path::Path;
 
 use super::csvdata::CsvTable;
-use super::html::{delta_e, escape, href, number, percent, TableText};
+use super::html::{delta_e, escape, href, markdown_text, number, percent, TableText};
 use super::inputs::Inputs;
 
 /// A cell of a table whose columns the report does not know in advance, in the report's
@@ -86,7 +86,7 @@ pub fn gallery(inputs: &Inputs, frames: &[String]) -> (String, String) {
         for (path, table) in found {
             let text = generic_table(table);
             let _ = write!(html, "<h3>{}</h3><p class=\"note\">{}</p>{}", escape(path), escape(what), text.html("effects"));
-            let _ = write!(markdown, "### {path}\n\n{}\n", text.markdown());
+            let _ = write!(markdown, "### {}\n\n{}\n", markdown_text(path), text.markdown());
         }
     }
     if frames.is_empty() {

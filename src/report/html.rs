@@ -139,7 +139,10 @@ impl TableText {
     }
 
     pub fn markdown(&self) -> String {
-        let clean = |c: &str| c.strip_prefix(RAW).map(strip_tags).unwrap_or_else(|| c.to_string()).replace('|', "\\|");
+        let clean = |c: &str| match c.strip_prefix(MARKDOWN) {
+            Some(markdown) => markdown.replace('|', "\\|"),
+            None => markdown_text(&c.strip_prefix(RAW).map(strip_tags).unwrap_or_else(|| c.to_string())).replace('|', "\\|"),
+        };
         let mut out = format!("| {} |\n", self.headers.iter().map(|h| clean(h)).collect::<Vec<_>>().join(" | "));
         out.push_str(&format!("|{}\n", " --- |".repeat(self.headers.len())));
         for row in &self.rows {
@@ -152,6 +155,27 @@ impl TableText {
 /// Marks a cell whose text is HTML already (a swatch); Markdown gets its text only.
 pub const RAW: &str = "\u{1}raw:";
 
+/// Marks a cell whose text is Markdown already (a link made with [`markdown_text`]).
+pub const MARKDOWN: &str = "\u{2}md:";
+
+/// Text as Markdown shows it and nothing more: `&`, `<` and `>` as HTML entities (a
+/// Markdown renderer passes raw HTML through, so a page id holding a tag would run), `[`
+/// and `]` escaped (no link can start in it).
+pub fn markdown_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for ch in text.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '[' => out.push_str("\\["),
+            ']' => out.push_str("\\]"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 pub fn raw(html: String) -> String {
     format!("{RAW}{html}")
 }
@@ -163,6 +187,15 @@ fn strip_tags(html: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn markdown_text_shows_tags_and_brackets_as_text() {
+        assert_eq!(markdown_text("<img src=x onerror=alert(1)> & [a](b)"), "&lt;img src=x onerror=alert(1)&gt; &amp; \\[a\\](b)");
+        let mut t = TableText::new(&["page"]);
+        t.row(vec!["<b>x</b>|y".into()]);
+        t.row(vec![format!("{MARKDOWN}[{}](p.html)", markdown_text("<i>"))]);
+        assert_eq!(t.markdown(), "| page |\n| --- |\n| &lt;b&gt;x&lt;/b&gt;\\|y |\n| [&lt;i&gt;](p.html) |\n");
+    }
 
     #[test]
     fn errors_are_percent_with_three_significant_digits() {

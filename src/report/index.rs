@@ -10,7 +10,7 @@ use anyhow::Result;
 use super::charts::{self, CostPoint};
 use super::context::{channel_flags, channel_triple, fitted_index, material_path, Context};
 use super::csvdata::CsvTable;
-use super::html::{delta_e, escape, href, number, percent, raw, TableText};
+use super::html::{delta_e, escape, href, markdown_text, number, percent, raw, TableText, MARKDOWN};
 use super::inputs::{self, Count};
 use super::page::at_bound;
 
@@ -23,12 +23,12 @@ pub struct Builder {
 impl Builder {
     fn heading(&mut self, level: usize, id: &str, text: &str) {
         let _ = writeln!(self.html, "<h{level} id=\"{}\">{}</h{level}>", escape(id), escape(text));
-        let _ = writeln!(self.markdown, "\n{} {text}\n", "#".repeat(level));
+        let _ = writeln!(self.markdown, "\n{} {}\n", "#".repeat(level), markdown_text(text));
     }
 
     fn paragraph(&mut self, text: &str) {
         let _ = writeln!(self.html, "<p>{}</p>", escape(text));
-        let _ = writeln!(self.markdown, "{text}\n");
+        let _ = writeln!(self.markdown, "{}\n", markdown_text(text));
     }
 
     /// A paragraph with counts: `parts` alternate text and counts.
@@ -39,7 +39,7 @@ impl Builder {
             match part {
                 Part::Text(t) => {
                     html.push_str(&escape(t));
-                    markdown.push_str(t);
+                    markdown.push_str(&markdown_text(t));
                 }
                 Part::Count(c) => {
                     html.push_str(&c.html());
@@ -62,7 +62,7 @@ impl Builder {
             return;
         }
         let _ = writeln!(self.html, "<figure class=\"plot\">{svg}<figcaption>{}</figcaption></figure>", escape(caption));
-        let _ = writeln!(self.markdown, "*(figure in index.html: {caption})*\n");
+        let _ = writeln!(self.markdown, "*(figure in index.html: {})*\n", markdown_text(caption));
     }
 }
 
@@ -390,7 +390,7 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
             percent(fitted_error),
             escape(&notes.join(", "))
         );
-        markdown.row(vec![format!("[{page}]({link})"), names.to_string(), kind.to_string(), delta_e(de)]);
+        markdown.row(vec![format!("{MARKDOWN}[{}]({link})", markdown_text(page)), names.to_string(), kind.to_string(), delta_e(de)]);
     }
     b.html.push_str("</tbody></table>\n");
     b.markdown.push_str(&markdown.markdown());

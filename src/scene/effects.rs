@@ -298,8 +298,8 @@ impl Light {
             return Err(format!("direction {:?} must be a non-zero vector", self.direction));
         }
         for (field, value) in [("colour", self.colour), ("ambient", self.ambient)] {
-            if value.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-                return Err(format!("{field} {value:?} must be non-negative"));
+            if value.iter().any(|v| !(v.is_finite() && *v >= 0.0 && *v <= super::MAX_LIGHT)) {
+                return Err(format!("{field} {value:?} must lie in [0, {:e}]", super::MAX_LIGHT));
             }
         }
         Ok(())

@@ -133,12 +133,24 @@ pub fn sphere(segments: u32, rings: u32) -> Mesh {
     mesh
 }
 
-/// Read an OBJ file (all models merged, triangulated), normalise it to the unit sphere
-/// and, where the file has no normals, compute smooth area-weighted vertex normals.
+/// The most bytes read from an OBJ file (the sculpture's is about 9 MB).
+pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Read an OBJ file (all models merged, triangulated; a regular file of at most
+/// [`MAX_OBJ_BYTES`], whose parsed mesh fits the memory budget), normalise it to the unit
+/// sphere and, where the file has no normals, compute smooth area-weighted vertex normals.
 pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     let error = |problem: String| MeshError { file: file.into(), problem };
+    let opened = crate::db::file::open_regular(file).map_err(|e| error(e.to_string()))?;
+    // The parsed mesh takes a few times the text's bytes (tobj's lists, then ours).
+    let stated = opened.metadata().map(|m| m.len()).unwrap_or(0);
+    crate::budget::MemoryBudget::of_machine().check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated)).map_err(|e| error(e.to_string()))?;
+    let mut bytes = Vec::new();
+    let length = crate::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(e.to_string()))?;
+    bytes.truncate(length);
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-    let (models, _) = tobj::load_obj(file, &options).map_err(|e| error(e.to_string()))?;
+    // Materials are not read (a scene names its own).
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed)).map_err(|e| error(e.to_string()))?;
     let mut mesh = Mesh::default();
     let mut has_normals = true;
     for model in &models {
@@ -161,10 +173,14 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
         return Err(error("a vertex position is not finite".into()));
     }
+    if mesh.normals.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(error("a vertex normal is not finite".into()));
+    }
+    // Normalised first: the normals of faces the size of f32's range would overflow.
+    normalise_to_unit_sphere(&mut mesh.positions);
     if !has_normals {
         mesh.normals = smooth_normals(&mesh.positions, &mesh.indices);
     }
-    normalise_to_unit_sphere(&mut mesh.positions);
     Ok(mesh)
 }
 
@@ -201,21 +217,24 @@ pub fn smooth_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> 
     sums.into_iter().map(normalised).collect()
 }
 
-/// Centre on the bounding-box centre and scale so the farthest vertex lies on the unit sphere.
+/// Centre on the bounding-box centre and scale so the farthest vertex lies on the unit
+/// sphere, in f64 (finite f32 positions anywhere in f32's range give finite results).
 pub fn normalise_to_unit_sphere(positions: &mut [[f32; 3]]) {
-    let mut low = [f32::INFINITY; 3];
-    let mut high = [f32::NEG_INFINITY; 3];
+    let mut low = [f64::INFINITY; 3];
+    let mut high = [f64::NEG_INFINITY; 3];
     for p in positions.iter() {
         for axis in 0..3 {
-            low[axis] = low[axis].min(p[axis]);
-            high[axis] = high[axis].max(p[axis]);
+            low[axis] = low[axis].min(f64::from(p[axis]));
+            high[axis] = high[axis].max(f64::from(p[axis]));
         }
     }
-    let centre: [f32; 3] = std::array::from_fn(|axis| 0.5 * (low[axis] + high[axis]));
-    let radius = positions.iter().map(|p| sub(*p, centre).iter().map(|x| x * x).sum::<f32>().sqrt()).fold(0.0f32, f32::max);
+    let centre: [f64; 3] = std::array::from_fn(|axis| 0.5 * (low[axis] + high[axis]));
+    let offset = |p: &[f32; 3]| -> [f64; 3] { std::array::from_fn(|axis| f64::from(p[axis]) - centre[axis]) };
+    let radius = positions.iter().map(|p| offset(p).iter().map(|x| x * x).sum::<f64>().sqrt()).fold(0.0f64, f64::max);
     let scale = if radius > 0.0 { 1.0 / radius } else { 1.0 };
     for p in positions.iter_mut() {
-        *p = std::array::from_fn(|axis| (p[axis] - centre[axis]) * scale);
+        let d = offset(p);
+        *p = std::array::from_fn(|axis| (d[axis] * scale) as f32);
     }
 }
 

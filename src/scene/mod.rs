@@ -237,6 +237,24 @@ impl Default for LutSettings {
     }
 }
 
+/// The largest coordinate (scene units, metres) a position may have on any axis. Meshes fit
+/// the unit sphere (the room √3), so a placed vertex stays within ±(`MAX_COORDINATE` +
+/// √3·`SCALE_RANGE.1`): finite in f32 — the BVH's and the GPU's precision — with room for
+/// the products the tracers form, where 1e300 or 3.5e38 made infinities and NaN.
+pub const MAX_COORDINATE: f64 = 1e4;
+/// The smallest and largest scale on any axis (normals divide by it).
+pub const SCALE_RANGE: (f64, f64) = (1e-4, 1e4);
+/// The largest light colour, ambient term or point intensity: radiance summed over every
+/// bounce of every light stays far from overflow in f64 and in the GPU's f32.
+pub const MAX_LIGHT: f64 = 1e6;
+/// The most camera frames a scene (or `--frames`) may ask for: ten turns at the study's
+/// 1° a frame. Every frame is rendered, so a larger count is a run that never ends.
+pub const MAX_FRAMES: u32 = 3600;
+/// The most bytes read from a scene file.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+/// The most timed (and untimed) passes per measurement.
+pub const MAX_REPEATS: u32 = 10_000;
+
 /// Where an object stands: its mesh scaled per axis by `scale`, then moved by `position`.
 /// Only scenes with `effects` place objects; elsewhere every object sits at the origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -411,11 +429,11 @@ impl RawObject {
         if !effects && placement != Placement::default() {
             return Err(needs_effects(if self.position.is_some() { "position" } else { "scale" }));
         }
-        if placement.position.iter().any(|x| !x.is_finite()) {
-            return Err(format!("position {:?} must be finite", placement.position));
+        if placement.position.iter().any(|x| !(x.abs() <= MAX_COORDINATE)) {
+            return Err(format!("position {:?} must lie within ±{MAX_COORDINATE:e} on each axis", placement.position));
         }
-        if placement.scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-            return Err(format!("scale {:?} must be positive and finite", placement.scale));
+        if placement.scale.iter().any(|s| !(*s >= SCALE_RANGE.0 && *s <= SCALE_RANGE.1)) {
+            return Err(format!("scale {:?} must lie in [{:e}, {:e}] on each axis", placement.scale, SCALE_RANGE.0, SCALE_RANGE.1));
         }
         let subdivisions = self.subdivide.unwrap_or(0);
         if self.subdivide.is_some() && !effects {
@@ -460,13 +478,16 @@ impl RawObject {
 impl Scene {
     /// Read and check a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError { file: path.into(), problem: format!("cannot read: {e}") })?;
+        let text = crate::db::file::read_regular_text(path, MAX_SCENE_BYTES).map_err(|e| SceneError { file: path.into(), problem: format!("cannot read: {e}") })?;
         Scene::parse(&text, path)
     }
 
     /// Parse and check scene text; `file` names it in errors and anchors relative mesh paths.
     pub fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         let error = |problem: String| SceneError { file: file.into(), problem };
+        if let Some(deep) = crate::db::block_yaml::too_deep(text) {
+            return Err(error(deep.to_string()));
+        }
         let raw: RawScene = serde_yaml::from_str(text).map_err(|e| error(e.to_string()))?;
         let with_effects = raw.effects.is_some();
         let mut objects = Vec::new();
@@ -547,8 +568,8 @@ impl Scene {
         if !(camera.distance > 1.0 && camera.distance.is_finite()) {
             return Err(format!("camera.distance {} must be above 1 (objects fill the unit sphere)", camera.distance));
         }
-        if camera.frames == 0 {
-            return Err("camera.frames must be at least 1".into());
+        if !(1..=MAX_FRAMES).contains(&camera.frames) {
+            return Err(format!("camera.frames {} must lie in 1..={MAX_FRAMES}", camera.frames));
         }
         if !camera.degrees_per_frame.is_finite() {
             return Err("camera.degrees_per_frame must be finite".into());
@@ -556,8 +577,11 @@ impl Scene {
         if !(camera.fov_y_degrees > 0.0 && camera.fov_y_degrees < 180.0) {
             return Err(format!("camera.fov_y_degrees {} must lie in (0, 180)", camera.fov_y_degrees));
         }
-        if self.timing.repeats == 0 {
-            return Err("timing.repeats must be at least 1".into());
+        if !(1..=MAX_REPEATS).contains(&self.timing.repeats) {
+            return Err(format!("timing.repeats {} must lie in 1..={MAX_REPEATS}", self.timing.repeats));
+        }
+        if self.timing.warmup > MAX_REPEATS {
+            return Err(format!("timing.warmup {} must lie in 0..={MAX_REPEATS}", self.timing.warmup));
         }
         if !(2..=8192).contains(&self.lut.size) {
             return Err(format!("lut.size {} must lie in 2..=8192", self.lut.size));

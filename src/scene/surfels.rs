@@ -43,10 +43,10 @@ pub enum LightSource {
 impl LightSource {
     pub(crate) fn check(&self) -> Result<(), String> {
         let finite_non_negative = |field: &str, v: &[f64; 3]| {
-            if v.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            if v.iter().all(|x| x.is_finite() && *x >= 0.0 && *x <= super::MAX_LIGHT) {
                 Ok(())
             } else {
-                Err(format!("{field} {v:?} must be finite and non-negative"))
+                Err(format!("{field} {v:?} must lie in [0, {:e}]", super::MAX_LIGHT))
             }
         };
         match self {
@@ -57,8 +57,8 @@ impl LightSource {
                 finite_non_negative("colour", colour)
             }
             LightSource::Point { position, intensity } => {
-                if !position.iter().all(|x| x.is_finite()) {
-                    return Err(format!("position {position:?} must be finite"));
+                if !position.iter().all(|x| x.abs() <= super::MAX_COORDINATE) {
+                    return Err(format!("position {position:?} must lie within ±{:e} on each axis", super::MAX_COORDINATE));
                 }
                 finite_non_negative("intensity", intensity)
             }

@@ -26,6 +26,7 @@ use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surf
 use super::reference::{reference_accessibility, RaySettings};
 use super::shadow::ShadowForm;
 use super::surfel::{subdivided_times, surfels, Surfel};
+use crate::budget::{times, MemoryBudget};
 use crate::effects::experiment::EffectsStats;
 use crate::effects::geometry::Geometry;
 use crate::effects::pictures::Picture;
@@ -55,16 +56,28 @@ pub struct SurfelScene {
     pub lights: Vec<LightSource>,
 }
 
+/// The bytes the AO run holds per triangle of a placed (and subdivided) mesh, for the
+/// memory check before subdividing: the mesh itself, its surfels (about one per two
+/// triangles), the tracer's f64 triangle and its BVH, the surfel tree and the per-vertex
+/// results, with room for the BVH builder's scratch. Measured: 420 bytes of peak resident
+/// memory per triangle on the bunny subdivided once and twice (BENCHMARKS.md); counted as
+/// 512.
+pub const BYTES_PER_SURFEL_TRIANGLE: usize = 512;
+
 impl SurfelScene {
-    /// Load, place and subdivide every object's mesh.
-    pub fn new(scene: &Scene) -> Result<SurfelScene> {
+    /// Load, place and subdivide every object's mesh; a subdivision whose triangles would
+    /// not fit `budget` is refused (naming the object) before it is made.
+    pub fn new(scene: &Scene, budget: &MemoryBudget) -> Result<SurfelScene> {
         let named = |problem: String| anyhow!("scene {}: {problem}", scene.file.display());
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
         let (mut all, mut albedo, mut object_albedo) = (Vec::new(), Vec::new(), Vec::new());
         let mut triangles = 0;
-        for object in &scene.objects {
+        for (i, object) in scene.objects.iter().enumerate() {
             let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
+            let subdivided_triangles = (loaded.triangles() as u128).saturating_mul(4u128.saturating_pow(object.subdivisions));
+            let what = format!("{} triangles ({} subdivided {} times)", subdivided_triangles, object.mesh.label(), object.subdivisions);
+            budget.check(&format!("objects[{i}].subdivide"), what, times(triangles as u128 + subdivided_triangles, BYTES_PER_SURFEL_TRIANGLE)).map_err(|e| named(e.to_string()))?;
             let placed = subdivided_times(&loaded.placed(&object.placement), object.subdivisions);
             let own = surfels(&placed);
             let base = object.mesh.label();
@@ -129,13 +142,15 @@ pub struct AoSettings {
     pub form: ShadowForm,
     pub closeness: Closeness,
     pub resolution: [u32; 2],
+    /// What the run may hold (subdivided meshes are checked against it).
+    pub budget: MemoryBudget,
 }
 
 impl Default for AoSettings {
     /// 256 rays per vertex (σ ≤ 1/32 per vertex, ~0.01 on a mean), brute force to 20 000
     /// surfels, 3 passes, the form factor (g = 1), κ = 16, 256×256 pictures.
     fn default() -> AoSettings {
-        AoSettings { rays: RaySettings { rays: 256, ..RaySettings::default() }, max_brute: 20_000, passes: 3, form: ShadowForm::FORM_FACTOR, closeness: Closeness::default(), resolution: [256, 256] }
+        AoSettings { rays: RaySettings { rays: 256, ..RaySettings::default() }, max_brute: 20_000, passes: 3, form: ShadowForm::FORM_FACTOR, closeness: Closeness::default(), resolution: [256, 256], budget: MemoryBudget::of_machine() }
     }
 }
 
@@ -176,7 +191,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     if effects.ambient_occlusion.is_none() && effects.indirect.is_none() {
         return Ok(AoReport::default());
     }
-    let stage = SurfelScene::new(scene)?;
+    let stage = SurfelScene::new(scene, &settings.budget)?;
     let n = stage.surfels.len();
     stats.surfels += n;
     let tree = SurfelTree::new(&stage.surfels, settings.form, settings.closeness);

@@ -328,7 +328,7 @@ pub fn run_scene(scene: &crate::scene::Scene, gpu: &Gpu, stats: &mut crate::effe
         return Ok(None);
     }
     let settings = AoSettings::default();
-    let stage = SurfelScene::new(scene)?;
+    let stage = SurfelScene::new(scene, &settings.budget)?;
     let n = stage.surfels.len();
     stats.surfels += n;
     let passes = effects.ambient_occlusion.map_or(0, |a| a.passes);
