@@ -70,8 +70,14 @@ fn hostile() -> tempfile::TempDir {
     root
 }
 
+/// The binary under test: this build's, or `NKLUT_TEST_BIN` (another build, e.g. the
+/// previous release, to see a test fail before its fix).
+fn binary() -> std::path::PathBuf {
+    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
+}
+
 fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
+    Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
 }
 
 fn ok(output: &Output) -> String {
@@ -198,7 +204,7 @@ fn flags_are_checked_and_outputs_hold_no_nan() {
 fn a_closed_pipe_ends_the_program_quietly() {
     let db = hostile();
     let out = db.path().join("out");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_nklut"))
+    let mut child = Command::new(binary())
         .arg("--db")
         .arg(db.path())
         .arg("--out")
@@ -239,7 +245,7 @@ fn a_killed_ingest_leaves_one_complete_set() {
     assert!(a.iter().zip(&b).all(|(x, y)| x.1 != y.1), "the two runs must differ in every table");
     for step in ["staged", "switched", "linked"] {
         ok(&nklut(db.path(), &out, &a_args));
-        let killed = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        let killed = Command::new(binary())
             .env("NKLUT_CRASH_AT", step)
             .arg("--db")
             .arg(db.path())
@@ -261,7 +267,7 @@ fn a_killed_ingest_leaves_one_complete_set() {
     // Kills at arbitrary moments: the folder always holds run A or run B whole.
     for delay_ms in [0u64, 2, 5, 10, 20, 40] {
         ok(&nklut(db.path(), &out, &a_args));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_nklut"))
+        let mut child = Command::new(binary())
             .arg("--db")
             .arg(db.path())
             .arg("--out")
@@ -324,4 +330,333 @@ fn the_extrapolated_share_is_recorded_in_colors_and_the_manifest() {
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
     let shares: Vec<f64> = manifest["textures"].as_array().unwrap().iter().flat_map(|set| set["rows"].as_array().unwrap().iter().map(|r| r["extrapolated_share"].as_f64().unwrap())).collect();
     assert!(!shares.is_empty() && shares.iter().all(|&s| s == colors), "{shares:?} vs {colors}");
+}
+
+// ---------------------------------------------------------------------------------------
+// The faults an outside attack found, one test each (the item numbers of the attack's list).
+
+/// A database of `catalog` text and `files` under `data/`.
+fn fixture(catalog: &str, files: &[(&str, &[u8])]) -> tempfile::TempDir {
+    let root = tempfile::tempdir().unwrap();
+    fs::write(root.path().join("catalog-nk.yml"), catalog).unwrap();
+    for (path, bytes) in files {
+        let path = root.path().join("data").join(path);
+        fs::create_dir_all(path.parent().unwrap()).unwrap();
+        fs::write(path, bytes).unwrap();
+    }
+    fs::create_dir_all(root.path().join("data")).unwrap();
+    root
+}
+
+/// A catalog of one shelf `h`, one book `X` and the pages `(id, data file)`.
+fn catalog_of(pages: &[(&str, &str)]) -> String {
+    let mut text = String::from("- SHELF: h\n  content:\n    - BOOK: X\n      content:\n");
+    for (id, data) in pages {
+        text.push_str(&format!("        - PAGE: \"{id}\"\n          data: {data}\n"));
+    }
+    text
+}
+
+const GOOD: &[u8] = b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 2.0 3.0\n        0.80 3.0 4.0\n";
+
+/// The output of a command given `limit` to finish: a run past it is killed and the test
+/// fails (a hang guard, generous for a debug build; not a speed target).
+fn bounded(command: &mut Command, limit: std::time::Duration) -> Output {
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let start = std::time::Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("still running after {limit:?}: a hang");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+fn nklut_bounded(db: &Path, out: &Path, args: &[&str]) -> Output {
+    bounded(Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args), std::time::Duration::from_secs(60))
+}
+
+/// Exit status 0 or 1: never a panic (101) or a signal.
+fn exit_0_or_1(output: &Output) -> i32 {
+    let code = output.status.code();
+    assert!(matches!(code, Some(0 | 1)), "status {:?}: {}", output.status, String::from_utf8_lossy(&output.stderr));
+    code.unwrap()
+}
+
+fn excluded_reason(out: &Path, page: &str) -> String {
+    let excluded = rows(&out.join("excluded.csv"));
+    excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not in excluded.csv: {excluded:?}"))["reason"].clone()
+}
+
+/// Item 3: a `data: |` line inside a comment's block is not the page's table; the parser
+/// decides where the DATA block's table is.
+#[test]
+fn a_table_inside_a_comment_is_not_the_page_s_data() {
+    let page = b"COMMENTS: |\n    an example of the layout:\n    data: |\n        0.30 9.9\n        0.80 9.9\nREFERENCES: \"r\"\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n";
+    let quoted = b"COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\nDATA:\n  - type: tabulated n\n    data: \"0.30 1.5\\n0.80 1.5\"\n";
+    let db = fixture(&catalog_of(&[("comment", "h/X/comment.yml"), ("quoted", "h/X/quoted.yml")]), &[("h/X/comment.yml", page), ("h/X/quoted.yml", quoted)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    for row in rows(&out.join("materials.csv")) {
+        assert_eq!(row["n_green"], "1.5", "{}: the comment's 9.9 was read", row["page"]);
+    }
+    let printed = nklut(db.path(), &out, &["nk", "h/X/comment", "--nm", "500"]);
+    assert_eq!(String::from_utf8_lossy(&printed.stdout).trim(), "500 1.5 0");
+}
+
+/// Item 4: FIFOs, devices and links that leave the database are refused without reading
+/// (nothing blocks), each with its reason; the rest of the run goes on.
+#[cfg(unix)]
+#[test]
+fn special_files_and_links_out_of_the_database_are_refused_without_blocking() {
+    let db = fixture(
+        &catalog_of(&[("good", "h/X/good.yml"), ("fifo", "h/X/fifo.yml"), ("zero", "h/X/zero.yml"), ("random", "h/X/random.yml"), ("outside", "h/X/outside.yml"), ("kmsg", "h/X/kmsg.yml")]),
+        &[("h/X/good.yml", GOOD)],
+    );
+    let data = db.path().join("data/h/X");
+    let fifo = std::ffi::CString::new(data.join("fifo.yml").as_os_str().as_encoded_bytes()).unwrap();
+    // SAFETY: mkfifo reads a NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+    std::os::unix::fs::symlink("/dev/zero", data.join("zero.yml")).unwrap();
+    std::os::unix::fs::symlink("/dev/urandom", data.join("random.yml")).unwrap();
+    std::os::unix::fs::symlink("/proc/kmsg", data.join("kmsg.yml")).unwrap();
+    let elsewhere = tempfile::tempdir().unwrap();
+    fs::write(elsewhere.path().join("page.yml"), GOOD).unwrap();
+    std::os::unix::fs::symlink(elsewhere.path().join("page.yml"), data.join("outside.yml")).unwrap();
+    let out = db.path().join("out");
+    ok(&nklut_bounded(db.path(), &out, &["ingest"]));
+    assert_eq!(excluded_reason(&out, "h/X/fifo"), "not-a-regular-file");
+    assert_eq!(excluded_reason(&out, "h/X/zero"), "not-a-regular-file");
+    assert_eq!(excluded_reason(&out, "h/X/random"), "not-a-regular-file");
+    assert_eq!(excluded_reason(&out, "h/X/outside"), "path-outside-database");
+    assert_eq!(excluded_reason(&out, "h/X/kmsg"), "path-outside-database");
+    let kept: Vec<String> = rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
+    assert_eq!(kept, ["h/X/good"]);
+}
+
+/// Item 5: catalog entries whose levels are not single values are in excluded.csv, not
+/// dropped: every PAGE of the catalog is in exactly one of the two tables.
+#[test]
+fn catalog_entries_that_are_not_pages_are_excluded_not_dropped() {
+    let catalog = "- SHELF: h\n  content:\n    - BOOK: ~\n      content:\n        - PAGE: a\n          data: h/X/good.yml\n    - BOOK: X\n      content:\n        - PAGE: [1, 2]\n          data: h/X/good.yml\n        - PAGE: {x: 1}\n          data: h/X/good.yml\n        - PAGE: good\n          data: h/X/good.yml\n- SHELF: [1, 2]\n  content:\n    - BOOK: Y\n      content:\n        - PAGE: b\n          data: h/X/good.yml\n";
+    let db = fixture(catalog, &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    let kept = rows(&out.join("materials.csv"));
+    let excluded = rows(&out.join("excluded.csv"));
+    assert_eq!(kept.len(), 1);
+    assert_eq!(kept.len() + excluded.len(), catalog.matches("PAGE:").count(), "{excluded:?}");
+    assert!(excluded.iter().all(|r| r["reason"] == "bad-catalog-entry"), "{excluded:?}");
+}
+
+/// Item 6: pages sharing one data file cost memory and table bytes linear in the pages.
+#[test]
+fn pages_sharing_one_data_file_cost_linear_memory() {
+    let pages: Vec<(String, &str)> = (0..5000).map(|i| (format!("p{i}"), "h/X/good.yml")).collect();
+    let listed: Vec<(&str, &str)> = pages.iter().map(|(id, data)| (id.as_str(), *data)).collect();
+    let db = fixture(&catalog_of(&listed), &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    let (output, peak_kb) = with_peak_memory(Command::new(binary()).arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest"));
+    ok(&output);
+    let materials = fs::metadata(out.join("materials.csv")).unwrap().len();
+    // One row of a few hundred bytes per page (296 MB when each listed every other page).
+    assert!(materials < 5000 * 1024, "materials.csv holds {materials} bytes");
+    assert!(peak_kb < 400 * 1024, "peak resident memory {peak_kb} kB");
+    let first = &rows(&out.join("materials.csv"))[0];
+    assert_eq!(first["shared_with"], "h/X/p1; h/X/p2; h/X/p3; h/X/p4; h/X/p5; h/X/p6; h/X/p7; h/X/p8; … and 4991 more");
+}
+
+/// The output of a command and its peak resident memory in kB (the kernel's count).
+fn with_peak_memory(command: &mut Command) -> (Output, i64) {
+    let child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let pid = child.id() as libc::pid_t;
+    let mut stderr = child.stderr.unwrap();
+    let mut stdout = child.stdout.unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut text = Vec::new();
+        stderr.read_to_end(&mut text).unwrap();
+        text
+    });
+    let mut out_text = Vec::new();
+    stdout.read_to_end(&mut out_text).unwrap();
+    let err_text = reader.join().unwrap();
+    let mut status = 0;
+    // SAFETY: wait4 on our own child, with valid pointers.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    use std::os::unix::process::ExitStatusExt;
+    (Output { status: std::process::ExitStatus::from_raw(status), stdout: out_text, stderr: err_text }, usage.ru_maxrss)
+}
+
+/// Item 7: YAML nested past the readers' bound is refused at once, with its reason: the
+/// catalog (the run cannot go on, and says why) and a data file (the page is excluded).
+#[test]
+fn deep_nesting_is_refused_with_its_reason() {
+    let deep = |levels: usize| format!("{}1{}", "[".repeat(levels), "]".repeat(levels));
+    let page = format!("DATA:\n  - type: tabulated n\n    data: |\n        0.3 1.5\n        0.8 1.5\nCOMMENTS: {}\n", deep(1_000_000));
+    let db = fixture(&catalog_of(&[("good", "h/X/good.yml"), ("deep", "h/X/deep.yml")]), &[("h/X/good.yml", GOOD), ("h/X/deep.yml", page.as_bytes())]);
+    let out = db.path().join("out");
+    ok(&nklut_bounded(db.path(), &out, &["ingest"]));
+    assert_eq!(excluded_reason(&out, "h/X/deep"), "nesting-too-deep");
+    let catalog = format!("{}\n{}", catalog_of(&[("good", "h/X/good.yml")]), format_args!("- SHELF: d\n  content: {}\n", deep(100_000)));
+    fs::write(db.path().join("catalog-nk.yml"), catalog).unwrap();
+    let stderr = failed(&nklut_bounded(db.path(), &out, &["ingest"]));
+    assert!(stderr.contains("nesting-too-deep") && stderr.contains("catalog-nk.yml"), "{stderr}");
+}
+
+/// Item 10: a formula's range must be finite numbers (no `inf` reaches a table).
+#[test]
+fn a_formula_range_to_infinity_is_refused() {
+    let page = b"DATA:\n  - type: formula 2\n    wavelength_range: 0.3 inf\n    coefficients: 0 1.0 0.01\n";
+    let words = b"DATA:\n  - type: formula 2\n    wavelength_range: 0.3 x 2.0\n    coefficients: 0 1.0 0.01\n";
+    let db = fixture(&catalog_of(&[("inf", "h/X/inf.yml"), ("words", "h/X/words.yml"), ("good", "h/X/good.yml")]), &[("h/X/inf.yml", page), ("h/X/words.yml", words), ("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    assert_eq!(excluded_reason(&out, "h/X/inf"), "too-few-coefficients");
+    assert_eq!(excluded_reason(&out, "h/X/words"), "too-few-coefficients");
+    let materials = fs::read_to_string(out.join("materials.csv")).unwrap();
+    assert_eq!(rows(&out.join("materials.csv")).len(), 1);
+    assert!(common::non_finite_cells(&materials).is_empty(), "{materials}");
+}
+
+/// Item 11: no single catalog entry disables a command: `..` is a bad id, and ids that
+/// differ in case or in `__` against `/` bake to strips of their own.
+#[test]
+fn odd_page_ids_disable_no_command() {
+    let pages = [("good", "h/X/good.yml"), ("..", "h/X/good.yml"), ("J", "h/X/j1.yml"), ("j", "h/X/j2.yml")];
+    let mut catalog = catalog_of(&pages);
+    catalog.push_str("    - BOOK: X__Y\n      content:\n        - PAGE: z\n          data: h/X/z1.yml\n    - BOOK: X\n      content:\n        - PAGE: Y__z\n          data: h/X/z2.yml\n");
+    let files: Vec<(&str, &[u8])> = ["h/X/good.yml", "h/X/j1.yml", "h/X/j2.yml", "h/X/z1.yml", "h/X/z2.yml"].into_iter().map(|f| (f, GOOD)).collect();
+    let db = fixture(&catalog, &files);
+    let out = db.path().join("out");
+    for command in ["ingest", "colors", "validate", "bake", "report"] {
+        ok(&nklut(db.path(), &out, &[command]));
+    }
+    assert_eq!(excluded_reason(&out, "h/X/.."), "bad-page-id");
+    let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+    let strips: Vec<String> = manifest["textures"][0]["rows"].as_array().unwrap().iter().map(|r| r["strip_file"].as_str().unwrap().to_string()).collect();
+    assert_eq!(strips.len(), 5);
+    let distinct: std::collections::BTreeSet<String> = strips.iter().map(|s| s.to_lowercase()).collect();
+    assert_eq!(distinct.len(), 5, "{strips:?}");
+    for strip in &strips {
+        assert!(out.join("luts").join(strip).is_file(), "{strip} was not written");
+    }
+}
+
+/// Item 13: report.md shows a page id holding HTML as text.
+#[test]
+fn report_markdown_shows_html_in_ids_as_text() {
+    let id = "<img src=x onerror=alert(1)>";
+    let db = fixture(&catalog_of(&[(id, "h/X/good.yml")]), &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    for command in ["ingest", "report"] {
+        ok(&nklut(db.path(), &out, &[command]));
+    }
+    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
+    assert!(!markdown.contains("<img"), "raw HTML in report.md");
+    assert!(markdown.contains("&lt;img src=x onerror=alert(1)&gt;"));
+}
+
+/// Item 2: runs into one output folder take turns; each leaves one whole set, and the
+/// tables are never lost.
+#[test]
+fn concurrent_ingests_into_one_folder_leave_one_whole_set() {
+    let pages: Vec<(String, String)> = (0..400).map(|i| (format!("p{i}"), format!("h/X/p{i}.yml"))).collect();
+    let listed: Vec<(&str, &str)> = pages.iter().map(|(id, data)| (id.as_str(), data.as_str())).collect();
+    let files: Vec<(&str, &[u8])> = pages.iter().map(|(_, data)| (data.as_str(), GOOD)).collect();
+    let db = fixture(&catalog_of(&listed), &files);
+    let out = db.path().join("out");
+    let whole = db.path().join("whole");
+    ok(&nklut(db.path(), &whole, &["ingest"]));
+    let expected = ingest_set(&whole);
+    for round in 0..10 {
+        let spawn = || Command::new(binary()).arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest").stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+        let (a, b) = (spawn(), spawn());
+        for child in [a, b] {
+            let output = child.wait_with_output().unwrap();
+            let stderr = String::from_utf8_lossy(&output.stderr);
+            assert!(output.status.success(), "round {round}: {stderr}");
+        }
+        assert!(ingest_set(&out) == expected, "round {round}: the folder does not hold one whole set");
+        let generations = fs::read_dir(out.join(".sets")).unwrap().filter(|e| e.as_ref().unwrap().file_type().unwrap().is_dir()).count();
+        assert_eq!(generations, 1, "round {round}");
+    }
+}
+
+/// Item 12: a write that fails (here: past a file-size limit, as on a full disk) removes
+/// its generation and leaves the previous set.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_write_leaves_no_generation_behind() {
+    use std::os::unix::process::CommandExt;
+    let db = hostile();
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest", "--page", "h/X/good"]));
+    let before = ingest_set(&out);
+    let mut command = Command::new(binary());
+    command.arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest");
+    // SAFETY: between fork and exec only async-signal-safe calls: setrlimit and signal.
+    unsafe {
+        command.pre_exec(|| {
+            // Files stop at 512 bytes; the write past it fails (EFBIG) instead of killing.
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            let limit = libc::rlimit { rlim_cur: 512, rlim_max: libc::RLIM_INFINITY };
+            libc::setrlimit(libc::RLIMIT_FSIZE, &limit);
+            Ok(())
+        });
+    }
+    let output = command.output().unwrap();
+    assert_eq!(exit_0_or_1(&output), 1, "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(ingest_set(&out) == before, "the previous set changed");
+    let generations: Vec<String> =
+        fs::read_dir(out.join(".sets")).unwrap().map(|e| e.unwrap()).filter(|e| e.file_type().unwrap().is_dir()).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(generations.len(), 1, "{generations:?}");
+}
+
+/// Item 8: bake and report are published as sets: a kill at any step leaves the previous
+/// folder or the new one whole, never none.
+#[test]
+fn killed_bakes_and_reports_leave_a_whole_folder() {
+    let db = hostile();
+    let out = db.path().join("out");
+    for command in ["ingest", "colors", "validate"] {
+        ok(&nklut(db.path(), &out, &[command]));
+    }
+    for (command, folder, small, large) in [("bake", "luts", ["bake", "--size", "8"], ["bake", "--size", "16"]), ("report", "report", ["report", "--page", "h/X/good"], ["report", "--page", "h/X/bom"])] {
+        ok(&nklut(db.path(), &out, &small));
+        let a = folder_hashes(&out.join(folder));
+        ok(&nklut(db.path(), &out, &large));
+        let b = folder_hashes(&out.join(folder));
+        assert!(a != b && !a.is_empty(), "{command}: the two runs must differ");
+        for step in ["staged", "switched", "linked"] {
+            ok(&nklut(db.path(), &out, &small));
+            let killed = Command::new(binary()).env("NKLUT_CRASH_AT", step).arg("--db").arg(db.path()).arg("--out").arg(&out).args(large).output().unwrap();
+            assert!(!killed.status.success(), "{command} {step}: the run should have been killed");
+            let now = folder_hashes(&out.join(folder));
+            assert!(now == if step == "staged" { a.clone() } else { b.clone() }, "{command}: after a kill at {step} the folder is not one whole run");
+        }
+    }
+}
+
+/// Every file below `dir` (following the set's link) and its bytes.
+fn folder_hashes(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut found = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        let Ok(entries) = fs::read_dir(&folder) else { continue };
+        for entry in entries {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                found.insert(path.strip_prefix(dir).unwrap().to_string_lossy().into_owned(), fs::read(&path).unwrap());
+            }
+        }
+    }
+    found
 }

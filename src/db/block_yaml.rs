@@ -646,4 +646,25 @@ mod tests {
             lines.join("\n") + "\n"
         })
     }
+
+    /// The nesting bound counts block levels, indicators and flow brackets, passes over
+    /// block scalars and comments, and is never below the real depth.
+    #[test]
+    fn nesting_is_bounded_in_one_pass() {
+        assert_eq!(too_deep("a: 1\nb:\n  c: [1, {d: 2}]\n"), None);
+        let flow = format!("x: {}1{}", "[".repeat(MAX_NESTING), "]".repeat(MAX_NESTING));
+        assert_eq!(too_deep(&flow), Some(TooDeep { line: 1, depth: MAX_NESTING + 1 }));
+        // Block mappings, one level per line.
+        let block: String = (0..=MAX_NESTING).map(|i| format!("{}k{i}:\n", " ".repeat(i))).collect();
+        assert_eq!(too_deep(&block).map(|d| d.line), Some(MAX_NESTING + 1));
+        // Compact sequences: every `- ` opens one.
+        assert!(too_deep(&format!("{}x\n", "- ".repeat(MAX_NESTING + 1))).is_some());
+        // Brackets inside a literal block or a comment are text.
+        let literal = format!("a: |\n  {}\n# {}\nb: 1\n", "[".repeat(1000), "[".repeat(1000));
+        assert_eq!(too_deep(&literal), None);
+        // What serde_yaml refuses as too deep is refused here first.
+        let deep = format!("{}{}", "[".repeat(200), "]".repeat(200));
+        assert!(serde_yaml::from_str::<Value>(&deep).is_err() && too_deep(&deep).is_some());
+        assert!(from_str::<Value>(&deep).unwrap_err().to_string().contains("nests 200 levels"));
+    }
 }

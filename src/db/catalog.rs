@@ -2,8 +2,9 @@
 //! cannot become pages are kept as rejected entries with a reason, never dropped: an id
 //! that is empty, `.` or `..`, or holds '/' or a control character (`bad-page-id`); a
 //! SHELF, BOOK or PAGE that is not a single value (a list, a mapping, null), a `data` that
-//! is not a path, or an entry that is neither a page nor a divider (`bad-catalog-entry`,
-//! one per page below a bad shelf or book).
+//! is not a path, or an entry of a book that is neither a page nor a divider
+//! (`bad-catalog-entry`; every page below a bad shelf or book is rejected). The entries
+//! are the items of the books' content: a shelf or book without content holds none.
 
 use serde_yaml::Value;
 
@@ -190,14 +191,7 @@ impl Catalog {
                 }
             };
             let shelf_name = field(shelf, "name").unwrap_or_else(|| shelf_id.clone());
-            let books = items(shelf);
-            if books.is_empty() {
-                if let Some(problem) = shelf_problem {
-                    add_rejected(&shelf_id, shelf_id.clone(), problem.reason, "", problem.detail);
-                }
-                continue;
-            }
-            for book in books {
+            for book in items(shelf) {
                 let (book_id, book_problem) = match id_of(book, "BOOK") {
                     Id::Scalar(id) => {
                         let problem = id_problem("book", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
@@ -215,17 +209,11 @@ impl Catalog {
                 };
                 let problem_above = shelf_problem.as_ref().or(book_problem.as_ref());
                 let book_name = field(book, "name").unwrap_or_else(|| book_id.clone());
-                let entries = items(book);
-                if entries.is_empty() {
-                    if let Some(problem) = problem_above {
-                        add_rejected(&shelf_id, format!("{shelf_id}/{book_id}"), problem.reason, "", problem.detail.clone());
-                    }
-                    continue;
-                }
                 let mut divider = None;
-                for page in entries {
-                    if let Some(d) = field(page, "DIVIDER") {
-                        divider = Some(d);
+                for page in items(book) {
+                    // An item with a PAGE key is a page; without one, a DIVIDER is a divider.
+                    if page.get("PAGE").is_none() && page.get("DIVIDER").is_some() {
+                        divider = field(page, "DIVIDER");
                         continue;
                     }
                     let (page_id, page_problem) = match id_of(page, "PAGE") {
@@ -405,12 +393,11 @@ mod tests {
                 ("s/b/listed-data", "bad-catalog-entry"),
                 ("s/b/{\"name\":\"no PAGE key\",\"data\":\"s/g.yml\"}", "bad-catalog-entry"),
                 ("[1,2]/c/p", "bad-catalog-entry"),
-                ("{\"name\":\"neither shelf nor divider\"}", "bad-catalog-entry"),
             ]
         );
-        // Every PAGE key of the text, counted by the YAML parser: one entry each.
+        // Every item of a book's content is one entry: the PAGE keys and the one without.
         let pages_in_text = text.matches("PAGE:").count();
-        assert_eq!(catalog.pages.len() + catalog.rejected.len(), pages_in_text + 1, "the top-level entry without pages counts once");
+        assert_eq!(catalog.pages.len() + catalog.rejected.len(), pages_in_text + 1);
         assert!(matches!(Catalog::parse("SHELF: x\n"), Err(CatalogError::NotAList)));
         let deep = format!("{}{}", "[".repeat(MAX + 1), "]".repeat(MAX + 1));
         assert!(matches!(Catalog::parse(&deep), Err(CatalogError::TooDeep(_))));

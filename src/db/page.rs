@@ -1208,6 +1208,34 @@ mod tests {
         assert!(CutTables::cut("DATA:\n  - type: formula 1\n    coefficients: 1\n").is_none());
     }
 
+    /// A `data: |` inside a comment's block, a quoted DATA table, and PROPERTIES the line
+    /// scan could misread: the parser decides, the cut tables only stand in for what it
+    /// places in a DATA block.
+    #[test]
+    fn only_the_data_blocks_tables_are_read() {
+        let comment = "COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n";
+        assert_eq!(parse_page("c.yml", comment).unwrap().n.at(0.5), Some(1.5));
+        // A table in the comment and a quoted one in DATA: the quoted one.
+        let quoted = "COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\nDATA:\n  - type: tabulated n\n    data: \"0.30 1.5\\n0.80 1.5\"\n";
+        assert_eq!(parse_page("q.yml", quoted).unwrap().n.at(0.5), Some(1.5));
+        // The reference keeps its own text, not a marker.
+        let reference = "REFERENCES: |\n    data: |\n      Someone 2020\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n";
+        assert_eq!(parse_page("r.yml", reference).unwrap().reference, "data: |");
+        // A file holding the marker text itself goes to the parser whole.
+        let marker = format!("COMMENTS: \"{TABLE_MARKER}0\"\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n");
+        assert!(CutTables::cut(&marker).is_none());
+        assert_eq!(parse_page("m.yml", &marker).unwrap().n.at(0.5), Some(1.5));
+        // Printed properties are the parser's numbers, with the decimals as printed.
+        let properties = "DATA:\n  - type: formula 2\n    wavelength_range: 0.3 2.5\n    coefficients: 0 1.0 0.01\nPROPERTIES:\n    nd: 1.5230\n    Vd: 58.50 # comment\n";
+        let page = parse_page("p.yml", properties).unwrap();
+        assert_eq!(page.nd, Some(Printed { value: 1.523, decimals: 4 }));
+        assert_eq!(page.vd, Some(Printed { value: 58.5, decimals: 1 }));
+        // Nesting past the bound is named, at the file's line.
+        let deep = format!("DATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\nX: {}1{}\n", "[".repeat(100), "]".repeat(100));
+        let e = parse_page("d.yml", &deep).unwrap_err();
+        assert_eq!((e.reason, e.line), (Reason::NestingTooDeep, Some(6)));
+    }
+
     #[test]
     fn order_defects_outside_the_evaluated_window_are_warnings() {
         // Rows 0.3-2.5 µm, then the wavelengths restart at 2.0 µm (line 8).
@@ -1416,13 +1444,14 @@ mod tests {
         })
     }
 
-    /// A parsed YAML value with every string of line ends only emptied: a table's block
-    /// reads as empty in the compact and the blanked text, but with keep chomping (`|+`) it
-    /// keeps as many line ends as each has, which nothing reads.
+    /// A parsed YAML value with every string of line ends only, and every table marker,
+    /// emptied: a table's block reads as its marker in the compact text and as empty in
+    /// the blanked one, where with keep chomping (`|+`) it keeps as many line ends as each
+    /// has, which nothing reads.
     fn line_ends_emptied(value: serde_yaml::Value) -> serde_yaml::Value {
         use serde_yaml::Value;
         match value {
-            Value::String(s) if s.chars().all(|c| c == '\n') => Value::String(String::new()),
+            Value::String(s) if s.chars().all(|c| c == '\n') || s.trim().starts_with(TABLE_MARKER) => Value::String(String::new()),
             Value::Sequence(items) => Value::Sequence(items.into_iter().map(line_ends_emptied).collect()),
             Value::Mapping(map) => Value::Mapping(map.into_iter().map(|(k, v)| (k, line_ends_emptied(v))).collect()),
             other => other,

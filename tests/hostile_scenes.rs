@@ -1,0 +1,154 @@
+//! Scene files and flags as an attacker or a careless user writes them, through the
+//! `nklut effects` binary: sizes past what the machine holds, coordinates past what f32
+//! and the BVH take, special files as meshes, nesting without end — each refused with an
+//! error naming the field, at once and before the allocation; never a panic, a hang or an
+//! abort. And the effects' outputs published as one set: a later run's frames never mix
+//! with an earlier run's tables.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+mod common;
+
+fn binary() -> PathBuf {
+    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
+}
+
+/// `nklut effects` on `scene` text (written to `dir/scene.yaml`) with `flags`, given a
+/// minute (a hang guard, not a speed target) and a small memory budget where asked.
+fn effects(dir: &Path, scene: &str, flags: &[&str], budget: Option<&str>) -> Output {
+    let file = dir.join("scene.yaml");
+    fs::write(&file, scene).unwrap();
+    let mut command = Command::new(binary());
+    command.arg("--db").arg(common::database_dir()).arg("--out").arg(dir.join("out")).arg("effects").arg(&file).args(flags);
+    if let Some(budget) = budget {
+        command.env("NKLUT_MEMORY_BUDGET", budget);
+    }
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("effects still running after two minutes: {scene}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// The run failed with status 1 (not a panic or a signal) and its message holds `field`.
+fn refused(output: &Output, field: &str) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(output.status.code(), Some(1), "{:?}: {stderr}", output.status);
+    assert!(stderr.contains(field), "the message does not name {field}: {stderr}");
+    stderr
+}
+
+fn succeeded(output: &Output) {
+    assert!(output.status.success(), "{:?}: {}", output.status, String::from_utf8_lossy(&output.stderr));
+}
+
+/// An AO scene around one object line (no database needed).
+fn ao_scene(object: &str) -> String {
+    format!("resolution: [16, 16]\ncamera: {{ frames: 1 }}\nmeasurements: [image_error]\neffects: {{ ambient_occlusion: {{ passes: 1 }} }}\nobjects:\n  - {object}\n  - {{ mesh: plane, diffuse: [0.5, 0.5, 0.5], position: [0, -1, 0] }}\n")
+}
+
+/// Item 1: finite but huge coordinates are scene errors naming the field, not a panic in
+/// the BVH builder; an OBJ whose vertices lie near f32's end is fitted to the unit sphere.
+#[test]
+fn huge_coordinates_are_named_errors_not_panics() {
+    let dir = common::scratch("huge");
+    for (object, field) in [
+        ("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5], scale: 1e300 }", "objects[0].scale"),
+        ("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5], scale: 1e39 }", "objects[0].scale"),
+        ("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5], scale: 3.5e38 }", "objects[0].scale"),
+        ("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5], position: [1e300, 0, 0] }", "objects[0].position"),
+        ("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5], position: [3.5e38, 0, 0] }", "objects[0].position"),
+    ] {
+        refused(&effects(&dir, &ao_scene(object), &["--ao-rays", "4"], None), field);
+    }
+    let obj = dir.join("far.obj");
+    fs::write(&obj, "v 3.4e38 3.4e38 3.4e38\nv -3.4e38 3.3e38 3.4e38\nv 3.4e38 -3.4e38 -3.3e38\nv -3.4e38 -3.4e38 3.4e38\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n").unwrap();
+    let output = effects(&dir, &ao_scene(&format!("{{ mesh: {}, diffuse: [0.5, 0.5, 0.5] }}", obj.display())), &["--ao-rays", "4"], None);
+    succeeded(&output);
+    for (name, bad) in common::non_finite_tables(&dir.join("out")) {
+        assert!(bad.is_empty(), "{name}: {bad:?}");
+    }
+}
+
+/// Item 9: sizes that the fields' ranges allow but the machine does not hold, and counts
+/// that would run for ever, are refused before any work, naming the field.
+#[test]
+fn oversized_requests_are_refused_before_the_allocation() {
+    let dir = common::scratch("sizes");
+    let plain = ao_scene("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5] }");
+    refused(&effects(&dir, &plain, &["--ao-rays", "4294967295"], None), "--ao-rays");
+    refused(&effects(&dir, &plain, &["--resolution", "100000x100000"], None), "resolution 100000x100000");
+    refused(&effects(&dir, &plain, &["--frames", "4294967295"], None), "camera.frames");
+    refused(&effects(&dir, &plain.replace("frames: 1", "frames: 1000000000"), &[], None), "camera.frames");
+    let maps = "resolution: [16, 16]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 }, distance_maps: { size: 4096, layers: 8 } }\nobjects:\n  - { mesh: sphere, material: 3d/metals/gold, method: exact }\n";
+    refused(&effects(&dir, maps, &[], Some("2G")), "effects.distance_maps");
+    let bunny = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/stanford-bunny.obj");
+    let subdivided = ao_scene(&format!("{{ mesh: {}, diffuse: [0.5, 0.5, 0.5], subdivide: 6 }}", bunny.display()));
+    refused(&effects(&dir, &subdivided, &["--ao-rays", "4"], Some("2G")), "objects[0].subdivide");
+    // Nothing was written by any of them.
+    assert!(!dir.join("out").join("ao_errors.csv").exists());
+}
+
+/// Item 10: a light of 1e308 would overflow the radiance sums: refused, naming it.
+#[test]
+fn lights_past_the_radiance_bound_are_refused() {
+    let dir = common::scratch("light");
+    let scene = "resolution: [16, 16]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 } }\nlight: { colour: [1e308, 1, 1] }\nobjects:\n  - { mesh: sphere, material: 3d/metals/gold, method: exact }\n";
+    refused(&effects(&dir, scene, &[], None), "light.colour");
+    let lights = ao_scene("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5] }") + "lights:\n  - { kind: ambient, colour: [1e308, 1, 1] }\n";
+    refused(&effects(&dir, &lights, &[], None), "lights[0].colour");
+}
+
+/// Items 4 and 7 for scenes: a FIFO as mesh or scene is refused without waiting for a
+/// writer; nesting without end is refused before the YAML parser sees it.
+#[cfg(unix)]
+#[test]
+fn special_files_and_deep_nesting_in_scenes_are_refused_at_once() {
+    let dir = common::scratch("special");
+    let fifo = dir.join("mesh.obj");
+    let name = std::ffi::CString::new(fifo.as_os_str().as_encoded_bytes()).unwrap();
+    // SAFETY: mkfifo reads a NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    refused(&effects(&dir, &ao_scene(&format!("{{ mesh: {}, diffuse: [0.5, 0.5, 0.5] }}", fifo.display())), &[], None), "not a regular file");
+    let deep = format!("objects: {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
+    refused(&effects(&dir, &deep, &[], None), "nests");
+}
+
+/// Item 8: the tables and frames of one effects run are one set: a run naming fewer
+/// methods leaves no frame of the others, and a killed run leaves the previous set whole.
+#[test]
+fn effects_tables_and_frames_are_one_set() {
+    let dir = common::scratch("set");
+    let scene = |methods: &str| format!("resolution: [12, 12]\ncamera: {{ frames: 1 }}\nmeasurements: [image_error]\neffects: {{ reflection: {{ max_depth: 1 }}, distance_maps: {{ size: 8, layers: 2, linear_steps: 4, secant_steps: 1 }} }}\nobjects:\n  - {{ mesh: sphere, scale: 0.5, material: 3d/metals/gold, methods: [{methods}] }}\n  - {{ mesh: room, scale: 2, diffuse: [0.8, 0.8, 0.8] }}\n");
+    succeeded(&effects(&dir, &scene("exact, schlick"), &[], None));
+    let frames = |dir: &Path| -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir.join("out/effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    };
+    assert!(frames(&dir).iter().any(|f| f.contains("schlick")));
+    succeeded(&effects(&dir, &scene("exact"), &[], None));
+    assert!(!frames(&dir).iter().any(|f| f.contains("schlick")), "frames of a method the scene no longer names: {:?}", frames(&dir));
+    let before = (fs::read(dir.join("out/effects_errors.csv")).unwrap(), frames(&dir));
+    fs::write(dir.join("scene.yaml"), scene("exact, lazanyi")).unwrap();
+    let killed = Command::new(binary())
+        .env("NKLUT_CRASH_AT", "staged")
+        .arg("--db")
+        .arg(common::database_dir())
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("effects")
+        .arg(dir.join("scene.yaml"))
+        .output()
+        .unwrap();
+    assert!(!killed.status.success());
+    assert_eq!((fs::read(dir.join("out/effects_errors.csv")).unwrap(), frames(&dir)), before, "a killed run changed the set");
+}
