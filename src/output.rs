@@ -844,12 +844,16 @@ mod tests {
         let mut table = Table::new();
         let shared: Arc<str> = Arc::from("x");
         table
-            .optional_float("f", "", vec![Some(0.0), Some(0.0), Some(-0.0), Some(-0.0), None, None, Some(0.1), Some(f64::NAN)])
+            .optional_float("f", "", vec![Some(0.0), Some(0.0), Some(-0.0), Some(-0.0), None, None, Some(0.1), Some(2.5)])
             .shared_text("s", "", vec![shared.clone(), shared.clone(), Arc::from("x"), Arc::from(""), Arc::from(""), shared.clone(), shared, Arc::from("y")])
             .integer("i", "", vec![1, 1, 1, 2, 2, 2, 1, 1])
             .boolean("b", "", vec![true, true, false, false, true, true, true, false]);
         let text = String::from_utf8(table.to_csv().unwrap()).unwrap();
-        assert_eq!(text, "f,s,i,b\n0,x,1,true\n0,x,1,true\n-0,x,1,false\n-0,,2,false\n,,2,true\n,x,2,true\n0.1,x,1,true\nNaN,y,1,false\n");
+        assert_eq!(text, "f,s,i,b\n0,x,1,true\n0,x,1,true\n-0,x,1,false\n-0,,2,false\n,,2,true\n,x,2,true\n0.1,x,1,true\n2.5,y,1,false\n");
+        // A table holding NaN or an infinity is an error naming the cell, never a cell.
+        let mut bad = Table::new();
+        bad.optional_float("g", "", vec![Some(1.0), None, Some(f64::INFINITY)]);
+        assert_eq!(bad.to_csv().unwrap_err().to_string(), "column g of row 2 holds inf, not a finite number");
         let block = String::from_utf8(table.csv_records(3..5, false).unwrap()).unwrap();
         assert_eq!(block, "-0,,2,false\n,,2,true\n");
     }

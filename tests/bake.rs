@@ -26,11 +26,15 @@ fn args(pages: &[&str], size: usize) -> BakeRequest {
     }
 }
 
-/// Relative path → SHA-256 of every file under `dir`, sorted.
+/// Relative path → SHA-256 of every file under `dir` as a reader sees it (the set's links
+/// followed, the generations under `.sets/` not listed again), sorted.
 fn hashes(dir: &Path) -> BTreeMap<String, String> {
     fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<String, String>) {
         for entry in fs::read_dir(dir).unwrap() {
             let path = entry.unwrap().path();
+            if path.file_name().is_some_and(|n| n == ".sets") {
+                continue;
+            }
             if path.is_dir() {
                 walk(root, &path, out);
             } else {
@@ -104,8 +108,12 @@ fn an_interrupted_bake_leaves_the_previous_one_intact() {
     let e = bake::run_with_hook(&database(), &out, &args(&PAGES, 48), &hook).unwrap_err();
     assert!(e.to_string().contains("injected failure"), "{e:#}");
     assert_eq!(hashes(&out), before, "previous bake changed or temp files left");
-    let names: Vec<String> = fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
-    assert_eq!(names, ["luts"]);
+    let mut names: Vec<String> = fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert_eq!(names, [".sets", "luts"]);
+    // The failed run's generation is gone: the set holds the previous bake alone.
+    let generations: Vec<String> = fs::read_dir(out.join(".sets")).unwrap().map(|e| e.unwrap()).filter(|e| e.file_type().unwrap().is_dir()).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(generations.len(), 1, "{generations:?}");
 }
 
 #[test]

@@ -7,7 +7,7 @@ use std::path::Path;
 /// The pipeline order of `src/lib.rs`'s doc comment.
 const ORDER: [&str; 12] = ["db", "spectrum", "ingest", "fresnel", "color", "validate", "bake", "params", "report", "scene", "effects", "gpu"];
 /// Modules any module may use.
-const LEAVES: [&str; 5] = ["encoding", "output", "progress", "minimise", "memo"];
+const LEAVES: [&str; 6] = ["budget", "encoding", "output", "progress", "minimise", "memo"];
 /// Stages that sit side by side (neither may use the other).
 const SIBLINGS: [&str; 3] = ["validate", "bake", "params"];
 

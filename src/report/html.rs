@@ -232,6 +232,6 @@ mod tests {
         let mut t = TableText::new(&["a", "b"]);
         t.row(vec!["<x>".into(), raw("<span>ok</span>".into())]);
         assert!(t.html("t").contains("<td>&lt;x&gt;</td><td><span>ok</span></td>"));
-        assert_eq!(t.markdown(), "| a | b |\n| --- | --- |\n| <x> | ok |\n");
+        assert_eq!(t.markdown(), "| a | b |\n| --- | --- |\n| &lt;x&gt; | ok |\n");
     }
 }

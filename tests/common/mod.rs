@@ -43,13 +43,18 @@ pub fn scratch(name: &str) -> Scratch {
     Scratch(dir)
 }
 
-/// Every file below `dir`, following the links of the output folder's published sets.
+/// Every file below `dir` as a reader of the output folder sees it: the links of the
+/// published sets followed (files and folders such as `luts/`), the generations under
+/// `.sets/` themselves not listed again.
 pub fn files(dir: &Path) -> Vec<PathBuf> {
     let mut found = Vec::new();
     for entry in fs::read_dir(dir).unwrap() {
         let entry = entry.unwrap();
         let path = entry.path();
-        if entry.file_type().unwrap().is_dir() {
+        if entry.file_name() == ".sets" {
+            continue;
+        }
+        if path.is_dir() {
             found.extend(files(&path));
         } else if path.exists() {
             found.push(path);
