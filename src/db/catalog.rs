@@ -152,6 +152,27 @@ struct Unusable {
     detail: String,
 }
 
+/// The id an entry holds under `key` (SHELF, BOOK or PAGE; inside a `holder`) and why it
+/// cannot be used, if it cannot; `None` for a divider (no `key`, a DIVIDER).
+fn level(entry: &Value, key: &str, holder: &str) -> Option<(String, Option<Unusable>)> {
+    let what = key.to_lowercase();
+    match id_of(entry, key) {
+        Id::Scalar(id) => {
+            let problem = id_problem(&what, &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
+            Some((id, problem))
+        }
+        Id::NotScalar(shown) => {
+            let detail = format!("the {key} is {shown}, not a single value");
+            Some((shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail })))
+        }
+        Id::Missing if entry.get("DIVIDER").is_some() => None,
+        Id::Missing => {
+            let detail = format!("an entry of the {holder} that is neither a {key} nor a DIVIDER");
+            Some((shown(entry), Some(Unusable { reason: Reason::BadCatalogEntry, detail })))
+        }
+    }
+}
+
 impl Catalog {
     /// Parse the catalog text. A page without a data path keeps an empty `data` (reading
     /// it is a `no-data-file` error); entries that cannot become pages go to `rejected`.
@@ -175,60 +196,17 @@ impl Catalog {
         let mut pages = Vec::new();
         let mut duplicates = Vec::new();
         for shelf in shelves {
-            let (shelf_id, shelf_problem) = match id_of(shelf, "SHELF") {
-                Id::Scalar(id) => {
-                    let problem = id_problem("shelf", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
-                    (id, problem)
-                }
-                Id::NotScalar(shown) => {
-                    let detail = format!("the SHELF is {shown}, not a single value");
-                    (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                }
-                Id::Missing if shelf.get("DIVIDER").is_some() => continue,
-                Id::Missing => {
-                    let detail = "a top-level entry that is neither a SHELF nor a DIVIDER".to_string();
-                    (shown(shelf), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                }
-            };
+            let Some((shelf_id, shelf_problem)) = level(shelf, "SHELF", "top level") else { continue };
             let shelf_name = field(shelf, "name").unwrap_or_else(|| shelf_id.clone());
             for book in items(shelf) {
-                let (book_id, book_problem) = match id_of(book, "BOOK") {
-                    Id::Scalar(id) => {
-                        let problem = id_problem("book", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
-                        (id, problem)
-                    }
-                    Id::NotScalar(shown) => {
-                        let detail = format!("the BOOK is {shown}, not a single value");
-                        (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                    }
-                    Id::Missing if book.get("DIVIDER").is_some() => continue,
-                    Id::Missing => {
-                        let detail = "an entry of the shelf that is neither a BOOK nor a DIVIDER".to_string();
-                        (shown(book), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                    }
-                };
+                let Some((book_id, book_problem)) = level(book, "BOOK", "shelf") else { continue };
                 let problem_above = shelf_problem.as_ref().or(book_problem.as_ref());
                 let book_name = field(book, "name").unwrap_or_else(|| book_id.clone());
                 let mut divider = None;
                 for page in items(book) {
-                    // An item with a PAGE key is a page; without one, a DIVIDER is a divider.
-                    if page.get("PAGE").is_none() && page.get("DIVIDER").is_some() {
+                    let Some((page_id, page_problem)) = level(page, "PAGE", "book") else {
                         divider = field(page, "DIVIDER");
                         continue;
-                    }
-                    let (page_id, page_problem) = match id_of(page, "PAGE") {
-                        Id::Scalar(id) => {
-                            let problem = id_problem("page", &id).map(|detail| Unusable { reason: Reason::BadPageId, detail });
-                            (id, problem)
-                        }
-                        Id::NotScalar(shown) => {
-                            let detail = format!("the PAGE is {shown}, not a single value");
-                            (shown, Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                        }
-                        Id::Missing => {
-                            let detail = "an entry of the book that is neither a PAGE nor a DIVIDER".to_string();
-                            (shown(page), Some(Unusable { reason: Reason::BadCatalogEntry, detail }))
-                        }
                     };
                     let (data, data_problem) = match page.get("data") {
                         None => (String::new(), None),

@@ -5,20 +5,28 @@
 
 use std::fmt::Write;
 
-/// Escape text for HTML element content and attribute values.
-pub fn escape(text: &str) -> String {
+/// `text` with each character for which `replacement` gives text replaced by it.
+fn substituted(text: &str, replacement: impl Fn(char) -> Option<&'static str>) -> String {
     let mut out = String::with_capacity(text.len());
     for ch in text.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            _ => out.push(ch),
+        match replacement(ch) {
+            Some(text) => out.push_str(text),
+            None => out.push(ch),
         }
     }
     out
+}
+
+/// Escape text for HTML element content and attribute values.
+pub fn escape(text: &str) -> String {
+    substituted(text, |ch| match ch {
+        '&' => Some("&amp;"),
+        '<' => Some("&lt;"),
+        '>' => Some("&gt;"),
+        '"' => Some("&quot;"),
+        '\'' => Some("&#39;"),
+        _ => None,
+    })
 }
 
 /// A path for an `href`/`src` attribute: bytes outside `A-Z a-z 0-9 - _ . ~ /` are
@@ -162,18 +170,14 @@ pub const MARKDOWN: &str = "\u{2}md:";
 /// Markdown renderer passes raw HTML through, so a page id holding a tag would run), `[`
 /// and `]` escaped (no link can start in it).
 pub fn markdown_text(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for ch in text.chars() {
-        match ch {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '[' => out.push_str("\\["),
-            ']' => out.push_str("\\]"),
-            c => out.push(c),
-        }
-    }
-    out
+    substituted(text, |ch| match ch {
+        '&' => Some("&amp;"),
+        '<' => Some("&lt;"),
+        '>' => Some("&gt;"),
+        '[' => Some("\\["),
+        ']' => Some("\\]"),
+        _ => None,
+    })
 }
 
 pub fn raw(html: String) -> String {

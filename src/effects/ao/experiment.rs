@@ -59,10 +59,10 @@ pub struct SurfelScene {
 /// The bytes the AO run holds per triangle of a placed (and subdivided) mesh, for the
 /// memory check before subdividing: the mesh itself, its surfels (about one per two
 /// triangles), the tracer's f64 triangle and its BVH, the surfel tree and the per-vertex
-/// results, with room for the BVH builder's scratch. Measured: 420 bytes of peak resident
-/// memory per triangle on the bunny subdivided once and twice (BENCHMARKS.md); counted as
-/// 512.
-pub const BYTES_PER_SURFEL_TRIANGLE: usize = 512;
+/// results. Measured: peak resident memory grows by 611 and 616 bytes per triangle from
+/// the bunny to the bunny subdivided once and twice (69 451 → 277 804 → 1 111 216
+/// triangles, release build, `--ao-max-brute 0`); counted as 768, a quarter more.
+pub const BYTES_PER_SURFEL_TRIANGLE: usize = 768;
 
 impl SurfelScene {
     /// Load, place and subdivide every object's mesh; a subdivision whose triangles would
