@@ -319,6 +319,19 @@ fn bad_scenes_are_named_errors_not_panics() {
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
 }
 
+/// An OBJ whose vertices lie near the end of f32's range (NaN once fitted in f32 before) runs
+/// through `gpu run` like any mesh: fitted to the unit sphere in f64, finite everywhere.
+#[test]
+fn a_mesh_at_the_end_of_f32_s_range_runs_on_the_gpu() {
+    let Some(gpu) = device() else { return };
+    let dir = scratch("gpu-far");
+    std::fs::write(dir.join("far.obj"), "v 3.4e38 3.4e38 3.4e38\nv -3.4e38 3.3e38 3.4e38\nv 3.4e38 -3.4e38 -3.3e38\nv -3.4e38 -3.4e38 3.4e38\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n").unwrap();
+    let file = dir.join("far.yaml");
+    std::fs::write(&file, "resolution: [16, 16]\ncamera: {frames: 1}\nobjects: [{mesh: far.obj, material: 3d/metals/gold, methods: [schlick]}]\nmeasurements: [image_error]\n").unwrap();
+    let report = gpu::run(&Scene::load(&file).unwrap(), &database(), &Default::default(), &gpu, &mut |_| {}).unwrap();
+    assert!(report.image_errors.iter().all(|r| r.mean_rel_error.is_finite() && r.pixels > 0), "{:?}", report.image_errors);
+}
+
 /// The WGSL distance-map search against its f64 CPU twin, ray by ray: the same layer and
 /// texel (up to a few rays whose f32 probe lands on the other side of a texel edge or of
 /// g = 0) and the same point to f32 precision.
