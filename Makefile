@@ -55,10 +55,13 @@ luts: db build
 test-deps:
 	bash scripts/test-deps
 
-# The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers here); with
-# none they fail unless NKLUT_SKIP_GPU_TESTS=1.
+# Form first (rustfmt, clippy with warnings as errors, every target and feature), then the
+# suite. The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers here);
+# with none they fail unless NKLUT_SKIP_GPU_TESTS=1.
 test: db
 	bash scripts/test-deps
+	$(CARGO) fmt --check
+	$(CARGO) clippy --all-targets --all-features -- -D warnings
 	$(CARGO) test --features gpu
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the

@@ -66,7 +66,14 @@ fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
     let (seconds, rows) = timed(|| error_rows(name, &s, &reference, &comparison));
     println!("  mesh, g, passes, hierarchy, mean |a − ref|, max |a − ref|  ({seconds:.1} s for all)");
     for r in rows {
-        println!("  {name}, {}, {}, {}, {:.4}, {:.4}", r.receiver_gain, r.passes, if r.hierarchy { "on" } else { "off" }, r.mean_error, r.max_error);
+        println!(
+            "  {name}, {}, {}, {}, {:.4}, {:.4}",
+            r.receiver_gain,
+            r.passes,
+            if r.hierarchy { "on" } else { "off" },
+            r.mean_error,
+            r.max_error
+        );
     }
 }
 
@@ -96,8 +103,11 @@ fn main() {
     let bunny_surfels = surfels(&bunny);
     let geometry = Geometry::new(std::slice::from_ref(&bunny)).unwrap();
     let speed_rays = env_number("NKLUT_AO_SPEED_RAYS", 1024) as u32;
-    let (one_s, one_by_one) = timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, packets: false, ..RaySettings::default() }));
-    let (seconds, speed) = timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, ..RaySettings::default() }));
+    let (one_s, one_by_one) = timed(|| {
+        reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, packets: false, ..RaySettings::default() })
+    });
+    let (seconds, speed) =
+        timed(|| reference_accessibility(&geometry, &bunny_surfels, RaySettings { rays: speed_rays, ..RaySettings::default() }));
     assert_eq!(speed.values, one_by_one.values, "packets count what their rays count one by one");
     let (one_rate, rate) = (one_by_one.rays as f64 / one_s, speed.rays as f64 / seconds);
     println!("  reference on the bunny, {speed_rays} rays per vertex, ray by ray: {} rays in {one_s:.3} s = {:.2} M rays/s ({:.3}× the anchor's rate)", one_by_one.rays, one_rate / 1e6, one_rate / anchor_rate);

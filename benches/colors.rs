@@ -20,7 +20,8 @@ fn whole_database(c: &mut Criterion) {
     // The exact reflectances `nklut colors --all` sums: each distinct index of a material's
     // spectrum at the angle rule's nodes and at the 256 texel centres. Their count times
     // the ns of one (`cargo bench --bench fresnel -- lanes`) is the floor of its spectra.
-    let indices: usize = materials.par_iter().map(|m| color::PreparedSpectrum::new(&color::sample_spectrum(&m.data).0).distinct_indices()).sum();
+    let indices: usize =
+        materials.par_iter().map(|m| color::PreparedSpectrum::new(&color::sample_spectrum(&m.data).0).distinct_indices()).sum();
     let evaluations = indices * (rule.cosines.len() + texels.len());
     eprintln!("{} materials: {indices} distinct indices on the grid; colors evaluates exact Fresnel {evaluations} times", materials.len());
     let mut group = c.benchmark_group(format!("{} materials", materials.len()));
@@ -37,10 +38,8 @@ fn whole_database(c: &mut Criterion) {
                 .sum::<f64>()
         })
     });
-    let references: Vec<Vec<[f64; 3]>> = materials
-        .par_iter()
-        .map(|m| color::spectral_curve(&color::sample_spectrum(&m.data).0, &rule.cosines))
-        .collect();
+    let references: Vec<Vec<[f64; 3]>> =
+        materials.par_iter().map(|m| color::spectral_curve(&color::sample_spectrum(&m.data).0, &rule.cosines)).collect();
     group.bench_function("effective-index fits (3 channels)", |b| {
         b.iter(|| {
             materials

@@ -12,9 +12,9 @@ use std::time::Instant;
 
 use nklut::db::Database;
 use nklut::effects::experiment::{distance_maps, twin_frame};
-use nklut::scene::read_materials;
 use nklut::effects::trace::{reference, stage_from_table, Camera, TracedFrame};
 use nklut::fresnel::{LutSpec, Method};
+use nklut::scene::read_materials;
 use nklut::scene::{Depths, Scene, SearchSteps};
 
 /// The best of `runs` timings of `render` (seconds) and its frame.
@@ -64,7 +64,12 @@ fn main() {
     let start = Instant::now();
     let maps = distance_maps(&stage, maps_settings.size, maps_settings.layers);
     let maps_s = start.elapsed().as_secs_f64();
-    println!("  distance maps: {} maps of 6x{}² x {} layers in {maps_s:.3} s", maps.iter().flatten().count(), maps_settings.size, maps_settings.layers);
+    println!(
+        "  distance maps: {} maps of 6x{}² x {} layers in {maps_s:.3} s",
+        maps.iter().flatten().count(),
+        maps_settings.size,
+        maps_settings.layers
+    );
     for steps in [SearchSteps { linear: 15, secant: 1 }, SearchSteps { linear: 80, secant: 10 }] {
         let depths = Depths { reflection: 3, refraction: 0 };
         let (seconds, frame) = best_of(3, || twin_frame(&stage, &camera, &maps, Method::Exact, depths, steps, lut));

@@ -26,7 +26,9 @@ fn whole_database(c: &mut Criterion) {
         b.iter(|| materials.par_iter().zip(&references).map(|(m, r)| engine_params(m, r, rule).best().delta_e_mean).sum::<f64>())
     });
     group.bench_function("part: Gulbrandsen g fits (3 channels)", |b| {
-        b.iter(|| references.par_iter().map(|r| (0..3).map(|c| Gulbrandsen::fit(r.f0[c], &r.at_nodes[c], rule).g).sum::<f64>()).sum::<f64>())
+        b.iter(|| {
+            references.par_iter().map(|r| (0..3).map(|c| Gulbrandsen::fit(r.f0[c], &r.at_nodes[c], rule).g).sum::<f64>()).sum::<f64>()
+        })
     });
     group.bench_function("part: generalized Schlick exponent fits", |b| {
         b.iter(|| references.par_iter().map(|r| GeneralizedSchlick::fit(r.f0, r.at_edge, &r.at_nodes, rule).exponent).sum::<f64>())

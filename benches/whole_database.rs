@@ -45,6 +45,8 @@ struct Job {
 
 /// Run `command` to completion; wall time, and CPU time and peak RSS of it and its
 /// descendants from `wait4`.
+// The child is reaped by wait4 (for its resource use), not by `Child::wait`.
+#[allow(clippy::zombie_processes)]
 fn run(command: &mut Command) -> Run {
     command.stdout(std::process::Stdio::null()).stderr(std::process::Stdio::piped());
     let start = Instant::now();

@@ -92,7 +92,7 @@ pub fn parse_size(text: &str) -> Option<u64> {
         _ => return None,
     };
     let value: f64 = number.trim().parse().ok()?;
-    (value.is_finite() && value >= 0.0 && value * scale as f64 <= u64::MAX as f64).then(|| (value * scale as f64) as u64)
+    (value.is_finite() && value >= 0.0 && value * scale as f64 <= u64::MAX as f64).then_some((value * scale as f64) as u64)
 }
 
 /// Bytes in words: `3.2 GB`, `640 MB`, `12 kB` (powers of 1000, as people read them).

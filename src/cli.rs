@@ -11,8 +11,8 @@ use nklut::bake::{BakeRequest, Encoding, Layout, Source};
 use nklut::fresnel::Method;
 use nklut::ingest::{Config, Selection};
 use nklut::spectrum::{ChannelIndex, Channels, Coverage, Index};
-use nklut::validate::{Strategy, ValidateRequest};
 use nklut::validate::quadrature::BRUTE_FORCE_SAMPLES;
+use nklut::validate::{Strategy, ValidateRequest};
 
 /// `--db DIR` and `--out DIR`, the same for every subcommand.
 #[derive(Args, Clone, Debug)]
@@ -51,7 +51,7 @@ impl PageSelection {
 
 /// How every command that reads pages reads them: `--channels R,G,B`, `--visible`,
 /// `--strict`.
-#[derive(Args, Clone, Debug)]
+#[derive(Args, Clone, Debug, Default)]
 pub struct ChannelArgs {
     /// Channel wavelengths red,green,blue in nm (each in 360-830 nm).
     #[arg(long, value_name = "R,G,B", default_value = "685,535,475", value_parser = parse_channels)]
@@ -66,12 +66,6 @@ pub struct ChannelArgs {
     pub strict: bool,
 }
 
-impl Default for ChannelArgs {
-    fn default() -> Self {
-        Self { channels: Channels::default(), visible: Coverage::default(), strict: false }
-    }
-}
-
 impl ChannelArgs {
     pub fn config(&self) -> Config {
         Config { channels: self.channels, coverage: self.visible, strict: self.strict }
@@ -79,10 +73,7 @@ impl ChannelArgs {
 }
 
 fn parse_channels(text: &str) -> Result<Channels, String> {
-    let values: Vec<f64> = text
-        .split(',')
-        .map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}")))
-        .collect::<Result<_, _>>()?;
+    let values: Vec<f64> = text.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
     match values.as_slice() {
         &[red_nm, green_nm, blue_nm] => Channels::new(red_nm, green_nm, blue_nm),
         _ => Err("expected three wavelengths in nm, e.g. 685,535,475".into()),
@@ -177,7 +168,8 @@ fn parse_nk(text: &str) -> Result<ChannelIndex, String> {
     let channels: Vec<Index> = text
         .split(';')
         .map(|pair| {
-            let values: Vec<f64> = pair.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
+            let values: Vec<f64> =
+                pair.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
             match values.as_slice() {
                 &[n, k] if n.is_finite() && k.is_finite() && n > 0.0 && k >= 0.0 => Ok(Index::new(n, k)),
                 _ => Err(format!("{pair:?}: expected n,k with n > 0 and k >= 0")),

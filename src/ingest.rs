@@ -48,7 +48,9 @@ impl Selection {
     /// The rule: the whole catalog when nothing is named, else the named shelves and the
     /// pages for which `is_page` holds of a named id.
     fn selects(&self, shelf: &str, is_page: impl Fn(&str) -> bool) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty()) || self.shelves.iter().any(|s| s == shelf) || self.pages.iter().any(|id| is_page(id))
+        (self.shelves.is_empty() && self.pages.is_empty())
+            || self.shelves.iter().any(|s| s == shelf)
+            || self.pages.iter().any(|id| is_page(id))
     }
 }
 
@@ -204,7 +206,8 @@ fn evaluate_files<'a>(db: &Database, files: &[&'a str], config: &Config) -> Eval
                 .par_iter()
                 .with_max_len(4)
                 .map(|&file| {
-                    let result = db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
+                    let result =
+                        db.read_page(file).and_then(|data| spectrum::evaluate(data, &config.channels, config.coverage)).map(Arc::new);
                     bar.inc(1);
                     (file, result)
                 })
@@ -338,11 +341,23 @@ pub fn materials_table(ingest: &Ingest) -> Table {
         )
         .text("kind", "conductor (k >= 1 somewhere in 390-700 nm where the data reach) or dielectric", text(&|p| p.material.kind.as_str().into()));
     for (c, (name, nm)) in CHANNEL_NAMES.iter().zip(channels.nanometres()).enumerate() {
-        table.float(&format!("n_{name}"), &format!("refractive index n at {nm} nm"), kept.iter().map(|p| p.material.channels[c].n).collect());
-        table.float(&format!("k_{name}"), &format!("extinction coefficient k at {nm} nm"), kept.iter().map(|p| p.material.channels[c].k).collect());
+        table.float(
+            &format!("n_{name}"),
+            &format!("refractive index n at {nm} nm"),
+            kept.iter().map(|p| p.material.channels[c].n).collect(),
+        );
+        table.float(
+            &format!("k_{name}"),
+            &format!("extinction coefficient k at {nm} nm"),
+            kept.iter().map(|p| p.material.channels[c].k).collect(),
+        );
     }
     for (name, nm) in CHANNEL_NAMES.iter().zip(channels.nanometres()) {
-        table.float(&format!("lambda_{name}_nm"), &format!("wavelength (nm) of the {name} channel, where n_{name} and k_{name} are evaluated (--channels)"), vec![nm; kept.len()]);
+        table.float(
+            &format!("lambda_{name}_nm"),
+            &format!("wavelength (nm) of the {name} channel, where n_{name} and k_{name} are evaluated (--channels)"),
+            vec![nm; kept.len()],
+        );
     }
     table
         .float("lambda_min_nm", "shortest wavelength covered by n and k data (nm)", kept.iter().map(|p| p.material.range_nm.0).collect())
@@ -369,7 +384,11 @@ pub fn problems_table(rows: &[Excluded]) -> Table {
         .text("page", "page id", rows.iter().map(|e| e.page.clone()).collect())
         .text("data_file", "data file relative to database/data/", rows.iter().map(|e| e.error.file.clone()).collect())
         .text("reason", "reason code", rows.iter().map(|e| e.error.reason.code().to_string()).collect())
-        .optional_float("line", "line in the data file, where the error has one", rows.iter().map(|e| e.error.line.map(|l| l as f64)).collect())
+        .optional_float(
+            "line",
+            "line in the data file, where the error has one",
+            rows.iter().map(|e| e.error.line.map(|l| l as f64)).collect(),
+        )
         .text("detail", "what was wrong", rows.iter().map(|e| e.error.detail.clone()).collect());
     table
 }
@@ -381,6 +400,7 @@ pub fn write_tables(ingest: &Ingest, out: &Path) -> Result<Vec<PathBuf>> {
     let excluded = SetFile::new("excluded.csv", problems_table(&ingest.excluded).to_csv()?);
     let warnings = SetFile::new("warnings.csv", problems_table(&ingest.warnings).to_csv()?);
     let streamed = materials.streamed_files("materials", true);
-    let files: Vec<&dyn SetContent> = streamed.iter().map(|f| f as &dyn SetContent).chain([&excluded as &dyn SetContent, &warnings]).collect();
+    let files: Vec<&dyn SetContent> =
+        streamed.iter().map(|f| f as &dyn SetContent).chain([&excluded as &dyn SetContent, &warnings]).collect();
     crate::output::publish_contents(out, "ingest", &files)
 }

@@ -143,25 +143,25 @@ fn run(cli: Cli) -> Result<()> {
     // The effects open the database only when their scene needs materials.
     let command = match command {
         Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, channels } => {
-        let request = nklut::effects::command::EffectsRequest {
-            scene,
-            frames,
-            resolution,
-            ao_rays,
-            ao_max_brute,
-            config: channels.config(),
-            budget: nklut::budget::MemoryBudget::of_machine(),
-        };
-        let outcome = nklut::effects::command::command(&request, &open_db, &cli.paths.out, &mut |line| eprintln!("{line}"))?;
-        for path in &outcome.written {
-            eprintln!("  wrote {}", path.display());
-        }
-        let stats = outcome.stats;
-        eprintln!(
+            let request = nklut::effects::command::EffectsRequest {
+                scene,
+                frames,
+                resolution,
+                ao_rays,
+                ao_max_brute,
+                config: channels.config(),
+                budget: nklut::budget::MemoryBudget::of_machine(),
+            };
+            let outcome = nklut::effects::command::command(&request, &open_db, &cli.paths.out, &mut |line| eprintln!("{line}"))?;
+            for path in &outcome.written {
+                eprintln!("  wrote {}", path.display());
+            }
+            let stats = outcome.stats;
+            eprintln!(
             "effects: {} cube maps × {} layers, {} reference frames, {} distance-map frames; {} surfels, {} tree nodes, {} AO passes, {} indirect gathers",
             stats.cube_maps, stats.layers, stats.reference_frames, stats.twin_frames, stats.surfels, stats.tree_nodes, stats.ao_passes, stats.indirect_bounces
         );
-        return Ok(());
+            return Ok(());
         }
         other => other,
     };
@@ -178,7 +178,11 @@ fn run(cli: Cli) -> Result<()> {
                 result.excluded_by_reason()
             );
             if !result.listed_twice.is_empty() {
-                eprintln!("  {} page ids are listed twice in the catalog with the same file (kept once): {}", result.listed_twice.len(), result.listed_twice.join(", "));
+                eprintln!(
+                    "  {} page ids are listed twice in the catalog with the same file (kept once): {}",
+                    result.listed_twice.len(),
+                    result.listed_twice.join(", ")
+                );
             }
             if !result.warnings.is_empty() {
                 eprintln!("  {} data warning(s) outside the evaluated wavelengths (warnings.csv)", result.warnings.len());
@@ -195,7 +199,13 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Bake(args) => {
             let summary = nklut::bake::run(&db, &cli.paths.out, &args.request())?;
-            eprintln!("bake: {} rows, {} files, {} clamped texels -> {}", summary.rows, summary.files, summary.clamped_texels, summary.luts.display());
+            eprintln!(
+                "bake: {} rows, {} files, {} clamped texels -> {}",
+                summary.rows,
+                summary.files,
+                summary.clamped_texels,
+                summary.luts.display()
+            );
         }
         Command::Nk { page, nm } => {
             let catalog = db.catalog()?;
@@ -273,8 +283,8 @@ fn main() -> ExitCode {
 mod gpu_cli {
     use std::path::PathBuf;
 
-    use anyhow::{bail, Result};
     use super::parse_resolution;
+    use anyhow::{bail, Result};
     use clap::{Args, Subcommand};
 
     use crate::cli::{ChannelArgs, Paths};
@@ -375,7 +385,11 @@ mod gpu_cli {
             GpuCommand::AoTiming { meshes, max_brute, repeats, only, adapter } => {
                 use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
                 let device = gpu::open(adapter.adapter.as_deref())?;
-                eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
+                eprintln!(
+                    "adapter: {}{}",
+                    device.line,
+                    if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" }
+                );
                 let mut all = Vec::new();
                 for (name, file) in [("bunny", "stanford-bunny.obj"), ("sculpture", "nefertiti.obj")] {
                     let mesh = nklut::scene::mesh::load_obj(&meshes.join(file))?;
@@ -417,7 +431,11 @@ mod gpu_cli {
         scene.recheck()?;
         let db = Database::open(paths.db.as_deref())?;
         let device = gpu::open(adapter.adapter.as_deref())?;
-        eprintln!("adapter: {}{}", device.line, if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" });
+        eprintln!(
+            "adapter: {}{}",
+            device.line,
+            if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" }
+        );
         let report = gpu::run(&scene, &db, &read.config(), &device, &mut |line| eprintln!("{line}"))?;
         eprintln!("run: {}", report.stats);
         for path in gpu::runner::write_tables(&report, &paths.out)? {

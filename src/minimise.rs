@@ -9,7 +9,13 @@ const GOLDEN: f64 = 0.381_966_011_250_105_1;
 /// `tolerance(x)` is the absolute precision wanted at x; the search stops when the bracket
 /// around the best point is within twice it, or after `max_evaluations`. Returns the best
 /// point and its value. A parabola step that is not finite falls back to golden section.
-pub fn brent(mut f: impl FnMut(f64) -> f64, bracket: (f64, f64), start: (f64, f64), tolerance: impl Fn(f64) -> f64, max_evaluations: usize) -> (f64, f64) {
+pub fn brent(
+    mut f: impl FnMut(f64) -> f64,
+    bracket: (f64, f64),
+    start: (f64, f64),
+    tolerance: impl Fn(f64) -> f64,
+    max_evaluations: usize,
+) -> (f64, f64) {
     let (mut a, mut b) = bracket;
     let (mut x, mut fx) = start;
     let (mut w, mut fw, mut v, mut fv) = (x, fx, x, fx);

@@ -99,8 +99,11 @@ impl SetContent for SetFile {
 /// of held in memory whole.
 pub struct StreamedFile<'a> {
     pub name: String,
-    write: Box<dyn Fn(&mut dyn Write) -> Result<()> + Sync + 'a>,
+    write: Box<Writer<'a>>,
 }
+
+/// What writes a streamed file's bytes.
+type Writer<'a> = dyn Fn(&mut dyn Write) -> Result<()> + Sync + 'a;
 
 impl<'a> StreamedFile<'a> {
     pub fn new(name: impl Into<String>, write: impl Fn(&mut dyn Write) -> Result<()> + Sync + 'a) -> Self {
@@ -140,7 +143,13 @@ impl SetsLock {
     /// Take the lock of `sets`, waiting (and saying so once) while another run holds it.
     fn take(sets: &Path) -> Result<SetsLock> {
         let path = sets.join(LOCK_FILE);
-        let file = fs::OpenOptions::new().create(true).truncate(false).read(true).write(true).open(&path).with_context(|| format!("opening the lock {}", path.display()))?;
+        let file = fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .read(true)
+            .write(true)
+            .open(&path)
+            .with_context(|| format!("opening the lock {}", path.display()))?;
         #[cfg(unix)]
         {
             use std::os::fd::AsRawFd;
@@ -166,7 +175,7 @@ impl SetsLock {
             }
         }
         // Who holds it, for a run that has to wait (best effort: the lock is the flock).
-        let _ = (&file).set_len(0);
+        let _ = file.set_len(0);
         let _ = (&file).write_all(format!("pid {}", std::process::id()).as_bytes());
         Ok(SetsLock { _file: file })
     }
@@ -452,10 +461,7 @@ impl Values {
         match self {
             Values::Text(v) => serde_json::Value::from(v[row].clone()),
             Values::SharedText(v) => serde_json::Value::from(&*v[row]),
-            Values::Float(v) => v[row]
-                .filter(|x| x.is_finite())
-                .map(serde_json::Value::from)
-                .unwrap_or(serde_json::Value::Null),
+            Values::Float(v) => v[row].filter(|x| x.is_finite()).map(serde_json::Value::from).unwrap_or(serde_json::Value::Null),
             Values::Integer(v) => serde_json::Value::from(v[row]),
             Values::Boolean(v) => serde_json::Value::from(v[row]),
         }
@@ -767,11 +773,8 @@ impl Table {
     /// [`columns_json`](Self::columns_json) of a table of `rows` rows with these columns
     /// (a table written in blocks: this one holds none or some of them).
     pub fn columns_json_of(&self, stem: &str, rows: usize) -> Result<Vec<u8>> {
-        let columns: Vec<serde_json::Value> = self
-            .columns
-            .iter()
-            .map(|c| serde_json::json!({ "name": c.name, "description": c.description }))
-            .collect();
+        let columns: Vec<serde_json::Value> =
+            self.columns.iter().map(|c| serde_json::json!({ "name": c.name, "description": c.description })).collect();
         let mut bytes = serde_json::to_vec_pretty(&serde_json::json!({ "table": stem, "rows": rows, "columns": columns }))?;
         bytes.push(b'\n');
         Ok(bytes)
@@ -796,10 +799,13 @@ impl Table {
     /// is written: handed to [`publish_contents`], the encodings run side by side and each
     /// file goes to disk as soon as its own encoding is done.
     pub fn streamed_files(&self, stem: &str, json: bool) -> Vec<StreamedFile<'_>> {
-        let encoded = |encode: fn(&Table) -> Result<Vec<u8>>| move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&encode(self)?)?) };
+        let encoded =
+            |encode: fn(&Table) -> Result<Vec<u8>>| move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&encode(self)?)?) };
         let stem_owned = stem.to_string();
         let mut files = vec![
-            StreamedFile::new(format!("{stem}.columns.json"), move |out: &mut dyn Write| -> Result<()> { Ok(out.write_all(&self.columns_json(&stem_owned)?)?) }),
+            StreamedFile::new(format!("{stem}.columns.json"), move |out: &mut dyn Write| -> Result<()> {
+                Ok(out.write_all(&self.columns_json(&stem_owned)?)?)
+            }),
             StreamedFile::new(format!("{stem}.csv"), encoded(Table::to_csv)),
             StreamedFile::new(format!("{stem}.parquet"), encoded(Table::to_parquet)),
         ];
@@ -845,7 +851,11 @@ mod tests {
         let shared: Arc<str> = Arc::from("x");
         table
             .optional_float("f", "", vec![Some(0.0), Some(0.0), Some(-0.0), Some(-0.0), None, None, Some(0.1), Some(2.5)])
-            .shared_text("s", "", vec![shared.clone(), shared.clone(), Arc::from("x"), Arc::from(""), Arc::from(""), shared.clone(), shared, Arc::from("y")])
+            .shared_text(
+                "s",
+                "",
+                vec![shared.clone(), shared.clone(), Arc::from("x"), Arc::from(""), Arc::from(""), shared.clone(), shared, Arc::from("y")],
+            )
             .integer("i", "", vec![1, 1, 1, 2, 2, 2, 1, 1])
             .boolean("b", "", vec![true, true, false, false, true, true, true, false]);
         let text = String::from_utf8(table.to_csv().unwrap()).unwrap();
@@ -870,9 +880,11 @@ mod tests {
     #[test]
     fn json_rows_are_the_value_tree_s_text() {
         let mut table = sample();
-        table
-            .float("a_first", "sorted before the others", vec![f64::NAN, 1e300])
-            .shared_text("z \"quoted\"", "escaped", vec![Arc::from("é\n"), Arc::from("")]);
+        table.float("a_first", "sorted before the others", vec![f64::NAN, 1e300]).shared_text(
+            "z \"quoted\"",
+            "escaped",
+            vec![Arc::from("é\n"), Arc::from("")],
+        );
         let rows: Vec<serde_json::Value> = (0..2)
             .map(|row| serde_json::Value::Object(table.columns.iter().map(|c| (c.name.clone(), c.values.json(row))).collect()))
             .collect();
@@ -928,7 +940,11 @@ mod tests {
             let mut shared = SharedText::default();
             let mut table = Table::new();
             table
-                .shared_text("page", "page id", range.clone().map(|i| shared.get(if i % 3 == 0 { "a,b" } else { "main/Au/Johnson" })).collect())
+                .shared_text(
+                    "page",
+                    "page id",
+                    range.clone().map(|i| shared.get(if i % 3 == 0 { "a,b" } else { "main/Au/Johnson" })).collect(),
+                )
                 .optional_float("x", "a value", range.clone().map(|i| (i % 7 != 0).then_some(i as f64 / 3.0)).collect())
                 .integer("i", "row", range.map(|i| i as i64).collect());
             table

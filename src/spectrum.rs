@@ -22,7 +22,10 @@ impl Index {
     pub fn check_domain(&self) -> Result<(), String> {
         let Index { n, k } = *self;
         if !(N_DOMAIN.0..=N_DOMAIN.1).contains(&n) || !(0.0..=K_MAX).contains(&k) {
-            return Err(format!("n = {n:e}, k = {k:e} lies outside the methods' domain n in [{:e}, {:e}], k in [0, {K_MAX:e}]", N_DOMAIN.0, N_DOMAIN.1));
+            return Err(format!(
+                "n = {n:e}, k = {k:e} lies outside the methods' domain n in [{:e}, {:e}], k in [0, {K_MAX:e}]",
+                N_DOMAIN.0, N_DOMAIN.1
+            ));
         }
         Ok(())
     }
@@ -281,10 +284,7 @@ pub fn evaluate(data: PageData, channels: &Channels, coverage: Coverage) -> Resu
     }
     let [r, g, b] = wavelengths;
     let channel_index = [index_at(&data, r)?, index_at(&data, g)?, index_at(&data, b)?];
-    let gaps: Vec<f64> = std::iter::once(&data.n)
-        .chain(data.k.as_ref())
-        .filter_map(|c| c.samples_um().map(visible_gap_nm))
-        .collect();
+    let gaps: Vec<f64> = std::iter::once(&data.n).chain(data.k.as_ref()).filter_map(|c| c.samples_um().map(visible_gap_nm)).collect();
     Ok(Material {
         channels: channel_index,
         kind: if max_k >= CONDUCTOR_K { Kind::Conductor } else { Kind::Dielectric },
@@ -341,7 +341,11 @@ mod tests {
     #[test]
     fn visible_checks_by_nearby_rows_match_index_at() {
         let mut pages = vec![page("DATA:\n  - type: formula 3\n    wavelength_range: 0.3 1.0\n    coefficients: 1.0 -8.0 2\n")];
-        for (seed, (start, step, rows)) in [(0.2, 0.001, 900), (0.38, 0.0173, 40), (0.391, 0.005, 62), (0.1, 0.3, 5), (0.45, 0.0001, 3000), (0.25, 0.05, 12)].into_iter().enumerate() {
+        for (seed, (start, step, rows)) in
+            [(0.2, 0.001, 900), (0.38, 0.0173, 40), (0.391, 0.005, 62), (0.1, 0.3, 5), (0.45, 0.0001, 3000), (0.25, 0.05, 12)]
+                .into_iter()
+                .enumerate()
+        {
             for negative in [false, true] {
                 pages.push(table_page(start, step, rows, seed as u64, negative));
             }
@@ -357,7 +361,14 @@ mod tests {
             }
         }
         // The largest visible spacing, from the rows near the window, is that of all rows.
-        let gap_of_all_rows = |samples: &[f64]| samples.windows(2).map(|w| (w[0] * 1000.0, w[1] * 1000.0)).filter(|&(a, b)| b > 390.0 && a < 700.0).map(|(a, b)| b - a).fold(0.0, f64::max);
+        let gap_of_all_rows = |samples: &[f64]| {
+            samples
+                .windows(2)
+                .map(|w| (w[0] * 1000.0, w[1] * 1000.0))
+                .filter(|&(a, b)| b > 390.0 && a < 700.0)
+                .map(|(a, b)| b - a)
+                .fold(0.0, f64::max)
+        };
         let tables = pages.iter().flat_map(|d| std::iter::once(&d.n).chain(d.k.as_ref())).filter_map(Curve::samples_um);
         for samples in tables.chain([&[0.3, 0.39, 0.7, 0.8][..], &[0.39, 0.7], &[0.2, 0.3], &[0.8, 0.9], &[0.5], &[]]) {
             assert_eq!(visible_gap_nm(samples).to_bits(), gap_of_all_rows(samples).to_bits(), "{samples:?}");

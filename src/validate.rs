@@ -35,8 +35,8 @@ use rayon::prelude::*;
 
 use crate::db::Database;
 use crate::fresnel::{
-    compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, FitMemo, LANES, Lut, LutSpec, Method, Model,
-    PerPrecision, Precision, Prepared,
+    compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, FitMemo, Lut, LutSpec,
+    Method, Model, PerPrecision, Precision, Prepared, LANES,
 };
 use crate::ingest::{self, Selection};
 use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
@@ -193,8 +193,7 @@ impl Family {
             .iter()
             .map(|variant| match variant.lut {
                 Some(spec) if variant.method == Method::Lut => {
-                    let values =
-                        curves.entry(spec.texels).or_insert_with(|| texel_values(spec.texels, |c| prepared.exact.reflectance(c)));
+                    let values = curves.entry(spec.texels).or_insert_with(|| texel_values(spec.texels, |c| prepared.exact.reflectance(c)));
                     Model::with_lut(prepared, Lut::from_values(spec, values))
                 }
                 _ => Model::from_prepared(prepared, variant.method, LutSpec::default()),
@@ -287,7 +286,13 @@ pub fn measure(model: &Model, strategy: Strategy) -> Integral {
 /// sanitising) is measured once: its figures are a function of the index alone, and each
 /// of its rows carries that measurement's time. A family `memo` holds is not measured
 /// again.
-pub fn measure_all(specimens: &[Specimen], variants: &[Variant], strategy: Strategy, memo: &IntegralMemo, fits: &FitMemo) -> Vec<Measurement> {
+pub fn measure_all(
+    specimens: &[Specimen],
+    variants: &[Variant],
+    strategy: Strategy,
+    memo: &IntegralMemo,
+    fits: &FitMemo,
+) -> Vec<Measurement> {
     let (distinct, index_of) = distinct_channels(specimens);
     let groups = Family::groups(variants);
     // Largest families first, so that the parallel tail is short.
@@ -396,7 +401,10 @@ pub fn error_rows<'a>(specimens: &'a [Specimen], measurements: &'a [Measurement]
     measurements
         .iter()
         .flat_map(|m| {
-            specimens[m.specimen].pages.iter().flat_map(move |page| Precision::ALL.map(|precision| ErrorRow { page, measurement: m, precision }))
+            specimens[m.specimen]
+                .pages
+                .iter()
+                .flat_map(move |page| Precision::ALL.map(|precision| ErrorRow { page, measurement: m, precision }))
         })
         .collect()
 }
@@ -414,9 +422,15 @@ pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], cha
     let page = text_column(rows, &mut shared, |r| r.page, |r| r.page.into());
     let kind = text_column(rows, &mut shared, |r| r.measurement.specimen, |r| specimens[r.measurement.specimen].kind.as_str().into());
     let method = text_column(rows, &mut shared, |r| r.measurement.variant.method, |r| r.measurement.variant.method.name().into());
-    let variant = text_column(rows, &mut shared, |r| (r.measurement.variant, r.precision), |r| r.measurement.variant.name(r.precision).into());
+    let variant =
+        text_column(rows, &mut shared, |r| (r.measurement.variant, r.precision), |r| r.measurement.variant.name(r.precision).into());
     let precision = text_column(rows, &mut shared, |r| r.precision, |r| r.precision.name().into());
-    let encoding = text_column(rows, &mut shared, |r| r.measurement.variant.lut, |r| r.measurement.variant.lut.map_or("", |s| s.encoding.name()).into());
+    let encoding = text_column(
+        rows,
+        &mut shared,
+        |r| r.measurement.variant.lut,
+        |r| r.measurement.variant.lut.map_or("", |s| s.encoding.name()).into(),
+    );
     let channel = text_column(rows, &mut shared, |r| r.measurement.channel, |r| CHANNEL_NAMES[r.measurement.channel].into());
     let fallback = text_column(rows, &mut shared, |r| r.measurement.fallback, |r| r.measurement.fallback.map_or("", |f| f.name()).into());
     let strategy_name = text_column(rows, &mut shared, |_| (), |_| strategy.name().into());
@@ -593,8 +607,16 @@ pub fn cost_table(spreads: &Spreads) -> Table {
             "CPU ns per evaluation (criterion, 10^6 cosines, one core; empty if not benchmarked)",
             rows.iter().map(|(v, p, _)| cpu_cost_ns(v.method, *p)).collect(),
         )
-        .integer("texture_bytes", "RGB texture bytes per material (lut), 0 otherwise", rows.iter().map(|(v, _, _)| v.texture_bytes() as i64).collect())
-        .float("mean_rel_error", "mean over materials of the material figure (mean of 3 channels)", rows.iter().map(|(_, _, s)| s.mean).collect())
+        .integer(
+            "texture_bytes",
+            "RGB texture bytes per material (lut), 0 otherwise",
+            rows.iter().map(|(v, _, _)| v.texture_bytes() as i64).collect(),
+        )
+        .float(
+            "mean_rel_error",
+            "mean over materials of the material figure (mean of 3 channels)",
+            rows.iter().map(|(_, _, s)| s.mean).collect(),
+        )
         .float("median_rel_error", "median over materials of the material figure", rows.iter().map(|(_, _, s)| s.median).collect())
         .float("max_rel_error", "largest material figure", rows.iter().map(|(_, _, s)| s.max).collect())
         .integer("materials", "materials with a figure", rows.iter().map(|(_, _, s)| s.materials as i64).collect());
@@ -627,7 +649,11 @@ pub fn specimens_from_ingest(result: &ingest::Ingest) -> Vec<Specimen> {
             Some(&(_, i)) => specimens[i].pages.push(page.id()),
             None => {
                 seen.push((key, specimens.len()));
-                specimens.push(Specimen { pages: vec![page.id()], kind: page.material.kind.as_str().into(), channels: page.material.channels });
+                specimens.push(Specimen {
+                    pages: vec![page.id()],
+                    kind: page.material.kind.as_str().into(),
+                    channels: page.material.channels,
+                });
             }
         }
     }
@@ -666,7 +692,14 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let mut methods = if request.methods.is_empty() { Method::ALL.to_vec() } else { request.methods.clone() };
     // A method named twice is measured once.
     let mut seen = Vec::new();
-    methods.retain(|m| if seen.contains(m) { false } else { seen.push(*m); true });
+    methods.retain(|m| {
+        if seen.contains(m) {
+            false
+        } else {
+            seen.push(*m);
+            true
+        }
+    });
     let variants = Variant::expand(&methods);
     let strategy = request.strategy;
     let start = Instant::now();
@@ -816,8 +849,12 @@ mod tests {
                 let prepared = Prepared::new(page.material.channels[i % 3]);
                 let spec = sweep[(7 * i) % sweep.len()];
                 // exact (error 0) and schlick_nk (= schlick) add nothing here.
-                [Method::Schlick, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut]
-                    .map(|method| (format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()), Model::from_prepared(prepared, method, spec)))
+                [Method::Schlick, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut].map(|method| {
+                    (
+                        format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()),
+                        Model::from_prepared(prepared, method, spec),
+                    )
+                })
             })
             .collect();
         let failures: Vec<String> = jobs
@@ -847,7 +884,8 @@ mod tests {
         let selection = ingest::Selection { shelves: vec![], pages: pages.iter().map(|p| p.to_string()).collect() };
         let result = ingest::ingest(&db, &selection, &ingest::Config::default()).unwrap();
         assert_eq!(result.kept.len(), pages.len());
-        let analytic: Vec<Variant> = Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
+        let analytic: Vec<Variant> =
+            Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
         let lut = |texels| -> Vec<Variant> {
             crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(texels, e)) }).collect()
         };
@@ -874,7 +912,8 @@ mod tests {
                         let (f, b) = (fast.figures.f64, brute.figures.f64);
                         let mean = relative(f.mean_rel_error.unwrap_or(0.0), b.mean_rel_error.unwrap_or(0.0));
                         let rms = relative(f.rms_abs_error, b.rms_abs_error);
-                        let max_ok = f.max_abs_error >= b.max_abs_error * (1.0 - 1e-9) && f.max_abs_error <= b.max_abs_error * (1.0 + 5e-3) + 1e-12;
+                        let max_ok =
+                            f.max_abs_error >= b.max_abs_error * (1.0 - 1e-9) && f.max_abs_error <= b.max_abs_error * (1.0 + 5e-3) + 1e-12;
                         (mean > 1e-4 || rms > 1e-4 || !max_ok)
                             .then(|| format!("{page} {} {}: fast {f:?} brute {b:?}", variant.method, variant.name(Precision::F64)))
                     })
@@ -907,7 +946,8 @@ mod tests {
         assert_eq!(measurements.len(), specimens.len() * 3 * variants.len());
         let groups = Family::groups(&variants);
         let bits = |i: &Integral| {
-            [i.figures.f64, i.figures.f32].map(|f| (f.mean_rel_error.map(f64::to_bits), f.max_abs_error.to_bits(), f.rms_abs_error.to_bits()))
+            [i.figures.f64, i.figures.f32]
+                .map(|f| (f.mean_rel_error.map(f64::to_bits), f.max_abs_error.to_bits(), f.rms_abs_error.to_bits()))
         };
         for m in &measurements {
             // The reference: the variant's family measured on this specimen's channel alone.
@@ -921,7 +961,8 @@ mod tests {
             assert_eq!(m.index, crate::fresnel::sanitise(index));
         }
         // The rows of a shared index carry one measurement's time.
-        let seconds = |specimen: usize, channel: usize| measurements.iter().find(|m| (m.specimen, m.channel) == (specimen, channel)).unwrap().seconds;
+        let seconds =
+            |specimen: usize, channel: usize| measurements.iter().find(|m| (m.specimen, m.channel) == (specimen, channel)).unwrap().seconds;
         assert_eq!(seconds(0, 1), seconds(0, 2));
         assert_eq!(seconds(0, 0), seconds(1, 1));
     }
@@ -931,7 +972,8 @@ mod tests {
     /// on a metal, a dielectric, a gas-like index and vacuum.
     #[test]
     fn batches_give_the_bits_of_one_angle_at_a_time() {
-        let analytic: Vec<Variant> = Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
+        let analytic: Vec<Variant> =
+            Method::ALL.iter().filter(|m| **m != Method::Lut).map(|&method| Variant { method, lut: None }).collect();
         let lut: Vec<Variant> =
             crate::fresnel::Encoding::ALL.iter().map(|&e| Variant { method: Method::Lut, lut: Some(LutSpec::new(128, e)) }).collect();
         let thetas: Vec<f64> = (0..37).map(|i| i as f64 * 0.0437).chain([0.0, std::f64::consts::FRAC_PI_2]).collect();

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use sha2::{Digest, Sha256};
 
-use nklut::bake::{self, files, texel, BakeRequest, Encoding, Source};
 use common::{database, scratch};
+use nklut::bake::{self, files, texel, BakeRequest, Encoding, Source};
 use nklut::ingest::{self, Selection};
 
 const PAGES: [&str; 3] = ["3d/metals/gold", "3d/glass/BK7", "main/Au/Johnson"];
@@ -56,7 +56,13 @@ fn every_written_file_reads_back_as_the_baked_values() {
     bake::run(&database(), &out, &args(&PAGES, size)).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
-    let kept = ingest::ingest(&database(), &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] }, &nklut::ingest::Config::default()).unwrap().kept;
+    let kept = ingest::ingest(
+        &database(),
+        &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] },
+        &nklut::ingest::Config::default(),
+    )
+    .unwrap()
+    .kept;
     let curves: Vec<_> = kept.iter().map(|p| bake::curve(Source::ThreeChannel, p, size)).collect();
     let mut checked = 0;
     for set in manifest["textures"].as_array().unwrap() {
@@ -112,7 +118,12 @@ fn an_interrupted_bake_leaves_the_previous_one_intact() {
     names.sort();
     assert_eq!(names, [".sets", "luts"]);
     // The failed run's generation is gone: the set holds the previous bake alone.
-    let generations: Vec<String> = fs::read_dir(out.join(".sets")).unwrap().map(|e| e.unwrap()).filter(|e| e.file_type().unwrap().is_dir()).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+    let generations: Vec<String> = fs::read_dir(out.join(".sets"))
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(generations.len(), 1, "{generations:?}");
 }
 
@@ -171,7 +182,8 @@ fn spectral_and_effective_sources_bake_with_errors_against_the_spectral_referenc
     assert_eq!(sets.len(), 6);
     assert!(!manifest["error"]["error_vs_spectral"].as_str().unwrap().contains("null"));
     // Gold is row 0 (catalog order); its spectral red exceeds 1 near normal incidence.
-    let f32_atlas = files::decode(Encoding::F32, &fs::read(luts.join(set("spectral", "f32")["atlas"]["file"].as_str().unwrap())).unwrap()).unwrap();
+    let f32_atlas =
+        files::decode(Encoding::F32, &fs::read(luts.join(set("spectral", "f32")["atlas"]["file"].as_str().unwrap())).unwrap()).unwrap();
     let red_max = f32_atlas.texels.decode(Encoding::F32).iter().take(3 * size).step_by(3).copied().fold(0.0, f64::max);
     assert!(red_max > 1.0, "gold's spectral red {red_max}");
     assert_eq!(set("spectral", "f32")["clamped_texels"], 0);
@@ -182,7 +194,8 @@ fn spectral_and_effective_sources_bake_with_errors_against_the_spectral_referenc
             assert!(row["error_vs_spectral"]["mean_relative_rgb"].as_f64().unwrap() >= 0.0, "{} {}", s["source"], row["page"]);
         }
     }
-    let vs_spectral = |source: &str, row: usize| set(source, "f32")["rows"][row]["error_vs_spectral"]["mean_relative_rgb"].as_f64().unwrap();
+    let vs_spectral =
+        |source: &str, row: usize| set(source, "f32")["rows"][row]["error_vs_spectral"]["mean_relative_rgb"].as_f64().unwrap();
     for row in 0..2 {
         assert!(vs_spectral("effective", row) <= vs_spectral("three-channel", row) * 1.001, "row {row}");
         // 32 texels: what is left is sampling (and float rounding), well under the model errors.
@@ -206,7 +219,10 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     let readme = fs::read_to_string(luts.join("README.md")).unwrap();
     assert_eq!(manifest["tables"], serde_json::json!([]));
     assert!(!readme.contains("materials.csv") && !manifest.to_string().contains("materials.csv"));
-    let gold = &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap().kept[0];
+    let gold =
+        &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default())
+            .unwrap()
+            .kept[0];
     for set in manifest["textures"].as_array().unwrap() {
         let row = &set["rows"][0];
         assert_eq!(row["page"], "3d/metals/gold");
@@ -234,7 +250,12 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     }
     assert!(manifest["sixteen_bit_png"].as_str().unwrap().contains("IMREAD_UNCHANGED"));
     // With ingest's tables next to luts/, the manifest documents them.
-    ingest::write_tables(&ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default()).unwrap(), &out).unwrap();
+    ingest::write_tables(
+        &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default())
+            .unwrap(),
+        &out,
+    )
+    .unwrap();
     bake::run(&database(), &out, &spectral).unwrap();
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["tables"][0]["files"][0], "../materials.csv");

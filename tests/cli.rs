@@ -42,14 +42,7 @@ fn fixture(name: &str) -> Scratch {
 }
 
 fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nklut"))
-        .arg("--db")
-        .arg(db)
-        .arg("--out")
-        .arg(out)
-        .args(args)
-        .output()
-        .unwrap()
+    Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
 }
 
 #[test]

@@ -6,8 +6,8 @@ mod common;
 
 use std::path::Path;
 
-use nklut::color::{self, AngleQuadrature};
 use common::database;
+use nklut::color::{self, AngleQuadrature};
 use nklut::ingest::{ingest, Ingest, Selection};
 
 fn shelf(name: &str) -> Ingest {

@@ -32,7 +32,7 @@ fn formula_pages_reproduce_their_printed_nd() {
         let n = formula.refractive_index(D_LINE_UM);
         let tolerance = if nd.decimals < 4 { 0.5 * 10f64.powi(-(nd.decimals as i32)) } else { 1e-4 };
         let error = (n - nd.value).abs();
-        if !(error <= tolerance) {
+        if error.is_nan() || error > tolerance {
             failures.push(format!("{file}: n = {n}, nd = {} (tolerance {tolerance})", nd.value));
         }
         if error > worst.0 {
@@ -40,7 +40,10 @@ fn formula_pages_reproduce_their_printed_nd() {
         }
         checked += 1;
     }
-    println!("nd check: {checked} formula pages checked, {outside_range} with 587.6 nm outside the formula range; worst |n − nd| = {:.2e} ({})", worst.0, worst.1);
+    println!(
+        "nd check: {checked} formula pages checked, {outside_range} with 587.6 nm outside the formula range; worst |n − nd| = {:.2e} ({})",
+        worst.0, worst.1
+    );
     assert!(checked >= 1500, "only {checked} pages with a formula and nd: the database looks incomplete");
     assert!(failures.is_empty(), "{} pages disagree with their nd:\n{}", failures.len(), failures.join("\n"));
 }
@@ -86,7 +89,8 @@ fn every_catalog_page_is_kept_or_excluded() {
     );
     // Entries listed twice with the same file are one page; none in this snapshot reuse an
     // id for another file.
-    let entries = std::fs::read_to_string(db.root.join("catalog-nk.yml")).unwrap().lines().filter(|l| l.trim_start().starts_with("- PAGE:")).count();
+    let entries =
+        std::fs::read_to_string(db.root.join("catalog-nk.yml")).unwrap().lines().filter(|l| l.trim_start().starts_with("- PAGE:")).count();
     assert_eq!(catalog.pages.len() + catalog.duplicates.len(), entries, "every PAGE entry of catalog-nk.yml is read");
     assert_eq!(result.listed_twice.len(), catalog.duplicates.len());
     assert_eq!(result.selected, catalog.pages.len());
@@ -119,7 +123,8 @@ fn johnson_gold_channels_match_the_table_rows() {
             (v.len() == 3).then(|| [v[0], v[1], v[2]])
         })
         .collect();
-    let result = ingest(&db, &Selection { pages: vec!["main/Au/Johnson".into()], ..Default::default() }, &nklut::ingest::Config::default()).unwrap();
+    let result =
+        ingest(&db, &Selection { pages: vec!["main/Au/Johnson".into()], ..Default::default() }, &nklut::ingest::Config::default()).unwrap();
     let material = &result.kept[0].material;
     for (channel, nm) in Channels::default().nanometres().into_iter().enumerate() {
         let um = nm / 1000.0;

@@ -43,7 +43,9 @@ fn read_csv(path: &Path) -> (csv::StringRecord, Vec<csv::StringRecord>) {
 
 #[test]
 fn shipped_effects_scenes_parse_and_name_their_effects() {
-    for (file, reflection, refraction) in [("teapot-in-a-box.yaml", vec![1, 2, 3], None), ("glass-sphere.yaml", vec![1, 3], Some(vec![1, 3]))] {
+    for (file, reflection, refraction) in
+        [("teapot-in-a-box.yaml", vec![1, 2, 3], None), ("glass-sphere.yaml", vec![1, 3], Some(vec![1, 3]))]
+    {
         let scene = Scene::load(&root().join("scenes").join(file)).unwrap();
         let effects = scene.effects.as_ref().unwrap();
         assert_eq!(effects.reflection.as_ref().unwrap().max_depth, reflection, "{file}");
@@ -88,7 +90,8 @@ fn effects_command_splits_geometry_and_fresnel_error() {
     assert!(out.join("effects_errors.parquet").exists() && out.join("effects_errors.columns.json").exists());
     // Frame 0 of each depth configuration at the last search configuration (80/1): the
     // reference (EXR + PNG) and each method (EXR + PNG + error PNG).
-    let mut frames: Vec<String> = std::fs::read_dir(out.join("effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut frames: Vec<String> =
+        std::fs::read_dir(out.join("effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     frames.sort();
     assert_eq!(frames.len(), 2 * (2 + 3 + 3), "{frames:?}");
     assert!(frames.contains(&"depth3-3_steps80-1_schlick_error.png".to_string()), "{frames:?}");
@@ -137,8 +140,12 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
     assert!(!out.join("effects_errors.csv").exists());
-    let mut pictures: Vec<String> = std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut pictures: Vec<String> =
+        std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     pictures.sort();
     assert_eq!(pictures.len(), 4 * 3 + 2 + 2, "{pictures:?}");
-    assert!(pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()), "{pictures:?}");
+    assert!(
+        pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()),
+        "{pictures:?}"
+    );
 }

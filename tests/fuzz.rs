@@ -92,14 +92,17 @@ fn entry(files: usize) -> impl Strategy<Value = Entry> {
     ]
 }
 
+/// Shelves of books of entries, each with its id as written.
+type Shelves = Vec<(String, Vec<(String, Vec<Entry>)>)>;
+
 /// A catalog: shelves of books of entries (every shelf and book has content).
-fn catalog(files: usize) -> impl Strategy<Value = Vec<(String, Vec<(String, Vec<Entry>)>)>> {
+fn catalog(files: usize) -> impl Strategy<Value = Shelves> {
     let book = (id(), proptest::collection::vec(entry(files), 1..5));
     let shelf = (id(), proptest::collection::vec(book, 1..3));
     proptest::collection::vec(shelf, 1..3)
 }
 
-fn catalog_text(shelves: &[(String, Vec<(String, Vec<Entry>)>)]) -> String {
+fn catalog_text(shelves: &Shelves) -> String {
     let mut text = String::from("- DIVIDER: \"top\"\n");
     for (shelf, books) in shelves {
         text.push_str(&format!("- SHELF: {shelf}\n  name: \"S\"\n  content:\n"));
@@ -140,18 +143,21 @@ fn number() -> impl Strategy<Value = String> {
 /// A DATA block: tables (with the rows sorted most of the time) or formulas.
 fn block() -> impl Strategy<Value = String> {
     let rows = |columns: usize| proptest::collection::vec(proptest::collection::vec(number(), columns), 0..8);
-    let table = (prop_oneof![Just(("nk", 3usize)), Just(("n", 2)), Just(("k", 2))], any::<bool>(), prop_oneof![Just("|"), Just("|-"), Just("|+")])
-        .prop_flat_map(move |((kind, columns), sorted, chomp)| (Just(kind), Just(sorted), Just(chomp), rows(columns), proptest::collection::vec(0.3f64..0.9, 0..8)))
-        .prop_map(|(kind, sorted, chomp, rows, mut wavelengths)| {
-            if sorted {
-                wavelengths.sort_by(f64::total_cmp);
-            }
-            let mut text = format!("  - type: tabulated {kind}\n    data: {chomp}\n");
-            for (row, w) in rows.iter().zip(wavelengths.iter().chain(std::iter::repeat(&0.5))) {
-                text.push_str(&format!("        {w:.4} {}\n", row[1..].join(" ")));
-            }
-            text
-        });
+    let table =
+        (prop_oneof![Just(("nk", 3usize)), Just(("n", 2)), Just(("k", 2))], any::<bool>(), prop_oneof![Just("|"), Just("|-"), Just("|+")])
+            .prop_flat_map(move |((kind, columns), sorted, chomp)| {
+                (Just(kind), Just(sorted), Just(chomp), rows(columns), proptest::collection::vec(0.3f64..0.9, 0..8))
+            })
+            .prop_map(|(kind, sorted, chomp, rows, mut wavelengths)| {
+                if sorted {
+                    wavelengths.sort_by(f64::total_cmp);
+                }
+                let mut text = format!("  - type: tabulated {kind}\n    data: {chomp}\n");
+                for (row, w) in rows.iter().zip(wavelengths.iter().chain(std::iter::repeat(&0.5))) {
+                    text.push_str(&format!("        {w:.4} {}\n", row[1..].join(" ")));
+                }
+                text
+            });
     let formula = (1u8..=10, proptest::collection::vec(number(), 0..9), number(), number()).prop_map(|(n, coefficients, lo, hi)| {
         format!("  - type: formula {n}\n    wavelength_range: {lo} {hi}\n    coefficients: {}\n", coefficients.join(" "))
     });
@@ -167,7 +173,11 @@ fn page() -> impl Strategy<Value = Vec<u8>> {
         Just("COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\n".to_string()),
         Just("REFERENCES: |\n    data: |\n      0.5 9.9\n".to_string()),
     ];
-    let properties = prop_oneof![Just(String::new()), Just("PROPERTIES:\n    nd: 1.5230\n    Vd: 58.5\n".to_string()), Just("PROPERTIES:\n    nd: x\n".to_string())];
+    let properties = prop_oneof![
+        Just(String::new()),
+        Just("PROPERTIES:\n    nd: 1.5230\n    Vd: 58.5\n".to_string()),
+        Just("PROPERTIES:\n    nd: x\n".to_string())
+    ];
     let damage = prop_oneof![
         6 => Just(Damage::None),
         1 => Just(Damage::Crlf),
@@ -177,11 +187,13 @@ fn page() -> impl Strategy<Value = Vec<u8>> {
         1 => any::<prop::sample::Index>().prop_map(Damage::Cut),
         1 => (any::<prop::sample::Index>(), any::<u8>()).prop_map(|(at, byte)| Damage::Flip(at, byte)),
     ];
-    (comment, proptest::collection::vec(block(), 0..3), properties, damage, any::<bool>()).prop_map(|(comment, blocks, properties, damage, comment_first)| {
-        let data = format!("DATA:\n{}", blocks.concat());
-        let text = if comment_first { format!("{comment}{data}{properties}") } else { format!("{data}{comment}{properties}") };
-        damage.apply(text.into_bytes())
-    })
+    (comment, proptest::collection::vec(block(), 0..3), properties, damage, any::<bool>()).prop_map(
+        |(comment, blocks, properties, damage, comment_first)| {
+            let data = format!("DATA:\n{}", blocks.concat());
+            let text = if comment_first { format!("{comment}{data}{properties}") } else { format!("{data}{comment}{properties}") };
+            damage.apply(text.into_bytes())
+        },
+    )
 }
 
 #[derive(Clone, Debug)]
@@ -327,17 +339,16 @@ fn database_case(catalog: &str, pages: &[Vec<u8>], publish: bool) -> Result<(), 
 fn fuzz_databases() {
     let mut runner = TestRunner::new(config(10_000));
     let strategy = (1usize..4).prop_flat_map(|files| (catalog(files), proptest::collection::vec(page(), files), 0u32..100));
-    runner
-        .run(&strategy, |(shelves, pages, roll)| database_case(&catalog_text(&shelves), &pages, roll == 0))
-        .unwrap();
+    runner.run(&strategy, |(shelves, pages, roll)| database_case(&catalog_text(&shelves), &pages, roll == 0)).unwrap();
 }
 
 /// Raw damage to a whole catalog text: a cut or a flipped byte anywhere.
 #[test]
 fn fuzz_damaged_catalogs() {
     let mut runner = TestRunner::new(config(1_000));
-    let strategy = (1usize..3)
-        .prop_flat_map(|files| (catalog(files), proptest::collection::vec(page(), files), any::<prop::sample::Index>(), any::<u8>(), any::<bool>()));
+    let strategy = (1usize..3).prop_flat_map(|files| {
+        (catalog(files), proptest::collection::vec(page(), files), any::<prop::sample::Index>(), any::<u8>(), any::<bool>())
+    });
     runner
         .run(&strategy, |(shelves, pages, at, byte, cut)| {
             let mut text = catalog_text(&shelves).into_bytes();
@@ -375,10 +386,18 @@ fn object() -> impl Strategy<Value = String> {
         Just("diffuse: [2, 0, 0]".to_string()),
         Just("material: gold".to_string()),
     ];
-    let scale = prop_oneof![Just(String::new()), coordinate().prop_map(|s| format!(", scale: {s}")), (coordinate(), coordinate(), coordinate()).prop_map(|(a, b, c)| format!(", scale: [{a}, {b}, {c}]"))];
-    let position = prop_oneof![Just(String::new()), (coordinate(), coordinate(), coordinate()).prop_map(|(a, b, c)| format!(", position: [{a}, {b}, {c}]"))];
+    let scale = prop_oneof![
+        Just(String::new()),
+        coordinate().prop_map(|s| format!(", scale: {s}")),
+        (coordinate(), coordinate(), coordinate()).prop_map(|(a, b, c)| format!(", scale: [{a}, {b}, {c}]"))
+    ];
+    let position = prop_oneof![
+        Just(String::new()),
+        (coordinate(), coordinate(), coordinate()).prop_map(|(a, b, c)| format!(", position: [{a}, {b}, {c}]"))
+    ];
     let subdivide = prop_oneof![4 => Just(String::new()), 1 => (0u32..12).prop_map(|s| format!(", subdivide: {s}"))];
-    (mesh, role, scale, position, subdivide).prop_map(|(mesh, role, scale, position, subdivide)| format!("  - {{ mesh: {mesh}, {role}{scale}{position}{subdivide} }}\n"))
+    (mesh, role, scale, position, subdivide)
+        .prop_map(|(mesh, role, scale, position, subdivide)| format!("  - {{ mesh: {mesh}, {role}{scale}{position}{subdivide} }}\n"))
 }
 
 fn scene_text() -> impl Strategy<Value = String> {
@@ -391,13 +410,23 @@ fn scene_text() -> impl Strategy<Value = String> {
         Just("effects: { ambient_occlusion: { passes: 2 }, indirect: {} }\n".to_string()),
         Just("effects: {}\n".to_string()),
     ];
-    let light = prop_oneof![Just(String::new()), Just("light: { colour: [1e308, 1, 1] }\n".to_string()), Just("light: { direction: [0, 0, 0] }\n".to_string()), Just("light: { ambient: [0.2, 0.2, 0.2] }\n".to_string())];
+    let light = prop_oneof![
+        Just(String::new()),
+        Just("light: { colour: [1e308, 1, 1] }\n".to_string()),
+        Just("light: { direction: [0, 0, 0] }\n".to_string()),
+        Just("light: { ambient: [0.2, 0.2, 0.2] }\n".to_string())
+    ];
     let frames = prop_oneof![Just("1"), Just("0"), Just("3600"), Just("1000000000"), Just("1e9")];
     let damage = prop_oneof![6 => Just(Damage::None), 1 => Just(Damage::Deep), 1 => any::<prop::sample::Index>().prop_map(Damage::Cut), 1 => (any::<prop::sample::Index>(), any::<u8>()).prop_map(|(a, b)| Damage::Flip(a, b))];
-    (size.clone(), size, frames, effects, light, proptest::collection::vec(object(), 0..4), damage).prop_map(|(w, h, frames, effects, light, objects, damage)| {
-        let text = format!("resolution: [{w}, {h}]\ncamera: {{ frames: {frames} }}\nmeasurements: [image_error]\n{effects}{light}objects:\n{}", objects.concat());
-        String::from_utf8_lossy(&damage.apply(text.into_bytes())).into_owned()
-    })
+    (size.clone(), size, frames, effects, light, proptest::collection::vec(object(), 0..4), damage).prop_map(
+        |(w, h, frames, effects, light, objects, damage)| {
+            let text = format!(
+                "resolution: [{w}, {h}]\ncamera: {{ frames: {frames} }}\nmeasurements: [image_error]\n{effects}{light}objects:\n{}",
+                objects.concat()
+            );
+            String::from_utf8_lossy(&damage.apply(text.into_bytes())).into_owned()
+        },
+    )
 }
 
 /// One scene case: parse; if it parses, every placed coordinate is bounded, the memory

@@ -22,7 +22,8 @@ use nklut::spectrum::{ChannelIndex, Index, Kind};
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
 fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
     static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened = GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
+    let opened =
+        GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
     match opened {
         Ok(gpu) => {
             let guard = gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
@@ -76,7 +77,14 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
     let mut worst = Vec::new();
     // The same pure functions evaluate a ray from inside: the parameters of conj(1/η).
     let inside = |channels: ChannelIndex| channels.map(nklut::effects::optics::inside_index);
-    let materials = [("goldish", GOLDISH), ("water", WATER), ("diamond", DIAMOND), ("mixed", MIXED), ("water inside", inside(WATER)), ("diamond inside", inside(DIAMOND))];
+    let materials = [
+        ("goldish", GOLDISH),
+        ("water", WATER),
+        ("diamond", DIAMOND),
+        ("mixed", MIXED),
+        ("water inside", inside(WATER)),
+        ("diamond inside", inside(DIAMOND)),
+    ];
     for (name, channels) in materials {
         let prepared = params::prepare(&channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
@@ -103,12 +111,18 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
                         _ => (uniform.evaluate_f32(method, channel, c).unwrap(), 1e-5),
                     };
                     let error = (shader - expected).abs();
-                    assert!(error <= tolerance, "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})");
+                    assert!(
+                        error <= tolerance,
+                        "{name} {method} channel {channel} c {c}: shader {shader} cpu {expected} (tolerance {tolerance})"
+                    );
                     // Past the critical angle inside a dielectric (sin²θ > n², n = 1/η < 1, k = 0),
                     // exact F is 1 (to an f32 rounding).
                     let Index { n, k } = channels[channel];
                     if method == Shading::Fresnel(fresnel::Method::Exact) && k == 0.0 && n < 1.0 && 1.0 - c * c > (n * n) as f32 * 1.0001 {
-                        assert!(shader >= 1.0 - 2.0 * f32::EPSILON, "{name} channel {channel} c {c}: total internal reflection, F = {shader}");
+                        assert!(
+                            shader >= 1.0 - 2.0 * f32::EPSILON,
+                            "{name} channel {channel} c {c}: total internal reflection, F = {shader}"
+                        );
                     }
                     max_error = max_error.max(error);
                 }
@@ -127,7 +141,10 @@ fn mixed_material_really_falls_back() {
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {
-            assert!(uniform.evaluate_f32(Shading::Fresnel(fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0).unwrap().is_finite());
+            assert!(uniform
+                .evaluate_f32(Shading::Fresnel(fresnel::Method::SchlickCompensated), channel, i as f32 / 100.0)
+                .unwrap()
+                .is_finite());
         }
     }
 }
@@ -196,7 +213,10 @@ fn image_error_is_zero_for_exact_and_of_the_function_errors_order_for_schlick() 
         let image_error = row(object, Shading::Fresnel(fresnel::Method::Schlick)).mean_rel_error;
         eprintln!("water schlick: function error {function_error:.4e}, {object} image error {image_error:.4e}");
         assert!(image_error > 0.0);
-        assert!(image_error > function_error / 10.0 && image_error < function_error * 10.0, "{object}: image {image_error} vs function {function_error}");
+        assert!(
+            image_error > function_error / 10.0 && image_error < function_error * 10.0,
+            "{object}: image {image_error} vs function {function_error}"
+        );
     }
 }
 
@@ -239,11 +259,18 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert!(report.stats.skipped.iter().any(|s| s.starts_with("timing")));
     assert_eq!(report.image_errors.len(), 1);
     // No effects named: no cube map, no effect pipeline, no reference frame.
-    assert_eq!((report.stats.effects.cube_maps, report.stats.effects.layers, report.stats.effect_pipelines, report.stats.effects.reference_frames), (0, 0, 0, 0));
+    assert_eq!(
+        (report.stats.effects.cube_maps, report.stats.effects.layers, report.stats.effect_pipelines, report.stats.effects.reference_frames),
+        (0, 0, 0, 0)
+    );
     assert!(report.effects.timing.is_empty() && report.effects.errors.is_empty());
 
     let exact_only = scene("resolution: [32, 32]\ncamera: {frames: 1}\nobjects: [{mesh: cube, material: 3d/liquids/water, method: exact}]\nmeasurements: [image_error]\n");
-    assert_eq!(gpu::run(&exact_only, &db, &Default::default(), &gpu, log).unwrap().stats.pipelines_compiled, 1, "exact is its own reference");
+    assert_eq!(
+        gpu::run(&exact_only, &db, &Default::default(), &gpu, log).unwrap().stats.pipelines_compiled,
+        1,
+        "exact is its own reference"
+    );
 
     let timing = scene(
         "objects: [{mesh: cube, material: 3d/metals/gold, method: lut}]\nmeasurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3}\n",
@@ -268,19 +295,33 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
         "objects:\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, constant]}\n  - {mesh: cube, material: 3d/metals/gold, methods: [exact]}\n\
          measurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3, subtract: true}\n",
     );
-    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric), SceneMaterial::new("3d/metals/gold", GOLDISH, Kind::Conductor)];
+    let materials =
+        [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric), SceneMaterial::new("3d/metals/gold", GOLDISH, Kind::Conductor)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     assert_eq!(report.timing.len(), 3);
     assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
     assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
-    let water_exact = report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap();
+    let water_exact =
+        report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
     let table = gpu::runner::timing_table(&report);
     let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(
         names,
-        ["adapter", "backend", "driver", "timer", "method", "material", "resolution", "repeats", "median_ms", "spread_ms", "relative_to_exact_dielectric"]
+        [
+            "adapter",
+            "backend",
+            "driver",
+            "timer",
+            "method",
+            "material",
+            "resolution",
+            "repeats",
+            "median_ms",
+            "spread_ms",
+            "relative_to_exact_dielectric"
+        ]
     );
 }
 
@@ -314,7 +355,8 @@ fn bad_scenes_are_named_errors_not_panics() {
     assert!(stderr.contains("bad.yaml") && stderr.contains("unknown method \"fastest\""), "{stderr}");
 
     // An unknown page is found before any GPU work, with the scene named.
-    let scene = Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
+    let scene =
+        Scene::parse("objects: [{mesh: cube, material: 3d/metals/unobtainium, method: exact}]\nmeasurements: [timing]\n", &file).unwrap();
     let error = nklut::scene::read_materials(&scene, &database(), &Default::default()).err().unwrap().to_string();
     assert!(error.contains("bad.yaml") && error.contains("unobtainium"), "{error}");
 }
@@ -476,16 +518,32 @@ fn gpu_specular_pass_matches_the_distance_map_twin() {
     let mut pass = SpecularPass::new(&gpu, &stage, 64).unwrap();
     let steps = SearchSteps { linear: 15, secant: 4 };
     let camera = Camera::new(&scene.camera, 0, 48, 48);
-    for (method, depths) in [(Method::Exact, Depths { reflection: 3, refraction: 3 }), (Method::Schlick, Depths { reflection: 2, refraction: 0 }), (Method::Lut, Depths { reflection: 2, refraction: 2 })] {
+    for (method, depths) in [
+        (Method::Exact, Depths { reflection: 3, refraction: 3 }),
+        (Method::Schlick, Depths { reflection: 2, refraction: 0 }),
+        (Method::Lut, Depths { reflection: 2, refraction: 2 }),
+    ] {
         let shot = Shot { camera: &scene.camera, frame: 0, depths, steps };
         let image = pass.render(&gpu, &meshes, &maps, shot, method, [48, 48]).unwrap();
         let twin = twin_frame(&stage, &camera, &cpu_maps, method, depths, steps, LutSpec::new(64, lut::ENCODING));
         assert!(image.radiance.iter().flatten().all(|x| x.is_finite()));
         let seen_same = image.seen.iter().zip(&twin.seen).filter(|(a, b)| a == b).count();
-        assert!(seen_same * 100 >= image.seen.len() * 98, "{method:?}: the rasteriser and the ray caster see the same objects ({seen_same})");
+        assert!(
+            seen_same * 100 >= image.seen.len() * 98,
+            "{method:?}: the rasteriser and the ray caster see the same objects ({seen_same})"
+        );
         let error = compare(&image.traced(), &twin);
-        let close = image.radiance.iter().zip(&twin.radiance).zip(&twin.seen).filter(|((g, c), s)| s.is_some() && (0..3).all(|i| (g[i] as f64 - c[i]).abs() <= 2e-3 * (1.0 + c[i]))).count();
-        eprintln!("{method:?} {depths:?}: {close} of {} specular pixels within 2e-3; mean relative error {:.2e}, max {:.2e}", error.pixels, error.mean_relative, error.max_relative);
+        let close = image
+            .radiance
+            .iter()
+            .zip(&twin.radiance)
+            .zip(&twin.seen)
+            .filter(|((g, c), s)| s.is_some() && (0..3).all(|i| (g[i] as f64 - c[i]).abs() <= 2e-3 * (1.0 + c[i])))
+            .count();
+        eprintln!(
+            "{method:?} {depths:?}: {close} of {} specular pixels within 2e-3; mean relative error {:.2e}, max {:.2e}",
+            error.pixels, error.mean_relative, error.max_relative
+        );
         assert!(error.pixels > 200, "the frame shows the specular objects");
         assert!(close * 100 >= error.pixels * 95, "{method:?}: {close} of {}", error.pixels);
         assert!(error.mean_relative < 0.02, "{method:?}: {error:?}");
@@ -513,8 +571,14 @@ fn runner_builds_only_the_effects_the_scene_names() {
         scene.timing.warmup = 0;
         scene.timing.repeats = 2;
         let materials = [
-            SceneMaterial { page: "x/y/glass".into(), optics: nklut::effects::trace::SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric } },
-            SceneMaterial { page: "x/y/gold".into(), optics: nklut::effects::trace::SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor } },
+            SceneMaterial {
+                page: "x/y/glass".into(),
+                optics: nklut::effects::trace::SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric },
+            },
+            SceneMaterial {
+                page: "x/y/gold".into(),
+                optics: nklut::effects::trace::SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor },
+            },
         ];
         let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), log).unwrap();
         let stats = &report.stats;

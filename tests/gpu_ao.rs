@@ -21,7 +21,8 @@ use nklut::gpu::{self, Gpu};
 /// One device for the whole test binary; tests take turns.
 fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
     static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened = GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
+    let opened =
+        GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
     match opened {
         Ok(gpu) => Some(gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner())),
         Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
@@ -67,7 +68,15 @@ fn the_wgsl_shadow_term_matches_its_cpu_twin_on_a_ramp() {
             // multiply-add in the dot products, so a few ulp apart (bound 1e-6 relative,
             // 1e-9 absolute at the horizon, where cos θ is a difference of order-1 terms).
             let narrow = |v: DVec3| v.as_vec3().to_array();
-            let twin = disc_term_real::<f32>(narrow(emitter.centre), narrow(emitter.normal), emitter.area as f32, narrow(receiver.centre), narrow(receiver.normal), form.receiver_gain as f32, 1.0);
+            let twin = disc_term_real::<f32>(
+                narrow(emitter.centre),
+                narrow(emitter.normal),
+                emitter.area as f32,
+                narrow(receiver.centre),
+                narrow(receiver.normal),
+                form.receiver_gain as f32,
+                1.0,
+            );
             let twin_error = (got[0] - twin[0]).abs() as f64;
             worst_twin = worst_twin.max(twin_error / (twin[0] as f64).max(1e-3));
             assert!(twin_error <= 1e-6 * twin[0] as f64 + 1e-9, "g {}: {emitter:?}: GPU {got:?}, f32 twin {twin:?}", form.receiver_gain);
@@ -99,7 +108,12 @@ fn differences(gpu: &nklut::gpu::passes::ao::AoOutput, values: &[f64], bent: &[D
         worst = worst.max(d);
         over += (d > 1e-4) as usize;
     }
-    let angle = gpu.bent_normals.iter().zip(bent).map(|(g, c)| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64).angle_between(*c)).fold(0.0, f64::max);
+    let angle = gpu
+        .bent_normals
+        .iter()
+        .zip(bent)
+        .map(|(g, c)| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64).angle_between(*c))
+        .fold(0.0, f64::max);
     (worst, angle, over)
 }
 
@@ -129,7 +143,12 @@ fn the_wgsl_surfel_kernel_matches_its_cpu_twin_for_each_pass_count_with_and_with
     let brute = BruteForce { surfels: &s, form };
     let cpu_brute = accessibility_by_pass(&brute, 3);
     let cpu_tree = accessibility_by_pass(&tree, 3);
-    assert!(cpu_tree[1].interactions * 2 <= cpu_brute[1].interactions, "the tree merges: {} vs {}", cpu_tree[1].interactions, cpu_brute[1].interactions);
+    assert!(
+        cpu_tree[1].interactions * 2 <= cpu_brute[1].interactions,
+        "the tree merges: {} vs {}",
+        cpu_tree[1].interactions,
+        cpu_brute[1].interactions
+    );
     let brute_pass = SurfelAoPass::new(&gpu, &s, None, Gather::BruteForce, form, closeness).unwrap();
     let tree_pass = SurfelAoPass::new(&gpu, &s, Some(&tree), Gather::Hierarchy, form, closeness).unwrap();
     for passes in 1..=3u32 {
@@ -160,7 +179,8 @@ fn the_surfel_pass_rejects_what_it_cannot_run() {
     let form = ShadowForm::FORM_FACTOR;
     assert!(SurfelAoPass::new(&gpu, &[], None, Gather::BruteForce, form, Closeness::default()).is_err());
     let s = surfels(&torus(1.0, 0.6, 6, 4));
-    let error = SurfelAoPass::new(&gpu, &s, None, Gather::Hierarchy, form, Closeness::default()).err().expect("the hierarchy without a tree");
+    let error =
+        SurfelAoPass::new(&gpu, &s, None, Gather::Hierarchy, form, Closeness::default()).err().expect("the hierarchy without a tree");
     assert!(error.to_string().contains("tree"), "{error}");
 }
 
@@ -203,7 +223,8 @@ fn the_wgsl_indirect_gather_matches_its_cpu_twin() {
             let out = pass.run(&gpu, &albedo, &direct, &weights, bounces).unwrap();
             assert_eq!(out.dispatches, bounces as u64);
             let largest = cpu.iter().flatten().copied().fold(0.0, f64::max);
-            let worst = cpu.iter().zip(&out.irradiance).flat_map(|(c, g)| (0..3).map(move |k| (c[k] - g[k] as f64).abs())).fold(0.0, f64::max);
+            let worst =
+                cpu.iter().zip(&out.irradiance).flat_map(|(c, g)| (0..3).map(move |k| (c[k] - g[k] as f64).abs())).fold(0.0, f64::max);
             eprintln!("indirect, {bounces} bounces: largest {largest:.4}, max |GPU − CPU| {worst:.2e}");
             assert!(largest > 0.01, "the wall bleeds onto the floor");
             assert!(worst <= 1e-4 * largest, "{bounces} bounces: {worst} of {largest}");

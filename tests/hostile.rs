@@ -56,7 +56,10 @@ fn hostile() -> tempfile::TempDir {
     let good = b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 2.0 3.0\n        0.80 3.0 4.0\n";
     write("data/h/X/good.yml", good);
     write("data/h/X/halfterm.yml", b"DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2.0\n    coefficients: 0 1.0 0.1 0.5\n");
-    write("data/h/X/huge.yml", b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 1e300 3.0\n        0.80 3.0 4.0\n");
+    write(
+        "data/h/X/huge.yml",
+        b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 1e300 3.0\n        0.80 3.0 4.0\n",
+    );
     let mut bom = b"\xEF\xBB\xBF".to_vec();
     bom.extend_from_slice(good);
     write("data/h/X/bom.yml", &bom);
@@ -126,7 +129,10 @@ fn every_bad_page_is_excluded_with_its_reason_and_line() {
     assert_eq!(kept.len() + excluded.len(), 12, "{kept:?} {excluded:?}");
     let warnings = rows(&out.join("warnings.csv"));
     assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert_eq!((warnings[0]["page"].as_str(), warnings[0]["reason"].as_str(), warnings[0]["line"].as_str()), ("h/X/restart", "non-monotonic-wavelengths", "8"));
+    assert_eq!(
+        (warnings[0]["page"].as_str(), warnings[0]["reason"].as_str(), warnings[0]["line"].as_str()),
+        ("h/X/restart", "non-monotonic-wavelengths", "8")
+    );
     assert!(stderr.contains("1 data warning"), "{stderr}");
     // Nothing was read from outside the database.
     assert!(!fs::read_to_string(out.join("materials.csv")).unwrap().contains("etc/hostname,"));
@@ -161,7 +167,8 @@ fn channel_wavelengths_reach_every_table() {
     let material = &rows(&out.join("materials.csv"))[0];
     assert_eq!((material["n_red"].as_str(), material["k_red"].as_str()), ("2.5", "3.5"));
     assert_eq!((material["n_blue"].as_str(), material["k_blue"].as_str()), ("1.75", "2.75"));
-    let wavelengths: std::collections::BTreeSet<String> = rows(&out.join("errors.csv")).into_iter().map(|r| r["wavelength_nm"].clone()).collect();
+    let wavelengths: std::collections::BTreeSet<String> =
+        rows(&out.join("errors.csv")).into_iter().map(|r| r["wavelength_nm"].clone()).collect();
     assert_eq!(wavelengths.into_iter().collect::<Vec<_>>(), ["450", "550", "650"]);
     let columns = fs::read_to_string(out.join("colors.columns.json")).unwrap();
     assert!(columns.contains("[650.0, 550.0, 450.0]"), "{columns}");
@@ -291,10 +298,13 @@ fn luminance_share_below(below_nm: f64) -> f64 {
     let cie = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cie");
     let table = |name: &str, column: usize| -> Vec<(f64, f64)> {
         let text = fs::read_to_string(cie.join(name)).unwrap();
-        text.lines().skip(1).map(|l| {
-            let cells: Vec<f64> = l.split(',').map(|c| c.trim().parse().unwrap()).collect();
-            (cells[0], cells[column])
-        }).collect()
+        text.lines()
+            .skip(1)
+            .map(|l| {
+                let cells: Vec<f64> = l.split(',').map(|c| c.trim().parse().unwrap()).collect();
+                (cells[0], cells[column])
+            })
+            .collect()
     };
     let d65 = table("cie_d65_spd.csv", 1);
     let ybar = table("cie1931_2deg_xyz_cmf_1nm.csv", 2);
@@ -328,7 +338,12 @@ fn the_extrapolated_share_is_recorded_in_colors_and_the_manifest() {
     assert!((colors - expected).abs() < 1e-9, "colors.csv {colors} vs {expected}");
     assert!(expected > 1e-3, "{expected}");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
-    let shares: Vec<f64> = manifest["textures"].as_array().unwrap().iter().flat_map(|set| set["rows"].as_array().unwrap().iter().map(|r| r["extrapolated_share"].as_f64().unwrap())).collect();
+    let shares: Vec<f64> = manifest["textures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|set| set["rows"].as_array().unwrap().iter().map(|r| r["extrapolated_share"].as_f64().unwrap()))
+        .collect();
     assert!(!shares.is_empty() && shares.iter().all(|&s| s == colors), "{shares:?} vs {colors}");
 }
 
@@ -398,8 +413,12 @@ fn excluded_reason(out: &Path, page: &str) -> String {
 #[test]
 fn a_table_inside_a_comment_is_not_the_page_s_data() {
     let page = b"COMMENTS: |\n    an example of the layout:\n    data: |\n        0.30 9.9\n        0.80 9.9\nREFERENCES: \"r\"\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n";
-    let quoted = b"COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\nDATA:\n  - type: tabulated n\n    data: \"0.30 1.5\\n0.80 1.5\"\n";
-    let db = fixture(&catalog_of(&[("comment", "h/X/comment.yml"), ("quoted", "h/X/quoted.yml")]), &[("h/X/comment.yml", page), ("h/X/quoted.yml", quoted)]);
+    let quoted =
+        b"COMMENTS: |\n    data: |\n        0.30 9.9\n        0.80 9.9\nDATA:\n  - type: tabulated n\n    data: \"0.30 1.5\\n0.80 1.5\"\n";
+    let db = fixture(
+        &catalog_of(&[("comment", "h/X/comment.yml"), ("quoted", "h/X/quoted.yml")]),
+        &[("h/X/comment.yml", page), ("h/X/quoted.yml", quoted)],
+    );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
     for row in rows(&out.join("materials.csv")) {
@@ -415,7 +434,14 @@ fn a_table_inside_a_comment_is_not_the_page_s_data() {
 #[test]
 fn special_files_and_links_out_of_the_database_are_refused_without_blocking() {
     let db = fixture(
-        &catalog_of(&[("good", "h/X/good.yml"), ("fifo", "h/X/fifo.yml"), ("zero", "h/X/zero.yml"), ("random", "h/X/random.yml"), ("outside", "h/X/outside.yml"), ("kmsg", "h/X/kmsg.yml")]),
+        &catalog_of(&[
+            ("good", "h/X/good.yml"),
+            ("fifo", "h/X/fifo.yml"),
+            ("zero", "h/X/zero.yml"),
+            ("random", "h/X/random.yml"),
+            ("outside", "h/X/outside.yml"),
+            ("kmsg", "h/X/kmsg.yml"),
+        ]),
         &[("h/X/good.yml", GOOD)],
     );
     let data = db.path().join("data/h/X");
@@ -472,6 +498,8 @@ fn pages_sharing_one_data_file_cost_linear_memory() {
 }
 
 /// The output of a command and its peak resident memory in kB (the kernel's count).
+// The child is reaped by wait4 (for its resource use), not by `Child::wait`.
+#[allow(clippy::zombie_processes)]
 fn with_peak_memory(command: &mut Command) -> (Output, i64) {
     let child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     let pid = child.id() as libc::pid_t;
@@ -499,7 +527,10 @@ fn with_peak_memory(command: &mut Command) -> (Output, i64) {
 fn deep_nesting_is_refused_with_its_reason() {
     let deep = |levels: usize| format!("{}1{}", "[".repeat(levels), "]".repeat(levels));
     let page = format!("DATA:\n  - type: tabulated n\n    data: |\n        0.3 1.5\n        0.8 1.5\nCOMMENTS: {}\n", deep(1_000_000));
-    let db = fixture(&catalog_of(&[("good", "h/X/good.yml"), ("deep", "h/X/deep.yml")]), &[("h/X/good.yml", GOOD), ("h/X/deep.yml", page.as_bytes())]);
+    let db = fixture(
+        &catalog_of(&[("good", "h/X/good.yml"), ("deep", "h/X/deep.yml")]),
+        &[("h/X/good.yml", GOOD), ("h/X/deep.yml", page.as_bytes())],
+    );
     let out = db.path().join("out");
     ok(&nklut_bounded(db.path(), &out, &["ingest"]));
     assert_eq!(excluded_reason(&out, "h/X/deep"), "nesting-too-deep");
@@ -514,7 +545,10 @@ fn deep_nesting_is_refused_with_its_reason() {
 fn a_formula_range_to_infinity_is_refused() {
     let page = b"DATA:\n  - type: formula 2\n    wavelength_range: 0.3 inf\n    coefficients: 0 1.0 0.01\n";
     let words = b"DATA:\n  - type: formula 2\n    wavelength_range: 0.3 x 2.0\n    coefficients: 0 1.0 0.01\n";
-    let db = fixture(&catalog_of(&[("inf", "h/X/inf.yml"), ("words", "h/X/words.yml"), ("good", "h/X/good.yml")]), &[("h/X/inf.yml", page), ("h/X/words.yml", words), ("h/X/good.yml", GOOD)]);
+    let db = fixture(
+        &catalog_of(&[("inf", "h/X/inf.yml"), ("words", "h/X/words.yml"), ("good", "h/X/good.yml")]),
+        &[("h/X/inf.yml", page), ("h/X/words.yml", words), ("h/X/good.yml", GOOD)],
+    );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
     assert_eq!(excluded_reason(&out, "h/X/inf"), "too-few-coefficients");
@@ -531,7 +565,8 @@ fn odd_page_ids_disable_no_command() {
     let pages = [("good", "h/X/good.yml"), ("..", "h/X/good.yml"), ("J", "h/X/j1.yml"), ("j", "h/X/j2.yml")];
     let mut catalog = catalog_of(&pages);
     catalog.push_str("    - BOOK: X__Y\n      content:\n        - PAGE: z\n          data: h/X/z1.yml\n    - BOOK: X\n      content:\n        - PAGE: Y__z\n          data: h/X/z2.yml\n");
-    let files: Vec<(&str, &[u8])> = ["h/X/good.yml", "h/X/j1.yml", "h/X/j2.yml", "h/X/z1.yml", "h/X/z2.yml"].into_iter().map(|f| (f, GOOD)).collect();
+    let files: Vec<(&str, &[u8])> =
+        ["h/X/good.yml", "h/X/j1.yml", "h/X/j2.yml", "h/X/z1.yml", "h/X/z2.yml"].into_iter().map(|f| (f, GOOD)).collect();
     let db = fixture(&catalog, &files);
     let out = db.path().join("out");
     for command in ["ingest", "colors", "validate", "bake", "report"] {
@@ -539,7 +574,8 @@ fn odd_page_ids_disable_no_command() {
     }
     assert_eq!(excluded_reason(&out, "h/X/.."), "bad-page-id");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
-    let strips: Vec<String> = manifest["textures"][0]["rows"].as_array().unwrap().iter().map(|r| r["strip_file"].as_str().unwrap().to_string()).collect();
+    let strips: Vec<String> =
+        manifest["textures"][0]["rows"].as_array().unwrap().iter().map(|r| r["strip_file"].as_str().unwrap().to_string()).collect();
     assert_eq!(strips.len(), 5);
     let distinct: std::collections::BTreeSet<String> = strips.iter().map(|s| s.to_lowercase()).collect();
     assert_eq!(distinct.len(), 5, "{strips:?}");
@@ -575,7 +611,18 @@ fn concurrent_ingests_into_one_folder_leave_one_whole_set() {
     ok(&nklut(db.path(), &whole, &["ingest"]));
     let expected = ingest_set(&whole);
     for round in 0..10 {
-        let spawn = || Command::new(binary()).arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest").stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+        let spawn = || {
+            Command::new(binary())
+                .arg("--db")
+                .arg(db.path())
+                .arg("--out")
+                .arg(&out)
+                .arg("ingest")
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
         let (a, b) = (spawn(), spawn());
         for child in [a, b] {
             let output = child.wait_with_output().unwrap();
@@ -613,8 +660,12 @@ fn a_failed_write_leaves_no_generation_behind() {
     let output = command.output().unwrap();
     assert_eq!(exit_0_or_1(&output), 1, "{}", String::from_utf8_lossy(&output.stderr));
     assert!(ingest_set(&out) == before, "the previous set changed");
-    let generations: Vec<String> =
-        fs::read_dir(out.join(".sets")).unwrap().map(|e| e.unwrap()).filter(|e| e.file_type().unwrap().is_dir()).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+    let generations: Vec<String> = fs::read_dir(out.join(".sets"))
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(generations.len(), 1, "{generations:?}");
 }
 
@@ -627,7 +678,10 @@ fn killed_bakes_and_reports_leave_a_whole_folder() {
     for command in ["ingest", "colors", "validate"] {
         ok(&nklut(db.path(), &out, &[command]));
     }
-    for (command, folder, small, large) in [("bake", "luts", ["bake", "--size", "8"], ["bake", "--size", "16"]), ("report", "report", ["report", "--page", "h/X/good"], ["report", "--page", "h/X/bom"])] {
+    for (command, folder, small, large) in [
+        ("bake", "luts", ["bake", "--size", "8"], ["bake", "--size", "16"]),
+        ("report", "report", ["report", "--page", "h/X/good"], ["report", "--page", "h/X/bom"]),
+    ] {
         ok(&nklut(db.path(), &out, &small));
         let a = folder_hashes(&out.join(folder));
         ok(&nklut(db.path(), &out, &large));
@@ -635,10 +689,21 @@ fn killed_bakes_and_reports_leave_a_whole_folder() {
         assert!(a != b && !a.is_empty(), "{command}: the two runs must differ");
         for step in ["staged", "switched", "linked"] {
             ok(&nklut(db.path(), &out, &small));
-            let killed = Command::new(binary()).env("NKLUT_CRASH_AT", step).arg("--db").arg(db.path()).arg("--out").arg(&out).args(large).output().unwrap();
+            let killed = Command::new(binary())
+                .env("NKLUT_CRASH_AT", step)
+                .arg("--db")
+                .arg(db.path())
+                .arg("--out")
+                .arg(&out)
+                .args(large)
+                .output()
+                .unwrap();
             assert!(!killed.status.success(), "{command} {step}: the run should have been killed");
             let now = folder_hashes(&out.join(folder));
-            assert!(now == if step == "staged" { a.clone() } else { b.clone() }, "{command}: after a kill at {step} the folder is not one whole run");
+            assert!(
+                now == if step == "staged" { a.clone() } else { b.clone() },
+                "{command}: after a kill at {step} the folder is not one whole run"
+            );
         }
     }
 }

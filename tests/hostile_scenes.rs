@@ -117,7 +117,10 @@ fn special_files_and_deep_nesting_in_scenes_are_refused_at_once() {
     let name = std::ffi::CString::new(fifo.as_os_str().as_encoded_bytes()).unwrap();
     // SAFETY: mkfifo reads a NUL-terminated path.
     assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
-    refused(&effects(&dir, &ao_scene(&format!("{{ mesh: {}, diffuse: [0.5, 0.5, 0.5] }}", fifo.display())), &[], None), "not a regular file");
+    refused(
+        &effects(&dir, &ao_scene(&format!("{{ mesh: {}, diffuse: [0.5, 0.5, 0.5] }}", fifo.display())), &[], None),
+        "not a regular file",
+    );
     let deep = format!("objects: {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
     refused(&effects(&dir, &deep, &[], None), "nests");
 }
@@ -127,10 +130,13 @@ fn special_files_and_deep_nesting_in_scenes_are_refused_at_once() {
 #[test]
 fn effects_tables_and_frames_are_one_set() {
     let dir = common::scratch("set");
-    let scene = |methods: &str| format!("resolution: [12, 12]\ncamera: {{ frames: 1 }}\nmeasurements: [image_error]\neffects: {{ reflection: {{ max_depth: 1 }}, distance_maps: {{ size: 8, layers: 2, linear_steps: 4, secant_steps: 1 }} }}\nobjects:\n  - {{ mesh: sphere, scale: 0.5, material: 3d/metals/gold, methods: [{methods}] }}\n  - {{ mesh: room, scale: 2, diffuse: [0.8, 0.8, 0.8] }}\n");
+    let scene = |methods: &str| {
+        format!("resolution: [12, 12]\ncamera: {{ frames: 1 }}\nmeasurements: [image_error]\neffects: {{ reflection: {{ max_depth: 1 }}, distance_maps: {{ size: 8, layers: 2, linear_steps: 4, secant_steps: 1 }} }}\nobjects:\n  - {{ mesh: sphere, scale: 0.5, material: 3d/metals/gold, methods: [{methods}] }}\n  - {{ mesh: room, scale: 2, diffuse: [0.8, 0.8, 0.8] }}\n")
+    };
     succeeded(&effects(&dir, &scene("exact, schlick"), &[], None));
     let frames = |dir: &Path| -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(dir.join("out/effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let mut names: Vec<String> =
+            fs::read_dir(dir.join("out/effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         names.sort();
         names
     };

@@ -39,7 +39,14 @@ fn params(out: &Path) {
 }
 
 fn bake(out: &Path) {
-    let request = BakeRequest { selection: selection(), reading: Config::default(), size: 64, sources: vec![Source::ThreeChannel, Source::Spectral], encodings: vec![], layouts: vec![] };
+    let request = BakeRequest {
+        selection: selection(),
+        reading: Config::default(),
+        size: 64,
+        sources: vec![Source::ThreeChannel, Source::Spectral],
+        encodings: vec![],
+        layouts: vec![],
+    };
     nklut::bake::run(&database(), out, &request).unwrap();
 }
 

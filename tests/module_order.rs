@@ -5,7 +5,8 @@ use std::fs;
 use std::path::Path;
 
 /// The pipeline order of `src/lib.rs`'s doc comment.
-const ORDER: [&str; 12] = ["db", "spectrum", "ingest", "fresnel", "color", "validate", "bake", "params", "report", "scene", "effects", "gpu"];
+const ORDER: [&str; 12] =
+    ["db", "spectrum", "ingest", "fresnel", "color", "validate", "bake", "params", "report", "scene", "effects", "gpu"];
 /// Modules any module may use.
 const LEAVES: [&str; 6] = ["budget", "encoding", "output", "progress", "minimise", "memo"];
 /// Stages that sit side by side (neither may use the other).
@@ -40,7 +41,9 @@ fn imports_point_down_the_pipeline() {
         let Some(module) = module_of(path) else { continue };
         let Some(own) = rank(&module) else { continue };
         for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
-            for used in line.split("crate::").skip(1).map(|rest| rest.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or("")) {
+            for used in
+                line.split("crate::").skip(1).map(|rest| rest.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or(""))
+            {
                 if used == module || LEAVES.contains(&used) {
                     continue;
                 }

@@ -59,7 +59,8 @@ fn installed(needed: &Path) -> bool {
 fn validate(mut command: Command, script: &str, file: &Path) -> serde_json::Value {
     let output = command.arg(root().join("tests/validators").join(script)).arg(file).output().unwrap_or_else(|e| panic!("{script}: {e}"));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    let line = stdout.lines().last().unwrap_or_else(|| panic!("{script} printed nothing; stderr: {}", String::from_utf8_lossy(&output.stderr)));
+    let line =
+        stdout.lines().last().unwrap_or_else(|| panic!("{script} printed nothing; stderr: {}", String::from_utf8_lossy(&output.stderr)));
     serde_json::from_str(line).unwrap_or_else(|e| panic!("{script}: {e}: {line}"))
 }
 

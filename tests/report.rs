@@ -96,7 +96,9 @@ fn report_is_well_formed_complete_and_traceable() {
     let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
     check_well_formed(&index);
     no_external_resource(&index);
-    for section in ["id=\"overview\"", "id=\"cost\"", "id=\"summaries\"", "id=\"materials\"", "id=\"fallback\"", "id=\"unusual\"", "id=\"effects\""] {
+    for section in
+        ["id=\"overview\"", "id=\"cost\"", "id=\"summaries\"", "id=\"materials\"", "id=\"fallback\"", "id=\"unusual\"", "id=\"effects\""]
+    {
         assert!(index.contains(section), "missing section {section}");
     }
     assert!(index.contains("Materials (4)"));
@@ -110,7 +112,9 @@ fn report_is_well_formed_complete_and_traceable() {
         let html = material_html(&out, page);
         check_well_formed(&html);
         no_external_resource(&html);
-        for section in ["id=\"previews\"", "id=\"angle\"", "id=\"delta-e\"", "id=\"fresnel\"", "id=\"indices\"", "id=\"colours\"", "id=\"errors\""] {
+        for section in
+            ["id=\"previews\"", "id=\"angle\"", "id=\"delta-e\"", "id=\"fresnel\"", "id=\"indices\"", "id=\"colours\"", "id=\"errors\""]
+        {
             assert!(html.contains(section), "{page}: missing {section}");
         }
         assert!(html.contains("src=\"data:image/png;base64,"), "{page}: no embedded preview");
@@ -213,7 +217,10 @@ fn report_selects_like_every_command_and_names_missing_pages() {
     assert!(gold_only.status.success());
     assert!(!out.join("report/materials/3d/liquids/water.html").exists() && !out.join("report/previews/3d/liquids/water.png").exists());
     assert!(out.join("report/materials/3d/metals/gold.html").exists());
-    assert!(!fs::read_dir(&out).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with(".report.")), "no staging folder left");
+    assert!(
+        !fs::read_dir(&out).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with(".report.")),
+        "no staging folder left"
+    );
     // A page the tables lack: named, and the command fails.
     let missing = nklut(&out, &["report", "--page", "3d/metals/gold", "--page", "3d/metals/silver", "--page", "3d/plastics/PMMA"]);
     assert!(!missing.status.success(), "a missing page must fail");
@@ -229,22 +236,33 @@ fn report_selects_like_every_command_and_names_missing_pages() {
 fn effects_and_engine_panels_appear_when_their_tables_exist() {
     let out = scratch("panels");
     stages(&out, &["3d/metals/gold"], &[]);
-    fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n").unwrap();
+    fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n")
+        .unwrap();
     fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
     fs::create_dir_all(out.join("effects_frames")).unwrap();
     fs::write(out.join("effects_frames/teapot-reference.png"), b"not looked at").unwrap();
     // `make gpu` writes one folder per effects scene: its tables and frames appear too.
     fs::create_dir_all(out.join("gpu-glass-sphere/effects_gpu_frames")).unwrap();
-    fs::write(out.join("gpu-glass-sphere/effects_timing.csv"), "method,reflection_depth,shading_ms
+    fs::write(
+        out.join("gpu-glass-sphere/effects_timing.csv"),
+        "method,reflection_depth,shading_ms
 exact,3,2.5
-").unwrap();
+",
+    )
+    .unwrap();
     fs::write(out.join("gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png"), b"not looked at").unwrap();
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
-    assert!(index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"), "gallery table");
+    assert!(
+        index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"),
+        "gallery table"
+    );
     assert!(index.contains("src=\"../effects_frames/teapot-reference.png\""), "frames");
-    assert!(index.contains("<h3>gpu-glass-sphere/effects_timing.csv</h3>") && index.contains("<td>exact</td><td>3</td><td>2.50</td>"), "a scene folder's table");
+    assert!(
+        index.contains("<h3>gpu-glass-sphere/effects_timing.csv</h3>") && index.contains("<td>exact</td><td>3</td><td>2.50</td>"),
+        "a scene folder's table"
+    );
     assert!(index.contains("src=\"../gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png\""), "a scene folder's frames");
     assert!(index.contains("<code>ao_errors.csv</code> is absent"));
     let gold = material_html(&out, "3d/metals/gold");
@@ -296,7 +314,17 @@ const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringi
 
 fn chromium(args: &[String]) -> Output {
     Command::new("chromium")
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--hide-scrollbars", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--virtual-time-budget=5000"])
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--hide-scrollbars",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--virtual-time-budget=5000",
+        ])
         .args(args)
         .output()
         .expect("chromium is not installed: scripts/test-deps installs Debian's chromium")
@@ -312,8 +340,17 @@ fn audit(html: &Path, profile: &Path, shot: &Path) -> Audit {
     assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
     let dom = String::from_utf8_lossy(&dom.stdout);
     let start = dom.find("<pre id=\"nk-audit\">").expect("the audit ran") + "<pre id=\"nk-audit\">".len();
-    let json = dom[start..start + dom[start..].find("</pre>").unwrap()].replace("&amp;", "&").replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"");
-    let shot_status = chromium(&[profile_arg, "--window-size=1280,2400".into(), format!("--screenshot={}", shot.display()), format!("file://{}", html.display())]);
+    let json = dom[start..start + dom[start..].find("</pre>").unwrap()]
+        .replace("&amp;", "&")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&quot;", "\"");
+    let shot_status = chromium(&[
+        profile_arg,
+        "--window-size=1280,2400".into(),
+        format!("--screenshot={}", shot.display()),
+        format!("file://{}", html.display()),
+    ]);
     assert!(shot_status.status.success());
     serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"))
 }
@@ -337,7 +374,14 @@ fn rendered_report_is_readable_and_its_counts_are_its_tables() {
     println!("index: {} plot texts, {} counts", index.texts.len(), index.counts.len());
     check_readable("index", &index);
     let keys: BTreeSet<(String, String)> = index.counts.iter().map(|c| (c.table.clone(), c.key.clone())).collect();
-    for required in [("materials.csv", "rows"), ("excluded.csv", "rows"), ("errors.csv", "fallback"), ("materials.csv", "sparse"), ("colors.csv", "out-of-gamut"), ("colors.csv", "fit-at-bound")] {
+    for required in [
+        ("materials.csv", "rows"),
+        ("excluded.csv", "rows"),
+        ("errors.csv", "fallback"),
+        ("materials.csv", "sparse"),
+        ("colors.csv", "out-of-gamut"),
+        ("colors.csv", "fit-at-bound"),
+    ] {
         assert!(keys.contains(&(required.0.to_string(), required.1.to_string())), "the index prints no {required:?}");
     }
     for c in &index.counts {

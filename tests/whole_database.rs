@@ -14,7 +14,8 @@ use nklut::ingest::{ingest, Config, Selection};
 use nklut::spectrum::Coverage;
 
 fn nklut(out: &Path, args: &[&str]) {
-    let output = Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(database_dir()).arg("--out").arg(out).args(args).output().unwrap();
+    let output =
+        Command::new(env!("CARGO_BIN_EXE_nklut")).arg("--db").arg(database_dir()).arg("--out").arg(out).args(args).output().unwrap();
     assert!(output.status.success(), "nklut {args:?}: {}", String::from_utf8_lossy(&output.stderr));
 }
 

@@ -159,7 +159,12 @@ fn one_channel_sums(texels: &[f64], taps: &Taps, rule: &AngleQuadrature, referen
 /// sample, then the sums in the rule's order — the same operations as one sample at a time,
 /// for `C` channels that share the taps and the reference's length.
 #[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
-fn channel_sums_in_blocks<const C: usize>(texels: [&[f64]; C], taps: &Taps, rule: &AngleQuadrature, reference: [&[f64]; C]) -> [ChannelSums; C] {
+fn channel_sums_in_blocks<const C: usize>(
+    texels: [&[f64]; C],
+    taps: &Taps,
+    rule: &AngleQuadrature,
+    reference: [&[f64]; C],
+) -> [ChannelSums; C] {
     let mut sums = [ChannelSums::default(); C];
     let count = reference.first().map_or(0, |r| rule.cosines.len().min(r.len()));
     let (mut diff, mut term) = ([[0.0; BLOCK]; C], [[0.0; BLOCK]; C]);
@@ -226,7 +231,11 @@ mod tests {
     }
 
     /// The figures one sample at a time with `sample_lut`, as the definitions read.
-    fn lut_error_by_samples(decoded: &[Vec<f64>; 3], rule: &AngleQuadrature, reference: &[Vec<f64>; 3]) -> ([f64; 3], [f64; 3], [f64; 3], [usize; 3]) {
+    fn lut_error_by_samples(
+        decoded: &[Vec<f64>; 3],
+        rule: &AngleQuadrature,
+        reference: &[Vec<f64>; 3],
+    ) -> ([f64; 3], [f64; 3], [f64; 3], [usize; 3]) {
         let (mut sum, mut weight, mut max, mut counted) = ([0.0; 3], [0.0; 3], [0.0; 3], [0; 3]);
         for c in 0..3 {
             for ((&cos, &q), &f_ref) in rule.cosines.iter().zip(&rule.weights).zip(&reference[c]) {
@@ -271,7 +280,11 @@ mod tests {
             let mixed_error = lut_error_with_taps(&mixed, &taps, &rule, &reference);
             let (sum, weight, max, _) = lut_error_by_samples(&mixed, &rule, &reference);
             for c in 0..3 {
-                assert_eq!(mixed_error.mean_relative[c].map(f64::to_bits), Some((sum[c] / weight[c]).to_bits()), "mixed, size {size}, channel {c}");
+                assert_eq!(
+                    mixed_error.mean_relative[c].map(f64::to_bits),
+                    Some((sum[c] / weight[c]).to_bits()),
+                    "mixed, size {size}, channel {c}"
+                );
                 assert_eq!(mixed_error.max_absolute[c].to_bits(), max[c].to_bits());
             }
             assert_eq!((mixed_error.mean_relative[0], mixed_error.mean_relative[2]), (fast.mean_relative[0], fast.mean_relative[2]));

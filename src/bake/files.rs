@@ -31,7 +31,9 @@ pub fn encode(encoding: Encoding, width: usize, height: usize, texels: &Texels) 
     match texels {
         Texels::U8(v) => png(encoding, v, width, height, png::BitDepth::Eight),
         // PNG stores 16-bit samples big-endian.
-        Texels::U16(v) => png(encoding, &v.iter().flat_map(|c| c.to_be_bytes()).collect::<Vec<u8>>(), width, height, png::BitDepth::Sixteen),
+        Texels::U16(v) => {
+            png(encoding, &v.iter().flat_map(|c| c.to_be_bytes()).collect::<Vec<u8>>(), width, height, png::BitDepth::Sixteen)
+        }
         Texels::F16(v) => exr_rgb(width, height, |i| (v[i], v[i + 1], v[i + 2])),
         Texels::F32(v) => exr_rgb(width, height, |i| (v[i], v[i + 1], v[i + 2])),
     }
@@ -173,7 +175,9 @@ mod tests {
         assert_eq!(chunk(&srgb, "sRGB"), Some(&[0u8][..])); // rendering intent 0 = perceptual
         assert_eq!(chunk(&srgb, "gAMA"), Some(&45455u32.to_be_bytes()[..]));
         assert_eq!(chunk(&srgb, "cHRM"), Some(&srgb_chrm()[..]));
-        for (encoding, texels, depth) in [(Encoding::Unorm8, texels8.clone(), 8u8), (Encoding::Unorm16, Texels::U16(vec![0, 1, 65535, 256, 513, 40000]), 16)] {
+        for (encoding, texels, depth) in
+            [(Encoding::Unorm8, texels8.clone(), 8u8), (Encoding::Unorm16, Texels::U16(vec![0, 1, 65535, 256, 513, 40000]), 16)]
+        {
             let bytes = encode(encoding, 2, 1, &texels).unwrap();
             let list = chunks(&bytes);
             assert_eq!(list[0].0, "IHDR");

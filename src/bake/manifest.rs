@@ -79,7 +79,12 @@ pub fn index_entries(index: &crate::spectrum::ChannelIndex, channels: Option<&Ch
     CHANNEL_NAMES
         .iter()
         .enumerate()
-        .map(|(c, name)| ChannelIndexEntry { channel: name.to_string(), wavelength_nm: wavelengths.map(|w| w[c]), n: index[c].n, k: index[c].k })
+        .map(|(c, name)| ChannelIndexEntry {
+            channel: name.to_string(),
+            wavelength_nm: wavelengths.map(|w| w[c]),
+            n: index[c].n,
+            k: index[c].k,
+        })
         .collect()
 }
 
@@ -244,8 +249,7 @@ pub fn sampling() -> Sampling {
         filter: "linear (magnification and minification)".into(),
         address_mode: "clamp-to-edge in u and v".into(),
         mipmaps: "none (sample level 0)".into(),
-        image_origin: "row 0 is the first row stored in the file (the top of the PNG/EXR); upload rows in file order, do not flip"
-            .into(),
+        image_origin: "row 0 is the first row stored in the file (the top of the PNG/EXR); upload rows in file order, do not flip".into(),
     }
 }
 
@@ -293,7 +297,11 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
 pub fn encoding_info(encoding: Encoding) -> EncodingInfo {
     EncodingInfo {
         name: encoding.name().into(),
-        file_format: if encoding.is_float() { "OpenEXR, RGB channels R G B, ZIP16 compression".into() } else { format!("PNG, RGB; {}", super::files::png_color_chunks(encoding)) },
+        file_format: if encoding.is_float() {
+            "OpenEXR, RGB channels R G B, ZIP16 compression".into()
+        } else {
+            format!("PNG, RGB; {}", super::files::png_color_chunks(encoding))
+        },
         bits_per_channel: encoding.bits_per_channel(),
         color_space: encoding.color_space().into(),
         decode: encoding.decode_rule().into(),

@@ -97,7 +97,9 @@ impl Layout {
     pub fn description(self) -> &'static str {
         match self {
             Layout::Strip => "one N x 1 image per page, <source>/<encoding>/strips/<page id with '/' replaced by '__'>.<ext>",
-            Layout::Atlas => "one N x rows image per source and encoding, <source>/<encoding>/atlas.<ext>; row r is rows[r] of the texture set",
+            Layout::Atlas => {
+                "one N x rows image per source and encoding, <source>/<encoding>/atlas.<ext>; row r is rows[r] of the texture set"
+            }
         }
     }
 }
@@ -221,7 +223,10 @@ impl Plan {
     /// Everything that can be checked without data: size range, non-empty lists.
     pub fn validate(&self) -> Result<()> {
         ensure!((1..=MAX_SIZE).contains(&self.size), "--size must be between 1 and {MAX_SIZE} texels, got {}", self.size);
-        ensure!(!self.sources.is_empty() && !self.encodings.is_empty() && !self.layouts.is_empty(), "nothing to bake: no source, encoding or layout");
+        ensure!(
+            !self.sources.is_empty() && !self.encodings.is_empty() && !self.layouts.is_empty(),
+            "nothing to bake: no source, encoding or layout"
+        );
         Ok(())
     }
 
@@ -298,7 +303,11 @@ pub fn strip_stems(rows: &[Row]) -> Vec<String> {
     for stem in &stems {
         *count.entry(stem.to_lowercase()).or_default() += 1;
     }
-    stems.into_iter().zip(rows).map(|(stem, row)| if count[&stem.to_lowercase()] > 1 { format!("{stem}~{:08x}", fnv1a(&row.page) >> 32) } else { stem }).collect()
+    stems
+        .into_iter()
+        .zip(rows)
+        .map(|(stem, row)| if count[&stem.to_lowercase()] > 1 { format!("{stem}~{:08x}", fnv1a(&row.page) >> 32) } else { stem })
+        .collect()
 }
 
 /// FNV-1a (64-bit) of a text: a fixed hash, the same on every machine and run.
@@ -311,7 +320,8 @@ fn fnv1a(text: &str) -> u64 {
 /// against its spectral reference.
 fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
     let midpoint = accuracy::midpoint_rule(accuracy::error_samples(plan.size));
-    let (midpoint_taps, node_taps) = (accuracy::Taps::new(plan.size, &midpoint.cosines), accuracy::Taps::new(plan.size, &color::angle_quadrature().cosines));
+    let (midpoint_taps, node_taps) =
+        (accuracy::Taps::new(plan.size, &midpoint.cosines), accuracy::Taps::new(plan.size, &color::angle_quadrature().cosines));
     rows.par_iter()
         .map(|row| {
             let reference = accuracy::exact_reference(&row.index, &midpoint.cosines);
@@ -321,7 +331,10 @@ fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>
                     let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
                     Cell {
                         error: accuracy::lut_error_with_taps(&decoded, &midpoint_taps, &midpoint, &reference),
-                        error_vs_spectral: row.spectral.as_ref().map(|s| accuracy::lut_error_with_taps(&decoded, &node_taps, color::angle_quadrature(), s)),
+                        error_vs_spectral: row
+                            .spectral
+                            .as_ref()
+                            .map(|s| accuracy::lut_error_with_taps(&decoded, &node_taps, color::angle_quadrature(), s)),
                         quantised,
                     }
                 })
@@ -380,7 +393,15 @@ fn strip_path(folder: &str, stem: &str, encoding: Encoding) -> String {
     format!("{folder}/strips/{stem}.{}", encoding.extension())
 }
 
-fn build_manifest(rows: &[Row], stems: &[String], plan: &Plan, sets: &[(usize, Encoding)], cells: &[Vec<Cell>], strips: bool, atlas: bool) -> Manifest {
+fn build_manifest(
+    rows: &[Row],
+    stems: &[String],
+    plan: &Plan,
+    sets: &[(usize, Encoding)],
+    cells: &[Vec<Cell>],
+    strips: bool,
+    atlas: bool,
+) -> Manifest {
     let textures = sets
         .iter()
         .enumerate()
@@ -545,7 +566,12 @@ fn documents(mut manifest: Manifest, ingest: &Ingest, exists: &dyn Fn(&str) -> b
         ));
     }
     if !excluded.is_empty() {
-        manifest.tables.push(manifest::table_doc(&ingest::problems_table(&ingest.excluded), &excluded, "page dropped by the filter (written by `nklut ingest`)", manifest::reason_codes()));
+        manifest.tables.push(manifest::table_doc(
+            &ingest::problems_table(&ingest.excluded),
+            &excluded,
+            "page dropped by the filter (written by `nklut ingest`)",
+            manifest::reason_codes(),
+        ));
     }
     let mut json = serde_json::to_vec_pretty(&manifest)?;
     json.push(b'\n');
@@ -579,7 +605,8 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
         manifest.duplicate_catalog_pages = duplicates;
         let clamped_texels: usize = manifest.textures.iter().map(|t| t.clamped_texels).sum();
         // Table paths are relative to luts/: "../x" is out/x.
-        documents(manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file()).map(|documents| (documents, clamped_texels))
+        documents(manifest, &ingest, &|relative| out.join(relative.trim_start_matches("../")).is_file())
+            .map(|documents| (documents, clamped_texels))
     })?;
     let (documents, clamped_texels) = documented?;
     files.extend(documents);
@@ -602,8 +629,28 @@ mod tests {
         let mut bright = exact_curve(&glass, size);
         bright[0].iter_mut().take(3).for_each(|v| *v = 1.2);
         vec![
-            Row { page: "3d/glass/x".into(), names: vec!["X".into()], kind: Kind::Dielectric, data_file: "x.yml".into(), index: glass, fitted: Some(glass), curves: vec![exact_curve(&glass, size)], spectral: None, extrapolated_share: None },
-            Row { page: "main/Y/a:b".into(), names: vec![], kind: Kind::Dielectric, data_file: "y.yml".into(), index: glass, fitted: None, curves: vec![bright], spectral: None, extrapolated_share: None },
+            Row {
+                page: "3d/glass/x".into(),
+                names: vec!["X".into()],
+                kind: Kind::Dielectric,
+                data_file: "x.yml".into(),
+                index: glass,
+                fitted: Some(glass),
+                curves: vec![exact_curve(&glass, size)],
+                spectral: None,
+                extrapolated_share: None,
+            },
+            Row {
+                page: "main/Y/a:b".into(),
+                names: vec![],
+                kind: Kind::Dielectric,
+                data_file: "y.yml".into(),
+                index: glass,
+                fitted: None,
+                curves: vec![bright],
+                spectral: None,
+                extrapolated_share: None,
+            },
         ]
     }
 
@@ -615,7 +662,11 @@ mod tests {
         for file in &baked.files {
             let encoding = Encoding::ALL.into_iter().find(|e| file.path.contains(&format!("/{}/", e.name()))).unwrap();
             let decoded = files::decode(encoding, &file.bytes).unwrap();
-            let which: Vec<&Row> = if file.path.contains("atlas") { rows.iter().collect() } else { rows.iter().filter(|r| file.path.contains(&strip_stem(&r.page))).collect() };
+            let which: Vec<&Row> = if file.path.contains("atlas") {
+                rows.iter().collect()
+            } else {
+                rows.iter().filter(|r| file.path.contains(&strip_stem(&r.page))).collect()
+            };
             assert_eq!((decoded.width, decoded.height), (size, which.len()), "{}", file.path);
             let values = decoded.texels.decode(encoding);
             for (r, row) in which.iter().enumerate() {
@@ -624,8 +675,16 @@ mod tests {
                         let want = row.curves[0][c][i];
                         let want = if encoding.is_float() { want } else { want.clamp(0.0, 1.0) };
                         let got = values[3 * (r * size + i) + c];
-                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb { (crate::encoding::srgb_encode(got), crate::encoding::srgb_encode(want)) } else { (got, want) };
-                        assert!((got_s - want_s).abs() <= encoding.half_step(want_s) * (1.0 + 1e-9), "{} {r} {i} {c}: {got} vs {want}", file.path);
+                        let (got_s, want_s) = if encoding == Encoding::Unorm8Srgb {
+                            (crate::encoding::srgb_encode(got), crate::encoding::srgb_encode(want))
+                        } else {
+                            (got, want)
+                        };
+                        assert!(
+                            (got_s - want_s).abs() <= encoding.half_step(want_s) * (1.0 + 1e-9),
+                            "{} {r} {i} {c}: {got} vs {want}",
+                            file.path
+                        );
                     }
                 }
             }

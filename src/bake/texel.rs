@@ -18,7 +18,9 @@ impl Encoding {
     pub fn description(self) -> &'static str {
         match self {
             Encoding::Unorm8 => "8-bit PNG, code = round(255 * clamp(F, 0, 1)), linear",
-            Encoding::Unorm8Srgb => "8-bit PNG, code = round(255 * srgb_encode(clamp(F, 0, 1))); an sRGB texture format decodes it to linear F before filtering",
+            Encoding::Unorm8Srgb => {
+                "8-bit PNG, code = round(255 * srgb_encode(clamp(F, 0, 1))); an sRGB texture format decodes it to linear F before filtering"
+            }
             Encoding::Unorm16 => "16-bit PNG, code = round(65535 * clamp(F, 0, 1)), linear",
             Encoding::F16 => "OpenEXR half float (binary16, round-to-nearest-even), linear, not clamped",
             Encoding::F32 => "OpenEXR single float (binary32, round-to-nearest-even), linear, not clamped",
@@ -26,7 +28,11 @@ impl Encoding {
     }
 
     pub fn extension(self) -> &'static str {
-        if self.is_float() { "exr" } else { "png" }
+        if self.is_float() {
+            "exr"
+        } else {
+            "png"
+        }
     }
 
     pub fn is_float(self) -> bool {
@@ -39,7 +45,11 @@ impl Encoding {
 
     /// `linear` or `srgb-encoded` (the stored values, not what a sampler returns).
     pub fn color_space(self) -> &'static str {
-        if self == Encoding::Unorm8Srgb { "srgb-encoded" } else { "linear" }
+        if self == Encoding::Unorm8Srgb {
+            "srgb-encoded"
+        } else {
+            "linear"
+        }
     }
 
     /// The quantisation step bound |decode(encode(F)) − F| for F in range: half a code
@@ -60,9 +70,13 @@ impl Encoding {
         match self {
             Encoding::Unorm8 => "WebGPU rgba8unorm (pad RGB to RGBA); Vulkan R8G8B8A8_UNORM; GL RGBA8",
             Encoding::Unorm8Srgb => "WebGPU rgba8unorm-srgb; Vulkan R8G8B8A8_SRGB; GL SRGB8_ALPHA8",
-            Encoding::Unorm16 => "Vulkan R16G16B16A16_UNORM; GL RGBA16 (WebGPU core has no filterable 16-bit unorm: convert to rgba16float or rgba32float)",
+            Encoding::Unorm16 => {
+                "Vulkan R16G16B16A16_UNORM; GL RGBA16 (WebGPU core has no filterable 16-bit unorm: convert to rgba16float or rgba32float)"
+            }
             Encoding::F16 => "WebGPU rgba16float; Vulkan R16G16B16A16_SFLOAT; GL RGBA16F",
-            Encoding::F32 => "WebGPU rgba32float (filterable only with the float32-filterable feature); Vulkan R32G32B32A32_SFLOAT; GL RGBA32F",
+            Encoding::F32 => {
+                "WebGPU rgba32float (filterable only with the float32-filterable feature); Vulkan R32G32B32A32_SFLOAT; GL RGBA32F"
+            }
         }
     }
 
@@ -188,7 +202,7 @@ mod tests {
         assert_eq!(sample_lut(&t, 0.0), 0.0);
         assert_eq!(sample_lut(&t, 1.0), 9.0);
         assert!((sample_lut(&t, 0.25) - 0.5).abs() < 1e-15); // halfway between centres 1/8 and 3/8
-        // The model as printed, with ⌊x⌋ and clamped indices.
+                                                             // The model as printed, with ⌊x⌋ and clamped indices.
         let model = |c: f64| {
             let x = c * 4.0 - 0.5;
             let (i, f) = (x.floor(), x - x.floor());

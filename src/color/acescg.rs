@@ -57,11 +57,7 @@ mod tests {
         // sRGB → ACEScg (Bradford) as MaterialX's standard library applies it
         // (`mx_srgb_texture_to_acescg`, libraries/stdlib/genglsl, "same matrix as
         // vp2ShaderFragments"), printed to 8 digits; the GLSL mat3 is column-major.
-        let published = [
-            [0.61309740, 0.33952315, 0.04737945],
-            [0.07019372, 0.91635388, 0.01345240],
-            [0.02061559, 0.10956977, 0.86981463],
-        ];
+        let published = [[0.61309740, 0.33952315, 0.04737945], [0.07019372, 0.91635388, 0.01345240], [0.02061559, 0.10956977, 0.86981463]];
         let m = srgb_to_acescg_matrix();
         for r in 0..3 {
             for c in 0..3 {

@@ -39,10 +39,8 @@ fn parse_csv(text: &str, columns: usize) -> Vec<Vec<f64>> {
         .skip(1)
         .filter(|line| !line.trim().is_empty())
         .map(|line| {
-            let row: Vec<f64> = line
-                .split(',')
-                .map(|cell| cell.trim().parse::<f64>().expect("embedded CIE table: a cell is not a number"))
-                .collect();
+            let row: Vec<f64> =
+                line.split(',').map(|cell| cell.trim().parse::<f64>().expect("embedded CIE table: a cell is not a number")).collect();
             assert_eq!(row.len(), columns, "embedded CIE table: wrong column count in {line:?}");
             row
         })
@@ -53,10 +51,7 @@ fn cmf_on_grid(rows: &[Vec<f64>]) -> Vec<[f64; 3]> {
     (0..SPECTRAL_SAMPLES)
         .map(|i| {
             let nm = spectral_wavelength_nm(i);
-            let row = rows
-                .iter()
-                .find(|row| row[0] == nm)
-                .expect("embedded CMF table covers 360–830 nm in 1 nm steps");
+            let row = rows.iter().find(|row| row[0] == nm).expect("embedded CMF table covers 360–830 nm in 1 nm steps");
             [row[1], row[2], row[3]]
         })
         .collect()

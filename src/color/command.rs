@@ -5,9 +5,9 @@ use std::time::Instant;
 
 use anyhow::Result;
 
+use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::memo::{CurveMemo, EffectiveMemo};
 use super::page::{page_colors, spectral_reference, PageColors};
-use super::angle_average::{angle_quadrature, NODES, PANELS};
 use super::srgb;
 use crate::db::Database;
 use crate::encoding::texel_cosines;
@@ -42,7 +42,8 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &C
     timings.spectral_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
-    let colors: Vec<PageColors> = crate::progress::par_map(unique.len(), "fits", |i| page_colors(&unique[i], &references[i], quadrature, fits));
+    let colors: Vec<PageColors> =
+        crate::progress::par_map(unique.len(), "fits", |i| page_colors(&unique[i], &references[i], quadrature, fits));
     timings.fit_s = start.elapsed().as_secs_f64();
     positions.into_iter().map(|i| colors[i].clone()).collect()
 }
@@ -71,7 +72,12 @@ pub fn colors_table(kept: &[KeptPage], colors: &[PageColors], channels: &Channel
             table.boolean(&format!("{stem}_{suffix}"), meaning, colors.iter().map(|p| value(p, c)).collect());
         }
     };
-    per_channel(&mut table, "f0_spectral", "spectral reference reflectance at normal incidence, linear sRGB (SPEC 4; may lie outside [0,1])", &|p, c| p.f0_spectral[c]);
+    per_channel(
+        &mut table,
+        "f0_spectral",
+        "spectral reference reflectance at normal incidence, linear sRGB (SPEC 4; may lie outside [0,1])",
+        &|p, c| p.f0_spectral[c],
+    );
     table.text(
         "f0_spectral_hex",
         "f0_spectral clamped to [0,1], sRGB-encoded, 8-bit #rrggbb swatch (clamping flagged by out_of_gamut_*)",
@@ -95,9 +101,19 @@ pub fn colors_table(kept: &[KeptPage], colors: &[PageColors], channels: &Channel
         "CIEDE2000 between f0_three_channel and f0_spectral (CIELAB, D65 white)",
         colors.iter().map(|p| p.delta_e2000_f0).collect(),
     );
-    per_channel(&mut table, "effective_n", "effective refractive index n: exact Fresnel closest to the spectral reference over theta (relative least squares)", &|p, c| p.effective[c].index.n);
+    per_channel(
+        &mut table,
+        "effective_n",
+        "effective refractive index n: exact Fresnel closest to the spectral reference over theta (relative least squares)",
+        &|p, c| p.effective[c].index.n,
+    );
     per_channel(&mut table, "effective_k", "effective extinction coefficient k (same fit)", &|p, c| p.effective[c].index.k);
-    per_channel(&mut table, "effective_error", "mean over theta of |F_effective - F_spectral| / |F_spectral| after the fit (fraction)", &|p, c| p.effective[c].error);
+    per_channel(
+        &mut table,
+        "effective_error",
+        "mean over theta of |F_effective - F_spectral| / |F_spectral| after the fit (fraction)",
+        &|p, c| p.effective[c].error,
+    );
     flags(
         &mut table,
         "reference_in_unit_range",

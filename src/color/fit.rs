@@ -71,13 +71,13 @@ pub fn fit_effective_index_from(reference: &[f64], guesses: &[Index], quadrature
 }
 
 fn fit_from(problem: &Problem, guesses: &[Index], start: Index, reference: &[f64], quadrature: &AngleQuadrature) -> EffectiveIndex {
-    let best = guesses
-        .iter()
-        .map(|guess| problem.minimise(to_parameters(*guess)))
-        .fold(None, |best: Option<([f64; 2], f64)>, candidate| match best {
+    let best = guesses.iter().map(|guess| problem.minimise(to_parameters(*guess))).fold(
+        None,
+        |best: Option<([f64; 2], f64)>, candidate| match best {
             Some(b) if b.1 <= candidate.1 => Some(b),
             _ => Some(candidate),
-        });
+        },
+    );
     let index = best.map_or(sanitise(start), |(p, _)| to_index(p));
     EffectiveIndex { index, error: mean_relative_error(index, reference, quadrature) }
 }
@@ -143,11 +143,7 @@ impl Problem {
 
     /// The reference at the node closest to normal incidence (0 with no nodes).
     fn normal_reference(&self) -> f64 {
-        self.cosines
-            .iter()
-            .zip(&self.targets)
-            .fold((f64::NEG_INFINITY, 0.0), |best, (&c, &r)| if c > best.0 { (c, r) } else { best })
-            .1
+        self.cosines.iter().zip(&self.targets).fold((f64::NEG_INFINITY, 0.0), |best, (&c, &r)| if c > best.0 { (c, r) } else { best }).1
     }
 
     fn residuals(&self, p: [f64; 2], out: &mut [f64]) {

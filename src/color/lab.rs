@@ -67,7 +67,8 @@ pub fn delta_e2000(first: Lab, second: Lab) -> f64 {
     } else {
         (h1 + h2 - 360.0) / 2.0
     };
-    let t = 1.0 - 0.17 * (h_mean - 30.0).to_radians().cos() + 0.24 * (2.0 * h_mean).to_radians().cos()
+    let t = 1.0 - 0.17 * (h_mean - 30.0).to_radians().cos()
+        + 0.24 * (2.0 * h_mean).to_radians().cos()
         + 0.32 * (3.0 * h_mean + 6.0).to_radians().cos()
         - 0.20 * (4.0 * h_mean - 63.0).to_radians().cos();
     let delta_theta = 30.0 * (-((h_mean - 275.0) / 25.0).powi(2)).exp();

@@ -167,7 +167,8 @@ mod tests {
         assert_eq!(reader.len(), 1);
         assert_eq!(bits(&reader.effective(&reference, gold, quadrature)), bits(&made));
         // Another start or a curve one bit away is looked up under another key.
-        let nudged: Vec<f64> = reference.iter().enumerate().map(|(i, &r)| if i == 3 { f64::from_bits(r.to_bits() + 1) } else { r }).collect();
+        let nudged: Vec<f64> =
+            reference.iter().enumerate().map(|(i, &r)| if i == 3 { f64::from_bits(r.to_bits() + 1) } else { r }).collect();
         let recorder = EffectiveMemo::decode(&recorder.encode(), "nklut 1").recording();
         recorder.effective(&reference, Index::new(0.2, 3.0), quadrature);
         recorder.effective(&nudged, gold, quadrature);

@@ -7,22 +7,22 @@
 //! centres [`crate::encoding::texel_cosines`] (or [`reflectance_rgb`] at one cosθ).
 
 pub mod acescg;
+pub mod angle_average;
 pub mod cie;
 pub mod command;
 pub mod fit;
 pub mod lab;
 pub mod memo;
 pub mod page;
-pub mod angle_average;
 pub mod spectral;
 pub mod srgb;
 
+pub use angle_average::{angle_quadrature, AngleQuadrature};
 pub use command::{colors_table, command, compute, hex_swatch};
 pub use fit::{fit_effective_index, fit_effective_index_from, mean_relative_error, EffectiveIndex};
 pub use lab::{delta_e2000, xyz_to_lab, Lab};
 pub use memo::{CurveMemo, EffectiveMemo, Fingerprint};
 pub use page::{page_colors, relative_error, spectral_reference, PageColors, SpectralReference};
-pub use angle_average::{angle_quadrature, AngleQuadrature};
 pub use spectral::{
     reflectance_rgb, reflectance_spectrum_rgb, sample_spectrum, spectral_curve, spectral_weights, PreparedSpectrum, SpectralWeights,
 };

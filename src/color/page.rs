@@ -1,10 +1,10 @@
 //! Per-page colour figures: the spectral reference (SPEC §4), the index-approximation
 //! error of the three-wavelength shortcut, and the effective channel indices.
 
+use super::angle_average::AngleQuadrature;
 use super::fit::{mean_relative_error, EffectiveIndex};
 use super::lab::delta_e2000;
 use super::memo::{CurveMemo, EffectiveMemo, Fingerprint};
-use super::angle_average::AngleQuadrature;
 use super::spectral::{sample_spectrum, spectral_weights, PreparedSpectrum};
 use crate::fresnel;
 use crate::spectrum::{Index, Material};

@@ -51,14 +51,7 @@ fn build_weights() -> SpectralWeights {
     let xyz_to_rgb = srgb::invert(&rgb_to_xyz).expect("the sRGB matrix is invertible");
     let rgb: Vec<[f64; 3]> = illuminated.iter().map(|xyz| srgb::multiply(&xyz_to_rgb, xyz.map(|v| v / norm))).collect();
     let active = rgb.iter().rposition(|w| w.iter().any(|v| *v != 0.0)).map_or(0, |last| last + 1);
-    SpectralWeights {
-        luminance: illuminated.iter().map(|xyz| xyz[1] / norm).collect(),
-        rgb,
-        active,
-        white_xyz,
-        xyz_to_rgb,
-        rgb_to_xyz,
-    }
+    SpectralWeights { luminance: illuminated.iter().map(|xyz| xyz[1] / norm).collect(), rgb, active, white_xyz, xyz_to_rgb, rgb_to_xyz }
 }
 
 impl SpectralWeights {
@@ -259,9 +252,9 @@ mod tests {
     #[test]
     fn weights_match_the_printed_iec_matrix_to_its_rounding() {
         let m = spectral_weights().xyz_to_rgb;
-        for r in 0..3 {
-            for c in 0..3 {
-                assert!((m[r][c] - srgb::IEC_XYZ_TO_SRGB[r][c]).abs() < 2e-3, "[{r}][{c}] {}", m[r][c]);
+        for (r, (row, printed)) in m.iter().zip(srgb::IEC_XYZ_TO_SRGB).enumerate() {
+            for (c, (value, printed)) in row.iter().zip(printed).enumerate() {
+                assert!((value - printed).abs() < 2e-3, "[{r}][{c}] {value}");
             }
         }
     }
@@ -299,14 +292,16 @@ mod tests {
         let w = &spectral_weights().luminance;
         let expected: f64 = w[..40].iter().sum::<f64>() + w[341..].iter().sum::<f64>();
         assert!((share - expected).abs() < 1e-15 && share > 0.0 && share < 0.01, "{share}");
-        let covered = parse_page("t.yml", "DATA:\n  - type: tabulated nk\n    data: |\n        0.36 1.2 0.5\n        0.83 1.4 0.1\n").unwrap();
+        let covered =
+            parse_page("t.yml", "DATA:\n  - type: tabulated nk\n    data: |\n        0.36 1.2 0.5\n        0.83 1.4 0.1\n").unwrap();
         assert_eq!(sample_spectrum(&covered).1, 0.0);
     }
 
     #[test]
     fn invalid_formula_values_are_replaced_by_the_nearest_valid_sample() {
         // Cauchy n = 1.6 − 0.1/λ²… made to go negative below ~395 nm: n = C1 + C2 λ^-2.
-        let data = parse_page("t.yml", "DATA:\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 2.0 -0.3 -2\n").unwrap();
+        let data =
+            parse_page("t.yml", "DATA:\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 2.0 -0.3 -2\n").unwrap();
         let (spectrum, share) = sample_spectrum(&data);
         assert!(spectrum.iter().all(|i| i.n > 0.0 && i.n.is_finite()));
         // n(λ) = 2 − 0.3/λ² ≤ 0 for λ ≤ 387.3 nm: samples 360..=387 replaced by n(388 nm).

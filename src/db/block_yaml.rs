@@ -105,7 +105,8 @@ pub fn too_deep(text: &str) -> Option<TooDeep> {
         if depth > MAX_NESTING {
             return Some(TooDeep { line: i + 1, depth });
         }
-        let header = rest.rsplit_once(' ').map_or(rest, |(_, last)| last).trim_end_matches(|c: char| c == '-' || c == '+' || c.is_ascii_digit());
+        let header =
+            rest.rsplit_once(' ').map_or(rest, |(_, last)| last).trim_end_matches(|c: char| c == '-' || c == '+' || c.is_ascii_digit());
         if flow == 0 && matches!(header, "|" | ">") {
             scalar_parent = Some(indent);
         }
@@ -264,7 +265,8 @@ fn mapping(lines: &mut Lines, column: usize, first: &str) -> Option<Value> {
 /// identifiers (letters, digits, `_`, `-`, not first) other than null and the booleans.
 fn key_of(text: &str) -> Option<(&str, &str)> {
     let (key, rest) = text.split_once(':')?;
-    let identifier = key.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+    let identifier = key.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        && key.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
     (identifier && reserved(key).is_none() && (rest.is_empty() || rest.starts_with(' '))).then_some((key, rest))
 }
 
@@ -360,7 +362,8 @@ fn scalar(text: &str) -> Option<Value> {
     if !number_start {
         return None;
     }
-    number_or_text(text).or_else(|| serde_yaml::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_))))
+    number_or_text(text)
+        .or_else(|| serde_yaml::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_))))
 }
 
 /// serde_yaml's resolution of a plain scalar that starts as a number does (a digit, or `-`
@@ -377,11 +380,16 @@ fn number_or_text(text: &str) -> Option<Value> {
         if unsigned.len() > 1 && unsigned.starts_with('0') {
             return Some(Value::String(text.to_string()));
         }
-        return if unsigned.len() == text.len() { text.parse::<u64>().ok().map(Value::from) } else { text.parse::<i64>().ok().map(Value::from) };
+        return if unsigned.len() == text.len() {
+            text.parse::<u64>().ok().map(Value::from)
+        } else {
+            text.parse::<i64>().ok().map(Value::from)
+        };
     }
     let (mantissa, exponent) = unsigned.split_once(['e', 'E']).map_or((unsigned, None), |(m, e)| (m, Some(e)));
     let (whole, fraction) = mantissa.split_once('.').unwrap_or((mantissa, ""));
-    let mantissa_ok = (digits(whole) || whole.is_empty()) && (digits(fraction) || fraction.is_empty()) && !(whole.is_empty() && fraction.is_empty());
+    let mantissa_ok =
+        (digits(whole) || whole.is_empty()) && (digits(fraction) || fraction.is_empty()) && !(whole.is_empty() && fraction.is_empty());
     let exponent_ok = exponent.is_none_or(|e| digits(e.strip_prefix(['+', '-']).unwrap_or(e)));
     if !(mantissa_ok && exponent_ok) {
         return None;
@@ -449,7 +457,9 @@ mod tests {
 
     #[test]
     fn deep_nesting_is_left_to_the_parser() {
-        let nested = |depth: usize| (0..depth).map(|level| format!("{}k{level}:\n", " ".repeat(level))).collect::<String>() + &" ".repeat(depth) + "leaf: 1\n";
+        let nested = |depth: usize| {
+            (0..depth).map(|level| format!("{}k{level}:\n", " ".repeat(level))).collect::<String>() + &" ".repeat(depth) + "leaf: 1\n"
+        };
         assert!(block_value(&nested(MAX_DEPTH - 1)).is_some());
         assert_eq!(block_value(&nested(MAX_DEPTH)), None);
         // Deeper than a test thread's stack holds for a recursive reader without the limit
@@ -548,7 +558,8 @@ mod tests {
             "\"[ !#-\\[\\]-~µ]{0,10}\"".prop_map(|s| s),
             "'[ -&(-~]{0,8}'".prop_map(|s| s),
             "-?[0-9]{1,4}(\\.[0-9]{0,3})?([eE][+-]?[0-9]{1,2})?".prop_map(|s| s),
-            prop_oneof![Just("true"), Just("False"), Just("null"), Just("~"), Just("20 °C"), Just("0.4 0.7"), Just("007"), Just(".5")].prop_map(String::from),
+            prop_oneof![Just("true"), Just("False"), Just("null"), Just("~"), Just("20 °C"), Just("0.4 0.7"), Just("007"), Just(".5")]
+                .prop_map(String::from),
         ];
         let wild_scalar = prop_oneof![
             6 => tame_scalar.clone(),
@@ -561,8 +572,15 @@ mod tests {
         let row = prop_oneof![6 => Just("        0.5 1.5 0.1".to_string()), 1 => Just(String::new()), 1 => Just("          0.6 1.6".to_string()), 1 => if wild { Just("      0.7 1".to_string()) } else { Just("        0.7 1".to_string()) }];
         let table = (prop_oneof![Just("|"), Just("|-")], proptest::collection::vec(row, 0..5), scalar.clone());
         let property = ("[a-z][a-z_]{0,6}", scalar.clone());
-        (any::<bool>(), block, proptest::collection::vec(table, 0..3), proptest::collection::vec(property, 0..4), proptest::collection::vec(scalar.clone(), 0..3), any::<bool>()).prop_map(
-            |(block_references, references, tables, properties, list, blank_comments)| {
+        (
+            any::<bool>(),
+            block,
+            proptest::collection::vec(table, 0..3),
+            proptest::collection::vec(property, 0..4),
+            proptest::collection::vec(scalar.clone(), 0..3),
+            any::<bool>(),
+        )
+            .prop_map(|(block_references, references, tables, properties, list, blank_comments)| {
                 let mut lines = vec!["# this file is part of a database".to_string(), String::new()];
                 if block_references {
                     lines.extend(["REFERENCES: |".to_string(), "    <b>Author</b> 2020".to_string()]);
@@ -592,8 +610,7 @@ mod tests {
                     lines.extend(list.iter().map(|item| format!("      - {item}")));
                 }
                 lines.join("\n") + "\n"
-            },
-        )
+            })
     }
 
     /// Catalog texts: shelves of books of pages with dividers and comments; with `wild`,
@@ -612,9 +629,18 @@ mod tests {
             1 => prop_oneof![Just("true"), Just("~"), Just("-"), Just("null"), Just("-.5"), Just("+1"), Just("0x1F"), Just(".inf"), Just("a: b"), Just("a #b"), Just("'q'"), Just("\"x\\\"y\"")].prop_map(String::from),
         ];
         let value = if wild { wild_value.boxed() } else { tame_value.boxed() };
-        let key = if wild { prop_oneof![4 => Just("name".to_string()), 1 => "[a-z0-9_]{1,4}".prop_map(|s| s), 1 => Just("true".to_string())].boxed() } else { Just("name".to_string()).boxed() };
-        let indent = if wild { prop_oneof![6 => Just(2usize), 1 => Just(1usize), 1 => Just(3usize)].boxed() } else { prop_oneof![Just(2usize), Just(4usize)].boxed() };
-        let page = (value.clone(), proptest::option::of((key, value.clone())), any::<bool>()).prop_map(|(id, extra, comment)| (id, extra, comment));
+        let key = if wild {
+            prop_oneof![4 => Just("name".to_string()), 1 => "[a-z0-9_]{1,4}".prop_map(|s| s), 1 => Just("true".to_string())].boxed()
+        } else {
+            Just("name".to_string()).boxed()
+        };
+        let indent = if wild {
+            prop_oneof![6 => Just(2usize), 1 => Just(1usize), 1 => Just(3usize)].boxed()
+        } else {
+            prop_oneof![Just(2usize), Just(4usize)].boxed()
+        };
+        let page = (value.clone(), proptest::option::of((key, value.clone())), any::<bool>())
+            .prop_map(|(id, extra, comment)| (id, extra, comment));
         let book = (value.clone(), proptest::collection::vec(page, 0..4));
         let shelf = (value.clone(), proptest::collection::vec(book, 0..3), indent);
         proptest::collection::vec(shelf, 1..3).prop_map(|shelves| {

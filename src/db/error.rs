@@ -114,7 +114,9 @@ impl Reason {
             Reason::NotAFile => "the data path names a FIFO, a device, a socket or a folder, not a regular file",
             Reason::FileTooLarge => "the data file is larger than the most read from one (64 MiB)",
             Reason::NestingTooDeep => "the file's YAML nests deeper than 64 levels",
-            Reason::BadCatalogEntry => "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER",
+            Reason::BadCatalogEntry => {
+                "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER"
+            }
         }
     }
 }

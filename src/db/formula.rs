@@ -74,11 +74,7 @@ impl Formula {
     /// Σ C(i) λ^C(i+1) for i = first, first+2, …, last. Terms with C(i) = 0 are skipped so
     /// that an absent pair contributes exactly zero (0 · λ^0 and 0 · ∞ alike).
     fn power_series(&self, um: f64, first: usize, last: usize) -> f64 {
-        (first..=last)
-            .step_by(2)
-            .filter(|&i| self.c(i) != 0.0)
-            .map(|i| self.c(i) * um.powf(self.c(i + 1)))
-            .sum()
+        (first..=last).step_by(2).filter(|&i| self.c(i) != 0.0).map(|i| self.c(i) * um.powf(self.c(i + 1))).sum()
     }
 }
 

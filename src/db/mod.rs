@@ -101,8 +101,12 @@ impl Database {
         check_data_path(data)?;
         let path = self.data_path(data);
         let problem = |e: file::FileProblem| match e {
-            file::FileProblem::NotRegular(kind) => DataError::new(Reason::NotAFile, data, None, format!("the data path names {kind}, not a regular file")),
-            file::FileProblem::TooLarge { limit } => DataError::new(Reason::FileTooLarge, data, None, format!("the data file holds more than {limit} bytes")),
+            file::FileProblem::NotRegular(kind) => {
+                DataError::new(Reason::NotAFile, data, None, format!("the data path names {kind}, not a regular file"))
+            }
+            file::FileProblem::TooLarge { limit } => {
+                DataError::new(Reason::FileTooLarge, data, None, format!("the data file holds more than {limit} bytes"))
+            }
             file::FileProblem::Io(e) => DataError::new(Reason::MissingFile, data, None, e.to_string()),
         };
         let opened = file::open_regular(&path).map_err(problem)?;
@@ -133,12 +137,7 @@ impl Database {
         let length = self.read_data_file(&book.join("about.yml").to_string_lossy(), MAX_DATA_FILE_BYTES, &mut buffer).ok()?;
         let text = std::str::from_utf8(&buffer[..length]).ok()?;
         let about: About = block_yaml::from_str(text).ok()?;
-        let names: Vec<String> = about
-            .names
-            .iter()
-            .filter_map(|v| v.as_str().map(page::strip_html))
-            .filter(|n| !n.is_empty())
-            .collect();
+        let names: Vec<String> = about.names.iter().filter_map(|v| v.as_str().map(page::strip_html)).filter(|n| !n.is_empty()).collect();
         (!names.is_empty()).then_some(names)
     }
 }
@@ -181,7 +180,10 @@ pub fn utf8_str<'a>(file: &str, bytes: &'a [u8]) -> Result<&'a str, DataError> {
             Reason::NotUtf8,
             file,
             Some(line),
-            format!("byte 0x{:02X} at offset {valid} is not UTF-8 (the database's files are UTF-8; re-encode it, e.g. from Latin-1)", bytes[valid]),
+            format!(
+                "byte 0x{:02X} at offset {valid} is not UTF-8 (the database's files are UTF-8; re-encode it, e.g. from Latin-1)",
+                bytes[valid]
+            ),
         )
     })
 }

@@ -316,7 +316,12 @@ impl<'a> CutTables<'a> {
             lines.skip_to(line_start, body_lines);
             tables.push((number, &text[body_start.min(body_end)..body_end]));
             // Every body line but the last ends inside the body.
-            blank.push(Blanked { start: body_start, end: body_end, newlines: body_lines.max(1) - 1, indent: block_indent.unwrap_or(indent + 2) });
+            blank.push(Blanked {
+                start: body_start,
+                end: body_end,
+                newlines: body_lines.max(1) - 1,
+                indent: block_indent.unwrap_or(indent + 2),
+            });
         }
         if tables.is_empty() {
             return None;
@@ -623,10 +628,8 @@ fn plain_row(bytes: &[u8], at: usize, columns: usize) -> Option<([f64; 3], usize
 /// m/10^|e| is the correctly rounded value, the bits any correct parser gives. Returns the
 /// value and the number's length; `None` for anything else (fast-float2 reads it then).
 fn exact_decimal(bytes: &[u8]) -> Option<(f64, usize)> {
-    const POWERS: [f64; 23] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
-        1e21, 1e22,
-    ];
+    const POWERS: [f64; 23] =
+        [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
     let digit = |at: usize| bytes.get(at).filter(|b| b.is_ascii_digit()).map(|b| u64::from(b - b'0'));
     let mut at = 0;
     let negative = sign(bytes, &mut at);
@@ -700,7 +703,9 @@ fn read_digits(bytes: &[u8], at: usize, mut mantissa: u64) -> (usize, u64) {
         let aligned = values << (8 * (8 - run));
         let pairs = aligned.wrapping_mul(10).wrapping_add(aligned >> 8);
         let mask = 0x0000_00FF_0000_00FF;
-        let number = ((pairs & mask).wrapping_mul(0x000F_4240_0000_0064)).wrapping_add(((pairs >> 16) & mask).wrapping_mul(0x0000_2710_0000_0001)) >> 32;
+        let number = ((pairs & mask).wrapping_mul(0x000F_4240_0000_0064))
+            .wrapping_add(((pairs >> 16) & mask).wrapping_mul(0x0000_2710_0000_0001))
+            >> 32;
         mantissa = mantissa.wrapping_mul(POWERS_OF_TEN[run]).wrapping_add(number);
         length += run;
         if run < 8 {
@@ -748,12 +753,7 @@ fn general_row(file: &str, line: &str, columns: usize, line_no: Option<usize>) -
         return Ok(None);
     }
     if count != columns {
-        return Err(DataError::new(
-            Reason::BadRow,
-            file,
-            line_no,
-            format!("expected {columns} numbers, found {count}: {:?}", line.trim()),
-        ));
+        return Err(DataError::new(Reason::BadRow, file, line_no, format!("expected {columns} numbers, found {count}: {:?}", line.trim())));
     }
     let mut values = [0.0; 3];
     for (slot, field) in values.iter_mut().zip(&fields[..columns]) {
@@ -829,8 +829,7 @@ fn increasing_run(file: &str, rows: Vec<Row>, warnings: &mut Vec<DataError>) -> 
         return Ok(rows);
     }
     let bounds: Vec<usize> = std::iter::once(0).chain(breaks.iter().copied()).chain(std::iter::once(rows.len())).collect();
-    let reaching: Vec<(usize, usize)> =
-        bounds.windows(2).map(|w| (w[0], w[1])).filter(|&(a, b)| run_reaches_window(&rows, a, b)).collect();
+    let reaching: Vec<(usize, usize)> = bounds.windows(2).map(|w| (w[0], w[1])).filter(|&(a, b)| run_reaches_window(&rows, a, b)).collect();
     let &[(start, end)] = reaching.as_slice() else {
         return Err(order_defect(file, &rows, breaks[0]));
     };
@@ -879,7 +878,10 @@ fn check_domain(file: &str, rows: &[Row], i: usize, quantity: Quantity) -> Resul
                 Reason::IndexOutOfDomain,
                 file,
                 row.line,
-                format!("{name} = {value:e} at {} µm; the methods are tested on n in [{:e}, {:e}], k in [0, {K_MAX:e}]", row.values[0], N_DOMAIN.0, N_DOMAIN.1),
+                format!(
+                    "{name} = {value:e} at {} µm; the methods are tested on n in [{:e}, {:e}], k in [0, {K_MAX:e}]",
+                    row.values[0], N_DOMAIN.0, N_DOMAIN.1
+                ),
             ));
         }
     }
@@ -911,8 +913,11 @@ fn incomplete_term(number: u8, count: usize) -> Option<String> {
             format!("formula 4 has {count} coefficients; its terms end after C1, C5 or C9 (a weight without its exponent or pole)")
         });
     }
-    ((count - first_pair) % 2 == 0).then(|| {
-        format!("formula {number} has {count} coefficients, which ends in half a term: C{count} has no partner C{} (its pole or exponent)", count + 1)
+    (count - first_pair).is_multiple_of(2).then(|| {
+        format!(
+            "formula {number} has {count} coefficients, which ends in half a term: C{count} has no partner C{} (its pole or exponent)",
+            count + 1
+        )
     })
 }
 
@@ -922,7 +927,14 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
     for field in text.split_whitespace() {
         match field.parse::<f64>() {
             Ok(x) if x.is_finite() => coefficients.push(x),
-            _ => return Err(DataError::new(Reason::ParseError, file, None, format!("formula {number}: coefficient {field:?} is not a number"))),
+            _ => {
+                return Err(DataError::new(
+                    Reason::ParseError,
+                    file,
+                    None,
+                    format!("formula {number}: coefficient {field:?} is not a number"),
+                ))
+            }
         }
     }
     if coefficients.is_empty() {
@@ -1085,7 +1097,8 @@ fn page_of_blocks(
                 "tabulated n" => set(&mut n, tabulated(wavelengths_um, 1), "n")?,
                 _ => set(&mut k, tabulated(wavelengths_um, 1), "k")?,
             }
-        } else if let Some(number) = kind.strip_prefix("formula ").and_then(|d| d.trim().parse::<u8>().ok()).filter(|d| (1..=9).contains(d)) {
+        } else if let Some(number) = kind.strip_prefix("formula ").and_then(|d| d.trim().parse::<u8>().ok()).filter(|d| (1..=9).contains(d))
+        {
             if block.data.is_some() {
                 data_block_index += 1;
             }
@@ -1095,7 +1108,8 @@ fn page_of_blocks(
         }
     }
     let n = n.ok_or_else(|| DataError::new(Reason::NoData, file, None, "no n data (only k)"))?;
-    let reference = references.as_ref().and_then(scalar_text).and_then(|r| r.lines().map(strip_html).find(|l| !l.is_empty())).unwrap_or_default();
+    let reference =
+        references.as_ref().and_then(scalar_text).and_then(|r| r.lines().map(strip_html).find(|l| !l.is_empty())).unwrap_or_default();
     let property = |key: &str| properties.as_ref().and_then(|p| p.get(key));
     Ok(PageData {
         file: file.to_string(),
@@ -1169,13 +1183,22 @@ mod tests {
             (Reason::NonMonotonicWavelengths, Some(5))
         );
         assert_eq!(reason("DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2\n    coefficients: \n").0, Reason::TooFewCoefficients);
-        assert_eq!(reason("DATA:\n  - type: formula 8\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5\n").0, Reason::TooManyCoefficients);
+        assert_eq!(
+            reason("DATA:\n  - type: formula 8\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5\n").0,
+            Reason::TooManyCoefficients
+        );
         assert_eq!(reason("DATA:\n  - type: tabulated k\n    data: |\n        0.4 1.5\n").0, Reason::NoData);
         assert_eq!(reason("REFERENCES: x\n").0, Reason::NoData);
         // Sellmeier C1 B1 C1' B2: B2 has no pole.
-        assert_eq!(reason("DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2\n    coefficients: 0 1.0 0.1 0.5\n").0, Reason::IncompleteTerm);
+        assert_eq!(
+            reason("DATA:\n  - type: formula 1\n    wavelength_range: 0.3 2\n    coefficients: 0 1.0 0.1 0.5\n").0,
+            Reason::IncompleteTerm
+        );
         assert_eq!(reason("DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3\n").0, Reason::IncompleteTerm);
-        assert_eq!(reason("DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5 6 7 8 9 10\n").0, Reason::IncompleteTerm);
+        assert_eq!(
+            reason("DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5 6 7 8 9 10\n").0,
+            Reason::IncompleteTerm
+        );
         assert!(parse_page("ok.yml", "DATA:\n  - type: formula 4\n    wavelength_range: 0.3 2\n    coefficients: 1 2 3 4 5\n").is_ok());
         assert!(parse_page("ok.yml", "DATA:\n  - type: formula 7\n    wavelength_range: 0.3 2\n    coefficients: 1 2\n").is_ok());
     }
@@ -1222,7 +1245,8 @@ mod tests {
         let reference = "REFERENCES: |\n    data: |\n      Someone 2020\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n";
         assert_eq!(parse_page("r.yml", reference).unwrap().reference, "data: |");
         // A file holding the marker text itself goes to the parser whole.
-        let marker = format!("COMMENTS: \"{TABLE_MARKER}0\"\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n");
+        let marker =
+            format!("COMMENTS: \"{TABLE_MARKER}0\"\nDATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\n");
         assert!(CutTables::cut(&marker).is_none());
         assert_eq!(parse_page("m.yml", &marker).unwrap().n.at(0.5), Some(1.5));
         // Printed properties are the parser's numbers, with the decimals as printed.
@@ -1231,7 +1255,11 @@ mod tests {
         assert_eq!(page.nd, Some(Printed { value: 1.523, decimals: 4 }));
         assert_eq!(page.vd, Some(Printed { value: 58.5, decimals: 1 }));
         // Nesting past the bound is named, at the file's line.
-        let deep = format!("DATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\nX: {}1{}\n", "[".repeat(100), "]".repeat(100));
+        let deep = format!(
+            "DATA:\n  - type: tabulated n\n    data: |\n        0.30 1.5\n        0.80 1.5\nX: {}1{}\n",
+            "[".repeat(100),
+            "]".repeat(100)
+        );
         let e = parse_page("d.yml", &deep).unwrap_err();
         assert_eq!((e.reason, e.line), (Reason::NestingTooDeep, Some(6)));
     }
@@ -1259,7 +1287,8 @@ mod tests {
         let big_k = "DATA:\n  - type: tabulated k\n    data: |\n        0.3 2.0\n        0.5 5e3\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 1.5\n";
         assert_eq!(reason(big_k).0, Reason::IndexOutOfDomain);
         // Far-infrared rows beyond the window's neighbours are not read, so not judged.
-        let far = "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.9 3.0 1.0\n        50 20 2e3\n        90 30 4e3\n";
+        let far =
+            "DATA:\n  - type: tabulated nk\n    data: |\n        0.3 1.0 2.0\n        0.9 3.0 1.0\n        50 20 2e3\n        90 30 4e3\n";
         assert!(parse_page("far.yml", far).is_ok());
     }
 
@@ -1297,9 +1326,12 @@ mod tests {
             None
         }
 
+        /// A row's values as bits, and its line.
+        type RowBits = ([u64; 3], Option<usize>);
+
         /// Rows read by `lines`, `split_whitespace` and `str::parse`: (values, line) per row,
         /// or the error's reason, line and detail.
-        pub fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<([u64; 3], Option<usize>)>, String> {
+        pub fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>) -> Result<Vec<RowBits>, String> {
             let mut rows = Vec::new();
             for (i, line) in block.lines().enumerate() {
                 let line_no = first_line.map(|l| l + i);
@@ -1352,7 +1384,14 @@ mod tests {
                     continue;
                 }
                 let after = start + line.len();
-                let body_start = after + if text[after..].starts_with("\r\n") { 2 } else if text[after..].starts_with('\n') { 1 } else { 0 };
+                let body_start = after
+                    + if text[after..].starts_with("\r\n") {
+                        2
+                    } else if text[after..].starts_with('\n') {
+                        1
+                    } else {
+                        0
+                    };
                 let mut body_end = body_start;
                 let mut block_indent: Option<usize> = None;
                 while i < lines.len() {
@@ -1430,18 +1469,24 @@ mod tests {
     fn page_text() -> impl proptest::strategy::Strategy<Value = String> {
         use proptest::prelude::*;
         let row = prop_oneof![6 => Just("        0.5 1.5 0.1"), 1 => Just(""), 1 => Just("          0.6 1.6"), 1 => Just("        x")];
-        let table = (prop_oneof![Just("|"), Just("|-"), Just("|+")], proptest::collection::vec(row, 0..6), prop_oneof![Just("tabulated nk"), Just("tabulated n"), Just("tabulated k")]);
+        let table = (
+            prop_oneof![Just("|"), Just("|-"), Just("|+")],
+            proptest::collection::vec(row, 0..6),
+            prop_oneof![Just("tabulated nk"), Just("tabulated n"), Just("tabulated k")],
+        );
         let after = prop_oneof![Just(""), Just("COMMENTS: \"c\""), Just("PROPERTIES:\n    nd: 1.5\n    Vd: 60"), Just("  - bad: [")];
-        (proptest::collection::vec(table, 0..4), after, prop_oneof![Just("\n"), Just("\r\n")], any::<bool>()).prop_map(|(tables, after, end, last_end)| {
-            let mut lines = vec!["REFERENCES: \"r\"".to_string(), "DATA:".to_string()];
-            for (chomp, rows, kind) in tables {
-                lines.push(format!("  - type: {kind}"));
-                lines.push(format!("    data: {chomp}"));
-                lines.extend(rows.into_iter().map(String::from));
-            }
-            lines.extend(after.lines().map(String::from));
-            lines.join(end) + if last_end { end } else { "" }
-        })
+        (proptest::collection::vec(table, 0..4), after, prop_oneof![Just("\n"), Just("\r\n")], any::<bool>()).prop_map(
+            |(tables, after, end, last_end)| {
+                let mut lines = vec!["REFERENCES: \"r\"".to_string(), "DATA:".to_string()];
+                for (chomp, rows, kind) in tables {
+                    lines.push(format!("  - type: {kind}"));
+                    lines.push(format!("    data: {chomp}"));
+                    lines.extend(rows.into_iter().map(String::from));
+                }
+                lines.extend(after.lines().map(String::from));
+                lines.join(end) + if last_end { end } else { "" }
+            },
+        )
     }
 
     /// A parsed YAML value with every string of line ends only, and every table marker,
@@ -1602,7 +1647,28 @@ mod tests {
 
     #[test]
     fn table_numbers_and_edge_cases_parse_as_the_standard_parser() {
-        for text in ["1.28246E+00", "1.11870E-06", "0.39", "+.5", "5.", ".", "-", "+", "1e", "1e+", "e5", "1..2", "1e5e5", "-0", "1e400", "1e-400", "inf", "NaN", "0x10", "1_0"] {
+        for text in [
+            "1.28246E+00",
+            "1.11870E-06",
+            "0.39",
+            "+.5",
+            "5.",
+            ".",
+            "-",
+            "+",
+            "1e",
+            "1e+",
+            "e5",
+            "1..2",
+            "1e5e5",
+            "-0",
+            "1e400",
+            "1e-400",
+            "inf",
+            "NaN",
+            "0x10",
+            "1_0",
+        ] {
             assert_eq!(parse_float(text).map(f64::to_bits), text.parse::<f64>().ok().map(f64::to_bits), "{text}");
         }
     }

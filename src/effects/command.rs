@@ -97,14 +97,26 @@ pub fn memory_needs(scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
         // Kept: per depth, the reference and each method's frame with a copy of the
         // reference; in flight: the reference, the exact twin and a method's twin.
         let frames = configurations * (1 + 2 * methods) + 3;
-        needs.push(MemoryNeed { field: "resolution".into(), what: format!("{frames} frames at {resolution}"), bytes: frame_bytes.saturating_mul(frames) });
+        needs.push(MemoryNeed {
+            field: "resolution".into(),
+            what: format!("{frames} frames at {resolution}"),
+            bytes: frame_bytes.saturating_mul(frames),
+        });
     }
     if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
         // Five panels, the side-by-side picture of them, their error images' references.
-        needs.push(MemoryNeed { field: "resolution".into(), what: format!("the AO pictures at {resolution}"), bytes: frame_bytes.saturating_mul(16) });
+        needs.push(MemoryNeed {
+            field: "resolution".into(),
+            what: format!("the AO pictures at {resolution}"),
+            bytes: frame_bytes.saturating_mul(16),
+        });
         // Per worker: each ray's bin and two coordinates, and its direction.
         let per_ray = 2 * std::mem::size_of::<(usize, [f64; 2])>() + std::mem::size_of::<[f64; 3]>();
-        needs.push(MemoryNeed { field: "--ao-rays".into(), what: format!("{ao_rays} rays per vertex on {threads} threads"), bytes: times(u128::from(ao_rays) * threads, per_ray) });
+        needs.push(MemoryNeed {
+            field: "--ao-rays".into(),
+            what: format!("{ao_rays} rays per vertex on {threads} threads"),
+            bytes: times(u128::from(ao_rays) * threads, per_ray),
+        });
     }
     needs
 }
@@ -120,7 +132,12 @@ pub fn check_memory(scene: &Scene, ao_rays: u32, budget: &MemoryBudget) -> Resul
 /// Run the effects of the request's scene and publish their tables and pictures under
 /// `out` as one set. `open_db` is called only when reflections or refractions need the
 /// scene's materials.
-pub fn command(request: &EffectsRequest, open_db: &dyn Fn() -> Result<Database>, out: &Path, log: &mut dyn FnMut(&str)) -> Result<EffectsOutcome> {
+pub fn command(
+    request: &EffectsRequest,
+    open_db: &dyn Fn() -> Result<Database>,
+    out: &Path,
+    log: &mut dyn FnMut(&str),
+) -> Result<EffectsOutcome> {
     let scene = scene_of(request)?;
     let Some(effects) = scene.effects.clone() else {
         anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
@@ -143,7 +160,8 @@ pub fn command(request: &EffectsRequest, open_db: &dyn Fn() -> Result<Database>,
         pictures.extend(super::pictures::files("effects_frames", &report.pictures)?);
     }
     if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
-        let mut settings = AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
+        let mut settings =
+            AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
         settings.rays.rays = request.ao_rays;
         let report = super::ao::experiment::run(&scene, &settings, &mut outcome.stats, &mut |line| log(line))?;
         tables.push((super::ao::errors::ao_errors_table(&report.rows), "ao_errors"));
@@ -151,7 +169,8 @@ pub fn command(request: &EffectsRequest, open_db: &dyn Fn() -> Result<Database>,
     }
     outcome.frames = pictures.len();
     let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
-    let files: Vec<&dyn SetContent> = streamed.iter().map(|f| f as &dyn SetContent).chain(pictures.iter().map(|f| f as &dyn SetContent)).collect();
+    let files: Vec<&dyn SetContent> =
+        streamed.iter().map(|f| f as &dyn SetContent).chain(pictures.iter().map(|f| f as &dyn SetContent)).collect();
     outcome.written = crate::output::publish_contents(out, "effects", &files)?;
     Ok(outcome)
 }

@@ -110,7 +110,11 @@ impl DistanceMap {
                 let (row, column) = ((index % texels_per_face) / size as usize, index % size as usize);
                 let direction = face_direction(face, (column as f64 + 0.5) / size as f64, (row as f64 + 0.5) / size as f64);
                 let is_specular = |o: usize| stage.is_specular(o);
-                let texel = |hit: &super::geometry::Hit| Texel { distance: hit.t, normal: hit.normal, surface: stage.surface(hit.object, hit.point, hit.normal) };
+                let texel = |hit: &super::geometry::Hit| Texel {
+                    distance: hit.t,
+                    normal: hit.normal,
+                    surface: stage.surface(hit.object, hit.point, hit.normal),
+                };
                 let peeled = stage.geometry.all_hits(centre, direction, is_specular);
                 let mut column_of_layers: Vec<Option<Texel>> = (0..specular_layers).map(|l| peeled.get(l).map(texel)).collect();
                 column_of_layers.push(stage.geometry.nearest(centre, direction, None, |o| !is_specular(o)).as_ref().map(texel));

@@ -13,7 +13,6 @@
 //! f64 tracer. The materials come from the database through `ingest` (only the scene's
 //! pages); the result is the `effects_errors` table, one row per renderer and configuration.
 
-
 use super::distance_map::{DistanceMap, DistanceMapTracer};
 use super::image_error::{compare_object, FrameError};
 use super::pictures::Picture;
@@ -95,10 +94,20 @@ pub struct EffectErrorRow {
 }
 
 /// The twin's frame through each specular object's own map.
-pub fn twin_frame(stage: &Stage, camera: &Camera, maps: &[Option<DistanceMap>], method: Method, depths: Depths, steps: SearchSteps, lut: LutSpec) -> TracedFrame {
+pub fn twin_frame(
+    stage: &Stage,
+    camera: &Camera,
+    maps: &[Option<DistanceMap>],
+    method: Method,
+    depths: Depths,
+    steps: SearchSteps,
+    lut: LutSpec,
+) -> TracedFrame {
     let optics = stage.optics(method, lut);
     let tracers: Vec<Option<DistanceMapTracer>> = maps.iter().map(|m| m.as_ref().map(|map| DistanceMapTracer { map, steps })).collect();
-    render(stage, camera, PathRules { optics: &optics, depths }, |object| tracers[object].as_ref().expect("every specular object has a map"))
+    render(stage, camera, PathRules { optics: &optics, depths }, |object| {
+        tracers[object].as_ref().expect("every specular object has a map")
+    })
 }
 
 /// The distance maps of every specular object (`None` for diffuse ones).
@@ -171,7 +180,12 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
     let Some(effects) = &scene.effects else { return EffectsReport::default() };
     let maps_settings = &effects.distance_maps;
     let maps = distance_maps(stage, maps_settings.size, maps_settings.layers);
-    log(&format!("effects: {} distance maps of 6×{}² texels × {} layers", maps.iter().flatten().count(), maps_settings.size, maps_settings.layers));
+    log(&format!(
+        "effects: {} distance maps of 6×{}² texels × {} layers",
+        maps.iter().flatten().count(),
+        maps_settings.size,
+        maps_settings.layers
+    ));
     let mut twin = CpuTwin { stage, maps, lut: settings.lut };
     let cube_maps = twin.maps.iter().flatten().count();
     let mut report = measure(scene, stage, settings, &mut twin, log).expect("the CPU twin cannot fail");
@@ -181,7 +195,13 @@ pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut 
 }
 
 /// Run the experiment with `renderer`'s frames against the f64 reference.
-pub fn measure(scene: &Scene, stage: &Stage, settings: Settings, renderer: &mut dyn MapFrames, log: &mut dyn FnMut(&str)) -> Result<EffectsReport> {
+pub fn measure(
+    scene: &Scene,
+    stage: &Stage,
+    settings: Settings,
+    renderer: &mut dyn MapFrames,
+    log: &mut dyn FnMut(&str),
+) -> Result<EffectsReport> {
     let mut report = EffectsReport::default();
     let Some(effects) = &scene.effects else { return Ok(report) };
     let maps_settings = &effects.distance_maps;
@@ -191,7 +211,8 @@ pub fn measure(scene: &Scene, stage: &Stage, settings: Settings, renderer: &mut 
     for depths in effects.depths() {
         for &steps in &maps_settings.steps {
             let shown = |frame: u32| frame == 0 && Some(steps) == last_steps;
-            let stem = |name: &str| format!("depth{}-{}_steps{}-{}_{name}", depths.reflection, depths.refraction, steps.linear, steps.secant);
+            let stem =
+                |name: &str| format!("depth{}-{}_steps{}-{}_{name}", depths.reflection, depths.refraction, steps.linear, steps.secant);
             let mut sums: Vec<(usize, Method, ErrorSum, ErrorSum, ErrorSum)> = Vec::new();
             for frame in 0..settings.frames {
                 let camera = Camera::new(&scene.camera, frame, width, height);
@@ -210,7 +231,11 @@ pub fn measure(scene: &Scene, stage: &Stage, settings: Settings, renderer: &mut 
                         renderer.frame(frame, &camera, method, depths, steps)?
                     };
                     if shown(frame) {
-                        report.pictures.push(Picture { stem: stem(method.name()), frame: with_method.clone(), reference: Some(truth.clone()) });
+                        report.pictures.push(Picture {
+                            stem: stem(method.name()),
+                            frame: with_method.clone(),
+                            reference: Some(truth.clone()),
+                        });
                     }
                     for (object, specular) in scene.objects.iter().enumerate().filter_map(|(i, o)| match &o.role {
                         Role::Specular(s) => Some((i, s)),
@@ -301,18 +326,53 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
         .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
         .text("material", "page id", text(&|r| r.material.clone()))
         .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text("renderer", "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)", text(&|r| r.renderer.into()));
-    configuration_columns(&mut table, rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }));
+        .text(
+            "renderer",
+            "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)",
+            text(&|r| r.renderer.into()),
+        );
+    configuration_columns(
+        &mut table,
+        rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }),
+    );
     table
         .integer("frames", "camera frames rendered", integer(&|r| r.frames as i64))
         .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
         .integer("pixels", "pixels showing the object, summed over frames", integer(&|r| r.total.pixels as i64))
-        .float("geometry_mean_rel_error", "distance maps with exact Fresnel vs the reference: mean |a - r| / r over the object's pixels and channels (r = 0 skipped)", float(&|r| r.geometry.mean_relative()))
-        .float("geometry_mean_delta_e2000", "distance maps with exact Fresnel vs the reference: mean CIEDE2000 of the colours", float(&|r| r.geometry.mean_delta_e2000()))
-        .float("fresnel_mean_rel_error", "the method vs exact Fresnel on the same distance-map paths: mean |a - r| / r", float(&|r| r.fresnel.mean_relative()))
-        .float("fresnel_mean_delta_e2000", "the method vs exact Fresnel on the same distance-map paths: mean CIEDE2000", float(&|r| r.fresnel.mean_delta_e2000()))
-        .float("total_mean_rel_error", "distance maps with the method vs the reference: mean |a - r| / r", float(&|r| r.total.mean_relative()))
-        .float("total_mean_delta_e2000", "distance maps with the method vs the reference: mean CIEDE2000", float(&|r| r.total.mean_delta_e2000()))
-        .float("total_mean_abs_error", "distance maps with the method vs the reference: mean |a - r| (linear radiance)", float(&|r| r.total.mean_absolute()));
+        .float(
+            "geometry_mean_rel_error",
+            "distance maps with exact Fresnel vs the reference: mean |a - r| / r over the object's pixels and channels (r = 0 skipped)",
+            float(&|r| r.geometry.mean_relative()),
+        )
+        .float(
+            "geometry_mean_delta_e2000",
+            "distance maps with exact Fresnel vs the reference: mean CIEDE2000 of the colours",
+            float(&|r| r.geometry.mean_delta_e2000()),
+        )
+        .float(
+            "fresnel_mean_rel_error",
+            "the method vs exact Fresnel on the same distance-map paths: mean |a - r| / r",
+            float(&|r| r.fresnel.mean_relative()),
+        )
+        .float(
+            "fresnel_mean_delta_e2000",
+            "the method vs exact Fresnel on the same distance-map paths: mean CIEDE2000",
+            float(&|r| r.fresnel.mean_delta_e2000()),
+        )
+        .float(
+            "total_mean_rel_error",
+            "distance maps with the method vs the reference: mean |a - r| / r",
+            float(&|r| r.total.mean_relative()),
+        )
+        .float(
+            "total_mean_delta_e2000",
+            "distance maps with the method vs the reference: mean CIEDE2000",
+            float(&|r| r.total.mean_delta_e2000()),
+        )
+        .float(
+            "total_mean_abs_error",
+            "distance maps with the method vs the reference: mean |a - r| (linear radiance)",
+            float(&|r| r.total.mean_absolute()),
+        );
     table
 }

@@ -245,8 +245,10 @@ impl Geometry {
             return Err(GeometryError::Empty);
         }
         let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
-        let boxes: Vec<BvhTriangle> =
-            triangles.iter().map(|t| BvhTriangle { v0: narrow(t.corners[0]), v1: narrow(t.corners[1]), v2: narrow(t.corners[2]) }).collect();
+        let boxes: Vec<BvhTriangle> = triangles
+            .iter()
+            .map(|t| BvhTriangle { v0: narrow(t.corners[0]), v1: narrow(t.corners[1]), v2: narrow(t.corners[2]) })
+            .collect();
         let bvh = build_cwbvh_from_tris(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
         Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new() })
     }
@@ -367,7 +369,13 @@ impl Geometry {
 
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
         let triangle = &self.triangles[index as usize];
-        Hit { t, point: origin + direction * t, normal: triangle.normal(crossing.u, crossing.v), object: triangle.object as usize, triangle: index }
+        Hit {
+            t,
+            point: origin + direction * t,
+            normal: triangle.normal(crossing.u, crossing.v),
+            object: triangle.object as usize,
+            triangle: index,
+        }
     }
 
     /// Every hit along the ray (t > [`SELF_HIT_DISTANCE`]) on objects for which `include`
@@ -462,7 +470,11 @@ mod tests {
     fn a_crossing_just_in_front_of_the_origin_is_found() {
         let far = sphere(16, 8).placed(&Placement { position: [0.0, 0.0, 5.0], scale: [1.0; 3] });
         let d = 1e-5_f32;
-        let tiny = Mesh { positions: vec![[-d, -d, 5e-6], [d, -d, 5e-6], [0.0, d, 5e-6]], normals: vec![[0.0, 0.0, -1.0]; 3], indices: vec![0, 1, 2] };
+        let tiny = Mesh {
+            positions: vec![[-d, -d, 5e-6], [d, -d, 5e-6], [0.0, d, 5e-6]],
+            normals: vec![[0.0, 0.0, -1.0]; 3],
+            indices: vec![0, 1, 2],
+        };
         let geometry = Geometry::new(&[far, tiny]).unwrap();
         let (origin, direction) = (DVec3::ZERO, DVec3::new(0.01, 0.02, 1.0).normalize());
         let hit = geometry.nearest(origin, direction, None, |_| true).expect("the tiny triangle");

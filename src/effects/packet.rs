@@ -151,7 +151,8 @@ impl PacketTree {
     /// The tree over `triangles`, at most `leaf_size` triangles per leaf.
     pub fn new(triangles: &[Corners], leaf_size: u32) -> PacketTree {
         let point = |p: [f32; 3]| Vec3A::new(p[0], p[1], p[2]);
-        let boxes: Vec<BvhTriangle> = triangles.iter().map(|[a, b, c]| BvhTriangle { v0: point(*a), v1: point(*b), v2: point(*c) }).collect();
+        let boxes: Vec<BvhTriangle> =
+            triangles.iter().map(|[a, b, c]| BvhTriangle { v0: point(*a), v1: point(*b), v2: point(*c) }).collect();
         let params = BvhBuildParams { max_prims_per_leaf: leaf_size, ..BvhBuildParams::medium_build() };
         let bvh = build_bvh2_from_tris(&boxes, params, &mut Default::default());
         let node = |i: usize| {

@@ -49,7 +49,8 @@ pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
         let mut files = vec![(format!("{}.exr", picture.stem), encode(Encoding::F32, w as usize, h as usize, &linear)?)];
         files.push((format!("{}.png", picture.stem), srgb_png(w, h, frame.radiance.iter().copied())?));
         if let Some(reference) = &picture.reference {
-            let errors = frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| false_colour((0..3).map(|c| (a[c] - r[c]).abs()).sum()));
+            let errors =
+                frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| false_colour((0..3).map(|c| (a[c] - r[c]).abs()).sum()));
             // The false colour is already display-referred: store it as is.
             let bytes = errors.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
             files.push((format!("{}_error.png", picture.stem), encode(Encoding::Unorm8, w as usize, h as usize, &Texels::U8(bytes))?));
@@ -78,10 +79,18 @@ mod tests {
 
     #[test]
     fn pictures_are_written_as_exr_png_and_error_png() {
-        let frame = TracedFrame { width: 2, height: 1, radiance: vec![[0.5, 0.25, 1.0], [0.0, 0.0, 0.0]], seen: vec![Some(0), None], rays: 2 };
+        let frame =
+            TracedFrame { width: 2, height: 1, radiance: vec![[0.5, 0.25, 1.0], [0.0, 0.0, 0.0]], seen: vec![Some(0), None], rays: 2 };
         let mut other = frame.clone();
         other.radiance[0][0] = 0.6;
-        let written = files("f", &[Picture { stem: "reference".into(), frame: frame.clone(), reference: None }, Picture { stem: "schlick".into(), frame: other, reference: Some(frame) }]).unwrap();
+        let written = files(
+            "f",
+            &[
+                Picture { stem: "reference".into(), frame: frame.clone(), reference: None },
+                Picture { stem: "schlick".into(), frame: other, reference: Some(frame) },
+            ],
+        )
+        .unwrap();
         let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
         assert_eq!(names, ["f/reference.exr", "f/reference.png", "f/schlick.exr", "f/schlick.png", "f/schlick_error.png"]);
         let bytes = |name: &str| written.iter().find(|f| f.name == name).unwrap().bytes.clone();

@@ -149,7 +149,12 @@ fn image_error_falls_as_linear_and_secant_steps_rise_on_the_teapot() {
         "measurements: [image_error]\ncamera: {{axis: [0, 1, 0.3], distance: 1.8, fov_y_degrees: 50}}\neffects: {{reflection: {{max_depth: 1}}}}\nobjects:\n  - {{mesh: {}, material: test/metals/gold, method: exact}}\n  - {{mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.8], pattern: {{kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.5]}}}}\n",
         teapot.display()
     );
-    let steps = [SearchSteps { linear: 15, secant: 1 }, SearchSteps { linear: 15, secant: 10 }, SearchSteps { linear: 80, secant: 1 }, SearchSteps { linear: 80, secant: 10 }];
+    let steps = [
+        SearchSteps { linear: 15, secant: 1 },
+        SearchSteps { linear: 15, secant: 10 },
+        SearchSteps { linear: 80, secant: 1 },
+        SearchSteps { linear: 80, secant: 10 },
+    ];
     // Depth 1 on a 128² map: deeper, the teapot's reflections of itself (which a ray leaving
     // a surface cannot find within the start band) and nearest-texel checker edges add
     // errors that do not depend on the steps (BENCHMARKS.md records depth 2).
@@ -186,10 +191,6 @@ fn exact_against_itself_has_no_fresnel_error_and_schlick_on_water_compounds_with
     assert!(depth3.mean_delta_e2000 > depth1.mean_delta_e2000, "depth 3 {depth3:?} vs depth 1 {depth1:?}");
 }
 
-
-
-
-
 #[test]
 fn the_experiment_renders_only_what_the_scene_names() {
     use super::experiment::{image_errors, Settings};
@@ -207,7 +208,8 @@ fn the_experiment_renders_only_what_the_scene_names() {
     // 1 reference + 2 methods per depth configuration at the last search configuration.
     assert_eq!(report.pictures.len(), 6);
     // Without effects nothing is traced: no cube map, no frame.
-    let (plain, plain_stage) = stage("camera: {frames: 1}\nobjects: [{mesh: sphere, material: test/metals/gold, method: exact}]\nmeasurements: [image_error]\n");
+    let (plain, plain_stage) =
+        stage("camera: {frames: 1}\nobjects: [{mesh: sphere, material: test/metals/gold, method: exact}]\nmeasurements: [image_error]\n");
     let nothing = image_errors(&plain, &plain_stage, Settings::of(&plain), &mut |_| {});
     assert_eq!((nothing.stats, nothing.rows.len(), nothing.pictures.len()), (Default::default(), 0, 0));
 }

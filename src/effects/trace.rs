@@ -20,8 +20,8 @@ use rayon::prelude::*;
 use super::geometry::Geometry;
 use super::optics::{scatter, Allowed, SpecularOptics};
 use crate::fresnel::{LutSpec, Method};
-pub use crate::scene::SpecularMaterial;
 use crate::scene::mesh::{self, Mesh};
+pub use crate::scene::SpecularMaterial;
 use crate::scene::{CameraPath, Depths, Diffuse, Light, Role, Scene, SceneMaterial};
 
 /// What a ray meets.
@@ -76,7 +76,9 @@ impl Stage {
             let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
             meshes.push(loaded.placed(&object.placement));
             objects.push(match &object.role {
-                Role::Specular(s) => ObjectOptics::Specular(material(&s.material).ok_or_else(|| named(format!("material {} has no optical constants", s.material)))?),
+                Role::Specular(s) => ObjectOptics::Specular(
+                    material(&s.material).ok_or_else(|| named(format!("material {} has no optical constants", s.material)))?,
+                ),
                 Role::Diffuse(d) => ObjectOptics::Diffuse(d.clone()),
             });
         }
@@ -103,14 +105,21 @@ impl Stage {
     pub fn surface(&self, object: usize, point: DVec3, normal: DVec3) -> Surface {
         match &self.objects[object] {
             ObjectOptics::Specular(_) => Surface::Specular(object),
-            ObjectOptics::Diffuse(d) => Surface::Diffuse(self.light.shade(d.albedo_at(point.to_array(), normal.to_array()), normal.to_array())),
+            ObjectOptics::Diffuse(d) => {
+                Surface::Diffuse(self.light.shade(d.albedo_at(point.to_array(), normal.to_array()), normal.to_array()))
+            }
         }
     }
 
     /// The nearest surface of the exact geometry.
     pub fn nearest(&self, origin: DVec3, direction: DVec3, leaving: Option<u32>) -> Option<SurfaceHit> {
         let hit = self.geometry.nearest(origin, direction, leaving, |_| true)?;
-        Some(SurfaceHit { point: hit.point, normal: hit.normal, surface: self.surface(hit.object, hit.point, hit.normal), triangle: Some(hit.triangle) })
+        Some(SurfaceHit {
+            point: hit.point,
+            normal: hit.normal,
+            surface: self.surface(hit.object, hit.point, hit.normal),
+            triangle: Some(hit.triangle),
+        })
     }
 }
 
@@ -175,7 +184,16 @@ impl Camera {
         let forward = (-eye).normalize();
         let right = forward.cross(DVec3::from_array(path.axis).normalize()).normalize();
         let up = right.cross(forward);
-        Camera { eye, forward, right, up, tan_half_y: (path.fov_y_degrees.to_radians() / 2.0).tan(), aspect: width as f64 / height as f64, width, height }
+        Camera {
+            eye,
+            forward,
+            right,
+            up,
+            tan_half_y: (path.fov_y_degrees.to_radians() / 2.0).tan(),
+            aspect: width as f64 / height as f64,
+            width,
+            height,
+        }
     }
 
     /// Unit direction through the centre of pixel (x, y), y down.

@@ -10,8 +10,8 @@
 
 use super::real::Real;
 use super::unit_cos;
-pub use crate::encoding::Encoding;
 use crate::encoding::texel_cos;
+pub use crate::encoding::Encoding;
 
 /// The texel counts of the "what accuracy costs" sweep.
 pub const LUT_SIZES: [usize; 6] = [16, 32, 64, 128, 256, 1024];

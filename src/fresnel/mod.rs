@@ -26,8 +26,8 @@ pub mod real;
 pub mod reference;
 
 pub use approx::{
-    compensation, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation, CompensationFallback, COMPENSATION_COS,
-    LAZANYI_COS,
+    compensation, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation, CompensationFallback,
+    COMPENSATION_COS, LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
@@ -201,9 +201,7 @@ impl Prepared {
             Method::Exact => self.exact.reflectance(cos_theta),
             Method::Schlick => schlick(self.f0, cos_theta),
             Method::SchlickNk => schlick_nk(n, k, cos_theta),
-            Method::SchlickCompensated => {
-                schlick_compensated(n, k, self.compensation.weight, self.compensation.lambda, cos_theta)
-            }
+            Method::SchlickCompensated => schlick_compensated(n, k, self.compensation.weight, self.compensation.lambda, cos_theta),
             Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
             Method::Nvidia => nvidia(self.nvidia.bias, self.nvidia.scale, self.nvidia.power, cos_theta),
             Method::Lut => return None,

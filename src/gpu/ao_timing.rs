@@ -14,8 +14,8 @@ use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::effects::ao::hierarchy::{Closeness, SurfelTree};
 use crate::effects::ao::shadow::ShadowForm;
 use crate::effects::ao::surfel::{decimated, subdivided, surfels, Surfel};
-use crate::scene::mesh::Mesh;
 use crate::output::Table;
+use crate::scene::mesh::Mesh;
 
 /// One mesh of the sweep: its name (e.g. `bunny-decimated-0.02`) and surfels.
 pub struct SweepMesh {
@@ -30,7 +30,10 @@ pub const DECIMATION_CELLS: [f32; 3] = [0.1, 0.05, 0.025];
 /// The sweep of one mesh: decimated at each of [`DECIMATION_CELLS`], as it is, and
 /// subdivided once (about 4× the vertices).
 pub fn sweep_meshes(name: &str, mesh: &Mesh) -> Vec<SweepMesh> {
-    let mut out: Vec<SweepMesh> = DECIMATION_CELLS.iter().map(|&cell| SweepMesh { name: format!("{name}-decimated-{cell}"), surfels: surfels(&decimated(mesh, cell)) }).collect();
+    let mut out: Vec<SweepMesh> = DECIMATION_CELLS
+        .iter()
+        .map(|&cell| SweepMesh { name: format!("{name}-decimated-{cell}"), surfels: surfels(&decimated(mesh, cell)) })
+        .collect();
     out.push(SweepMesh { name: name.into(), surfels: surfels(mesh) });
     out.push(SweepMesh { name: format!("{name}-subdivided-1"), surfels: surfels(&subdivided(mesh)) });
     out
@@ -50,7 +53,14 @@ pub struct SweepSettings {
 
 impl Default for SweepSettings {
     fn default() -> SweepSettings {
-        SweepSettings { max_brute: 40_000, passes: 1, warmup: 1, repeats: 3, form: ShadowForm::FORM_FACTOR, closeness: Closeness::default() }
+        SweepSettings {
+            max_brute: 40_000,
+            passes: 1,
+            warmup: 1,
+            repeats: 3,
+            form: ShadowForm::FORM_FACTOR,
+            closeness: Closeness::default(),
+        }
     }
 }
 
@@ -93,7 +103,11 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
 fn sample(gpu: &Gpu, pass: &SurfelAoPass, passes: u32, stopwatch: &mut Stopwatch) -> Result<(f64, u64)> {
     let mut dispatches = 0;
     let ms = stopwatch.time_pass(gpu, |encoder, timestamps| {
-        let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites { query_set: set, beginning_of_pass_write_index: Some(0), end_of_pass_write_index: Some(1) });
+        let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        });
         dispatches = pass.encode(gpu, encoder, passes, writes);
     })?;
     Ok((ms, dispatches))
@@ -122,7 +136,12 @@ pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mu
                 }
             }
             let (median_ms, spread_ms) = median_and_iqr(&samples);
-            log(&format!("  {} ({} surfels) {}: median {median_ms:.3} ms, IQR {spread_ms:.3} ms", mesh.name, mesh.surfels.len(), gather_name(gather)));
+            log(&format!(
+                "  {} ({} surfels) {}: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
+                mesh.name,
+                mesh.surfels.len(),
+                gather_name(gather)
+            ));
             rows.push(AoTimingRow {
                 mesh: mesh.name.clone(),
                 surfels: mesh.surfels.len(),

@@ -56,7 +56,8 @@ pub fn compute_pipelines<const N: usize>(
 ) -> Result<[wgpu::ComputePipeline; N]> {
     let source = compose(&format!("#import {shader}"))?;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(shader), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let module =
+        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(shader), source: wgpu::ShaderSource::Wgsl(source.into()) });
     let pipelines = entries.map(|entry| {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
@@ -78,7 +79,13 @@ fn imported(line: &str) -> Option<&str> {
     line.trim().strip_prefix("#import").map(str::trim).filter(|name| !name.is_empty())
 }
 
-fn expand(files: &[(&str, &str)], source: &str, chain: &mut Vec<String>, included: &mut Vec<String>, out: &mut String) -> Result<(), ComposeError> {
+fn expand(
+    files: &[(&str, &str)],
+    source: &str,
+    chain: &mut Vec<String>,
+    included: &mut Vec<String>,
+    out: &mut String,
+) -> Result<(), ComposeError> {
     for line in source.lines() {
         let Some(name) = imported(line) else {
             out.push_str(line);

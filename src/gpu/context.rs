@@ -23,7 +23,12 @@ impl AdapterLine {
             (false, true) => info.driver.clone(),
             _ => info.driver_info.clone(),
         };
-        AdapterLine { name: info.name.clone(), backend: format!("{:?}", info.backend), driver, device_type: format!("{:?}", info.device_type) }
+        AdapterLine {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend),
+            driver,
+            device_type: format!("{:?}", info.device_type),
+        }
     }
 }
 

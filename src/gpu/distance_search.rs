@@ -11,8 +11,8 @@ use wgpu::util::DeviceExt;
 
 use super::compose::compute_pipelines;
 use super::context::Gpu;
-use super::render::{check_buffer_size, readback_buffer};
 use super::passes::distance_maps::{buffers_bind_group, MapTexels, MapView, StepsUniform};
+use super::render::{check_buffer_size, readback_buffer};
 use crate::effects::distance_map::DistanceMap;
 use crate::scene::SearchSteps;
 
@@ -60,7 +60,9 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
     check_buffer_size(gpu, hits_bytes, "search hits")?;
     let params = SearchBatch { map: texels.views[0], steps: StepsUniform::new(steps), count: rays.len() as u32, pad: [0; 3] };
     let [pipeline] = compute_pipelines(device, "distance_search", None, ["cs_search"], "the distance-map search")?;
-    let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+    let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    };
     let params_buffer = buffer("search params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
     let texel_buffer = buffer("distance map", bytemuck::cast_slice(&texels.geometry), wgpu::BufferUsages::STORAGE);
     let ray_buffer = buffer("search rays", bytemuck::cast_slice(rays), wgpu::BufferUsages::STORAGE);
@@ -71,7 +73,8 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
         mapped_at_creation: false,
     });
     let readback = readback_buffer(gpu, hits_bytes)?;
-    let bind_group = buffers_bind_group(device, &pipeline.get_bind_group_layout(0), "distance-map search", &[&params_buffer, &ray_buffer, &hit_buffer]);
+    let bind_group =
+        buffers_bind_group(device, &pipeline.get_bind_group_layout(0), "distance-map search", &[&params_buffer, &ray_buffer, &hit_buffer]);
     let map_group = buffers_bind_group(device, &pipeline.get_bind_group_layout(1), "distance map", &[&texel_buffer]);
     let mut encoder = device.create_command_encoder(&Default::default());
     {

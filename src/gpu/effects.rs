@@ -84,7 +84,13 @@ impl MapFrames for GpuFrames<'_> {
 }
 
 /// Run the specular effects the scene names; counters go to `stats`.
-pub fn run_scene(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<EffectsRun> {
+pub fn run_scene(
+    scene: &Scene,
+    materials: &[SceneMaterial],
+    gpu: &Gpu,
+    stats: &mut RunStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<EffectsRun> {
     let mut run = EffectsRun::default();
     let Some(effects) = scene.effects.as_ref().filter(|e| e.reflection.is_some() || e.refraction.is_some()) else {
         return Ok(run);
@@ -93,11 +99,17 @@ pub fn run_scene(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &
     let settings = &effects.distance_maps;
     let meshes = SceneMeshes::upload(gpu, &stage)?;
     let renderer = MapRenderer::new(gpu, &stage)?;
-    let maps = renderer.allocate(gpu, &stage, settings.size, settings.layers).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+    let maps =
+        renderer.allocate(gpu, &stage, settings.size, settings.layers).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
     renderer.render(gpu, &stage, &meshes, &maps)?;
     stats.effects.cube_maps = maps.views.len();
     stats.effects.layers = settings.layers;
-    log(&format!("effects: {} distance maps of 6×{}² texels × {} layers rendered on the GPU", maps.views.len(), settings.size, settings.layers));
+    log(&format!(
+        "effects: {} distance maps of 6×{}² texels × {} layers rendered on the GPU",
+        maps.views.len(),
+        settings.size,
+        settings.layers
+    ));
     let mut pass = SpecularPass::new(gpu, &stage, scene.lut.size as usize)?;
     let methods = methods(scene);
     for depths in effects.depths() {
@@ -215,15 +227,26 @@ pub fn timing_table(rows: &[EffectTimingRow], adapter: &super::AdapterLine) -> T
     table
         .text("adapter", "adapter name as the driver reports it", text(&|_| adapter.name.clone()))
         .text("backend", "wgpu backend", text(&|_| adapter.backend.clone()))
-        .text("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
+        .text(
+            "timer",
+            "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)",
+            text(&|r| r.timer.name().into()),
+        )
         .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
         .text("effect", "shading pipeline: reflection (refraction compiled out) or refraction (both)", text(&|r| r.effect.name().into()));
-    configuration_columns(&mut table, rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }));
+    configuration_columns(
+        &mut table,
+        rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }),
+    );
     table
         .integer("cube_maps", "distance maps updated per frame (one per specular object)", integer(&|r| r.cube_maps as i64))
         .text("resolution", "shading target WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
         .integer("repeats", "timed passes of each kind (after warm-up)", integer(&|r| r.repeats as i64))
-        .float("map_update_ms", "median time of one update of every distance map (6 faces × layers render passes per map)", float(&|r| r.map_update_ms))
+        .float(
+            "map_update_ms",
+            "median time of one update of every distance map (6 faces × layers render passes per map)",
+            float(&|r| r.map_update_ms),
+        )
         .float("shading_ms", "median time of the shading pass (rasterise + bounce loop)", float(&|r| r.shading_ms))
         .float("shading_spread_ms", "interquartile range of the shading pass times", float(&|r| r.shading_spread_ms))
         .float("frame_ms", "map_update_ms + shading_ms: a frame whose objects move", float(&|r| r.map_update_ms + r.shading_ms));

@@ -169,7 +169,15 @@ impl Renderer {
         });
         let sampler = super::lut::sampler(gpu);
         let blank = super::lut::upload(gpu, &[[1.0, 1.0, 1.0, 1.0]], "blank").create_view(&Default::default());
-        Renderer { layout, pipeline_layout, sampler, blank, modules: HashMap::new(), pipelines: HashMap::new(), created: Created::default() }
+        Renderer {
+            layout,
+            pipeline_layout,
+            sampler,
+            blank,
+            modules: HashMap::new(),
+            pipelines: HashMap::new(),
+            created: Created::default(),
+        }
     }
 
     /// The pipeline for `shade` in `pass`, compiled on first use. Shader errors (a library
@@ -199,8 +207,13 @@ impl Renderer {
     fn create_pipeline(&self, gpu: &Gpu, shade: Shade, pass: Pass) -> wgpu::RenderPipeline {
         let module = &self.modules[&shade];
         let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let mesh_buffers = [Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &mesh_attributes })];
-        let additive = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+        let mesh_buffers =
+            [Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &mesh_attributes })];
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
         let mut blend = None;
         let (vertex_entry, fragment_entry, format, buffers, depth_stencil): (_, _, _, &[_], _) = match pass {
             Pass::Fullscreen(format) => ("vs_fullscreen", "fs_ramp", format, &[], None),
@@ -208,13 +221,7 @@ impl Renderer {
                 blend = Some(wgpu::BlendState { color: additive, alpha: additive });
                 ("vs_fullscreen", "fs_ramp", format, &[], None)
             }
-            Pass::Mesh => (
-                "vs_mesh",
-                "fs_mesh",
-                FLOAT_TARGET,
-                &mesh_buffers,
-                Some(depth_test()),
-            ),
+            Pass::Mesh => ("vs_mesh", "fs_mesh", FLOAT_TARGET, &mesh_buffers, Some(depth_test())),
         };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {:?}", shade.name(), pass)),
@@ -312,34 +319,46 @@ impl Target {
     }
 
     /// Begin a pass that clears colour to (0, 0, 0, 0) and depth to 1.
-    pub fn begin<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>) -> wgpu::RenderPass<'e> {
-        encoder
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("nklut pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.colour_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: self.depth_view.as_ref().map(|view| wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            })
+    pub fn begin<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("nklut pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.colour_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: self.depth_view.as_ref().map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
     }
 
     /// Copy the colour target (RGBA32Float) into `buffer` at `offset`.
     pub fn copy_out(&self, encoder: &mut wgpu::CommandEncoder, buffer: &wgpu::Buffer, offset: u64) {
         encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo { texture: &self.colour, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.colour,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
             wgpu::TexelCopyBufferInfo {
                 buffer,
-                layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(padded_row_bytes(self.width, 16)), rows_per_image: Some(self.height) },
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset,
+                    bytes_per_row: Some(padded_row_bytes(self.width, 16)),
+                    rows_per_image: Some(self.height),
+                },
             },
             wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
         );
@@ -420,7 +439,10 @@ mod tests {
             // Pure: its parameters come in as arguments, never from the bindings.
             let text = body(&name);
             for global in ["material", "view", "lut_texture", "lut_sampler"] {
-                assert!(!text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global), "{name} reads the global {global}");
+                assert!(
+                    !text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global),
+                    "{name} reads the global {global}"
+                );
             }
             let composed = compose(Shade::Method(method)).unwrap();
             assert!(composed.contains(LIBRARY));

@@ -30,9 +30,9 @@ use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, 
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use crate::db::Database;
 use crate::effects::experiment::EffectsStats;
+use crate::fresnel::Method;
 use crate::ingest;
 use crate::output::Table;
-use crate::fresnel::Method;
 use crate::scene::{read_materials, Experiment, MeshSource, Scene, SceneMaterial, Shading};
 use crate::spectrum::Kind;
 
@@ -65,7 +65,12 @@ impl fmt::Display for RunStats {
         write!(
             f,
             "{} pipelines compiled ({} shader modules), {} pages touched, {} textures baked, {} frames rendered, {} passes timed",
-            self.pipelines_compiled, self.shader_modules_compiled, self.pages_touched, self.textures_baked, self.frames_rendered, self.timed_passes
+            self.pipelines_compiled,
+            self.shader_modules_compiled,
+            self.pages_touched,
+            self.textures_baked,
+            self.frames_rendered,
+            self.timed_passes
         )?;
         let e = &self.effects;
         write!(
@@ -73,7 +78,11 @@ impl fmt::Display for RunStats {
             ", {} cube maps × {} layers, {} effect pipelines ({} with refraction), {} reference frames",
             e.cube_maps, e.layers, self.effect_pipelines, self.refraction_pipelines, e.reference_frames
         )?;
-        write!(f, ", {} surfels, {} tree nodes, {} AO passes, {} indirect bounces", e.surfels, e.tree_nodes, e.ao_passes, e.indirect_bounces)?;
+        write!(
+            f,
+            ", {} surfels, {} tree nodes, {} AO passes, {} indirect bounces",
+            e.surfels, e.tree_nodes, e.ao_passes, e.indirect_bounces
+        )?;
         for skipped in &self.skipped {
             write!(f, "\n  skipped: {skipped}")?;
         }
@@ -140,7 +149,13 @@ pub fn run(scene: &Scene, db: &Database, config: &ingest::Config, gpu: &Gpu, log
 
 /// Run `scene` with the channel indices already known (`material` ids of the scene map to
 /// these entries; used by `run` and by tests).
-pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, mut stats: RunStats, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+pub fn run_with_materials(
+    scene: &Scene,
+    materials: &[SceneMaterial],
+    gpu: &Gpu,
+    mut stats: RunStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<RunReport> {
     let specular_effects = scene.effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some());
     let effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?;
     if !specular_effects {
@@ -160,7 +175,13 @@ pub fn run_with_materials(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu,
 
 /// The F-only passes of a scene without specular effects: timing of F(c) on a fullscreen
 /// ramp and image error of F(|N·V|) on the bare objects.
-fn run_fresnel_only(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<(Vec<TimingRow>, Vec<ImageErrorRow>)> {
+fn run_fresnel_only(
+    scene: &Scene,
+    materials: &[SceneMaterial],
+    gpu: &Gpu,
+    stats: &mut RunStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<(Vec<TimingRow>, Vec<ImageErrorRow>)> {
     let mut renderer = Renderer::new(gpu);
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
@@ -200,12 +221,20 @@ fn run_fresnel_only(scene: &Scene, materials: &[SceneMaterial], gpu: &Gpu, stats
     Ok((timing, image_errors))
 }
 
-fn run_timing(scene: &Scene, bound: &HashMap<String, BoundMaterial>, gpu: &Gpu, renderer: &mut Renderer, stats: &mut RunStats, log: &mut dyn FnMut(&str)) -> Result<Vec<TimingRow>> {
+fn run_timing(
+    scene: &Scene,
+    bound: &HashMap<String, BoundMaterial>,
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    stats: &mut RunStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<TimingRow>> {
     let settings = &scene.timing;
     let [width, height] = settings.resolution;
     let target = Target::new(gpu, width, height, DISPLAY_TARGET, false)?;
     let mut stopwatch = Stopwatch::new(gpu)?;
-    let burner = if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
+    let burner =
+        if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
         "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
         settings.warmup,
@@ -226,11 +255,23 @@ fn run_timing(scene: &Scene, bound: &HashMap<String, BoundMaterial>, gpu: &Gpu, 
     for ((page, method), samples) in pairs.into_iter().zip(samples) {
         let (median_ms, spread_ms) = median_and_iqr(&samples);
         log(&format!("  {page} {method}: median {median_ms:.4} ms, IQR {spread_ms:.4} ms"));
-        rows.push(TimingRow { material: page, method, timer: stopwatch.timer(), resolution: settings.resolution, repeats: settings.repeats, median_ms, spread_ms, relative_to_exact_dielectric: None });
+        rows.push(TimingRow {
+            material: page,
+            method,
+            timer: stopwatch.timer(),
+            resolution: settings.resolution,
+            repeats: settings.repeats,
+            median_ms,
+            spread_ms,
+            relative_to_exact_dielectric: None,
+        });
     }
     stats.timed_passes += stopwatch.passes;
     // The study's normalisation: exact on a dielectric material.
-    let reference = rows.iter().find(|r| r.method == Shading::Fresnel(Method::Exact) && bound[&r.material].kind == Kind::Dielectric).map(|r| r.median_ms);
+    let reference = rows
+        .iter()
+        .find(|r| r.method == Shading::Fresnel(Method::Exact) && bound[&r.material].kind == Kind::Dielectric)
+        .map(|r| r.median_ms);
     match reference {
         Some(reference) => rows.iter_mut().for_each(|r| r.relative_to_exact_dielectric = Some(r.median_ms / reference)),
         None => stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into()),
@@ -262,7 +303,10 @@ fn run_image_error(
 ) -> Result<Vec<ImageErrorRow>> {
     let [width, height] = scene.resolution;
     let camera_path = &scene.camera;
-    log(&format!("image error: {width}x{height}, {} frames {}° apart around {:?} at {} m", camera_path.frames, camera_path.degrees_per_frame, camera_path.axis, camera_path.distance));
+    log(&format!(
+        "image error: {width}x{height}, {} frames {}° apart around {:?} at {} m",
+        camera_path.frames, camera_path.degrees_per_frame, camera_path.axis, camera_path.distance
+    ));
     let mut meshes: HashMap<MeshSource, GpuMesh> = HashMap::new();
     let mut rows = Vec::new();
     for (object, specular) in scene.specular_objects() {
@@ -281,8 +325,10 @@ fn run_image_error(
         // Sizes against the device's limits before any allocation: one readback of every
         // target (the reference and each method) per frame.
         let image_bytes = padded_row_bytes(width, 16) as u64 * height as u64;
-        let buffer = readback_buffer(gpu, image_bytes * (pipelines.len() as u64 + 1)).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
-        let targets = (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect::<Result<Vec<Target>>>()?;
+        let buffer = readback_buffer(gpu, image_bytes * (pipelines.len() as u64 + 1))
+            .map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
+        let targets =
+            (0..=pipelines.len()).map(|_| Target::new(gpu, width, height, FLOAT_TARGET, true)).collect::<Result<Vec<Target>>>()?;
         let mut summaries = vec![ErrorSummary::default(); pipelines.len()];
         for frame in 0..camera_path.frames {
             let view = ViewUniform::camera(&camera::frame(camera_path, frame, width, height), width, height);
@@ -374,10 +420,18 @@ pub fn image_error_table(report: &RunReport) -> Table {
         .text("object", "mesh: cube, sphere or the OBJ file stem", text(&|r| r.object.clone()))
         .integer("frames", "frames of the camera orbit", rows.iter().map(|r| r.frames as i64).collect())
         .text("resolution", "render target WxH in pixels", text(&|r| resolution_text(r.resolution)))
-        .float("mean_rel_error", "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render)", rows.iter().map(|r| r.mean_rel_error).collect())
+        .float(
+            "mean_rel_error",
+            "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render)",
+            rows.iter().map(|r| r.mean_rel_error).collect(),
+        )
         .float("max_rel_error", "largest |a - r| / r of any covered pixel and channel", rows.iter().map(|r| r.max_rel_error).collect())
         .integer("pixels", "covered pixels summed over frames", rows.iter().map(|r| r.pixels as i64).collect())
-        .integer("skipped_zero_reference", "covered pixel channels with r = 0, left out of the error", rows.iter().map(|r| r.skipped_zero_reference as i64).collect());
+        .integer(
+            "skipped_zero_reference",
+            "covered pixel channels with r = 0, left out of the error",
+            rows.iter().map(|r| r.skipped_zero_reference as i64).collect(),
+        );
     table
 }
 
@@ -399,6 +453,10 @@ pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
         tables.push((image_error_table(report), "image_errors"));
     }
     let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
-    let files: Vec<&dyn crate::output::SetContent> = streamed.iter().map(|f| f as &dyn crate::output::SetContent).chain(frames.iter().map(|f| f as &dyn crate::output::SetContent)).collect();
+    let files: Vec<&dyn crate::output::SetContent> = streamed
+        .iter()
+        .map(|f| f as &dyn crate::output::SetContent)
+        .chain(frames.iter().map(|f| f as &dyn crate::output::SetContent))
+        .collect();
     crate::output::publish_contents(out, "gpu", &files)
 }

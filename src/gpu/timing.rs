@@ -58,7 +58,11 @@ pub struct Stopwatch {
 impl Stopwatch {
     pub fn new(gpu: &Gpu) -> anyhow::Result<Self> {
         let queries = gpu.timestamps.then(|| -> anyhow::Result<_> {
-            let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 });
+            let set = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            });
             let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps"),
                 size: 16,
@@ -135,7 +139,14 @@ impl Stopwatch {
     /// Samples of every configuration, interleaved: `settings.warmup` untimed rounds, then
     /// `settings.repeats` rounds that each take one sample of every configuration in turn,
     /// so a change in background load over the run affects all configurations alike.
-    pub fn measure_interleaved(&mut self, gpu: &Gpu, target: &Target, measured: &[Draw<'_>], burner: Option<&wgpu::RenderPipeline>, settings: &TimingSettings) -> Result<Vec<Vec<f64>>> {
+    pub fn measure_interleaved(
+        &mut self,
+        gpu: &Gpu,
+        target: &Target,
+        measured: &[Draw<'_>],
+        burner: Option<&wgpu::RenderPipeline>,
+        settings: &TimingSettings,
+    ) -> Result<Vec<Vec<f64>>> {
         let mut samples = vec![Vec::with_capacity(settings.repeats as usize); measured.len()];
         for round in 0..settings.warmup + settings.repeats {
             for (draw, out) in measured.iter().zip(&mut samples) {

@@ -113,9 +113,10 @@ pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<GltfScene> {
     while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
-    let (min, max) = sphere.positions.iter().fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), p| {
-        ([0, 1, 2].map(|i| lo[i].min(p[i])), [0, 1, 2].map(|i| hi[i].max(p[i])))
-    });
+    let (min, max) = sphere
+        .positions
+        .iter()
+        .fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), p| ([0, 1, 2].map(|i| lo[i].min(p[i])), [0, 1, 2].map(|i| hi[i].max(p[i]))));
     let columns = (pages.len() as f64).sqrt().ceil() as usize;
     let mut used: Vec<&str> = Vec::new();
     let mut materials = Vec::new();

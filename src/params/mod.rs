@@ -39,7 +39,6 @@ pub fn reference(material: &Material, memo: &CurveMemo) -> Reference {
     Reference::from_curve(&prepared, &memo.curve(Fingerprint::of_spectrum(&spectrum), &prepared, &rule.cosines))
 }
 
-
 /// Wall-clock seconds of the two stages of [`compute`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ParamsTimings {
@@ -58,7 +57,8 @@ pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings, memo: &CurveMemo)
     timings.reference_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let rule = color::angle_quadrature();
-    let params: Vec<EngineParams> = crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule));
+    let params: Vec<EngineParams> =
+        crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule));
     timings.parameters_s = start.elapsed().as_secs_f64();
     Ok(positions.into_iter().map(|i| params[i].clone()).collect())
 }
@@ -75,7 +75,8 @@ pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, ou
     let memo = CurveMemo::load(out);
     let params = compute(&ingested.kept, &mut timings, &memo)?;
     let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
-    let pages: Vec<mtlx::ExportPage> = ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
+    let pages: Vec<mtlx::ExportPage> =
+        ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
     let scene = gltf::scene(&pages, "materials.bin")?;
     files.push(SetFile::new("materials.bin", scene.bin));

@@ -167,7 +167,11 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
         let _ = writeln!(w.text, "    <input name=\"{output}\" type=\"color3\" nodename=\"{artistic}_ior\" output=\"{output}\" />");
     }
     let _ = writeln!(w.text, "  </conductor_bsdf>");
-    w.material_from_bsdf(&artistic, &format!("{artistic}_bsdf"), &format!("{title}: Gulbrandsen reflectivity and edge tint through artistic_ior"));
+    w.material_from_bsdf(
+        &artistic,
+        &format!("{artistic}_bsdf"),
+        &format!("{title}: Gulbrandsen reflectivity and edge tint through artistic_ior"),
+    );
 
     let schlick = format!("{name}_generalized_schlick");
     let g = &p.generalized_schlick;
@@ -182,7 +186,11 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
             ("exponent", "float", g.exponent.to_string()),
         ],
     );
-    w.material_from_bsdf(&schlick, &format!("{schlick}_bsdf"), &format!("{title}: Hoffman generalized Schlick fitted to the spectral curve"));
+    w.material_from_bsdf(
+        &schlick,
+        &format!("{schlick}_bsdf"),
+        &format!("{title}: Hoffman generalized Schlick fitted to the spectral curve"),
+    );
 }
 
 /// The whole document, pages in the given order.

@@ -42,7 +42,14 @@ pub enum EngineModel {
 }
 
 impl EngineModel {
-    pub const ALL: [EngineModel; 6] = [EngineModel::Schlick, EngineModel::F82Tint, EngineModel::Gulbrandsen, EngineModel::GeneralizedSchlick, EngineModel::FittedNk, EngineModel::GltfIor];
+    pub const ALL: [EngineModel; 6] = [
+        EngineModel::Schlick,
+        EngineModel::F82Tint,
+        EngineModel::Gulbrandsen,
+        EngineModel::GeneralizedSchlick,
+        EngineModel::FittedNk,
+        EngineModel::GltfIor,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -59,10 +66,18 @@ impl EngineModel {
     pub fn engines(self) -> &'static str {
         match self {
             EngineModel::Schlick => "F0 alone with Schlick's (1 - mu)^5 curve: glTF metallic-roughness, Unreal, Unity, Filament",
-            EngineModel::F82Tint => "F0 + F82 tint (Hoffman): OpenPBR specular_color, Adobe Standard Material edge color, Blender 4 Principled specular tint",
-            EngineModel::Gulbrandsen => "Gulbrandsen reflectivity + edge tint -> (n, k) -> exact Fresnel: MaterialX artistic_ior, Autodesk Standard Surface",
-            EngineModel::GeneralizedSchlick => "Hoffman generalized Schlick (color0, color82, color90 = 1, one exponent): MaterialX generalized_schlick_bsdf",
-            EngineModel::FittedNk => "exact Fresnel of the fitted per-channel (n, k): MaterialX conductor_bsdf, Blender physical conductor, pbrt/Mitsuba RGB",
+            EngineModel::F82Tint => {
+                "F0 + F82 tint (Hoffman): OpenPBR specular_color, Adobe Standard Material edge color, Blender 4 Principled specular tint"
+            }
+            EngineModel::Gulbrandsen => {
+                "Gulbrandsen reflectivity + edge tint -> (n, k) -> exact Fresnel: MaterialX artistic_ior, Autodesk Standard Surface"
+            }
+            EngineModel::GeneralizedSchlick => {
+                "Hoffman generalized Schlick (color0, color82, color90 = 1, one exponent): MaterialX generalized_schlick_bsdf"
+            }
+            EngineModel::FittedNk => {
+                "exact Fresnel of the fitted per-channel (n, k): MaterialX conductor_bsdf, Blender physical conductor, pbrt/Mitsuba RGB"
+            }
             EngineModel::GltfIor => "dielectrics: Schlick with F0 = ((n_d - 1)/(n_d + 1))^2, how glTF viewers render KHR_materials_ior",
         }
     }
@@ -171,7 +186,12 @@ pub fn dielectric(material: &Material) -> Option<Dielectric> {
     let n_at = |nm: f64| spectrum::index_at(&material.data, nm).ok().map(|i| i.n);
     let n_d = n_at(D_LINE_NM)?;
     let (n_f, n_c) = (n_at(F_LINE_NM), n_at(C_LINE_NM));
-    let abbe = n_f.zip(n_c).map(|(f, c)| f - c).filter(|dispersion| *dispersion > 0.0).map(|dispersion| (n_d - 1.0) / dispersion).filter(|v| v.is_finite());
+    let abbe = n_f
+        .zip(n_c)
+        .map(|(f, c)| f - c)
+        .filter(|dispersion| *dispersion > 0.0)
+        .map(|dispersion| (n_d - 1.0) / dispersion)
+        .filter(|v| v.is_finite());
     Some(Dielectric { n_d, n_f, n_c, abbe, gltf_f0: fresnel::schlick_f0(n_d, 0.0) })
 }
 
@@ -203,7 +223,10 @@ pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQua
         dielectric,
         errors: Vec::new(),
     };
-    params.errors = EngineModel::ALL.iter().filter_map(|&m| model_curve(&params, m, &rule.cosines).map(|curve| model_error(m, &curve, reference, rule))).collect();
+    params.errors = EngineModel::ALL
+        .iter()
+        .filter_map(|&m| model_curve(&params, m, &rule.cosines).map(|curve| model_error(m, &curve, reference, rule)))
+        .collect();
     params
 }
 
@@ -232,7 +255,8 @@ pub fn model_curve(params: &EngineParams, model: EngineModel, cosines: &[f64]) -
 /// CIEDE2000 and relative errors of a model curve (at `rule.cosines`) against the reference.
 pub fn model_error(model: EngineModel, curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> ModelError {
     let weights = color::spectral_weights();
-    let delta_e: Vec<f64> = curve.iter().zip(&reference.lab_at_nodes).map(|(rgb, lab)| color::delta_e2000(weights.lab(*rgb), *lab)).collect();
+    let delta_e: Vec<f64> =
+        curve.iter().zip(&reference.lab_at_nodes).map(|(rgb, lab)| color::delta_e2000(weights.lab(*rgb), *lab)).collect();
     ModelError {
         model,
         delta_e_mean: rule.mean(delta_e.iter().copied()),
@@ -326,7 +350,8 @@ mod tests {
     #[test]
     fn abbe_number_of_a_cauchy_glass_by_hand() {
         // Cauchy n = 1.5 + 0.005 / λ² (λ in µm), formula 5: n = C1 + C2 λ^C3.
-        let data = parse_page("c.yml", "DATA:\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 1.5 0.005 -2\n").unwrap();
+        let data =
+            parse_page("c.yml", "DATA:\n  - type: formula 5\n    wavelength_range: 0.3 1.0\n    coefficients: 1.5 0.005 -2\n").unwrap();
         let material = evaluate(data, &Channels::default(), crate::spectrum::Coverage::default()).unwrap();
         let d = dielectric(&material).unwrap();
         let n = |um: f64| 1.5 + 0.005 / (um * um);

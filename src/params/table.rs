@@ -4,8 +4,8 @@
 
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
 use super::page::{EngineModel, EngineParams, C_LINE_NM, D_LINE_NM, F_LINE_NM};
-use crate::color::hex_swatch;
 use crate::color::angle_average::{NODES, PANELS};
+use crate::color::hex_swatch;
 use crate::ingest::KeptPage;
 use crate::output::Table;
 
@@ -69,8 +69,16 @@ fn f0_columns(table: &mut Table, rows: &[EngineParams]) {
         );
     }
     table.text("f0_srgb_hex", "the same 8-bit sRGB colour as #rrggbb", rows.iter().map(|p| hex_swatch(p.f0)).collect());
-    table.boolean("f0_out_of_gamut", "f0_linear has a channel outside [0,1] (clamped in f0_srgb8 and in the MaterialX/glTF exports)", rows.iter().map(|p| p.f0_out_of_gamut()).collect());
-    table.boolean("f0_acescg_out_of_gamut", "f0_acescg has a channel outside [0,1]", rows.iter().map(|p| p.f0_acescg_out_of_gamut()).collect());
+    table.boolean(
+        "f0_out_of_gamut",
+        "f0_linear has a channel outside [0,1] (clamped in f0_srgb8 and in the MaterialX/glTF exports)",
+        rows.iter().map(|p| p.f0_out_of_gamut()).collect(),
+    );
+    table.boolean(
+        "f0_acescg_out_of_gamut",
+        "f0_acescg has a channel outside [0,1]",
+        rows.iter().map(|p| p.f0_acescg_out_of_gamut()).collect(),
+    );
 }
 
 fn model_columns(table: &mut Table, rows: &[EngineParams]) {
@@ -90,7 +98,11 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
         "b of the F82-tint model, b = F_Schlick(mu_bar) (1 - tint) / (mu_bar (1-mu_bar)^6): the coefficient a shader evaluates",
         |p, c| p.f82[c].b,
     );
-    table.boolean("f82_tint_above_one", "some f82_tint channel exceeds 1 (Blender and OpenPBR UIs clamp it to 1; the exports clamp it)", rows.iter().map(|p| p.f82.iter().any(|f| f.tint > 1.0)).collect());
+    table.boolean(
+        "f82_tint_above_one",
+        "some f82_tint channel exceeds 1 (Blender and OpenPBR UIs clamp it to 1; the exports clamp it)",
+        rows.iter().map(|p| p.f82.iter().any(|f| f.tint > 1.0)).collect(),
+    );
     per_channel(
         table,
         rows,
@@ -149,8 +161,12 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
          Extinction, pbrt/Mitsuba RGB conductor k",
         |p, c| p.fitted[c].index.k,
     );
-    per_channel(table, rows, "channel_n", "n at the channel wavelength (three-wavelength index of materials.csv)", |p, c| p.channel_index[c].n);
-    per_channel(table, rows, "channel_k", "k at the channel wavelength (three-wavelength index of materials.csv)", |p, c| p.channel_index[c].k);
+    per_channel(table, rows, "channel_n", "n at the channel wavelength (three-wavelength index of materials.csv)", |p, c| {
+        p.channel_index[c].n
+    });
+    per_channel(table, rows, "channel_k", "k at the channel wavelength (three-wavelength index of materials.csv)", |p, c| {
+        p.channel_index[c].k
+    });
 }
 
 fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
@@ -162,10 +178,26 @@ fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
         &format!("dielectrics: n at the d line {D_LINE_NM} nm (empty for conductors, and where the data do not reach the d line; then no gltf_ior model either). Paste into: glTF KHR_materials_ior ior, OpenPBR specular_ior, Blender IOR, Unreal refraction"),
         |p| d(p).map(|x| x.n_d),
     );
-    optional(table, rows, "n_F", &format!("dielectrics: n at the F line {F_LINE_NM} nm (empty where the data do not reach it)"), |p| d(p).and_then(|x| x.n_f));
-    optional(table, rows, "n_C", &format!("dielectrics: n at the C line {C_LINE_NM} nm (empty where the data do not reach it)"), |p| d(p).and_then(|x| x.n_c));
-    optional(table, rows, "abbe_d", "dielectrics: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion) or a line is missing", |p| d(p).and_then(|x| x.abbe));
-    optional(table, rows, "gltf_ior_f0", "dielectrics: ((n_d - 1)/(n_d + 1))^2, the F0 a glTF viewer derives from KHR_materials_ior", |p| d(p).map(|x| x.gltf_f0));
+    optional(table, rows, "n_F", &format!("dielectrics: n at the F line {F_LINE_NM} nm (empty where the data do not reach it)"), |p| {
+        d(p).and_then(|x| x.n_f)
+    });
+    optional(table, rows, "n_C", &format!("dielectrics: n at the C line {C_LINE_NM} nm (empty where the data do not reach it)"), |p| {
+        d(p).and_then(|x| x.n_c)
+    });
+    optional(
+        table,
+        rows,
+        "abbe_d",
+        "dielectrics: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion) or a line is missing",
+        |p| d(p).and_then(|x| x.abbe),
+    );
+    optional(
+        table,
+        rows,
+        "gltf_ior_f0",
+        "dielectrics: ((n_d - 1)/(n_d + 1))^2, the F0 a glTF viewer derives from KHR_materials_ior",
+        |p| d(p).map(|x| x.gltf_f0),
+    );
 }
 
 fn error_columns(table: &mut Table, rows: &[EngineParams]) {
@@ -177,7 +209,11 @@ fn error_columns(table: &mut Table, rows: &[EngineParams]) {
             table,
             rows,
             &format!("{name}_de2000_mean"),
-            &format!("{}{applies}: mean over {} of CIEDE2000 between the model's colour and the spectral reference colour (CIELAB, D65 white)", model.engines(), quadrature_words()),
+            &format!(
+                "{}{applies}: mean over {} of CIEDE2000 between the model's colour and the spectral reference colour (CIELAB, D65 white)",
+                model.engines(),
+                quadrature_words()
+            ),
             |p| error(p).map(|e| e.delta_e_mean),
         );
         optional(

@@ -45,12 +45,7 @@ fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 const THETA_TICKS: [f64; 4] = [0.0, 30.0, 60.0, 90.0];
 const THETA_NAME: &str = "angle of incidence θ (°)";
 
-fn line<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-    points: Vec<(f64, f64)>,
-    color: RGBColor,
-    dashed: bool,
-) -> Result<()>
+fn line<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>, points: Vec<(f64, f64)>, color: RGBColor, dashed: bool) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
@@ -75,10 +70,8 @@ where
     DB::ErrorType: 'static,
 {
     let (origin_x, origin_y) = area.get_base_pixel();
-    let style = TextStyle::from(FONT).pos(plotters::style::text_anchor::Pos::new(
-        plotters::style::text_anchor::HPos::Center,
-        plotters::style::text_anchor::VPos::Top,
-    ));
+    let style = TextStyle::from(FONT)
+        .pos(plotters::style::text_anchor::Pos::new(plotters::style::text_anchor::HPos::Center, plotters::style::text_anchor::VPos::Top));
     for tick in THETA_TICKS {
         let (x, y) = chart.backend_coord(&(tick, 0.0));
         let (x, y) = (x - origin_x, y - origin_y);
@@ -165,8 +158,12 @@ pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> 
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         let mut chart = theta_chart(&root, None, 190, top, "colour difference ΔE2000", &|v| format!("{v:.0}"))?;
-        chart.draw_series(std::iter::once(Rectangle::new([(0.0, 2.0), (90.0, 3.0)], RGBColor(255, 220, 200).mix(0.6).filled()))).map_err(plot_error)?;
-        chart.draw_series(LineSeries::new(vec![(0.0, 1.0), (90.0, 1.0)], ShapeStyle::from(&PALETTE[7]).stroke_width(CURVE_WIDTH))).map_err(plot_error)?;
+        chart
+            .draw_series(std::iter::once(Rectangle::new([(0.0, 2.0), (90.0, 3.0)], RGBColor(255, 220, 200).mix(0.6).filled())))
+            .map_err(plot_error)?;
+        chart
+            .draw_series(LineSeries::new(vec![(0.0, 1.0), (90.0, 1.0)], ShapeStyle::from(&PALETTE[7]).stroke_width(CURVE_WIDTH)))
+            .map_err(plot_error)?;
         for s in series {
             line(&mut chart, theta_deg.iter().copied().zip(s.values.iter().copied()).collect(), s.curve.color, s.curve.dashed)?;
         }
@@ -212,7 +209,8 @@ fn overlaps(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> bool {
 /// labelled (each label placed where it overlaps no earlier one); every point has a
 /// hover title. Points with error 0 are drawn at the axis floor as open triangles.
 pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> Result<CostChart> {
-    let drawn: Vec<&CostPoint> = points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error >= 0.0 && p.error.is_finite()).collect();
+    let drawn: Vec<&CostPoint> =
+        points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error >= 0.0 && p.error.is_finite()).collect();
     let positive: Vec<f64> = drawn.iter().map(|p| p.error).filter(|e| *e > 0.0).collect();
     if positive.is_empty() {
         return Ok(CostChart { svg: String::new(), at_floor: Vec::new() });
@@ -252,10 +250,16 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
             if p.error > 0.0 {
                 chart.draw_series(std::iter::once(Circle::new(at(p), 4, ShapeStyle::from(&color).filled()))).map_err(plot_error)?;
             } else {
-                chart.draw_series(std::iter::once(TriangleMarker::new(at(p), 6, ShapeStyle::from(&color).stroke_width(2)))).map_err(plot_error)?;
+                chart
+                    .draw_series(std::iter::once(TriangleMarker::new(at(p), 6, ShapeStyle::from(&color).stroke_width(2))))
+                    .map_err(plot_error)?;
             }
             let (x, y) = chart.backend_coord(&at(p));
-            let _ = write!(titles, "<circle cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"transparent\"><title>{}</title></circle>", super::html::escape(&p.label));
+            let _ = write!(
+                titles,
+                "<circle cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"transparent\"><title>{}</title></circle>",
+                super::html::escape(&p.label)
+            );
         }
         let area = chart.plotting_area().get_pixel_range();
         let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
@@ -264,9 +268,13 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
         for p in front_points {
             let (x, y) = chart.backend_coord(&at(p));
             let width = label_box(&p.label, 0, 0).2;
-            let candidates = [(x + 8, y - 6), (x + 8, y + 18), (x - width - 8, y - 6), (x - width - 8, y + 18), (x + 8, y - 24), (x + 8, y + 36)];
+            let candidates =
+                [(x + 8, y - 6), (x + 8, y + 18), (x - width - 8, y - 6), (x - width - 8, y + 18), (x + 8, y - 24), (x + 8, y + 36)];
             let inside = |b: (i32, i32, i32, i32)| b.0 >= area.0.start && b.2 <= area.0.end && b.1 >= area.1.start && b.3 <= area.1.end;
-            let choice = candidates.iter().map(|&(lx, ly)| (lx, ly, label_box(&p.label, lx, ly))).find(|(_, _, b)| inside(*b) && !placed.iter().any(|q| overlaps(*q, *b)));
+            let choice = candidates
+                .iter()
+                .map(|&(lx, ly)| (lx, ly, label_box(&p.label, lx, ly)))
+                .find(|(_, _, b)| inside(*b) && !placed.iter().any(|q| overlaps(*q, *b)));
             if let Some((lx, ly, b)) = choice {
                 placed.push(b);
                 root.draw(&Text::new(p.label.clone(), (lx, ly - FONT_PX as i32), FONT)).map_err(plot_error)?;

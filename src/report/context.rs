@@ -64,7 +64,9 @@ impl<'a> Context<'a> {
 
 /// The three channel indices of a row with columns `n_<channel>`/`k_<channel>`.
 pub fn three_channel_index(table: &CsvTable, row: &[String]) -> ChannelIndex {
-    CHANNEL_NAMES.map(|c| Index::new(table.number(row, &format!("n_{c}")).unwrap_or(f64::NAN), table.number(row, &format!("k_{c}")).unwrap_or(f64::NAN)))
+    CHANNEL_NAMES.map(|c| {
+        Index::new(table.number(row, &format!("n_{c}")).unwrap_or(f64::NAN), table.number(row, &format!("k_{c}")).unwrap_or(f64::NAN))
+    })
 }
 
 /// Per-channel values of `<prefix>_r`, `_g`, `_b`.

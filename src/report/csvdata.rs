@@ -32,10 +32,7 @@ impl CsvTable {
     pub fn parse(bytes: &[u8]) -> Result<Self> {
         let mut reader = csv::Reader::from_reader(bytes);
         let headers: Vec<String> = reader.headers()?.iter().map(str::to_string).collect();
-        let rows = reader
-            .records()
-            .map(|r| r.map(|r| r.iter().map(str::to_string).collect()))
-            .collect::<Result<Vec<Vec<String>>, _>>()?;
+        let rows = reader.records().map(|r| r.map(|r| r.iter().map(str::to_string).collect())).collect::<Result<Vec<Vec<String>>, _>>()?;
         let index = headers.iter().enumerate().map(|(i, h)| (h.clone(), i)).collect();
         Ok(Self { headers, rows, index })
     }
@@ -193,7 +190,10 @@ mod tests {
         for pieces in [1, 2, 3, 8, 5000] {
             let cuts = record_pieces(text.as_bytes(), 15, pieces);
             assert!(cuts.windows(2).all(|w| w[0] < w[1]), "{pieces}: {cuts:?}");
-            let records: usize = cuts.windows(2).map(|w| csv::ReaderBuilder::new().has_headers(false).from_reader(&text.as_bytes()[w[0]..w[1]]).records().count()).sum();
+            let records: usize = cuts
+                .windows(2)
+                .map(|w| csv::ReaderBuilder::new().has_headers(false).from_reader(&text.as_bytes()[w[0]..w[1]]).records().count())
+                .sum();
             assert_eq!(records, 2000, "{pieces} pieces");
         }
     }

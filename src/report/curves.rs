@@ -65,9 +65,16 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64], fits: &FitMemo) ->
 /// The curves of a material: the spectral reference (from the page's spectrum on the
 /// 1 nm grid), exact Fresnel with the fitted indices when fitted, then exact and every
 /// approximation with the three-channel indices.
-pub fn material_curves(spectrum: &[Index], three_channel: &ChannelIndex, fitted: Option<&ChannelIndex>, theta_deg: &[f64], fits: &FitMemo) -> Vec<PlotCurve> {
+pub fn material_curves(
+    spectrum: &[Index],
+    three_channel: &ChannelIndex,
+    fitted: Option<&ChannelIndex>,
+    theta_deg: &[f64],
+    fits: &FitMemo,
+) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
-    let mut curves = vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
+    let mut curves =
+        vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
     if let Some(fitted) = fitted {
         let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();

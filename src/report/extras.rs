@@ -38,8 +38,14 @@ fn generic_table(table: &CsvTable) -> TableText {
 
 /// The gallery's tables and the command that writes each.
 const GALLERY: [(&str, &str); 4] = [
-    ("effects_errors.csv", "multiple reflections and refractions: image error per depth and step counts (`make effects` on the CPU, `make gpu` on the GPU)"),
-    ("effects_timing.csv", "multiple reflections and refractions: GPU time of the map update and the shading pass per configuration (`make gpu`)"),
+    (
+        "effects_errors.csv",
+        "multiple reflections and refractions: image error per depth and step counts (`make effects` on the CPU, `make gpu` on the GPU)",
+    ),
+    (
+        "effects_timing.csv",
+        "multiple reflections and refractions: GPU time of the map update and the shading pass per configuration (`make gpu`)",
+    ),
     ("ao_errors.csv", "ambient occlusion: error per passes and hierarchy (`make effects`)"),
     ("ao_timing.csv", "ambient occlusion: GPU time against surfel count (`make effects`)"),
 ];
@@ -78,7 +84,8 @@ pub fn gallery(inputs: &Inputs, frames: &[String]) -> (String, String) {
     let mut html = String::from("<h2 id=\"effects\">Effects gallery</h2>\n");
     let mut markdown = String::from("\n## Effects gallery\n\n");
     for (name, what) in GALLERY {
-        let found: Vec<(&String, &CsvTable)> = inputs.extra.iter().filter(|(path, _)| *path == name || path.ends_with(&format!("/{name}"))).collect();
+        let found: Vec<(&String, &CsvTable)> =
+            inputs.extra.iter().filter(|(path, _)| *path == name || path.ends_with(&format!("/{name}"))).collect();
         if found.is_empty() {
             let _ = writeln!(html, "<p class=\"absent\"><code>{}</code> is absent: {}.</p>", escape(name), escape(what));
             let _ = writeln!(markdown, "`{name}` is absent: {what}.\n");
@@ -94,7 +101,13 @@ pub fn gallery(inputs: &Inputs, frames: &[String]) -> (String, String) {
     } else {
         html.push_str("<div class=\"frames\">");
         for frame in frames {
-            let _ = write!(html, "<figure><img loading=\"lazy\" src=\"../{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>", href(frame), escape(frame), escape(frame));
+            let _ = write!(
+                html,
+                "<figure><img loading=\"lazy\" src=\"../{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>",
+                href(frame),
+                escape(frame),
+                escape(frame)
+            );
         }
         html.push_str("</div>\n");
     }

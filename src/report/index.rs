@@ -106,7 +106,13 @@ fn overview(b: &mut Builder, inputs: &inputs::Inputs) {
     b.heading(2, "overview", "Overview");
     let kept = inputs::rows("materials.csv", &inputs.materials);
     let excluded = inputs::rows("excluded.csv", &inputs.excluded);
-    b.counted(&[t("Pages kept: "), Part::Count(kept), t("; excluded: "), Part::Count(excluded), t(" (each with its reason, file and line in excluded.csv).")]);
+    b.counted(&[
+        t("Pages kept: "),
+        Part::Count(kept),
+        t("; excluded: "),
+        Part::Count(excluded),
+        t(" (each with its reason, file and line in excluded.csv)."),
+    ]);
     let mut reasons = TableText::new(&["exclusion reason", "pages"]);
     for count in inputs::exclusions_by_reason(&inputs.excluded) {
         let reason = count.key.trim_start_matches("reason=").to_string();
@@ -144,7 +150,8 @@ fn cost_rows(cost: &CsvTable) -> Vec<CostRow> {
 
 /// Pareto flags over (cost, error); points without a finite cost are never on the front.
 fn front(points: &[(f64, f64)]) -> Vec<bool> {
-    let finite: Vec<(f64, f64)> = points.iter().map(|&(c, e)| if c.is_finite() && e.is_finite() { (c, e) } else { (f64::INFINITY, f64::INFINITY) }).collect();
+    let finite: Vec<(f64, f64)> =
+        points.iter().map(|&(c, e)| if c.is_finite() && e.is_finite() { (c, e) } else { (f64::INFINITY, f64::INFINITY) }).collect();
     charts::pareto_front(&finite).into_iter().zip(points).map(|(on, p)| on && p.0.is_finite() && p.1.is_finite()).collect()
 }
 
@@ -169,7 +176,15 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
     let gpu = gpu_medians(inputs);
     let methods: Vec<&CostRow> = rows.iter().filter(|r| r.method != "lut" || r.variant.starts_with("N=256,")).collect();
     let flags = front(&methods.iter().map(|r| (r.ns_per_eval, r.mean)).collect::<Vec<_>>());
-    let mut table = TableText::new(&["method", "variant", "mean relative error", "median relative error", "CPU ns/eval", "GPU ms (median)", "Pareto (CPU)"]);
+    let mut table = TableText::new(&[
+        "method",
+        "variant",
+        "mean relative error",
+        "median relative error",
+        "CPU ns/eval",
+        "GPU ms (median)",
+        "Pareto (CPU)",
+    ]);
     for (r, &on) in methods.iter().zip(&flags) {
         table.row(vec![
             r.method.clone(),
@@ -181,7 +196,11 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
             if on { "yes".into() } else { String::new() },
         ]);
     }
-    let points: Vec<CostPoint> = methods.iter().zip(&flags).map(|(r, &pareto)| CostPoint { label: short_label(&r.method, &r.variant), cost: r.ns_per_eval, error: r.mean, pareto }).collect();
+    let points: Vec<CostPoint> = methods
+        .iter()
+        .zip(&flags)
+        .map(|(r, &pareto)| CostPoint { label: short_label(&r.method, &r.variant), cost: r.ns_per_eval, error: r.mean, pareto })
+        .collect();
     if points.iter().any(|p| p.cost.is_finite()) {
         let chart = charts::cost_chart(&points, "CPU time per evaluation (ns)", (900, 460))?;
         b.figure(&chart.svg, &format!("Mean relative error over materials against CPU time per evaluation; the Pareto front is joined and labelled, every point is in the table below and named on hover.{}", floor_note(&chart.at_floor)));
@@ -191,7 +210,11 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
     b.table(&table, "cost");
     match &inputs.gpu_timing {
         Some(t) if !gpu.is_empty() => {
-            let mut adapters: Vec<String> = t.rows.iter().map(|r| format!("{} ({}, {} timer)", t.text(r, "adapter"), t.text(r, "driver"), t.text(r, "timer"))).collect();
+            let mut adapters: Vec<String> = t
+                .rows
+                .iter()
+                .map(|r| format!("{} ({}, {} timer)", t.text(r, "adapter"), t.text(r, "driver"), t.text(r, "timer")))
+                .collect();
             adapters.dedup();
             let software = adapters.iter().any(|a| a.contains("llvmpipe") || a.contains("lavapipe") || a.contains("SwiftShader"));
             b.paragraph(&format!(
@@ -216,13 +239,25 @@ fn lut_cost(b: &mut Builder, rows: &[CostRow]) -> Result<()> {
     let points: Vec<CostPoint> = luts
         .iter()
         .zip(&flags)
-        .map(|(r, &pareto)| CostPoint { label: r.variant.trim_end_matches(",f64").to_string(), cost: r.texture_bytes, error: r.mean, pareto })
+        .map(|(r, &pareto)| CostPoint {
+            label: r.variant.trim_end_matches(",f64").to_string(),
+            cost: r.texture_bytes,
+            error: r.mean,
+            pareto,
+        })
         .collect();
     let chart = charts::cost_chart(&points, "texture size (bytes: N texels × 3 channels)", (900, 460))?;
     b.figure(&chart.svg, &format!("LUT mean relative error over materials against texture size; the Pareto front is joined and labelled, the rest are in the table and named on hover.{}", floor_note(&chart.at_floor)));
-    let mut table = TableText::new(&["LUT (texels, encoding)", "texture bytes", "mean relative error", "median relative error", "Pareto (bytes)"]);
+    let mut table =
+        TableText::new(&["LUT (texels, encoding)", "texture bytes", "mean relative error", "median relative error", "Pareto (bytes)"]);
     for (r, &on) in luts.iter().zip(&flags) {
-        table.row(vec![r.variant.trim_end_matches(",f64").to_string(), format!("{}", r.texture_bytes), percent(r.mean), percent(r.median), if on { "yes".into() } else { String::new() }]);
+        table.row(vec![
+            r.variant.trim_end_matches(",f64").to_string(),
+            format!("{}", r.texture_bytes),
+            percent(r.mean),
+            percent(r.median),
+            if on { "yes".into() } else { String::new() },
+        ]);
     }
     b.table(&table, "lut-cost");
     Ok(())
@@ -311,7 +346,11 @@ fn summaries(b: &mut Builder, ctx: &Context) {
     }
     b.heading(3, "unusual", "Unusual values");
     let sparse = inputs.materials.rows_where("sparse", "true").count();
-    b.counted(&[t("Kept pages with tabulated rows more than 50 nm apart in 390–700 nm (materials.csv, sparse): "), Part::Count(Count { table: "materials.csv", key: "sparse".into(), value: sparse }), t(".")]);
+    b.counted(&[
+        t("Kept pages with tabulated rows more than 50 nm apart in 390–700 nm (materials.csv, sparse): "),
+        Part::Count(Count { table: "materials.csv", key: "sparse".into(), value: sparse }),
+        t("."),
+    ]);
     if let Some(colors) = &inputs.colors {
         let gamut = inputs::flagged_pages(colors, "out_of_gamut").len();
         let extrapolated = inputs::extrapolated_pages(colors).len();
@@ -341,10 +380,19 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
     let _ = writeln!(
         b.html,
         "<table id=\"materials-table\" class=\"materials\"><thead><tr>{}</tr></thead><tbody>",
-        ["page", "names", "kind", "F0", "ΔE2000 F0", "three-channel error over angle (worst channel)", "fitted error (worst channel)", "notes"]
-            .iter()
-            .map(|h| format!("<th onclick=\"nkSort(this)\">{}</th>", escape(h)))
-            .collect::<String>()
+        [
+            "page",
+            "names",
+            "kind",
+            "F0",
+            "ΔE2000 F0",
+            "three-channel error over angle (worst channel)",
+            "fitted error (worst channel)",
+            "notes"
+        ]
+        .iter()
+        .map(|h| format!("<th onclick=\"nkSort(this)\">{}</th>", escape(h)))
+        .collect::<String>()
     );
     let mut markdown = TableText::new(&["page", "names", "kind", "ΔE2000 F0"]);
     for page in pages {
@@ -367,7 +415,13 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
                 if c.number(r, "extrapolated_share").is_some_and(|s| s > 0.0) {
                     notes.push("extrapolated");
                 }
-                (super::swatch(channel_triple(c, r, "f0_spectral")), c.number(r, "delta_e2000_f0").unwrap_or(f64::NAN), worst("index_error_angle"), worst("effective_error"), notes)
+                (
+                    super::swatch(channel_triple(c, r, "f0_spectral")),
+                    c.number(r, "delta_e2000_f0").unwrap_or(f64::NAN),
+                    worst("index_error_angle"),
+                    worst("effective_error"),
+                    notes,
+                )
             }
             None => (String::new(), f64::NAN, f64::NAN, f64::NAN, vec!["no colours"]),
         };

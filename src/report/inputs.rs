@@ -17,7 +17,18 @@ use crate::spectrum::{Channels, CHANNEL_NAMES};
 pub const OPTIONAL_TABLES: [&str; 5] = ["effects_errors.csv", "effects_timing.csv", "ao_errors.csv", "ao_timing.csv", "engine_params.csv"];
 
 /// The columns of `errors.csv` the report shows or counts.
-const ERROR_COLUMNS: [&str; 10] = ["page", "method", "variant", "precision", "channel", "wavelength_nm", "mean_rel_error", "max_abs_error", "excluded_samples", "fallback"];
+const ERROR_COLUMNS: [&str; 10] = [
+    "page",
+    "method",
+    "variant",
+    "precision",
+    "channel",
+    "wavelength_nm",
+    "mean_rel_error",
+    "max_abs_error",
+    "excluded_samples",
+    "fallback",
+];
 
 /// The rows of `errors.csv` the report reads: every analytic method, and the LUTs at the
 /// default 256 texels (the whole size sweep is summarised by cost.csv).
@@ -57,7 +68,8 @@ impl Inputs {
         };
         let materials = required("materials.csv")?;
         let channels = table_channels(&materials).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("materials.csv").display()))?;
-        let errors = CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|r| shown_error_row(r.text("method"), r.text("variant")))?;
+        let errors =
+            CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|r| shown_error_row(r.text("method"), r.text("variant")))?;
         if let Some(errors) = &errors {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
@@ -207,7 +219,11 @@ pub fn compensation_fallbacks(errors: &CsvTable) -> Vec<(String, String, String)
     let mut found: Vec<(String, String, String)> = errors
         .rows
         .iter()
-        .filter(|r| errors.text(r, "method") == "schlick_compensated" && errors.text(r, "precision") == "f64" && !errors.text(r, "fallback").is_empty())
+        .filter(|r| {
+            errors.text(r, "method") == "schlick_compensated"
+                && errors.text(r, "precision") == "f64"
+                && !errors.text(r, "fallback").is_empty()
+        })
         .map(|r| (errors.text(r, "page").to_string(), errors.text(r, "channel").to_string(), errors.text(r, "fallback").to_string()))
         .collect();
     found.sort();
@@ -238,7 +254,12 @@ pub fn flagged_pages(colors: &CsvTable, stem: &str) -> Vec<String> {
 
 /// Pages of `colors.csv` whose spectral colour holds data beyond the data's range.
 pub fn extrapolated_pages(colors: &CsvTable) -> Vec<String> {
-    colors.rows.iter().filter(|r| colors.number(r, "extrapolated_share").is_some_and(|s| s > 0.0)).map(|r| colors.text(r, "page").to_string()).collect()
+    colors
+        .rows
+        .iter()
+        .filter(|r| colors.number(r, "extrapolated_share").is_some_and(|s| s > 0.0))
+        .map(|r| colors.text(r, "page").to_string())
+        .collect()
 }
 
 #[cfg(test)]

@@ -24,9 +24,9 @@ use std::sync::Mutex;
 use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
+use crate::bake::publish::publish_with;
 use crate::db::Database;
 use crate::ingest::Selection;
-use crate::bake::publish::publish_with;
 use crate::spectrum::Index;
 use context::{material_path, preview_path, ByPage, Context};
 pub use inputs::Inputs;

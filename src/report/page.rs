@@ -99,7 +99,8 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
         curves.len()
     );
     // Every curve after the reference, against it.
-    let series: Vec<DeltaE> = curves[1..].iter().zip(delta_e_over_angle(reference, &curves[1..])).map(|(curve, values)| DeltaE { curve, values }).collect();
+    let series: Vec<DeltaE> =
+        curves[1..].iter().zip(delta_e_over_angle(reference, &curves[1..])).map(|(curve, values)| DeltaE { curve, values }).collect();
     let mean_de = std::iter::once(None).chain(series.iter().map(|s| Some(mean(&s.values))));
     for (c, de) in curves.iter().zip(mean_de) {
         let detail = de.map_or_else(|| "reference".to_string(), |de| format!("mean ΔE {}", delta_e(de)));
@@ -107,11 +108,21 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
     }
     html.push_str("</div></figure>\n<h2 id=\"angle\">Colour over angle</h2>\n<div class=\"strips\">");
     for c in curves {
-        let _ = write!(html, "<div class=\"strip-row\"><span class=\"strip-name\">{}</span><span class=\"strip\" style=\"background:{}\"></span></div>", escape(&c.name), preview::angle_gradient(&c.rgb));
+        let _ = write!(
+            html,
+            "<div class=\"strip-row\"><span class=\"strip-name\">{}</span><span class=\"strip\" style=\"background:{}\"></span></div>",
+            escape(&c.name),
+            preview::angle_gradient(&c.rgb)
+        );
     }
     html.push_str("<div class=\"strip-row\"><span class=\"strip-name\"></span><span class=\"strip-axis\"><span>0°</span><span>30°</span><span>60°</span><span>90°</span></span></div></div>\n");
     html.push_str("<p class=\"note\">Reflected colour under white light from normal incidence (left) to grazing (right).</p>\n");
-    let _ = write!(html, "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{}{}</figure>\n", charts::delta_e_chart(&ctx.theta, &series, (760, 320))?, legend(&curves[1..]));
+    let _ = write!(
+        html,
+        "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{}{}</figure>\n",
+        charts::delta_e_chart(&ctx.theta, &series, (760, 320))?,
+        legend(&curves[1..])
+    );
     let _ = write!(
         html,
         "<h2 id=\"fresnel\">Reflectance per channel</h2>\n<figure class=\"plot\">{}{}</figure>\n",
@@ -143,7 +154,9 @@ fn indices_section(html: &mut String, ctx: &Context, page: &str, row: &[String])
         .chain((0..3).flat_map(|c| [format!("n {} ({} nm)", CHANNEL_NAMES[c], nm[c]), format!("k {}", CHANNEL_NAMES[c])]))
         .collect();
     let mut table = TableText::new(&headers.iter().map(String::as_str).collect::<Vec<_>>());
-    table.row(std::iter::once("three-channel (materials.csv)".to_string()).chain(three.iter().flat_map(|i| [index(i.n), index(i.k)])).collect());
+    table.row(
+        std::iter::once("three-channel (materials.csv)".to_string()).chain(three.iter().flat_map(|i| [index(i.n), index(i.k)])).collect(),
+    );
     let mut notes = Vec::new();
     if let Some((c, r)) = ctx.colors.as_ref().and_then(|c| c.first(page).map(|r| (c.table, r))) {
         let fitted = fitted_index(c, r);
@@ -188,7 +201,13 @@ fn colours_section(html: &mut String, c: &super::csvdata::CsvTable, r: &[String]
         mark(spectral[1], gamut[1]),
         mark(spectral[2], gamut[2]),
     ]);
-    table.row(vec!["three-channel index".into(), super::html::raw(super::swatch(three)), reflectance(three[0]), reflectance(three[1]), reflectance(three[2])]);
+    table.row(vec![
+        "three-channel index".into(),
+        super::html::raw(super::swatch(three)),
+        reflectance(three[0]),
+        reflectance(three[1]),
+        reflectance(three[2]),
+    ]);
     for (label, prefix) in [
         ("three-channel error at normal incidence", "index_error_f0"),
         ("three-channel error over angle", "index_error_angle"),
@@ -206,7 +225,10 @@ fn colours_section(html: &mut String, c: &super::csvdata::CsvTable, r: &[String]
                 reflectance(spectral[ch])
             ));
         } else if gamut_angle[ch] {
-            notes.push(format!("The spectral reference's {} channel leaves [0, 1] at some angle (not at normal incidence); the previews clamp it.", CHANNEL_NAMES[ch]));
+            notes.push(format!(
+                "The spectral reference's {} channel leaves [0, 1] at some angle (not at normal incidence); the previews clamp it.",
+                CHANNEL_NAMES[ch]
+            ));
         }
     }
     let share = c.number(r, "extrapolated_share").unwrap_or(0.0);
@@ -272,7 +294,9 @@ fn errors_section(html: &mut String, ctx: &Context, page: &str) {
             let value = r.and_then(|r| e.number(r, "mean_rel_error")).map_or("–".into(), percent);
             cells.push(if fallback.is_empty() { value } else { format!("{value} §") });
             if !fallback.is_empty() && e.text(r.unwrap(), "precision") == "f64" {
-                notes.push(format!("§ Compensated Schlick has no real exponent for the {ch} channel ({fallback}) and falls back to schlick_nk there."));
+                notes.push(format!(
+                    "§ Compensated Schlick has no real exponent for the {ch} channel ({fallback}) and falls back to schlick_nk there."
+                ));
             }
             if let Some(skipped) = r.and_then(|r| e.number(r, "excluded_samples")).filter(|s| *s > 0.0) {
                 notes.push(format!("{method} {variant} {ch}: {skipped} angles where F_exact = 0 are left out of the mean."));

@@ -70,7 +70,12 @@ fn default_secant_steps() -> Numbers {
 
 impl Default for RawDistanceMaps {
     fn default() -> Self {
-        Self { size: default_map_size(), layers: default_layers(), linear_steps: default_linear_steps(), secant_steps: default_secant_steps() }
+        Self {
+            size: default_map_size(),
+            layers: default_layers(),
+            linear_steps: default_linear_steps(),
+            secant_steps: default_secant_steps(),
+        }
     }
 }
 
@@ -159,7 +164,10 @@ impl RawEffects {
             return Err(format!("distance_maps.size {} must lie in 4..=4096", maps.size));
         }
         if !(2..=8).contains(&maps.layers) {
-            return Err(format!("distance_maps.layers {} must lie in 2..=8 (at least one specular layer and the diffuse one)", maps.layers));
+            return Err(format!(
+                "distance_maps.layers {} must lie in 2..=8 (at least one specular layer and the diffuse one)",
+                maps.layers
+            ));
         }
         let linear = maps.linear_steps.values();
         let secant = maps.secant_steps.values();
@@ -170,7 +178,13 @@ impl RawEffects {
             return Err(format!("distance_maps.secant_steps {secant:?} must lie in 0..=64"));
         }
         let steps = linear.iter().flat_map(|&linear| secant.iter().map(move |&secant| SearchSteps { linear, secant })).collect();
-        Ok(Effects { reflection, refraction, distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps }, ambient_occlusion, indirect })
+        Ok(Effects {
+            reflection,
+            refraction,
+            distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps },
+            ambient_occlusion,
+            indirect,
+        })
     }
 }
 
@@ -179,7 +193,10 @@ impl Effects {
     pub fn depths(&self) -> Vec<Depths> {
         let list = |bounces: &Option<Bounces>| bounces.as_ref().map(|b| b.max_depth.clone()).unwrap_or_else(|| vec![0]);
         let refraction = list(&self.refraction);
-        list(&self.reflection).into_iter().flat_map(|reflection| refraction.iter().map(move |&refraction| Depths { reflection, refraction })).collect()
+        list(&self.reflection)
+            .into_iter()
+            .flat_map(|reflection| refraction.iter().map(move |&refraction| Depths { reflection, refraction }))
+            .collect()
     }
 }
 
@@ -325,7 +342,7 @@ mod tests {
         assert_eq!(surface.albedo_at([0.6, 0.1, 0.1], up), [0.0; 3]); // (1, 0): odd
         assert_eq!(surface.albedo_at([-0.1, 0.1, 0.1], up), [0.0; 3]); // (−1, 0): odd
         assert_eq!(surface.albedo_at([0.6, 0.1, 0.6], up), [1.0; 3]); // (1, 1): even
-        // A floor on a cell boundary (y = −2 = −4 cells) reads the same just above and below.
+                                                                      // A floor on a cell boundary (y = −2 = −4 cells) reads the same just above and below.
         assert_eq!(surface.albedo_at([0.1, -2.0 + 1e-12, 0.1], up), surface.albedo_at([0.1, -2.0 - 1e-12, 0.1], up));
         // On a wall facing x the cells run over (y, z).
         assert_eq!(surface.albedo_at([3.0, 0.6, 0.1], [-0.9, 0.3, 0.1]), [0.0; 3]);
@@ -355,7 +372,11 @@ mod tests {
         let effects = RawEffects {
             reflection: Some(RawBounces { max_depth: Numbers::Many(vec![3, 1, 3]) }),
             refraction: None,
-            distance_maps: RawDistanceMaps { linear_steps: Numbers::Many(vec![80, 15]), secant_steps: Numbers::Many(vec![10, 1]), ..Default::default() },
+            distance_maps: RawDistanceMaps {
+                linear_steps: Numbers::Many(vec![80, 15]),
+                secant_steps: Numbers::Many(vec![10, 1]),
+                ..Default::default()
+            },
             ambient_occlusion: None,
             indirect: None,
         }

@@ -144,13 +144,16 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     let opened = crate::db::file::open_regular(file).map_err(|e| error(e.to_string()))?;
     // The parsed mesh takes a few times the text's bytes (tobj's lists, then ours).
     let stated = opened.metadata().map(|m| m.len()).unwrap_or(0);
-    crate::budget::MemoryBudget::of_machine().check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated)).map_err(|e| error(e.to_string()))?;
+    crate::budget::MemoryBudget::of_machine()
+        .check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated))
+        .map_err(|e| error(e.to_string()))?;
     let mut bytes = Vec::new();
     let length = crate::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(e.to_string()))?;
     bytes.truncate(length);
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials are not read (a scene names its own).
-    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed)).map_err(|e| error(e.to_string()))?;
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
+        .map_err(|e| error(e.to_string()))?;
     let mut mesh = Mesh::default();
     let mut has_normals = true;
     for model in &models {

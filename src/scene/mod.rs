@@ -34,8 +34,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::fresnel::Method as FresnelMethod;
 
-pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, Effects, Light, Pattern, SearchSteps};
+pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use surfels::LightSource;
 
 /// How a specular object is shaded: a Fresnel method of the `fresnel` module as the shaders
@@ -142,7 +142,9 @@ impl MeshSource {
             MeshSource::Sphere => "sphere".into(),
             MeshSource::Room => "room".into(),
             MeshSource::Plane => "plane".into(),
-            MeshSource::File(path) => path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string()),
+            MeshSource::File(path) => {
+                path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
+            }
         }
     }
 }
@@ -183,7 +185,13 @@ fn default_fov() -> f64 {
 
 impl Default for CameraPath {
     fn default() -> Self {
-        Self { axis: default_axis(), distance: default_distance(), frames: default_frames(), degrees_per_frame: default_degrees(), fov_y_degrees: default_fov() }
+        Self {
+            axis: default_axis(),
+            distance: default_distance(),
+            frames: default_frames(),
+            degrees_per_frame: default_degrees(),
+            fov_y_degrees: default_fov(),
+        }
     }
 }
 
@@ -478,7 +486,8 @@ impl RawObject {
 impl Scene {
     /// Read and check a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = crate::db::file::read_regular_text(path, MAX_SCENE_BYTES).map_err(|e| SceneError { file: path.into(), problem: format!("cannot read: {e}") })?;
+        let text = crate::db::file::read_regular_text(path, MAX_SCENE_BYTES)
+            .map_err(|e| SceneError { file: path.into(), problem: format!("cannot read: {e}") })?;
         Scene::parse(&text, path)
     }
 
@@ -522,7 +531,10 @@ impl Scene {
                 }
                 lights
             }
-            None => vec![LightSource::Directional { direction: light.direction, colour: light.colour }, LightSource::Ambient { colour: light.ambient }],
+            None => vec![
+                LightSource::Directional { direction: light.direction, colour: light.colour },
+                LightSource::Ambient { colour: light.ambient },
+            ],
         };
         let scene = Scene {
             file: file.into(),
@@ -684,7 +696,10 @@ mod tests {
         )
         .unwrap();
         assert_eq!(scene.materials(), vec!["a/b/c", "d/e/f"]);
-        assert_eq!(scene.shadings(), vec![Shading::Fresnel(FresnelMethod::Exact), Shading::Fresnel(FresnelMethod::Schlick), Shading::Fresnel(FresnelMethod::Lut)]);
+        assert_eq!(
+            scene.shadings(),
+            vec![Shading::Fresnel(FresnelMethod::Exact), Shading::Fresnel(FresnelMethod::Schlick), Shading::Fresnel(FresnelMethod::Lut)]
+        );
         assert_eq!(scene.material_shadings().len(), 3);
         assert_eq!(scene.objects[2].mesh.label(), "x");
     }

@@ -169,7 +169,10 @@ mod tests {
         );
         // Without `lights`, `light` gives the directional source and the ambient one.
         let plain = parse_file("measurements: [image_error]\neffects: { indirect: {} }\nobjects: [{ mesh: plane, diffuse: [1, 1, 1] }]\nlight: { direction: [0, -2, 0], colour: [0.5, 0.5, 0.5], ambient: [0.1, 0.1, 0.1] }\n").unwrap();
-        assert_eq!(plain.lights, vec![LightSource::Directional { direction: [0.0, -2.0, 0.0], colour: [0.5; 3] }, LightSource::Ambient { colour: [0.1; 3] }]);
+        assert_eq!(
+            plain.lights,
+            vec![LightSource::Directional { direction: [0.0, -2.0, 0.0], colour: [0.5; 3] }, LightSource::Ambient { colour: [0.1; 3] }]
+        );
     }
 
     #[test]

@@ -62,7 +62,11 @@ impl Kind for ErrorIntegrals {
         };
         let integrals = words[1..]
             .chunks_exact(MEMBER_WORDS)
-            .map(|w| Integral { figures: PerPrecision { f64: figures(&w[0..4]), f32: figures(&w[4..8]) }, excluded_samples: w[8], evaluations: w[9] })
+            .map(|w| Integral {
+                figures: PerPrecision { f64: figures(&w[0..4]), f32: figures(&w[4..8]) },
+                excluded_samples: w[8],
+                evaluations: w[9],
+            })
             .collect();
         FamilyMeasurement { integrals, seconds: f64::from_bits(words[0]) }
     }
@@ -75,7 +79,13 @@ pub type IntegralMemo = Memo<ErrorIntegrals>;
 impl Memo<ErrorIntegrals> {
     /// The family `members` on `index` with `strategy`, from the memo when it holds it,
     /// else from `measure` (and kept, when recording).
-    pub fn family(&self, index: Index, members: &[Variant], strategy: Strategy, measure: impl FnOnce() -> FamilyMeasurement) -> FamilyMeasurement {
+    pub fn family(
+        &self,
+        index: Index,
+        members: &[Variant],
+        strategy: Strategy,
+        measure: impl FnOnce() -> FamilyMeasurement,
+    ) -> FamilyMeasurement {
         self.remembered(key(index, members, strategy), 1 + MEMBER_WORDS * members.len(), measure)
     }
 
@@ -124,7 +134,8 @@ mod tests {
         // A metal, glass, and vacuum (no mean relative error: F_exact = 0 throughout).
         let cases = [(Index::new(0.18, 3.4), lut(16)), (Index::new(1.5, 0.0), analytic.clone()), (Index::new(1.0, 0.0), analytic)];
         let first = IntegralMemo::new("nklut 1").recording();
-        let measured: Vec<FamilyMeasurement> = cases.iter().map(|(index, members)| first.family(*index, members, Strategy::Fast, || measure(*index, members))).collect();
+        let measured: Vec<FamilyMeasurement> =
+            cases.iter().map(|(index, members)| first.family(*index, members, Strategy::Fast, || measure(*index, members))).collect();
         assert_eq!(first.measured(), cases.len());
         assert_eq!(measured[2].integrals[0].figures.f64.mean_rel_error, None);
         let second = IntegralMemo::decode(&first.encode(), "nklut 1").recording();

@@ -39,7 +39,10 @@ impl AsRef<Path> for Scratch {
 
 /// A fresh scratch folder whose name starts with `name`.
 pub fn scratch(name: &str) -> Scratch {
-    let dir = tempfile::Builder::new().prefix(&format!("{name}-")).tempdir_in(env!("CARGO_TARGET_TMPDIR")).expect("a scratch folder in the target directory");
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("{name}-"))
+        .tempdir_in(env!("CARGO_TARGET_TMPDIR"))
+        .expect("a scratch folder in the target directory");
     Scratch(dir)
 }
 

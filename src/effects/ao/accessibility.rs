@@ -102,7 +102,12 @@ pub fn accessibility(emitters: &dyn Emitters, passes: u32) -> Accessibility {
 /// alone), computed in one sweep.
 pub fn accessibility_by_pass(emitters: &dyn Emitters, passes: u32) -> Vec<Accessibility> {
     let surfels = emitters.surfels();
-    let unoccluded = Accessibility { values: vec![1.0; surfels.len()], bent_normals: surfels.iter().map(|s| s.normal).collect(), passes: 0, interactions: 0 };
+    let unoccluded = Accessibility {
+        values: vec![1.0; surfels.len()],
+        bent_normals: surfels.iter().map(|s| s.normal).collect(),
+        passes: 0,
+        interactions: 0,
+    };
     let mut history = vec![unoccluded];
     for pass in 1..=passes {
         let previous = history.last().expect("pass 0 is always there");
@@ -110,7 +115,8 @@ pub fn accessibility_by_pass(emitters: &dyn Emitters, passes: u32) -> Vec<Access
         let gathered: Vec<Occlusion> = (0..surfels.len()).into_par_iter().map(|i| emitters.gather(i, &weights)).collect();
         let interactions = previous.interactions + gathered.iter().map(|o| o.interactions).sum::<u64>();
         let values = gathered.iter().map(|o| (1.0 - o.shadow).clamp(0.0, 1.0)).collect();
-        let bent_normals = surfels.iter().zip(&gathered).map(|(s, o)| (s.normal - o.direction).try_normalize().unwrap_or(s.normal)).collect();
+        let bent_normals =
+            surfels.iter().zip(&gathered).map(|(s, o)| (s.normal - o.direction).try_normalize().unwrap_or(s.normal)).collect();
         history.push(Accessibility { values, bent_normals, passes: pass, interactions });
     }
     history

@@ -77,13 +77,19 @@ impl SurfelScene {
             let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
             let subdivided_triangles = (loaded.triangles() as u128).saturating_mul(4u128.saturating_pow(object.subdivisions));
             let what = format!("{} triangles ({} subdivided {} times)", subdivided_triangles, object.mesh.label(), object.subdivisions);
-            budget.check(&format!("objects[{i}].subdivide"), what, times(triangles as u128 + subdivided_triangles, BYTES_PER_SURFEL_TRIANGLE)).map_err(|e| named(e.to_string()))?;
+            budget
+                .check(&format!("objects[{i}].subdivide"), what, times(triangles as u128 + subdivided_triangles, BYTES_PER_SURFEL_TRIANGLE))
+                .map_err(|e| named(e.to_string()))?;
             let placed = subdivided_times(&loaded.placed(&object.placement), object.subdivisions);
             let own = surfels(&placed);
             let base = object.mesh.label();
             let taken = objects.iter().filter(|o: &&ObjectSurfels| o.name == base || o.name.starts_with(&format!("{base}-"))).count();
             let name = if taken == 0 { base } else { format!("{base}-{}", taken + 1) };
-            objects.push(ObjectSurfels { name, surfels: all.len()..all.len() + own.len(), triangles: triangles..triangles + placed.triangles() });
+            objects.push(ObjectSurfels {
+                name,
+                surfels: all.len()..all.len() + own.len(),
+                triangles: triangles..triangles + placed.triangles(),
+            });
             let plain = match &object.role {
                 Role::Diffuse(d) => d.albedo,
                 Role::Specular(_) => [0.0; 3],
@@ -117,7 +123,8 @@ impl SurfelScene {
         let normal = (b - a).cross(c - a);
         let area = normal.length_squared();
         let weights = if area > 0.0 {
-            let w = [(c - b).cross(point - b).dot(normal), (a - c).cross(point - c).dot(normal), (b - a).cross(point - a).dot(normal)].map(|x| (x / area).max(0.0));
+            let w = [(c - b).cross(point - b).dot(normal), (a - c).cross(point - c).dot(normal), (b - a).cross(point - a).dot(normal)]
+                .map(|x| (x / area).max(0.0));
             let sum: f64 = w.iter().sum();
             if sum > 0.0 {
                 w.map(|x| x / sum)
@@ -150,7 +157,15 @@ impl Default for AoSettings {
     /// 256 rays per vertex (σ ≤ 1/32 per vertex, ~0.01 on a mean), brute force to 20 000
     /// surfels, 3 passes, the form factor (g = 1), κ = 16, 256×256 pictures.
     fn default() -> AoSettings {
-        AoSettings { rays: RaySettings { rays: 256, ..RaySettings::default() }, max_brute: 20_000, passes: 3, form: ShadowForm::FORM_FACTOR, closeness: Closeness::default(), resolution: [256, 256], budget: MemoryBudget::of_machine() }
+        AoSettings {
+            rays: RaySettings { rays: 256, ..RaySettings::default() },
+            max_brute: 20_000,
+            passes: 3,
+            form: ShadowForm::FORM_FACTOR,
+            closeness: Closeness::default(),
+            resolution: [256, 256],
+            budget: MemoryBudget::of_machine(),
+        }
     }
 }
 
@@ -199,10 +214,20 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let brute = BruteForce { surfels: &stage.surfels, form: settings.form };
     let wanted = effects.ambient_occlusion;
     let passes = settings.passes.max(wanted.map_or(0, |a| a.passes)).max(1);
-    log(&format!("ao: {n} surfels in {} objects, {} tree nodes, {} triangles", stage.objects.len(), tree.nodes.len(), stage.geometry.triangles()));
+    log(&format!(
+        "ao: {n} surfels in {} objects, {} tree nodes, {} triangles",
+        stage.objects.len(),
+        tree.nodes.len(),
+        stage.geometry.triangles()
+    ));
     let start = std::time::Instant::now();
     let reference = reference_accessibility(&stage.geometry, &stage.surfels, settings.rays);
-    log(&format!("  reference: {} rays in {:.1} s, σ mean {:.4}", reference.rays, start.elapsed().as_secs_f64(), reference.mean_standard_error()));
+    log(&format!(
+        "  reference: {} rays in {:.1} s, σ mean {:.4}",
+        reference.rays,
+        start.elapsed().as_secs_f64(),
+        reference.mean_standard_error()
+    ));
     let mut runs: Vec<(bool, Vec<Accessibility>)> = Vec::new();
     if n <= settings.max_brute {
         runs.push((false, accessibility_by_pass(&brute, passes)));
@@ -230,7 +255,8 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             for object in &stage.objects {
                 let range = object.surfels.clone();
                 let (mean_error, max_error) = mean_and_max_difference(&result.values[range.clone()], &reference.values[range.clone()]);
-                let measured = twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
+                let measured =
+                    twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
                 report.rows.push(ErrorRow {
                     mesh: object.name.clone(),
                     surfels: range.len(),
@@ -267,12 +293,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let gathered = |a: &Accessibility| {
         indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &a.values, settings.form, bounces))
     };
-    let reference_lighting = Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
+    let reference_lighting =
+        Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
     let truth = render(&stage, &camera, &reference_lighting);
     let mut frames = Vec::new();
     for (shown, a) in history.iter().take(4).enumerate() {
         let light = gathered(a);
-        let lighting = Lighting { accessibility: &a.values, indirect: light.as_deref(), bent_normals: bent.then_some(a.bent_normals.as_slice()) };
+        let lighting =
+            Lighting { accessibility: &a.values, indirect: light.as_deref(), bent_normals: bent.then_some(a.bent_normals.as_slice()) };
         let frame = render(&stage, &camera, &lighting);
         let stem = if shown == 0 { "ao_none".to_string() } else { format!("ao_passes{shown}") };
         frames.push(frame.clone());
@@ -291,7 +319,13 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
 pub fn side_by_side(frames: &[TracedFrame]) -> TracedFrame {
     let height = frames.iter().map(|f| f.height).max().unwrap_or(0);
     let width = frames.iter().map(|f| f.width).sum();
-    let mut out = TracedFrame { width, height, radiance: Vec::with_capacity((width * height) as usize), seen: Vec::new(), rays: frames.iter().map(|f| f.rays).sum() };
+    let mut out = TracedFrame {
+        width,
+        height,
+        radiance: Vec::with_capacity((width * height) as usize),
+        seen: Vec::new(),
+        rays: frames.iter().map(|f| f.rays).sum(),
+    };
     for y in 0..height {
         for frame in frames {
             for x in 0..frame.width {
@@ -325,7 +359,11 @@ fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> TracedFr
                 Some(bent) => {
                     let b = corners.iter().zip(w).fold(DVec3::ZERO, |sum, (&v, weight)| sum + bent[v] * weight);
                     let b = b.try_normalize().unwrap_or(normal);
-                    if b.dot(normal) < 0.0 { normal } else { b }
+                    if b.dot(normal) < 0.0 {
+                        normal
+                    } else {
+                        b
+                    }
                 }
                 None => normal,
             };

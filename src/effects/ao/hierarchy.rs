@@ -80,8 +80,12 @@ fn build(surfels: &[Surfel], order: &mut [u32], offset: u32, nodes: &mut Vec<Nod
     }
     let half = order.len() / 2;
     match split(surfels, order) {
-        Split::Position(axis) => order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].centre[axis].total_cmp(&surfels[*b as usize].centre[axis])),
-        Split::Normal(axis) => order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].normal[axis].total_cmp(&surfels[*b as usize].normal[axis])),
+        Split::Position(axis) => {
+            order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].centre[axis].total_cmp(&surfels[*b as usize].centre[axis]))
+        }
+        Split::Normal(axis) => {
+            order.select_nth_unstable_by(half, |a, b| surfels[*a as usize].normal[axis].total_cmp(&surfels[*b as usize].normal[axis]))
+        }
     };
     let (left, right) = order.split_at_mut(half);
     let l = build(surfels, left, offset, nodes);

@@ -125,7 +125,9 @@ pub fn reference_indirect(
     lights: &[LightSource],
     settings: RaySettings,
 ) -> ReferenceIndirect {
-    let estimates: Vec<(Rgb, Rgb)> = crate::progress::par_map(surfels.len(), "bounce rays", |i| one_bounce(geometry, &surfels[i], i as u64, albedo_of, lights, settings));
+    let estimates: Vec<(Rgb, Rgb)> = crate::progress::par_map(surfels.len(), "bounce rays", |i| {
+        one_bounce(geometry, &surfels[i], i as u64, albedo_of, lights, settings)
+    });
     let (values, standard_errors) = estimates.into_iter().unzip();
     // Each ray costs a shadow ray per light at its hit besides itself.
     ReferenceIndirect { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 * (1 + lights.len() as u64) }

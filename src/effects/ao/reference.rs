@@ -130,8 +130,22 @@ pub fn sin_cos_of_turns(u: f64) -> (f64, f64) {
     let a = (quarters - q) * std::f64::consts::FRAC_PI_2;
     let a2 = a * a;
     // sin a = a (1 − a²/3! + a⁴/5! − …), cos a = 1 − a²/2! + a⁴/4! − …, by Horner.
-    let sin_series = 1.0 + a2 * (-1.0 / 6.0 + a2 * (1.0 / 120.0 + a2 * (-1.0 / 5040.0 + a2 * (1.0 / 362_880.0 + a2 * (-1.0 / 39_916_800.0 + a2 * (1.0 / 6_227_020_800.0 + a2 * (-1.0 / 1_307_674_368_000.0 + a2 * (1.0 / 355_687_428_096_000.0))))))));
-    let cos_series = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24.0 + a2 * (-1.0 / 720.0 + a2 * (1.0 / 40_320.0 + a2 * (-1.0 / 3_628_800.0 + a2 * (1.0 / 479_001_600.0 + a2 * (-1.0 / 87_178_291_200.0 + a2 * (1.0 / 20_922_789_888_000.0 + a2 * (-1.0 / 6_402_373_705_728_000.0)))))))));
+    let sin_series = 1.0
+        + a2 * (-1.0 / 6.0
+            + a2 * (1.0 / 120.0
+                + a2 * (-1.0 / 5040.0
+                    + a2 * (1.0 / 362_880.0
+                        + a2 * (-1.0 / 39_916_800.0
+                            + a2 * (1.0 / 6_227_020_800.0 + a2 * (-1.0 / 1_307_674_368_000.0 + a2 * (1.0 / 355_687_428_096_000.0))))))));
+    let cos_series = 1.0
+        + a2 * (-0.5
+            + a2 * (1.0 / 24.0
+                + a2 * (-1.0 / 720.0
+                    + a2 * (1.0 / 40_320.0
+                        + a2 * (-1.0 / 3_628_800.0
+                            + a2 * (1.0 / 479_001_600.0
+                                + a2 * (-1.0 / 87_178_291_200.0
+                                    + a2 * (1.0 / 20_922_789_888_000.0 + a2 * (-1.0 / 6_402_373_705_728_000.0)))))))));
     let (sin_a, cos_a) = (a * sin_series, cos_series);
     let quadrant = (q as i64).rem_euclid(4);
     let (sin, cos) = if quadrant & 1 == 0 { (sin_a, cos_a) } else { (cos_a, -sin_a) };
@@ -144,7 +158,8 @@ pub fn sin_cos_of_turns(u: f64) -> (f64, f64) {
 
 /// The reference accessibility of every surfel against `geometry`.
 pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> ReferenceAccessibility {
-    let estimates: Vec<(f64, f64)> = crate::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings));
+    let estimates: Vec<(f64, f64)> =
+        crate::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings));
     let (values, standard_errors) = estimates.into_iter().unzip();
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }
@@ -161,7 +176,11 @@ fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: Ra
     let mut random = SplitMix64::new(settings.seed, stream);
     let origin = surfel.centre + surfel.normal * settings.offset;
     let rays = settings.rays.max(1);
-    let open = if settings.packets { open_in_packets(geometry, origin, surfel.normal, rays, &mut random) } else { open_one_by_one(geometry, origin, surfel.normal, rays, &mut random) };
+    let open = if settings.packets {
+        open_in_packets(geometry, origin, surfel.normal, rays, &mut random)
+    } else {
+        open_one_by_one(geometry, origin, surfel.normal, rays, &mut random)
+    };
     let p = open as f64 / rays as f64;
     (p, (p * (1.0 - p) / rays as f64).sqrt())
 }

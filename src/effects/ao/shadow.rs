@@ -84,7 +84,15 @@ fn disc_term(form: ShadowForm, emitter: &Surfel, side: Side, receiver: DVec3, re
         Side::Back => 1.0,
         Side::Front => -1.0,
     };
-    let [s, x, y, z] = disc_term_real(emitter.centre.to_array(), emitter.normal.to_array(), emitter.area, receiver.to_array(), receiver_normal.to_array(), form.receiver_gain, sign);
+    let [s, x, y, z] = disc_term_real(
+        emitter.centre.to_array(),
+        emitter.normal.to_array(),
+        emitter.area,
+        receiver.to_array(),
+        receiver_normal.to_array(),
+        form.receiver_gain,
+        sign,
+    );
     (if s.is_finite() { s } else { 0.0 }, DVec3::new(x, y, z))
 }
 

@@ -60,7 +60,8 @@ pub fn surfels(mesh: &Mesh) -> Vec<Surfel> {
 /// of each edge (shared by the triangles on both sides), its normal the normalised mean of
 /// the edge's ends. The surface does not move; it only gains vertices (and surfels).
 pub fn subdivided(mesh: &Mesh) -> Mesh {
-    let mut out = Mesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), indices: Vec::with_capacity(mesh.indices.len() * 4) };
+    let mut out =
+        Mesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), indices: Vec::with_capacity(mesh.indices.len() * 4) };
     let has_normals = mesh.normals.len() == mesh.positions.len();
     let mut middles: HashMap<(u32, u32), u32> = HashMap::new();
     let mut middle = |out: &mut Mesh, a: u32, b: u32| -> u32 {

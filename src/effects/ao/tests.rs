@@ -43,7 +43,15 @@ fn degenerate_meshes_give_finite_surfels_and_accessibility() {
     // No normals; a zero-area triangle (collinear 0, 1, 3); vertex 4 duplicates vertex 0;
     // vertex 5 belongs to no triangle; the face normal of 0-1-2 is +z.
     let mesh = Mesh {
-        positions: vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [5.0, 5.0, 5.0], [0.0, 0.0, 1.0]],
+        positions: vec![
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [5.0, 5.0, 5.0],
+            [0.0, 0.0, 1.0],
+        ],
         normals: vec![],
         indices: vec![0, 1, 2, 0, 3, 1, 4, 2, 6, 3, 3, 3],
     };
@@ -63,7 +71,11 @@ fn degenerate_meshes_give_finite_surfels_and_accessibility() {
         }
     }
     // Non-finite positions and bad indices neither panic nor leak.
-    let bad = Mesh { positions: vec![[f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], normals: vec![[0.0; 3]; 3], indices: vec![0, 1, 2, 0, 1, 9] };
+    let bad = Mesh {
+        positions: vec![[f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        normals: vec![[0.0; 3]; 3],
+        indices: vec![0, 1, 2, 0, 1, 9],
+    };
     let s = surfels(&bad);
     assert!(s.iter().all(|s| s.centre.is_finite() && s.area.is_finite() && s.normal.is_finite()));
     let empty = accessibility(&SurfelTree::new(&[], ShadowForm::default(), Closeness::default()), 2);
@@ -161,7 +173,10 @@ fn hierarchy_agrees_with_brute_force_and_does_less_work() {
         let exact = accessibility(&brute, passes);
         let merged = accessibility(&tree, passes);
         let (mean, max) = mean_abs_difference(&exact.values, &merged.values);
-        eprintln!("hierarchy κ=16, {passes} passes: mean |Δ| {mean:.5}, max {max:.5}, work {} vs {}", merged.interactions, exact.interactions);
+        eprintln!(
+            "hierarchy κ=16, {passes} passes: mean |Δ| {mean:.5}, max {max:.5}, work {} vs {}",
+            merged.interactions, exact.interactions
+        );
         assert!(mean <= 0.003 && max <= 0.02, "{passes} passes: mean {mean}, max {max}");
         assert!(merged.interactions * 3 <= exact.interactions);
     }
@@ -181,8 +196,10 @@ fn reference_sees_open_and_closed_hemispheres() {
     let open = torus_reference(&flat, &s, 64);
     assert!(open.values.iter().all(|&a| a == 1.0) && open.max_standard_error() == 0.0);
     let sphere = crate::scene::mesh::sphere(16, 8);
-    let inward: Vec<Surfel> =
-        [DVec3::X, DVec3::Y, DVec3::new(0.3, -0.2, 0.1)].iter().map(|&n| Surfel { centre: DVec3::ZERO, normal: n.normalize(), area: 0.0 }).collect();
+    let inward: Vec<Surfel> = [DVec3::X, DVec3::Y, DVec3::new(0.3, -0.2, 0.1)]
+        .iter()
+        .map(|&n| Surfel { centre: DVec3::ZERO, normal: n.normalize(), area: 0.0 })
+        .collect();
     let closed = torus_reference(&sphere, &inward, 64);
     assert!(closed.values.iter().all(|&a| a == 0.0));
 }
@@ -294,7 +311,11 @@ fn occlusion_query_agrees_with_the_nearest_hit() {
             random.next_f64(),
             random.next_f64(),
         );
-        assert_eq!(geometry.occluded(origin, direction), geometry.nearest(origin, direction, None, |_| true).is_some(), "{origin:?} {direction:?}");
+        assert_eq!(
+            geometry.occluded(origin, direction),
+            geometry.nearest(origin, direction, None, |_| true).is_some(),
+            "{origin:?} {direction:?}"
+        );
     }
     assert!(!geometry.occluded(DVec3::splat(f64::NAN), DVec3::Z));
 }
@@ -319,8 +340,9 @@ fn packets_count_what_their_rays_count_one_by_one() {
         for width in [0.05, 0.2, 0.5, 1.0] {
             let (u1, u2) = (random.next_f64() * (1.0 - width), random.next_f64());
             let rays = if k % 7 == 0 { 100 } else { 16 };
-            let mut directions: Vec<DVec3> =
-                (0..rays).map(|_| super::reference::cosine_direction(normal, u1 + width * random.next_f64(), u2 + width * random.next_f64())).collect();
+            let mut directions: Vec<DVec3> = (0..rays)
+                .map(|_| super::reference::cosine_direction(normal, u1 + width * random.next_f64(), u2 + width * random.next_f64()))
+                .collect();
             directions[0] = if k % 5 == 0 { DVec3::Y } else { directions[0] };
             let one_by_one = directions.iter().filter(|d| !geometry.occluded(origin, **d)).count();
             assert_eq!(geometry.open_rays(origin, &directions), one_by_one, "{origin:?} {normal:?} width {width}");
@@ -333,7 +355,11 @@ fn packets_count_what_their_rays_count_one_by_one() {
     assert!(open > packets && blocked > packets, "{open} open, {blocked} blocked rays in {packets} packets");
     // A ray that is not finite meets nothing, in a packet as alone.
     assert_eq!(geometry.open_rays(DVec3::splat(f64::NAN), &[DVec3::Z; 3]), 3);
-    assert_eq!(geometry.open_rays(DVec3::new(0.0, 0.0, 10.0), &[DVec3::Z, DVec3::new(f64::NAN, 0.0, 1.0)]), 2, "away from the torus, and not finite");
+    assert_eq!(
+        geometry.open_rays(DVec3::new(0.0, 0.0, 10.0), &[DVec3::Z, DVec3::new(f64::NAN, 0.0, 1.0)]),
+        2,
+        "away from the torus, and not finite"
+    );
 }
 
 /// The `ao_errors` rows of a small torus: one per g × hierarchy × pass, each the mean and
@@ -343,8 +369,12 @@ fn ao_errors_rows_match_a_direct_comparison() {
     let mesh = torus(1.0, 0.6, 12, 6);
     let s = surfels(&mesh);
     let reference = torus_reference(&mesh, &s, 64);
-    let comparison =
-        Comparison { forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER], passes: 2, brute_force: true, closeness: Closeness::default() };
+    let comparison = Comparison {
+        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER],
+        passes: 2,
+        brute_force: true,
+        closeness: Closeness::default(),
+    };
     let rows = error_rows("torus", &s, &reference, &comparison);
     assert_eq!(rows.len(), 2 * 2 * 2);
     let direct = accessibility(&BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER }, 2);
@@ -399,7 +429,9 @@ fn surfel_counters_stay_zero_unless_the_scene_asks_for_ambient_occlusion() {
 
     // With indirect light (two bounces in the pictures): every row carries the indirect
     // error, one one-bounce gather per row and `bounces` per picture.
-    let bleeding = ao.replace("ambient_occlusion: { passes: 2 }", "ambient_occlusion: { passes: 2 }, indirect: { bounces: 2 }").replace("cube, diffuse: [0.8, 0.8, 0.8]", "cube, diffuse: [0.8, 0.1, 0.1]");
+    let bleeding = ao
+        .replace("ambient_occlusion: { passes: 2 }", "ambient_occlusion: { passes: 2 }, indirect: { bounces: 2 }")
+        .replace("cube, diffuse: [0.8, 0.8, 0.8]", "cube, diffuse: [0.8, 0.1, 0.1]");
     let scene = Scene::parse(&bleeding, Path::new("bleeding.yaml")).unwrap();
     let mut stats = EffectsStats::default();
     let report = run(&scene, &settings, &mut stats, &mut |_| {}).unwrap();

@@ -119,7 +119,10 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
     let limits = gpu.device.limits();
     let groups = count.div_ceil(WORKGROUP as usize).max(nodes.div_ceil(WORKGROUP as usize));
     if groups > limits.max_compute_workgroups_per_dimension as usize {
-        bail!("{count} surfels need {groups} workgroups of {WORKGROUP}, over this device's max_compute_workgroups_per_dimension ({})", limits.max_compute_workgroups_per_dimension);
+        bail!(
+            "{count} surfels need {groups} workgroups of {WORKGROUP}, over this device's max_compute_workgroups_per_dimension ({})",
+            limits.max_compute_workgroups_per_dimension
+        );
     }
     let sizes = [
         ("surfel and node discs", (count + nodes) * std::mem::size_of::<GpuDisc>()),
@@ -129,7 +132,10 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
     ];
     for (what, bytes) in sizes {
         if bytes as u64 > limits.max_storage_buffer_binding_size {
-            bail!("the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})", limits.max_storage_buffer_binding_size);
+            bail!(
+                "the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})",
+                limits.max_storage_buffer_binding_size
+            );
         }
         check_buffer_size(gpu, bytes as u64, what)?;
     }
@@ -141,7 +147,14 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
 
 impl SurfelAoPass {
     /// Upload `surfels` (and `tree`, for [`Gather::Hierarchy`]) and compile the kernel.
-    pub fn new(gpu: &Gpu, surfels: &[Surfel], tree: Option<&SurfelTree>, gather: Gather, form: ShadowForm, closeness: Closeness) -> Result<SurfelAoPass> {
+    pub fn new(
+        gpu: &Gpu,
+        surfels: &[Surfel],
+        tree: Option<&SurfelTree>,
+        gather: Gather,
+        form: ShadowForm,
+        closeness: Closeness,
+    ) -> Result<SurfelAoPass> {
         if surfels.is_empty() {
             bail!("the surfel pass needs at least one surfel");
         }
@@ -190,7 +203,11 @@ impl SurfelAoPass {
         let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
             count: None,
         };
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
@@ -201,7 +218,11 @@ impl SurfelAoPass {
         }];
         entries.extend([storage(1, true), storage(2, true), storage(3, false), storage(4, false)]);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel ao"), entries: &entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel ao"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("surfel ao"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
         let [brute_force, node_weights, tree_pipeline] = compute_pipelines(
             device,
             "surfel_ao",
@@ -211,16 +232,28 @@ impl SurfelAoPass {
         )?;
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let uniforms = [params(0, n32), params(n32, 0)].map(|p| init("surfel ao params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM));
+        let uniforms =
+            [params(0, n32), params(n32, 0)].map(|p| init("surfel ao params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM));
         let disc_buffer = init("surfel and node discs", bytemuck::cast_slice(&discs), wgpu::BufferUsages::STORAGE);
         let link_buffer = init("surfel tree links", bytemuck::cast_slice(&links), wgpu::BufferUsages::STORAGE);
         let state = init("accessibility and node weights", bytemuck::cast_slice(&vec![1.0f32; 2 * n + node_count.max(1)]), writable);
-        let bent = device.create_buffer(&wgpu::BufferDescriptor { label: Some("bent normals"), size: (n * 16) as u64, usage: writable, mapped_at_creation: false });
+        let bent = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("bent normals"),
+            size: (n * 16) as u64,
+            usage: writable,
+            mapped_at_creation: false,
+        });
         let bind_group = |uniform: &wgpu::Buffer| {
             let buffers = [uniform, &disc_buffer, &link_buffer, &state, &bent];
-            let entries: Vec<wgpu::BindGroupEntry> = buffers.iter().enumerate().map(|(binding, b)| wgpu::BindGroupEntry { binding: binding as u32, resource: b.as_entire_binding() }).collect();
+            let entries: Vec<wgpu::BindGroupEntry> = buffers
+                .iter()
+                .enumerate()
+                .map(|(binding, b)| wgpu::BindGroupEntry { binding: binding as u32, resource: b.as_entire_binding() })
+                .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("surfel ao"), layout: &layout, entries: &entries })
         };
         let bind_groups = [bind_group(&uniforms[0]), bind_group(&uniforms[1])];
@@ -228,7 +261,17 @@ impl SurfelAoPass {
             bail!("allocating the surfel pass's buffers: {error}");
         }
         gpu.take_errors()?;
-        Ok(SurfelAoPass { count: n32, nodes: node_count as u32, gather, brute_force, node_weights, tree: tree_pipeline, bind_groups, state, bent })
+        Ok(SurfelAoPass {
+            count: n32,
+            nodes: node_count as u32,
+            gather,
+            brute_force,
+            node_weights,
+            tree: tree_pipeline,
+            bind_groups,
+            state,
+            bent,
+        })
     }
 
     /// The byte offset in `state` of the accessibility after `passes` passes.
@@ -238,7 +281,13 @@ impl SurfelAoPass {
 
     /// Record `passes` passes (from full accessibility) into `encoder`, in one compute pass
     /// with `timestamps` written at its start and end; the dispatches recorded.
-    pub fn encode(&self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, passes: u32, timestamps: Option<wgpu::ComputePassTimestampWrites>) -> u64 {
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        passes: u32,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) -> u64 {
         let ones = vec![1.0f32; self.count as usize];
         encoder.clear_buffer(&self.bent, 0, None);
         gpu.queue.write_buffer(&self.state, 0, bytemuck::cast_slice(&ones));
@@ -278,7 +327,11 @@ impl SurfelAoPass {
         let data = gpu.read_buffer(&readback)?;
         let (bent, accessibility) = data.split_at(bytes as usize);
         let bent: &[[f32; 4]] = bytemuck::cast_slice(bent);
-        Ok(AoOutput { accessibility: bytemuck::cast_slice(accessibility).to_vec(), bent_normals: bent.iter().map(|b| [b[1], b[2], b[3]]).collect(), dispatches })
+        Ok(AoOutput {
+            accessibility: bytemuck::cast_slice(accessibility).to_vec(),
+            bent_normals: bent.iter().map(|b| [b[1], b[2], b[3]]).collect(),
+            dispatches,
+        })
     }
 }
 
@@ -288,7 +341,11 @@ pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> 
     let surfels: Vec<Surfel> = pairs.iter().flat_map(|(e, r)| [*e, *r]).collect();
     let pass = SurfelAoPass::new(gpu, &surfels, None, Gather::BruteForce, form, Closeness::default())?;
     let layout = pass.brute_force.get_bind_group_layout(0);
-    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("shadow terms"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+    let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("shadow terms"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
     let [pipeline] = compute_pipelines(&gpu.device, "surfel_ao", Some(&pipeline_layout), ["cs_shadow_terms"], "the shadow-term kernel")?;
     let bytes = pairs.len() as u64 * 16;
     let readback = readback_buffer(gpu, bytes.max(16))?;
@@ -319,7 +376,12 @@ pub struct SceneSurfels {
 /// hierarchy on or off; indirect light with its bounces, emitters weighted by their
 /// accessibility), counting surfels, tree nodes, passes and bounces into `stats`. A scene
 /// that names neither computes nothing and returns `None`.
-pub fn run_scene(scene: &crate::scene::Scene, gpu: &Gpu, stats: &mut crate::effects::experiment::EffectsStats, log: &mut dyn FnMut(&str)) -> Result<Option<SceneSurfels>> {
+pub fn run_scene(
+    scene: &crate::scene::Scene,
+    gpu: &Gpu,
+    stats: &mut crate::effects::experiment::EffectsStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<Option<SceneSurfels>> {
     use crate::effects::ao::accessibility::{accessibility, BruteForce};
     use crate::effects::ao::experiment::{AoSettings, SurfelScene};
     use crate::effects::ao::indirect::surfel_direct;
@@ -354,7 +416,13 @@ pub fn run_scene(scene: &crate::scene::Scene, gpu: &Gpu, stats: &mut crate::effe
         Some(indirect) => {
             let direct = surfel_direct(&stage.geometry, &stage.surfels, &stage.lights, settings.rays.offset);
             let weights: Vec<f64> = output.accessibility.iter().map(|&a| a as f64).collect();
-            let light = super::indirect::IndirectPass::new(gpu, &stage.surfels, settings.form)?.run(gpu, &stage.albedo, &direct, &weights, indirect.bounces)?;
+            let light = super::indirect::IndirectPass::new(gpu, &stage.surfels, settings.form)?.run(
+                gpu,
+                &stage.albedo,
+                &direct,
+                &weights,
+                indirect.bounces,
+            )?;
             stats.indirect_bounces += indirect.bounces as u64;
             log(&format!("indirect light on the GPU: {} bounces", indirect.bounces));
             Some(light)

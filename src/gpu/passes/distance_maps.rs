@@ -116,16 +116,25 @@ impl MapTexels {
                 surface: if object >= 0.0 { Surface::Specular(object as usize) } else { Surface::Diffuse([r as f64, g as f64, b as f64]) },
             })
         };
-        let layers = (0..view.layers as usize).map(|l| (0..per_layer).map(|i| texel(view.base as usize + l * per_layer + i)).collect()).collect();
+        let layers =
+            (0..view.layers as usize).map(|l| (0..per_layer).map(|i| texel(view.base as usize + l * per_layer + i)).collect()).collect();
         let c = view.centre;
         DistanceMap { centre: DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64), size: view.size, layers }
     }
 }
 
 /// A bind group of whole buffers at bindings 0, 1, … of `layout`.
-pub fn buffers_bind_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, label: &str, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> =
-        buffers.iter().enumerate().map(|(binding, buffer)| wgpu::BindGroupEntry { binding: binding as u32, resource: buffer.as_entire_binding() }).collect();
+pub fn buffers_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .enumerate()
+        .map(|(binding, buffer)| wgpu::BindGroupEntry { binding: binding as u32, resource: buffer.as_entire_binding() })
+        .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
 }
 
@@ -209,7 +218,9 @@ impl SceneMeshes {
             vertices.extend(mesh.interleaved());
         }
         check_buffer_size(gpu, (vertices.len() * 4) as u64, "scene vertices")?;
-        let buffer = |label: &str, contents: &[u8], usage| gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let buffer = |label: &str, contents: &[u8], usage| {
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         Ok(SceneMeshes {
             vertices: buffer("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX),
             indices: buffer("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
@@ -290,16 +301,29 @@ impl MapRenderer {
         let device = &gpu.device;
         let source = compose("#import distance_map_render")?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("distance_map_render"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("distance_map_render"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
         let target = Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("distance-map faces"),
             layout: None,
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_map"), compilation_options: Default::default(), buffers: &[Some(mesh_buffer_layout())] },
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_map"),
+                compilation_options: Default::default(),
+                buffers: &[Some(mesh_buffer_layout())],
+            },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(depth_test()),
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_map"), compilation_options: Default::default(), targets: &[target.clone(), target] }),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_map"),
+                compilation_options: Default::default(),
+                targets: &[target.clone(), target],
+            }),
             multiview_mask: None,
             cache: None,
         });
@@ -314,7 +338,9 @@ impl MapRenderer {
                 ObjectOptics::Diffuse(d) => MapObjectUniform { surface: DiffuseUniform::new(d), specular: [0; 4] },
             })
             .collect();
-        let buffer = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let buffer = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         // The projection spans the whole scene from any reference point inside its box.
         let (low, high) = stage.meshes.iter().flat_map(|m| &m.positions).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| {
             let p = widen(*p);
@@ -370,12 +396,15 @@ impl MapRenderer {
         let device = &gpu.device;
         let first = views.first()?;
         let (size, layers) = (first.size, first.layers);
-        let texture = |label, array_layers, format, usage| texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage);
+        let texture = |label, array_layers, format, usage| {
+            texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage)
+        };
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let geometry = texture("map layer geometry", 6, MAP_FORMAT, attachment);
         let surfaces = texture("map layer surfaces", 6, MAP_FORMAT, attachment);
         let previous = texture("previous map layer", 6, MAP_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
-        let previous_view = previous.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        let previous_view = previous
+            .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
         let depth = texture("map depth", 1, DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT).create_view(&Default::default());
         let face_view = |texture: &wgpu::Texture, face: u32| {
             texture.create_view(&wgpu::TextureViewDescriptor {
@@ -392,7 +421,11 @@ impl MapRenderer {
                 for face in 0..6u32 {
                     let peel = (layer > 0 && layer + 1 < layers) as u32;
                     let uniform = FaceUniform { centre: view.centre, face, peel, near: self.near, far: self.far };
-                    let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("map face"), contents: bytemuck::bytes_of(&uniform), usage: wgpu::BufferUsages::UNIFORM });
+                    let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("map face"),
+                        contents: bytemuck::bytes_of(&uniform),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    });
                     bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("map face"),
                         layout: &layout,
@@ -422,7 +455,14 @@ impl MapRenderer {
     /// below the diffuse layer, kept for the next layer's peel). `timestamps`, where given,
     /// are written at the start of the first pass and the end of the last. Maps uploaded
     /// from the CPU have no targets: nothing is encoded.
-    pub fn encode(&self, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps, encoder: &mut wgpu::CommandEncoder, timestamps: Option<&wgpu::QuerySet>) {
+    pub fn encode(
+        &self,
+        stage: &Stage,
+        meshes: &SceneMeshes,
+        maps: &GpuMaps,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<&wgpu::QuerySet>,
+    ) {
         let (Some(targets), Some(first)) = (&maps.targets, maps.views.first()) else { return };
         let (size, layers) = (first.size, first.layers);
         let total_passes = targets.bind_groups.len();
@@ -431,10 +471,12 @@ impl MapRenderer {
                 let diffuse_layer = layer + 1 == layers;
                 for face in 0..6usize {
                     let pass_number = (m * layers as usize + layer as usize) * 6 + face;
-                    let writes = timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| wgpu::RenderPassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: (pass_number == 0).then_some(0),
-                        end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
+                    let writes = timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| {
+                        wgpu::RenderPassTimestampWrites {
+                            query_set: set,
+                            beginning_of_pass_write_index: (pass_number == 0).then_some(0),
+                            end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
+                        }
                     });
                     let clear = |view, colour| wgpu::RenderPassColorAttachment {
                         view,
@@ -462,7 +504,12 @@ impl MapRenderer {
                     meshes.draw(&mut pass, |object| stage.is_specular(object) != diffuse_layer);
                 }
                 let whole = wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 };
-                let at = |texture| wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All };
+                let at = |texture| wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                };
                 if !diffuse_layer {
                     encoder.copy_texture_to_texture(at(&targets.geometry), at(&targets.previous), whole);
                 }
@@ -470,7 +517,10 @@ impl MapRenderer {
                 for (texture, buffer) in [(&targets.geometry, &maps.geometry), (&targets.surfaces, &maps.surfaces)] {
                     encoder.copy_texture_to_buffer(
                         at(texture),
-                        wgpu::TexelCopyBufferInfo { buffer, layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(size * 16), rows_per_image: Some(size) } },
+                        wgpu::TexelCopyBufferInfo {
+                            buffer,
+                            layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(size * 16), rows_per_image: Some(size) },
+                        },
                         whole,
                     );
                 }
@@ -521,6 +571,12 @@ impl GpuMaps {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         check_buffer_size(gpu, (texels.geometry.len() * 16) as u64, "distance maps")?;
-        Ok(GpuMaps { geometry: buffer("map geometry", &texels.geometry), surfaces: buffer("map surfaces", &texels.surfaces), views: texels.views, map_of, targets: None })
+        Ok(GpuMaps {
+            geometry: buffer("map geometry", &texels.geometry),
+            surfaces: buffer("map surfaces", &texels.surfaces),
+            views: texels.views,
+            map_of,
+            targets: None,
+        })
     }
 }

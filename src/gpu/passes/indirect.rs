@@ -51,11 +51,17 @@ impl IndirectPass {
         let n = surfels.len();
         let limits = gpu.device.limits();
         if n.div_ceil(WORKGROUP as usize) > limits.max_compute_workgroups_per_dimension as usize {
-            bail!("{n} surfels need more workgroups than this device's max_compute_workgroups_per_dimension ({})", limits.max_compute_workgroups_per_dimension);
+            bail!(
+                "{n} surfels need more workgroups than this device's max_compute_workgroups_per_dimension ({})",
+                limits.max_compute_workgroups_per_dimension
+            );
         }
         for (what, bytes) in [("surfels", n * std::mem::size_of::<GpuDisc>()), ("radiosity", n * 16), ("weights", n * 4)] {
             if bytes as u64 > limits.max_storage_buffer_binding_size {
-                bail!("the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})", limits.max_storage_buffer_binding_size);
+                bail!(
+                    "the {what} need a {bytes}-byte storage buffer, over this device's max_storage_buffer_binding_size ({})",
+                    limits.max_storage_buffer_binding_size
+                );
             }
             check_buffer_size(gpu, bytes as u64, what)?;
         }
@@ -67,12 +73,26 @@ impl IndirectPass {
             count: None,
         };
         let storage = |read_only| wgpu::BufferBindingType::Storage { read_only };
-        let entries = [entry(0, wgpu::BufferBindingType::Uniform), entry(1, storage(true)), entry(3, storage(false)), entry(5, storage(true)), entry(6, storage(false))];
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel indirect"), entries: &entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("surfel indirect"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let [pipeline] = compute_pipelines(device, "surfel_ao", Some(&pipeline_layout), ["cs_indirect"], "the surfel indirect-light kernel")?;
+        let entries = [
+            entry(0, wgpu::BufferBindingType::Uniform),
+            entry(1, storage(true)),
+            entry(3, storage(false)),
+            entry(5, storage(true)),
+            entry(6, storage(false)),
+        ];
+        let layout =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel indirect"), entries: &entries });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("surfel indirect"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let [pipeline] =
+            compute_pipelines(device, "surfel_ao", Some(&pipeline_layout), ["cs_indirect"], "the surfel indirect-light kernel")?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         // The emitters' weights at offset 0 of their buffer.
         let params = Params { count: n as u32, gain: form.receiver_gain as f32, ..Params::default() };
@@ -81,10 +101,20 @@ impl IndirectPass {
         let disc_buffer = init("surfels", bytemuck::cast_slice(&discs), wgpu::BufferUsages::STORAGE);
         let weights = init("emitter weights", bytemuck::cast_slice(&vec![1.0f32; n]), writable);
         let radiosity = init("radiosity", bytemuck::cast_slice(&vec![[0.0f32; 4]; n]), writable);
-        let gathered = device.create_buffer(&wgpu::BufferDescriptor { label: Some("gathered irradiance"), size: (n * 16) as u64, usage: writable, mapped_at_creation: false });
+        let gathered = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("gathered irradiance"),
+            size: (n * 16) as u64,
+            usage: writable,
+            mapped_at_creation: false,
+        });
         let buffers = [(0, &uniform), (1, &disc_buffer), (3, &weights), (5, &radiosity), (6, &gathered)];
-        let bind_entries: Vec<wgpu::BindGroupEntry> = buffers.iter().map(|(binding, b)| wgpu::BindGroupEntry { binding: *binding, resource: b.as_entire_binding() }).collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("surfel indirect"), layout: &layout, entries: &bind_entries });
+        let bind_entries: Vec<wgpu::BindGroupEntry> =
+            buffers.iter().map(|(binding, b)| wgpu::BindGroupEntry { binding: *binding, resource: b.as_entire_binding() }).collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("surfel indirect"),
+            layout: &layout,
+            entries: &bind_entries,
+        });
         if let Some(error) = pollster::block_on(scope.pop()) {
             bail!("allocating the indirect pass's buffers: {error}");
         }
@@ -114,14 +144,23 @@ impl IndirectPass {
     pub fn run(&self, gpu: &Gpu, albedo: &[Rgb], direct: &[Rgb], weights: &[f64], bounces: u32) -> Result<IndirectOutput> {
         let n = self.count as usize;
         if albedo.len() != n || direct.len() != n || weights.len() != n {
-            bail!("the indirect pass has {n} surfels; got {} albedos, {} direct irradiances, {} weights", albedo.len(), direct.len(), weights.len());
+            bail!(
+                "the indirect pass has {n} surfels; got {} albedos, {} direct irradiances, {} weights",
+                albedo.len(),
+                direct.len(),
+                weights.len()
+            );
         }
         let narrow: Vec<f32> = weights.iter().map(|&w| w as f32).collect();
         gpu.queue.write_buffer(&self.weights, 0, bytemuck::cast_slice(&narrow));
         let mut lighting: Vec<[f32; 4]> = direct.iter().map(|e| [e[0] as f32, e[1] as f32, e[2] as f32, 0.0]).collect();
         let mut total = vec![[0.0f32; 3]; n];
         for _ in 0..bounces {
-            let radiosity: Vec<[f32; 4]> = lighting.iter().zip(albedo).map(|(e, rho)| [e[0] * rho[0] as f32, e[1] * rho[1] as f32, e[2] * rho[2] as f32, 0.0]).collect();
+            let radiosity: Vec<[f32; 4]> = lighting
+                .iter()
+                .zip(albedo)
+                .map(|(e, rho)| [e[0] * rho[0] as f32, e[1] * rho[1] as f32, e[2] * rho[2] as f32, 0.0])
+                .collect();
             lighting = self.gather(gpu, &radiosity)?;
             for (t, e) in total.iter_mut().zip(&lighting) {
                 for c in 0..3 {

@@ -157,7 +157,14 @@ fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEnt
 }
 
 fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None })
+    layout_entry(
+        binding,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
 }
 
 impl SpecularPass {
@@ -167,7 +174,10 @@ impl SpecularPass {
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("effect frame"),
             entries: &[
-                layout_entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+                layout_entry(
+                    0,
+                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                ),
                 storage(1),
                 storage(2),
                 layout_entry(
@@ -181,9 +191,13 @@ impl SpecularPass {
                 layout_entry(4, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
             ],
         });
-        let maps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("effect maps"), entries: &[storage(0), storage(1)] });
-        let pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("effect"), bind_group_layouts: &[Some(&frame_layout), Some(&maps_layout)], immediate_size: 0 });
+        let maps_layout = device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("effect maps"), entries: &[storage(0), storage(1)] });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("effect"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&maps_layout)],
+            immediate_size: 0,
+        });
         let mut objects = Vec::new();
         let mut stage_materials = Vec::new();
         let mut stage_channels = Vec::new();
@@ -196,13 +210,20 @@ impl SpecularPass {
                         Kind::Dielectric => 2,
                     };
                     let material = stage_materials.len() as u32;
-                    stage_materials.push([MaterialUniform::from_channels(&m.channels), MaterialUniform::from_channels(&m.channels.map(inside_index))]);
+                    stage_materials
+                        .push([MaterialUniform::from_channels(&m.channels), MaterialUniform::from_channels(&m.channels.map(inside_index))]);
                     stage_channels.push(m.channels);
-                    ObjectUniform { role: [role, material, 0, 0], geometric_n: [m.channels[GEOMETRIC_CHANNEL].n as f32, 0.0, 0.0, 0.0], ..Default::default() }
+                    ObjectUniform {
+                        role: [role, material, 0, 0],
+                        geometric_n: [m.channels[GEOMETRIC_CHANNEL].n as f32, 0.0, 0.0, 0.0],
+                        ..Default::default()
+                    }
                 }
             });
         }
-        let buffer = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let buffer = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         let materials: Vec<MaterialUniform> = stage_materials.iter().flatten().copied().collect();
         let materials = if materials.is_empty() { vec![MaterialUniform::default()] } else { materials };
         Ok(SpecularPass {
@@ -233,11 +254,19 @@ impl SpecularPass {
             let source = compose_effect(effect, method)?;
             let device = &gpu.device;
             let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("specular"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("specular"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&format!("{effect} {}", method.name())),
                 layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_effect"), compilation_options: Default::default(), buffers: &[Some(mesh_buffer_layout())] },
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_effect"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(mesh_buffer_layout())],
+                },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
                 depth_stencil: Some(depth_test()),
                 multisample: Default::default(),
@@ -293,7 +322,8 @@ impl SpecularPass {
         timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<()> {
         let effect = Effect::of(shot.depths);
-        let pipeline = self.pipelines.get(&(effect, method)).ok_or_else(|| anyhow!("the {effect} pipeline of {} was not compiled", method.name()))?;
+        let pipeline =
+            self.pipelines.get(&(effect, method)).ok_or_else(|| anyhow!("the {effect} pipeline of {} was not compiled", method.name()))?;
         let device = &gpu.device;
         let near = 1e-3 * shot.camera.distance.max(1e-3);
         let far = 100.0 * shot.camera.distance.max(1.0);
@@ -305,14 +335,22 @@ impl SpecularPass {
             steps: StepsUniform::new(shot.steps),
             depths: [shot.depths.reflection, shot.depths.refraction, 0, 0],
         };
-        let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("effect frame"), contents: bytemuck::bytes_of(&uniform), usage: wgpu::BufferUsages::UNIFORM });
+        let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("effect frame"),
+            contents: bytemuck::bytes_of(&uniform),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
         let objects: Vec<ObjectUniform> = self
             .objects
             .iter()
             .zip(&maps.map_of)
             .map(|(object, map)| ObjectUniform { map: map.map(|m| maps.views[m as usize]).unwrap_or_default(), ..*object })
             .collect();
-        let objects = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("effect objects"), contents: bytemuck::cast_slice(&objects), usage: wgpu::BufferUsages::STORAGE });
+        let objects = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("effect objects"),
+            contents: bytemuck::cast_slice(&objects),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("effect frame"),
             layout: &self.frame_layout,
@@ -320,12 +358,20 @@ impl SpecularPass {
                 wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: self.materials.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(self.lut_atlas.as_ref().unwrap_or(&self.blank)) },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(self.lut_atlas.as_ref().unwrap_or(&self.blank)),
+                },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.sampler) },
             ],
         });
-        let maps_group = super::distance_maps::buffers_bind_group(device, &self.maps_layout, "effect maps", &[&maps.geometry, &maps.surfaces]);
-        let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites { query_set: set, beginning_of_pass_write_index: Some(0), end_of_pass_write_index: Some(1) });
+        let maps_group =
+            super::distance_maps::buffers_bind_group(device, &self.maps_layout, "effect maps", &[&maps.geometry, &maps.surfaces]);
+        let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        });
         let mut pass = target.begin(encoder, writes);
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &frame_group, &[]);
@@ -335,7 +381,15 @@ impl SpecularPass {
     }
 
     /// Render one frame of `width`×`height` pixels and read it back.
-    pub fn render(&mut self, gpu: &Gpu, meshes: &SceneMeshes, maps: &GpuMaps, shot: Shot, method: Method, [width, height]: [u32; 2]) -> Result<EffectImage> {
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        meshes: &SceneMeshes,
+        maps: &GpuMaps,
+        shot: Shot,
+        method: Method,
+        [width, height]: [u32; 2],
+    ) -> Result<EffectImage> {
         self.pipeline(gpu, Effect::of(shot.depths), method)?;
         let target = Target::new(gpu, width, height, FLOAT_TARGET, true)?;
         let buffer = readback_buffer(gpu, target.readback_bytes())?;

@@ -335,7 +335,8 @@ mod tests {
             let (main, _) = GAUSS3.sums(&GAUSS3.nodes.map(|t| t.powi(power)));
             (main, main)
         };
-        let cases: [(i32, i32, &dyn Fn(i32) -> (f64, f64)); 2] = [(11, 5, &kronrod), (5, 5, &gauss)];
+        type Sums<'a> = &'a dyn Fn(i32) -> (f64, f64);
+        let cases: [(i32, i32, Sums); 2] = [(11, 5, &kronrod), (5, 5, &gauss)];
         for (rule_main, rule_embedded, sums) in cases {
             for power in 0..=rule_main {
                 let (main, embedded) = sums(power);
