@@ -61,8 +61,8 @@ test-deps:
 test: db
 	bash scripts/test-deps
 	$(CARGO) fmt --check
-	$(CARGO) clippy --all-targets --all-features -- -D warnings
-	$(CARGO) test --features gpu
+	$(CARGO) clippy --workspace --all-targets --all-features -- -D warnings
+	$(CARGO) test --workspace --all-features
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the
 # plain file read, the Python peer of ingest), ingest (wall + peak RSS), Fresnel methods,

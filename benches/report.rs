@@ -32,7 +32,7 @@ fn main() {
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
     let all = Selection::default();
     let reading = nklut::ingest::Config::default();
-    nklut::color::command(&db, &all, &reading, &out, 256).expect("colors");
+    nklut::colors::command(&db, &all, &reading, &out, 256).expect("colors");
     let mut anchor = Vec::new();
     let mut report = Vec::new();
     let mut files = 0;

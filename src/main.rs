@@ -234,7 +234,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Effects { .. } => unreachable!("handled before the database is opened"),
         Command::Colors { pages, channels, texels } => {
-            for path in nklut::color::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
+            for path in nklut::colors::command(&db, &pages.selection(), &channels.config(), &cli.paths.out, texels)? {
                 eprintln!("  wrote {}", path.display());
             }
         }

@@ -137,7 +137,7 @@ fn colours_are_finite_for_every_kept_page() {
 fn effective_indices_meet_the_target_on_3d_metals() {
     let metals: Vec<_> = shelf("3d").kept.into_iter().filter(|p| p.page.book == "metals").collect();
     assert!(metals.len() >= 8);
-    let colors = color::compute(&metals, 0, &mut Default::default(), &Default::default(), &Default::default());
+    let colors = nklut::colors::compute(&metals, 0, &mut Default::default(), &Default::default(), &Default::default());
     let mut unmatched = vec![];
     for (page, colors) in metals.iter().zip(&colors) {
         for c in 0..3 {

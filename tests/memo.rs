@@ -31,7 +31,7 @@ fn selection() -> Selection {
 }
 
 fn colors(out: &Path) {
-    nklut::color::command(&database(), &selection(), &Config::default(), out, 64).unwrap();
+    nklut::colors::command(&database(), &selection(), &Config::default(), out, 64).unwrap();
 }
 
 fn params(out: &Path) {

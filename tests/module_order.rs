@@ -1,16 +1,53 @@
-//! The module map of `src/lib.rs` holds: every `crate::` import of a module points to a
-//! module before it in the pipeline order, or to a leaf.
+//! The layers hold. Between crates Cargo enforces the direction (a crate cannot name one
+//! above it); inside each crate, every `crate::` import of a module points to a module
+//! before it in the crate's order (its `lib.rs` doc comment), or to a leaf. And the light
+//! crate stays light: `nklut-optics` depends on neither polars, nor wgpu, nor obvhs.
 
 use std::fs;
 use std::path::Path;
 
-/// The pipeline order of `src/lib.rs`'s doc comment.
-const ORDER: [&str; 12] =
-    ["db", "spectrum", "ingest", "fresnel", "color", "validate", "bake", "params", "report", "scene", "effects", "gpu"];
-/// Modules any module may use.
-const LEAVES: [&str; 6] = ["budget", "encoding", "output", "progress", "minimise", "memo"];
-/// Stages that sit side by side (neither may use the other).
-const SIBLINGS: [&str; 3] = ["validate", "bake", "params"];
+/// Each crate's modules in their order, its leaves, and the stages that sit side by side
+/// (neither may use the other).
+struct Layers {
+    krate: &'static str,
+    order: &'static [&'static str],
+    leaves: &'static [&'static str],
+    siblings: &'static [&'static str],
+}
+
+const CRATES: [Layers; 3] = [
+    Layers {
+        krate: "optics",
+        order: &["db", "spectrum", "fresnel", "color"],
+        leaves: &["encoding", "minimise", "atomic", "memo"],
+        siblings: &[],
+    },
+    Layers {
+        krate: "pipeline",
+        order: &["ingest", "colors", "validate", "bake", "params", "report"],
+        leaves: &["output", "progress", "budget"],
+        siblings: &["validate", "bake", "params"],
+    },
+    // The effects crate's root is the effects themselves; `scene` is the data below them.
+    Layers {
+        krate: "effects",
+        order: &[
+            "scene",
+            "optics",
+            "geometry",
+            "packet",
+            "trace",
+            "distance_map",
+            "image_error",
+            "pictures",
+            "experiment",
+            "ao",
+            "command",
+        ],
+        leaves: &[],
+        siblings: &[],
+    },
+];
 
 fn sources(dir: &Path, found: &mut Vec<(String, String)>) {
     for entry in fs::read_dir(dir).unwrap() {
@@ -23,7 +60,7 @@ fn sources(dir: &Path, found: &mut Vec<(String, String)>) {
     }
 }
 
-/// The top-level module a file under src/ belongs to.
+/// The top-level module a file under a crate's src/ belongs to.
 fn module_of(path: &str) -> Option<String> {
     let relative = path.split("src/").nth(1)?;
     let first = relative.split('/').next()?;
@@ -31,29 +68,50 @@ fn module_of(path: &str) -> Option<String> {
 }
 
 #[test]
-fn imports_point_down_the_pipeline() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    sources(&root, &mut files);
-    let rank = |m: &str| ORDER.iter().position(|o| *o == m);
+fn imports_point_down_each_crate_s_layers() {
     let mut wrong = Vec::new();
-    for (path, text) in &files {
-        let Some(module) = module_of(path) else { continue };
-        let Some(own) = rank(&module) else { continue };
-        for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
-            for used in
-                line.split("crate::").skip(1).map(|rest| rest.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or(""))
-            {
-                if used == module || LEAVES.contains(&used) {
-                    continue;
-                }
-                let sideways = SIBLINGS.contains(&used) && SIBLINGS.contains(&module.as_str());
-                match rank(used) {
-                    Some(other) if other < own && !sideways => {}
-                    _ => wrong.push(format!("{path}: {module} uses {used}: {}", line.trim())),
+    for layers in &CRATES {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates").join(layers.krate).join("src");
+        let mut files = Vec::new();
+        sources(&root, &mut files);
+        assert!(!files.is_empty(), "no sources under {}", root.display());
+        let rank = |m: &str| layers.order.iter().position(|o| *o == m);
+        for (path, text) in &files {
+            let Some(module) = module_of(path) else { continue };
+            let Some(own) = rank(&module) else { continue };
+            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for used in
+                    line.split("crate::").skip(1).map(|rest| rest.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or(""))
+                {
+                    if used == module || layers.leaves.contains(&used) {
+                        continue;
+                    }
+                    let sideways = layers.siblings.contains(&used) && layers.siblings.contains(&module.as_str());
+                    match rank(used) {
+                        Some(other) if other < own && !sideways => {}
+                        _ => wrong.push(format!("{path}: {module} uses {used}: {}", line.trim())),
+                    }
                 }
             }
         }
     }
-    assert!(wrong.is_empty(), "imports against the module order:\n{}", wrong.join("\n"));
+    assert!(wrong.is_empty(), "imports against the layers:\n{}", wrong.join("\n"));
+}
+
+/// `cargo tree` of the optics crate (its normal dependencies, from the lock file): none of
+/// the heavy crates of the layers above.
+#[test]
+fn the_optics_crate_pulls_neither_polars_nor_wgpu() {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args(["tree", "--offline", "--locked", "-p", "nklut-optics", "-e", "normal", "--prefix", "none"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let tree = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(tree.lines().next().is_some_and(|l| l.starts_with("nklut-optics")), "{tree}");
+    for heavy in ["polars", "wgpu", "obvhs", "nklut-pipeline", "plotters", "exr "] {
+        assert!(!tree.lines().any(|l| l.starts_with(heavy)), "nklut-optics depends on {heavy}:\n{tree}");
+    }
 }

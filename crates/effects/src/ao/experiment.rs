@@ -1,0 +1,385 @@
+//! The ambient-occlusion experiment of a scene that calls for `ambient_occlusion` or
+//! `indirect` (docs/ao.md): every object's placed (and optionally subdivided) mesh becomes
+//! surfels, one set for the whole scene so objects shadow each other; accessibility is
+//! computed by brute force (up to a surfel count, n² per pass) and through the tree, for
+//! 1, 2, 3 passes (and the scene's own count), and compared per object with the ray-traced
+//! reference; where the scene asks for indirect light, the surfels' one-bounce gather is
+//! compared with the ray-traced bounce. The result is the rows of `ao_errors` and pictures
+//! of the scene with no AO, 1, 2, 3 passes and the reference, side by side.
+//!
+//! Lighting of a visible point x with albedo ρ (units of the scene's `light`):
+//! ρ · (Σ ambient · a(x) + Σ direct(x) + E_indirect(x)), a and E_indirect interpolated over
+//! the triangle from its vertices (surfels), direct light with ray-traced shadows per pixel
+//! (the same in every picture, so the pictures differ by accessibility and indirect light
+//! alone). With `bent_normals`, direct light's cosine takes the interpolated bent normal.
+
+use std::ops::Range;
+
+use anyhow::{anyhow, Result};
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
+use super::errors::{mean_and_max_difference, ErrorRow};
+use super::hierarchy::{Closeness, SurfelTree};
+use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, ReferenceIndirect, Rgb};
+use super::reference::{reference_accessibility, RaySettings};
+use super::shadow::ShadowForm;
+use super::surfel::{subdivided_times, surfels, Surfel};
+use crate::experiment::EffectsStats;
+use crate::geometry::Geometry;
+use crate::pictures::Picture;
+use crate::scene::mesh::{self, Mesh};
+use crate::scene::{LightSource, Role, Scene};
+use crate::trace::{Camera, TracedFrame};
+use nklut_pipeline::budget::{times, MemoryBudget};
+
+/// One object's surfels: its name in tables and its range in the scene's surfels (the
+/// object's vertices in order) and in the geometry's triangles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectSurfels {
+    pub name: String,
+    pub surfels: Range<usize>,
+    pub triangles: Range<usize>,
+}
+
+/// The scene's surfels and triangles.
+pub struct SurfelScene {
+    pub meshes: Vec<Mesh>,
+    pub geometry: Geometry,
+    pub surfels: Vec<Surfel>,
+    pub objects: Vec<ObjectSurfels>,
+    /// Diffuse albedo per surfel (a specular object's surfels: 0, it reflects no diffuse light).
+    pub albedo: Vec<Rgb>,
+    /// Diffuse albedo per object (the plain colour, without pattern).
+    pub object_albedo: Vec<Rgb>,
+    pub lights: Vec<LightSource>,
+}
+
+/// The bytes the AO run holds per triangle of a placed (and subdivided) mesh, for the
+/// memory check before subdividing: the mesh itself, its surfels (about one per two
+/// triangles), the tracer's f64 triangle and its BVH, the surfel tree and the per-vertex
+/// results. Measured: peak resident memory grows by 611 and 616 bytes per triangle from
+/// the bunny to the bunny subdivided once and twice (69 451 → 277 804 → 1 111 216
+/// triangles, release build, `--ao-max-brute 0`); counted as 768, a quarter more.
+pub const BYTES_PER_SURFEL_TRIANGLE: usize = 768;
+
+impl SurfelScene {
+    /// Load, place and subdivide every object's mesh; a subdivision whose triangles would
+    /// not fit `budget` is refused (naming the object) before it is made.
+    pub fn new(scene: &Scene, budget: &MemoryBudget) -> Result<SurfelScene> {
+        let named = |problem: String| anyhow!("scene {}: {problem}", scene.file.display());
+        let mut meshes = Vec::new();
+        let mut objects = Vec::new();
+        let (mut all, mut albedo, mut object_albedo) = (Vec::new(), Vec::new(), Vec::new());
+        let mut triangles = 0;
+        for (i, object) in scene.objects.iter().enumerate() {
+            let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
+            let subdivided_triangles = (loaded.triangles() as u128).saturating_mul(4u128.saturating_pow(object.subdivisions));
+            let what = format!("{} triangles ({} subdivided {} times)", subdivided_triangles, object.mesh.label(), object.subdivisions);
+            budget
+                .check(&format!("objects[{i}].subdivide"), what, times(triangles as u128 + subdivided_triangles, BYTES_PER_SURFEL_TRIANGLE))
+                .map_err(|e| named(e.to_string()))?;
+            let placed = subdivided_times(&loaded.placed(&object.placement), object.subdivisions);
+            let own = surfels(&placed);
+            let base = object.mesh.label();
+            let taken = objects.iter().filter(|o: &&ObjectSurfels| o.name == base || o.name.starts_with(&format!("{base}-"))).count();
+            let name = if taken == 0 { base } else { format!("{base}-{}", taken + 1) };
+            objects.push(ObjectSurfels {
+                name,
+                surfels: all.len()..all.len() + own.len(),
+                triangles: triangles..triangles + placed.triangles(),
+            });
+            let plain = match &object.role {
+                Role::Diffuse(d) => d.albedo,
+                Role::Specular(_) => [0.0; 3],
+            };
+            object_albedo.push(plain);
+            albedo.extend(own.iter().map(|s| match &object.role {
+                Role::Diffuse(d) => d.albedo_at(s.centre.to_array(), s.normal.to_array()),
+                Role::Specular(_) => [0.0; 3],
+            }));
+            triangles += placed.triangles();
+            all.extend(own);
+            meshes.push(placed);
+        }
+        let geometry = Geometry::new(&meshes).map_err(|e| named(e.to_string()))?;
+        Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone() })
+    }
+
+    /// Which object a global triangle index belongs to.
+    fn object_of_triangle(&self, triangle: usize) -> usize {
+        self.objects.iter().position(|o| o.triangles.contains(&triangle)).unwrap_or(0)
+    }
+
+    /// The global surfel indices of a triangle's corners and the barycentric weights of
+    /// `point` in it (clamped to the triangle, renormalised).
+    fn corners(&self, triangle: usize, point: DVec3) -> ([usize; 3], [f64; 3]) {
+        let object = self.object_of_triangle(triangle);
+        let local = triangle - self.objects[object].triangles.start;
+        let mesh = &self.meshes[object];
+        let vertices = [0, 1, 2].map(|k| mesh.indices[3 * local + k] as usize);
+        let [a, b, c] = vertices.map(|v| DVec3::from_array(mesh.positions[v].map(f64::from)));
+        let normal = (b - a).cross(c - a);
+        let area = normal.length_squared();
+        let weights = if area > 0.0 {
+            let w = [(c - b).cross(point - b).dot(normal), (a - c).cross(point - c).dot(normal), (b - a).cross(point - a).dot(normal)]
+                .map(|x| (x / area).max(0.0));
+            let sum: f64 = w.iter().sum();
+            if sum > 0.0 {
+                w.map(|x| x / sum)
+            } else {
+                [1.0 / 3.0; 3]
+            }
+        } else {
+            [1.0 / 3.0; 3]
+        };
+        (vertices.map(|v| self.objects[object].surfels.start + v), weights)
+    }
+}
+
+/// How the experiment runs: reference rays, the largest surfel count run by brute force
+/// (n² per pass), the passes compared (1..=`passes`), the shadow form and the tree's κ,
+/// the picture size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoSettings {
+    pub rays: RaySettings,
+    pub max_brute: usize,
+    pub passes: u32,
+    pub form: ShadowForm,
+    pub closeness: Closeness,
+    pub resolution: [u32; 2],
+    /// What the run may hold (subdivided meshes are checked against it).
+    pub budget: MemoryBudget,
+}
+
+impl Default for AoSettings {
+    /// 256 rays per vertex (σ ≤ 1/32 per vertex, ~0.01 on a mean), brute force to 20 000
+    /// surfels, 3 passes, the form factor (g = 1), κ = 16, 256×256 pictures.
+    fn default() -> AoSettings {
+        AoSettings {
+            rays: RaySettings { rays: 256, ..RaySettings::default() },
+            max_brute: 20_000,
+            passes: 3,
+            form: ShadowForm::FORM_FACTOR,
+            closeness: Closeness::default(),
+            resolution: [256, 256],
+            budget: MemoryBudget::of_machine(),
+        }
+    }
+}
+
+/// The rows of `ao_errors` and the pictures.
+#[derive(Clone, Debug, Default)]
+pub struct AoReport {
+    pub rows: Vec<ErrorRow>,
+    pub pictures: Vec<Picture>,
+}
+
+/// Per-vertex values to light a picture with: accessibility, indirect irradiance and bent
+/// normals (`None`: the normal).
+struct Lighting<'a> {
+    accessibility: &'a [f64],
+    indirect: Option<&'a [Rgb]>,
+    bent_normals: Option<&'a [DVec3]>,
+}
+
+/// The mean over `range` of `values`.
+fn mean(values: impl Iterator<Item = f64>, count: usize) -> f64 {
+    values.sum::<f64>() / count.max(1) as f64
+}
+
+/// Mean |twin − reference| over a range of vertices and the three channels, and the
+/// reference's mean and mean standard error there.
+fn indirect_error(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> (f64, f64, f64) {
+    let count = 3 * range.len();
+    let error = mean(range.clone().flat_map(|i| (0..3).map(move |c| (twin[i][c] - reference.values[i][c]).abs())), count);
+    let level = mean(range.clone().flat_map(|i| reference.values[i]), count);
+    let noise = mean(range.flat_map(|i| reference.standard_errors[i]), count);
+    (error, level, noise)
+}
+
+/// Run the experiment for a scene with surfel effects; a scene without them computes
+/// nothing (no surfels, no tree, no pass: `stats` stays as it was).
+pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: &mut dyn FnMut(&str)) -> Result<AoReport> {
+    let Some(effects) = &scene.effects else { return Ok(AoReport::default()) };
+    if effects.ambient_occlusion.is_none() && effects.indirect.is_none() {
+        return Ok(AoReport::default());
+    }
+    let stage = SurfelScene::new(scene, &settings.budget)?;
+    let n = stage.surfels.len();
+    stats.surfels += n;
+    let tree = SurfelTree::new(&stage.surfels, settings.form, settings.closeness);
+    stats.tree_nodes += tree.nodes.len();
+    let brute = BruteForce { surfels: &stage.surfels, form: settings.form };
+    let wanted = effects.ambient_occlusion;
+    let passes = settings.passes.max(wanted.map_or(0, |a| a.passes)).max(1);
+    log(&format!(
+        "ao: {n} surfels in {} objects, {} tree nodes, {} triangles",
+        stage.objects.len(),
+        tree.nodes.len(),
+        stage.geometry.triangles()
+    ));
+    let start = std::time::Instant::now();
+    let reference = reference_accessibility(&stage.geometry, &stage.surfels, settings.rays);
+    log(&format!(
+        "  reference: {} rays in {:.1} s, σ mean {:.4}",
+        reference.rays,
+        start.elapsed().as_secs_f64(),
+        reference.mean_standard_error()
+    ));
+    let mut runs: Vec<(bool, Vec<Accessibility>)> = Vec::new();
+    if n <= settings.max_brute {
+        runs.push((false, accessibility_by_pass(&brute, passes)));
+        stats.ao_passes += passes as u64;
+    } else {
+        log(&format!("  brute force skipped: {n} surfels > {} (n² per pass)", settings.max_brute));
+    }
+    runs.push((true, accessibility_by_pass(&tree, passes)));
+    stats.ao_passes += passes as u64;
+
+    let indirect = effects.indirect.map(|_| {
+        let direct = surfel_direct(&stage.geometry, &stage.surfels, &stage.lights, settings.rays.offset);
+        let albedo_of = |object: usize| stage.object_albedo[object];
+        let reference = reference_indirect(&stage.geometry, &stage.surfels, &albedo_of, &stage.lights, settings.rays);
+        (direct, reference)
+    });
+
+    let mut report = AoReport::default();
+    for (hierarchy, history) in &runs {
+        for result in history.iter().skip(1) {
+            let twin = indirect.as_ref().map(|(direct, _)| {
+                stats.indirect_bounces += 1;
+                surfel_indirect(&stage.surfels, &stage.albedo, direct, &result.values, settings.form, 1)
+            });
+            for object in &stage.objects {
+                let range = object.surfels.clone();
+                let (mean_error, max_error) = mean_and_max_difference(&result.values[range.clone()], &reference.values[range.clone()]);
+                let measured =
+                    twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
+                report.rows.push(ErrorRow {
+                    mesh: object.name.clone(),
+                    surfels: range.len(),
+                    receiver_gain: settings.form.receiver_gain,
+                    passes: result.passes,
+                    hierarchy: *hierarchy,
+                    mean_error,
+                    max_error,
+                    reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
+                    indirect_mean_error: measured.map(|m| m.0),
+                    indirect_reference_mean: measured.map(|m| m.1),
+                    indirect_reference_standard_error: measured.map(|m| m.2),
+                });
+                log(&format!(
+                    "  {} {} passes {}: mean |a − ref| {:.4}, max {:.4}{}",
+                    object.name,
+                    result.passes,
+                    if *hierarchy { "tree" } else { "brute force" },
+                    mean_error,
+                    max_error,
+                    measured.map(|m| format!(", indirect mean |Δ| {:.4} of {:.4}", m.0, m.1)).unwrap_or_default()
+                ));
+            }
+        }
+    }
+
+    // Pictures: the scene's own emitters (the tree where it asks for it or brute force was
+    // skipped), no AO, 1, 2, 3 passes and the reference.
+    let use_tree = wanted.is_some_and(|a| a.hierarchy) || n > settings.max_brute;
+    let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
+    let bent = wanted.is_some_and(|a| a.bent_normals);
+    let bounces = effects.indirect.map_or(0, |i| i.bounces);
+    let camera = Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]);
+    let gathered = |a: &Accessibility| {
+        indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &a.values, settings.form, bounces))
+    };
+    let reference_lighting =
+        Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
+    let truth = render(&stage, &camera, &reference_lighting);
+    let mut frames = Vec::new();
+    for (shown, a) in history.iter().take(4).enumerate() {
+        let light = gathered(a);
+        let lighting =
+            Lighting { accessibility: &a.values, indirect: light.as_deref(), bent_normals: bent.then_some(a.bent_normals.as_slice()) };
+        let frame = render(&stage, &camera, &lighting);
+        let stem = if shown == 0 { "ao_none".to_string() } else { format!("ao_passes{shown}") };
+        frames.push(frame.clone());
+        report.pictures.push(Picture { stem, frame, reference: Some(truth.clone()) });
+    }
+    if indirect.is_some() {
+        stats.indirect_bounces += bounces as u64 * frames.len() as u64;
+    }
+    frames.push(truth.clone());
+    report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
+    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&frames), reference: None });
+    Ok(report)
+}
+
+/// Frames of equal height next to each other, left to right.
+pub fn side_by_side(frames: &[TracedFrame]) -> TracedFrame {
+    let height = frames.iter().map(|f| f.height).max().unwrap_or(0);
+    let width = frames.iter().map(|f| f.width).sum();
+    let mut out = TracedFrame {
+        width,
+        height,
+        radiance: Vec::with_capacity((width * height) as usize),
+        seen: Vec::new(),
+        rays: frames.iter().map(|f| f.rays).sum(),
+    };
+    for y in 0..height {
+        for frame in frames {
+            for x in 0..frame.width {
+                let pixel = if y < frame.height { frame.radiance[(y * frame.width + x) as usize] } else { [0.0; 3] };
+                out.radiance.push(pixel);
+            }
+        }
+    }
+    out.seen = vec![None; out.radiance.len()];
+    out
+}
+
+/// One frame of the scene lit with per-vertex `lighting`.
+fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> TracedFrame {
+    let ambient: Rgb = stage.lights.iter().fold([0.0; 3], |sum, light| match light {
+        LightSource::Ambient { colour } => std::array::from_fn(|c| sum[c] + colour[c]),
+        _ => sum,
+    });
+    let pixels: Vec<(Rgb, u64)> = (0..camera.width * camera.height)
+        .into_par_iter()
+        .map(|i| {
+            let direction = camera.ray(i % camera.width, i / camera.width);
+            let Some(hit) = stage.geometry.nearest(camera.eye, direction, None, |_| true) else { return ([0.0; 3], 1) };
+            let (corners, w) = stage.corners(hit.triangle as usize, hit.point);
+            let blend = |f: &dyn Fn(usize) -> f64| w[0] * f(corners[0]) + w[1] * f(corners[1]) + w[2] * f(corners[2]);
+            let a = blend(&|v| lighting.accessibility[v]);
+            let albedo: Rgb = std::array::from_fn(|c| blend(&|v| stage.albedo[v][c]));
+            // The side the camera sees: a back face is lit as its front would be from there.
+            let normal = if hit.normal.dot(direction) > 0.0 { -hit.normal } else { hit.normal };
+            let shading_normal = match lighting.bent_normals {
+                Some(bent) => {
+                    let b = corners.iter().zip(w).fold(DVec3::ZERO, |sum, (&v, weight)| sum + bent[v] * weight);
+                    let b = b.try_normalize().unwrap_or(normal);
+                    if b.dot(normal) < 0.0 {
+                        normal
+                    } else {
+                        b
+                    }
+                }
+                None => normal,
+            };
+            let direct = direct_irradiance(&stage.geometry, hit.point, shading_normal, &stage.lights, 1e-6);
+            let indirect: Rgb = match lighting.indirect {
+                Some(values) => std::array::from_fn(|c| blend(&|v| values[v][c])),
+                None => [0.0; 3],
+            };
+            (std::array::from_fn(|c| albedo[c] * (ambient[c] * a + direct[c] + indirect[c])), 1 + stage.lights.len() as u64)
+        })
+        .collect();
+    TracedFrame {
+        width: camera.width,
+        height: camera.height,
+        rays: pixels.iter().map(|p| p.1).sum(),
+        seen: vec![None; pixels.len()],
+        radiance: pixels.into_iter().map(|p| p.0).collect(),
+    }
+}

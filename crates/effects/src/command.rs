@@ -1,0 +1,216 @@
+//! `nklut effects`: the effects a scene names, on the CPU, as one stage like the others.
+//! The scene's frame count and size may be overridden (and then pass the scene's own
+//! checks again); every size the run will hold — distance maps, frames, surfels of
+//! subdivided meshes, reference rays — is estimated and checked against the memory budget
+//! before any of it is allocated ([`memory_needs`]); the database is opened only when
+//! reflections or refractions need materials; and the tables and pictures of the run are
+//! published as one set (`effects`), so frames of an earlier or killed run never mix with
+//! this run's tables.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+
+use super::ao::experiment::AoSettings;
+use super::distance_map::Texel;
+use super::experiment::{self, EffectsStats};
+use super::trace::TracedFrame;
+use crate::scene::{Scene, SceneError};
+use nklut_optics::db::Database;
+use nklut_pipeline::budget::{times, MemoryBudget};
+use nklut_pipeline::ingest::Config;
+use nklut_pipeline::output::{SetContent, SetFile};
+
+/// The most reference rays per vertex (`--ao-rays`): 2²⁰, a standard error below 0.0005.
+pub const MAX_AO_RAYS: u32 = 1 << 20;
+
+/// What `nklut effects` is asked to do.
+#[derive(Clone, Debug)]
+pub struct EffectsRequest {
+    pub scene: PathBuf,
+    /// Camera frames to render (default: the scene's).
+    pub frames: Option<u32>,
+    /// Frame size (default: the scene's resolution).
+    pub resolution: Option<[u32; 2]>,
+    /// Reference rays per vertex for ambient occlusion and indirect light.
+    pub ao_rays: u32,
+    /// The largest surfel count run by brute force.
+    pub ao_max_brute: usize,
+    pub config: Config,
+    pub budget: MemoryBudget,
+}
+
+/// What the run did: the files written and what it computed.
+#[derive(Clone, Debug, Default)]
+pub struct EffectsOutcome {
+    pub written: Vec<PathBuf>,
+    pub stats: EffectsStats,
+    /// Pictures written (reflections and refractions, then ambient occlusion).
+    pub frames: usize,
+}
+
+/// The scene with the request's overrides, checked again.
+pub fn scene_of(request: &EffectsRequest) -> Result<Scene, SceneError> {
+    let mut scene = Scene::load(&request.scene)?;
+    if let Some(frames) = request.frames {
+        scene.camera.frames = frames;
+    }
+    if let Some(resolution) = request.resolution {
+        scene.resolution = resolution;
+    }
+    scene.recheck()?;
+    Ok(scene)
+}
+
+/// One figure of the memory a run will hold: the field that decides it, in words, bytes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemoryNeed {
+    pub field: String,
+    pub what: String,
+    pub bytes: u128,
+}
+
+/// The memory the effects of `scene` will hold that the scene's fields decide before any
+/// mesh is read: the distance maps of every specular object (built, then kept), the frames
+/// of the image-error experiment and of the AO pictures, and the reference rays of each
+/// worker thread. (Subdivided meshes are checked when their triangles are known.)
+pub fn memory_needs(scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
+    let Some(effects) = &scene.effects else { return Vec::new() };
+    let mut needs = Vec::new();
+    let [width, height] = scene.resolution;
+    let pixels = u128::from(width) * u128::from(height);
+    let frame_bytes = times(pixels, std::mem::size_of::<[f64; 3]>() + std::mem::size_of::<Option<usize>>());
+    let threads = rayon::current_num_threads() as u128;
+    let resolution = format!("resolution {width}x{height}");
+    if effects.reflection.is_some() || effects.refraction.is_some() {
+        let maps = &effects.distance_maps;
+        let specular = scene.specular_objects().count() as u128;
+        let texels = 6 * u128::from(maps.size) * u128::from(maps.size) * u128::from(maps.layers);
+        // Each map's texels are gathered per texel, then laid out per layer: twice at once.
+        needs.push(MemoryNeed {
+            field: "effects.distance_maps".into(),
+            what: format!("{specular} cube map(s) of 6 × {}² texels × {} layers", maps.size, maps.layers),
+            bytes: times(specular * texels, 2 * std::mem::size_of::<Option<Texel>>()),
+        });
+        let methods = scene.shadings().len() as u128;
+        let configurations = effects.depths().len() as u128;
+        // Kept: per depth, the reference and each method's frame with a copy of the
+        // reference; in flight: the reference, the exact twin and a method's twin.
+        let frames = configurations * (1 + 2 * methods) + 3;
+        needs.push(MemoryNeed {
+            field: "resolution".into(),
+            what: format!("{frames} frames at {resolution}"),
+            bytes: frame_bytes.saturating_mul(frames),
+        });
+    }
+    if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
+        // Five panels, the side-by-side picture of them, their error images' references.
+        needs.push(MemoryNeed {
+            field: "resolution".into(),
+            what: format!("the AO pictures at {resolution}"),
+            bytes: frame_bytes.saturating_mul(16),
+        });
+        // Per worker: each ray's bin and two coordinates, and its direction.
+        let per_ray = 2 * std::mem::size_of::<(usize, [f64; 2])>() + std::mem::size_of::<[f64; 3]>();
+        needs.push(MemoryNeed {
+            field: "--ao-rays".into(),
+            what: format!("{ao_rays} rays per vertex on {threads} threads"),
+            bytes: times(u128::from(ao_rays) * threads, per_ray),
+        });
+    }
+    needs
+}
+
+/// Check every need against the budget: the first that does not fit is the error.
+pub fn check_memory(scene: &Scene, ao_rays: u32, budget: &MemoryBudget) -> Result<()> {
+    for need in memory_needs(scene, ao_rays) {
+        budget.check(&need.field, &need.what, need.bytes)?;
+    }
+    Ok(())
+}
+
+/// Run the effects of the request's scene and publish their tables and pictures under
+/// `out` as one set. `open_db` is called only when reflections or refractions need the
+/// scene's materials.
+pub fn command(
+    request: &EffectsRequest,
+    open_db: &dyn Fn() -> Result<Database>,
+    out: &Path,
+    log: &mut dyn FnMut(&str),
+) -> Result<EffectsOutcome> {
+    let scene = scene_of(request)?;
+    let Some(effects) = scene.effects.clone() else {
+        anyhow::bail!("scene {}: no `effects` section, nothing to trace (use `nklut gpu run`)", scene.file.display());
+    };
+    if !(1..=MAX_AO_RAYS).contains(&request.ao_rays) {
+        anyhow::bail!("--ao-rays {} must lie in 1..={MAX_AO_RAYS}", request.ao_rays);
+    }
+    check_memory(&scene, request.ao_rays, &request.budget)?;
+    let mut outcome = EffectsOutcome::default();
+    let mut tables = Vec::new();
+    let mut pictures: Vec<SetFile> = Vec::new();
+    if effects.reflection.is_some() || effects.refraction.is_some() {
+        let db = open_db()?;
+        let (materials, _) = crate::scene::read_materials(&scene, &db, &request.config)?;
+        let stage = super::trace::stage_from_table(&scene, &materials)?;
+        let settings = experiment::Settings::of(&scene);
+        let report = experiment::image_errors(&scene, &stage, settings, &mut |line| log(line));
+        outcome.stats = report.stats;
+        tables.push((experiment::error_table(&report.rows), "effects_errors"));
+        pictures.extend(super::pictures::files("effects_frames", &report.pictures)?);
+    }
+    if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
+        let mut settings =
+            AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
+        settings.rays.rays = request.ao_rays;
+        let report = super::ao::experiment::run(&scene, &settings, &mut outcome.stats, &mut |line| log(line))?;
+        tables.push((super::ao::errors::ao_errors_table(&report.rows), "ao_errors"));
+        pictures.extend(super::pictures::files("ao_frames", &report.pictures)?);
+    }
+    outcome.frames = pictures.len();
+    let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
+    let files: Vec<&dyn SetContent> =
+        streamed.iter().map(|f| f as &dyn SetContent).chain(pictures.iter().map(|f| f as &dyn SetContent)).collect();
+    outcome.written = nklut_pipeline::output::publish_contents(out, "effects", &files)?;
+    Ok(outcome)
+}
+
+/// The bytes of one traced frame of `width`×`height` (what [`memory_needs`] counts).
+pub fn frame_bytes(frame: &TracedFrame) -> usize {
+    frame.radiance.len() * std::mem::size_of::<[f64; 3]>() + frame.seen.len() * std::mem::size_of::<Option<usize>>()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(text: &str) -> Scene {
+        Scene::parse(text, Path::new("t.yaml")).unwrap()
+    }
+
+    /// The estimates count what the structures hold: one frame of the scene's size is
+    /// the bytes a traced frame of that size has.
+    #[test]
+    fn the_estimates_follow_the_structures() {
+        let frame = TracedFrame { width: 4, height: 2, radiance: vec![[0.0; 3]; 8], seen: vec![None; 8], rays: 0 };
+        let one_frame = frame_bytes(&frame) as u128;
+        let s = scene("resolution: [4, 2]\nmeasurements: [image_error]\neffects: {reflection: {max_depth: [1, 2]}, distance_maps: {size: 8, layers: 3}}\nobjects:\n  - {mesh: sphere, material: a/b/c, methods: [exact, schlick]}\n  - {mesh: room, diffuse: [0.5, 0.5, 0.5]}\n");
+        let needs = memory_needs(&s, 1);
+        assert_eq!(needs[0].bytes, 2 * 6 * 64 * 3 * std::mem::size_of::<Option<Texel>>() as u128);
+        // Two depths × (reference + 2 × two methods) + 3 in flight = 13 frames.
+        assert_eq!(needs[1].bytes, 13 * one_frame);
+    }
+
+    /// Sizes inside every field's range can still be too much together: the check names
+    /// the field before anything is allocated.
+    #[test]
+    fn an_oversized_scene_is_refused_by_its_field() {
+        let s = scene("measurements: [image_error]\neffects: {reflection: {max_depth: 1}, distance_maps: {size: 4096, layers: 8}}\nobjects:\n  - {mesh: sphere, material: a/b/c, method: exact}\n");
+        let error = check_memory(&s, 1, &MemoryBudget::given(8 << 30)).unwrap_err().to_string();
+        assert!(error.starts_with("effects.distance_maps: 1 cube map(s) of 6 × 4096² texels × 8 layers would take about"), "{error}");
+        assert!(check_memory(&s, 1, &MemoryBudget::given(1 << 50)).is_ok());
+        let ao = scene("resolution: [16, 16]\nmeasurements: [image_error]\neffects: {ambient_occlusion: {passes: 1}}\nobjects:\n  - {mesh: plane, diffuse: [0.5, 0.5, 0.5]}\n");
+        let error = check_memory(&ao, MAX_AO_RAYS, &MemoryBudget::given(1 << 20)).unwrap_err().to_string();
+        assert!(error.starts_with("--ao-rays"), "{error}");
+    }
+}

@@ -1,0 +1,378 @@
+//! The image-error experiment of a scene with effects: for every depth and search
+//! configuration the scene names, every camera frame is rendered three ways and compared
+//! per specular object and Fresnel method (docs/effects.md):
+//!
+//! - the reference: exact geometry (the BVH tracer), exact Fresnel;
+//! - the distance-map twin with exact Fresnel: its error against the reference is the
+//!   *geometry* error (what the maps and their search cost);
+//! - the twin with the method: its error against the twin with exact Fresnel, on the same
+//!   paths, is the *Fresnel* error; against the reference, the *total*.
+//!
+//! What renders the distance-map frames is a [`MapFrames`]: the f64 CPU twin here
+//! ([`CpuTwin`]), or the GPU runner's passes (`gpu::effects`); the reference is always the
+//! f64 tracer. The materials come from the database through `ingest` (only the scene's
+//! pages); the result is the `effects_errors` table, one row per renderer and configuration.
+
+use super::distance_map::{DistanceMap, DistanceMapTracer};
+use super::image_error::{compare_object, FrameError};
+use super::pictures::Picture;
+use anyhow::Result;
+
+use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
+use crate::scene::{Depths, Role, Scene, SearchSteps};
+use nklut_optics::fresnel::{Encoding, LutSpec, Method};
+use nklut_pipeline::output::Table;
+
+/// How much of the scene's camera path to render and at what size; `lut` is the texture of
+/// the `lut` method (the GPU runner's: `lut.size` texels of half floats).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub frames: u32,
+    pub resolution: [u32; 2],
+    pub lut: LutSpec,
+}
+
+impl Settings {
+    pub fn of(scene: &Scene) -> Settings {
+        Settings { frames: scene.camera.frames, resolution: scene.resolution, lut: LutSpec::new(scene.lut.size as usize, Encoding::F16) }
+    }
+}
+
+/// Errors summed over frames (pixel-weighted means).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorSum {
+    pub pixels: usize,
+    relative: f64,
+    delta_e: f64,
+    absolute: f64,
+}
+
+impl ErrorSum {
+    pub fn add(&mut self, e: &FrameError) {
+        self.pixels += e.pixels;
+        self.relative += e.mean_relative * e.pixels as f64;
+        self.delta_e += e.mean_delta_e2000 * e.pixels as f64;
+        self.absolute += e.mean_absolute * e.pixels as f64;
+    }
+
+    fn mean(&self, sum: f64) -> f64 {
+        if self.pixels > 0 {
+            sum / self.pixels as f64
+        } else {
+            0.0
+        }
+    }
+
+    pub fn mean_relative(&self) -> f64 {
+        self.mean(self.relative)
+    }
+    pub fn mean_delta_e2000(&self) -> f64 {
+        self.mean(self.delta_e)
+    }
+    pub fn mean_absolute(&self) -> f64 {
+        self.mean(self.absolute)
+    }
+}
+
+/// One row of `effects_errors`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EffectErrorRow {
+    /// What traced the distance maps: `cpu-twin` or `gpu`.
+    pub renderer: &'static str,
+    pub object: String,
+    pub material: String,
+    pub method: Method,
+    pub depths: Depths,
+    pub steps: SearchSteps,
+    pub map_size: u32,
+    pub layers: u32,
+    pub frames: u32,
+    pub resolution: [u32; 2],
+    pub geometry: ErrorSum,
+    pub fresnel: ErrorSum,
+    pub total: ErrorSum,
+}
+
+/// The twin's frame through each specular object's own map.
+pub fn twin_frame(
+    stage: &Stage,
+    camera: &Camera,
+    maps: &[Option<DistanceMap>],
+    method: Method,
+    depths: Depths,
+    steps: SearchSteps,
+    lut: LutSpec,
+) -> TracedFrame {
+    let optics = stage.optics(method, lut);
+    let tracers: Vec<Option<DistanceMapTracer>> = maps.iter().map(|m| m.as_ref().map(|map| DistanceMapTracer { map, steps })).collect();
+    render(stage, camera, PathRules { optics: &optics, depths }, |object| {
+        tracers[object].as_ref().expect("every specular object has a map")
+    })
+}
+
+/// The distance maps of every specular object (`None` for diffuse ones).
+pub fn distance_maps(stage: &Stage, size: u32, layers: u32) -> Vec<Option<DistanceMap>> {
+    (0..stage.objects.len()).map(|o| stage.is_specular(o).then(|| DistanceMap::render(stage, o, size, layers))).collect()
+}
+
+/// What the experiment measured: the table's rows, and frames to look at (camera frame 0 of
+/// every depth configuration at the last search configuration: the reference, the twin with
+/// each method, and each twin's error against the reference).
+#[derive(Clone, Debug, Default)]
+pub struct EffectsReport {
+    pub rows: Vec<EffectErrorRow>,
+    pub pictures: Vec<Picture>,
+    pub stats: EffectsStats,
+}
+
+/// What the experiment computed, so tests and logs can see that nothing ran that the scene
+/// did not ask for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectsStats {
+    /// Distance maps (cube maps) rendered: one per specular object.
+    pub cube_maps: usize,
+    /// Layers per cube map.
+    pub layers: u32,
+    /// Reference frames traced (one per camera frame and depth/search configuration).
+    pub reference_frames: usize,
+    /// Distance-map frames traced (one per camera frame, configuration and method).
+    pub twin_frames: usize,
+    /// Surfels built (one per vertex of every object; none unless the scene names
+    /// `ambient_occlusion` or `indirect`).
+    pub surfels: usize,
+    /// Nodes of the surfel tree built.
+    pub tree_nodes: usize,
+    /// Accessibility passes computed (on the CPU) or dispatched (on the GPU).
+    pub ao_passes: u64,
+    /// Indirect-light gathers (bounces) computed.
+    pub indirect_bounces: u64,
+}
+
+/// Renders frames through the distance maps (the maps are the renderer's own).
+pub trait MapFrames {
+    /// `cpu-twin` or `gpu`, for the table's `renderer` column.
+    fn name(&self) -> &'static str;
+    /// Frame `frame` of the scene's camera path (`camera` is its pinhole) with every bounce's
+    /// F from `method`.
+    fn frame(&mut self, frame: u32, camera: &Camera, method: Method, depths: Depths, steps: SearchSteps) -> Result<TracedFrame>;
+}
+
+/// The f64 CPU twin of the GPU algorithm over maps it ray-cast itself.
+pub struct CpuTwin<'a> {
+    pub stage: &'a Stage,
+    pub maps: Vec<Option<DistanceMap>>,
+    pub lut: LutSpec,
+}
+
+impl MapFrames for CpuTwin<'_> {
+    fn name(&self) -> &'static str {
+        "cpu-twin"
+    }
+
+    fn frame(&mut self, _frame: u32, camera: &Camera, method: Method, depths: Depths, steps: SearchSteps) -> Result<TracedFrame> {
+        Ok(twin_frame(self.stage, camera, &self.maps, method, depths, steps, self.lut))
+    }
+}
+
+/// Run the experiment with the CPU twin; `log` receives progress lines. A scene without
+/// effects has no rows.
+pub fn image_errors(scene: &Scene, stage: &Stage, settings: Settings, log: &mut dyn FnMut(&str)) -> EffectsReport {
+    let Some(effects) = &scene.effects else { return EffectsReport::default() };
+    let maps_settings = &effects.distance_maps;
+    let maps = distance_maps(stage, maps_settings.size, maps_settings.layers);
+    log(&format!(
+        "effects: {} distance maps of 6×{}² texels × {} layers",
+        maps.iter().flatten().count(),
+        maps_settings.size,
+        maps_settings.layers
+    ));
+    let mut twin = CpuTwin { stage, maps, lut: settings.lut };
+    let cube_maps = twin.maps.iter().flatten().count();
+    let mut report = measure(scene, stage, settings, &mut twin, log).expect("the CPU twin cannot fail");
+    report.stats.cube_maps = cube_maps;
+    report.stats.layers = maps_settings.layers;
+    report
+}
+
+/// Run the experiment with `renderer`'s frames against the f64 reference.
+pub fn measure(
+    scene: &Scene,
+    stage: &Stage,
+    settings: Settings,
+    renderer: &mut dyn MapFrames,
+    log: &mut dyn FnMut(&str),
+) -> Result<EffectsReport> {
+    let mut report = EffectsReport::default();
+    let Some(effects) = &scene.effects else { return Ok(report) };
+    let maps_settings = &effects.distance_maps;
+    let methods: Vec<Method> = Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect();
+    let [width, height] = settings.resolution;
+    let last_steps = maps_settings.steps.last().copied();
+    for depths in effects.depths() {
+        for &steps in &maps_settings.steps {
+            let shown = |frame: u32| frame == 0 && Some(steps) == last_steps;
+            let stem =
+                |name: &str| format!("depth{}-{}_steps{}-{}_{name}", depths.reflection, depths.refraction, steps.linear, steps.secant);
+            let mut sums: Vec<(usize, Method, ErrorSum, ErrorSum, ErrorSum)> = Vec::new();
+            for frame in 0..settings.frames {
+                let camera = Camera::new(&scene.camera, frame, width, height);
+                let truth = reference(stage, &camera, depths, settings.lut);
+                let exact_twin = renderer.frame(frame, &camera, Method::Exact, depths, steps)?;
+                report.stats.reference_frames += 1;
+                report.stats.twin_frames += 1;
+                if shown(frame) {
+                    report.pictures.push(Picture { stem: stem("reference"), frame: truth.clone(), reference: None });
+                }
+                for &method in &methods {
+                    let with_method = if method == Method::Exact {
+                        exact_twin.clone()
+                    } else {
+                        report.stats.twin_frames += 1;
+                        renderer.frame(frame, &camera, method, depths, steps)?
+                    };
+                    if shown(frame) {
+                        report.pictures.push(Picture {
+                            stem: stem(method.name()),
+                            frame: with_method.clone(),
+                            reference: Some(truth.clone()),
+                        });
+                    }
+                    for (object, specular) in scene.objects.iter().enumerate().filter_map(|(i, o)| match &o.role {
+                        Role::Specular(s) => Some((i, s)),
+                        Role::Diffuse(_) => None,
+                    }) {
+                        if !specular.shadings.iter().any(|s| s.fresnel() == Some(method)) {
+                            continue;
+                        }
+                        let index = match sums.iter().position(|s| s.0 == object && s.1 == method) {
+                            Some(i) => i,
+                            None => {
+                                sums.push((object, method, ErrorSum::default(), ErrorSum::default(), ErrorSum::default()));
+                                sums.len() - 1
+                            }
+                        };
+                        let entry = &mut sums[index];
+                        entry.2.add(&compare_object(&exact_twin, &truth, object));
+                        entry.3.add(&compare_object(&with_method, &exact_twin, object));
+                        entry.4.add(&compare_object(&with_method, &truth, object));
+                    }
+                }
+            }
+            for (object, method, geometry, fresnel, total) in sums {
+                let scene_object = &scene.objects[object];
+                let material = scene_object.specular().map(|s| s.material.clone()).unwrap_or_default();
+                log(&format!(
+                    "  {} {} {material} {method} depth {}/{} steps {}/{}: geometry ΔE {:.3}, Fresnel ΔE {:.3}, total ΔE {:.3}",
+                    renderer.name(),
+                    scene_object.mesh.label(),
+                    depths.reflection,
+                    depths.refraction,
+                    steps.linear,
+                    steps.secant,
+                    geometry.mean_delta_e2000(),
+                    fresnel.mean_delta_e2000(),
+                    total.mean_delta_e2000()
+                ));
+                report.rows.push(EffectErrorRow {
+                    renderer: renderer.name(),
+                    object: scene_object.mesh.label(),
+                    material,
+                    method,
+                    depths,
+                    steps,
+                    map_size: maps_settings.size,
+                    layers: maps_settings.layers,
+                    frames: settings.frames,
+                    resolution: settings.resolution,
+                    geometry,
+                    fresnel,
+                    total,
+                });
+            }
+        }
+    }
+    Ok(report)
+}
+
+/// What a row of the effects' tables measured: the depths and the distance maps' search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Configuration {
+    pub depths: Depths,
+    pub steps: SearchSteps,
+    pub map_size: u32,
+    pub layers: u32,
+}
+
+/// The columns that name each row's [`Configuration`], in the effects' tables' order.
+pub fn configuration_columns(table: &mut Table, rows: impl Iterator<Item = Configuration>) {
+    let rows: Vec<Configuration> = rows.collect();
+    let integer = |f: &dyn Fn(&Configuration) -> u32| rows.iter().map(|r| f(r) as i64).collect::<Vec<_>>();
+    table
+        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection))
+        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction))
+        .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear))
+        .integer("secant_steps", "secant refinements after the linear search", integer(&|r| r.steps.secant))
+        .integer("map_size", "distance-map texels per cube face edge", integer(&|r| r.map_size))
+        .integer("layers", "distance-map layers (all but the last: peeled specular surfaces; last: diffuse)", integer(&|r| r.layers));
+}
+
+/// `effects_errors.*`: one row per (object, material, method, depths, search steps).
+pub fn error_table(rows: &[EffectErrorRow]) -> Table {
+    let text = |f: &dyn Fn(&EffectErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let integer = |f: &dyn Fn(&EffectErrorRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
+    let float = |f: &dyn Fn(&EffectErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
+        .text("material", "page id", text(&|r| r.material.clone()))
+        .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
+        .text(
+            "renderer",
+            "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)",
+            text(&|r| r.renderer.into()),
+        );
+    configuration_columns(
+        &mut table,
+        rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }),
+    );
+    table
+        .integer("frames", "camera frames rendered", integer(&|r| r.frames as i64))
+        .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .integer("pixels", "pixels showing the object, summed over frames", integer(&|r| r.total.pixels as i64))
+        .float(
+            "geometry_mean_rel_error",
+            "distance maps with exact Fresnel vs the reference: mean |a - r| / r over the object's pixels and channels (r = 0 skipped)",
+            float(&|r| r.geometry.mean_relative()),
+        )
+        .float(
+            "geometry_mean_delta_e2000",
+            "distance maps with exact Fresnel vs the reference: mean CIEDE2000 of the colours",
+            float(&|r| r.geometry.mean_delta_e2000()),
+        )
+        .float(
+            "fresnel_mean_rel_error",
+            "the method vs exact Fresnel on the same distance-map paths: mean |a - r| / r",
+            float(&|r| r.fresnel.mean_relative()),
+        )
+        .float(
+            "fresnel_mean_delta_e2000",
+            "the method vs exact Fresnel on the same distance-map paths: mean CIEDE2000",
+            float(&|r| r.fresnel.mean_delta_e2000()),
+        )
+        .float(
+            "total_mean_rel_error",
+            "distance maps with the method vs the reference: mean |a - r| / r",
+            float(&|r| r.total.mean_relative()),
+        )
+        .float(
+            "total_mean_delta_e2000",
+            "distance maps with the method vs the reference: mean CIEDE2000",
+            float(&|r| r.total.mean_delta_e2000()),
+        )
+        .float(
+            "total_mean_abs_error",
+            "distance maps with the method vs the reference: mean |a - r| (linear radiance)",
+            float(&|r| r.total.mean_absolute()),
+        );
+    table
+}

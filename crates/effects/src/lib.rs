@@ -1,0 +1,43 @@
+//! Effects a scene calls for, on the CPU: multiple specular reflections and refractions
+//! with Fresnel weights from any method of `fresnel` (docs/effects.md).
+//!
+//! - [`geometry`]: the scene's placed triangles with smooth normals and their BVH (obvhs).
+//! - [`optics`]: one bounce — F per channel, mirror and Snell directions, total internal
+//!   reflection.
+//! - [`trace`]: the bounce loop over any [`trace::Tracer`], the camera, frames rendered in
+//!   parallel, and the exact f64 reference (BVH tracer, exact Fresnel).
+//! - [`distance_map`]: the layered distance maps of GPU Gems 3 ch. 17 and their linear +
+//!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
+//!   split an image's error into geometry (the map) and Fresnel (the method).
+//! - [`image_error`]: a frame against its reference.
+//! - [`packet`]: packets of rays from one origin traced together for occlusion (the
+//!   ambient-occlusion reference's hemisphere rays).
+//! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
+//! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
+//! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
+//!   per object, method, depth and search steps) and its `effects_errors` table.
+//! - [`command`]: the `effects` stage: the scene with its overrides, the memory check of
+//!   every size it asks for, the experiments it names, and their outputs as one set.
+//!
+//! - [`scene`]: scene files — objects, materials, the camera path, the effects a scene
+//!   names — as pure, checked data (the GPU runner reads them too).
+//!
+//! Pure computation on plain data; scene files come in through [`scene`].
+
+// `!(a <= b)` is written where a NaN must take the branch that `a > b` would skip.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod ao;
+pub mod command;
+pub mod distance_map;
+pub mod experiment;
+pub mod geometry;
+pub mod image_error;
+pub mod optics;
+pub mod packet;
+pub mod pictures;
+pub mod scene;
+pub mod trace;
+
+#[cfg(test)]
+mod tests;

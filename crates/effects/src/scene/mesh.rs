@@ -1,0 +1,327 @@
+//! Triangle meshes of scenes: the built-in cube and sphere and OBJ files (tobj), normalised to
+//! fit the unit sphere, and the built-in `room` (an inward-facing box) and `plane` of scenes
+//! with effects; then placed in the scene (scale, then move). Pure CPU data, shared by the
+//! GPU runner and the CPU ray tracers.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use crate::scene::{MeshSource, Placement};
+
+/// Indexed triangles with one normal per vertex.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub indices: Vec<u32>,
+}
+
+/// A mesh file that could not be used.
+#[derive(Debug, thiserror::Error)]
+#[error("mesh {}: {problem}", file.display())]
+pub struct MeshError {
+    pub file: PathBuf,
+    pub problem: String,
+}
+
+impl Mesh {
+    pub fn triangles(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// The mesh placed in the scene: positions scaled then moved, normals through the inverse
+    /// transpose of the scale and renormalised.
+    pub fn placed(&self, placement: &Placement) -> Mesh {
+        let widen = |p: &[f32; 3]| p.map(f64::from);
+        let positions = self.positions.iter().map(|p| placement.point(widen(p)).map(|x| x as f32)).collect();
+        let normals = self.normals.iter().map(|n| normalised(placement.normal(widen(n)))).collect();
+        Mesh { positions, normals, indices: self.indices.clone() }
+    }
+
+    /// Interleaved vertex data `position, normal` (6 f32 per vertex) for the GPU.
+    pub fn interleaved(&self) -> Vec<f32> {
+        self.positions.iter().zip(&self.normals).flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]]).collect()
+    }
+}
+
+/// A mesh's point or normal (f32, as meshes store them) in f64, exactly.
+pub fn widen(p: [f32; 3]) -> DVec3 {
+    DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
+}
+
+/// Load a scene mesh; `path` resolves file paths.
+pub fn load(source: &MeshSource, path: impl Fn(&Path) -> PathBuf) -> Result<Mesh, MeshError> {
+    match source {
+        MeshSource::Cube => Ok(cube()),
+        MeshSource::Sphere => Ok(sphere(64, 32)),
+        MeshSource::Room => Ok(room()),
+        MeshSource::Plane => Ok(plane()),
+        MeshSource::File(file) => load_obj(&path(file)),
+    }
+}
+
+/// The cube with flat faces, corners on the unit sphere (half-size 1/√3).
+pub fn cube() -> Mesh {
+    let h = 1.0 / 3f32.sqrt();
+    let mut mesh = Mesh::default();
+    // (normal, two in-plane axes u, v with u × v = normal)
+    let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+        ([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+        ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
+    ];
+    for (normal, u, v) in faces {
+        let base = mesh.positions.len() as u32;
+        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            mesh.positions.push(std::array::from_fn(|i| h * (normal[i] + su * u[i] + sv * v[i])));
+            mesh.normals.push(normal);
+        }
+        mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    mesh
+}
+
+/// The room: the box [−1, 1]³ with flat faces pointing inwards (counter-clockwise seen from
+/// inside), so a camera and objects inside it see its walls.
+pub fn room() -> Mesh {
+    let mut mesh = cube();
+    for p in &mut mesh.positions {
+        *p = p.map(f32::signum); // the cube's corners are (±1/√3, ±1/√3, ±1/√3)
+    }
+    for n in &mut mesh.normals {
+        *n = n.map(|x| -x);
+    }
+    for triangle in mesh.indices.chunks_exact_mut(3) {
+        triangle.swap(1, 2);
+    }
+    mesh
+}
+
+/// The plane: the square [−1, 1]² in y = 0, facing +y (two triangles).
+pub fn plane() -> Mesh {
+    Mesh {
+        positions: vec![[-1.0, 0.0, -1.0], [-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.0]],
+        normals: vec![[0.0, 1.0, 0.0]; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// A UV sphere of radius 1 with exact normals: `segments` around, `rings` pole to pole.
+pub fn sphere(segments: u32, rings: u32) -> Mesh {
+    let mut mesh = Mesh::default();
+    for ring in 0..=rings {
+        let polar = std::f32::consts::PI * ring as f32 / rings as f32;
+        for segment in 0..=segments {
+            let azimuth = std::f32::consts::TAU * segment as f32 / segments as f32;
+            let p = [polar.sin() * azimuth.cos(), polar.cos(), polar.sin() * azimuth.sin()];
+            mesh.positions.push(p);
+            mesh.normals.push(p);
+        }
+    }
+    let row = segments + 1;
+    for ring in 0..rings {
+        for segment in 0..segments {
+            let a = ring * row + segment;
+            let b = a + row;
+            mesh.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
+        }
+    }
+    mesh
+}
+
+/// The most bytes read from an OBJ file (the sculpture's is about 9 MB).
+pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Read an OBJ file (all models merged, triangulated; a regular file of at most
+/// [`MAX_OBJ_BYTES`], whose parsed mesh fits the memory budget), normalise it to the unit
+/// sphere and, where the file has no normals, compute smooth area-weighted vertex normals.
+pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
+    let error = |problem: String| MeshError { file: file.into(), problem };
+    let opened = nklut_optics::db::file::open_regular(file).map_err(|e| error(e.to_string()))?;
+    // The parsed mesh takes a few times the text's bytes (tobj's lists, then ours).
+    let stated = opened.metadata().map(|m| m.len()).unwrap_or(0);
+    nklut_pipeline::budget::MemoryBudget::of_machine()
+        .check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated))
+        .map_err(|e| error(e.to_string()))?;
+    let mut bytes = Vec::new();
+    let length = nklut_optics::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(e.to_string()))?;
+    bytes.truncate(length);
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    // Materials are not read (a scene names its own).
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
+        .map_err(|e| error(e.to_string()))?;
+    let mut mesh = Mesh::default();
+    let mut has_normals = true;
+    for model in &models {
+        let m = &model.mesh;
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        if m.normals.len() == m.positions.len() {
+            mesh.normals.extend(m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]));
+        } else {
+            has_normals = false;
+        }
+        mesh.indices.extend(m.indices.iter().map(|i| base + i));
+    }
+    if mesh.indices.is_empty() {
+        return Err(error("no triangles".into()));
+    }
+    if mesh.indices.iter().any(|&i| i as usize >= mesh.positions.len()) {
+        return Err(error("a face refers to a vertex that does not exist".into()));
+    }
+    if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(error("a vertex position is not finite".into()));
+    }
+    if mesh.normals.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(error("a vertex normal is not finite".into()));
+    }
+    // Normalised first: the normals of faces the size of f32's range would overflow.
+    normalise_to_unit_sphere(&mut mesh.positions);
+    if !has_normals {
+        mesh.normals = smooth_normals(&mesh.positions, &mesh.indices);
+    }
+    Ok(mesh)
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn normalised(v: [f64; 3]) -> [f32; 3] {
+    let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if length > 0.0 {
+        [(v[0] / length) as f32, (v[1] / length) as f32, (v[2] / length) as f32]
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// Smooth vertex normals: the sum of the adjacent faces' (b − a) × (c − a), whose length is
+/// twice the face area, so larger faces weigh more; then normalised.
+pub fn smooth_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> {
+    let mut sums = vec![[0.0f64; 3]; positions.len()];
+    for triangle in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|i| positions[triangle[i] as usize]);
+        let face = cross(sub(b, a), sub(c, a));
+        for &vertex in triangle {
+            for axis in 0..3 {
+                sums[vertex as usize][axis] += face[axis] as f64;
+            }
+        }
+    }
+    sums.into_iter().map(normalised).collect()
+}
+
+/// Centre on the bounding-box centre and scale so the farthest vertex lies on the unit
+/// sphere, in f64 (finite f32 positions anywhere in f32's range give finite results).
+pub fn normalise_to_unit_sphere(positions: &mut [[f32; 3]]) {
+    let mut low = [f64::INFINITY; 3];
+    let mut high = [f64::NEG_INFINITY; 3];
+    for p in positions.iter() {
+        for axis in 0..3 {
+            low[axis] = low[axis].min(f64::from(p[axis]));
+            high[axis] = high[axis].max(f64::from(p[axis]));
+        }
+    }
+    let centre: [f64; 3] = std::array::from_fn(|axis| 0.5 * (low[axis] + high[axis]));
+    let offset = |p: &[f32; 3]| -> [f64; 3] { std::array::from_fn(|axis| f64::from(p[axis]) - centre[axis]) };
+    let radius = positions.iter().map(|p| offset(p).iter().map(|x| x * x).sum::<f64>().sqrt()).fold(0.0f64, f64::max);
+    let scale = if radius > 0.0 { 1.0 / radius } else { 1.0 };
+    for p in positions.iter_mut() {
+        let d = offset(p);
+        *p = std::array::from_fn(|axis| (d[axis] * scale) as f32);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn radius(mesh: &Mesh) -> f32 {
+        mesh.positions.iter().map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()).fold(0.0, f32::max)
+    }
+
+    #[test]
+    fn cube_faces_point_outwards_and_fit_the_unit_sphere() {
+        let mesh = cube();
+        assert_eq!(mesh.triangles(), 12);
+        assert!((radius(&mesh) - 1.0).abs() < 1e-6);
+        assert!(wound_along_normals(&mesh), "counter-clockwise seen from outside");
+    }
+
+    /// Every triangle's winding (b − a) × (c − a) points along its vertices' normal.
+    fn wound_along_normals(mesh: &Mesh) -> bool {
+        mesh.indices.chunks_exact(3).all(|triangle| {
+            let [a, b, c] = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize]);
+            let face = cross(sub(b, a), sub(c, a));
+            face.iter().zip(mesh.normals[triangle[0] as usize]).map(|(f, n)| f * n).sum::<f32>() > 0.0
+        })
+    }
+
+    #[test]
+    fn room_faces_inwards_and_plane_faces_up() {
+        let room = room();
+        assert_eq!(room.triangles(), 12);
+        assert!(wound_along_normals(&room));
+        for (p, n) in room.positions.iter().zip(&room.normals) {
+            assert!(p.iter().all(|x| x.abs() == 1.0), "{p:?}");
+            // The normal points back towards the centre: n·p < 0.
+            assert!(p.iter().zip(n).map(|(p, n)| p * n).sum::<f32>() < 0.0);
+        }
+        let plane = plane();
+        assert!(wound_along_normals(&plane) && plane.normals.iter().all(|n| *n == [0.0, 1.0, 0.0]));
+    }
+
+    #[test]
+    fn placement_scales_then_moves_and_keeps_normals_perpendicular() {
+        let placement = Placement { position: [1.0, 2.0, 3.0], scale: [2.0, 1.0, 4.0] };
+        let mesh = sphere(16, 8).placed(&placement);
+        // A point (x, y, z) of the unit sphere lands on ((X−1)/2)² + (Y−2)² + ((Z−3)/4)² = 1,
+        // whose gradient (¼(X−1), 2(Y−2), ⅛(Z−3)) is along the placed normal.
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            let [x, y, z] = [(p[0] - 1.0) / 2.0, p[1] - 2.0, (p[2] - 3.0) / 4.0];
+            assert!((x * x + y * y + z * z - 1.0).abs() < 1e-5);
+            let gradient = [x / 2.0, y, z / 4.0];
+            let g = gradient.iter().map(|g| g * g).sum::<f32>().sqrt();
+            let along: f32 = gradient.iter().zip(n).map(|(g, n)| g * n).sum::<f32>() / g;
+            assert!((along - 1.0).abs() < 1e-5, "{n:?} vs {gradient:?}");
+        }
+        assert!(wound_along_normals(&plane().placed(&placement)));
+    }
+
+    #[test]
+    fn smooth_normals_of_a_tetrahedron_corner_weigh_by_area() {
+        // Two faces meeting at vertex 0: a big one in z = 0 and a small one in x = 0.
+        let positions = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 1.0]];
+        let indices = [0, 1, 2, 0, 2, 3];
+        let normals = smooth_normals(&positions, &indices);
+        let n = normals[0];
+        // face normals (0,0,16) and (4,0,0): sum (4,0,16) normalised
+        let expected = normalised([4.0, 0.0, 16.0]);
+        assert!(n.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-6), "{n:?}");
+    }
+
+    #[test]
+    fn obj_without_normals_is_normalised_with_smooth_normals() {
+        let dir = std::env::temp_dir().join(format!("nklut-mesh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("quad.obj");
+        std::fs::write(&file, "v 10 10 0\nv 14 10 0\nv 14 13 0\nv 10 13 0\nf 1 2 3 4\n").unwrap();
+        let mesh = load_obj(&file).unwrap();
+        assert_eq!(mesh.triangles(), 2);
+        assert!((radius(&mesh) - 1.0).abs() < 1e-6);
+        assert!(mesh.normals.iter().all(|n| (n[2] - 1.0).abs() < 1e-6));
+        std::fs::write(&file, "v 0 0 0\n").unwrap();
+        assert!(load_obj(&file).unwrap_err().to_string().contains("no triangles"));
+        assert!(load_obj(&dir.join("missing.obj")).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

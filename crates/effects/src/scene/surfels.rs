@@ -1,0 +1,216 @@
+//! The surfel effects a scene may call for inside `effects`: ambient occlusion (how many
+//! passes, whether through the surfel hierarchy, whether to light with bent normals) and
+//! diffuse indirect light (how many bounces), after Bunnell (GPU Gems 2 ch. 14; the method
+//! and its measurements in `crate::ao`). Diffuse albedo is the objects' `diffuse`;
+//! the lights are the scene's `lights` (directional, point and ambient sources: ambient
+//! light is what accessibility darkens, directional and point light cast ray-traced
+//! shadows and feed the indirect light), or, without `lights`, the one directional light
+//! and ambient of `light`. Pure data and checks.
+//!
+//! ```yaml
+//! effects:
+//!   ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: true }
+//!   indirect: { bounces: 1 }
+//! lights:
+//!   - { kind: directional, direction: [-0.3, -1, -0.5], colour: [0.8, 0.8, 0.8] }
+//!   - { kind: point, position: [0, 2, 1], intensity: [2, 2, 2] }
+//!   - { kind: ambient, colour: [0.3, 0.3, 0.3] }
+//! ```
+
+use serde::Deserialize;
+
+/// The most passes a scene may ask for (each is a full gather; they converge by 3 or 4).
+pub const MAX_PASSES: u32 = 8;
+/// The most bounces of indirect light.
+pub const MAX_BOUNCES: u32 = 2;
+/// The most midpoint subdivisions of an object's mesh (each multiplies its surfels by ~4).
+pub const MAX_SUBDIVISIONS: u32 = 6;
+
+/// A light of a scene with surfel effects. Light is in the units of the scene's `light`
+/// (radiance scale: a white diffuse surface facing a directional light of colour c shows c).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightSource {
+    /// Parallel light travelling along `direction`: `colour` × max(0, −n·d̂), shadowed.
+    Directional { direction: [f64; 3], colour: [f64; 3] },
+    /// Light from the point `position`: `intensity` × max(0, n·l̂) / d² at distance d
+    /// (inverse square), shadowed.
+    Point { position: [f64; 3], intensity: [f64; 3] },
+    /// Light from the whole sky: `colour` × accessibility (what ambient occlusion darkens).
+    Ambient { colour: [f64; 3] },
+}
+
+impl LightSource {
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let finite_non_negative = |field: &str, v: &[f64; 3]| {
+            if v.iter().all(|x| x.is_finite() && *x >= 0.0 && *x <= super::MAX_LIGHT) {
+                Ok(())
+            } else {
+                Err(format!("{field} {v:?} must lie in [0, {:e}]", super::MAX_LIGHT))
+            }
+        };
+        match self {
+            LightSource::Directional { direction, colour } => {
+                if !(direction.iter().all(|x| x.is_finite()) && direction.iter().map(|x| x * x).sum::<f64>() > 1e-18) {
+                    return Err(format!("direction {direction:?} must be a non-zero vector"));
+                }
+                finite_non_negative("colour", colour)
+            }
+            LightSource::Point { position, intensity } => {
+                if !position.iter().all(|x| x.abs() <= super::MAX_COORDINATE) {
+                    return Err(format!("position {position:?} must lie within ±{:e} on each axis", super::MAX_COORDINATE));
+                }
+                finite_non_negative("intensity", intensity)
+            }
+            LightSource::Ambient { colour } => finite_non_negative("colour", colour),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawAmbientOcclusion {
+    #[serde(default = "default_passes")]
+    passes: u32,
+    #[serde(default)]
+    hierarchy: bool,
+    #[serde(default)]
+    bent_normals: bool,
+}
+
+fn default_passes() -> u32 {
+    2
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawIndirect {
+    #[serde(default = "default_bounces")]
+    bounces: u32,
+}
+
+fn default_bounces() -> u32 {
+    1
+}
+
+/// Surfel ambient occlusion: `passes` in 1..=[`MAX_PASSES`], through the tree or by brute
+/// force, lighting with bent normals or the normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AmbientOcclusion {
+    pub passes: u32,
+    pub hierarchy: bool,
+    pub bent_normals: bool,
+}
+
+/// Diffuse indirect light from surfels: `bounces` in 1..=[`MAX_BOUNCES`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Indirect {
+    pub bounces: u32,
+}
+
+impl RawAmbientOcclusion {
+    pub(crate) fn checked(&self) -> Result<AmbientOcclusion, String> {
+        if !(1..=MAX_PASSES).contains(&self.passes) {
+            return Err(format!("ambient_occlusion.passes {} must lie in 1..={MAX_PASSES}", self.passes));
+        }
+        Ok(AmbientOcclusion { passes: self.passes, hierarchy: self.hierarchy, bent_normals: self.bent_normals })
+    }
+}
+
+impl RawIndirect {
+    pub(crate) fn checked(&self) -> Result<Indirect, String> {
+        if !(1..=MAX_BOUNCES).contains(&self.bounces) {
+            return Err(format!("indirect.bounces {} must lie in 1..={MAX_BOUNCES}", self.bounces));
+        }
+        Ok(Indirect { bounces: self.bounces })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::Scene;
+    use std::path::Path;
+
+    use super::{AmbientOcclusion, Indirect, LightSource};
+
+    fn parse(effects: &str) -> Result<Scene, String> {
+        let text = format!("measurements: [image_error]\nobjects:\n  - {{ mesh: sphere, material: a/b/c, method: exact }}\n  - {{ mesh: plane, diffuse: [0.8, 0.8, 0.8] }}\neffects: {effects}\n");
+        Scene::parse(&text, Path::new("t.yaml")).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn surfel_effects_parse_with_defaults_and_alone() {
+        let scene = parse("{ ambient_occlusion: { passes: 3, hierarchy: true }, indirect: {} }").unwrap();
+        let effects = scene.effects.unwrap();
+        assert_eq!(effects.ambient_occlusion, Some(AmbientOcclusion { passes: 3, hierarchy: true, bent_normals: false }));
+        assert_eq!(effects.indirect, Some(Indirect { bounces: 1 }));
+        assert_eq!((effects.reflection, effects.refraction), (None, None));
+        let plain = parse("{ reflection: { max_depth: 1 } }").unwrap().effects.unwrap();
+        assert_eq!((plain.ambient_occlusion, plain.indirect), (None, None));
+    }
+
+    fn parse_file(text: &str) -> Result<Scene, String> {
+        Scene::parse(text, Path::new("ao.yaml")).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn an_ao_only_scene_needs_no_specular_object_and_has_its_lights() {
+        let text = "measurements: [image_error]\neffects: { ambient_occlusion: { passes: 2 } }\nobjects:\n  - { mesh: sphere, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n  - { mesh: plane, diffuse: [0.5, 0.5, 0.5] }\nlights:\n  - { kind: directional, direction: [0, -1, 0], colour: [1, 1, 1] }\n  - { kind: point, position: [0, 2, 0], intensity: [2, 1, 1] }\n  - { kind: ambient, colour: [0.3, 0.3, 0.3] }\n";
+        let scene = parse_file(text).unwrap();
+        assert_eq!(scene.specular_objects().count(), 0);
+        assert_eq!((scene.objects[0].subdivisions, scene.objects[1].subdivisions), (1, 0));
+        assert_eq!(
+            scene.lights,
+            vec![
+                LightSource::Directional { direction: [0.0, -1.0, 0.0], colour: [1.0; 3] },
+                LightSource::Point { position: [0.0, 2.0, 0.0], intensity: [2.0, 1.0, 1.0] },
+                LightSource::Ambient { colour: [0.3; 3] },
+            ]
+        );
+        // Without `lights`, `light` gives the directional source and the ambient one.
+        let plain = parse_file("measurements: [image_error]\neffects: { indirect: {} }\nobjects: [{ mesh: plane, diffuse: [1, 1, 1] }]\nlight: { direction: [0, -2, 0], colour: [0.5, 0.5, 0.5], ambient: [0.1, 0.1, 0.1] }\n").unwrap();
+        assert_eq!(
+            plain.lights,
+            vec![LightSource::Directional { direction: [0.0, -2.0, 0.0], colour: [0.5; 3] }, LightSource::Ambient { colour: [0.1; 3] }]
+        );
+    }
+
+    #[test]
+    fn surfel_scene_contradictions_name_file_and_field() {
+        let diffuse = "objects: [{ mesh: plane, diffuse: [1, 1, 1] }]\nmeasurements: [image_error]\n";
+        let ao = "effects: { ambient_occlusion: {} }\n";
+        let cases = [
+            // Reflections still need a specular object.
+            (format!("{diffuse}effects: {{ reflection: {{ max_depth: 1 }} }}\n"), "no specular object"),
+            (format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"), "light and lights"),
+            (format!("{diffuse}{ao}lights: [{{ kind: spot, colour: [1, 1, 1] }}]\n"), "unknown variant `spot`"),
+            (format!("{diffuse}{ao}lights: [{{ kind: point, position: [0, 1, 0], intensity: [1, 1, 1], radius: 2 }}]\n"), "unknown field `radius`"),
+            (format!("{diffuse}{ao}lights: [{{ kind: ambient, colour: [1, 1, 1] }}, {{ kind: point, position: [0, 1, 0], intensity: [1, -1, 1] }}]\n"), "lights[1].intensity"),
+            (format!("{diffuse}{ao}lights: [{{ kind: directional, direction: [0, 0, 0], colour: [1, 1, 1] }}]\n"), "lights[0].direction"),
+            ("objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\nlights: []\n".to_string(), "lights: only a scene with an `effects`"),
+            (
+                "objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 }, ambient_occlusion: {} }\nlights: []\n".to_string(),
+                "lights: reflection and refraction light",
+            ),
+            (
+                "objects: [{ mesh: sphere, material: a/b/c, method: exact, subdivide: 1 }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 } }\n".to_string(),
+                "objects[0].subdivide: only surfel effects",
+            ),
+            ("objects: [{ mesh: plane, diffuse: [1, 1, 1], subdivide: 9 }]\nmeasurements: [image_error]\neffects: { indirect: {} }\n".to_string(), "objects[0].subdivide 9"),
+        ];
+        for (text, expected) in cases {
+            let message = parse_file(&text).unwrap_err();
+            assert!(message.contains(expected) && message.contains("ao.yaml"), "{text:?} gave {message:?}");
+        }
+    }
+
+    #[test]
+    fn surfel_effects_name_the_bad_field() {
+        let passes = parse("{ ambient_occlusion: { passes: 0 } }").unwrap_err();
+        assert!(passes.contains("t.yaml") && passes.contains("effects.ambient_occlusion.passes 0"), "{passes}");
+        let bounces = parse("{ indirect: { bounces: 3 } }").unwrap_err();
+        assert!(bounces.contains("effects.indirect.bounces 3"), "{bounces}");
+        assert!(parse("{ ambient_occlusion: { rays: 2 } }").unwrap_err().contains("rays"));
+        assert!(parse("{ }").unwrap_err().contains("name at least one effect"));
+    }
+}

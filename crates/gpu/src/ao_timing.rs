@@ -1,0 +1,205 @@
+//! `ao_timing`: the surfel ambient-occlusion pass's GPU time against surfel count, by brute
+//! force and through the surfel tree, over a sweep of meshes (the scanned meshes decimated
+//! by vertex clustering and subdivided), with the fitted exponent p of time ∝ nᵖ
+//! (least squares on log t over log n) per way of gathering. Time is GPU timestamps around
+//! the compute pass where the adapter has them, else wall time from submit until the
+//! device is idle; the table says which. On a CPU rasteriser (lavapipe) the figures are
+//! only meaningful as ratios.
+
+use anyhow::Result;
+
+use super::context::Gpu;
+use super::passes::ao::{Gather, SurfelAoPass};
+use super::timing::{median_and_iqr, Stopwatch, Timer};
+use nklut_effects::ao::hierarchy::{Closeness, SurfelTree};
+use nklut_effects::ao::shadow::ShadowForm;
+use nklut_effects::ao::surfel::{decimated, subdivided, surfels, Surfel};
+use nklut_effects::scene::mesh::Mesh;
+use nklut_pipeline::output::Table;
+
+/// One mesh of the sweep: its name (e.g. `bunny-decimated-0.02`) and surfels.
+pub struct SweepMesh {
+    pub name: String,
+    pub surfels: Vec<Surfel>,
+}
+
+/// Vertex-clustering cell edges of the decimated meshes (unit-sphere meshes: about 1 k,
+/// 3 k and 10 k vertices from the bunny).
+pub const DECIMATION_CELLS: [f32; 3] = [0.1, 0.05, 0.025];
+
+/// The sweep of one mesh: decimated at each of [`DECIMATION_CELLS`], as it is, and
+/// subdivided once (about 4× the vertices).
+pub fn sweep_meshes(name: &str, mesh: &Mesh) -> Vec<SweepMesh> {
+    let mut out: Vec<SweepMesh> = DECIMATION_CELLS
+        .iter()
+        .map(|&cell| SweepMesh { name: format!("{name}-decimated-{cell}"), surfels: surfels(&decimated(mesh, cell)) })
+        .collect();
+    out.push(SweepMesh { name: name.into(), surfels: surfels(mesh) });
+    out.push(SweepMesh { name: format!("{name}-subdivided-1"), surfels: surfels(&subdivided(mesh)) });
+    out
+}
+
+/// How the sweep runs: brute force only up to `max_brute` surfels (n² per pass), `passes`
+/// accessibility passes per sample, `warmup` untimed samples, then `repeats` timed ones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepSettings {
+    pub max_brute: usize,
+    pub passes: u32,
+    pub warmup: u32,
+    pub repeats: u32,
+    pub form: ShadowForm,
+    pub closeness: Closeness,
+}
+
+impl Default for SweepSettings {
+    fn default() -> SweepSettings {
+        SweepSettings {
+            max_brute: 40_000,
+            passes: 1,
+            warmup: 1,
+            repeats: 3,
+            form: ShadowForm::FORM_FACTOR,
+            closeness: Closeness::default(),
+        }
+    }
+}
+
+/// One (mesh, way of gathering) timed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AoTimingRow {
+    pub mesh: String,
+    pub surfels: usize,
+    pub gather: Gather,
+    pub tree_nodes: usize,
+    pub passes: u32,
+    pub dispatches: u64,
+    pub timer: Timer,
+    pub repeats: u32,
+    pub median_ms: f64,
+    pub spread_ms: f64,
+    /// p of time ∝ nᵖ fitted over every row of the same way of gathering.
+    pub fitted_exponent: f64,
+}
+
+/// The name of a way of gathering in tables.
+pub fn gather_name(gather: Gather) -> &'static str {
+    match gather {
+        Gather::BruteForce => "brute_force",
+        Gather::Hierarchy => "hierarchy",
+    }
+}
+
+/// Least-squares slope of ln t over ln n (NaN for fewer than two distinct n).
+pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().filter(|(n, t)| *n > 0.0 && *t > 0.0).map(|(n, t)| (n.ln(), t.ln())).collect();
+    let k = logs.len() as f64;
+    let (mx, my) = (logs.iter().map(|p| p.0).sum::<f64>() / k, logs.iter().map(|p| p.1).sum::<f64>() / k);
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// Time `passes` passes of `pass`: one sample in milliseconds and the dispatches recorded.
+fn sample(gpu: &Gpu, pass: &SurfelAoPass, passes: u32, stopwatch: &mut Stopwatch) -> Result<(f64, u64)> {
+    let mut dispatches = 0;
+    let ms = stopwatch.time_pass(gpu, |encoder, timestamps| {
+        let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        });
+        dispatches = pass.encode(gpu, encoder, passes, writes);
+    })?;
+    Ok((ms, dispatches))
+}
+
+/// Time every mesh by brute force (up to `settings.max_brute` surfels) and through the tree.
+pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mut dyn FnMut(&str)) -> Result<Vec<AoTimingRow>> {
+    let mut stopwatch = Stopwatch::new(gpu)?;
+    let timer = stopwatch.timer();
+    let mut rows = Vec::new();
+    for mesh in meshes {
+        let tree = SurfelTree::new(&mesh.surfels, settings.form, settings.closeness);
+        for gather in [Gather::BruteForce, Gather::Hierarchy] {
+            if gather == Gather::BruteForce && mesh.surfels.len() > settings.max_brute {
+                log(&format!("  {} ({} surfels): brute force skipped (> {})", mesh.name, mesh.surfels.len(), settings.max_brute));
+                continue;
+            }
+            let pass = SurfelAoPass::new(gpu, &mesh.surfels, Some(&tree), gather, settings.form, settings.closeness)?;
+            let mut samples = Vec::new();
+            let mut dispatches = 0;
+            for round in 0..settings.warmup + settings.repeats {
+                let (ms, d) = sample(gpu, &pass, settings.passes, &mut stopwatch)?;
+                dispatches = d;
+                if round >= settings.warmup {
+                    samples.push(ms);
+                }
+            }
+            let (median_ms, spread_ms) = median_and_iqr(&samples);
+            log(&format!(
+                "  {} ({} surfels) {}: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
+                mesh.name,
+                mesh.surfels.len(),
+                gather_name(gather)
+            ));
+            rows.push(AoTimingRow {
+                mesh: mesh.name.clone(),
+                surfels: mesh.surfels.len(),
+                gather,
+                tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
+                passes: settings.passes,
+                dispatches,
+                timer,
+                repeats: settings.repeats,
+                median_ms,
+                spread_ms,
+                fitted_exponent: f64::NAN,
+            });
+        }
+    }
+    for gather in [Gather::BruteForce, Gather::Hierarchy] {
+        let points: Vec<(f64, f64)> = rows.iter().filter(|r| r.gather == gather).map(|r| (r.surfels as f64, r.median_ms)).collect();
+        let p = fitted_exponent(&points);
+        // One point fits no slope: the column stays empty.
+        rows.iter_mut().filter(|r| r.gather == gather).for_each(|r| r.fitted_exponent = p);
+    }
+    Ok(rows)
+}
+
+/// `ao_timing.*`: one row per (mesh, way of gathering).
+pub fn ao_timing_table(rows: &[AoTimingRow], gpu: &Gpu) -> Table {
+    let a = &gpu.line;
+    let text = |f: &dyn Fn(&AoTimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
+        .text("driver", "driver name and version", text(&|_| a.driver.clone()))
+        .text("mesh", "mesh of the sweep: name, then decimated (vertex-clustering cell edge) or subdivided (levels)", text(&|r| r.mesh.clone()))
+        .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
+        .text("emitters", "brute_force (every surfel) or hierarchy (the surfel tree's cut, kappa = 16)", text(&|r| gather_name(r.gather).into()))
+        .integer("tree_nodes", "nodes of the surfel tree uploaded (0 for brute force)", rows.iter().map(|r| r.tree_nodes as i64).collect())
+        .integer("passes", "accessibility passes per timed sample", rows.iter().map(|r| r.passes as i64).collect())
+        .integer("dispatches", "compute dispatches per timed sample", rows.iter().map(|r| r.dispatches as i64).collect())
+        .text("timer", "timestamp (GPU timestamp queries around the compute pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
+        .integer("repeats", "timed samples (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
+        .float("median_ms", "median time of one sample (ms)", rows.iter().map(|r| r.median_ms).collect())
+        .float("spread_ms", "interquartile range of the samples (ms)", rows.iter().map(|r| r.spread_ms).collect())
+        .optional_float(
+            "fitted_exponent",
+            "p of time = c n^p, least squares of ln median_ms on ln surfels over every row of the same emitters; empty with fewer than two sizes",
+            rows.iter().map(|r| Some(r.fitted_exponent).filter(|p| p.is_finite())).collect(),
+        );
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fitted_exponent;
+
+    #[test]
+    fn the_fitted_exponent_recovers_a_power_law() {
+        let points: Vec<(f64, f64)> = [1e3, 4e3, 1.6e4, 6.4e4].iter().map(|&n: &f64| (n, 3e-7 * n.powf(1.9))).collect();
+        assert!((fitted_exponent(&points) - 1.9).abs() < 1e-12);
+        assert!(fitted_exponent(&points[..1]).is_nan());
+    }
+}

@@ -1,0 +1,582 @@
+//! Layered distance maps rendered on the GPU (`shaders/distance_map_render.wgsl`): the
+//! map-update pass of the specular effects (Umenhoffer, Patow and Szirmay-Kalos, GPU Gems 3
+//! ch. 17). For each specular object, each layer and each of the six cube faces, one
+//! render pass rasterises the objects that layer holds around the object's reference
+//! point (the centre of its bounding box): layers below the last peel the specular
+//! surfaces one by one (each keeps, per texel, the nearest fragment beyond the previous
+//! layer's), the last holds the first diffuse surface with its lit colour. The CPU twin is
+//! `effects::distance_map::DistanceMap::render`, which casts the same texel rays in f64.
+//!
+//! Input: the stage (placed meshes, which objects are specular, diffuse surfaces, light),
+//! the map size and layer count. Output: [`GpuMaps`], every map in one pair of storage
+//! buffers in the layout of `shaders/distance_map.wgsl` (layer-major, then face, row,
+//! column): `geometry` (distance, normal; distance −1 where nothing is seen) and
+//! `surfaces` (a diffuse surface's lit colour in rgb, the specular object's index in a,
+//! −1 for diffuse), with one [`MapView`] per map.
+
+use anyhow::{bail, Result};
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use wgpu::util::DeviceExt;
+
+use crate::compose::compose;
+use crate::context::Gpu;
+use crate::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
+use nklut_effects::distance_map::{DistanceMap, Texel};
+use nklut_effects::scene::mesh::widen;
+use nklut_effects::scene::{Diffuse, Light, Pattern, SearchSteps};
+use nklut_effects::trace::{ObjectOptics, Stage, Surface};
+
+/// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MapView {
+    pub centre: [f32; 4],
+    pub size: u32,
+    pub layers: u32,
+    /// Index of the map's first texel.
+    pub base: u32,
+    pub pad: u32,
+}
+
+impl MapView {
+    pub fn texels(&self) -> usize {
+        (6 * self.size * self.size * self.layers) as usize
+    }
+}
+
+/// The search's step counts (`SearchSteps` of `shaders/distance_map.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct StepsUniform {
+    pub linear: u32,
+    pub secant: u32,
+    pub pad: [u32; 2],
+}
+
+impl StepsUniform {
+    pub fn new(steps: SearchSteps) -> Self {
+        StepsUniform { linear: steps.linear, secant: steps.secant, pad: [0; 2] }
+    }
+}
+
+/// Every map's texels as the shaders read them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MapTexels {
+    /// (distance, normal); distance −1 where nothing is seen.
+    pub geometry: Vec<[f32; 4]>,
+    /// rgb = a diffuse surface's lit colour; a = the specular object's index, −1 for diffuse.
+    pub surfaces: Vec<[f32; 4]>,
+    pub views: Vec<MapView>,
+}
+
+/// The shader's packing of one texel.
+fn texel_words(texel: &Option<Texel>) -> ([f32; 4], [f32; 4]) {
+    match texel {
+        None => ([-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]),
+        Some(t) => {
+            let geometry = [t.distance as f32, t.normal.x as f32, t.normal.y as f32, t.normal.z as f32];
+            let surface = match t.surface {
+                Surface::Specular(object) => [0.0, 0.0, 0.0, object as f32],
+                Surface::Diffuse(c) => [c[0] as f32, c[1] as f32, c[2] as f32, -1.0],
+            };
+            (geometry, surface)
+        }
+    }
+}
+
+fn view_of(centre: DVec3, size: u32, layers: u32, base: usize) -> MapView {
+    MapView { centre: [centre.x as f32, centre.y as f32, centre.z as f32, 0.0], size, layers, base: base as u32, pad: 0 }
+}
+
+impl MapTexels {
+    /// CPU-rendered maps in the shaders' layout, one after another.
+    pub fn pack(maps: &[DistanceMap]) -> MapTexels {
+        let mut out = MapTexels::default();
+        for map in maps {
+            out.views.push(view_of(map.centre, map.size, map.layers.len() as u32, out.geometry.len()));
+            for (geometry, surface) in map.layers.iter().flatten().map(texel_words) {
+                out.geometry.push(geometry);
+                out.surfaces.push(surface);
+            }
+        }
+        out
+    }
+
+    /// Map `m` back as the CPU twin's type (for comparing the two renderings).
+    pub fn unpack(&self, m: usize) -> DistanceMap {
+        let view = self.views[m];
+        let per_layer = 6 * (view.size * view.size) as usize;
+        let texel = |i: usize| -> Option<Texel> {
+            let [distance, nx, ny, nz] = self.geometry[i];
+            let [r, g, b, object] = self.surfaces[i];
+            (distance >= 0.0).then(|| Texel {
+                distance: distance as f64,
+                normal: DVec3::new(nx as f64, ny as f64, nz as f64),
+                surface: if object >= 0.0 { Surface::Specular(object as usize) } else { Surface::Diffuse([r as f64, g as f64, b as f64]) },
+            })
+        };
+        let layers =
+            (0..view.layers as usize).map(|l| (0..per_layer).map(|i| texel(view.base as usize + l * per_layer + i)).collect()).collect();
+        let c = view.centre;
+        DistanceMap { centre: DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64), size: view.size, layers }
+    }
+}
+
+/// A bind group of whole buffers at bindings 0, 1, … of `layout`.
+pub fn buffers_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .enumerate()
+        .map(|(binding, buffer)| wgpu::BindGroupEntry { binding: binding as u32, resource: buffer.as_entire_binding() })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
+}
+
+/// `DiffuseSurface` of `shaders/diffuse.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DiffuseUniform {
+    pub albedo: [f32; 4],
+    pub second: [f32; 4],
+    pub shape: [f32; 4],
+    pub kind: [u32; 4],
+}
+
+fn widen3(v: [f64; 3]) -> [f32; 4] {
+    [v[0] as f32, v[1] as f32, v[2] as f32, 0.0]
+}
+
+impl DiffuseUniform {
+    pub fn new(d: &Diffuse) -> Self {
+        let (second, shape, kind) = match &d.pattern {
+            Pattern::Plain => ([0.0; 3], [0.0; 3], 0),
+            Pattern::Checker { size, albedo } => (*albedo, [*size, 0.0, 0.0], 1),
+            Pattern::Gradient { axis, albedo } => (*albedo, *axis, 2),
+        };
+        DiffuseUniform { albedo: widen3(d.albedo), second: widen3(second), shape: widen3(shape), kind: [kind, 0, 0, 0] }
+    }
+}
+
+/// `Light` of `shaders/diffuse.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightUniform {
+    pub direction: [f32; 4],
+    pub colour: [f32; 4],
+    pub ambient: [f32; 4],
+}
+
+impl LightUniform {
+    pub fn new(light: &Light) -> Self {
+        LightUniform { direction: widen3(light.direction), colour: widen3(light.colour), ambient: widen3(light.ambient) }
+    }
+}
+
+/// `MapFace` of `shaders/distance_map_render.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct FaceUniform {
+    centre: [f32; 4],
+    face: u32,
+    peel: u32,
+    near: f32,
+    far: f32,
+}
+
+/// `MapObject` of `shaders/distance_map_render.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct MapObjectUniform {
+    surface: DiffuseUniform,
+    specular: [u32; 4],
+}
+
+/// Every object's placed mesh in one vertex and one index buffer; object o's indices are
+/// `ranges[o]`, its vertices start at `base_vertex[o]`. Drawn with instance o, so the
+/// shaders know the object.
+pub struct SceneMeshes {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub ranges: Vec<std::ops::Range<u32>>,
+    pub base_vertex: Vec<i32>,
+}
+
+impl SceneMeshes {
+    pub fn upload(gpu: &Gpu, stage: &Stage) -> Result<SceneMeshes> {
+        let (mut vertices, mut indices, mut ranges, mut base_vertex) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for mesh in &stage.meshes {
+            base_vertex.push((vertices.len() / 6) as i32);
+            let start = indices.len() as u32;
+            indices.extend_from_slice(&mesh.indices);
+            ranges.push(start..indices.len() as u32);
+            vertices.extend(mesh.interleaved());
+        }
+        check_buffer_size(gpu, (vertices.len() * 4) as u64, "scene vertices")?;
+        let buffer = |label: &str, contents: &[u8], usage| {
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        Ok(SceneMeshes {
+            vertices: buffer("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX),
+            indices: buffer("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
+            ranges,
+            base_vertex,
+        })
+    }
+
+    /// Draw the objects for which `include` holds, each as instance `object`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, include: impl Fn(usize) -> bool) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        for (object, range) in self.ranges.iter().enumerate() {
+            if include(object) && !range.is_empty() {
+                pass.draw_indexed(range.clone(), self.base_vertex[object], object as u32..object as u32 + 1);
+            }
+        }
+    }
+}
+
+/// The vertex layout of [`SceneMeshes`]: position, normal.
+pub const MESH_ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+
+pub fn mesh_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &MESH_ATTRIBUTES }
+}
+
+/// Every map of a scene on the GPU.
+pub struct GpuMaps {
+    pub geometry: wgpu::Buffer,
+    pub surfaces: wgpu::Buffer,
+    pub views: Vec<MapView>,
+    /// The map of each object (`None` for diffuse ones).
+    pub map_of: Vec<Option<u32>>,
+    /// Where the maps are rendered (`None` for maps uploaded from the CPU).
+    targets: Option<LayerTargets>,
+}
+
+/// The render targets of one layer (six faces, reused layer after layer and map after
+/// map), the previous layer kept for peeling, and one bind group per (map, layer, face).
+struct LayerTargets {
+    geometry: wgpu::Texture,
+    surfaces: wgpu::Texture,
+    previous: wgpu::Texture,
+    depth: wgpu::TextureView,
+    geometry_faces: Vec<wgpu::TextureView>,
+    surface_faces: Vec<wgpu::TextureView>,
+    bind_groups: Vec<wgpu::BindGroup>,
+}
+
+const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// The map-update pass: its pipeline and the per-face uniforms, built once per scene.
+pub struct MapRenderer {
+    pipeline: wgpu::RenderPipeline,
+    objects: wgpu::Buffer,
+    light: wgpu::Buffer,
+    /// Projection range: nearer than `near` or farther than `far` is clipped.
+    near: f32,
+    far: f32,
+}
+
+/// A map must have a size the texture-to-buffer copy can take (rows of size·16 bytes, a
+/// multiple of 256) and fit the device's texture limits.
+pub fn check_map_size(gpu: &Gpu, size: u32, layers: u32) -> Result<()> {
+    let limits = gpu.device.limits();
+    if size == 0 || !size.is_multiple_of(16) {
+        bail!("distance_maps.size {size}: the GPU maps need a multiple of 16 texels per face edge");
+    }
+    if size > limits.max_texture_dimension_2d || 6 * layers > limits.max_texture_array_layers {
+        bail!("distance_maps {size}x{size}, {layers} layers: over this device's texture limits");
+    }
+    Ok(())
+}
+
+impl MapRenderer {
+    pub fn new(gpu: &Gpu, stage: &Stage) -> Result<MapRenderer> {
+        let device = &gpu.device;
+        let source = compose("#import distance_map_render")?;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("distance_map_render"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let target = Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("distance-map faces"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_map"),
+                compilation_options: Default::default(),
+                buffers: &[Some(mesh_buffer_layout())],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(depth_test()),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_map"),
+                compilation_options: Default::default(),
+                targets: &[target.clone(), target],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            bail!("the distance-map shader does not validate: {error}");
+        }
+        let objects: Vec<MapObjectUniform> = stage
+            .objects
+            .iter()
+            .map(|o| match o {
+                ObjectOptics::Specular(_) => MapObjectUniform { surface: DiffuseUniform::default(), specular: [1, 0, 0, 0] },
+                ObjectOptics::Diffuse(d) => MapObjectUniform { surface: DiffuseUniform::new(d), specular: [0; 4] },
+            })
+            .collect();
+        let buffer = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        // The projection spans the whole scene from any reference point inside its box.
+        let (low, high) = stage.meshes.iter().flat_map(|m| &m.positions).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| {
+            let p = widen(*p);
+            (low.min(p), high.max(p))
+        });
+        let far = 2.0 * (high - low).length().max(1e-6);
+        Ok(MapRenderer {
+            pipeline,
+            objects: buffer("map objects", bytemuck::cast_slice(&objects), wgpu::BufferUsages::STORAGE),
+            light: buffer("light", bytemuck::bytes_of(&LightUniform::new(&stage.light)), wgpu::BufferUsages::UNIFORM),
+            near: (far * 1e-6) as f32,
+            far: far as f32,
+        })
+    }
+
+    /// Allocate the maps of every specular object of `stage`: `size` texels per face edge,
+    /// `layers` layers. Sizes are checked before anything is allocated.
+    pub fn allocate(&self, gpu: &Gpu, stage: &Stage, size: u32, layers: u32) -> Result<GpuMaps> {
+        check_map_size(gpu, size, layers)?;
+        let mut views = Vec::new();
+        let mut map_of = Vec::new();
+        let mut texels = 0usize;
+        for object in 0..stage.objects.len() {
+            if stage.is_specular(object) {
+                map_of.push(Some(views.len() as u32));
+                let view = view_of(stage.geometry.object_centre(object), size, layers, texels);
+                texels += view.texels();
+                views.push(view);
+            } else {
+                map_of.push(None);
+            }
+        }
+        let bytes = (texels.max(1) * 16) as u64;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            bail!("{} distance maps of {size}x{size}x6x{layers} texels need {bytes} bytes, over this device's max_storage_buffer_binding_size ({limit})", views.len());
+        }
+        check_buffer_size(gpu, bytes, "distance maps")?;
+        let buffer = |label| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let targets = self.targets(gpu, &views);
+        Ok(GpuMaps { geometry: buffer("map geometry"), surfaces: buffer("map surfaces"), views, map_of, targets })
+    }
+
+    /// The render targets of one layer's six faces and each face's bind group, for `maps`.
+    fn targets(&self, gpu: &Gpu, views: &[MapView]) -> Option<LayerTargets> {
+        let device = &gpu.device;
+        let first = views.first()?;
+        let (size, layers) = (first.size, first.layers);
+        let texture = |label, array_layers, format, usage| {
+            texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage)
+        };
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let geometry = texture("map layer geometry", 6, MAP_FORMAT, attachment);
+        let surfaces = texture("map layer surfaces", 6, MAP_FORMAT, attachment);
+        let previous = texture("previous map layer", 6, MAP_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
+        let previous_view = previous
+            .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        let depth = texture("map depth", 1, DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT).create_view(&Default::default());
+        let face_view = |texture: &wgpu::Texture, face: u32| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: face,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let layout = self.pipeline.get_bind_group_layout(0);
+        let mut bind_groups = Vec::new();
+        for view in views {
+            for layer in 0..layers {
+                for face in 0..6u32 {
+                    let peel = (layer > 0 && layer + 1 < layers) as u32;
+                    let uniform = FaceUniform { centre: view.centre, face, peel, near: self.near, far: self.far };
+                    let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("map face"),
+                        contents: bytemuck::bytes_of(&uniform),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    });
+                    bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("map face"),
+                        layout: &layout,
+                        entries: &[
+                            wgpu::BindGroupEntry { binding: 0, resource: face_buffer.as_entire_binding() },
+                            wgpu::BindGroupEntry { binding: 1, resource: self.light.as_entire_binding() },
+                            wgpu::BindGroupEntry { binding: 2, resource: self.objects.as_entire_binding() },
+                            wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&previous_view) },
+                        ],
+                    }));
+                }
+            }
+        }
+        Some(LayerTargets {
+            geometry_faces: (0..6).map(|f| face_view(&geometry, f)).collect(),
+            surface_faces: (0..6).map(|f| face_view(&surfaces, f)).collect(),
+            geometry,
+            surfaces,
+            previous,
+            depth,
+            bind_groups,
+        })
+    }
+
+    /// Encode the update of every map in `maps` (all layers, all faces) into `encoder`: 6 ×
+    /// layers render passes per map, each layer's faces copied into the map buffers (and,
+    /// below the diffuse layer, kept for the next layer's peel). `timestamps`, where given,
+    /// are written at the start of the first pass and the end of the last. Maps uploaded
+    /// from the CPU have no targets: nothing is encoded.
+    pub fn encode(
+        &self,
+        stage: &Stage,
+        meshes: &SceneMeshes,
+        maps: &GpuMaps,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<&wgpu::QuerySet>,
+    ) {
+        let (Some(targets), Some(first)) = (&maps.targets, maps.views.first()) else { return };
+        let (size, layers) = (first.size, first.layers);
+        let total_passes = targets.bind_groups.len();
+        for (m, view) in maps.views.iter().enumerate() {
+            for layer in 0..layers {
+                let diffuse_layer = layer + 1 == layers;
+                for face in 0..6usize {
+                    let pass_number = (m * layers as usize + layer as usize) * 6 + face;
+                    let writes = timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| {
+                        wgpu::RenderPassTimestampWrites {
+                            query_set: set,
+                            beginning_of_pass_write_index: (pass_number == 0).then_some(0),
+                            end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
+                        }
+                    });
+                    let clear = |view, colour| wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(colour), store: wgpu::StoreOp::Store },
+                    };
+                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("distance-map face"),
+                        color_attachments: &[
+                            Some(clear(&targets.geometry_faces[face], wgpu::Color { r: -1.0, g: 0.0, b: 0.0, a: 0.0 })),
+                            Some(clear(&targets.surface_faces[face], wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: -1.0 })),
+                        ],
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &targets.depth,
+                            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                            stencil_ops: None,
+                        }),
+                        timestamp_writes: writes,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    pass.set_pipeline(&self.pipeline);
+                    pass.set_bind_group(0, &targets.bind_groups[pass_number], &[]);
+                    meshes.draw(&mut pass, |object| stage.is_specular(object) != diffuse_layer);
+                }
+                let whole = wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 };
+                let at = |texture| wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                };
+                if !diffuse_layer {
+                    encoder.copy_texture_to_texture(at(&targets.geometry), at(&targets.previous), whole);
+                }
+                let offset = (view.base as u64 + (layer * 6 * size * size) as u64) * 16;
+                for (texture, buffer) in [(&targets.geometry, &maps.geometry), (&targets.surfaces, &maps.surfaces)] {
+                    encoder.copy_texture_to_buffer(
+                        at(texture),
+                        wgpu::TexelCopyBufferInfo {
+                            buffer,
+                            layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(size * 16), rows_per_image: Some(size) },
+                        },
+                        whole,
+                    );
+                }
+            }
+        }
+    }
+
+    /// Update every map and wait for it.
+    pub fn render(&self, gpu: &Gpu, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps) -> Result<()> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.encode(stage, meshes, maps, &mut encoder, None);
+        gpu.queue.submit([encoder.finish()]);
+        gpu.wait()?;
+        gpu.take_errors()
+    }
+}
+
+impl GpuMaps {
+    /// Read every map back (for tests and for comparing with the CPU twin).
+    pub fn read(&self, gpu: &Gpu) -> Result<MapTexels> {
+        let bytes = self.geometry.size();
+        let readback = readback_buffer(gpu, 2 * bytes)?;
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.geometry, 0, &readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(&self.surfaces, 0, &readback, bytes, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let words: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&readback)?);
+        let (geometry, surfaces) = words.split_at(words.len() / 2);
+        Ok(MapTexels { geometry: geometry.to_vec(), surfaces: surfaces.to_vec(), views: self.views.clone() })
+    }
+
+    /// Upload maps the CPU rendered (the twin's maps, to test the shading pass alone).
+    pub fn upload(gpu: &Gpu, stage: &Stage, maps: &[Option<DistanceMap>]) -> Result<GpuMaps> {
+        let rendered: Vec<DistanceMap> = maps.iter().flatten().cloned().collect();
+        let texels = MapTexels::pack(&rendered);
+        let mut next = 0;
+        let map_of = (0..stage.objects.len())
+            .map(|o| {
+                maps.get(o).and_then(|m| m.as_ref()).map(|_| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        let buffer = |label: &str, contents: &[[f32; 4]]| {
+            let contents: &[u8] = if contents.is_empty() { &[0; 16] } else { bytemuck::cast_slice(contents) };
+            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        check_buffer_size(gpu, (texels.geometry.len() * 16) as u64, "distance maps")?;
+        Ok(GpuMaps {
+            geometry: buffer("map geometry", &texels.geometry),
+            surfaces: buffer("map surfaces", &texels.surfaces),
+            views: texels.views,
+            map_of,
+            targets: None,
+        })
+    }
+}

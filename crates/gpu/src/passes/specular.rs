@@ -1,0 +1,422 @@
+//! The specular-effects shading pass (`shaders/specular.wgsl`): every object of the scene
+//! rasterised from the camera; diffuse fragments show their lit colour, specular fragments
+//! run the bounce loop of Umenhoffer, Patow and Szirmay-Kalos (GPU Gems 3 ch. 17) through
+//! the distance maps of [`super::distance_maps`], with F from one Fresnel method. The CPU
+//! twin is `effects::trace::render` with `effects::distance_map::DistanceMapTracer`.
+//!
+//! Pipelines are keyed by (effect, method) and compiled on first use: the effect
+//! [`Effect::Reflection`] compiles the refraction branch out, so a scene that names no
+//! refraction never builds a refraction pipeline. The `lut` method reads an atlas of two
+//! rows per specular object — the curve from outside (η) and from inside (conj(1/η), whose
+//! exact curve is 1 past the critical angle) — baked like the runner's LUTs: exact F at
+//! texel centres, half floats, linear filter, clamp-to-edge.
+//!
+//! Input: the stage, [`GpuMaps`], the camera frame, depths and search steps. Output: an
+//! RGBA32Float target — rgb the linear radiance, a = 1 + the specular object a pixel shows
+//! (0: a diffuse surface or nothing) — read back as an [`EffectImage`].
+
+use std::collections::HashMap;
+use std::fmt;
+
+use anyhow::{anyhow, bail, Result};
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightUniform, MapView, SceneMeshes, StepsUniform};
+use crate::compose::compose;
+use crate::context::Gpu;
+use crate::params::{prepare, MaterialUniform};
+use crate::render::{depth_test, readback_buffer, Target, FLOAT_TARGET};
+use crate::{camera, lut};
+use nklut_effects::optics::{inside_index, GEOMETRIC_CHANNEL};
+use nklut_effects::scene::{CameraPath, Depths, SearchSteps};
+use nklut_effects::trace::{ObjectOptics, Stage};
+use nklut_optics::fresnel::Method;
+use nklut_optics::spectrum::Kind;
+
+/// Which bounces a pipeline can take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Effect {
+    /// Mirror reflections only (the refraction branch compiled out).
+    Reflection,
+    /// Reflections and refractions.
+    Refraction,
+}
+
+impl Effect {
+    /// The effect a depth configuration needs.
+    pub fn of(depths: Depths) -> Effect {
+        if depths.refraction > 0 {
+            Effect::Refraction
+        } else {
+            Effect::Reflection
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Reflection => "reflection",
+            Effect::Refraction => "refraction",
+        }
+    }
+}
+
+impl fmt::Display for Effect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The call of the Fresnel library for curve `curve` (2m: material m from outside, 2m + 1
+/// from inside).
+fn reflectance_call(method: Method) -> String {
+    match method {
+        Method::Lut => "nklut_fresnel_lut(lut_atlas, lut_sampler, c, curve)".into(),
+        other => format!("fresnel_{}(c, materials[curve])", other.name()),
+    }
+}
+
+/// The shading module of (effect, method): `shaders/specular.wgsl` and its imports plus the
+/// two generated lines that pick them.
+pub fn compose_effect(effect: Effect, method: Method) -> Result<String, crate::compose::ComposeError> {
+    compose(&format!(
+        "const REFRACTION: bool = {};\nfn reflectance(c: f32, curve: u32) -> vec3<f32> {{ return {}; }}\n#import specular\n",
+        effect == Effect::Refraction,
+        reflectance_call(method)
+    ))
+}
+
+/// `EffectFrame` of `shaders/specular.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct FrameUniform {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    light: LightUniform,
+    steps: StepsUniform,
+    depths: [u32; 4],
+}
+
+/// `SceneObject` of `shaders/specular.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct ObjectUniform {
+    surface: DiffuseUniform,
+    role: [u32; 4],
+    geometric_n: [f32; 4],
+    map: MapView,
+}
+
+/// One rendered frame of the effect, read back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EffectImage {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB per pixel, row-major, top row first.
+    pub radiance: Vec<[f32; 3]>,
+    /// The specular object each pixel shows (`None`: a diffuse surface or nothing).
+    pub seen: Vec<Option<usize>>,
+}
+
+/// One frame's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shot<'a> {
+    pub camera: &'a CameraPath,
+    pub frame: u32,
+    pub depths: Depths,
+    pub steps: SearchSteps,
+}
+
+/// The shading pass of one stage: its buffers, and its pipelines by (effect, method).
+pub struct SpecularPass {
+    frame_layout: wgpu::BindGroupLayout,
+    maps_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<(Effect, Method), wgpu::RenderPipeline>,
+    /// Each object's uniform but its map (set per frame from the maps bound).
+    objects: Vec<ObjectUniform>,
+    materials: wgpu::Buffer,
+    lut_atlas: Option<wgpu::TextureView>,
+    blank: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    light: LightUniform,
+    /// Pipelines compiled so far.
+    pub pipelines_compiled: usize,
+    /// LUT curves baked (two per specular object, only when a `lut` pipeline was asked for).
+    pub lut_curves: usize,
+    lut_size: usize,
+    stage_channels: Vec<nklut_optics::spectrum::ChannelIndex>,
+}
+
+fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    let visibility = match ty {
+        wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, .. } => wgpu::ShaderStages::VERTEX_FRAGMENT,
+        _ => wgpu::ShaderStages::FRAGMENT,
+    };
+    wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
+}
+
+fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
+}
+
+impl SpecularPass {
+    /// The pass for `stage`; `lut_size` texels per curve for the `lut` method.
+    pub fn new(gpu: &Gpu, stage: &Stage, lut_size: usize) -> Result<SpecularPass> {
+        let device = &gpu.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("effect frame"),
+            entries: &[
+                layout_entry(
+                    0,
+                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                ),
+                storage(1),
+                storage(2),
+                layout_entry(
+                    3,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                layout_entry(4, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+            ],
+        });
+        let maps_layout = device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("effect maps"), entries: &[storage(0), storage(1)] });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("effect"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&maps_layout)],
+            immediate_size: 0,
+        });
+        let mut objects = Vec::new();
+        let mut stage_materials = Vec::new();
+        let mut stage_channels = Vec::new();
+        for optics in &stage.objects {
+            objects.push(match optics {
+                ObjectOptics::Diffuse(d) => ObjectUniform { surface: DiffuseUniform::new(d), ..Default::default() },
+                ObjectOptics::Specular(m) => {
+                    let role = match m.kind {
+                        Kind::Conductor => 1,
+                        Kind::Dielectric => 2,
+                    };
+                    let material = stage_materials.len() as u32;
+                    stage_materials
+                        .push([MaterialUniform::from_channels(&m.channels), MaterialUniform::from_channels(&m.channels.map(inside_index))]);
+                    stage_channels.push(m.channels);
+                    ObjectUniform {
+                        role: [role, material, 0, 0],
+                        geometric_n: [m.channels[GEOMETRIC_CHANNEL].n as f32, 0.0, 0.0, 0.0],
+                        ..Default::default()
+                    }
+                }
+            });
+        }
+        let buffer = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        let materials: Vec<MaterialUniform> = stage_materials.iter().flatten().copied().collect();
+        let materials = if materials.is_empty() { vec![MaterialUniform::default()] } else { materials };
+        Ok(SpecularPass {
+            frame_layout,
+            maps_layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            objects,
+            materials: buffer("effect materials", bytemuck::cast_slice(&materials), wgpu::BufferUsages::STORAGE),
+            lut_atlas: None,
+            blank: lut::upload(gpu, &[[1.0; 4]], "blank").create_view(&Default::default()),
+            sampler: lut::sampler(gpu),
+            light: LightUniform::new(&stage.light),
+            pipelines_compiled: 0,
+            lut_curves: 0,
+            lut_size,
+            stage_channels,
+        })
+    }
+
+    /// The pipeline of (effect, method), compiled on first use; a shader that does not
+    /// validate is an error naming both.
+    pub fn pipeline(&mut self, gpu: &Gpu, effect: Effect, method: Method) -> Result<&wgpu::RenderPipeline> {
+        if method == Method::Lut && self.lut_atlas.is_none() {
+            self.bake_luts(gpu);
+        }
+        if !self.pipelines.contains_key(&(effect, method)) {
+            let source = compose_effect(effect, method)?;
+            let device = &gpu.device;
+            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("specular"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!("{effect} {}", method.name())),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_effect"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(mesh_buffer_layout())],
+                },
+                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                depth_stencil: Some(depth_test()),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_effect"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState { format: FLOAT_TARGET, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            if let Some(error) = pollster::block_on(scope.pop()) {
+                bail!("the {effect} pipeline of {} does not validate: {error}", method.name());
+            }
+            self.pipelines.insert((effect, method), pipeline);
+            self.pipelines_compiled += 1;
+        }
+        self.pipelines.get(&(effect, method)).ok_or_else(|| anyhow!("pipeline {effect} {} missing", method.name()))
+    }
+
+    /// Bake the `lut` atlas: per specular object, its curve from outside then from inside.
+    fn bake_luts(&mut self, gpu: &Gpu) {
+        let mut texels = Vec::new();
+        for channels in &self.stage_channels {
+            texels.extend(lut::texels(&prepare(channels), self.lut_size));
+            texels.extend(lut::texels(&prepare(&channels.map(inside_index)), self.lut_size));
+        }
+        let rows = 2 * self.stage_channels.len() as u32;
+        if rows > 0 {
+            self.lut_atlas = Some(lut::upload_rows(gpu, &texels, rows, "effect lut atlas").create_view(&Default::default()));
+            self.lut_curves = rows as usize;
+        }
+    }
+
+    /// The (effect, method) pairs compiled so far.
+    pub fn compiled(&self) -> impl Iterator<Item = (Effect, Method)> + '_ {
+        self.pipelines.keys().copied()
+    }
+
+    /// Encode one frame of (effect, method) into `target`, with optional timestamps at the
+    /// start and end of the pass. The pipeline must have been compiled ([`Self::pipeline`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        meshes: &SceneMeshes,
+        maps: &GpuMaps,
+        shot: Shot,
+        method: Method,
+        target: &Target,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<&wgpu::QuerySet>,
+    ) -> Result<()> {
+        let effect = Effect::of(shot.depths);
+        let pipeline =
+            self.pipelines.get(&(effect, method)).ok_or_else(|| anyhow!("the {effect} pipeline of {} was not compiled", method.name()))?;
+        let device = &gpu.device;
+        let near = 1e-3 * shot.camera.distance.max(1e-3);
+        let far = 100.0 * shot.camera.distance.max(1.0);
+        let view = camera::frame_within(shot.camera, shot.frame, target.width, target.height, near, far);
+        let uniform = FrameUniform {
+            view_proj: view.view_proj.map(|column| column.map(|x| x as f32)),
+            eye: [view.eye[0] as f32, view.eye[1] as f32, view.eye[2] as f32, 1.0],
+            light: self.light,
+            steps: StepsUniform::new(shot.steps),
+            depths: [shot.depths.reflection, shot.depths.refraction, 0, 0],
+        };
+        let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("effect frame"),
+            contents: bytemuck::bytes_of(&uniform),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let objects: Vec<ObjectUniform> = self
+            .objects
+            .iter()
+            .zip(&maps.map_of)
+            .map(|(object, map)| ObjectUniform { map: map.map(|m| maps.views[m as usize]).unwrap_or_default(), ..*object })
+            .collect();
+        let objects = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("effect objects"),
+            contents: bytemuck::cast_slice(&objects),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("effect frame"),
+            layout: &self.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: self.materials.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(self.lut_atlas.as_ref().unwrap_or(&self.blank)),
+                },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+            ],
+        });
+        let maps_group =
+            super::distance_maps::buffers_bind_group(device, &self.maps_layout, "effect maps", &[&maps.geometry, &maps.surfaces]);
+        let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        });
+        let mut pass = target.begin(encoder, writes);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &frame_group, &[]);
+        pass.set_bind_group(1, &maps_group, &[]);
+        meshes.draw(&mut pass, |_| true);
+        Ok(())
+    }
+
+    /// Render one frame of `width`×`height` pixels and read it back.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        meshes: &SceneMeshes,
+        maps: &GpuMaps,
+        shot: Shot,
+        method: Method,
+        [width, height]: [u32; 2],
+    ) -> Result<EffectImage> {
+        self.pipeline(gpu, Effect::of(shot.depths), method)?;
+        let target = Target::new(gpu, width, height, FLOAT_TARGET, true)?;
+        let buffer = readback_buffer(gpu, target.readback_bytes())?;
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.encode(gpu, meshes, maps, shot, method, &target, &mut encoder, None)?;
+        target.copy_out(&mut encoder, &buffer, 0);
+        gpu.queue.submit([encoder.finish()]);
+        let pixels = target.decode(&gpu.read_buffer(&buffer)?);
+        Ok(EffectImage {
+            width,
+            height,
+            radiance: pixels.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect(),
+            seen: pixels.chunks_exact(4).map(|p| (p[3] >= 1.0).then(|| p[3] as usize - 1)).collect(),
+        })
+    }
+}
+
+impl EffectImage {
+    /// The frame in the CPU tracers' type (f64 radiance), to measure it with
+    /// `effects::image_error`.
+    pub fn traced(&self) -> nklut_effects::trace::TracedFrame {
+        nklut_effects::trace::TracedFrame {
+            width: self.width,
+            height: self.height,
+            radiance: self.radiance.iter().map(|p| p.map(f64::from)).collect(),
+            seen: self.seen.clone(),
+            rays: 0,
+        }
+    }
+}

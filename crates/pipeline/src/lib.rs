@@ -1,0 +1,28 @@
+//! The nklut pipeline over the optics of `nklut_optics`: the selected pages of the
+//! database into tables ([`ingest`]), their reference colours ([`colors`]), every Fresnel
+//! method's error ([`validate`]), lookup textures ([`bake`]), engine parameters and their
+//! exports ([`params`]) and the report that draws them ([`report`]).
+//!
+//! Modules follow the data, and every import points one way — a module uses only modules
+//! before it in this order (the workspace's `tests/module_order.rs` checks it): `ingest` →
+//! `colors` → `validate` / `bake` / `params` → `report`. Leaves any module may use:
+//! `output` (tables as CSV, Parquet and JSON; files and folders published as one set),
+//! `progress` (bars on a terminal, quiet in CI) and `budget` (the memory a run may take,
+//! checked before large allocations). Stages take plain values; the command line lives in
+//! the `nklut` binary.
+//!
+//! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
+//! repository.
+
+// `!(a <= b)` is written where a NaN must take the branch that `a > b` would skip.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod bake;
+pub mod budget;
+pub mod colors;
+pub mod ingest;
+pub mod output;
+pub mod params;
+pub mod progress;
+pub mod report;
+pub mod validate;

@@ -1,0 +1,93 @@
+//! Engine parameters per kept page (`nklut params`): what engines and artists paste in —
+//! F0 (linear Rec.709, ACEScg, 8-bit sRGB), F82 tint, Gulbrandsen's (r, g), Hoffman's
+//! generalized Schlick, the fitted per-channel (n, k), a dielectric's n_d and Abbe number
+//! — each model with its error against the page's spectral reference curve over θ.
+//! Formulas and sources: [`models`] and [`page`]; the engine fields each value goes into:
+//! docs/engine-integration.md and the table's column descriptions.
+//!
+//! `compute` is pure (pages → parameters); `command` is the edge: ingest, compute, then
+//! write `engine_params.{csv,parquet,json}` (+ columns.json), `materials.mtlx` and
+//! `materials.gltf` + `materials.bin` atomically.
+
+pub mod gltf;
+pub mod models;
+pub mod mtlx;
+pub mod page;
+pub mod table;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Result;
+
+use crate::ingest::{self, KeptPage, Selection};
+use crate::output::SetFile;
+use nklut_optics::color::{self, CurveMemo, Fingerprint, PreparedSpectrum};
+use nklut_optics::db::Database;
+use nklut_optics::spectrum::Material;
+
+pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
+pub use page::{engine_params, EngineModel, EngineParams, ModelError, Reference};
+pub use table::engine_params_table;
+
+/// The spectral reference of a material on the angle quadrature (its curve from `memo`
+/// when it holds it).
+pub fn reference(material: &Material, memo: &CurveMemo) -> Reference {
+    let (spectrum, _) = color::sample_spectrum(&material.data);
+    let rule = color::angle_quadrature();
+    let prepared = PreparedSpectrum::new(&spectrum);
+    Reference::from_curve(&prepared, &memo.curve(Fingerprint::of_spectrum(&spectrum), &prepared, &rule.cosines))
+}
+
+/// Wall-clock seconds of the two stages of [`compute`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ParamsTimings {
+    /// Spectra and the reference colours at F0, μ̄ and the quadrature nodes.
+    pub reference_s: f64,
+    /// Every parameter, fit and error from the references.
+    pub parameters_s: f64,
+}
+
+/// The parameters of every page of `kept`, each distinct data file computed once (in
+/// parallel), in the order of `kept`.
+pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings, memo: &CurveMemo) -> Result<Vec<EngineParams>> {
+    let (unique, positions) = ingest::distinct_materials(kept);
+    let start = Instant::now();
+    let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i], memo));
+    timings.reference_s = start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let rule = color::angle_quadrature();
+    let params: Vec<EngineParams> =
+        crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule));
+    timings.parameters_s = start.elapsed().as_secs_f64();
+    Ok(positions.into_iter().map(|i| params[i].clone()).collect())
+}
+
+/// `nklut params`: ingest the selection, compute, publish the table and the two exports
+/// as one set.
+pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, out: &Path) -> Result<Vec<PathBuf>> {
+    let start = Instant::now();
+    let ingested = ingest::ingest(db, selection, config)?;
+    ingested.check_strict()?;
+    anyhow::ensure!(!ingested.kept.is_empty(), "no page of the selection passed the coverage filter; no engine parameters to write");
+    let ingest_s = start.elapsed().as_secs_f64();
+    let mut timings = ParamsTimings::default();
+    let memo = CurveMemo::load(out);
+    let params = compute(&ingested.kept, &mut timings, &memo)?;
+    let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
+    let pages: Vec<mtlx::ExportPage> =
+        ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
+    files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
+    let scene = gltf::scene(&pages, "materials.bin")?;
+    files.push(SetFile::new("materials.bin", scene.bin));
+    files.push(SetFile::new("materials.gltf", scene.json));
+    let written = crate::output::publish_set(out, "params", &files)?;
+    eprintln!(
+        "params: {} pages ({} excluded); ingest {ingest_s:.2} s, spectral references {:.2} s, parameters + fits + errors {:.2} s",
+        ingested.kept.len(),
+        ingested.excluded.len(),
+        timings.reference_s,
+        timings.parameters_s
+    );
+    Ok(written)
+}

@@ -1,0 +1,341 @@
+//! The report's plots, drawn with plotters into SVG strings inlined in the HTML. Rules
+//! every plot keeps: text at 13 px or more, both axes named with their unit, legends
+//! outside the data (the pages draw them in HTML beside the plot), θ ticks at 0°, 30°,
+//! 60° and 90°.
+
+use std::fmt::Write;
+
+use anyhow::{anyhow, Result};
+use plotters::prelude::*;
+
+use super::curves::PlotCurve;
+use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
+
+/// Font size (px) of tick labels and axis names; captions are one larger.
+pub const FONT_PX: u32 = 13;
+/// plotters' SVG backend writes font-size = requested size / 1.24 (points to pixels).
+const SVG_FONT_SCALE: f64 = 1.24;
+const FONT: (&str, f64) = ("sans-serif", FONT_PX as f64 * SVG_FONT_SCALE + 0.01);
+const CAPTION: (&str, f64) = ("sans-serif", (FONT_PX + 1) as f64 * SVG_FONT_SCALE + 0.01);
+/// Stroke width of curves (distinct from the 1 px axes, so `dash` finds them).
+const CURVE_WIDTH: u32 = 2;
+
+/// Colours of the methods, fixed so every plot reads the same (Okabe–Ito, then grey).
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 0, 0),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 114, 178),
+    RGBColor(120, 120, 120),
+];
+
+/// CSS `#rrggbb` of a palette colour (for the HTML legends).
+pub fn css(color: RGBColor) -> String {
+    format!("#{:02x}{:02x}{:02x}", color.0, color.1, color.2)
+}
+
+fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing a plot: {e:?}")
+}
+
+/// θ axis ticks.
+const THETA_TICKS: [f64; 4] = [0.0, 30.0, 60.0, 90.0];
+const THETA_NAME: &str = "angle of incidence θ (°)";
+
+fn line<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>, points: Vec<(f64, f64)>, color: RGBColor, dashed: bool) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let _ = dashed; // drawn solid, dashed afterwards by `dash` (one element per curve)
+    chart.draw_series(LineSeries::new(points, ShapeStyle::from(&color).stroke_width(CURVE_WIDTH))).map_err(plot_error)?;
+    Ok(())
+}
+
+/// Give the curves of `color` a dash pattern: plotters draws a dashed series as one
+/// element per dash, this keeps one polyline per curve (the SVG stays small).
+fn dash(svg: &mut String, color: RGBColor) {
+    let solid = format!("stroke=\"#{:02X}{:02X}{:02X}\" stroke-width=\"{CURVE_WIDTH}\"", color.0, color.1, color.2);
+    *svg = svg.replace(&solid, &format!("{solid} stroke-dasharray=\"6 4\""));
+}
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
+
+/// Tick marks and labels at 0°, 30°, 60° and 90° under the θ axis of `chart` (drawn on
+/// `area`, the chart's own drawing area or the root it was built on).
+fn theta_ticks<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, chart: &Chart<DB>) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (origin_x, origin_y) = area.get_base_pixel();
+    let style = TextStyle::from(FONT)
+        .pos(plotters::style::text_anchor::Pos::new(plotters::style::text_anchor::HPos::Center, plotters::style::text_anchor::VPos::Top));
+    for tick in THETA_TICKS {
+        let (x, y) = chart.backend_coord(&(tick, 0.0));
+        let (x, y) = (x - origin_x, y - origin_y);
+        area.draw(&PathElement::new(vec![(x, y), (x, y + 5)], BLACK)).map_err(plot_error)?;
+        area.draw(&Text::new(format!("{tick}"), (x, y + 7), style.clone())).map_err(plot_error)?;
+    }
+    Ok(())
+}
+
+/// A chart over θ ∈ [0°, 90°] on `area`: ticks every 30°, both axes named, no grid.
+fn theta_chart<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    caption: Option<&str>,
+    margin_right: u32,
+    top: f64,
+    y_name: &str,
+    y_label: &dyn Fn(&f64) -> String,
+) -> Result<Chart<'a, DB>>
+where
+    DB::ErrorType: 'static,
+{
+    let mut builder = ChartBuilder::on(area);
+    if let Some(caption) = caption {
+        builder.caption(caption, CAPTION);
+    }
+    let mut chart = builder
+        .margin(8)
+        .margin_right(margin_right)
+        .x_label_area_size(42)
+        .y_label_area_size(58)
+        .build_cartesian_2d(0f64..90f64, 0f64..top)
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(0)
+        .y_labels(6)
+        .x_desc(THETA_NAME)
+        .y_desc(y_name)
+        .label_style(FONT)
+        .axis_desc_style(FONT)
+        .y_label_formatter(y_label)
+        .draw()
+        .map_err(plot_error)?;
+    theta_ticks(area, &chart)?;
+    Ok(chart)
+}
+
+/// F against θ, one panel per colour channel (named with its wavelength).
+pub fn fresnel_curves(theta_deg: &[f64], curves: &[PlotCurve], channels: &Channels, size: (u32, u32)) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let wavelengths = channels.nanometres();
+        for (c, panel) in root.split_evenly((1, 3)).iter().enumerate() {
+            let top = curves.iter().flat_map(|s| s.rgb.iter().map(move |v| v[c])).fold(1.0f64, f64::max);
+            let caption = format!("{} channel, {} nm", CHANNEL_NAMES[c], wavelengths[c]);
+            let mut chart = theta_chart(panel, Some(&caption), 6, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
+            for s in curves {
+                line(&mut chart, theta_deg.iter().copied().zip(s.channel(c)).collect(), s.color, s.dashed)?;
+            }
+        }
+        root.present().map_err(plot_error)?;
+    }
+    for s in curves.iter().filter(|s| s.dashed) {
+        dash(&mut svg, s.color);
+    }
+    Ok(svg)
+}
+
+/// One curve of the colour-difference plot.
+pub struct DeltaE<'a> {
+    pub curve: &'a PlotCurve,
+    pub values: Vec<f64>,
+}
+
+/// CIEDE2000 against the reference over θ, with the "just noticeable" level (1) as a
+/// line and the "clearly visible" band (2–3) shaded, named in the right margin.
+pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> Result<String> {
+    let top = series.iter().flat_map(|s| s.values.iter().copied()).filter(|v| v.is_finite()).fold(4.0f64, f64::max) * 1.05;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let mut chart = theta_chart(&root, None, 190, top, "colour difference ΔE2000", &|v| format!("{v:.0}"))?;
+        chart
+            .draw_series(std::iter::once(Rectangle::new([(0.0, 2.0), (90.0, 3.0)], RGBColor(255, 220, 200).mix(0.6).filled())))
+            .map_err(plot_error)?;
+        chart
+            .draw_series(LineSeries::new(vec![(0.0, 1.0), (90.0, 1.0)], ShapeStyle::from(&PALETTE[7]).stroke_width(CURVE_WIDTH)))
+            .map_err(plot_error)?;
+        for s in series {
+            line(&mut chart, theta_deg.iter().copied().zip(s.values.iter().copied()).collect(), s.curve.color, s.curve.dashed)?;
+        }
+        let (x, y1) = chart.backend_coord(&(90.0, 1.0));
+        let (_, y25) = chart.backend_coord(&(90.0, 2.5));
+        let y25 = y25.min(y1 - FONT_PX as i32 - 6);
+        root.draw(&Text::new("just noticeable (ΔE 1)", (x + 10, y1 - 7), FONT)).map_err(plot_error)?;
+        root.draw(&Text::new("clearly visible (ΔE 2–3)", (x + 10, y25 - 7), FONT)).map_err(plot_error)?;
+        root.present().map_err(plot_error)?;
+    }
+    dash(&mut svg, PALETTE[7]);
+    for s in series.iter().filter(|s| s.curve.dashed) {
+        dash(&mut svg, s.curve.color);
+    }
+    Ok(svg)
+}
+
+/// A point of a cost chart.
+pub struct CostPoint {
+    pub label: String,
+    pub cost: f64,
+    pub error: f64,
+    pub pareto: bool,
+}
+
+/// A drawn cost chart and the points it drew at the axis floor (error 0).
+pub struct CostChart {
+    pub svg: String,
+    pub at_floor: Vec<String>,
+}
+
+/// An estimate of a label's box in px (width from the character count at FONT_PX).
+fn label_box(text: &str, x: i32, y: i32) -> (i32, i32, i32, i32) {
+    let width = (text.chars().count() as f64 * FONT_PX as f64 * 0.62).ceil() as i32;
+    (x, y - FONT_PX as i32, x + width, y + 3)
+}
+
+fn overlaps(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
+/// Mean relative error (%) against cost, both log scales. Only the Pareto front is
+/// labelled (each label placed where it overlaps no earlier one); every point has a
+/// hover title. Points with error 0 are drawn at the axis floor as open triangles.
+pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> Result<CostChart> {
+    let drawn: Vec<&CostPoint> =
+        points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error >= 0.0 && p.error.is_finite()).collect();
+    let positive: Vec<f64> = drawn.iter().map(|p| p.error).filter(|e| *e > 0.0).collect();
+    if positive.is_empty() {
+        return Ok(CostChart { svg: String::new(), at_floor: Vec::new() });
+    }
+    let (x_lo, x_hi) = bounds(drawn.iter().map(|p| p.cost));
+    let (y_lo, y_hi) = bounds(positive.iter().copied());
+    let at_floor: Vec<String> = drawn.iter().filter(|p| p.error == 0.0).map(|p| p.label.clone()).collect();
+    let mut svg = String::new();
+    let mut titles = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let mut chart = ChartBuilder::on(&root)
+            .margin(12)
+            .margin_right(24)
+            .x_label_area_size(44)
+            .y_label_area_size(84)
+            .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(cost_label)
+            .y_desc("mean relative error (%)")
+            .x_label_formatter(&|v| super::html::significant(*v, 2))
+            .y_label_formatter(&|v| format!("{} %", super::html::significant(v * 100.0, 1)))
+            .label_style(FONT)
+            .axis_desc_style(FONT)
+            .draw()
+            .map_err(plot_error)?;
+        let at = |p: &CostPoint| (p.cost, if p.error > 0.0 { p.error } else { y_lo });
+        let mut front: Vec<(f64, f64)> = drawn.iter().filter(|p| p.pareto).map(|p| at(p)).collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart.draw_series(LineSeries::new(front, ShapeStyle::from(&PALETTE[5]).stroke_width(2))).map_err(plot_error)?;
+        for p in &drawn {
+            let color = if p.pareto { PALETTE[5] } else { PALETTE[6] };
+            if p.error > 0.0 {
+                chart.draw_series(std::iter::once(Circle::new(at(p), 4, ShapeStyle::from(&color).filled()))).map_err(plot_error)?;
+            } else {
+                chart
+                    .draw_series(std::iter::once(TriangleMarker::new(at(p), 6, ShapeStyle::from(&color).stroke_width(2))))
+                    .map_err(plot_error)?;
+            }
+            let (x, y) = chart.backend_coord(&at(p));
+            let _ = write!(
+                titles,
+                "<circle cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"transparent\"><title>{}</title></circle>",
+                super::html::escape(&p.label)
+            );
+        }
+        let area = chart.plotting_area().get_pixel_range();
+        let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+        let mut front_points: Vec<&&CostPoint> = drawn.iter().filter(|p| p.pareto).collect();
+        front_points.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        for p in front_points {
+            let (x, y) = chart.backend_coord(&at(p));
+            let width = label_box(&p.label, 0, 0).2;
+            let candidates =
+                [(x + 8, y - 6), (x + 8, y + 18), (x - width - 8, y - 6), (x - width - 8, y + 18), (x + 8, y - 24), (x + 8, y + 36)];
+            let inside = |b: (i32, i32, i32, i32)| b.0 >= area.0.start && b.2 <= area.0.end && b.1 >= area.1.start && b.3 <= area.1.end;
+            let choice = candidates
+                .iter()
+                .map(|&(lx, ly)| (lx, ly, label_box(&p.label, lx, ly)))
+                .find(|(_, _, b)| inside(*b) && !placed.iter().any(|q| overlaps(*q, *b)));
+            if let Some((lx, ly, b)) = choice {
+                placed.push(b);
+                root.draw(&Text::new(p.label.clone(), (lx, ly - FONT_PX as i32), FONT)).map_err(plot_error)?;
+            }
+        }
+        root.present().map_err(plot_error)?;
+    }
+    if let Some(end) = svg.rfind("</svg>") {
+        svg.insert_str(end, &titles);
+    }
+    Ok(CostChart { svg, at_floor })
+}
+
+/// Log-scale bounds with half a decade of margin.
+fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    (lo / 3.0, hi * 3.0)
+}
+
+/// Indices of the points on the Pareto front: no other point is both cheaper (or equal)
+/// and more accurate (or equal), with one strict.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
+    points.iter().map(|&(cost, error)| !points.iter().any(|&(c, e)| c <= cost && e <= error && (c < cost || e < error))).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pareto_front_keeps_undominated_points() {
+        let points = [(1.0, 0.1), (2.0, 0.01), (3.0, 0.05), (0.5, 0.5), (2.0, 0.02)];
+        assert_eq!(pareto_front(&points), vec![true, true, false, true, false]);
+    }
+
+    #[test]
+    fn plots_have_readable_text_and_theta_ticks_every_30_degrees() {
+        let theta: Vec<f64> = (0..=90).map(f64::from).collect();
+        let curve = PlotCurve { name: "exact".into(), color: PALETTE[0], dashed: false, rgb: vec![[0.5; 3]; theta.len()] };
+        let svg = fresnel_curves(&theta, std::slice::from_ref(&curve), &Channels::default(), (900, 300)).unwrap();
+        assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
+        assert!(svg.matches("<polyline").count() >= 3);
+        for tick in ["0", "30", "60", "90"] {
+            assert!(svg.contains(&format!(">\n{tick}\n</text>")), "tick {tick}");
+        }
+        assert!(svg.contains("red channel, 685 nm") && svg.contains("reflectance F"));
+        let sizes: Vec<f64> = svg.split("font-size=\"").skip(1).map(|s| s[..s.find('"').unwrap()].parse().unwrap()).collect();
+        assert!(!sizes.is_empty() && sizes.iter().all(|s| *s >= 12.0), "{sizes:?}");
+    }
+
+    #[test]
+    fn cost_charts_label_only_the_front_and_draw_zero_at_the_floor() {
+        let points = [
+            CostPoint { label: "exact f64".into(), cost: 25.0, error: 0.0, pareto: true },
+            CostPoint { label: "schlick".into(), cost: 2.0, error: 0.05, pareto: true },
+            CostPoint { label: "lazanyi".into(), cost: 9.0, error: 0.08, pareto: false },
+        ];
+        let chart = cost_chart(&points, "CPU time per evaluation (ns)", (600, 400)).unwrap();
+        assert_eq!(chart.at_floor, vec!["exact f64"]);
+        assert!(chart.svg.contains(">\nschlick\n</text>") && chart.svg.contains(">\nexact f64\n</text>"), "{}", chart.svg);
+        assert!(!chart.svg.contains(">\nlazanyi\n</text>"), "off-front points are not labelled");
+        assert!(chart.svg.contains("<title>lazanyi</title>"), "but they have a hover title");
+    }
+}

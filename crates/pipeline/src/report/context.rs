@@ -1,0 +1,106 @@
+//! What every page of the report looks up: the loaded tables indexed by page id, the θ
+//! grid of the curves and the preview geometry, built once per report.
+
+use std::collections::HashMap;
+
+use anyhow::{bail, Result};
+
+use super::csvdata::CsvTable;
+use super::curves::{theta_grid, THETA_POINTS};
+use super::inputs::Inputs;
+use super::preview::{Environment, SphereLayout, PREVIEW_PX};
+use nklut_optics::spectrum::{ChannelIndex, Index, CHANNEL_NAMES};
+
+/// Rows of one table by page id.
+pub struct ByPage<'a> {
+    pub table: &'a CsvTable,
+    rows: HashMap<&'a str, Vec<&'a [String]>>,
+}
+
+impl<'a> ByPage<'a> {
+    pub fn new(table: &'a CsvTable) -> Self {
+        let mut rows: HashMap<&str, Vec<&[String]>> = HashMap::new();
+        for row in &table.rows {
+            rows.entry(table.text(row, "page")).or_default().push(row);
+        }
+        Self { table, rows }
+    }
+
+    pub fn rows(&self, page: &str) -> &[&'a [String]] {
+        self.rows.get(page).map(Vec::as_slice).unwrap_or(&[])
+    }
+
+    pub fn first(&self, page: &str) -> Option<&'a [String]> {
+        self.rows(page).first().copied()
+    }
+}
+
+/// The report's shared lookups.
+pub struct Context<'a> {
+    pub inputs: &'a Inputs,
+    pub theta: Vec<f64>,
+    pub layout: SphereLayout,
+    pub materials: ByPage<'a>,
+    pub colors: Option<ByPage<'a>>,
+    pub errors: Option<ByPage<'a>>,
+    pub params: Option<ByPage<'a>>,
+    pub warnings: Option<ByPage<'a>>,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(inputs: &'a Inputs) -> Self {
+        Self {
+            inputs,
+            theta: theta_grid(THETA_POINTS),
+            layout: SphereLayout::new(PREVIEW_PX, THETA_POINTS, Environment::Studio),
+            materials: ByPage::new(&inputs.materials),
+            colors: inputs.colors.as_ref().map(ByPage::new),
+            errors: inputs.errors.as_ref().map(ByPage::new),
+            params: inputs.extra.get("engine_params.csv").map(ByPage::new),
+            warnings: inputs.warnings.as_ref().map(ByPage::new),
+        }
+    }
+}
+
+/// The three channel indices of a row with columns `n_<channel>`/`k_<channel>`.
+pub fn three_channel_index(table: &CsvTable, row: &[String]) -> ChannelIndex {
+    CHANNEL_NAMES.map(|c| {
+        Index::new(table.number(row, &format!("n_{c}")).unwrap_or(f64::NAN), table.number(row, &format!("k_{c}")).unwrap_or(f64::NAN))
+    })
+}
+
+/// Per-channel values of `<prefix>_r`, `_g`, `_b`.
+pub fn channel_triple(table: &CsvTable, row: &[String], prefix: &str) -> [f64; 3] {
+    ["r", "g", "b"].map(|c| table.number(row, &format!("{prefix}_{c}")).unwrap_or(f64::NAN))
+}
+
+/// Per-channel flags `<prefix>_r`, `_g`, `_b`.
+pub fn channel_flags(table: &CsvTable, row: &[String], prefix: &str) -> [bool; 3] {
+    ["r", "g", "b"].map(|c| table.text(row, &format!("{prefix}_{c}")) == "true")
+}
+
+/// The fitted channel indices of a `colors.csv` row.
+pub fn fitted_index(colors: &CsvTable, row: &[String]) -> ChannelIndex {
+    let n = channel_triple(colors, row, "effective_n");
+    let k = channel_triple(colors, row, "effective_k");
+    [0, 1, 2].map(|c| Index::new(n[c], k[c]))
+}
+
+/// Where a material's page lives under `report/`: `materials/<id>.html`, the id's
+/// parts as folders. A part that is empty, `.` or `..` would leave the folder: refused.
+pub fn material_path(page: &str) -> Result<String> {
+    if page.split('/').any(|part| part.is_empty() || part == "." || part == "..") {
+        bail!("page id {page:?} cannot name a file under report/materials");
+    }
+    Ok(format!("materials/{page}.html"))
+}
+
+/// Where a material's preview image lives under `report/`.
+pub fn preview_path(page: &str) -> String {
+    format!("previews/{page}.png")
+}
+
+/// The relative path from a material page back to `report/`.
+pub fn up_from_material(page: &str) -> String {
+    "../".repeat(1 + page.matches('/').count())
+}

@@ -1,0 +1,314 @@
+//! The tables the report is built from, read from an output folder: which exist, the
+//! channel wavelengths they were computed at, the pages a selection picks from them,
+//! and the counts the report prints (each from the one table it belongs to).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{bail, Result};
+
+use super::csvdata::CsvTable;
+use crate::ingest::Selection;
+use nklut_optics::fresnel::FitMemo;
+use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
+
+/// Tables written by the effects, ambient-occlusion and engine-parameter stages: shown
+/// when present, named as absent otherwise.
+pub const OPTIONAL_TABLES: [&str; 5] = ["effects_errors.csv", "effects_timing.csv", "ao_errors.csv", "ao_timing.csv", "engine_params.csv"];
+
+/// The columns of `errors.csv` the report shows or counts.
+const ERROR_COLUMNS: [&str; 10] = [
+    "page",
+    "method",
+    "variant",
+    "precision",
+    "channel",
+    "wavelength_nm",
+    "mean_rel_error",
+    "max_abs_error",
+    "excluded_samples",
+    "fallback",
+];
+
+/// The rows of `errors.csv` the report reads: every analytic method, and the LUTs at the
+/// default 256 texels (the whole size sweep is summarised by cost.csv).
+pub fn shown_error_row(method: &str, variant: &str) -> bool {
+    method != "lut" || variant.starts_with("N=256,")
+}
+
+/// The tables the report reads.
+pub struct Inputs {
+    pub materials: CsvTable,
+    pub excluded: CsvTable,
+    pub colors: Option<CsvTable>,
+    pub errors: Option<CsvTable>,
+    pub cost: Option<CsvTable>,
+    pub gpu_timing: Option<CsvTable>,
+    pub warnings: Option<CsvTable>,
+    /// The optional tables of `OPTIONAL_TABLES` that exist, by path relative to the output
+    /// folder: at its top, or in a folder one level down (`make effects` writes one folder
+    /// per scene, `make gpu` one per effects scene).
+    pub extra: BTreeMap<String, CsvTable>,
+    /// The channel wavelengths `materials.csv` was evaluated at.
+    pub channels: Channels,
+    /// The `nvidia` fits `validate` kept (`.cache/nvidia-fits.bin`), read only: the
+    /// curves fit what it lacks.
+    pub fits: FitMemo,
+}
+
+impl Inputs {
+    /// Load from an output folder. `materials.csv` and `excluded.csv` are required, and the
+    /// channel wavelengths of every table that records them must agree.
+    pub fn load(out: &Path) -> Result<Self> {
+        let required = |name: &str| -> Result<CsvTable> {
+            match CsvTable::load(&out.join(name))? {
+                Some(t) => Ok(t),
+                None => bail!("{} is missing: run `nklut ingest` first", out.join(name).display()),
+            }
+        };
+        let materials = required("materials.csv")?;
+        let channels = table_channels(&materials).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("materials.csv").display()))?;
+        let errors =
+            CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|r| shown_error_row(r.text("method"), r.text("variant")))?;
+        if let Some(errors) = &errors {
+            check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
+        }
+        let mut extra = BTreeMap::new();
+        for folder in std::iter::once(String::new()).chain(scene_folders(out)) {
+            for name in OPTIONAL_TABLES {
+                let relative = if folder.is_empty() { name.to_string() } else { format!("{folder}/{name}") };
+                if let Some(table) = CsvTable::load(&out.join(&relative))? {
+                    extra.insert(relative, table);
+                }
+            }
+        }
+        Ok(Self {
+            materials,
+            excluded: required("excluded.csv")?,
+            colors: CsvTable::load(&out.join("colors.csv"))?,
+            errors,
+            cost: CsvTable::load(&out.join("cost.csv"))?,
+            gpu_timing: CsvTable::load(&out.join("gpu_timing.csv"))?,
+            warnings: CsvTable::load(&out.join("warnings.csv"))?,
+            extra,
+            channels,
+            fits: FitMemo::load(out),
+        })
+    }
+}
+
+/// The folders directly under `out`, sorted by name (the per-scene output folders).
+pub fn scene_folders(out: &Path) -> Vec<String> {
+    let mut folders: Vec<String> = std::fs::read_dir(out)
+        .map(|entries| entries.flatten().filter(|e| e.path().is_dir()).filter_map(|e| e.file_name().to_str().map(String::from)).collect())
+        .unwrap_or_default();
+    folders.retain(|f| !f.starts_with('.'));
+    folders.sort();
+    folders
+}
+
+/// The channel wavelengths of `materials.csv` (`lambda_red_nm` …): one value per column.
+pub fn table_channels(materials: &CsvTable) -> Result<Channels> {
+    let mut nm = [0.0; 3];
+    for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+        let column = format!("lambda_{name}_nm");
+        if !materials.has(&column) {
+            bail!("no column {column}: written by an older nklut; run `nklut ingest` again");
+        }
+        let mut values: Vec<f64> = materials.rows.iter().map(|r| materials.number(r, &column).unwrap_or(f64::NAN)).collect();
+        values.sort_by(f64::total_cmp);
+        values.dedup();
+        nm[c] = match values.as_slice() {
+            [] => Channels::default().nanometres()[c],
+            [one] if one.is_finite() && *one > 0.0 => *one,
+            _ => bail!("column {column} holds {} different wavelengths ({values:?}); one run writes one", values.len()),
+        };
+    }
+    Ok(Channels { red_nm: nm[0], green_nm: nm[1], blue_nm: nm[2] })
+}
+
+/// `errors.csv` records each row's channel wavelength: it must be the ingest's.
+fn check_error_wavelengths(errors: &CsvTable, channels: &Channels) -> Result<()> {
+    if !errors.has("wavelength_nm") {
+        return Ok(());
+    }
+    let nm = channels.nanometres();
+    for row in &errors.rows {
+        let channel = errors.text(row, "channel");
+        let Some(c) = CHANNEL_NAMES.iter().position(|n| *n == channel) else { continue };
+        let value = errors.number(row, "wavelength_nm").unwrap_or(f64::NAN);
+        if value != nm[c] {
+            bail!(
+                "{} ({channel}) was validated at {value} nm but materials.csv holds {} nm: the tables come from runs with different --channels; run validate again",
+                errors.text(row, "page"),
+                nm[c]
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The page ids of `materials.csv` that `selection` picks, in table order. Every named
+/// page and shelf must pick something; otherwise the error names each one missing and
+/// why (excluded by ingest, with its reason, or not in the tables at all).
+pub fn select_pages(materials: &CsvTable, excluded: &CsvTable, selection: &Selection) -> Result<Vec<String>> {
+    let chosen: Vec<String> = materials
+        .rows
+        .iter()
+        .filter(|r| selection.includes_id(materials.text(r, "shelf"), materials.text(r, "page")))
+        .map(|r| materials.text(r, "page").to_string())
+        .collect();
+    let mut missing = Vec::new();
+    for page in &selection.pages {
+        if !chosen.contains(page) {
+            missing.push(match excluded.rows_where("page", page).next() {
+                Some(row) => format!("{page} (excluded by ingest: {}, {})", excluded.text(row, "reason"), excluded.text(row, "detail")),
+                None => format!("{page} (not in materials.csv: run `nklut ingest --page {page}`)"),
+            });
+        }
+    }
+    for shelf in &selection.shelves {
+        if !materials.rows.iter().any(|r| materials.text(r, "shelf") == shelf) {
+            missing.push(format!("shelf {shelf} (no kept page of it in materials.csv: run `nklut ingest --shelf {shelf}`)"));
+        }
+    }
+    if !missing.is_empty() {
+        bail!("the tables do not contain {} of the selected pages: {}", missing.len(), missing.join("; "));
+    }
+    if chosen.is_empty() {
+        bail!("materials.csv has no kept page: nothing to report");
+    }
+    Ok(chosen)
+}
+
+/// A count the report prints, with the table it comes from and what it counts, so a
+/// reader (and the tests) can recount it: HTML `<span class="count" data-table data-key>`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Count {
+    pub table: &'static str,
+    /// What is counted: `rows`, `reason=<code>`, `sparse`, `fallback`, `fallback=<reason>`,
+    /// `out-of-gamut`, `extrapolated`, `excluded-samples`.
+    pub key: String,
+    pub value: usize,
+}
+
+impl Count {
+    pub fn html(&self) -> String {
+        format!("<span class=\"count\" data-table=\"{}\" data-key=\"{}\">{}</span>", self.table, super::html::escape(&self.key), self.value)
+    }
+}
+
+/// Rows of a table.
+pub fn rows(table: &'static str, t: &CsvTable) -> Count {
+    Count { table, key: "rows".into(), value: t.rows.len() }
+}
+
+/// Excluded pages per reason code, in code order.
+pub fn exclusions_by_reason(excluded: &CsvTable) -> Vec<Count> {
+    let mut by_reason: BTreeMap<&str, usize> = BTreeMap::new();
+    for row in &excluded.rows {
+        *by_reason.entry(excluded.text(row, "reason")).or_default() += 1;
+    }
+    by_reason.into_iter().map(|(reason, value)| Count { table: "excluded.csv", key: format!("reason={reason}"), value }).collect()
+}
+
+/// The (page, channel) pairs where compensated Schlick has no real exponent and falls
+/// back to `schlick_nk`: rows of `errors.csv` with method `schlick_compensated`, f64
+/// precision and a non-empty `fallback` (its reason).
+pub fn compensation_fallbacks(errors: &CsvTable) -> Vec<(String, String, String)> {
+    let mut found: Vec<(String, String, String)> = errors
+        .rows
+        .iter()
+        .filter(|r| {
+            errors.text(r, "method") == "schlick_compensated"
+                && errors.text(r, "precision") == "f64"
+                && !errors.text(r, "fallback").is_empty()
+        })
+        .map(|r| (errors.text(r, "page").to_string(), errors.text(r, "channel").to_string(), errors.text(r, "fallback").to_string()))
+        .collect();
+    found.sort();
+    found.dedup();
+    found
+}
+
+/// Counts of `compensation_fallbacks`: all, then per reason.
+pub fn fallback_counts(fallbacks: &[(String, String, String)]) -> Vec<Count> {
+    let mut counts = vec![Count { table: "errors.csv", key: "fallback".into(), value: fallbacks.len() }];
+    let mut by_reason: BTreeMap<&str, usize> = BTreeMap::new();
+    for (_, _, reason) in fallbacks {
+        *by_reason.entry(reason).or_default() += 1;
+    }
+    counts.extend(by_reason.into_iter().map(|(reason, value)| Count { table: "errors.csv", key: format!("fallback={reason}"), value }));
+    counts
+}
+
+/// Pages of `colors.csv` with a flag column set in any channel (`out_of_gamut_r` …).
+pub fn flagged_pages(colors: &CsvTable, stem: &str) -> Vec<String> {
+    colors
+        .rows
+        .iter()
+        .filter(|r| ["r", "g", "b"].iter().any(|c| colors.text(r, &format!("{stem}_{c}")) == "true"))
+        .map(|r| colors.text(r, "page").to_string())
+        .collect()
+}
+
+/// Pages of `colors.csv` whose spectral colour holds data beyond the data's range.
+pub fn extrapolated_pages(colors: &CsvTable) -> Vec<String> {
+    colors
+        .rows
+        .iter()
+        .filter(|r| colors.number(r, "extrapolated_share").is_some_and(|s| s > 0.0))
+        .map(|r| colors.text(r, "page").to_string())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> CsvTable {
+        CsvTable::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn channels_come_from_the_table() {
+        let m = table("page,shelf,lambda_red_nm,lambda_green_nm,lambda_blue_nm\na,s,650,550,450\nb,s,650,550,450\n");
+        assert_eq!(table_channels(&m).unwrap(), Channels { red_nm: 650.0, green_nm: 550.0, blue_nm: 450.0 });
+        let mixed = table("page,shelf,lambda_red_nm,lambda_green_nm,lambda_blue_nm\na,s,650,550,450\nb,s,685,550,450\n");
+        assert!(table_channels(&mixed).is_err());
+        assert!(table_channels(&table("page,shelf\na,s\n")).unwrap_err().to_string().contains("lambda_red_nm"));
+    }
+
+    #[test]
+    fn selection_names_every_missing_page() {
+        let m = table("page,shelf\n3d/metals/gold,3d\nmain/Au/Johnson,main\n");
+        let x = table("page,data_file,reason,line,detail\n3d/plastics/pmma,f,no-visible-coverage,,starts at 437 nm\n");
+        let all = select_pages(&m, &x, &Selection::default()).unwrap();
+        assert_eq!(all, vec!["3d/metals/gold", "main/Au/Johnson"]);
+        assert_eq!(select_pages(&m, &x, &Selection::shelf("3d")).unwrap(), vec!["3d/metals/gold"]);
+        let wanted = Selection { shelves: vec![], pages: vec!["3d/plastics/pmma".into(), "nope/x/y".into(), "3d/metals/gold".into()] };
+        let error = select_pages(&m, &x, &wanted).unwrap_err().to_string();
+        assert!(error.contains("2 of the selected"), "{error}");
+        assert!(error.contains("3d/plastics/pmma (excluded by ingest: no-visible-coverage"), "{error}");
+        assert!(error.contains("nope/x/y (not in materials.csv"), "{error}");
+        assert!(select_pages(&m, &x, &Selection::shelf("other")).unwrap_err().to_string().contains("shelf other"));
+    }
+
+    #[test]
+    fn fallbacks_count_f64_page_channels_with_a_reason() {
+        let e = table(
+            "page,method,precision,channel,fallback\n\
+             g,schlick_compensated,f64,green,wrong-sign\n\
+             g,schlick_compensated,f32,green,wrong-sign\n\
+             g,schlick_compensated,f64,blue,no-decay\n\
+             g,schlick_compensated,f64,red,\n\
+             g,schlick_nk,f64,green,\n",
+        );
+        let found = compensation_fallbacks(&e);
+        assert_eq!(found.len(), 2);
+        let counts = fallback_counts(&found);
+        assert_eq!(counts[0].value, 2);
+        assert_eq!(counts[1], Count { table: "errors.csv", key: "fallback=no-decay".into(), value: 1 });
+        assert_eq!(counts[2], Count { table: "errors.csv", key: "fallback=wrong-sign".into(), value: 1 });
+    }
+}
