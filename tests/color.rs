@@ -78,7 +78,8 @@ fn gold_f0_agrees_with_an_independent_summation() {
     let k_rows: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[2])).collect();
     let held = |table: &[(f64, f64)], nm: f64| interpolate(table, nm.clamp(table[0].0, table[table.len() - 1].0)).unwrap();
 
-    let cie = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/cie");
+    // The CIE tables as published (../shared/cie), not the copy the crate embeds.
+    let cie = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cie");
     let cmf = read_csv(&cie.join("cie1931_2deg_xyz_cmf_1nm.csv"));
     let d65: Vec<(f64, f64)> = read_csv(&cie.join("cie_d65_spd.csv")).iter().map(|r| (r[0], r[1])).collect();
     let (mut xyz, mut white) = ([0.0; 3], [0.0; 3]);
