@@ -55,13 +55,16 @@ luts: db build
 test-deps:
 	bash scripts/test-deps
 
-# Form first (rustfmt, clippy with warnings as errors, every target and feature), then the
+# Form first (rustfmt, clippy with warnings as errors, every target and feature), the
+# optics crate packaged as it would be published (`cargo package`, built from the package),
+# then the
 # suite. The GPU tests run on any Vulkan adapter (lavapipe from mesa-vulkan-drivers here);
 # with none they fail unless NKLUT_SKIP_GPU_TESTS=1.
 test: db
 	bash scripts/test-deps
 	$(CARGO) fmt --check
 	$(CARGO) clippy --workspace --all-targets --all-features -- -D warnings
+	$(CARGO) package -p nklut-optics --allow-dirty --quiet
 	$(CARGO) test --workspace --all-features
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the

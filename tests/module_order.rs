@@ -115,3 +115,21 @@ fn the_optics_crate_pulls_neither_polars_nor_wgpu() {
         assert!(!tree.lines().any(|l| l.starts_with(heavy)), "nklut-optics depends on {heavy}:\n{tree}");
     }
 }
+
+/// The optics crate's example prints per-channel F of a page: gold's red F0 is high and
+/// its blue F0 low (the colour of gold), each line one channel.
+#[test]
+fn the_optics_crate_s_example_runs() {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args(["run", "--quiet", "--offline", "-p", "nklut-optics", "--example", "channel_fresnel", "--", "3d/metals/gold"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let f0: Vec<f64> =
+        text.lines().map(|l| l.split("F(0°) ").nth(1).unwrap().split_whitespace().next().unwrap().parse().unwrap()).collect();
+    assert_eq!(f0.len(), 3, "{text}");
+    assert!(f0[0] > 0.9 && f0[2] < 0.5, "{text}");
+}

@@ -156,6 +156,15 @@ fn range_nm(curve: &Curve) -> (f64, f64) {
 
 /// n and k of a page at λ (nm): an error outside the data's range, where n ≤ 0 / k < 0,
 /// or outside the methods' domain.
+///
+/// ```
+/// use nklut_optics::db::parse_page;
+/// use nklut_optics::spectrum::index_at;
+/// let page = parse_page("x.yml", "DATA:\n  - type: tabulated nk\n    data: |\n        0.4 1.0 2.0\n        0.6 2.0 4.0\n").unwrap();
+/// let at = index_at(&page, 500.0).unwrap(); // halfway between the rows, linearly
+/// assert_eq!((at.n, at.k), (1.5, 3.0));
+/// assert_eq!(index_at(&page, 700.0).unwrap_err().reason.code(), "outside-table-range");
+/// ```
 pub fn index_at(data: &PageData, nm: f64) -> Result<Index, DataError> {
     let out_of_range = |curve: &Curve, what: &str| {
         let (lo, hi) = range_nm(curve);

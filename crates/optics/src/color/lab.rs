@@ -32,6 +32,13 @@ pub fn xyz_to_lab(xyz: [f64; 3], white_xyz: [f64; 3]) -> Lab {
 /// eqs. 1–22): a* rescaled by 1 + G with G = ½(1 − √(C̄⁷/(C̄⁷ + 25⁷))), hue angles with
 /// the zero-chroma and ±180° conventions of the paper, weights S_L, S_C, S_H and the
 /// rotation term R_T = −sin(2Δθ)·R_C.
+///
+/// ```
+/// use nklut_optics::color::{delta_e2000, Lab};
+/// // Pair 1 of Sharma, Wu and Dalal's test data: ΔE₀₀ = 2.0425.
+/// let de = delta_e2000(Lab { l: 50.0, a: 2.6772, b: -79.7751 }, Lab { l: 50.0, a: 0.0, b: -82.7485 });
+/// assert!((de - 2.0425).abs() < 1e-4);
+/// ```
 pub fn delta_e2000(first: Lab, second: Lab) -> f64 {
     let c_star_mean = (first.a.hypot(first.b) + second.a.hypot(second.b)) / 2.0;
     let g = 0.5 * (1.0 - seventh_power_ratio(c_star_mean).sqrt());

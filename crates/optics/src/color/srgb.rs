@@ -64,6 +64,14 @@ pub fn matrix_product(a: &Matrix3, b: &Matrix3) -> Matrix3 {
 
 /// An 8-bit sRGB colour picker value of a linear colour: each channel clamped to [0, 1]
 /// (per channel, so an out-of-gamut colour shifts hue), [`srgb_encode`]d, times 255, rounded.
+///
+/// ```
+/// use nklut_optics::color::srgb::{hex_swatch, srgb8};
+/// // Linear 0.21404 is sRGB 0.5 (the transfer function of IEC 61966-2-1): code 127.5.
+/// assert_eq!(srgb8([0.0, 0.2140, 2.0]), [0, 127, 255]);
+/// assert_eq!(srgb8([0.0, 0.2141, 2.0]), [0, 128, 255]);
+/// assert_eq!(hex_swatch([0.0, 0.2141, 2.0]), "#0080ff");
+/// ```
 pub fn srgb8(linear: [f64; 3]) -> [u8; 3] {
     linear.map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8)
 }

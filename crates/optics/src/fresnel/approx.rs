@@ -23,6 +23,13 @@ fn fifth<T: Real>(m: T) -> T {
 }
 
 /// Normal-incidence reflectance F0 = ((n − 1)² + k²)/((n + 1)² + k²) (SPEC §5.2).
+///
+/// ```
+/// use nklut_optics::fresnel::{exact, schlick_f0};
+/// // Gold at 535 nm: F0 is exact F at normal incidence.
+/// let (n, k) = (0.52, 2.17);
+/// assert!((schlick_f0(n, k) - exact(n, k, 1.0)).abs() < 1e-12);
+/// ```
 pub fn schlick_f0(n: f64, k: f64) -> f64 {
     let f0 = ((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k);
     if f0.is_nan() {
@@ -33,7 +40,14 @@ pub fn schlick_f0(n: f64, k: f64) -> f64 {
 }
 
 /// `schlick` (SPEC §5.2; Schlick 1994, "An Inexpensive BRDF Model for Physically-based
-/// Rendering", eq. 24): F = F0 + (1 − F0)(1 − c)⁵.
+/// Rendering", eq. 24): F = F0 + (1 − F0)(1 − c)⁵. One body for f64 and f32.
+///
+/// ```
+/// use nklut_optics::fresnel::schlick;
+/// assert_eq!(schlick(0.04_f64, 1.0), 0.04);
+/// assert_eq!(schlick(0.04_f32, 0.0), 1.0);
+/// assert!((schlick(0.04_f64, 0.5) - (0.04 + 0.96 / 32.0)).abs() < 1e-15);
+/// ```
 #[inline]
 pub fn schlick<T: Real>(f0: T, cos_theta: T) -> T {
     let m5 = fifth(T::ONE - unit_cos(cos_theta));

@@ -167,6 +167,15 @@ fn reflectances_in_lanes(terms: &ExactTerms, cosines: &[f64], out: &mut [f64]) {
 /// case (n < 1 gives total reflection beyond the critical angle, F = 1); n = 1, k = 0
 /// gives F = 0. Bad input (NaN, negative, infinite) is read as described in
 /// [`sanitise`] and never yields NaN.
+///
+/// ```
+/// use nklut_optics::fresnel::exact;
+/// // Glass at normal incidence: ((n − 1)/(n + 1))² = 0.04.
+/// assert!((exact(1.5, 0.0, 1.0) - 0.04).abs() < 1e-15);
+/// // Grazing incidence reflects everything; from inside water past its critical angle too.
+/// assert_eq!(exact(1.5, 0.0, 0.0), 1.0);
+/// assert_eq!(exact(1.0 / 1.333, 0.0, 0.5), 1.0);
+/// ```
 pub fn exact(n: f64, k: f64, cos_theta: f64) -> f64 {
     ExactTerms::new(sanitise(Index::new(n, k))).reflectance(cos_theta)
 }
