@@ -19,6 +19,8 @@ struct MaterialParams {
     nvidia_bias: vec4<f32>,
     nvidia_scale: vec4<f32>,
     nvidia_power: vec4<f32>,
+    f82_f0: vec4<f32>,                // f82_tint's F0 and tint as authored colours (linear)
+    f82_tint: vec4<f32>,
     constant_colour: vec4<f32>,       // the `constant` baseline (F0)
 }
 
@@ -127,6 +129,23 @@ fn fresnel_nvidia(c: f32, p: MaterialParams) -> vec3<f32> {
 // texture baked from exact F of the inside index (total reflection past the critical angle).
 fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
     return textureSampleLevel(curve, curve_sampler, vec2<f32>(c, 0.5), 0.0).rgb;
+}
+
+// 8. f82_tint (SPEC §5.8; OpenPBR's, Adobe's and Blender's metal Fresnel): from the
+// authored colours F0 and tint, F_S(c) − b c (1 − c)⁶ with F_S(c) = F0 + (1 − F0)(1 − c)⁵,
+// b = F_S(μ̄)(1 − tint)/(μ̄ (1 − μ̄)⁶), μ̄ = 1/7, b formed here as an engine's shader does.
+fn fresnel_f82_tint(c: f32, p: MaterialParams) -> vec3<f32> {
+    let unit_c = clamp(c, 0.0, 1.0);
+    let m = vec3<f32>(1.0 - unit_c);
+    let m5 = pow5(m);
+    let f0 = p.f82_f0.rgb;
+    let one = vec3<f32>(1.0);
+    let mu = 1.0 / 7.0;
+    let mu_m = vec3<f32>(1.0 - mu);
+    let mu_m5 = pow5(mu_m);
+    let at_mu = f0 + (one - f0) * mu_m5;
+    let b = at_mu * (one - p.f82_tint.rgb) / (mu * (mu_m5 * mu_m));
+    return f0 + (one - f0) * m5 - b * unit_c * (m5 * m);
 }
 
 // Baseline: a constant colour, the floor of any pass.

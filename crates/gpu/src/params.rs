@@ -30,6 +30,9 @@ pub struct MaterialUniform {
     pub nvidia_bias: [f32; 4],
     pub nvidia_scale: [f32; 4],
     pub nvidia_power: [f32; 4],
+    /// `f82_tint`'s authored F0 and tint (linear).
+    pub f82_f0: [f32; 4],
+    pub f82_tint: [f32; 4],
     /// The `constant` baseline: F0.
     pub constant_colour: [f32; 4],
 }
@@ -47,6 +50,8 @@ impl MaterialUniform {
             nvidia_bias: v(|p| p.nvidia_bias),
             nvidia_scale: v(|p| p.nvidia_scale),
             nvidia_power: v(|p| p.nvidia_power),
+            f82_f0: v(|p| p.f82_f0),
+            f82_tint: v(|p| p.f82_tint),
             constant_colour: v(|p| p.f0),
         }
     }
@@ -72,6 +77,8 @@ impl MaterialUniform {
             nvidia_bias: self.nvidia_bias[i],
             nvidia_scale: self.nvidia_scale[i],
             nvidia_power: self.nvidia_power[i],
+            f82_f0: self.f82_f0[i],
+            f82_tint: self.f82_tint[i],
         }
     }
 
@@ -86,6 +93,44 @@ impl MaterialUniform {
         }
     }
 }
+
+/// The function of `shaders/fresnel.wgsl` that shades `shading`: one entry per shading, no
+/// wildcard, so a method added to `fresnel::Method` does not compile until its WGSL
+/// function is named here (and `tests` check the name is a function of the library).
+pub fn wgsl_function(shading: Shading) -> &'static str {
+    match shading {
+        Shading::Fresnel(method) => match method {
+            Method::Exact => "fresnel_exact",
+            Method::Schlick => "fresnel_schlick",
+            Method::SchlickNk => "fresnel_schlick_nk",
+            Method::SchlickCompensated => "fresnel_schlick_compensated",
+            Method::Lazanyi => "fresnel_lazanyi",
+            Method::Nvidia => "fresnel_nvidia",
+            Method::Lut => "fresnel_lut",
+            Method::F82Tint => "fresnel_f82_tint",
+        },
+        Shading::Constant => "fresnel_constant",
+        Shading::Texture => "fresnel_texture",
+    }
+}
+
+/// The fields of [`MaterialUniform`] in memory order with their byte offsets: the layout
+/// `shaders/fresnel.wgsl`'s `MaterialParams` must have (`tests` reflect the WGSL with naga
+/// and compare; the size check catches a field missing from this list).
+pub const MATERIAL_FIELDS: [(&str, usize); 12] = [
+    ("n", std::mem::offset_of!(MaterialUniform, n)),
+    ("k", std::mem::offset_of!(MaterialUniform, k)),
+    ("f0", std::mem::offset_of!(MaterialUniform, f0)),
+    ("compensation_weight", std::mem::offset_of!(MaterialUniform, compensation_weight)),
+    ("compensation_lambda", std::mem::offset_of!(MaterialUniform, compensation_lambda)),
+    ("lazanyi_a", std::mem::offset_of!(MaterialUniform, lazanyi_a)),
+    ("nvidia_bias", std::mem::offset_of!(MaterialUniform, nvidia_bias)),
+    ("nvidia_scale", std::mem::offset_of!(MaterialUniform, nvidia_scale)),
+    ("nvidia_power", std::mem::offset_of!(MaterialUniform, nvidia_power)),
+    ("f82_f0", std::mem::offset_of!(MaterialUniform, f82_f0)),
+    ("f82_tint", std::mem::offset_of!(MaterialUniform, f82_tint)),
+    ("constant_colour", std::mem::offset_of!(MaterialUniform, constant_colour)),
+];
 
 /// Methods that read the material's texture.
 pub fn needs_texture(method: Shading) -> bool {
@@ -121,5 +166,35 @@ mod tests {
                 assert_eq!(value, fresnel::Prepared::new(GOLD[1]).shader_params().analytic(m, 0.5).unwrap());
             }
         }
+    }
+
+    /// The composed Fresnel library, parsed and validated by naga (wgpu's own front end).
+    fn library() -> naga::Module {
+        let source = crate::compose::compose("#import fresnel").unwrap();
+        naga::front::wgsl::parse_str(&source).unwrap()
+    }
+
+    /// Rust's `MaterialUniform` and WGSL's `MaterialParams` have the same members, in the
+    /// same order, at the same offsets, and the same size.
+    #[test]
+    fn the_material_layout_is_the_shader_s() {
+        let module = library();
+        let (_, params) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("MaterialParams")).expect("struct MaterialParams");
+        let naga::TypeInner::Struct { members, span } = &params.inner else { panic!("MaterialParams is not a struct") };
+        let wgsl: Vec<(String, usize)> = members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect();
+        let rust: Vec<(String, usize)> = MATERIAL_FIELDS.iter().map(|(name, offset)| (name.to_string(), *offset)).collect();
+        assert_eq!(rust, wgsl, "MaterialUniform against MaterialParams");
+        assert_eq!(*span as usize, std::mem::size_of::<MaterialUniform>(), "a field is missing from MATERIAL_FIELDS or the shader");
+    }
+
+    /// Every shading's function is a function of the library.
+    #[test]
+    fn every_shading_names_a_function_of_the_library() {
+        let module = library();
+        let functions: Vec<&str> = module.functions.iter().filter_map(|(_, f)| f.name.as_deref()).collect();
+        for shading in Shading::ALL {
+            assert!(functions.contains(&wgsl_function(shading)), "{shading}: no {} in fresnel.wgsl", wgsl_function(shading));
+        }
+        assert_eq!(Shading::ALL.iter().filter(|s| s.fresnel().is_some()).count(), Method::ALL.len());
     }
 }

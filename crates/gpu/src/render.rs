@@ -47,7 +47,7 @@ impl Shade {
         match self {
             Shade::Method(Shading::Fresnel(Method::Lut)) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
             Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
-            Shade::Method(method) => format!("fresnel_{}(c, material)", method.name()),
+            Shade::Method(method) => format!("{}(c, material)", super::params::wgsl_function(method)),
             Shade::Burner => "fresnel_burner(c)".into(),
         }
     }
@@ -434,7 +434,7 @@ mod tests {
     #[test]
     fn library_has_one_pure_function_per_method_and_pipelines_add_one_line() {
         for method in Shading::ALL {
-            let name = format!("fresnel_{}", method.name());
+            let name = crate::params::wgsl_function(method);
             assert_eq!(LIBRARY.matches(&format!("fn {name}(")).count(), 1, "{name}");
             // Pure: its parameters come in as arguments, never from the bindings.
             let text = body(&name);

@@ -51,17 +51,19 @@ pub enum Shading {
 }
 
 impl Shading {
-    pub const ALL: [Shading; 9] = [
-        Shading::Fresnel(FresnelMethod::ALL[0]),
-        Shading::Fresnel(FresnelMethod::ALL[1]),
-        Shading::Fresnel(FresnelMethod::ALL[2]),
-        Shading::Fresnel(FresnelMethod::ALL[3]),
-        Shading::Fresnel(FresnelMethod::ALL[4]),
-        Shading::Fresnel(FresnelMethod::ALL[5]),
-        Shading::Fresnel(FresnelMethod::ALL[6]),
-        Shading::Constant,
-        Shading::Texture,
-    ];
+    /// Every Fresnel method of [`FresnelMethod::ALL`], in its order, then the baselines:
+    /// made from the method list, so a method added there is a shading here.
+    pub const ALL: [Shading; FresnelMethod::ALL.len() + 2] = {
+        let mut all = [Shading::Constant; FresnelMethod::ALL.len() + 2];
+        let mut i = 0;
+        while i < FresnelMethod::ALL.len() {
+            all[i] = Shading::Fresnel(FresnelMethod::ALL[i]);
+            i += 1;
+        }
+        all[i] = Shading::Constant;
+        all[i + 1] = Shading::Texture;
+        all
+    };
 
     /// The name in scene files and tables: the fresnel module's name for a Fresnel method.
     pub fn name(self) -> &'static str {

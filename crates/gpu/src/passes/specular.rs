@@ -72,7 +72,7 @@ impl fmt::Display for Effect {
 fn reflectance_call(method: Method) -> String {
     match method {
         Method::Lut => "nklut_fresnel_lut(lut_atlas, lut_sampler, c, curve)".into(),
-        other => format!("fresnel_{}(c, materials[curve])", other.name()),
+        other => format!("{}(c, materials[curve])", crate::params::wgsl_function(nklut_effects::scene::Shading::Fresnel(other))),
     }
 }
 

@@ -155,3 +155,40 @@ pub fn lazanyi<T: Real>(f0: T, a: T, cos_theta: T) -> T {
     let m5 = fifth(m);
     f0 + (T::ONE - f0) * m5 - a * c * (m5 * m)
 }
+
+/// The colours an engine's F82-tint material receives for one channel (SPEC §5.8): F0
+/// and the tint F(μ̄)/F_S(μ̄) at μ̄ = 1/7, each clamped to [0, 1] — a colour input holds
+/// no more — and authored as 8-bit sRGB (a colour picker's value; Adobe publishes its
+/// materials' F0 and tint so), read back as the linear values a shader sees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct F82Colours {
+    pub f0: f64,
+    pub tint: f64,
+}
+
+/// [`F82Colours`] of an index: F0 and the tint computed from exact F, then authored.
+pub fn f82_colours(index: Index, exact: &ExactTerms) -> F82Colours {
+    let f0 = schlick_f0(index.n, index.k);
+    let tint = exact.reflectance(LAZANYI_COS) / schlick(f0, LAZANYI_COS);
+    let authored = |value: f64| crate::encoding::Encoding::Unorm8Srgb.quantise(if value.is_finite() { value } else { 1.0 });
+    F82Colours { f0: authored(f0), tint: authored(tint) }
+}
+
+/// `f82_tint` (SPEC §5.8; the F82-tint model of OpenPBR 1.1's metal, the Adobe Standard
+/// Material and Blender 4's Principled BSDF, after Hoffman 2023): from the colours F0 and
+/// tint an engine is given, F = F_S(c) − b c(1 − c)⁶ with F_S(c) = F0 + (1 − F0)(1 − c)⁵ and
+/// b = F_S(μ̄)(1 − tint)/(μ̄(1 − μ̄)⁶), μ̄ = 1/7: b is formed from the colours per evaluation,
+/// as a shader does. With unclamped, unquantised colours it is `lazanyi`; its error beyond
+/// `lazanyi`'s is what authoring F0 and the tint as colours costs.
+#[inline]
+pub fn f82_tint<T: Real>(f0: T, tint: T, cos_theta: T) -> T {
+    let c = unit_cos(cos_theta);
+    let m = T::ONE - c;
+    let m5 = fifth(m);
+    let mu = T::of(LAZANYI_COS);
+    let mu_m = T::ONE - mu;
+    let mu_m5 = fifth(mu_m);
+    let at_mu = f0 + (T::ONE - f0) * mu_m5;
+    let b = at_mu * (T::ONE - tint) / (mu * (mu_m5 * mu_m));
+    f0 + (T::ONE - f0) * m5 - b * c * (m5 * m)
+}

@@ -26,8 +26,8 @@ pub mod real;
 pub mod reference;
 
 pub use approx::{
-    compensation, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation, CompensationFallback,
-    COMPENSATION_COS, LAZANYI_COS,
+    compensation, f82_colours, f82_tint, lazanyi, lazanyi_a, schlick, schlick_compensated, schlick_f0, schlick_nk, Compensation,
+    CompensationFallback, F82Colours, COMPENSATION_COS, LAZANYI_COS,
 };
 pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
@@ -47,11 +47,20 @@ pub enum Method {
     Lazanyi,
     Nvidia,
     Lut,
+    F82Tint,
 }
 
 impl Method {
-    pub const ALL: [Method; 7] =
-        [Method::Exact, Method::Schlick, Method::SchlickNk, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut];
+    pub const ALL: [Method; 8] = [
+        Method::Exact,
+        Method::Schlick,
+        Method::SchlickNk,
+        Method::SchlickCompensated,
+        Method::Lazanyi,
+        Method::Nvidia,
+        Method::Lut,
+        Method::F82Tint,
+    ];
 
     /// The name used on the command line and in every table.
     pub fn name(self) -> &'static str {
@@ -63,6 +72,7 @@ impl Method {
             Method::Lazanyi => "lazanyi",
             Method::Nvidia => "nvidia",
             Method::Lut => "lut",
+            Method::F82Tint => "f82_tint",
         }
     }
 
@@ -171,6 +181,8 @@ pub struct Prepared {
     pub lazanyi_a: f64,
     /// bias, scale, power of `nvidia` (SPEC §5.6).
     pub nvidia: NvidiaFit,
+    /// The authored colours of `f82_tint` (SPEC §5.8).
+    pub f82: F82Colours,
 }
 
 impl Prepared {
@@ -190,6 +202,7 @@ impl Prepared {
             compensation: compensation(index, &exact),
             lazanyi_a: lazanyi_a(index, &exact),
             nvidia: fit(&exact),
+            f82: f82_colours(index, &exact),
         }
     }
 
@@ -205,6 +218,7 @@ impl Prepared {
             Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
             Method::Nvidia => nvidia(self.nvidia.bias, self.nvidia.scale, self.nvidia.power, cos_theta),
             Method::Lut => return None,
+            Method::F82Tint => f82_tint(self.f82.f0, self.f82.tint, cos_theta),
         })
     }
 
@@ -220,6 +234,8 @@ impl Prepared {
             nvidia_bias: self.nvidia.bias as f32,
             nvidia_scale: self.nvidia.scale as f32,
             nvidia_power: self.nvidia.power as f32,
+            f82_f0: self.f82.f0 as f32,
+            f82_tint: self.f82.tint as f32,
         }
     }
 }
@@ -237,6 +253,9 @@ pub struct ShaderParams {
     pub nvidia_bias: f32,
     pub nvidia_scale: f32,
     pub nvidia_power: f32,
+    /// The authored F0 and tint of `f82_tint` (linear).
+    pub f82_f0: f32,
+    pub f82_tint: f32,
 }
 
 impl ShaderParams {
@@ -253,6 +272,7 @@ impl ShaderParams {
             Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
             Method::Nvidia => nvidia(self.nvidia_bias, self.nvidia_scale, self.nvidia_power, cos_theta),
             Method::Lut => return None,
+            Method::F82Tint => f82_tint(self.f82_f0, self.f82_tint, cos_theta),
         })
     }
 }

@@ -72,6 +72,28 @@ proptest! {
         prop_assert!((lazanyi - anchor).abs() <= 1e-12, "{lazanyi} vs {anchor}");
     }
 
+    /// `f82_tint` with the colours unauthored is `lazanyi` (the same model, b formed from
+    /// F0 and the tint); authored, it meets F_S(μ̄)·tint at μ̄ and its colours differ from
+    /// the unauthored ones by at most half an 8-bit sRGB step.
+    #[test]
+    fn f82_tint_is_lazanyi_fed_authored_colours(n in any_n(), k in any_k(), c in any_cos()) {
+        let p = Prepared::new(Index::new(n, k));
+        let tint = p.exact.reflectance(LAZANYI_COS) / schlick(p.f0, LAZANYI_COS);
+        if p.f0 <= 1.0 && tint.is_finite() {
+            let unauthored = f82_tint(p.f0, tint, c);
+            let lazanyi = p.analytic(Method::Lazanyi, c).unwrap();
+            prop_assert!((unauthored - lazanyi).abs() <= 1e-12 * (1.0 + p.lazanyi_a.abs()), "{unauthored} vs {lazanyi}");
+        }
+        let F82Colours { f0, tint: authored } = p.f82;
+        let at_mu = p.analytic(Method::F82Tint, LAZANYI_COS).unwrap();
+        prop_assert!((at_mu - schlick(f0, LAZANYI_COS) * authored).abs() <= 1e-12, "{at_mu}");
+        // Half a code of 8-bit sRGB is at most 0.5/255 in the encoded value; its slope
+        // in linear is at most 1/12.92 below the knee and 2.4/1.055 · V^1.4 ≤ 2.28 above.
+        let step = 2.3 * 0.5 / 255.0;
+        prop_assert!((f0 - p.f0.min(1.0)).abs() <= step, "{f0} vs {}", p.f0);
+        prop_assert!((authored - tint.clamp(0.0, 1.0)).abs() <= step || !tint.is_finite(), "{authored} vs {tint}");
+    }
+
     /// The shader version computes the same F to 1e-5 absolute, for indices representable
     /// in f32, away from the critical angle of weakly absorbing n < 1 (where F has a
     /// square-root kink and f32 rounding of A = n² − k² − s² moves it; docs/precision.md).
@@ -314,7 +336,7 @@ fn encodings_quantise_as_stored() {
 #[test]
 fn method_names() {
     let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-    assert_eq!(names, ["exact", "schlick", "schlick_nk", "schlick_compensated", "lazanyi", "nvidia", "lut"]);
+    assert_eq!(names, ["exact", "schlick", "schlick_nk", "schlick_compensated", "lazanyi", "nvidia", "lut", "f82_tint"]);
     for m in Method::ALL {
         assert_eq!(Method::from_name(m.name()), Some(m));
     }
@@ -333,4 +355,21 @@ fn f32_exact_of_water_keeps_relative_accuracy_but_gases_do_not() {
     let from_rounded_n = exact((air as f32) as f64, 0.0, 1.0);
     assert!(((g - from_rounded_n) / from_rounded_n).abs() < 1e-5);
     assert!(((g - f) / f).abs() > 1e-5, "f32 should lose relative accuracy for gases: {f} {g}");
+}
+
+/// Hand-computed: glass (F0 = 0.04) with tint 1 is Schlick's curve (b = 0); gold's red
+/// channel's authored colours are its sRGB codes' linear values.
+#[test]
+fn f82_tint_by_hand() {
+    for c in [0.0, 0.1, 1.0 / 7.0, 0.5, 1.0] {
+        assert!((f82_tint(0.04, 1.0, c) - schlick(0.04, c)).abs() < 1e-15);
+    }
+    // b = F_S(μ̄)(1 − t)/(μ̄(1 − μ̄)⁶) with F0 = 0.5, t = 0.5: F_S(μ̄) = 0.5 + 0.5·(6/7)⁵.
+    let (mu, m): (f64, f64) = (1.0 / 7.0, 6.0 / 7.0);
+    let at_mu = 0.5 + 0.5 * m.powi(5);
+    let b = at_mu * 0.5 / (mu * m.powi(6));
+    let c = 0.3;
+    let expected = 0.5 + 0.5 * (0.7f64).powi(5) - b * c * (0.7f64).powi(6);
+    assert!((f82_tint(0.5, 0.5, c) - expected).abs() < 1e-14);
+    assert!((f82_tint(0.5_f32, 0.5, 0.3) as f64 - expected).abs() < 1e-6);
 }
