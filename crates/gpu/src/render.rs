@@ -437,7 +437,7 @@ mod tests {
             let name = crate::params::wgsl_function(method);
             assert_eq!(LIBRARY.matches(&format!("fn {name}(")).count(), 1, "{name}");
             // Pure: its parameters come in as arguments, never from the bindings.
-            let text = body(&name);
+            let text = body(name);
             for global in ["material", "view", "lut_texture", "lut_sampler"] {
                 assert!(
                     !text.split(|ch: char| !ch.is_alphanumeric() && ch != '_').any(|word| word == global),
