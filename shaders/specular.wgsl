@@ -19,6 +19,7 @@
 //     fn reflectance(c: f32, curve: u32) -> vec3<f32> { return fresnel_xxx(…); }
 // where curve 2m is material m seen from outside and 2m + 1 from inside.
 
+#import contracts
 #import fresnel
 #import distance_map
 #import diffuse
@@ -37,7 +38,7 @@ struct EffectFrame {
 // Per object of the scene.
 struct SceneObject {
     surface: DiffuseSurface,
-    // x: 0 diffuse, 1 conductor, 2 dielectric; y: its material
+    // x: ROLE_DIFFUSE, ROLE_CONDUCTOR or ROLE_DIELECTRIC (contracts); y: its material
     role: vec4<u32>,
     // x: n of the geometric (green) channel, for Snell's law
     geometric_n: vec4<f32>,
@@ -56,9 +57,6 @@ struct SceneObject {
 // object's index (−1: diffuse).
 @group(1) @binding(1) var<storage, read> map_surfaces: array<vec4<f32>>;
 
-const CONDUCTOR: u32 = 1u;
-const DIELECTRIC: u32 = 2u;
-const STACK: u32 = 16u;
 
 // A ray of a path: where it leaves, its unit direction, its weight per channel and the
 // bounces taken to get there.
@@ -101,7 +99,7 @@ fn add_branch(b: ptr<function, Branches>, origin: vec3<f32>, direction: vec3<f32
 fn scatter(o: SceneObject, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f32>, weight: vec3<f32>, bounces: u32) -> Branches {
     var b: Branches;
     b.count = 0u;
-    let dielectric = o.role.x == DIELECTRIC;
+    let dielectric = o.role.x == ROLE_DIELECTRIC;
     let from_inside = dot(incoming, normal) > 0.0;
     var facing = normal;
     if (from_inside) { facing = -normal; }
@@ -132,12 +130,13 @@ fn scatter(o: SceneObject, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f
 // branch traced through that object's distance map.
 fn path_radiance(first: u32, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f32>) -> vec3<f32> {
     let map = objects[first].map;
-    var stack: array<PathRay, STACK>;
+    // PATH_STACK holds every pending branch of the deepest path a scene may ask for.
+    var stack: array<PathRay, PATH_STACK>;
     var top = 0u;
     var total = vec3<f32>(0.0);
     var branches = scatter(objects[first], point, normal, incoming, vec3<f32>(1.0), 0u);
     loop {
-        for (var i = 0u; i < branches.count && top < STACK; i = i + 1u) {
+        for (var i = 0u; i < branches.count; i = i + 1u) {
             stack[top] = branches.rays[i];
             top = top + 1u;
         }
@@ -179,7 +178,7 @@ fn vs_effect(input: MeshVertexIn, @builtin(instance_index) object: u32) -> MeshV
 fn fs_effect(input: MeshVertexOut) -> @location(0) vec4<f32> {
     let o = objects[input.object];
     let n = normalize(input.normal);
-    if (o.role.x != CONDUCTOR && o.role.x != DIELECTRIC) {
+    if (o.role.x == ROLE_DIFFUSE) {
         return vec4<f32>(diffuse_lit(frame.light, diffuse_albedo(o.surface, input.world, n), n), 0.0);
     }
     let incoming = normalize(input.world - frame.eye.xyz);

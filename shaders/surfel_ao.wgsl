@@ -13,9 +13,10 @@
 // CPU twin), and cs_indirect (one bounce of diffuse indirect light, brute force:
 // E(i) = Σ_j B_j · F_ij · w_j, F the form factor to emitter j's front, w_j its weight).
 
+#import contracts
+
 const PI: f32 = 3.141592653589793;
 const NO_CHILD: u32 = 0xffffffffu;
-const STACK: u32 = 64u;
 
 struct Params {
     count: u32,      // surfels
@@ -148,7 +149,7 @@ fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
     let me = discs[i];
     let mine = id.x;
     var occlusion = vec4<f32>(0.0);
-    var stack: array<u32, STACK>;
+    var stack: array<u32, SURFEL_STACK>;
     var top = 0u;
     if params.nodes > 0u {
         stack[0] = 0u;
@@ -170,7 +171,7 @@ fn cs_tree(@builtin(global_invocation_id) id: vec3<u32>) {
         let holds = mine >= node.z && mine < node.w;
         if far && !holds {
             occlusion = add(occlusion, disc, state[params.weights + k], me);
-        } else if top + 2u <= STACK {
+        } else if top + 2u <= SURFEL_STACK {
             // Left then right, so the right child is taken first, as on the CPU.
             stack[top] = node.x;
             stack[top + 1u] = node.y;

@@ -1,6 +1,7 @@
 //! Shader modules composed from the WGSL files of `shaders/`. WGSL has no imports, so a
-//! line `#import name` (alone on its line) is replaced by the text of `shaders/name.wgsl`,
-//! itself composed first; a file imported twice in one module appears once, at its first
+//! line `#import name` (alone on its line) is replaced by the text of `shaders/name.wgsl`
+//! (or of the module `contracts`, generated from Rust: [`crate::contracts`]), itself
+//! composed first; a file imported twice in one module appears once, at its first
 //! import. A name that is not a shader file, or a file that imports itself through others,
 //! is an error naming the chain. The GPU runner keys each composed module by what it
 //! shades (the pass and the Fresnel method), so a module is compiled once per key;
@@ -31,9 +32,13 @@ pub enum ComposeError {
     Cycle { chain: String },
 }
 
-/// `source` with every `#import` resolved against [`SHADERS`].
+/// `source` with every `#import` resolved against [`SHADERS`] and the generated module
+/// `contracts` ([`crate::contracts::wgsl`]).
 pub fn compose(source: &str) -> Result<String, ComposeError> {
-    compose_from(&SHADERS, source)
+    let contracts = crate::contracts::wgsl();
+    let mut files: Vec<(&str, &str)> = SHADERS.to_vec();
+    files.push(("contracts", &contracts));
+    compose_from(&files, source)
 }
 
 /// `source` with every `#import` resolved against `files`.

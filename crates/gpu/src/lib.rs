@@ -12,6 +12,7 @@
 pub mod ao_timing;
 pub mod compose;
 pub mod context;
+pub mod contracts;
 pub mod distance_search;
 pub mod effects;
 pub mod image_error;

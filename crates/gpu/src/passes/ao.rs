@@ -25,7 +25,7 @@ use nklut_effects::ao::surfel::Surfel;
 /// Invocations per workgroup of every entry point.
 const WORKGROUP: u32 = 64;
 /// The traversal stack of `cs_tree`: a tree deeper than this cannot be walked.
-pub const STACK_DEPTH: usize = 64;
+pub use crate::contracts::SURFEL_STACK as STACK_DEPTH;
 const NO_CHILD: u32 = u32::MAX;
 
 /// The shader's uniform `Params` (shared by the accessibility and indirect passes).

@@ -24,6 +24,7 @@ use wgpu::util::DeviceExt;
 
 use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightUniform, MapView, SceneMeshes, StepsUniform};
 use crate::compose::compose;
+use crate::contracts::ObjectRole;
 use crate::context::Gpu;
 use crate::params::{prepare, MaterialUniform};
 use crate::render::{depth_test, readback_buffer, Target, FLOAT_TARGET};
@@ -206,9 +207,10 @@ impl SpecularPass {
                 ObjectOptics::Diffuse(d) => ObjectUniform { surface: DiffuseUniform::new(d), ..Default::default() },
                 ObjectOptics::Specular(m) => {
                     let role = match m.kind {
-                        Kind::Conductor => 1,
-                        Kind::Dielectric => 2,
-                    };
+                        Kind::Conductor => ObjectRole::Conductor,
+                        Kind::Dielectric => ObjectRole::Dielectric,
+                    }
+                    .code();
                     let material = stage_materials.len() as u32;
                     stage_materials
                         .push([MaterialUniform::from_channels(&m.channels), MaterialUniform::from_channels(&m.channels.map(inside_index))]);

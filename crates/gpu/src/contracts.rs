@@ -1,0 +1,98 @@
+//! The numbers Rust and WGSL share, written once, here: the shaders read them from the
+//! module `contracts`, which [`wgsl`] generates from these definitions and
+//! [`crate::compose`] serves to `#import contracts`. A value changed here changes both
+//! sides; nothing is repeated in `shaders/`.
+
+use nklut_effects::scene::effects::MAX_DEPTH;
+
+/// What an object of an effects scene is to `shaders/specular.wgsl` (`SceneObject.role.x`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ObjectRole {
+    Diffuse,
+    Conductor,
+    Dielectric,
+}
+
+impl ObjectRole {
+    pub const ALL: [ObjectRole; 3] = [ObjectRole::Diffuse, ObjectRole::Conductor, ObjectRole::Dielectric];
+
+    /// The code the shader reads.
+    pub fn code(self) -> u32 {
+        match self {
+            ObjectRole::Diffuse => 0,
+            ObjectRole::Conductor => 1,
+            ObjectRole::Dielectric => 2,
+        }
+    }
+
+    /// The WGSL constant's name.
+    fn constant(self) -> &'static str {
+        match self {
+            ObjectRole::Diffuse => "ROLE_DIFFUSE",
+            ObjectRole::Conductor => "ROLE_CONDUCTOR",
+            ObjectRole::Dielectric => "ROLE_DIELECTRIC",
+        }
+    }
+}
+
+/// The branch stack of the specular pass's depth-first path walk. A hit pushes at most two
+/// branches (reflected, refracted) and the walk pops one at a time, so at most one
+/// pending sibling waits per bounce level: a path of `MAX_DEPTH` bounces (the most a
+/// scene may ask) holds at most `MAX_DEPTH + 1` rays at once (`tests` walk the full
+/// binary tree). No branch is ever dropped.
+pub const PATH_STACK: usize = MAX_DEPTH as usize + 1;
+
+/// The node stack of the surfel tree's traversal (`cs_tree`): a tree deeper than this is
+/// an error before the pass runs (`passes::ao`).
+pub const SURFEL_STACK: usize = 64;
+
+/// The module `contracts` of the shaders.
+pub fn wgsl() -> String {
+    let mut text = String::from("// Generated from crates/gpu/src/contracts.rs: the numbers Rust and WGSL share.\n");
+    for role in ObjectRole::ALL {
+        text.push_str(&format!("const {}: u32 = {}u;\n", role.constant(), role.code()));
+    }
+    text.push_str(&format!("const PATH_STACK: u32 = {PATH_STACK}u;\nconst SURFEL_STACK: u32 = {SURFEL_STACK}u;\n"));
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The specular pass's walk, on the CPU: the most rays its stack holds for a full
+    /// binary tree of `depth` bounces (every hit splits in two while bounces are left).
+    fn deepest_stack(depth: u32) -> usize {
+        let mut stack: Vec<u32> = Vec::new();
+        let mut deepest = 0;
+        // The first hit's branches, at 1 bounce.
+        let mut branches = if depth > 0 { vec![1, 1] } else { vec![] };
+        loop {
+            stack.append(&mut branches);
+            deepest = deepest.max(stack.len());
+            let Some(bounces) = stack.pop() else { break };
+            if bounces < depth {
+                branches = vec![bounces + 1, bounces + 1];
+            }
+        }
+        deepest
+    }
+
+    #[test]
+    fn the_path_stack_holds_every_branch_of_the_deepest_path() {
+        assert_eq!(deepest_stack(1), 2);
+        assert_eq!(deepest_stack(3), 4);
+        assert_eq!(deepest_stack(MAX_DEPTH), PATH_STACK);
+    }
+
+    #[test]
+    fn the_generated_module_names_each_number_once() {
+        let text = wgsl();
+        assert!(text.contains("const ROLE_CONDUCTOR: u32 = 1u;") && text.contains("const ROLE_DIELECTRIC: u32 = 2u;"));
+        assert!(text.contains(&format!("const PATH_STACK: u32 = {}u;", MAX_DEPTH + 1)));
+        for line in text.lines().filter(|l| l.starts_with("const ")) {
+            let name = line.split(':').next().unwrap();
+            assert_eq!(text.matches(&format!("{name}:")).count(), 1, "{name}");
+        }
+    }
+}
