@@ -429,14 +429,15 @@ mod gpu_cli {
         };
         // Overrides pass the same checks as the scene file's own values.
         scene.recheck()?;
-        let db = Database::open(paths.db.as_deref())?;
         let device = gpu::open(adapter.adapter.as_deref())?;
         eprintln!(
             "adapter: {}{}",
             device.line,
             if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" }
         );
-        let report = gpu::run(&scene, &db, &read.config(), &device, &mut |line| eprintln!("{line}"))?;
+        // The database is opened only when the scene names materials.
+        let open_db = || Database::open(paths.db.as_deref());
+        let report = gpu::run_opening(&scene, &open_db, &read.config(), &device, &mut |line| eprintln!("{line}"))?;
         eprintln!("run: {}", report.stats);
         for path in gpu::runner::write_tables(&report, &paths.out)? {
             eprintln!("  wrote {}", path.display());

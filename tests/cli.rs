@@ -97,3 +97,23 @@ fn nk_prints_one_line_per_wavelength_and_names_the_range() {
     let result = nklut(&db, &out, &["nk", "test/X/nope", "--nm", "500"]);
     assert!(String::from_utf8_lossy(&result.stderr).contains("unknown page"));
 }
+
+/// A scene of diffuse objects alone (ambient occlusion) reads no material: `effects` runs
+/// without a database at all.
+#[test]
+fn an_ao_only_scene_needs_no_database() {
+    let dir = scratch("ao-no-db");
+    let scene = dir.join("ao.yaml");
+    fs::write(
+        &scene,
+        "resolution: [12, 12]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1 } }\nobjects:\n  - { mesh: cube, diffuse: [0.5, 0.5, 0.5] }\n  - { mesh: plane, scale: 2, position: [0, -0.6, 0], diffuse: [0.5, 0.5, 0.5] }\n",
+    )
+    .unwrap();
+    let output = nklut(&dir.join("no-database-here"), &dir.join("out"), &["effects", scene.to_str().unwrap(), "--ao-rays", "8"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(dir.join("out/ao_errors.csv").exists());
+    // A scene that names a material still says where the database was looked for.
+    fs::write(&scene, "measurements: [image_error]\neffects: { reflection: { max_depth: 1 } }\nobjects:\n  - { mesh: sphere, material: 3d/metals/gold, method: exact }\n").unwrap();
+    let output = nklut(&dir.join("no-database-here"), &dir.join("out"), &["effects", scene.to_str().unwrap()]);
+    assert!(!output.status.success() && String::from_utf8_lossy(&output.stderr).contains("no refractiveindex.info database"));
+}

@@ -38,11 +38,13 @@ impl Settings {
     }
 }
 
-/// Errors summed over frames (pixel-weighted means).
+/// Errors summed over frames (means over every pixel, or every channel sample with a
+/// relative error, of all frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ErrorSum {
     pub pixels: usize,
     relative: f64,
+    relative_samples: usize,
     delta_e: f64,
     absolute: f64,
 }
@@ -50,7 +52,10 @@ pub struct ErrorSum {
 impl ErrorSum {
     pub fn add(&mut self, e: &FrameError) {
         self.pixels += e.pixels;
-        self.relative += e.mean_relative * e.pixels as f64;
+        if let Some(mean) = e.mean_relative {
+            self.relative += mean * e.relative_samples as f64;
+            self.relative_samples += e.relative_samples;
+        }
         self.delta_e += e.mean_delta_e2000 * e.pixels as f64;
         self.absolute += e.mean_absolute * e.pixels as f64;
     }
@@ -63,8 +68,9 @@ impl ErrorSum {
         }
     }
 
-    pub fn mean_relative(&self) -> f64 {
-        self.mean(self.relative)
+    /// The mean relative error; `None` when no sample had one (every r ≤ 0).
+    pub fn mean_relative(&self) -> Option<f64> {
+        (self.relative_samples > 0).then(|| self.relative / self.relative_samples as f64)
     }
     pub fn mean_delta_e2000(&self) -> f64 {
         self.mean(self.delta_e)
@@ -321,6 +327,7 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
     let text = |f: &dyn Fn(&EffectErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
     let integer = |f: &dyn Fn(&EffectErrorRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
     let float = |f: &dyn Fn(&EffectErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+    let optional = |f: &dyn Fn(&EffectErrorRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
@@ -339,30 +346,30 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
         .integer("frames", "camera frames rendered", integer(&|r| r.frames as i64))
         .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
         .integer("pixels", "pixels showing the object, summed over frames", integer(&|r| r.total.pixels as i64))
-        .float(
+        .optional_float(
             "geometry_mean_rel_error",
             "distance maps with exact Fresnel vs the reference: mean |a - r| / r over the object's pixels and channels (r = 0 skipped)",
-            float(&|r| r.geometry.mean_relative()),
+            optional(&|r| r.geometry.mean_relative()),
         )
         .float(
             "geometry_mean_delta_e2000",
             "distance maps with exact Fresnel vs the reference: mean CIEDE2000 of the colours",
             float(&|r| r.geometry.mean_delta_e2000()),
         )
-        .float(
+        .optional_float(
             "fresnel_mean_rel_error",
             "the method vs exact Fresnel on the same distance-map paths: mean |a - r| / r",
-            float(&|r| r.fresnel.mean_relative()),
+            optional(&|r| r.fresnel.mean_relative()),
         )
         .float(
             "fresnel_mean_delta_e2000",
             "the method vs exact Fresnel on the same distance-map paths: mean CIEDE2000",
             float(&|r| r.fresnel.mean_delta_e2000()),
         )
-        .float(
+        .optional_float(
             "total_mean_rel_error",
             "distance maps with the method vs the reference: mean |a - r| / r",
-            float(&|r| r.total.mean_relative()),
+            optional(&|r| r.total.mean_relative()),
         )
         .float(
             "total_mean_delta_e2000",

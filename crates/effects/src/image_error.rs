@@ -2,22 +2,33 @@
 //! reference shows a given specular object, or any (elsewhere both show the same diffuse
 //! colour): the
 //! relative error |a − r|/r per pixel and channel of the image-error measurement
-//! (docs/precision.md; r = 0 skipped and counted), the mean absolute error, and the mean
-//! CIEDE2000 difference of the colours (linear sRGB → XYZ → CIELAB, D65 white).
+//! (docs/precision.md; [`relative_error`]: samples with r ≤ 0 skipped and counted, and no
+//! mean at all where none is left), the mean absolute error, and the mean CIEDE2000
+//! difference of the colours (linear sRGB → XYZ → CIELAB, D65 white). The GPU runner's
+//! image error takes the same rule from here.
 
 use super::trace::TracedFrame;
 use nklut_optics::color::lab::{delta_e2000, xyz_to_lab};
 use nklut_optics::color::srgb::{multiply, rgb_to_xyz_matrix};
 
-/// The D65 white of sRGB, Y = 1 (IEC 61966-2-1).
-const D65_WHITE: [f64; 3] = [0.95047, 1.0, 1.08883];
+use nklut_optics::color::srgb::D65_WHITE_XYZ;
+
+/// The relative error of a rendered channel value `a` against its reference `r`: |a − r|/r
+/// where r > 0; `None` where r ≤ 0 (undefined: such samples are skipped and counted).
+pub fn relative_error(a: f64, r: f64) -> Option<f64> {
+    (r > 0.0).then(|| (a - r).abs() / r)
+}
 
 /// The error of one frame against its reference.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameError {
     /// Pixels compared (the reference shows a specular object there).
     pub pixels: usize,
-    pub mean_relative: f64,
+    /// Mean of [`relative_error`] over the channel samples that have one; `None` when none
+    /// has (every r ≤ 0, or no pixel).
+    pub mean_relative: Option<f64>,
+    /// The samples behind `mean_relative`.
+    pub relative_samples: usize,
     pub max_relative: f64,
     /// Pixel channels with r = 0, left out of the relative error.
     pub skipped_zero_reference: usize,
@@ -38,8 +49,8 @@ pub fn compare_object(frame: &TracedFrame, reference: &TracedFrame, object: usiz
 }
 
 fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
-    let to_xyz = rgb_to_xyz_matrix(D65_WHITE);
-    let lab = |rgb: [f64; 3]| xyz_to_lab(multiply(&to_xyz, rgb), D65_WHITE);
+    let to_xyz = rgb_to_xyz_matrix(D65_WHITE_XYZ);
+    let lab = |rgb: [f64; 3]| xyz_to_lab(multiply(&to_xyz, rgb), D65_WHITE_XYZ);
     let mut error = FrameError::default();
     let (mut relative_sum, mut relative_count, mut absolute_sum, mut delta_e_sum) = (0.0, 0usize, 0.0, 0.0);
     for ((a, r), seen) in frame.radiance.iter().zip(&reference.radiance).zip(&reference.seen) {
@@ -51,19 +62,20 @@ fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(
             let absolute = (a[c] - r[c]).abs();
             absolute_sum += absolute;
             error.max_absolute = error.max_absolute.max(absolute);
-            if r[c] > 0.0 {
-                let relative = absolute / r[c];
-                relative_sum += relative;
-                relative_count += 1;
-                error.max_relative = error.max_relative.max(relative);
-            } else {
-                error.skipped_zero_reference += 1;
+            match relative_error(a[c], r[c]) {
+                Some(relative) => {
+                    relative_sum += relative;
+                    relative_count += 1;
+                    error.max_relative = error.max_relative.max(relative);
+                }
+                None => error.skipped_zero_reference += 1,
             }
         }
         delta_e_sum += delta_e2000(lab(*a), lab(*r));
     }
     let mean = |sum: f64, count: usize| if count > 0 { sum / count as f64 } else { 0.0 };
-    error.mean_relative = mean(relative_sum, relative_count);
+    error.mean_relative = (relative_count > 0).then(|| relative_sum / relative_count as f64);
+    error.relative_samples = relative_count;
     error.mean_absolute = mean(absolute_sum, 3 * error.pixels);
     error.mean_delta_e2000 = mean(delta_e_sum, error.pixels);
     error
@@ -85,11 +97,21 @@ mod tests {
         let e = compare(&rendered, &reference);
         assert_eq!((e.pixels, e.skipped_zero_reference), (2, 1));
         // Relative: 0.05/0.5 = 0.1, then 0, 0, 0, 0 over five channels.
-        assert!((e.mean_relative - 0.1 / 5.0).abs() < 1e-15 && (e.max_relative - 0.1).abs() < 1e-12);
+        assert!((e.mean_relative.unwrap() - 0.1 / 5.0).abs() < 1e-15 && (e.max_relative - 0.1).abs() < 1e-12);
+        assert_eq!(e.relative_samples, 5);
         assert!((e.mean_absolute - 0.15 / 6.0).abs() < 1e-15 && (e.max_absolute - 0.1).abs() < 1e-15);
         assert!(e.mean_delta_e2000 > 0.0);
         assert_eq!(compare(&reference, &reference).mean_delta_e2000, 0.0);
         let second = compare_object(&rendered, &reference, 1);
-        assert_eq!((second.pixels, second.mean_absolute, second.mean_relative), (1, 0.0, 0.0));
+        assert_eq!((second.pixels, second.mean_absolute, second.mean_relative), (1, 0.0, Some(0.0)));
+        // A black reference leaves no relative error to take a mean of: none, not 0.
+        let black = frame(vec![[0.0; 3]], vec![Some(0)]);
+        let lit = frame(vec![[0.1; 3]], vec![Some(0)]);
+        let none = compare(&lit, &black);
+        assert_eq!((none.pixels, none.mean_relative, none.skipped_zero_reference), (1, None, 3));
+        assert_eq!(
+            (relative_error(0.5, 0.0), relative_error(0.5, -1.0), relative_error(0.6, 0.5).map(|e| (e * 1e12).round())),
+            (None, None, Some(2e11))
+        );
     }
 }

@@ -57,7 +57,7 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
         }
     }
     let hits_bytes = (rays.len() * std::mem::size_of::<SearchHit>()) as u64;
-    check_buffer_size(gpu, hits_bytes, "search hits")?;
+    check_buffer_size(gpu, hits_bytes, "search hits", "search fewer rays at once")?;
     let params = SearchBatch { map: texels.views[0], steps: StepsUniform::new(steps), count: rays.len() as u32, pad: [0; 3] };
     let [pipeline] = compute_pipelines(device, "distance_search", None, ["cs_search"], "the distance-map search")?;
     let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {

@@ -1,7 +1,11 @@
 //! Image error (SPEC §6): per pixel and channel |a − r| / r between a method's render `a`
 //! and the `exact` render `r`, over the pixels the object covers (reference alpha = 1; the
-//! clear colour has alpha 0), skipping (and counting) r = 0; mean per frame, then mean
-//! over frames. Pure CPU over RGBA f32 images.
+//! clear colour has alpha 0), skipping (and counting) the samples without one, by the rule
+//! of the CPU tracers' image error (`nklut_effects::image_error::relative_error`: r ≤ 0);
+//! mean per frame, then mean over frames, none where no frame has a sample. Pure CPU over
+//! RGBA f32 images.
+
+use nklut_effects::image_error::relative_error;
 
 /// The comparison of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -12,7 +16,7 @@ pub struct FrameErrorSums {
     pub max_relative: f64,
     /// Pixels the object covers.
     pub pixels: u64,
-    /// Channel samples with r = 0 (relative error undefined).
+    /// Channel samples with r ≤ 0 (relative error undefined).
     pub skipped_zero_reference: u64,
 }
 
@@ -32,12 +36,10 @@ pub fn compare(method: &[f32], reference: &[f32]) -> FrameErrorSums {
         }
         error.pixels += 1;
         for channel in 0..3 {
-            let (a, r) = (a[channel] as f64, r[channel] as f64);
-            if r == 0.0 {
+            let Some(relative) = relative_error(a[channel] as f64, r[channel] as f64) else {
                 error.skipped_zero_reference += 1;
                 continue;
-            }
-            let relative = (a - r).abs() / r;
+            };
             error.sum_relative += relative;
             error.samples += 1;
             error.max_relative = error.max_relative.max(relative);
@@ -70,13 +72,9 @@ impl ErrorSummary {
     }
 
     /// Mean over frames of the per-frame mean relative error (frames where the object
-    /// covers no pixel with r > 0 do not count); NaN when there is none.
-    pub fn mean_relative(&self) -> f64 {
-        if self.frames_with_samples == 0 {
-            f64::NAN
-        } else {
-            self.sum_of_frame_means / self.frames_with_samples as f64
-        }
+    /// covers no pixel with r > 0 do not count); `None` when there is none.
+    pub fn mean_relative(&self) -> Option<f64> {
+        (self.frames_with_samples > 0).then(|| self.sum_of_frame_means / self.frames_with_samples as f64)
     }
 }
 
@@ -98,7 +96,8 @@ mod tests {
         summary.add(&e);
         summary.add(&compare(&reference, &reference));
         assert_eq!(summary.frames, 2);
-        assert!((summary.mean_relative() - 0.025).abs() < 1e-7);
+        assert!((summary.mean_relative().unwrap() - 0.025).abs() < 1e-7);
+        assert_eq!(ErrorSummary::default().mean_relative(), None);
         assert_eq!(summary.pixels, 2);
     }
 }

@@ -27,4 +27,4 @@ pub mod timing;
 pub use nklut_effects::scene::{camera, mesh};
 
 pub use context::{adapters, open, AdapterLine, Gpu};
-pub use runner::{run, run_with_materials, RunReport, RunStats};
+pub use runner::{run, run_opening, run_with_materials, RunReport, RunStats};

@@ -294,10 +294,12 @@ pub fn check_texture_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
 }
 
 /// A buffer of `size` bytes must fit the device's `max_buffer_size`.
-pub fn check_buffer_size(gpu: &Gpu, size: u64, what: &str) -> Result<()> {
+/// `size` bytes for `what` fit one buffer of this device; else an error naming the limit
+/// and `remedy`, what the scene can change to need less.
+pub fn check_buffer_size(gpu: &Gpu, size: u64, what: &str, remedy: &str) -> Result<()> {
     let limit = gpu.device.limits().max_buffer_size;
     if size > limit {
-        bail!("the {what} needs a {size}-byte buffer, over this device's max_buffer_size ({limit}); lower the resolution or name fewer methods per object");
+        bail!("the {what} needs a {size}-byte buffer, over this device's max_buffer_size ({limit}); {remedy}");
     }
     Ok(())
 }
@@ -392,7 +394,7 @@ pub fn texture_2d(gpu: &Gpu, label: &str, size: wgpu::Extent3d, format: wgpu::Te
 
 /// A buffer the CPU can read back, `size` bytes.
 pub fn readback_buffer(gpu: &Gpu, size: u64) -> Result<wgpu::Buffer> {
-    check_buffer_size(gpu, size, "readback")?;
+    check_buffer_size(gpu, size, "readback", "lower the resolution or name fewer methods per object")?;
     Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,

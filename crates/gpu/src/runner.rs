@@ -109,7 +109,8 @@ pub struct ImageErrorRow {
     pub object: String,
     pub frames: u32,
     pub resolution: [u32; 2],
-    pub mean_rel_error: f64,
+    /// `None` where no covered pixel had a reference above 0.
+    pub mean_rel_error: Option<f64>,
     pub max_rel_error: f64,
     pub pixels: u64,
     pub skipped_zero_reference: u64,
@@ -141,9 +142,26 @@ struct GpuMesh {
 /// Run `scene` on `gpu`, its pages read with `config` (channel wavelengths, coverage).
 /// `log` receives progress lines.
 pub fn run(scene: &Scene, db: &Database, config: &ingest::Config, gpu: &Gpu, log: &mut dyn FnMut(&str)) -> Result<RunReport> {
+    run_opening(scene, &|| Ok(db.clone()), config, gpu, log)
+}
+
+/// [`run`], opening the database with `open_db` only when the scene names materials: a
+/// scene of diffuse objects alone (ambient occlusion, indirect light) reads none.
+pub fn run_opening(
+    scene: &Scene,
+    open_db: &dyn Fn() -> Result<Database>,
+    config: &ingest::Config,
+    gpu: &Gpu,
+    log: &mut dyn FnMut(&str),
+) -> Result<RunReport> {
     let mut stats = RunStats::default();
-    let (materials, pages) = read_materials(scene, db, config)?;
-    stats.pages_touched = pages;
+    let materials = if scene.materials().is_empty() {
+        Vec::new()
+    } else {
+        let (materials, pages) = read_materials(scene, &open_db()?, config)?;
+        stats.pages_touched = pages;
+        materials
+    };
     run_with_materials(scene, &materials, gpu, stats, log)
 }
 
@@ -356,11 +374,11 @@ fn run_image_error(
         }
         for (method, summary) in specular.shadings.iter().zip(&summaries) {
             log(&format!(
-                "  {} {} {}: mean relative error {:.3e}, max {:.3e} over {} pixels",
+                "  {} {} {}: mean relative error {}, max {:.3e} over {} pixels",
                 object.mesh.label(),
                 specular.material,
                 method,
-                summary.mean_relative(),
+                summary.mean_relative().map_or("none (no lit pixel)".into(), |e| format!("{e:.3e}")),
                 summary.max_relative,
                 summary.pixels
             ));
@@ -420,9 +438,9 @@ pub fn image_error_table(report: &RunReport) -> Table {
         .text("object", "mesh: cube, sphere or the OBJ file stem", text(&|r| r.object.clone()))
         .integer("frames", "frames of the camera orbit", rows.iter().map(|r| r.frames as i64).collect())
         .text("resolution", "render target WxH in pixels", text(&|r| resolution_text(r.resolution)))
-        .float(
+        .optional_float(
             "mean_rel_error",
-            "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render)",
+            "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render; r <= 0 skipped); empty where no sample had r > 0",
             rows.iter().map(|r| r.mean_rel_error).collect(),
         )
         .float("max_rel_error", "largest |a - r| / r of any covered pixel and channel", rows.iter().map(|r| r.max_rel_error).collect())

@@ -409,12 +409,8 @@ pub fn error_rows<'a>(specimens: &'a [Specimen], measurements: &'a [Measurement]
         .collect()
 }
 
-/// `errors.*`: one row per page × method × variant × precision × channel.
-pub fn errors_table(specimens: &[Specimen], measurements: &[Measurement], channels: &Channels, strategy: Strategy) -> Table {
-    errors_table_of(&error_rows(specimens, measurements), specimens, channels, strategy)
-}
-
-/// The table of the given rows of `errors.*` (all of them, or a block).
+/// `errors.*`, one row per page × method × variant × precision × channel: the table of the
+/// given rows (all of them, or a block of them; `error_rows` lists them).
 pub fn errors_table_of<'a>(rows: &[ErrorRow<'a>], specimens: &'a [Specimen], channels: &Channels, strategy: Strategy) -> Table {
     let nm = channels.nanometres();
     // Every text column repeats its values down the rows: each distinct value is stored once.

@@ -127,7 +127,8 @@ pub struct DistanceMaps {
     pub steps: Vec<SearchSteps>,
 }
 
-/// The effects a scene calls for. At least one of `reflection`, `refraction` is named.
+/// The effects a scene calls for: at least one of `reflection`, `refraction`,
+/// `ambient_occlusion`, `indirect` is named (an AO-only scene is valid).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Effects {
     pub reflection: Option<Bounces>,

@@ -137,7 +137,7 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
                 limits.max_storage_buffer_binding_size
             );
         }
-        check_buffer_size(gpu, bytes as u64, what)?;
+        check_buffer_size(gpu, bytes as u64, what, "use fewer surfels (coarser meshes, less subdivide)")?;
     }
     if limits.max_storage_buffers_per_shader_stage < 4 {
         bail!("the surfel pass binds 4 storage buffers; this device allows {}", limits.max_storage_buffers_per_shader_stage);

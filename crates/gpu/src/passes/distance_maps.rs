@@ -217,7 +217,7 @@ impl SceneMeshes {
             ranges.push(start..indices.len() as u32);
             vertices.extend(mesh.interleaved());
         }
-        check_buffer_size(gpu, (vertices.len() * 4) as u64, "scene vertices")?;
+        check_buffer_size(gpu, (vertices.len() * 4) as u64, "scene vertices", "use coarser meshes")?;
         let buffer = |label: &str, contents: &[u8], usage| {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
@@ -378,7 +378,7 @@ impl MapRenderer {
         if bytes > limit {
             bail!("{} distance maps of {size}x{size}x6x{layers} texels need {bytes} bytes, over this device's max_storage_buffer_binding_size ({limit})", views.len());
         }
-        check_buffer_size(gpu, bytes, "distance maps")?;
+        check_buffer_size(gpu, bytes, "distance maps", "lower effects.distance_maps.size or layers")?;
         let buffer = |label| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -570,7 +570,7 @@ impl GpuMaps {
             let contents: &[u8] = if contents.is_empty() { &[0; 16] } else { bytemuck::cast_slice(contents) };
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
-        check_buffer_size(gpu, (texels.geometry.len() * 16) as u64, "distance maps")?;
+        check_buffer_size(gpu, (texels.geometry.len() * 16) as u64, "distance maps", "lower effects.distance_maps.size or layers")?;
         Ok(GpuMaps {
             geometry: buffer("map geometry", &texels.geometry),
             surfaces: buffer("map surfaces", &texels.surfaces),

@@ -63,7 +63,7 @@ impl IndirectPass {
                     limits.max_storage_buffer_binding_size
                 );
             }
-            check_buffer_size(gpu, bytes as u64, what)?;
+            check_buffer_size(gpu, bytes as u64, what, "use fewer surfels (coarser meshes, less subdivide)")?;
         }
         let device = &gpu.device;
         let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {

@@ -24,8 +24,8 @@ use wgpu::util::DeviceExt;
 
 use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightUniform, MapView, SceneMeshes, StepsUniform};
 use crate::compose::compose;
-use crate::contracts::ObjectRole;
 use crate::context::Gpu;
+use crate::contracts::ObjectRole;
 use crate::params::{prepare, MaterialUniform};
 use crate::render::{depth_test, readback_buffer, Target, FLOAT_TARGET};
 use crate::{camera, lut};

@@ -17,7 +17,7 @@ pub const AP1_PRIMARIES: [(f64, f64); 3] = [(0.713, 0.293), (0.165, 0.830), (0.1
 /// The ACES white point (x, y) (≈ D60).
 pub const ACES_WHITE: (f64, f64) = (0.32168, 0.33767);
 /// D65 as IEC 61966-2-1 states it (x, y).
-pub const D65_WHITE: (f64, f64) = (0.3127, 0.3290);
+pub use super::srgb::D65_CHROMATICITY as D65_WHITE;
 /// The Bradford cone-response matrix (XYZ → ρ γ β).
 pub const BRADFORD: Matrix3 = [[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367], [0.0389, -0.0685, 1.0296]];
 

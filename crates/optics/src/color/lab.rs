@@ -170,7 +170,7 @@ mod tests {
 
     #[test]
     fn lab_of_white_and_of_middle_grey() {
-        let white = [0.95047, 1.0, 1.08883];
+        let white = crate::color::srgb::D65_WHITE_XYZ;
         let lab = xyz_to_lab(white, white);
         assert!((lab.l - 100.0).abs() < 1e-12 && lab.a.abs() < 1e-12 && lab.b.abs() < 1e-12);
         // Y = 0.18 → L* = 116·0.18^⅓ − 16 = 49.4961076...

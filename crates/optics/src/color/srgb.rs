@@ -9,6 +9,14 @@ pub type Matrix3 = [[f64; 3]; 3];
 /// sRGB primaries (x, y), IEC 61966-2-1: red, green, blue.
 pub const SRGB_PRIMARIES: [(f64, f64); 3] = [(0.64, 0.33), (0.30, 0.60), (0.15, 0.06)];
 
+/// D65 as IEC 61966-2-1 states it, chromaticity (x, y): the one D65 white of the colour
+/// code (the spectral reference colours use the white of their own integration, SPEC §4).
+pub const D65_CHROMATICITY: (f64, f64) = (0.3127, 0.3290);
+
+/// [`D65_CHROMATICITY`] in XYZ with Y = 1: (x/y, 1, (1 − x − y)/y).
+pub const D65_WHITE_XYZ: [f64; 3] =
+    [D65_CHROMATICITY.0 / D65_CHROMATICITY.1, 1.0, (1.0 - D65_CHROMATICITY.0 - D65_CHROMATICITY.1) / D65_CHROMATICITY.1];
+
 /// The matrix printed in IEC 61966-2-1 (XYZ → linear sRGB, D65 white x = 0.3127,
 /// y = 0.3290), 4 decimals. It is not exactly the inverse of the primaries' matrix
 /// (its first entry is 3.2406 where the derivation gives 3.24097): the derivation is
@@ -89,7 +97,7 @@ mod tests {
     #[test]
     fn derived_matrix_matches_the_printed_one() {
         // Nominal D65 white from (x, y) = (0.3127, 0.3290).
-        let white = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290];
+        let white = D65_WHITE_XYZ;
         let to_rgb = invert(&rgb_to_xyz_matrix(white)).unwrap();
         for r in 0..3 {
             for c in 0..3 {

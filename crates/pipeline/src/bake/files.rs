@@ -54,7 +54,9 @@ pub const PNG_CHUNKS_NOTE: &str = "unorm8-srgb PNGs carry an sRGB chunk (with th
 
 /// The chromaticities of the cHRM chunk: D65 white, Rec.709 primaries (IEC 61966-2-1).
 fn srgb_chromaticities() -> png::SourceChromaticities {
-    png::SourceChromaticities::new((0.3127, 0.3290), (0.64, 0.33), (0.30, 0.60), (0.15, 0.06))
+    use nklut_optics::color::srgb::{D65_CHROMATICITY, SRGB_PRIMARIES};
+    let point = |(x, y): (f64, f64)| (x as f32, y as f32);
+    png::SourceChromaticities::new(point(D65_CHROMATICITY), point(SRGB_PRIMARIES[0]), point(SRGB_PRIMARIES[1]), point(SRGB_PRIMARIES[2]))
 }
 
 fn png(encoding: Encoding, bytes: &[u8], width: usize, height: usize, depth: png::BitDepth) -> Result<Vec<u8>> {
