@@ -15,7 +15,7 @@ use super::ao::experiment::AoSettings;
 use super::distance_map::Texel;
 use super::experiment::{self, EffectsStats};
 use super::trace::TracedFrame;
-use crate::scene::{Scene, SceneError};
+use crate::scene::{EffectFamily, Scene, SceneError};
 use nklut_optics::db::Database;
 use nklut_pipeline::budget::{times, MemoryBudget};
 use nklut_pipeline::ingest::Config;
@@ -71,54 +71,98 @@ pub struct MemoryNeed {
 }
 
 /// The memory the effects of `scene` will hold that the scene's fields decide before any
-/// mesh is read: the distance maps of every specular object (built, then kept), the frames
-/// of the image-error experiment and of the AO pictures, and the reference rays of each
-/// worker thread. (Subdivided meshes are checked when their triangles are known.)
+/// mesh is read, family by family ([`family_needs`]). (Subdivided meshes are checked when
+/// their triangles are known.)
 pub fn memory_needs(scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
+    EffectFamily::ALL.into_iter().filter(|&family| scene.names_effect(family)).flat_map(|family| family_needs(family, scene, ao_rays)).collect()
+}
+
+/// The memory one family of effects holds: for specular paths the distance maps of every
+/// specular object (built, then kept) and the frames of the image-error experiment; for
+/// surfels the AO pictures and the reference rays of each worker thread.
+fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
     let Some(effects) = &scene.effects else { return Vec::new() };
-    let mut needs = Vec::new();
     let [width, height] = scene.resolution;
     let pixels = u128::from(width) * u128::from(height);
     let frame_bytes = times(pixels, std::mem::size_of::<[f64; 3]>() + std::mem::size_of::<Option<usize>>());
     let threads = rayon::current_num_threads() as u128;
     let resolution = format!("resolution {width}x{height}");
-    if effects.reflection.is_some() || effects.refraction.is_some() {
-        let maps = &effects.distance_maps;
-        let specular = scene.specular_objects().count() as u128;
-        let texels = 6 * u128::from(maps.size) * u128::from(maps.size) * u128::from(maps.layers);
-        // Each map's texels are gathered per texel, then laid out per layer: twice at once.
-        needs.push(MemoryNeed {
-            field: "effects.distance_maps".into(),
-            what: format!("{specular} cube map(s) of 6 × {}² texels × {} layers", maps.size, maps.layers),
-            bytes: times(specular * texels, 2 * std::mem::size_of::<Option<Texel>>()),
-        });
-        let methods = scene.shadings().len() as u128;
-        let configurations = effects.depths().len() as u128;
-        // Kept: per depth, the reference and each method's frame with a copy of the
-        // reference; in flight: the reference, the exact twin and a method's twin.
-        let frames = configurations * (1 + 2 * methods) + 3;
-        needs.push(MemoryNeed {
-            field: "resolution".into(),
-            what: format!("{frames} frames at {resolution}"),
-            bytes: frame_bytes.saturating_mul(frames),
-        });
+    match family {
+        EffectFamily::SpecularPaths => {
+            let maps = &effects.distance_maps;
+            let specular = scene.specular_objects().count() as u128;
+            let texels = 6 * u128::from(maps.size) * u128::from(maps.size) * u128::from(maps.layers);
+            let methods = scene.shadings().len() as u128;
+            let configurations = effects.depths().len() as u128;
+            // Kept: per depth, the reference and each method's frame with a copy of the
+            // reference; in flight: the reference, the exact twin and a method's twin.
+            let frames = configurations * (1 + 2 * methods) + 3;
+            vec![
+                // Each map's texels are gathered per texel, then laid out per layer: twice at once.
+                MemoryNeed {
+                    field: "effects.distance_maps".into(),
+                    what: format!("{specular} cube map(s) of 6 × {}² texels × {} layers", maps.size, maps.layers),
+                    bytes: times(specular * texels, 2 * std::mem::size_of::<Option<Texel>>()),
+                },
+                MemoryNeed { field: "resolution".into(), what: format!("{frames} frames at {resolution}"), bytes: frame_bytes.saturating_mul(frames) },
+            ]
+        }
+        EffectFamily::Surfels => {
+            // Per worker: each ray's bin and two coordinates, and its direction.
+            let per_ray = 2 * std::mem::size_of::<(usize, [f64; 2])>() + std::mem::size_of::<[f64; 3]>();
+            vec![
+                // Five panels, the side-by-side picture of them, their error images' references.
+                MemoryNeed { field: "resolution".into(), what: format!("the AO pictures at {resolution}"), bytes: frame_bytes.saturating_mul(16) },
+                MemoryNeed {
+                    field: "--ao-rays".into(),
+                    what: format!("{ao_rays} rays per vertex on {threads} threads"),
+                    bytes: times(u128::from(ao_rays) * threads, per_ray),
+                },
+            ]
+        }
     }
-    if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
-        // Five panels, the side-by-side picture of them, their error images' references.
-        needs.push(MemoryNeed {
-            field: "resolution".into(),
-            what: format!("the AO pictures at {resolution}"),
-            bytes: frame_bytes.saturating_mul(16),
-        });
-        // Per worker: each ray's bin and two coordinates, and its direction.
-        let per_ray = 2 * std::mem::size_of::<(usize, [f64; 2])>() + std::mem::size_of::<[f64; 3]>();
-        needs.push(MemoryNeed {
-            field: "--ao-rays".into(),
-            what: format!("{ao_rays} rays per vertex on {threads} threads"),
-            bytes: times(u128::from(ao_rays) * threads, per_ray),
-        });
+}
+
+/// What one family of effects adds to the stage's set: tables (with their file stems) and
+/// pictures.
+#[derive(Default)]
+struct FamilyOutput {
+    tables: Vec<(nklut_pipeline::output::Table, &'static str)>,
+    pictures: Vec<SetFile>,
+}
+
+/// Run one family of effects the scene names.
+fn run_family(
+    family: EffectFamily,
+    scene: &Scene,
+    request: &EffectsRequest,
+    open_db: &dyn Fn() -> Result<Database>,
+    stats: &mut EffectsStats,
+    log: &mut dyn FnMut(&str),
+) -> Result<FamilyOutput> {
+    match family {
+        EffectFamily::SpecularPaths => {
+            let db = open_db()?;
+            let (materials, _) = crate::scene::read_materials(scene, &db, &request.config)?;
+            let stage = super::trace::stage_from_table(scene, &materials)?;
+            let report = experiment::image_errors(scene, &stage, experiment::Settings::of(scene), &mut |line| log(line));
+            *stats = report.stats;
+            Ok(FamilyOutput {
+                tables: vec![(experiment::error_table(&report.rows), "effects_errors")],
+                pictures: super::pictures::files("effects_frames", &report.pictures)?,
+            })
+        }
+        EffectFamily::Surfels => {
+            let mut settings =
+                AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
+            settings.rays.rays = request.ao_rays;
+            let report = super::ao::experiment::run(scene, &settings, stats, &mut |line| log(line))?;
+            Ok(FamilyOutput {
+                tables: vec![(super::ao::errors::ao_errors_table(&report.rows), "ao_errors")],
+                pictures: super::pictures::files("ao_frames", &report.pictures)?,
+            })
+        }
     }
-    needs
 }
 
 /// Check every need against the budget: the first that does not fit is the error.
@@ -149,23 +193,10 @@ pub fn command(
     let mut outcome = EffectsOutcome::default();
     let mut tables = Vec::new();
     let mut pictures: Vec<SetFile> = Vec::new();
-    if effects.reflection.is_some() || effects.refraction.is_some() {
-        let db = open_db()?;
-        let (materials, _) = crate::scene::read_materials(&scene, &db, &request.config)?;
-        let stage = super::trace::stage_from_table(&scene, &materials)?;
-        let settings = experiment::Settings::of(&scene);
-        let report = experiment::image_errors(&scene, &stage, settings, &mut |line| log(line));
-        outcome.stats = report.stats;
-        tables.push((experiment::error_table(&report.rows), "effects_errors"));
-        pictures.extend(super::pictures::files("effects_frames", &report.pictures)?);
-    }
-    if effects.ambient_occlusion.is_some() || effects.indirect.is_some() {
-        let mut settings =
-            AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
-        settings.rays.rays = request.ao_rays;
-        let report = super::ao::experiment::run(&scene, &settings, &mut outcome.stats, &mut |line| log(line))?;
-        tables.push((super::ao::errors::ao_errors_table(&report.rows), "ao_errors"));
-        pictures.extend(super::pictures::files("ao_frames", &report.pictures)?);
+    for family in EffectFamily::ALL.into_iter().filter(|&family| effects.names(family)) {
+        let output = run_family(family, &scene, request, open_db, &mut outcome.stats, log)?;
+        tables.extend(output.tables);
+        pictures.extend(output.pictures);
     }
     outcome.frames = pictures.len();
     let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();

@@ -92,7 +92,7 @@ pub fn run_scene(
     log: &mut dyn FnMut(&str),
 ) -> Result<EffectsRun> {
     let mut run = EffectsRun::default();
-    let Some(effects) = scene.effects.as_ref().filter(|e| e.reflection.is_some() || e.refraction.is_some()) else {
+    let Some(effects) = scene.effects.as_ref().filter(|e| e.names(nklut_effects::scene::EffectFamily::SpecularPaths)) else {
         return Ok(run);
     };
     let stage = stage_from_table(scene, materials)?;

@@ -174,7 +174,7 @@ pub fn run_with_materials(
     mut stats: RunStats,
     log: &mut dyn FnMut(&str),
 ) -> Result<RunReport> {
-    let specular_effects = scene.effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some());
+    let specular_effects = scene.names_effect(nklut_effects::scene::EffectFamily::SpecularPaths);
     let effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?;
     if !specular_effects {
         stats.skipped.push("reflection, refraction: not in the scene's effects (no cube map, no effect pipeline)".into());

@@ -203,7 +203,7 @@ fn indirect_error(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usiz
 /// nothing (no surfels, no tree, no pass: `stats` stays as it was).
 pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: &mut dyn FnMut(&str)) -> Result<AoReport> {
     let Some(effects) = &scene.effects else { return Ok(AoReport::default()) };
-    if effects.ambient_occlusion.is_none() && effects.indirect.is_none() {
+    if !effects.names(crate::scene::EffectFamily::Surfels) {
         return Ok(AoReport::default());
     }
     let stage = SurfelScene::new(scene, &settings.budget)?;

@@ -140,6 +140,42 @@ pub struct Effects {
     pub indirect: Option<super::surfels::Indirect>,
 }
 
+/// The families of effects a scene can name, each built by its own parts (its settings
+/// here, its CPU computation and reference, its GPU pass, its tables): the one list every
+/// stage dispatches on. A family added here is a compile error at each `match` over it —
+/// the scene's [`Effects::names`], the effects stage's memory check and run — until it is
+/// handled there (docs/extending.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EffectFamily {
+    /// Multiple specular reflections and refractions through layered distance maps
+    /// (`reflection`, `refraction`, with `distance_maps`).
+    SpecularPaths,
+    /// Surfel ambient occlusion and indirect light (`ambient_occlusion`, `indirect`).
+    Surfels,
+}
+
+impl EffectFamily {
+    pub const ALL: [EffectFamily; 2] = [EffectFamily::SpecularPaths, EffectFamily::Surfels];
+
+    /// The keys of a scene's `effects` section that name the family.
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            EffectFamily::SpecularPaths => &["reflection", "refraction"],
+            EffectFamily::Surfels => &["ambient_occlusion", "indirect"],
+        }
+    }
+}
+
+impl Effects {
+    /// Whether the scene names any effect of `family`.
+    pub fn names(&self, family: EffectFamily) -> bool {
+        match family {
+            EffectFamily::SpecularPaths => self.reflection.is_some() || self.refraction.is_some(),
+            EffectFamily::Surfels => self.ambient_occlusion.is_some() || self.indirect.is_some(),
+        }
+    }
+}
+
 impl RawBounces {
     fn bounces(&self, field: &str) -> Result<Bounces, String> {
         let max_depth = self.max_depth.values();

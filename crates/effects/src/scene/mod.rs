@@ -34,7 +34,7 @@ use serde::{Deserialize, Serialize};
 
 use nklut_optics::fresnel::Method as FresnelMethod;
 
-pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, Effects, Light, Pattern, SearchSteps};
+pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Light, Pattern, SearchSteps};
 pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use surfels::LightSource;
 
@@ -515,11 +515,11 @@ impl Scene {
         if raw.lights.is_some() && raw.light.is_some() {
             return Err(error("light and lights: name the lights once, in `lights` (directional, point, ambient) or in `light`".into()));
         }
-        let distance_map_effects = effects.as_ref().is_some_and(|e| e.reflection.is_some() || e.refraction.is_some());
+        let distance_map_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::SpecularPaths));
         if raw.lights.is_some() && distance_map_effects {
             return Err(error("lights: reflection and refraction light their surroundings with `light`; `lights` is for ambient_occlusion and indirect alone".into()));
         }
-        let surfel_effects = effects.as_ref().is_some_and(|e| e.ambient_occlusion.is_some() || e.indirect.is_some());
+        let surfel_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::Surfels));
         if let Some(i) = objects.iter().position(|o: &SceneObject| o.subdivisions > 0) {
             if !surfel_effects {
                 return Err(error(format!("objects[{i}].subdivide: only surfel effects (ambient_occlusion, indirect) use it")));
@@ -566,7 +566,7 @@ impl Scene {
         }
         // A scene whose effects are only surfel effects (ambient occlusion, indirect light)
         // needs no specular object; reflections, refractions and the plain F(|N·V|) runs do.
-        let surfel_only = self.effects.as_ref().is_some_and(|e| e.reflection.is_none() && e.refraction.is_none());
+        let surfel_only = self.effects.as_ref().is_some_and(|e| !e.names(EffectFamily::SpecularPaths));
         if !surfel_only && self.specular_objects().next().is_none() {
             return Err("objects: the scene names no specular object (one with a material)".into());
         }
@@ -601,6 +601,11 @@ impl Scene {
             return Err(format!("lut.size {} must lie in 2..=8192", self.lut.size));
         }
         self.light.check().map_err(|e| format!("light.{e}"))
+    }
+
+    /// Whether the scene names any effect of `family`.
+    pub fn names_effect(&self, family: EffectFamily) -> bool {
+        self.effects.as_ref().is_some_and(|e| e.names(family))
     }
 
     pub fn wants(&self, experiment: Experiment) -> bool {

@@ -386,7 +386,7 @@ pub fn run_scene(
     use nklut_effects::ao::experiment::{AoSettings, SurfelScene};
     use nklut_effects::ao::indirect::surfel_direct;
     let Some(effects) = &scene.effects else { return Ok(None) };
-    if effects.ambient_occlusion.is_none() && effects.indirect.is_none() {
+    if !effects.names(nklut_effects::scene::EffectFamily::Surfels) {
         return Ok(None);
     }
     let settings = AoSettings::default();
