@@ -13,5 +13,5 @@ pub use nklut_effects as effects;
 pub use nklut_effects::scene;
 #[cfg(feature = "gpu")]
 pub use nklut_gpu as gpu;
-pub use nklut_optics::{atomic, color, db, encoding, fresnel, memo, minimise, spectrum};
+pub use nklut_optics::{appearance, atomic, color, db, encoding, fresnel, memo, minimise, spectrum};
 pub use nklut_pipeline::{bake, budget, colors, ingest, output, params, progress, report, validate};

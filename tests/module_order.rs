@@ -18,7 +18,7 @@ struct Layers {
 const CRATES: [Layers; 3] = [
     Layers {
         krate: "optics",
-        order: &["db", "spectrum", "fresnel", "color"],
+        order: &["db", "spectrum", "fresnel", "color", "appearance"],
         leaves: &["encoding", "minimise", "atomic", "memo"],
         siblings: &[],
     },

@@ -74,7 +74,11 @@ pub struct MemoryNeed {
 /// mesh is read, family by family ([`family_needs`]). (Subdivided meshes are checked when
 /// their triangles are known.)
 pub fn memory_needs(scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
-    EffectFamily::ALL.into_iter().filter(|&family| scene.names_effect(family)).flat_map(|family| family_needs(family, scene, ao_rays)).collect()
+    EffectFamily::ALL
+        .into_iter()
+        .filter(|&family| scene.names_effect(family))
+        .flat_map(|family| family_needs(family, scene, ao_rays))
+        .collect()
 }
 
 /// The memory one family of effects holds: for specular paths the distance maps of every
@@ -104,7 +108,11 @@ fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<Memory
                     what: format!("{specular} cube map(s) of 6 × {}² texels × {} layers", maps.size, maps.layers),
                     bytes: times(specular * texels, 2 * std::mem::size_of::<Option<Texel>>()),
                 },
-                MemoryNeed { field: "resolution".into(), what: format!("{frames} frames at {resolution}"), bytes: frame_bytes.saturating_mul(frames) },
+                MemoryNeed {
+                    field: "resolution".into(),
+                    what: format!("{frames} frames at {resolution}"),
+                    bytes: frame_bytes.saturating_mul(frames),
+                },
             ]
         }
         EffectFamily::Surfels => {
@@ -112,7 +120,11 @@ fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<Memory
             let per_ray = 2 * std::mem::size_of::<(usize, [f64; 2])>() + std::mem::size_of::<[f64; 3]>();
             vec![
                 // Five panels, the side-by-side picture of them, their error images' references.
-                MemoryNeed { field: "resolution".into(), what: format!("the AO pictures at {resolution}"), bytes: frame_bytes.saturating_mul(16) },
+                MemoryNeed {
+                    field: "resolution".into(),
+                    what: format!("the AO pictures at {resolution}"),
+                    bytes: frame_bytes.saturating_mul(16),
+                },
                 MemoryNeed {
                     field: "--ao-rays".into(),
                     what: format!("{ao_rays} rays per vertex on {threads} threads"),

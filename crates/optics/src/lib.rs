@@ -3,7 +3,8 @@
 //! n and k at any wavelength and per colour channel ([`spectrum`]), every Fresnel method
 //! of the pipeline in f64 and f32 with its derivation ([`fresnel`]), and the colour
 //! science of the spectral reference colours — CIE 1931, D65, sRGB, CIEDE2000, effective
-//! channel indices ([`color`]).
+//! channel indices ([`color`]) — and what light does inside a material at a scene's size:
+//! transparent, tinted or opaque, and the colour of its volume ([`appearance`]).
 //!
 //! ```no_run
 //! use nklut_optics::db::Database;
@@ -22,7 +23,7 @@
 //!
 //! Modules follow the data, and every import points one way — a module uses only modules
 //! before it in this order (the workspace's `tests/module_order.rs` checks it): `db` →
-//! `spectrum` → `fresnel` → `color`. Leaves any module may use: `encoding` (the sRGB
+//! `spectrum` → `fresnel` → `color` → `appearance`. Leaves any module may use: `encoding` (the sRGB
 //! transfer function, texel encodings and centres), `minimise` (Brent's 1D minimiser),
 //! `atomic` (files replaced whole) and `memo` (results remembered between the commands of
 //! one output folder, in plain files).
@@ -33,6 +34,7 @@
 // comparison's whole point, not a style to refactor.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod appearance;
 pub mod atomic;
 pub mod color;
 pub mod db;
