@@ -20,7 +20,7 @@ else
 SELECT    := --shelf 3d
 endif
 
-.PHONY: all db build luts test test-deps bench gpu effects clean
+.PHONY: all db build luts test test-deps test-blender bench gpu effects clean
 
 all: luts
 
@@ -66,6 +66,27 @@ test: db
 	$(CARGO) clippy --workspace --all-targets --all-features -- -D warnings
 	$(CARGO) package -p nklut-optics --allow-dirty --quiet
 	$(CARGO) test --workspace --all-features
+
+# Optional, not run by `make test` nor CI: Blender's own glTF importer as a client of
+# materials.gltf. Blender runs as a Python module (PyPI `bpy`, pinned: a ≈ 375 MB wheel,
+# ≈ 1 GB installed, hence kept out of `make test`) in its own venv .test-deps/blender-venv;
+# bpy 5.0 is built for CPython 3.11 only (BLENDER_PYTHON names another interpreter). The 3d
+# shelf is exported afresh into $(OUT)/blender-check, then tests/validators/check_blender.py
+# imports it into an empty scene and checks, per page, what Blender's Principled BSDF and
+# Volume Absorption hold against engine_params.csv (its docstring lists every assertion),
+# and lists what the importer leaves out.
+BPY_VERSION    ?= 5.0.1
+BLENDER_PYTHON ?= python3
+BLENDER_VENV   := .test-deps/blender-venv
+test-blender: db build
+	@[ -x $(BLENDER_VENV)/bin/python ] || $(BLENDER_PYTHON) -m venv $(BLENDER_VENV)
+	@$(BLENDER_VENV)/bin/python -c "import importlib.metadata as m, sys; sys.exit(m.version('bpy') != '$(BPY_VERSION)')" 2>/dev/null || \
+	  { echo "test-blender: installing bpy $(BPY_VERSION) into $(BLENDER_VENV) (≈ 375 MB download)"; \
+	    $(BLENDER_VENV)/bin/pip install --quiet bpy==$(BPY_VERSION); }
+	rm -rf $(OUT)/blender-check
+	$(NKLUT) --db $(DB) --out $(OUT)/blender-check ingest --shelf 3d
+	$(NKLUT) --db $(DB) --out $(OUT)/blender-check params --shelf 3d
+	$(BLENDER_VENV)/bin/python tests/validators/check_blender.py $(OUT)/blender-check
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the
 # plain file read, the Python peer of ingest), ingest (wall + peak RSS), Fresnel methods,

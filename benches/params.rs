@@ -23,7 +23,13 @@ fn whole_database(c: &mut Criterion) {
     });
     let references: Vec<Reference> = materials.par_iter().map(|m| reference(m)).collect();
     group.bench_function("every parameter and error, from the references", |b| {
-        b.iter(|| materials.par_iter().zip(&references).map(|(m, r)| engine_params(m, r, rule).best().delta_e_mean).sum::<f64>())
+        b.iter(|| {
+            materials
+                .par_iter()
+                .zip(&references)
+                .map(|(m, r)| engine_params(m, r, rule, &Default::default()).best().delta_e_mean)
+                .sum::<f64>()
+        })
     });
     group.bench_function("part: Gulbrandsen g fits (3 channels)", |b| {
         b.iter(|| {

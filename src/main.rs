@@ -87,13 +87,18 @@ enum Command {
         texels: usize,
     },
     /// Engine parameters per page (F0, F82 tint, Gulbrandsen, generalized Schlick, fitted
-    /// n,k, n_d/Abbe) with each model's error; write engine_params.*, materials.mtlx and
-    /// materials.gltf + materials.bin.
+    /// n,k, n_d/Abbe, the appearance and the volume's colour) with each model's error; write
+    /// engine_params.*, materials.mtlx, materials.gltf + materials.bin, materials.usda and
+    /// one paste-in file per page under params/.
     Params {
         #[command(flatten)]
         pages: PageSelection,
         #[command(flatten)]
         channels: ChannelArgs,
+        /// One roughness in [0, 1] for every exported material (default: 0.2 for metals, 0
+        /// for dielectrics).
+        #[arg(long)]
+        roughness: Option<f64>,
     },
 }
 
@@ -227,8 +232,9 @@ fn run(cli: Cli) -> Result<()> {
         }
         #[cfg(feature = "gpu")]
         Command::Gpu { .. } => unreachable!("handled before the database is opened"),
-        Command::Params { pages, channels } => {
-            for path in nklut::params::command(&db, &pages.selection(), &channels.config(), &cli.paths.out)? {
+        Command::Params { pages, channels, roughness } => {
+            let settings = nklut::params::ExportSettings { roughness };
+            for path in nklut::params::command(&db, &pages.selection(), &channels.config(), &settings, &cli.paths.out)? {
                 eprintln!("  wrote {}", path.display());
             }
         }

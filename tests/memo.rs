@@ -35,7 +35,7 @@ fn colors(out: &Path) {
 }
 
 fn params(out: &Path) {
-    nklut::params::command(&database(), &selection(), &Config::default(), out).unwrap();
+    nklut::params::command(&database(), &selection(), &Config::default(), &Default::default(), out).unwrap();
 }
 
 fn bake(out: &Path) {

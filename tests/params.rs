@@ -16,7 +16,16 @@ use std::process::Command;
 use common::{database, scratch, Scratch};
 use nklut::ingest::Selection;
 
-const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/iron", "3d/glass/BK7", "3d/liquids/water"];
+/// In catalog order (the tables' order).
+const PAGES: [&str; 7] = [
+    "3d/metals/gold",
+    "3d/metals/iron",
+    "3d/crystals/silicon",
+    "3d/glass/BK7",
+    "3d/glass/soda-lime-green",
+    "3d/liquids/water",
+    "3d/misc/diesel_soot",
+];
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -26,7 +35,7 @@ fn root() -> &'static Path {
 fn run(name: &str) -> Scratch {
     let out = scratch(&format!("params-{name}"));
     let selection = Selection { pages: PAGES.iter().map(|p| p.to_string()).collect(), ..Default::default() };
-    nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &out).unwrap();
+    nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
     out
 }
 
@@ -92,7 +101,7 @@ fn the_table_documents_every_column_and_has_one_row_per_page() {
     }
     // The JSON twin holds the same page order.
     let json: serde_json::Value = serde_json::from_slice(&fs::read(out.join("engine_params.json")).unwrap()).unwrap();
-    assert_eq!(json[2]["page"], "3d/glass/BK7");
+    assert_eq!(json[3]["page"], "3d/glass/BK7");
 }
 
 #[test]
@@ -115,9 +124,15 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
     let rows = read_table(&out);
     let mtlx = fs::read_to_string(out.join("materials.mtlx")).unwrap();
     let gltf: serde_json::Value = serde_json::from_slice(&fs::read(out.join("materials.gltf")).unwrap()).unwrap();
-    // Gold: conductor_bsdf gets the fitted (n, k) as written in the table, glTF the clamped F0.
+    // Gold: conductor_bsdf gets the fitted (n, k) as written in the table — but in the red
+    // channel, whose fit ended on its search box, the channel's own n; glTF the clamped F0.
     let gold = &rows[0];
-    let ior = format!("{}, {}, {}", gold["fitted_n_r"], gold["fitted_n_g"], gold["fitted_n_b"]);
+    assert_eq!(
+        (gold["fitted_at_bound_r"].as_str(), gold["fitted_at_bound_g"].as_str()),
+        ("true", "false"),
+        "gold's red fit is (0.001, 100)"
+    );
+    let ior = format!("{}, {}, {}", gold["channel_n_r"], gold["fitted_n_g"], gold["fitted_n_b"]);
     assert!(mtlx.contains(&format!("<input name=\"ior\" type=\"color3\" value=\"{ior}\" />")), "{ior}");
     let base = gltf["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"].as_array().unwrap();
     for (c, suffix) in ["r", "g", "b"].iter().enumerate() {
@@ -125,13 +140,63 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
     }
     assert_eq!(gltf["materials"][2]["extensions"]["KHR_materials_ior"]["ior"].as_f64().unwrap(), number(&rows[2], "n_d"));
     assert_eq!(gltf["nodes"].as_array().unwrap().len(), PAGES.len());
+    // The exports follow the appearance: clear glass is smooth and refracts through its
+    // volume with its dispersion (KHR: 20/Abbe); green glass carries its volume's colour;
+    // silicon and soot transmit nothing and show their F0; one roughness per class.
+    let appearance: Vec<&str> = rows.iter().map(|r| r["appearance"].as_str()).collect();
+    assert_eq!(appearance, ["metal", "metal", "opaque", "transparent", "tinted", "transparent", "opaque"]);
+    let material = |i: usize| &gltf["materials"][i];
+    let bk7 = material(3);
+    assert_eq!(bk7["pbrMetallicRoughness"]["roughnessFactor"], 0.0);
+    assert_eq!(bk7["extensions"]["KHR_materials_transmission"]["transmissionFactor"], 1.0);
+    assert_eq!(bk7["extensions"]["KHR_materials_volume"]["thicknessFactor"], 2.0);
+    assert!(
+        (bk7["extensions"]["KHR_materials_dispersion"]["dispersion"].as_f64().unwrap() - 20.0 / number(&rows[3], "abbe_d")).abs() < 1e-12
+    );
+    assert_eq!(material(0)["pbrMetallicRoughness"]["roughnessFactor"], 0.2);
+    let green = &material(4)["extensions"]["KHR_materials_volume"];
+    assert_eq!(green["attenuationDistance"].as_f64().unwrap(), number(&rows[4], "attenuation_distance_m"));
+    let colour: Vec<f64> = green["attenuationColor"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert!(colour[1] > colour[0], "green glass passes more green than red: {colour:?}");
+    for opaque in [2, 6] {
+        let m = material(opaque);
+        assert!(m["extensions"]["KHR_materials_transmission"].is_null(), "{m}");
+        assert_eq!(m["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([0.0, 0.0, 0.0, 1.0]));
+        assert!(rows[opaque]["abbe_d"].is_empty(), "an opaque dielectric has no Abbe number");
+        let ior = m["extensions"]["KHR_materials_ior"]["ior"].as_f64().unwrap();
+        let from_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let specular = m["extensions"]["KHR_materials_specular"]["specularColorFactor"][1].as_f64().unwrap();
+        assert!((specular * from_ior - number(&rows[opaque], "f0_linear_g")).abs() < 1e-12, "F0 = specular colour × the ior's F0");
+    }
+    // Display names are short; the long lists stay in `synonyms`.
+    assert_eq!(rows[4]["display_name"], "Soda-lime glass - Green");
+    assert!(rows.iter().all(|r| r["display_name"].chars().count() <= 48));
+    assert_eq!(material(0)["name"], "Gold (Au)");
+    // Every page has its paste-in file with the table's colours.
+    let paste: serde_json::Value = serde_json::from_slice(&fs::read(out.join("params/nk_3d_metals_gold.json")).unwrap()).unwrap();
+    assert_eq!(paste["f0"]["hex"], gold["f0_srgb_hex"].as_str());
+    assert_eq!(paste["f82_tint"]["hex"], gold["f82_tint_hex"].as_str());
+    assert!((paste["f0"]["linear"][0].as_f64().unwrap() - number(gold, "f0_linear_r")).abs() < 1e-15, "JSON and CSV round the same double");
+    let blender = paste["engines"]["blender"].as_str().unwrap();
+    assert!(blender.contains(&format!("Base Color: {}", gold["f0_srgb_hex"])) && blender.contains("Metallic: 1"), "{blender}");
+    let unreal: serde_json::Value = serde_json::from_slice(&fs::read(out.join("params/nk_3d_crystals_silicon.json")).unwrap()).unwrap();
+    assert!(unreal["engines"]["unreal"].as_str().unwrap().contains("above the field's 1"), "silicon's F0 > 0.08");
 
     let deps = std::env::var_os("NKLUT_TEST_DEPS").map(PathBuf::from).unwrap_or_else(|| root().join(".test-deps"));
     let python = deps.join("venv/bin/python");
     if installed(&python) {
         let report = validate(Command::new(&python), "validate_mtlx.py", &out.join("materials.mtlx"));
         assert_eq!(report["valid"], true, "{report}");
-        assert_eq!(report["materials"], 4 * PAGES.len(), "{report}");
+        assert_eq!(report["materials"], 5 * PAGES.len(), "{report}");
+        // GLSL generated for every material, one shader per model and page.
+        assert_eq!(report["glsl_failures"], serde_json::json!([]), "{report}");
+        for (model, count) in [("open_pbr_surface", 1), ("standard_surface", 1), ("conductor_bsdf", 2), ("generalized_schlick_bsdf", 1)] {
+            assert_eq!(report["glsl"][model], count * PAGES.len(), "{model}: {report}");
+        }
+        // USD: the preview surfaces pass USD's own validators.
+        let report = validate(Command::new(&python), "validate_usd.py", &out.join("materials.usda"));
+        assert_eq!(report["valid"], true, "{report}");
+        assert_eq!(report["previewSurfaces"], PAGES.len(), "{report}");
     }
     let modules = deps.join("npm/node_modules");
     if installed(&modules.join("gltf-validator/package.json")) {
@@ -152,7 +217,7 @@ fn metals_agree_with_the_physically_based_database() {
     let published: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     let selection = Selection { pages: published.iter().map(|r| r[1].to_string()).collect(), ..Default::default() };
     let ingested = nklut::ingest::ingest(&database(), &selection, &nklut::ingest::Config::default()).unwrap();
-    let params = nklut::params::compute(&ingested.kept, &mut Default::default(), &Default::default()).unwrap();
+    let params = nklut::params::compute(&ingested.kept, &Default::default(), &mut Default::default(), &Default::default()).unwrap();
     let mut compared = 0;
     for record in &published {
         let Some(position) = ingested.kept.iter().position(|p| p.id() == record[1]) else {

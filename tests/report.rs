@@ -428,3 +428,22 @@ fn the_audit_sees_small_and_overlapping_plot_text() {
     assert_eq!(seen.texts.iter().filter(|t| t.size < 12.0).count(), 2, "{seen:?}");
     assert_eq!(seen.overlaps, vec![("label one".to_string(), "label two".to_string())]);
 }
+
+/// After `params`, each material page carries one copyable block per tool, the same text
+/// as its paste-in file.
+#[test]
+fn material_pages_carry_a_block_per_tool() {
+    let out = scratch("paste");
+    stages(&out, &["3d/metals/gold"], &[]);
+    let output = nklut(&out, &["params", "--page", "3d/metals/gold"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let output = nklut(&out, &["report", "--page", "3d/metals/gold"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let html = material_html(&out, "3d/metals/gold");
+    let paste: serde_json::Value = serde_json::from_slice(&fs::read(out.join("params/nk_3d_metals_gold.json")).unwrap()).unwrap();
+    for tool in ["blender", "unreal", "unity_hdrp", "threejs", "filament", "godot", "openpbr", "gltf"] {
+        let text = paste["engines"][tool].as_str().unwrap();
+        let escaped = text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;");
+        assert!(html.contains(&format!("data-tool=\"{tool}\">{escaped}</textarea>")), "{tool} block missing or different");
+    }
+}

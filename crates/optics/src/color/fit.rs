@@ -32,6 +32,16 @@ pub struct EffectiveIndex {
     pub error: f64,
 }
 
+impl EffectiveIndex {
+    /// Whether the fit ended on the search box's edge ([`N_BOUNDS`], [`K_MAX`]): the best
+    /// (n, k) lies outside the box (or nowhere), and the index is a curve fit, not the
+    /// material's optics — gold's red channel fits to (0.001, 100).
+    pub fn at_bound(&self) -> bool {
+        let Index { n, k } = self.index;
+        n <= N_BOUNDS.0 * (1.0 + 1e-6) || n >= N_BOUNDS.1 * (1.0 - 1e-6) || k >= K_MAX * (1.0 - 1e-6)
+    }
+}
+
 /// Mean over θ of |F_exact(index, θ) − F_ref(θ)| / |F_ref(θ)| with `reference[i]` at
 /// `quadrature.cosines[i]`. Nodes where F_ref is 0 or not finite are left out (the
 /// weights of the rest renormalised); with none left the error is 0.

@@ -1,32 +1,40 @@
 //! `materials.gltf` + `materials.bin`: a glTF 2.0 scene (Khronos glTF 2.0 specification)
-//! with one unit sphere per page, laid out on a grid in the x–y plane (y up, 2.5 units
-//! apart, row-major in page order), ready to drop into any glTF viewer.
+//! with one sphere per page, 5 cm across (glTF's unit is the metre: a marble, the size the
+//! tinted class is judged at), laid out on a grid in the x–y plane (y up, row-major in page
+//! order), ready to drop into any glTF viewer. Node names are page ids, material names the
+//! pages' short display names.
 //!
-//! Materials (metallic-roughness, roughnessFactor ROUGHNESS):
-//! - conductors: baseColorFactor = F0 clamped to [0, 1] (linear, as glTF requires),
-//!   metallicFactor = 1 — glTF's metal is Schlick with F0 = base colour;
-//! - dielectrics: baseColorFactor = 1, metallicFactor = 0, `KHR_materials_ior`
-//!   ior = n_d (glTF requires ior ≥ 1: smaller n_d is written as 1) and
-//!   `KHR_materials_transmission` transmissionFactor = 1 (a clear dielectric).
+//! Materials follow the page's appearance (`nklut_optics::appearance`), one roughness for
+//! every material of a class ([`super::ExportSettings`], written in `asset.extras`):
+//! - metals: baseColorFactor = F0 clamped to [0, 1] (linear), metallicFactor 1 — glTF's
+//!   metal is Schlick with F0 = base colour; no ratified extension carries the F82 edge
+//!   colour (the table's `schlick_*` errors say what leaving it out costs);
+//! - transparent: metallicFactor 0, `KHR_materials_transmission` 1, `KHR_materials_ior`
+//!   n_d (≥ 1), `KHR_materials_volume` thicknessFactor = the sphere's diameter (a solid
+//!   that refracts, not a thin shell), `KHR_materials_dispersion` 20/V_d where the page
+//!   has an Abbe number (the extension's definition);
+//! - tinted: as transparent, with the volume's attenuationColor and attenuationDistance
+//!   (the colour white light turns after that distance, spectrally);
+//! - opaque dielectrics: no transmission, no diffuse (base colour black), the spectral F0
+//!   as the specular colour (`KHR_materials_specular` specularColorFactor = F0 over the
+//!   F0 the ior gives, so the two make F0).
 //!
-//! No extension carries the F82 edge colour (none is ratified for it); the table's
-//! `schlick_*` error columns say what leaving it out costs.
-//!
-//! The sphere: RINGS × SEGMENTS UV sphere, positions = normals (unit length), one
-//! triangle per segment at each pole (no degenerate triangles), counter-clockwise seen
-//! from outside, 16-bit indices; every mesh shares its accessors.
+//! The sphere: RINGS × SEGMENTS UV sphere of radius 1 in its mesh (positions = normals),
+//! scaled by its node; one triangle per segment at each pole (no degenerate triangles),
+//! counter-clockwise seen from outside, 16-bit indices; every mesh shares its accessors.
 
 use anyhow::{ensure, Result};
 use serde_json::{json, Value};
 
 use super::mtlx::ExportPage;
-use nklut_optics::spectrum::Kind;
+use nklut_optics::appearance::Appearance;
 
 pub const RINGS: usize = 16;
 pub const SEGMENTS: usize = 32;
-pub const ROUGHNESS: f64 = 0.2;
-/// Distance between sphere centres.
-pub const SPACING: f64 = 2.5;
+/// The spheres' radius (m): 2.5 cm, a marble.
+pub const RADIUS_M: f64 = 0.025;
+/// Distance between sphere centres (m).
+pub const SPACING: f64 = 2.5 * RADIUS_M;
 
 /// The two files of the scene.
 #[derive(Clone, Debug)]
@@ -69,35 +77,55 @@ pub fn sphere(rings: usize, segments: usize) -> Sphere {
     Sphere { positions, indices }
 }
 
-fn material(page: &ExportPage) -> (Value, Vec<&'static str>) {
+/// The glTF material of a page and the extensions it uses.
+pub fn material(page: &ExportPage) -> (Value, Vec<&'static str>) {
     let p = page.params;
-    match (page.kind, p.dielectric) {
-        (Kind::Dielectric, Some(d)) => (
-            json!({
-                "name": page.title(),
-                "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": ROUGHNESS },
-                "extensions": {
-                    "KHR_materials_ior": { "ior": d.n_d.max(1.0) },
-                    "KHR_materials_transmission": { "transmissionFactor": 1.0 }
-                }
-            }),
-            vec!["KHR_materials_ior", "KHR_materials_transmission"],
-        ),
-        _ => {
+    let roughness = page.roughness;
+    let ior = p.dielectric.map(|d| d.n_d.max(1.0));
+    let mut extensions = serde_json::Map::new();
+    let pbr = match p.volume.appearance {
+        Appearance::Metal => {
             let [r, g, b] = p.f0.map(|v| v.clamp(0.0, 1.0));
-            (
-                json!({
-                    "name": page.title(),
-                    "pbrMetallicRoughness": { "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 1.0, "roughnessFactor": ROUGHNESS }
-                }),
-                vec![],
-            )
+            json!({ "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 1.0, "roughnessFactor": roughness })
         }
+        Appearance::Transparent | Appearance::Tinted => {
+            if let Some(ior) = ior {
+                extensions.insert("KHR_materials_ior".into(), json!({ "ior": ior }));
+            }
+            extensions.insert("KHR_materials_transmission".into(), json!({ "transmissionFactor": 1.0 }));
+            let mut volume = json!({ "thicknessFactor": 2.0 });
+            if let Some(attenuation) = p.volume.attenuation {
+                volume["attenuationColor"] = json!(attenuation.colour.map(|v| v.clamp(0.0, 1.0)));
+                volume["attenuationDistance"] = json!(attenuation.distance_m);
+            }
+            extensions.insert("KHR_materials_volume".into(), volume);
+            if let Some(abbe) = p.dielectric.and_then(|d| d.abbe) {
+                extensions.insert("KHR_materials_dispersion".into(), json!({ "dispersion": 20.0 / abbe }));
+            }
+            json!({ "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": roughness })
+        }
+        Appearance::Opaque => {
+            let ior = ior.unwrap_or(1.5);
+            extensions.insert("KHR_materials_ior".into(), json!({ "ior": ior }));
+            let from_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
+            extensions.insert("KHR_materials_specular".into(), json!({ "specularColorFactor": p.f0.map(|v| v.max(0.0) / from_ior) }));
+            json!({ "baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": roughness })
+        }
+    };
+    let used: Vec<&'static str> =
+        ["KHR_materials_dispersion", "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"]
+            .into_iter()
+            .filter(|e| extensions.contains_key(*e))
+            .collect();
+    let mut value = json!({ "name": page.display, "pbrMetallicRoughness": pbr });
+    if !extensions.is_empty() {
+        value["extensions"] = Value::Object(extensions);
     }
+    (value, used)
 }
 
 /// The scene of `pages`; `bin_uri` is the buffer's file name next to the .gltf.
-pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<GltfScene> {
+pub fn scene(pages: &[ExportPage], bin_uri: &str, settings: &super::ExportSettings) -> Result<GltfScene> {
     ensure!(!pages.is_empty(), "a glTF scene needs at least one material");
     let sphere = sphere(RINGS, SEGMENTS);
     let mut bin: Vec<u8> = Vec::new();
@@ -133,18 +161,27 @@ pub fn scene(pages: &[ExportPage], bin_uri: &str) -> Result<GltfScene> {
     let meshes: Vec<Value> = pages
         .iter()
         .enumerate()
-        .map(|(i, page)| json!({ "name": page.title(), "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": 2, "material": i }] }))
+        .map(|(i, page)| json!({ "name": page.display, "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": 2, "material": i }] }))
         .collect();
     let nodes: Vec<Value> = pages
         .iter()
         .enumerate()
         .map(|(i, page)| {
             let (row, column) = (i / columns, i % columns);
-            json!({ "name": page.page, "mesh": i, "translation": [column as f64 * SPACING, -(row as f64) * SPACING, 0.0] })
+            json!({
+                "name": page.page,
+                "mesh": i,
+                "translation": [column as f64 * SPACING, -(row as f64) * SPACING, 0.0],
+                "scale": [RADIUS_M, RADIUS_M, RADIUS_M]
+            })
         })
         .collect();
     let mut document = json!({
-        "asset": { "version": "2.0", "generator": format!("nklut {} params", env!("CARGO_PKG_VERSION")) },
+        "asset": {
+            "version": "2.0",
+            "generator": format!("nklut {} params", env!("CARGO_PKG_VERSION")),
+            "extras": { "nklut": { "sphere_radius_m": RADIUS_M, "roughness": settings.describe() } }
+        },
         "scene": 0,
         "scenes": [{ "name": "nklut materials", "nodes": (0..pages.len()).collect::<Vec<_>>() }],
         "nodes": nodes,

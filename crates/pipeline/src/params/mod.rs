@@ -13,22 +13,63 @@ pub mod gltf;
 pub mod models;
 pub mod mtlx;
 pub mod page;
+pub mod paste;
 pub mod table;
+pub mod usd;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Result;
+use rayon::prelude::*;
 
 use crate::ingest::{self, KeptPage, Selection};
 use crate::output::SetFile;
+use nklut_optics::appearance::Appearance;
 use nklut_optics::color::{self, CurveMemo, Fingerprint, PreparedSpectrum};
 use nklut_optics::db::Database;
-use nklut_optics::spectrum::Material;
+use nklut_optics::spectrum::{Channels, Material};
 
 pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
 pub use page::{engine_params, EngineModel, EngineParams, ModelError, Reference};
 pub use table::engine_params_table;
+
+/// The folder of the per-page paste-in files (`params/<name>.json`).
+pub const PASTE_DIR: &str = "params";
+
+/// What every export of one run shares: the roughness given to each material, the same in
+/// glTF, MaterialX, USD and the paste-in blocks. Unless `--roughness` sets one for all, a
+/// metal gets [`ExportSettings::METAL_ROUGHNESS`] and a dielectric
+/// [`ExportSettings::DIELECTRIC_ROUGHNESS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ExportSettings {
+    pub roughness: Option<f64>,
+}
+
+impl ExportSettings {
+    /// Metals: the optical constants describe a polished surface, but at roughness 0 a
+    /// viewer shows a mirror whose colour is seen only in what it reflects; 0.2 spreads the
+    /// highlight enough that F0 and the edge colour read under any environment.
+    pub const METAL_ROUGHNESS: f64 = 0.2;
+    /// Dielectrics: glass and liquids are optically smooth; any roughness frosts them.
+    pub const DIELECTRIC_ROUGHNESS: f64 = 0.0;
+
+    /// The roughness of a material of `appearance`.
+    pub fn roughness(&self, appearance: Appearance) -> f64 {
+        self.roughness.unwrap_or(match appearance {
+            Appearance::Metal => Self::METAL_ROUGHNESS,
+            Appearance::Transparent | Appearance::Tinted | Appearance::Opaque => Self::DIELECTRIC_ROUGHNESS,
+        })
+    }
+
+    /// The rule in words, for the exports' metadata.
+    pub fn describe(&self) -> String {
+        match self.roughness {
+            Some(r) => format!("{r} for every material (--roughness)"),
+            None => format!("{} for metals, {} for dielectrics (the defaults)", Self::METAL_ROUGHNESS, Self::DIELECTRIC_ROUGHNESS),
+        }
+    }
+}
 
 /// The spectral reference of a material on the angle quadrature (its curve from `memo`
 /// when it holds it).
@@ -50,7 +91,7 @@ pub struct ParamsTimings {
 
 /// The parameters of every page of `kept`, each distinct data file computed once (in
 /// parallel), in the order of `kept`.
-pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings, memo: &CurveMemo) -> Result<Vec<EngineParams>> {
+pub fn compute(kept: &[KeptPage], channels: &Channels, timings: &mut ParamsTimings, memo: &CurveMemo) -> Result<Vec<EngineParams>> {
     let (unique, positions) = ingest::distinct_materials(kept);
     let start = Instant::now();
     let references: Vec<Reference> = crate::progress::par_map(unique.len(), "spectral references", |i| reference(&unique[i], memo));
@@ -58,14 +99,23 @@ pub fn compute(kept: &[KeptPage], timings: &mut ParamsTimings, memo: &CurveMemo)
     let start = Instant::now();
     let rule = color::angle_quadrature();
     let params: Vec<EngineParams> =
-        crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule));
+        crate::progress::par_map(unique.len(), "engine parameters", |i| engine_params(&unique[i], &references[i], rule, channels));
     timings.parameters_s = start.elapsed().as_secs_f64();
     Ok(positions.into_iter().map(|i| params[i].clone()).collect())
 }
 
 /// `nklut params`: ingest the selection, compute, publish the table and the two exports
 /// as one set.
-pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, out: &Path) -> Result<Vec<PathBuf>> {
+pub fn command(
+    db: &Database,
+    selection: &Selection,
+    config: &ingest::Config,
+    settings: &ExportSettings,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    if let Some(r) = settings.roughness {
+        anyhow::ensure!((0.0..=1.0).contains(&r), "--roughness {r} must lie in [0, 1]");
+    }
     let start = Instant::now();
     let ingested = ingest::ingest(db, selection, config)?;
     ingested.check_strict()?;
@@ -73,14 +123,26 @@ pub fn command(db: &Database, selection: &Selection, config: &ingest::Config, ou
     let ingest_s = start.elapsed().as_secs_f64();
     let mut timings = ParamsTimings::default();
     let memo = CurveMemo::load(out);
-    let params = compute(&ingested.kept, &mut timings, &memo)?;
-    let mut files = table::engine_params_table(&ingested.kept, &params).files("engine_params", true)?;
+    let params = compute(&ingested.kept, &config.channels, &mut timings, &memo)?;
+    let mut files = table::engine_params_table(&ingested.kept, &params, settings).files("engine_params", true)?;
     let pages: Vec<mtlx::ExportPage> =
-        ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params)).collect();
+        ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params, settings)).collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
-    let scene = gltf::scene(&pages, "materials.bin")?;
+    let scene = gltf::scene(&pages, "materials.bin", settings)?;
     files.push(SetFile::new("materials.bin", scene.bin));
     files.push(SetFile::new("materials.gltf", scene.json));
+    files.push(SetFile::new("materials.usda", usd::document(&pages, &settings.describe()).into_bytes()));
+    let names = mtlx::unique_names(pages.iter().map(|p| p.page.as_str()));
+    let paste_files: Vec<SetFile> = pages
+        .par_iter()
+        .zip(&names)
+        .map(|(page, name)| {
+            let mut json = serde_json::to_vec_pretty(&paste::page_json(page))?;
+            json.push(b'\n');
+            Ok(SetFile::new(format!("{PASTE_DIR}/{name}.json"), json))
+        })
+        .collect::<Result<_>>()?;
+    files.extend(paste_files);
     let written = crate::output::publish_set(out, "params", &files)?;
     eprintln!(
         "params: {} pages ({} excluded); ingest {ingest_s:.2} s, spectral references {:.2} s, parameters + fits + errors {:.2} s",

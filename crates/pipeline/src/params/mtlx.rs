@@ -1,49 +1,100 @@
-//! `materials.mtlx`: a MaterialX 1.39 document with four materials per page, each one
+//! `materials.mtlx`: a MaterialX 1.39 document with five materials per page, each one
 //! parameterisation of the page's engine parameters (the node definitions are MaterialX's
-//! standard libraries: `bxdf/open_pbr_surface.mtlx`, `pbrlib/pbrlib_defs.mtlx`):
+//! standard libraries: `bxdf/open_pbr_surface.mtlx`, `bxdf/standard_surface.mtlx`,
+//! `pbrlib/pbrlib_defs.mtlx`), every one with the page's export roughness:
 //!
-//! - `<id>_openpbr`: `open_pbr_surface` — conductors: base_color = F0, base_metalness = 1,
-//!   specular_color = F82 tint; dielectrics: base_metalness = 0, specular_ior = n_d,
-//!   transmission_weight = 1 (a clear dielectric: the data say nothing of volume colour).
-//!   base_color and specular_color are clamped to [0, 1], their UI range.
-//! - `<id>_conductor`: `conductor_bsdf` with the fitted per-channel (n, k).
+//! - `<id>_openpbr`: `open_pbr_surface` by the page's appearance — metals: base_color = F0,
+//!   base_metalness = 1, specular_color = F82 tint; transparent: base_metalness = 0,
+//!   specular_ior = n_d, transmission_weight = 1, and the dispersion's Abbe number where the
+//!   page has one; tinted: also transmission_color at transmission_depth (the volume's
+//!   colour); opaque dielectrics: no diffuse (base_weight 0), specular_ior = n_d. Colours
+//!   are clamped to [0, 1], their UI range.
+//! - `<id>_standard_surface`: Autodesk `standard_surface` with `base` 1 (its default 0.8
+//!   would darken metals by a fifth): metals through Gulbrandsen's reflectivity and edge
+//!   tint (base_color, specular_color), which its metal Fresnel is; dielectrics as OpenPBR.
+//! - `<id>_conductor`: `conductor_bsdf` with the fitted per-channel (n, k) — the channel's
+//!   own (n, k) where the fit ended on its search box.
 //! - `<id>_artistic`: `artistic_ior` (Gulbrandsen r, g) feeding a `conductor_bsdf`.
 //! - `<id>_generalized_schlick`: `generalized_schlick_bsdf` (color0 = F0, color82,
 //!   color90 = 1, exponent), values unclamped so the model is the one of the table.
 //!
-//! Each BSDF becomes a surface shader through the `surface` node. Names are the page id
-//! with every character other than A–Z, a–z, 0–9 and _ replaced by _, prefixed `nk_`
-//! (a second page with the same name gets `_2`, `_3`, …); `doc` holds the page id and names.
+//! The BSDF nodes take roughness as GGX α = r² in both directions. Each BSDF becomes a
+//! surface shader through the `surface` node. Names are the page id with every character
+//! other than A–Z, a–z, 0–9 and _ replaced by _, prefixed `nk_` (a second page with the
+//! same name gets `_2`, `_3`, …); `doc` holds the page id and its display name.
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
 
 use super::page::EngineParams;
 use crate::ingest::KeptPage;
+use nklut_optics::appearance::Appearance;
 use nklut_optics::spectrum::Kind;
 
 /// What an export needs of a page.
 #[derive(Clone, Debug)]
 pub struct ExportPage<'a> {
     pub page: String,
+    /// The short name a person reads ([`display_name`]).
+    pub display: String,
     pub names: Vec<String>,
     pub kind: Kind,
     pub params: &'a EngineParams,
+    /// The roughness every export gives this page ([`super::ExportSettings`]).
+    pub roughness: f64,
 }
 
 impl<'a> ExportPage<'a> {
-    pub fn new(page: &KeptPage, params: &'a EngineParams) -> Self {
-        Self { page: page.id(), names: page.names.clone(), kind: page.material.kind, params }
-    }
-
-    /// "page id (names)".
-    pub fn title(&self) -> String {
-        if self.names.is_empty() {
-            self.page.clone()
-        } else {
-            format!("{} ({})", self.page, self.names.join("; "))
+    pub fn new(page: &KeptPage, params: &'a EngineParams, settings: &super::ExportSettings) -> Self {
+        Self {
+            page: page.id(),
+            display: display_name(page),
+            names: page.names.clone(),
+            kind: page.material.kind,
+            params,
+            roughness: settings.roughness(params.volume.appearance),
         }
     }
+
+    /// "page id (display name)".
+    pub fn title(&self) -> String {
+        format!("{} ({})", self.page, self.display)
+    }
+}
+
+/// The most characters of a display name.
+pub const DISPLAY_CHARS: usize = 48;
+
+/// A page's short name: on the `3d` shelf, whose pages are materials, the catalog's page
+/// name ("Soda-lime glass - Green", "Gold (Au)"); elsewhere the book's name and the page
+/// ("Au (Gold), Johnson"). Long synonym lists stay in the `synonyms` column; a name past
+/// [`DISPLAY_CHARS`] is cut at a word and ends in "…".
+pub fn display_name(page: &KeptPage) -> String {
+    let p = &page.page;
+    let full = if p.shelf == "3d" { p.page_name.clone() } else { format!("{}, {}", p.book_name, p.page) };
+    shortened(&full, DISPLAY_CHARS)
+}
+
+/// `text` cut to at most `chars` characters at a word boundary, "…" marking the cut.
+pub fn shortened(text: &str, chars: usize) -> String {
+    if text.chars().count() <= chars {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    for word in text.split_whitespace() {
+        if out.chars().count() + word.chars().count() + 2 > chars {
+            break;
+        }
+        if !out.is_empty() {
+            out.push(' ');
+        }
+        out.push_str(word);
+    }
+    if out.is_empty() {
+        out = text.chars().take(chars - 1).collect();
+    }
+    out.push('…');
+    out
 }
 
 /// `nk_` + the page id with every character outside [A-Za-z0-9_] replaced by `_`.
@@ -125,35 +176,120 @@ impl Writer {
     }
 }
 
-/// The four materials of one page.
-fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
+/// A scalar perceptual roughness as the (anisotropic) GGX α that MaterialX's BSDF nodes
+/// take: α = r², in both directions (what its `roughness_anisotropy` node gives at
+/// anisotropy 0).
+fn alpha(roughness: f64) -> String {
+    let a = roughness * roughness;
+    format!("{a}, {a}")
+}
+
+/// The OpenPBR inputs of a page by its appearance (docs/engine-integration.md).
+pub fn openpbr_inputs(page: &ExportPage) -> Vec<(&'static str, &'static str, String)> {
     let p = page.params;
-    let title = page.title();
-    let openpbr = format!("{name}_openpbr");
-    let mut inputs: Vec<(&str, &str, String)> = Vec::new();
-    match (page.kind, p.dielectric) {
-        (Kind::Dielectric, Some(d)) => {
-            inputs.push(("base_metalness", "float", "0".into()));
-            inputs.push(("specular_ior", "float", d.n_d.to_string()));
-            inputs.push(("transmission_weight", "float", "1".into()));
-        }
-        _ => {
+    let mut inputs: Vec<(&str, &str, String)> = vec![("specular_roughness", "float", page.roughness.to_string())];
+    let ior = p.dielectric.map(|d| d.n_d.max(1.0));
+    match p.volume.appearance {
+        Appearance::Metal => {
+            inputs.push(("base_weight", "float", "1".into()));
             inputs.push(("base_color", "color3", color3(unit(p.f0))));
             inputs.push(("base_metalness", "float", "1".into()));
             inputs.push(("specular_color", "color3", color3(unit(p.f82.map(|f| f.tint)))));
         }
+        Appearance::Transparent | Appearance::Tinted => {
+            inputs.push(("base_metalness", "float", "0".into()));
+            if let Some(ior) = ior {
+                inputs.push(("specular_ior", "float", ior.to_string()));
+            }
+            inputs.push(("transmission_weight", "float", "1".into()));
+            if let Some(attenuation) = p.volume.attenuation {
+                inputs.push(("transmission_color", "color3", color3(unit(attenuation.colour))));
+                inputs.push(("transmission_depth", "float", attenuation.distance_m.to_string()));
+            }
+            if let Some(abbe) = p.dielectric.and_then(|d| d.abbe) {
+                inputs.push(("transmission_dispersion_scale", "float", "1".into()));
+                inputs.push(("transmission_dispersion_abbe_number", "float", abbe.to_string()));
+            }
+        }
+        Appearance::Opaque => {
+            // No diffuse light leaves a bulk absorber: only the specular layer, at its ior.
+            inputs.push(("base_weight", "float", "0".into()));
+            inputs.push(("base_metalness", "float", "0".into()));
+            if let Some(ior) = ior {
+                inputs.push(("specular_ior", "float", ior.to_string()));
+            }
+        }
     }
-    w.node("open_pbr_surface", &format!("{openpbr}_shader"), "surfaceshader", &inputs);
-    w.material(&openpbr, &format!("{openpbr}_shader"), &format!("{title}: OpenPBR from F0 and F82 tint (dielectrics: n_d)"));
+    inputs
+}
+
+/// The five materials of one page.
+fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
+    let p = page.params;
+    let title = page.title();
+    let openpbr = format!("{name}_openpbr");
+    w.node("open_pbr_surface", &format!("{openpbr}_shader"), "surfaceshader", &openpbr_inputs(page));
+    w.material(
+        &openpbr,
+        &format!("{openpbr}_shader"),
+        &format!(
+            "{title}: OpenPBR by its appearance ({}): F0 and F82 tint, or n_d, transmission and its colour",
+            p.volume.appearance.name()
+        ),
+    );
+
+    // Autodesk Standard Surface: its metal Fresnel is Gulbrandsen's, base_color the
+    // reflectivity and specular_color the edge tint; `base` at 1 (its default 0.8 darkens).
+    let standard = format!("{name}_standard_surface");
+    let mut inputs: Vec<(&str, &str, String)> =
+        vec![("base", "float", "1".into()), ("specular_roughness", "float", page.roughness.to_string())];
+    match p.volume.appearance {
+        Appearance::Metal => {
+            inputs.push(("metalness", "float", "1".into()));
+            inputs.push(("base_color", "color3", color3(p.gulbrandsen.map(|g| g.r))));
+            inputs.push(("specular_color", "color3", color3(p.gulbrandsen.map(|g| g.g))));
+        }
+        appearance => {
+            inputs.push(("metalness", "float", "0".into()));
+            if let Some(d) = p.dielectric {
+                inputs.push(("specular_IOR", "float", d.n_d.max(1.0).to_string()));
+            }
+            if appearance.transmits() {
+                inputs.push(("transmission", "float", "1".into()));
+                if let Some(attenuation) = p.volume.attenuation {
+                    inputs.push(("transmission_color", "color3", color3(unit(attenuation.colour))));
+                    inputs.push(("transmission_depth", "float", attenuation.distance_m.to_string()));
+                }
+            } else {
+                inputs[0] = ("base", "float", "0".into());
+            }
+        }
+    }
+    w.node("standard_surface", &format!("{standard}_shader"), "surfaceshader", &inputs);
+    w.material(
+        &standard,
+        &format!("{standard}_shader"),
+        &format!("{title}: Autodesk Standard Surface (base 1; metals through Gulbrandsen's reflectivity and edge tint)"),
+    );
 
     let conductor = format!("{name}_conductor");
     w.node(
         "conductor_bsdf",
         &format!("{conductor}_bsdf"),
         "BSDF",
-        &[("ior", "color3", color3(p.fitted.map(|f| f.index.n))), ("extinction", "color3", color3(p.fitted.map(|f| f.index.k)))],
+        &[
+            ("ior", "color3", color3(p.exported_index().map(|i| i.n))),
+            ("extinction", "color3", color3(p.exported_index().map(|i| i.k))),
+            ("roughness", "vector2", alpha(page.roughness)),
+        ],
     );
-    w.material_from_bsdf(&conductor, &format!("{conductor}_bsdf"), &format!("{title}: conductor_bsdf with the fitted per-channel (n, k)"));
+    w.material_from_bsdf(
+        &conductor,
+        &format!("{conductor}_bsdf"),
+        &format!(
+            "{title}: conductor_bsdf with the fitted per-channel (n, k) (the channel's own (n, k) where the fit ended on its search box)"
+        ),
+    );
 
     let artistic = format!("{name}_artistic");
     w.node(
@@ -166,6 +302,7 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
     for output in ["ior", "extinction"] {
         let _ = writeln!(w.text, "    <input name=\"{output}\" type=\"color3\" nodename=\"{artistic}_ior\" output=\"{output}\" />");
     }
+    let _ = writeln!(w.text, "    <input name=\"roughness\" type=\"vector2\" value=\"{}\" />", alpha(page.roughness));
     let _ = writeln!(w.text, "  </conductor_bsdf>");
     w.material_from_bsdf(
         &artistic,
@@ -184,6 +321,7 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
             ("color82", "color3", color3(g.color82)),
             ("color90", "color3", color3(g.color90)),
             ("exponent", "float", g.exponent.to_string()),
+            ("roughness", "vector2", alpha(page.roughness)),
         ],
     );
     w.material_from_bsdf(

@@ -13,9 +13,10 @@
 //!   channel the mean of |F − F_ref|/F_ref.
 
 use super::models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
+use nklut_optics::appearance::{self, Volume};
 use nklut_optics::color::{self, acescg, srgb, AngleQuadrature, EffectiveIndex, Lab, PreparedSpectrum};
 use nklut_optics::fresnel::{self, ExactTerms};
-use nklut_optics::spectrum::{self, Index, Kind, Material};
+use nklut_optics::spectrum::{self, Channels, Index, Kind, Material};
 
 /// Fraunhofer lines of the Abbe number (nm): d (helium), F (hydrogen), C (hydrogen).
 pub const D_LINE_NM: f64 = 587.56;
@@ -126,13 +127,23 @@ pub struct EngineParams {
     pub fitted: [EffectiveIndex; 3],
     /// The three-wavelength (n, k) of materials.csv.
     pub channel_index: [Index; 3],
-    /// Set for dielectric pages.
+    /// Set for dielectric pages (without an Abbe number for an opaque one: its light never
+    /// travels far enough to disperse).
     pub dielectric: Option<Dielectric>,
+    /// What light does inside the material at a scene's size, and its volume's colour.
+    pub volume: Volume,
     /// One per model of [`EngineModel::ALL`] that applies (GltfIor only for dielectrics).
     pub errors: Vec<ModelError>,
 }
 
 impl EngineParams {
+    /// The per-channel (n, k) an export pastes as optics: the fitted index, or where the
+    /// fit ended on its search box ([`EffectiveIndex::at_bound`]: a curve fit, not the
+    /// material) the index at the channel's wavelength.
+    pub fn exported_index(&self) -> [Index; 3] {
+        [0, 1, 2].map(|c| if self.fitted[c].at_bound() { self.channel_index[c] } else { self.fitted[c].index })
+    }
+
     pub fn error(&self, model: EngineModel) -> Option<&ModelError> {
         self.errors.iter().find(|e| e.model == model)
     }
@@ -197,10 +208,11 @@ pub fn dielectric(material: &Material) -> Option<Dielectric> {
 
 /// Every parameter of a page from its spectral reference (`rule` the angle quadrature of
 /// the fits and errors).
-pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQuadrature) -> EngineParams {
+pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQuadrature, channels: &Channels) -> EngineParams {
     let f0 = reference.f0;
+    let volume = appearance::volume(&material.data, material.kind, &material.channels, channels);
     let dielectric = match material.kind {
-        Kind::Dielectric => dielectric(material),
+        Kind::Dielectric => dielectric(material).map(|d| Dielectric { abbe: d.abbe.filter(|_| volume.appearance.transmits()), ..d }),
         Kind::Conductor => None,
     };
     let f82 = [0, 1, 2].map(|c| F82Tint::new(f0[c], reference.at_edge[c]));
@@ -221,6 +233,7 @@ pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQua
         fitted,
         channel_index: material.channels,
         dielectric,
+        volume,
         errors: Vec::new(),
     };
     params.errors = EngineModel::ALL
@@ -304,7 +317,7 @@ mod tests {
     fn params_of(material: &Material) -> EngineParams {
         let rule = angle_quadrature();
         let (spectrum, _) = sample_spectrum(&material.data);
-        engine_params(material, &Reference::new(&PreparedSpectrum::new(&spectrum), rule), rule)
+        engine_params(material, &Reference::new(&PreparedSpectrum::new(&spectrum), rule), rule, &Channels::default())
     }
 
     #[test]

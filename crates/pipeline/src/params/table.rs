@@ -3,9 +3,12 @@
 //! into (so a report or a script can build a "paste it in" panel from the table alone).
 
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
+use super::mtlx::{display_name, DISPLAY_CHARS};
 use super::page::{EngineModel, EngineParams, C_LINE_NM, D_LINE_NM, F_LINE_NM};
+use super::ExportSettings;
 use crate::ingest::KeptPage;
 use crate::output::Table;
+use nklut_optics::appearance::{SCENE_SCALE_M, THIN_LIMIT_M};
 use nklut_optics::color::angle_average::{NODES, PANELS};
 use nklut_optics::color::srgb::hex_swatch;
 
@@ -27,19 +30,75 @@ fn optional(table: &mut Table, rows: &[EngineParams], name: &str, meaning: &str,
     table.optional_float(name, meaning, rows.iter().map(value).collect());
 }
 
-/// The table of `rows` (one per page of `kept`, same order).
-pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams]) -> Table {
+/// The table of `rows` (one per page of `kept`, same order), with the exports' `settings`.
+pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams], settings: &ExportSettings) -> Table {
     let mut table = Table::new();
     table
         .text("page", "page id shelf/book/page", kept.iter().map(|p| p.id()).collect())
-        .text("names", "material names, '; '-separated (as in materials.csv)", kept.iter().map(|p| p.names.join("; ")).collect())
+        .text(
+            "display_name",
+            &format!("the short name the exports give the material: the catalog's page name on the 3d shelf, else the book's name and the page (at most {DISPLAY_CHARS} characters)"),
+            kept.iter().map(display_name).collect(),
+        )
+        .text("synonyms", "the material's names, '; '-separated (about.yml NAMES, as materials.csv's names)", kept.iter().map(|p| p.names.join("; ")).collect())
         .text("data_file", "data file relative to database/data/", kept.iter().map(|p| p.page.data.clone()).collect())
         .text("kind", "conductor or dielectric (as in materials.csv)", kept.iter().map(|p| p.material.kind.as_str().into()).collect());
+    appearance_columns(&mut table, rows, settings);
     f0_columns(&mut table, rows);
     model_columns(&mut table, rows);
     dielectric_columns(&mut table, rows);
     error_columns(&mut table, rows);
     table
+}
+
+fn appearance_columns(table: &mut Table, rows: &[EngineParams], settings: &ExportSettings) {
+    table.text(
+        "appearance",
+        &format!(
+            "what light does inside the material at a scene's size, from the absorption depths: metal (a conductor); opaque (every channel absorbed within {} mm); tinted (some channel within {} m, the largest size of the {}-{} m scene scale); transparent (every channel's depth at least {} m). The exports follow it (docs/engine-integration.md)",
+            THIN_LIMIT_M * 1e3,
+            SCENE_SCALE_M.1,
+            SCENE_SCALE_M.0,
+            SCENE_SCALE_M.1,
+            SCENE_SCALE_M.1
+        ),
+        rows.iter().map(|p| p.volume.appearance.name().into()).collect(),
+    );
+    for (c, suffix) in SUFFIXES.iter().enumerate() {
+        optional(
+            table,
+            rows,
+            &format!("absorption_depth_m_{suffix}"),
+            "absorption depth lambda/(4 pi k) at the channel wavelength (m): the distance over which light falls to 1/e (Beer-Lambert); empty where k = 0",
+            |p| Some(p.volume.depths_m[c]).filter(|d| d.is_finite()),
+        );
+    }
+    optional(
+        table,
+        rows,
+        "attenuation_distance_m",
+        "tinted materials: the smallest channel absorption depth D (m), the distance of the volume colour. Paste into: glTF KHR_materials_volume attenuationDistance, OpenPBR transmission_depth, Unity HDRP Absorption Distance",
+        |p| p.volume.attenuation.map(|a| a.distance_m),
+    );
+    for (c, suffix) in SUFFIXES.iter().enumerate() {
+        optional(
+            table,
+            rows,
+            &format!("attenuation_colour_{suffix}"),
+            "tinted materials: the colour white light takes after attenuation_distance_m, linear sRGB of the spectral transmittance exp(-4 pi k(lambda) D / lambda) under D65 and the CIE 1931 observer. Paste into: glTF attenuationColor, OpenPBR transmission_color, Unity HDRP Transmittance Color",
+            |p| p.volume.attenuation.map(|a| a.colour[c]),
+        );
+    }
+    table.text(
+        "attenuation_hex",
+        "attenuation colour as 8-bit sRGB #rrggbb (empty unless tinted)",
+        rows.iter().map(|p| p.volume.attenuation.map_or(String::new(), |a| hex_swatch(a.colour))).collect(),
+    );
+    table.float(
+        "export_roughness",
+        &format!("the roughness every export gives the material: {}", settings.describe()),
+        rows.iter().map(|p| settings.roughness(p.volume.appearance)).collect(),
+    );
 }
 
 fn f0_columns(table: &mut Table, rows: &[EngineParams]) {
@@ -91,11 +150,16 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
          Specular Tint (metallic 1; Blender clamps it to [0,1], see f82_tint_above_one), MaterialX generalized_schlick_bsdf color82 with exponent 5",
         |p, c| p.f82[c].tint,
     );
+    table.text(
+        "f82_tint_hex",
+        "the F82 tint as 8-bit sRGB #rrggbb (each channel clamped to [0, 1]), as Adobe publishes it",
+        rows.iter().map(|p| hex_swatch(p.f82.map(|f| f.tint))).collect(),
+    );
     per_channel(
         table,
         rows,
-        "f82_b",
-        "b of the F82-tint model, b = F_Schlick(mu_bar) (1 - tint) / (mu_bar (1-mu_bar)^6): the coefficient a shader evaluates",
+        "f82_coeff_b",
+        "b of the F82-tint model, b = F_Schlick(mu_bar) (1 - tint) / (mu_bar (1-mu_bar)^6): the coefficient a shader evaluates (formerly f82_b_*)",
         |p, c| p.f82[c].b,
     );
     table.boolean(
@@ -106,21 +170,21 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
     per_channel(
         table,
         rows,
-        "gulbrandsen_r",
+        "gulbrandsen_reflectivity",
         &format!(
             "Gulbrandsen 2014 reflectivity r = F0 clamped to [0, {GULBRANDSEN_MAX_R}] (as MaterialX artistic_ior clamps). Paste into: \
-             MaterialX artistic_ior reflectivity, Autodesk Standard Surface / Arnold base_color (metalness 1)"
+             MaterialX artistic_ior reflectivity, Autodesk Standard Surface / Arnold base_color (metalness 1, base 1) (formerly gulbrandsen_r_*)"
         ),
         |p, c| p.gulbrandsen[c].r,
     );
     per_channel(
         table,
         rows,
-        "gulbrandsen_g",
+        "gulbrandsen_edge_tint",
         &format!(
             "Gulbrandsen 2014 edge tint g in [0,1], chosen so that exact Fresnel of (n(r,g), k(r,g)) best fits the spectral curve: \
              minimum of the mean over {} of ((F - F_spectral)/F_spectral)^2 (grid scan + Brent's method). Paste into: MaterialX \
-             artistic_ior edge_color, Autodesk Standard Surface / Arnold specular_color (metalness 1)",
+             artistic_ior edge_color, Autodesk Standard Surface / Arnold specular_color (metalness 1, base 1) (formerly gulbrandsen_g_*)",
             quadrature_words()
         ),
         |p, c| p.gulbrandsen[c].g,
@@ -161,6 +225,13 @@ fn model_columns(table: &mut Table, rows: &[EngineParams]) {
          Extinction, pbrt/Mitsuba RGB conductor k",
         |p, c| p.fitted[c].index.k,
     );
+    for (c, suffix) in SUFFIXES.iter().enumerate() {
+        table.boolean(
+            &format!("fitted_at_bound_{suffix}"),
+            "the fit of fitted_n, fitted_k ended on its search box (n in [1e-3, 100], k up to 100): a curve fit, not the material's optics; the exports paste channel_n, channel_k of this channel instead",
+            rows.iter().map(|p| p.fitted[c].at_bound()).collect(),
+        );
+    }
     per_channel(table, rows, "channel_n", "n at the channel wavelength (three-wavelength index of materials.csv)", |p, c| {
         p.channel_index[c].n
     });
@@ -188,7 +259,7 @@ fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
         table,
         rows,
         "abbe_d",
-        "dielectrics: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion) or a line is missing",
+        "dielectrics that transmit: Abbe number (n_d - 1)/(n_F - n_C); empty where n_F <= n_C (no normal dispersion), a line is missing, or the material is opaque (its light never travels far enough to disperse). Paste into: OpenPBR transmission_dispersion_abbe_number; glTF KHR_materials_dispersion dispersion = 20/abbe_d",
         |p| d(p).and_then(|x| x.abbe),
     );
     optional(

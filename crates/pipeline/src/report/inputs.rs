@@ -54,6 +54,8 @@ pub struct Inputs {
     /// The `nvidia` fits `validate` kept (`.cache/nvidia-fits.bin`), read only: the
     /// curves fit what it lacks.
     pub fits: FitMemo,
+    /// The paste-in files `params` wrote (`params/<name>.json`), by page id.
+    pub paste: BTreeMap<String, serde_json::Value>,
 }
 
 impl Inputs {
@@ -93,8 +95,23 @@ impl Inputs {
             extra,
             channels,
             fits: FitMemo::load(out),
+            paste: paste_files(out),
         })
     }
+}
+
+/// The paste-in files under `out/params/`, by the page id each names (a file that does not
+/// read as JSON with a `page` is left out: the page then shows no per-tool blocks).
+fn paste_files(out: &Path) -> BTreeMap<String, serde_json::Value> {
+    let folder = out.join(crate::params::PASTE_DIR);
+    let Ok(entries) = std::fs::read_dir(&folder) else { return BTreeMap::new() };
+    entries
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
+        .filter_map(|e| nklut_optics::db::file::read_regular(&e.path(), 1 << 20).ok())
+        .filter_map(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
+        .filter_map(|value| Some((value["page"].as_str()?.to_string(), value)))
+        .collect()
 }
 
 /// The folders directly under `out`, sorted by name (the per-scene output folders).

@@ -333,6 +333,21 @@ fn params_section(html: &mut String, ctx: &Context, page: &str) {
         table.html("params"),
         escape(&paste)
     );
+    // One block per tool, from the page's paste-in file (params/<name>.json).
+    if let Some(engines) = ctx.inputs.paste.get(page).and_then(|p| p["engines"].as_object()) {
+        html.push_str("<h3 id=\"paste-per-tool\">Per tool (params/ paste-in file)</h3>\n");
+        for (tool, title) in crate::params::paste::TOOLS {
+            if let Some(text) = engines.get(tool).and_then(|t| t.as_str()) {
+                let rows = text.lines().count().clamp(2, 16);
+                let _ = writeln!(
+                    html,
+                    "<figure class=\"tool\"><figcaption>{}</figcaption><textarea class=\"paste\" readonly rows=\"{rows}\" data-tool=\"{tool}\">{}</textarea></figure>",
+                    escape(title),
+                    escape(text)
+                );
+            }
+        }
+    }
 }
 
 fn warnings_section(html: &mut String, ctx: &Context, page: &str) {

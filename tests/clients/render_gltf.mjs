@@ -1,0 +1,323 @@
+// Renders every material of a glTF export in a real glTF client — three.js (npm `three`) in
+// headless Chromium through SwiftShader's WebGL2 — and measures what it shows.
+//
+// Usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--timeout SECONDS]
+//
+// GLTF_FILE holds one sphere node per material, named by page id (`3d/glass/BK7`). The page
+// tests/clients/render.html renders each top-level node alone, centred at the origin, seen
+// from +z by a 45° camera at distance 4, in front of a black-and-white checkerboard (10×10
+// checks of 0.75 units at z = −2.5, unlit, exactly 0 and 1, the sphere's centre in front of
+// the middle of a white check), lit by three.js's RoomEnvironment (PMREM, intensity 1), with
+// NoToneMapping and sRGB output, 256×256 pixels. Each node is rendered twice into a float
+// target (linear values as the shaders computed them, unclamped: highlights above 1 keep
+// their colour) — with the board as made and with its colours inverted — and once on the
+// canvas as a client displays it (the PNG). One pair without any sphere is the reference.
+// The numbers are taken over the central disc of the sphere, of radius 0.4 × its screen
+// radius, in the float renders:
+//
+//   contrast               how much of the board one sees through the sphere:
+//                          mean |Y(board) − Y(inverted board)| over the disc, divided by the
+//                          same for the reference (Y: linear Rec. 709 luminance). 1 for a
+//                          perfectly clear sphere, 0 for an opaque one. Whatever does not come
+//                          from behind the sphere (reflections, diffuse light) cancels in the
+//                          difference, and it does not care where refraction sends each pixel
+//                          (an inverted, magnified or shifted image scores like a straight
+//                          one); blur (rough transmission) mixes black and white and lowers it.
+//   contrast_aligned       the plain version: (mean where the reference is white − mean where
+//                          it is black) / the same in the reference, on the main render only.
+//                          Diagnostic only: refraction that moves the checks drives it towards
+//                          0 for clear glass, and reflections that happen to fall on white
+//                          checks make it large for opaque spheres.
+//   transmitted_linear_rgb the per-channel version of `contrast`: the linear colour of a white
+//                          background seen through the sphere (absorption, tint).
+//   mean_linear_rgb        the mean linear colour of the disc in the main (as made) render.
+//   hue_degrees, chroma    HSV hue (red 0°, yellow 60°, green 120°, blue 240°) and chroma
+//                          (max − min) of the sRGB encoding of mean_linear_rgb scaled so that
+//                          its largest channel is 1 — the colour whatever its brightness; the
+//                          chroma is then HSV's saturation (0 for a grey);
+//                          lab, lab_hue_degrees, lab_chroma: CIELAB (D65) of the same colour.
+//   transmitted_hue_degrees, transmitted_chroma, transmitted_lab_*: the same of
+//                          transmitted_linear_rgb.
+//   centre_linear, centre_hue_degrees, centre_chroma
+//                          the pixel at (128, 128) of the main float render, and its colour.
+//   centre_srgb8, centre_srgb8_as_linear
+//                          that pixel on the canvas (8-bit sRGB as displayed, clamped at 255).
+//   white_mirror_centre_linear, centre_over_white_mirror
+//                          the same pixel of a white mirror (MeshStandardMaterial, colour 1,
+//                          metalness 1, the material's roughness) in place of the sphere, and
+//                          the ratio per channel: for a metal its F0 as the renderer shows it
+//                          (both see the same environment, and three.js's split-sum term
+//                          F0·A + B at normal incidence has B ≈ 0).
+//
+// and what three.js loaded (MeshPhysicalMaterial's properties: transmission, roughness,
+// metalness, ior, thickness, attenuation_distance — the string "Infinity" when unset —,
+// attenuation_color, specular_*, dispersion, and the glTF material's name and extensions).
+//
+// Writes OUT_DIR/<node name with '/' → '__'>.png per node, OUT_DIR/reference.png (the board
+// alone) and OUT_DIR/results.json; exits 0 when every node rendered, 1 with a message on
+// stderr on any failure (no WebGL2, load error, timeout: the whole run is bounded by
+// --timeout, default 180 s; 38 materials take about 15 s on two idle cores).
+//
+// Nothing leaves the machine: a static HTTP server on 127.0.0.1 (port chosen by the system)
+// serves the page, three.js and the glTF folder, the browser talks to this script over a
+// pipe, and the page may fetch nothing but that server. The browser's profile is a fresh
+// folder under the system's temporary directory ($TMPDIR), removed at the end.
+
+import { createServer } from 'node:http';
+import { createRequire } from 'node:module';
+import { mkdtempSync, mkdirSync, readFileSync, rmSync, writeFileSync, statSync, createReadStream } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, extname, join, resolve, sep } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = resolve(here, '..', '..');
+const deps = process.env.NKLUT_TEST_DEPS ? resolve(process.env.NKLUT_TEST_DEPS) : join(root, '.test-deps');
+const modules = join(deps, 'npm', 'node_modules');
+const chromiumPath = process.env.NKLUT_CHROMIUM || '/usr/bin/chromium';
+
+function usage(message) {
+  console.error(`render_gltf: ${message}`);
+  console.error('usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--timeout SECONDS]');
+  process.exit(2);
+}
+
+const positional = [];
+let only = null;
+let timeoutSeconds = 180;
+for (let i = 2; i < process.argv.length; i++) {
+  const arg = process.argv[i];
+  if (arg === '--only') only = (process.argv[++i] ?? usage('--only needs a list')).split(',').filter(Boolean);
+  else if (arg === '--timeout') timeoutSeconds = Number(process.argv[++i]);
+  else if (arg.startsWith('--')) usage(`unknown option ${arg}`);
+  else positional.push(arg);
+}
+if (positional.length !== 2) usage('needs GLTF_FILE and OUT_DIR');
+if (!(timeoutSeconds > 0)) usage('--timeout needs a positive number of seconds');
+const [gltfFile, outDir] = positional.map((p) => resolve(p));
+
+const started = Date.now();
+const deadline = started + timeoutSeconds * 1000;
+let browser = null;
+let server = null;
+let profile = null;
+
+const sleep = (ms) => new Promise((resolveSleep) => setTimeout(resolveSleep, ms));
+
+/**
+ * Closes Chromium — asking it to close when `graceful`, else (or when that takes over 5 s)
+ * killing its process group (puppeteer starts it as a group leader) — then the server and the
+ * profile.
+ */
+async function shutDown(graceful) {
+  const child = browser?.process();
+  if (browser && graceful) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
+  browser = null;
+  if (child && child.exitCode === null && child.signalCode === null) {
+    const exited = new Promise((resolveExit) => child.once('exit', resolveExit));
+    try {
+      process.kill(-child.pid, 'SIGKILL');
+    } catch {
+      child.kill('SIGKILL');
+    }
+    await Promise.race([exited, sleep(5000)]);
+  }
+  server?.close();
+  server = null;
+  try {
+    if (profile) rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 200 });
+  } catch (error) {
+    console.error(`render_gltf: could not remove the browser profile ${profile}: ${error.message}`);
+  }
+  profile = null;
+}
+
+let dying = false;
+
+async function die(message) {
+  if (dying) return;
+  dying = true;
+  console.error(`render_gltf: ${message}`);
+  setTimeout(() => process.exit(1), 15000).unref();
+  await shutDown(false);
+  process.exit(1);
+}
+
+// A hard stop a little after the deadline, whatever is hanging.
+const watchdog = setTimeout(() => die(`timed out after ${timeoutSeconds} s (watchdog)`), timeoutSeconds * 1000 + 5000);
+
+/** `promise`, or a rejection naming `what` once the run's deadline has passed. */
+function bounded(promise, what) {
+  let timer;
+  const timeout = new Promise((_, reject) => {
+    timer = setTimeout(() => reject(new Error(`timed out after ${timeoutSeconds} s while ${what}`)), Math.max(deadline - Date.now(), 0));
+  });
+  return Promise.race([promise, timeout]).finally(() => clearTimeout(timer));
+}
+
+const TYPES = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.json': 'application/json',
+  '.gltf': 'model/gltf+json',
+  '.bin': 'application/octet-stream',
+  '.png': 'image/png',
+  '.jpg': 'image/jpeg',
+  '.ktx2': 'image/ktx2',
+};
+
+/** The file a request path names under one of the served roots, or null. */
+function servedFile(urlPath) {
+  const mounts = [
+    ['/render.html', join(here, 'render.html')],
+    ['/three/', join(modules, 'three') + sep],
+    ['/model/', dirname(gltfFile) + sep],
+  ];
+  let path;
+  try {
+    path = decodeURIComponent(urlPath.split('?')[0]);
+  } catch {
+    return null;
+  }
+  for (const [prefix, target] of mounts) {
+    if (path === prefix) return target;
+    if (prefix.endsWith('/') && path.startsWith(prefix)) {
+      const file = resolve(target, '.' + sep + path.slice(prefix.length));
+      if (!file.startsWith(target)) return null; // no way out of the served folder
+      return file;
+    }
+  }
+  return null;
+}
+
+function serve() {
+  return new Promise((resolveServer, reject) => {
+    const s = createServer((request, response) => {
+      const file = servedFile(request.url);
+      let size = -1;
+      try {
+        if (file && statSync(file).isFile()) size = statSync(file).size;
+      } catch {
+        // missing: 404 below
+      }
+      if (request.method !== 'GET' || size < 0) {
+        response.writeHead(404, { 'content-type': 'text/plain' });
+        response.end(`not found: ${request.url}`);
+        return;
+      }
+      response.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'content-length': size, 'cache-control': 'no-store' });
+      createReadStream(file).pipe(response);
+    });
+    s.on('error', reject);
+    s.listen(0, '127.0.0.1', () => resolveServer(s));
+  });
+}
+
+async function main() {
+  for (const [what, path] of [
+    ['the glTF file', gltfFile],
+    ['three.js', join(modules, 'three', 'package.json')],
+    ['puppeteer-core', join(modules, 'puppeteer-core', 'package.json')],
+    ['Chromium', chromiumPath],
+  ]) {
+    try {
+      statSync(path);
+    } catch {
+      throw new Error(`${what} is missing at ${path}${what === 'the glTF file' ? '' : ': run `bash scripts/test-deps`'}`);
+    }
+  }
+  const threeVersion = JSON.parse(readFileSync(join(modules, 'three', 'package.json'), 'utf8')).version;
+  const require = createRequire(join(modules, 'index.js'));
+  const puppeteer = require('puppeteer-core');
+  mkdirSync(outDir, { recursive: true });
+
+  server = await bounded(serve(), 'starting the HTTP server');
+  const origin = `http://127.0.0.1:${server.address().port}`;
+  profile = mkdtempSync(join(tmpdir(), 'render-gltf-chromium-'));
+  browser = await bounded(
+    puppeteer.launch({
+      executablePath: chromiumPath,
+      headless: true,
+      pipe: true,
+      protocolTimeout: Math.max(deadline - Date.now(), 1000),
+      timeout: Math.max(deadline - Date.now(), 1000),
+      args: [
+        '--headless=new',
+        '--no-sandbox',
+        '--disable-gpu-sandbox',
+        '--use-angle=swiftshader',
+        '--enable-unsafe-swiftshader',
+        '--disable-background-networking',
+        '--disable-component-update',
+        '--no-first-run',
+        '--disable-sync',
+        '--disable-quic',
+        `--user-data-dir=${profile}`,
+      ],
+    }),
+    'starting Chromium',
+  );
+  const chromium = await bounded(browser.version(), 'asking Chromium its version');
+  const page = await bounded(browser.newPage(), 'opening a page');
+  const problems = [];
+  page.on('console', (message) => {
+    if (message.type() === 'error') problems.push(`console: ${message.text()}`);
+  });
+  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
+  // The page may reach this script's server and nothing else.
+  await bounded(page.setRequestInterception(true), 'setting up request filtering');
+  page.on('request', (request) => {
+    const url = request.url();
+    if (url.startsWith(origin + '/') || url.startsWith('data:') || url.startsWith('blob:')) request.continue();
+    else {
+      problems.push(`blocked request to ${url}`);
+      request.abort();
+    }
+  });
+  await bounded(page.goto(`${origin}/render.html`, { waitUntil: 'load', timeout: Math.max(deadline - Date.now(), 1000) }), 'loading the page');
+  await bounded(page.waitForFunction('window.harness && window.harness.ready', { timeout: Math.max(deadline - Date.now(), 1000) }), 'loading three.js').catch((error) => {
+    throw new Error(`${error.message}${problems.length ? `; ${problems.join('; ')}` : ''}`);
+  });
+
+  const gltfUrl = `/model/${encodeURIComponent(gltfFile.slice(dirname(gltfFile).length + 1))}`;
+  const setup = await bounded(page.evaluate((url) => window.harness.setup(url), gltfUrl), 'loading the glTF file').catch((error) => {
+    throw new Error(`${error.message}${problems.length ? `; ${problems.join('; ')}` : ''}`);
+  });
+  writeFileSync(join(outDir, 'reference.png'), Buffer.from(setup.reference_png, 'base64'));
+  console.error(`render_gltf: three ${threeVersion} (r${setup.three}), ${chromium}, WebGL: ${setup.webgl}; ${setup.nodes.length} nodes`);
+  if (!/swiftshader/i.test(setup.webgl)) console.error(`render_gltf: note: the WebGL renderer is not SwiftShader (${setup.webgl})`);
+
+  const wanted = only ?? setup.nodes;
+  const missing = wanted.filter((name) => !setup.nodes.includes(name));
+  if (missing.length) throw new Error(`no node named ${missing.join(', ')} in ${gltfFile}`);
+  const materials = {};
+  for (const name of wanted) {
+    const index = setup.nodes.indexOf(name);
+    const t0 = Date.now();
+    const rendered = await bounded(page.evaluate((i) => window.harness.render(i), index), `rendering ${name}`);
+    writeFileSync(join(outDir, `${name.replaceAll('/', '__')}.png`), Buffer.from(rendered.png, 'base64'));
+    materials[name] = rendered.result;
+    const r = rendered.result;
+    console.error(
+      `render_gltf: ${name}: contrast ${r.contrast.toFixed(3)}, mean ${r.mean_linear_rgb.map((v) => v.toFixed(3)).join(' ')}, ` +
+        `hue ${r.hue_degrees.toFixed(0)}° chroma ${r.chroma.toFixed(3)} (${Date.now() - t0} ms)`,
+    );
+  }
+  if (problems.length) throw new Error(`the page reported: ${problems.join('; ')}`);
+
+  const results = {
+    three: threeVersion,
+    chromium,
+    webgl: setup.webgl,
+    size: setup.size,
+    seconds: (Date.now() - started) / 1000,
+    materials,
+  };
+  writeFileSync(join(outDir, 'results.json'), JSON.stringify(results, null, 1) + '\n');
+  await shutDown(true);
+  clearTimeout(watchdog);
+  console.error(`render_gltf: ${wanted.length} materials in ${results.seconds.toFixed(1)} s; ${join(outDir, 'results.json')}`);
+}
+
+main().catch((error) => die(error?.message ?? String(error)));
