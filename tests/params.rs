@@ -212,6 +212,22 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
 /// F82 tint from named refractiveindex.info pages (data/published/README.md); on those
 /// pages nklut's values must agree to the 3 decimals it prints.
 #[test]
+fn pages_that_share_a_name_are_told_apart() {
+    // The 3d shelf lists mercury under metals and under liquids with one page name.
+    let out = scratch("params-mercury");
+    let selection = Selection { pages: vec!["3d/metals/mercury".into(), "3d/liquids/mercury".into()], ..Default::default() };
+    nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
+    let rows = read_table(&out);
+    let names: Vec<&str> = rows.iter().map(|r| r["display_name"].as_str()).collect();
+    assert_eq!(names.len(), 2);
+    assert_ne!(names[0], names[1]);
+    assert!(names.iter().all(|n| n.starts_with("Mercury (Hg), ")), "{names:?}");
+    let gltf: serde_json::Value = serde_json::from_slice(&fs::read(out.join("materials.gltf")).unwrap()).unwrap();
+    assert_eq!(gltf["materials"][0]["name"], names[0]);
+    assert_eq!(gltf["materials"][1]["name"], names[1]);
+}
+
+#[test]
 fn metals_agree_with_the_physically_based_database() {
     let mut reader = csv::Reader::from_path(root().join("data/published/physicallybased-metals.csv")).unwrap();
     let published: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();

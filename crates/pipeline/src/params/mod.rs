@@ -125,8 +125,13 @@ pub fn command(
     let memo = CurveMemo::load(out);
     let params = compute(&ingested.kept, &config.channels, &mut timings, &memo)?;
     let mut files = table::engine_params_table(&ingested.kept, &params, settings).files("engine_params", true)?;
-    let pages: Vec<mtlx::ExportPage> =
-        ingested.kept.iter().zip(&params).map(|(page, params)| mtlx::ExportPage::new(page, params, settings)).collect();
+    let pages: Vec<mtlx::ExportPage> = ingested
+        .kept
+        .iter()
+        .zip(mtlx::display_names(&ingested.kept))
+        .zip(&params)
+        .map(|((page, display), params)| mtlx::ExportPage::new(page, display, params, settings))
+        .collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
     let scene = gltf::scene(&pages, "materials.bin", settings)?;
     files.push(SetFile::new("materials.bin", scene.bin));

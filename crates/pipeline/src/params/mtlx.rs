@@ -35,7 +35,7 @@ use nklut_optics::spectrum::Kind;
 #[derive(Clone, Debug)]
 pub struct ExportPage<'a> {
     pub page: String,
-    /// The short name a person reads ([`display_name`]).
+    /// The short name a person reads ([`display_names`]).
     pub display: String,
     pub names: Vec<String>,
     pub kind: Kind,
@@ -45,10 +45,11 @@ pub struct ExportPage<'a> {
 }
 
 impl<'a> ExportPage<'a> {
-    pub fn new(page: &KeptPage, params: &'a EngineParams, settings: &super::ExportSettings) -> Self {
+    /// `display` is the page's entry of [`display_names`] over the run's pages.
+    pub fn new(page: &KeptPage, display: String, params: &'a EngineParams, settings: &super::ExportSettings) -> Self {
         Self {
             page: page.id(),
-            display: display_name(page),
+            display,
             names: page.names.clone(),
             kind: page.material.kind,
             params,
@@ -73,6 +74,27 @@ pub fn display_name(page: &KeptPage) -> String {
     let p = &page.page;
     let full = if p.shelf == "3d" { p.page_name.clone() } else { format!("{}, {}", p.book_name, p.page) };
     shortened(&full, DISPLAY_CHARS)
+}
+
+/// The display names of a run's pages, one distinct name per page: a name two pages share
+/// gains the book's name ("Mercury (Hg), METALS" beside "Mercury (Hg), LIQUIDS"), and one
+/// still shared after that the page id, so that an engine's material list tells them apart.
+pub fn display_names(pages: &[KeptPage]) -> Vec<String> {
+    let first: Vec<String> = pages.iter().map(display_name).collect();
+    let with_book: Vec<String> = pages
+        .iter()
+        .zip(&first)
+        .map(|(page, name)| if count(&first, name) > 1 { format!("{name}, {}", page.page.book_name) } else { name.clone() })
+        .collect();
+    pages
+        .iter()
+        .zip(&with_book)
+        .map(|(page, name)| if count(&with_book, name) > 1 { format!("{name} [{}]", page.id()) } else { name.clone() })
+        .collect()
+}
+
+fn count(names: &[String], name: &str) -> usize {
+    names.iter().filter(|n| *n == name).count()
 }
 
 /// `text` cut to at most `chars` characters at a word boundary, "…" marking the cut.

@@ -3,7 +3,7 @@
 //! into (so a report or a script can build a "paste it in" panel from the table alone).
 
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
-use super::mtlx::{display_name, DISPLAY_CHARS};
+use super::mtlx::{display_names, DISPLAY_CHARS};
 use super::page::{EngineModel, EngineParams, C_LINE_NM, D_LINE_NM, F_LINE_NM};
 use super::ExportSettings;
 use crate::ingest::KeptPage;
@@ -37,8 +37,8 @@ pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams], settings: &
         .text("page", "page id shelf/book/page", kept.iter().map(|p| p.id()).collect())
         .text(
             "display_name",
-            &format!("the short name the exports give the material: the catalog's page name on the 3d shelf, else the book's name and the page (at most {DISPLAY_CHARS} characters)"),
-            kept.iter().map(display_name).collect(),
+            &format!("the short name the exports give the material: the catalog's page name on the 3d shelf, else the book's name and the page (at most {DISPLAY_CHARS} characters); a name two pages share gains the book's name, then the page id"),
+            display_names(kept),
         )
         .text("synonyms", "the material's names, '; '-separated (about.yml NAMES, as materials.csv's names)", kept.iter().map(|p| p.names.join("; ")).collect())
         .text("data_file", "data file relative to database/data/", kept.iter().map(|p| p.page.data.clone()).collect())
