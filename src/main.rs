@@ -71,6 +71,10 @@ enum Command {
         /// The largest surfel count run by brute force (n² per pass); above it, the tree only.
         #[arg(long, default_value_t = 20_000)]
         ao_max_brute: usize,
+        /// The long side in pixels of the hero frame (frame 0 again, every variant beside the
+        /// reference, for the report: effects_hero/); 0: none.
+        #[arg(long, default_value_t = nklut::effects::hero::DEFAULT_HERO_SIZE)]
+        hero_size: u32,
         #[command(flatten)]
         channels: ChannelArgs,
     },
@@ -147,13 +151,14 @@ fn run(cli: Cli) -> Result<()> {
     let open_db = || Database::open(cli.paths.db.as_deref());
     // The effects open the database only when their scene needs materials.
     let command = match command {
-        Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, channels } => {
+        Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, hero_size, channels } => {
             let request = nklut::effects::command::EffectsRequest {
                 scene,
                 frames,
                 resolution,
                 ao_rays,
                 ao_max_brute,
+                hero_size: Some(hero_size),
                 config: channels.config(),
                 budget: nklut::budget::MemoryBudget::of_machine(),
             };

@@ -441,7 +441,7 @@ fn scene_case(text: &str) -> Result<(), TestCaseError> {
         prop_assert!(p.scale.iter().all(|s| *s >= nklut::scene::SCALE_RANGE.0 && *s <= nklut::scene::SCALE_RANGE.1), "{:?}", p);
     }
     let budget = nklut::budget::MemoryBudget::given(1 << 30);
-    let checked = std::panic::catch_unwind(|| nklut::effects::command::check_memory(&scene, 64, &budget));
+    let checked = std::panic::catch_unwind(|| nklut::effects::command::check_memory(&scene, 64, Some([512, 512]), &budget));
     prop_assert!(checked.is_ok(), "the memory check panicked");
     if checked.unwrap().is_ok() && scene.effects.is_some() {
         let built = std::panic::catch_unwind(|| {

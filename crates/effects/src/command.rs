@@ -14,6 +14,7 @@ use anyhow::Result;
 use super::ao::experiment::AoSettings;
 use super::distance_map::Texel;
 use super::experiment::{self, EffectsStats};
+use super::hero::{files as hero_files, hero_resolution, hero_table, HeroSet};
 use super::trace::TracedFrame;
 use crate::scene::{EffectFamily, Scene, SceneError};
 use nklut_optics::db::Database;
@@ -36,6 +37,8 @@ pub struct EffectsRequest {
     pub ao_rays: u32,
     /// The largest surfel count run by brute force.
     pub ao_max_brute: usize,
+    /// The long side of the hero frame in pixels (`None`: no hero frame).
+    pub hero_size: Option<u32>,
     pub config: Config,
     pub budget: MemoryBudget,
 }
@@ -73,12 +76,27 @@ pub struct MemoryNeed {
 /// The memory the effects of `scene` will hold that the scene's fields decide before any
 /// mesh is read, family by family ([`family_needs`]). (Subdivided meshes are checked when
 /// their triangles are known.)
-pub fn memory_needs(scene: &Scene, ao_rays: u32) -> Vec<MemoryNeed> {
-    EffectFamily::ALL
-        .into_iter()
-        .filter(|&family| scene.names_effect(family))
-        .flat_map(|family| family_needs(family, scene, ao_rays))
-        .collect()
+pub fn memory_needs(scene: &Scene, ao_rays: u32, hero: Option<[u32; 2]>) -> Vec<MemoryNeed> {
+    let families: Vec<EffectFamily> = EffectFamily::ALL.into_iter().filter(|&family| scene.names_effect(family)).collect();
+    let mut needs: Vec<MemoryNeed> = families.iter().flat_map(|&family| family_needs(family, scene, ao_rays)).collect();
+    if let Some([width, height]) = hero {
+        // Per family: the reference and up to one panel per method (or 4 AO variants), each
+        // frame with its error map, encoded pictures and crops besides.
+        let panels = families
+            .iter()
+            .map(|family| match family {
+                EffectFamily::SpecularPaths => 1 + scene.shadings().len() as u128,
+                EffectFamily::Surfels => 5,
+            })
+            .sum::<u128>();
+        let per_pixel = std::mem::size_of::<[f64; 3]>() + std::mem::size_of::<Option<usize>>() + std::mem::size_of::<f64>() + 8;
+        needs.push(MemoryNeed {
+            field: "--hero-size".into(),
+            what: format!("{panels} hero panels at {width}x{height}"),
+            bytes: times(panels * u128::from(width) * u128::from(height), per_pixel),
+        });
+    }
+    needs
 }
 
 /// The memory one family of effects holds: for specular paths the distance maps of every
@@ -141,6 +159,17 @@ fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<Memory
 struct FamilyOutput {
     tables: Vec<(nklut_pipeline::output::Table, &'static str)>,
     pictures: Vec<SetFile>,
+    hero: Option<HeroSet>,
+}
+
+/// The most pixels on a hero frame's long side (`--hero-size`).
+pub const MAX_HERO_SIZE: u32 = 4096;
+
+impl EffectsRequest {
+    /// The hero frame's size for `scene`, if one is asked for.
+    pub fn hero_resolution(&self, scene: &Scene) -> Option<[u32; 2]> {
+        self.hero_size.filter(|&s| s > 0).map(|s| hero_resolution(scene.resolution, s))
+    }
 }
 
 /// Run one family of effects the scene names.
@@ -157,29 +186,40 @@ fn run_family(
             let db = open_db()?;
             let (materials, _) = crate::scene::read_materials(scene, &db, &request.config)?;
             let stage = super::trace::stage_from_table(scene, &materials)?;
-            let report = experiment::image_errors(scene, &stage, experiment::Settings::of(scene), &mut |line| log(line));
+            let settings = experiment::Settings { hero: request.hero_resolution(scene), ..experiment::Settings::of(scene) };
+            let report = experiment::image_errors(scene, &stage, settings, &mut |line| log(line));
             *stats = report.stats;
             Ok(FamilyOutput {
-                tables: vec![(experiment::error_table(&report.rows), "effects_errors")],
+                tables: vec![
+                    (experiment::error_table(&report.rows), "effects_errors"),
+                    (experiment::timing_table(&report.timing), "effects_cpu_timing"),
+                ],
                 pictures: super::pictures::files("effects_frames", &report.pictures)?,
+                hero: report.hero,
             })
         }
         EffectFamily::Surfels => {
-            let mut settings =
-                AoSettings { max_brute: request.ao_max_brute, resolution: scene.resolution, budget: request.budget, ..Default::default() };
+            let mut settings = AoSettings {
+                max_brute: request.ao_max_brute,
+                resolution: scene.resolution,
+                hero: request.hero_resolution(scene),
+                budget: request.budget,
+                ..Default::default()
+            };
             settings.rays.rays = request.ao_rays;
             let report = super::ao::experiment::run(scene, &settings, stats, &mut |line| log(line))?;
             Ok(FamilyOutput {
                 tables: vec![(super::ao::errors::ao_errors_table(&report.rows), "ao_errors")],
                 pictures: super::pictures::files("ao_frames", &report.pictures)?,
+                hero: report.hero,
             })
         }
     }
 }
 
 /// Check every need against the budget: the first that does not fit is the error.
-pub fn check_memory(scene: &Scene, ao_rays: u32, budget: &MemoryBudget) -> Result<()> {
-    for need in memory_needs(scene, ao_rays) {
+pub fn check_memory(scene: &Scene, ao_rays: u32, hero: Option<[u32; 2]>, budget: &MemoryBudget) -> Result<()> {
+    for need in memory_needs(scene, ao_rays, hero) {
         budget.check(&need.field, &need.what, need.bytes)?;
     }
     Ok(())
@@ -201,14 +241,24 @@ pub fn command(
     if !(1..=MAX_AO_RAYS).contains(&request.ao_rays) {
         anyhow::bail!("--ao-rays {} must lie in 1..={MAX_AO_RAYS}", request.ao_rays);
     }
-    check_memory(&scene, request.ao_rays, &request.budget)?;
+    if let Some(size) = request.hero_size.filter(|s| *s > MAX_HERO_SIZE) {
+        anyhow::bail!("--hero-size {size} must lie in 0..={MAX_HERO_SIZE} (0: no hero frame)");
+    }
+    check_memory(&scene, request.ao_rays, request.hero_resolution(&scene), &request.budget)?;
     let mut outcome = EffectsOutcome::default();
     let mut tables = Vec::new();
     let mut pictures: Vec<SetFile> = Vec::new();
+    let mut heroes = Vec::new();
     for family in EffectFamily::ALL.into_iter().filter(|&family| effects.names(family)) {
         let output = run_family(family, &scene, request, open_db, &mut outcome.stats, log)?;
         tables.extend(output.tables);
         pictures.extend(output.pictures);
+        heroes.extend(output.hero);
+    }
+    if !heroes.is_empty() {
+        let (files, rows) = hero_files(&heroes)?;
+        tables.push((hero_table(&rows), "effects_hero"));
+        pictures.extend(files);
     }
     outcome.frames = pictures.len();
     let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
@@ -238,7 +288,7 @@ mod tests {
         let frame = TracedFrame { width: 4, height: 2, radiance: vec![[0.0; 3]; 8], seen: vec![None; 8], rays: 0 };
         let one_frame = frame_bytes(&frame) as u128;
         let s = scene("resolution: [4, 2]\nmeasurements: [image_error]\neffects: {reflection: {max_depth: [1, 2]}, distance_maps: {size: 8, layers: 3}}\nobjects:\n  - {mesh: sphere, material: a/b/c, methods: [exact, schlick]}\n  - {mesh: room, diffuse: [0.5, 0.5, 0.5]}\n");
-        let needs = memory_needs(&s, 1);
+        let needs = memory_needs(&s, 1, None);
         assert_eq!(needs[0].bytes, 2 * 6 * 64 * 3 * std::mem::size_of::<Option<Texel>>() as u128);
         // Two depths × (reference + 2 × two methods) + 3 in flight = 13 frames.
         assert_eq!(needs[1].bytes, 13 * one_frame);
@@ -249,11 +299,11 @@ mod tests {
     #[test]
     fn an_oversized_scene_is_refused_by_its_field() {
         let s = scene("measurements: [image_error]\neffects: {reflection: {max_depth: 1}, distance_maps: {size: 4096, layers: 8}}\nobjects:\n  - {mesh: sphere, material: a/b/c, method: exact}\n");
-        let error = check_memory(&s, 1, &MemoryBudget::given(8 << 30)).unwrap_err().to_string();
+        let error = check_memory(&s, 1, None, &MemoryBudget::given(8 << 30)).unwrap_err().to_string();
         assert!(error.starts_with("effects.distance_maps: 1 cube map(s) of 6 × 4096² texels × 8 layers would take about"), "{error}");
-        assert!(check_memory(&s, 1, &MemoryBudget::given(1 << 50)).is_ok());
+        assert!(check_memory(&s, 1, None, &MemoryBudget::given(1 << 50)).is_ok());
         let ao = scene("resolution: [16, 16]\nmeasurements: [image_error]\neffects: {ambient_occlusion: {passes: 1}}\nobjects:\n  - {mesh: plane, diffuse: [0.5, 0.5, 0.5]}\n");
-        let error = check_memory(&ao, MAX_AO_RAYS, &MemoryBudget::given(1 << 20)).unwrap_err().to_string();
+        let error = check_memory(&ao, MAX_AO_RAYS, None, &MemoryBudget::given(1 << 20)).unwrap_err().to_string();
         assert!(error.starts_with("--ao-rays"), "{error}");
     }
 }

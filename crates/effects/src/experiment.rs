@@ -14,9 +14,11 @@
 //! pages); the result is the `effects_errors` table, one row per renderer and configuration.
 
 use super::distance_map::{DistanceMap, DistanceMapTracer};
+use super::hero::{HeroPanel, HeroSet};
 use super::image_error::{compare_object, FrameError};
 use super::pictures::Picture;
 use anyhow::Result;
+use std::time::Instant;
 
 use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
 use crate::scene::{Depths, Role, Scene, SearchSteps};
@@ -30,12 +32,26 @@ pub struct Settings {
     pub frames: u32,
     pub resolution: [u32; 2],
     pub lut: LutSpec,
+    /// The size of the hero frame (camera frame 0 of the deepest configuration, rendered
+    /// again at a size a person looks at); `None`: no hero frame.
+    pub hero: Option<[u32; 2]>,
 }
 
 impl Settings {
+    /// The scene's frames, size and LUT, no hero frame.
     pub fn of(scene: &Scene) -> Settings {
-        Settings { frames: scene.camera.frames, resolution: scene.resolution, lut: LutSpec::new(scene.lut.size as usize, Encoding::F16) }
+        Settings {
+            frames: scene.camera.frames,
+            resolution: scene.resolution,
+            lut: LutSpec::new(scene.lut.size as usize, Encoding::F16),
+            hero: None,
+        }
     }
+}
+
+/// The Fresnel methods the scene's specular objects name, in [`Method::ALL`]'s order.
+pub fn scene_methods(scene: &Scene) -> Vec<Method> {
+    Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect()
 }
 
 /// Errors summed over frames (means over every pixel, or every channel sample with a
@@ -129,6 +145,44 @@ pub struct EffectsReport {
     pub rows: Vec<EffectErrorRow>,
     pub pictures: Vec<Picture>,
     pub stats: EffectsStats,
+    /// The wall time of each configuration's frames, beside the reference's.
+    pub timing: Vec<FrameTimingRow>,
+    /// Camera frame 0 at the hero size, when asked for ([`Settings::hero`]).
+    pub hero: Option<HeroSet>,
+}
+
+/// One row of `effects_cpu_timing`: how long one frame of a configuration took the
+/// renderer, beside the f64 reference tracer on the same frames (the anchor of the same
+/// run: the ratio is what carries to another machine).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameTimingRow {
+    pub renderer: &'static str,
+    pub method: Method,
+    pub configuration: Configuration,
+    pub frames: u32,
+    pub resolution: [u32; 2],
+    /// Median over the frames of one frame through the distance maps.
+    pub frame_ms: f64,
+    /// Median over the same frames of the reference tracer's frame.
+    pub reference_ms: f64,
+}
+
+/// The median of `values` (0 for none).
+fn median(mut values: Vec<f64>) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    if values.len() % 2 == 1 {
+        values[mid]
+    } else {
+        0.5 * (values[mid - 1] + values[mid])
+    }
+}
+
+fn milliseconds(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// What the experiment computed, so tests and logs can see that nothing ran that the scene
@@ -211,7 +265,7 @@ pub fn measure(
     let mut report = EffectsReport::default();
     let Some(effects) = &scene.effects else { return Ok(report) };
     let maps_settings = &effects.distance_maps;
-    let methods: Vec<Method> = Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect();
+    let methods = scene_methods(scene);
     let [width, height] = settings.resolution;
     let last_steps = maps_settings.steps.last().copied();
     for depths in effects.depths() {
@@ -220,21 +274,31 @@ pub fn measure(
             let stem =
                 |name: &str| format!("depth{}-{}_steps{}-{}_{name}", depths.reflection, depths.refraction, steps.linear, steps.secant);
             let mut sums: Vec<(usize, Method, ErrorSum, ErrorSum, ErrorSum)> = Vec::new();
+            let mut reference_ms = Vec::new();
+            let mut method_ms: Vec<Vec<f64>> = vec![Vec::new(); methods.len()];
             for frame in 0..settings.frames {
                 let camera = Camera::new(&scene.camera, frame, width, height);
+                let start = Instant::now();
                 let truth = reference(stage, &camera, depths, settings.lut);
+                reference_ms.push(milliseconds(start));
+                let start = Instant::now();
                 let exact_twin = renderer.frame(frame, &camera, Method::Exact, depths, steps)?;
+                let exact_ms = milliseconds(start);
                 report.stats.reference_frames += 1;
                 report.stats.twin_frames += 1;
                 if shown(frame) {
                     report.pictures.push(Picture { stem: stem("reference"), frame: truth.clone(), reference: None });
                 }
-                for &method in &methods {
+                for (m, &method) in methods.iter().enumerate() {
                     let with_method = if method == Method::Exact {
+                        method_ms[m].push(exact_ms);
                         exact_twin.clone()
                     } else {
                         report.stats.twin_frames += 1;
-                        renderer.frame(frame, &camera, method, depths, steps)?
+                        let start = Instant::now();
+                        let frame = renderer.frame(frame, &camera, method, depths, steps)?;
+                        method_ms[m].push(milliseconds(start));
+                        frame
                     };
                     if shown(frame) {
                         report.pictures.push(Picture {
@@ -263,6 +327,19 @@ pub fn measure(
                         entry.4.add(&compare_object(&with_method, &truth, object));
                     }
                 }
+            }
+            let configuration = Configuration { depths, steps, map_size: maps_settings.size, layers: maps_settings.layers };
+            let reference_ms = median(reference_ms);
+            for (&method, times) in methods.iter().zip(method_ms) {
+                report.timing.push(FrameTimingRow {
+                    renderer: renderer.name(),
+                    method,
+                    configuration,
+                    frames: settings.frames,
+                    resolution: settings.resolution,
+                    frame_ms: median(times),
+                    reference_ms,
+                });
             }
             for (object, method, geometry, fresnel, total) in sums {
                 let scene_object = &scene.objects[object];
@@ -297,7 +374,81 @@ pub fn measure(
             }
         }
     }
+    if let Some(size) = settings.hero {
+        report.hero = Some(hero(scene, stage, settings.lut, size, &methods, renderer)?);
+    }
     Ok(report)
+}
+
+/// The hero frame: camera frame 0 of the deepest depth configuration at the last search
+/// configuration, at `size`: the reference and the distance maps with each method.
+fn hero(scene: &Scene, stage: &Stage, lut: LutSpec, size: [u32; 2], methods: &[Method], renderer: &mut dyn MapFrames) -> Result<HeroSet> {
+    let Some(effects) = scene.effects.as_ref() else { anyhow::bail!("a hero frame needs a scene with effects") };
+    let (Some(depths), Some(&steps)) =
+        (effects.depths().into_iter().max_by_key(|d| (d.reflection + d.refraction, *d)), effects.distance_maps.steps.last())
+    else {
+        anyhow::bail!("a hero frame needs a depth and a search configuration")
+    };
+    let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
+    let reference = reference(stage, &camera, depths, lut);
+    let mut panels = Vec::new();
+    for &method in methods {
+        let frame = renderer.frame(0, &camera, method, depths, steps)?;
+        panels.push(HeroPanel {
+            stem: method.name().to_string(),
+            label: format!(
+                "{}, {} reflection(s), {} refraction(s), {}+{} search steps",
+                method.name(),
+                depths.reflection,
+                depths.refraction,
+                steps.linear,
+                steps.secant
+            ),
+            method: method.name().to_string(),
+            configuration: Some(Configuration {
+                depths,
+                steps,
+                map_size: effects.distance_maps.size,
+                layers: effects.distance_maps.layers,
+            }),
+            passes: None,
+            frame,
+        });
+    }
+    Ok(HeroSet {
+        effect: crate::scene::EffectFamily::SpecularPaths,
+        reference_label: format!(
+            "reference: ray-traced, exact Fresnel, {} reflection(s), {} refraction(s)",
+            depths.reflection, depths.refraction
+        ),
+        reference,
+        panels,
+        mask: super::hero::ErrorMask::SpecularObjects,
+    })
+}
+
+/// `effects_cpu_timing.*`: one row per (method, depths, search steps).
+pub fn timing_table(rows: &[FrameTimingRow]) -> Table {
+    let mut table = Table::new();
+    table
+        .text(
+            "renderer",
+            "what traced the distance-map frames (cpu-twin: the f64 CPU twin)",
+            rows.iter().map(|r| r.renderer.to_string()).collect(),
+        )
+        .text("method", "Fresnel method of every bounce", rows.iter().map(|r| r.method.name().to_string()).collect());
+    configuration_columns(&mut table, rows.iter().map(|r| r.configuration));
+    table
+        .integer("frames", "camera frames timed", rows.iter().map(|r| r.frames as i64).collect())
+        .text("resolution", "frame size WxH in pixels", rows.iter().map(|r| format!("{}x{}", r.resolution[0], r.resolution[1])).collect())
+        .float(
+            "frame_ms",
+            "median wall time of one frame through the distance maps (on the CPU: a ratio to reference_ms carries to another machine, the figure itself does not)",
+            rows.iter().map(|r| r.frame_ms).collect(),
+        )
+        .float("reference_ms", "median wall time of the f64 reference tracer's frame of the same configuration (the anchor)", rows.iter().map(|r| r.reference_ms).collect())
+        .float("ratio_to_reference", "frame_ms / reference_ms", rows.iter().map(|r| if r.reference_ms > 0.0 { r.frame_ms / r.reference_ms } else { 0.0 }).collect());
+    table
 }
 
 /// What a row of the effects' tables measured: the depths and the distance maps' search.

@@ -43,6 +43,11 @@ pub fn compare(frame: &TracedFrame, reference: &TracedFrame) -> FrameError {
     compare_where(frame, reference, |seen| seen.is_some())
 }
 
+/// Compare over every pixel.
+pub fn compare_all(frame: &TracedFrame, reference: &TracedFrame) -> FrameError {
+    compare_where(frame, reference, |_| true)
+}
+
 /// Compare over the pixels where the reference shows specular object `object`.
 pub fn compare_object(frame: &TracedFrame, reference: &TracedFrame, object: usize) -> FrameError {
     compare_where(frame, reference, |seen| seen == Some(object))

@@ -32,6 +32,7 @@ pub mod command;
 pub mod distance_map;
 pub mod experiment;
 pub mod geometry;
+pub mod hero;
 pub mod image_error;
 pub mod optics;
 pub mod packet;

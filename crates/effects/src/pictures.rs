@@ -33,9 +33,16 @@ pub fn false_colour(error: f64) -> [f64; 3] {
     std::array::from_fn(|c| STOPS[i][c] + w * (STOPS[i + 1][c] - STOPS[i][c]))
 }
 
-fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
+/// A PNG of linear radiance, sRGB-encoded.
+pub fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
     let bytes = linear.flat_map(srgb::srgb8).collect();
     encode(Encoding::Unorm8Srgb, width as usize, height as usize, &Texels::U8(bytes))
+}
+
+/// A PNG of false colours ([`false_colour`]), stored as they are: they are display-referred.
+pub fn error_png(width: u32, height: u32, colours: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
+    let bytes = colours.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
+    encode(Encoding::Unorm8, width as usize, height as usize, &Texels::U8(bytes))
 }
 
 /// The files `<folder>/<stem>.exr` (linear) and `<stem>.png` (sRGB) per picture, and for a
@@ -49,11 +56,8 @@ pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
         let mut files = vec![(format!("{}.exr", picture.stem), encode(Encoding::F32, w as usize, h as usize, &linear)?)];
         files.push((format!("{}.png", picture.stem), srgb_png(w, h, frame.radiance.iter().copied())?));
         if let Some(reference) = &picture.reference {
-            let errors =
-                frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| false_colour((0..3).map(|c| (a[c] - r[c]).abs()).sum()));
-            // The false colour is already display-referred: store it as is.
-            let bytes = errors.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
-            files.push((format!("{}_error.png", picture.stem), encode(Encoding::Unorm8, w as usize, h as usize, &Texels::U8(bytes))?));
+            let errors = super::hero::error_map(frame, reference).into_iter().map(false_colour);
+            files.push((format!("{}_error.png", picture.stem), error_png(w, h, errors)?));
         }
         written.extend(files.into_iter().map(|(name, bytes)| SetFile::new(format!("{folder}/{name}"), bytes)));
     }

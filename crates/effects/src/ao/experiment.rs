@@ -28,6 +28,7 @@ use super::shadow::ShadowForm;
 use super::surfel::{subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
+use crate::hero::{ErrorMask, HeroPanel, HeroSet};
 use crate::pictures::Picture;
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene};
@@ -149,6 +150,9 @@ pub struct AoSettings {
     pub form: ShadowForm,
     pub closeness: Closeness,
     pub resolution: [u32; 2],
+    /// The size of the hero frame (the pictures again at a size a person looks at); `None`:
+    /// none.
+    pub hero: Option<[u32; 2]>,
     /// What the run may hold (subdivided meshes are checked against it).
     pub budget: MemoryBudget,
 }
@@ -164,6 +168,7 @@ impl Default for AoSettings {
             form: ShadowForm::FORM_FACTOR,
             closeness: Closeness::default(),
             resolution: [256, 256],
+            hero: None,
             budget: MemoryBudget::of_machine(),
         }
     }
@@ -174,6 +179,8 @@ impl Default for AoSettings {
 pub struct AoReport {
     pub rows: Vec<ErrorRow>,
     pub pictures: Vec<Picture>,
+    /// The pictures' variants at the hero size, when asked for.
+    pub hero: Option<HeroSet>,
 }
 
 /// Per-vertex values to light a picture with: accessibility, indirect irradiance and bent
@@ -289,29 +296,64 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
     let bent = wanted.is_some_and(|a| a.bent_normals);
     let bounces = effects.indirect.map_or(0, |i| i.bounces);
-    let camera = Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]);
     let gathered = |a: &Accessibility| {
         indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &a.values, settings.form, bounces))
     };
     let reference_lighting =
         Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
-    let truth = render(&stage, &camera, &reference_lighting);
-    let mut frames = Vec::new();
-    for (shown, a) in history.iter().take(4).enumerate() {
-        let light = gathered(a);
-        let lighting =
-            Lighting { accessibility: &a.values, indirect: light.as_deref(), bent_normals: bent.then_some(a.bent_normals.as_slice()) };
-        let frame = render(&stage, &camera, &lighting);
-        let stem = if shown == 0 { "ao_none".to_string() } else { format!("ao_passes{shown}") };
-        frames.push(frame.clone());
-        report.pictures.push(Picture { stem, frame, reference: Some(truth.clone()) });
+    // Each shown variant's lighting is gathered once and rendered at every size asked for.
+    let shown: Vec<(&Accessibility, Option<Vec<Rgb>>)> = history.iter().take(4).map(|a| (a, gathered(a))).collect();
+    let variants = |[width, height]: [u32; 2]| {
+        let camera = Camera::new(&scene.camera, 0, width, height);
+        let truth = render(&stage, &camera, &reference_lighting);
+        let frames: Vec<TracedFrame> = shown
+            .iter()
+            .map(|(a, light)| {
+                let lighting = Lighting {
+                    accessibility: &a.values,
+                    indirect: light.as_deref(),
+                    bent_normals: bent.then_some(a.bent_normals.as_slice()),
+                };
+                render(&stage, &camera, &lighting)
+            })
+            .collect();
+        (truth, frames)
+    };
+    let (truth, frames) = variants(settings.resolution);
+    for (pass, frame) in frames.iter().enumerate() {
+        let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };
+        report.pictures.push(Picture { stem, frame: frame.clone(), reference: Some(truth.clone()) });
     }
     if indirect.is_some() {
         stats.indirect_bounces += bounces as u64 * frames.len() as u64;
     }
-    frames.push(truth.clone());
+    let mut row = frames;
+    row.push(truth.clone());
     report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
-    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&frames), reference: None });
+    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&row), reference: None });
+    if let Some(size) = settings.hero {
+        let (truth, frames) = variants(size);
+        let gather = if use_tree { "tree" } else { "brute force" };
+        let panels = frames
+            .into_iter()
+            .enumerate()
+            .map(|(pass, frame)| HeroPanel {
+                stem: if pass == 0 { "none".into() } else { format!("passes{pass}_{}", gather.replace(' ', "_")) },
+                label: if pass == 0 { "no AO".into() } else { format!("surfel AO, {pass} pass(es), {gather}") },
+                method: if pass == 0 { "none".into() } else { gather.to_string() },
+                configuration: None,
+                passes: Some(pass as u32),
+                frame,
+            })
+            .collect();
+        report.hero = Some(HeroSet {
+            effect: crate::scene::EffectFamily::Surfels,
+            reference_label: format!("reference: ray-traced accessibility, {} rays per vertex", settings.rays.rays),
+            reference: truth,
+            panels,
+            mask: ErrorMask::Whole,
+        });
+    }
     Ok(report)
 }
 

@@ -1,0 +1,412 @@
+//! Hero frames: one camera frame of a scene at a size a person looks at (its long side
+//! [`DEFAULT_HERO_SIZE`] pixels unless asked otherwise), the reference beside every variant
+//! the scene compares (each Fresnel method through the distance maps; no AO and each pass
+//! count of surfel AO), each variant's error image on one stated scale, and crops of the
+//! window where the error is largest. Written under [`HERO_DIR`] with the `effects_hero`
+//! table (one row per panel: what it shows, its files, its error figures), which the
+//! report lays out; the figures are [`crate::image_error`]'s, the false colour
+//! [`crate::pictures::false_colour`]'s.
+//!
+//! The crop window is the square of a quarter of the frame's long side whose summed error
+//! (|Δ| over R, G and B) is largest in the panel with the largest mean error, searched on a
+//! grid of an eighth of the window through a summed-area table; every panel is cropped at
+//! the same window, so crops compare like with like.
+
+use anyhow::Result;
+
+use super::experiment::Configuration;
+use super::image_error::{compare, compare_all, FrameError};
+use super::pictures::{error_png, false_colour, srgb_png, ERROR_SCALE};
+use super::trace::TracedFrame;
+use crate::scene::EffectFamily;
+use nklut_pipeline::output::{SetFile, Table};
+
+/// The folder of the hero files in the effects' set.
+pub const HERO_DIR: &str = "effects_hero";
+/// The long side of a hero frame in pixels unless asked otherwise (`--hero-size`).
+pub const DEFAULT_HERO_SIZE: u32 = 512;
+/// The colour bar of the error images: [`ERROR_SCALE_WIDTH`] × 16 pixels, 0 at the left.
+pub const ERROR_SCALE_FILE: &str = "error_scale.png";
+const ERROR_SCALE_WIDTH: u32 = 512;
+
+/// The hero frame's size: the scene's aspect ratio with its long side `long_side` pixels
+/// (the short side rounded, at least 1).
+pub fn hero_resolution([width, height]: [u32; 2], long_side: u32) -> [u32; 2] {
+    let scaled = |short: u32, long: u32| ((f64::from(short) * f64::from(long_side) / f64::from(long.max(1))).round() as u32).max(1);
+    if width >= height {
+        [long_side, scaled(height, width)]
+    } else {
+        [scaled(width, height), long_side]
+    }
+}
+
+/// The words a table and a page use for a family.
+pub fn family_label(family: EffectFamily) -> &'static str {
+    match family {
+        EffectFamily::SpecularPaths => "reflections and refractions",
+        EffectFamily::Surfels => "ambient occlusion",
+    }
+}
+
+fn family_stem(family: EffectFamily) -> &'static str {
+    match family {
+        EffectFamily::SpecularPaths => "specular",
+        EffectFamily::Surfels => "ao",
+    }
+}
+
+/// Over which pixels a panel's error figures are taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorMask {
+    /// Where the reference shows a specular object (what the Fresnel methods change).
+    SpecularObjects,
+    /// Every pixel.
+    Whole,
+}
+
+/// One variant of a hero frame.
+#[derive(Clone, Debug)]
+pub struct HeroPanel {
+    /// File stem within the set (`schlick`, `passes2_tree`).
+    pub stem: String,
+    /// What a reader sees under the picture.
+    pub label: String,
+    /// The Fresnel method or AO variant.
+    pub method: String,
+    /// Depths and search of a distance-map panel.
+    pub configuration: Option<Configuration>,
+    /// Accessibility passes of an AO panel (0: no AO).
+    pub passes: Option<u32>,
+    pub frame: TracedFrame,
+}
+
+/// A family's hero frame: the reference and the variants, all at one size.
+#[derive(Clone, Debug)]
+pub struct HeroSet {
+    pub effect: EffectFamily,
+    pub reference_label: String,
+    pub reference: TracedFrame,
+    pub panels: Vec<HeroPanel>,
+    pub mask: ErrorMask,
+}
+
+/// A square of the frame, in pixels from its top left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Window {
+    pub x: u32,
+    pub y: u32,
+    pub size: u32,
+}
+
+/// One row of `effects_hero`: a panel and its files.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeroRow {
+    pub effect: EffectFamily,
+    pub panel: String,
+    pub label: String,
+    pub method: String,
+    pub configuration: Option<Configuration>,
+    pub passes: Option<u32>,
+    pub resolution: [u32; 2],
+    pub file: String,
+    /// The error image (none for the reference).
+    pub error_file: Option<String>,
+    pub crop: Window,
+    pub crop_file: String,
+    pub crop_error_file: Option<String>,
+    pub error: FrameError,
+}
+
+/// |Δ| summed over the channels, per pixel.
+pub fn error_map(frame: &TracedFrame, reference: &TracedFrame) -> Vec<f64> {
+    frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| (0..3).map(|c| (a[c] - r[c]).abs()).sum()).collect()
+}
+
+/// The `size`-pixel square with the largest sum of `values` (row-major, `width` × `height`),
+/// on a grid of `size / 8` pixels (the window clamped into the frame; ties: the first in
+/// reading order).
+pub fn worst_window(values: &[f64], width: u32, height: u32, size: u32) -> Window {
+    let size = size.clamp(1, width.min(height).max(1));
+    let (w, h) = (width as usize, height as usize);
+    // table[y][x] = sum of values above and left of (x, y), one row and column of zeros.
+    let mut table = vec![0.0f64; (w + 1) * (h + 1)];
+    for y in 0..h {
+        let mut row = 0.0;
+        for x in 0..w {
+            row += values[y * w + x];
+            table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row;
+        }
+    }
+    let at = |x: usize, y: usize| table[y * (w + 1) + x];
+    let s = size as usize;
+    let stride = (s / 8).max(1);
+    let mut best = (f64::NEG_INFINITY, Window { x: 0, y: 0, size });
+    let last = |extent: usize| extent.saturating_sub(s);
+    let positions = |extent: usize| (0..=last(extent)).step_by(stride).chain(std::iter::once(last(extent)));
+    for y in positions(h) {
+        for x in positions(w) {
+            let sum = at(x + s, y + s) - at(x, y + s) - at(x + s, y) + at(x, y);
+            if sum > best.0 {
+                best = (sum, Window { x: x as u32, y: y as u32, size });
+            }
+        }
+    }
+    best.1
+}
+
+/// The pixels of `window` of a `width`-wide row-major image.
+fn crop<T: Copy>(values: &[T], width: u32, window: Window) -> Vec<T> {
+    let (x, y, s, w) = (window.x as usize, window.y as usize, window.size as usize, width as usize);
+    (y..y + s).flat_map(|row| values[row * w + x..row * w + x + s].iter().copied()).collect()
+}
+
+/// The colour bar of the error images, left (0) to right ([`ERROR_SCALE`] and beyond).
+pub fn error_scale_png() -> Result<Vec<u8>> {
+    let row: Vec<[f64; 3]> =
+        (0..ERROR_SCALE_WIDTH).map(|i| false_colour(ERROR_SCALE * f64::from(i) / f64::from(ERROR_SCALE_WIDTH - 1))).collect();
+    let height = 16;
+    let bytes = (0..height).flat_map(|_| row.iter().flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8))).collect();
+    nklut_pipeline::bake::files::encode(
+        nklut_pipeline::bake::texel::Encoding::Unorm8,
+        ERROR_SCALE_WIDTH as usize,
+        height,
+        &nklut_pipeline::bake::texel::Texels::U8(bytes),
+    )
+}
+
+/// The files of every hero set under [`HERO_DIR`] (with the colour bar once) and the rows
+/// of `effects_hero`.
+pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
+    let mut written = Vec::new();
+    let mut rows = Vec::new();
+    for set in sets {
+        let (width, height) = (set.reference.width, set.reference.height);
+        let errors: Vec<Vec<f64>> = set.panels.iter().map(|p| error_map(&p.frame, &set.reference)).collect();
+        let figures: Vec<FrameError> = set
+            .panels
+            .iter()
+            .map(|p| match set.mask {
+                ErrorMask::SpecularObjects => compare(&p.frame, &set.reference),
+                ErrorMask::Whole => compare_all(&p.frame, &set.reference),
+            })
+            .collect();
+        let worst = figures.iter().enumerate().max_by(|a, b| a.1.mean_absolute.total_cmp(&b.1.mean_absolute)).map(|(i, _)| i);
+        let window_size = (width.max(height) / 4).max(1);
+        let window = match worst {
+            Some(i) => worst_window(&errors[i], width, height, window_size),
+            None => worst_window(&vec![0.0; (width * height) as usize], width, height, window_size),
+        };
+        let prefix = family_stem(set.effect);
+        let mut put = |name: String, bytes: Vec<u8>| {
+            let path = format!("{HERO_DIR}/{name}");
+            written.push(SetFile::new(path.clone(), bytes));
+            path
+        };
+        let reference_rgb = srgb_png(width, height, set.reference.radiance.iter().copied())?;
+        let reference_crop = srgb_png(window.size, window.size, crop(&set.reference.radiance, width, window).into_iter())?;
+        rows.push(HeroRow {
+            effect: set.effect,
+            panel: "reference".into(),
+            label: set.reference_label.clone(),
+            method: "reference".into(),
+            configuration: set.panels.first().and_then(|p| p.configuration),
+            passes: None,
+            resolution: [width, height],
+            file: put(format!("{prefix}_reference.png"), reference_rgb),
+            error_file: None,
+            crop: window,
+            crop_file: put(format!("{prefix}_reference_crop.png"), reference_crop),
+            crop_error_file: None,
+            error: compare_all(&set.reference, &set.reference),
+        });
+        for ((panel, error), figure) in set.panels.iter().zip(&errors).zip(figures) {
+            let stem = format!("{prefix}_{}", panel.stem);
+            let colours = |values: Vec<f64>| values.into_iter().map(false_colour);
+            let picture = srgb_png(width, height, panel.frame.radiance.iter().copied())?;
+            let error_picture = error_png(width, height, colours(error.clone()))?;
+            let picture_crop = srgb_png(window.size, window.size, crop(&panel.frame.radiance, width, window).into_iter())?;
+            let error_crop = error_png(window.size, window.size, colours(crop(error, width, window)))?;
+            rows.push(HeroRow {
+                effect: set.effect,
+                panel: panel.stem.clone(),
+                label: panel.label.clone(),
+                method: panel.method.clone(),
+                configuration: panel.configuration,
+                passes: panel.passes,
+                resolution: [width, height],
+                file: put(format!("{stem}.png"), picture),
+                error_file: Some(put(format!("{stem}_error.png"), error_picture)),
+                crop: window,
+                crop_file: put(format!("{stem}_crop.png"), picture_crop),
+                crop_error_file: Some(put(format!("{stem}_crop_error.png"), error_crop)),
+                error: figure,
+            });
+        }
+    }
+    if !sets.is_empty() {
+        written.push(SetFile::new(format!("{HERO_DIR}/{ERROR_SCALE_FILE}"), error_scale_png()?));
+    }
+    Ok((written, rows))
+}
+
+/// The `effects_hero` table of `rows`.
+pub fn hero_table(rows: &[HeroRow]) -> Table {
+    let text = |f: &dyn Fn(&HeroRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let optional_text = |f: &dyn Fn(&HeroRow) -> Option<String>| rows.iter().map(|r| f(r).unwrap_or_default()).collect::<Vec<_>>();
+    let integer = |f: &dyn Fn(&HeroRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
+    // Integers that a panel may lack, as optional floats (written as integers: "3").
+    let configuration =
+        |f: &dyn Fn(&Configuration) -> u32| rows.iter().map(|r| r.configuration.map(|c| f64::from(f(&c)))).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text(
+            "effect",
+            "the family of effects: reflections and refractions, or ambient occlusion",
+            text(&|r| family_label(r.effect).into()),
+        )
+        .text(
+            "panel",
+            "the panel's stem: reference, a Fresnel method, or an AO variant (none, passesN_tree, passesN_brute_force)",
+            text(&|r| r.panel.clone()),
+        )
+        .text("label", "what the panel shows, in words", text(&|r| r.label.clone()))
+        .text("method", "Fresnel method or AO variant (reference for the reference)", text(&|r| r.method.clone()))
+        .optional_float("reflection_depth", "most reflections along a path (distance-map panels)", configuration(&|c| c.depths.reflection))
+        .optional_float("refraction_depth", "most refractions along a path (distance-map panels)", configuration(&|c| c.depths.refraction))
+        .optional_float("linear_steps", "linear search steps per layer (distance-map panels)", configuration(&|c| c.steps.linear))
+        .optional_float("secant_steps", "secant refinements (distance-map panels)", configuration(&|c| c.steps.secant))
+        .optional_float("passes", "accessibility passes (AO panels; 0: no AO)", rows.iter().map(|r| r.passes.map(f64::from)).collect())
+        .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .text("file", "the panel, sRGB PNG, relative to the scene's output folder", text(&|r| r.file.clone()))
+        .text(
+            "error_file",
+            "false colour of |panel - reference| summed over R, G, B (empty for the reference)",
+            optional_text(&|r| r.error_file.clone()),
+        )
+        .integer("crop_x", "left edge of the crop window (pixels)", integer(&|r| r.crop.x as i64))
+        .integer("crop_y", "top edge of the crop window (pixels)", integer(&|r| r.crop.y as i64))
+        .integer("crop_size", "side of the square crop window (pixels): where the largest error sits", integer(&|r| r.crop.size as i64))
+        .text("crop_file", "the panel inside the crop window", text(&|r| r.crop_file.clone()))
+        .text("crop_error_file", "the error image inside the crop window", optional_text(&|r| r.crop_error_file.clone()))
+        .integer(
+            "pixels",
+            "pixels the figures are taken over (reflections and refractions: where the reference shows a specular object; AO: every pixel)",
+            integer(&|r| r.error.pixels as i64),
+        )
+        .float(
+            "mean_abs_error",
+            "mean |panel - reference| over those pixels and the three channels (linear radiance)",
+            rows.iter().map(|r| r.error.mean_absolute).collect(),
+        )
+        .float(
+            "max_abs_error",
+            "largest |panel - reference| over those pixels and channels",
+            rows.iter().map(|r| r.error.max_absolute).collect(),
+        )
+        .float(
+            "mean_delta_e2000",
+            "mean CIEDE2000 of panel against reference over those pixels",
+            rows.iter().map(|r| r.error.mean_delta_e2000).collect(),
+        )
+        .optional_float(
+            "mean_rel_error",
+            "mean |a - r| / r over the channel samples with r > 0",
+            rows.iter().map(|r| r.error.mean_relative).collect(),
+        )
+        .float(
+            "error_scale",
+            "|Δ| summed over R, G, B at which the error images turn white (the colour bar's right end; error_scale.png)",
+            rows.iter().map(|_| ERROR_SCALE).collect(),
+        );
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hero_sizes_keep_the_aspect_ratio() {
+        assert_eq!(hero_resolution([128, 128], 512), [512, 512]);
+        assert_eq!(hero_resolution([160, 90], 512), [512, 288]);
+        assert_eq!(hero_resolution([90, 160], 512), [288, 512]);
+        assert_eq!(hero_resolution([1000, 1], 512), [512, 1]);
+    }
+
+    #[test]
+    fn the_worst_window_is_where_the_error_sits() {
+        // 16 × 12 zeros with a 3 × 3 block of ones at x 9–11, y 5–7. An 8-pixel window (grid
+        // of 1 pixel) covers it wholly for x in 4..=8 and y in 0..=4 (x + 8 > 11, x ≤ 16 − 8;
+        // y + 8 > 7, y ≤ 12 − 8): the first in reading order is (4, 0).
+        let (w, h) = (16u32, 12u32);
+        let mut values = vec![0.0; (w * h) as usize];
+        for y in 5..8 {
+            for x in 9..12 {
+                values[(y * w + x) as usize] = 1.0;
+            }
+        }
+        let window = worst_window(&values, w, h, 8);
+        assert_eq!(window, Window { x: 4, y: 0, size: 8 });
+        let inside: f64 = crop(&values, w, window).iter().sum();
+        assert_eq!(inside, 9.0);
+        // A single hot pixel in the far corner: the window is clamped into the frame.
+        let mut corner = vec![0.0; (w * h) as usize];
+        corner[(w * h - 1) as usize] = 5.0;
+        assert_eq!(worst_window(&corner, w, h, 8), Window { x: 8, y: 4, size: 8 });
+    }
+
+    #[test]
+    fn the_colour_bar_runs_the_false_colour_scale() {
+        let png = error_scale_png().unwrap();
+        let decoded = nklut_pipeline::bake::files::decode(nklut_pipeline::bake::texel::Encoding::Unorm8, &png).unwrap();
+        let nklut_pipeline::bake::texel::Texels::U8(bytes) = decoded.texels else { panic!("8-bit") };
+        assert_eq!(&bytes[..3], &[0, 0, 0], "black at 0");
+        let last = (ERROR_SCALE_WIDTH as usize - 1) * 3;
+        assert_eq!(&bytes[last..last + 3], &[255, 255, 255], "white at the scale");
+        let middle = (ERROR_SCALE_WIDTH as usize / 2) * 3;
+        assert!(bytes[middle] > 200 && bytes[middle + 2] < 60, "red in the middle: {:?}", &bytes[middle..middle + 3]);
+    }
+
+    #[test]
+    fn panels_are_cropped_where_the_worst_one_errs() {
+        let frame = |value: f64| TracedFrame { width: 8, height: 8, radiance: vec![[value; 3]; 64], seen: vec![Some(0); 64], rays: 64 };
+        let reference = frame(0.5);
+        let mut bad = frame(0.5);
+        bad.radiance[7 * 8 + 7] = [0.6, 0.5, 0.5];
+        let set = HeroSet {
+            effect: EffectFamily::SpecularPaths,
+            reference_label: "reference".into(),
+            reference: reference.clone(),
+            panels: vec![
+                HeroPanel {
+                    stem: "exact".into(),
+                    label: "exact".into(),
+                    method: "exact".into(),
+                    configuration: None,
+                    passes: None,
+                    frame: frame(0.5),
+                },
+                HeroPanel {
+                    stem: "schlick".into(),
+                    label: "schlick".into(),
+                    method: "schlick".into(),
+                    configuration: None,
+                    passes: None,
+                    frame: bad,
+                },
+            ],
+            mask: ErrorMask::SpecularObjects,
+        };
+        let (written, rows) = files(&[set]).unwrap();
+        assert_eq!(rows.len(), 3);
+        assert!(rows.iter().all(|r| r.crop == Window { x: 6, y: 6, size: 2 }), "{:?}", rows[0].crop);
+        assert!((rows[2].error.max_absolute - 0.1).abs() < 1e-12, "{:?}", rows[2].error);
+        assert_eq!(rows[1].error.mean_absolute, 0.0);
+        let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
+        assert!(
+            names.contains(&"effects_hero/specular_schlick_crop_error.png") && names.contains(&"effects_hero/error_scale.png"),
+            "{names:?}"
+        );
+        assert_eq!(hero_table(&rows).rows(), 3);
+    }
+}
