@@ -40,6 +40,7 @@ const CRATES: [Layers; 3] = [
             "distance_map",
             "image_error",
             "pictures",
+            "hero",
             "experiment",
             "ao",
             "command",

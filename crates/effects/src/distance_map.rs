@@ -30,7 +30,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::trace::{Stage, Surface, SurfaceHit, Tracer};
-use crate::scene::SearchSteps;
+use crate::scene::{Depths, SearchSteps};
 
 /// One texel of one layer: the distance from the reference point to the surface seen
 /// through the texel's centre, its unit normal and what it is; `None` where nothing is seen.
@@ -233,6 +233,15 @@ impl Tracer for DistanceMapTracer<'_> {
         let hit = self.map.search(origin - self.map.centre, direction, self.steps)?;
         Some(SurfaceHit { point: hit.point + self.map.centre, normal: hit.texel.normal, surface: hit.texel.surface, triangle: None })
     }
+}
+
+/// What a row of the effects' tables measured: the depths and the distance maps' search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Configuration {
+    pub depths: Depths,
+    pub steps: SearchSteps,
+    pub map_size: u32,
+    pub layers: u32,
 }
 
 #[cfg(test)]

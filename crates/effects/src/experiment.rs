@@ -13,6 +13,7 @@
 //! f64 tracer. The materials come from the database through `ingest` (only the scene's
 //! pages); the result is the `effects_errors` table, one row per renderer and configuration.
 
+pub use super::distance_map::Configuration;
 use super::distance_map::{DistanceMap, DistanceMapTracer};
 use super::hero::{HeroPanel, HeroSet};
 use super::image_error::{compare_object, FrameError};
@@ -449,15 +450,6 @@ pub fn timing_table(rows: &[FrameTimingRow]) -> Table {
         .float("reference_ms", "median wall time of the f64 reference tracer's frame of the same configuration (the anchor)", rows.iter().map(|r| r.reference_ms).collect())
         .float("ratio_to_reference", "frame_ms / reference_ms", rows.iter().map(|r| if r.reference_ms > 0.0 { r.frame_ms / r.reference_ms } else { 0.0 }).collect());
     table
-}
-
-/// What a row of the effects' tables measured: the depths and the distance maps' search.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Configuration {
-    pub depths: Depths,
-    pub steps: SearchSteps,
-    pub map_size: u32,
-    pub layers: u32,
 }
 
 /// The columns that name each row's [`Configuration`], in the effects' tables' order.

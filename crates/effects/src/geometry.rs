@@ -32,6 +32,7 @@ use obvhs::BvhBuildParams;
 
 use super::packet::{Corners, Packet, PacketTree, RayMask, PACKET_RAYS};
 use crate::scene::mesh::{widen, Mesh};
+pub use crate::scene::mesh::{GeometryError, MAX_CORNER};
 
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
 /// metres) are the surface the ray leaves, not a new one.
@@ -211,21 +212,6 @@ pub struct Geometry {
 
 /// Triangles per leaf of the packets' binary BVH.
 const PACKET_LEAF_TRIANGLES: u32 = 2;
-
-/// The largest coordinate a triangle's corner may have: the BVH is built in f32 (boxes,
-/// Morton codes of their centres), where a corner near f32's range turns into infinities,
-/// and the builder then indexes out of bounds. Placed scenes stay within ±2e4
-/// (`scene::MAX_COORDINATE` and `SCALE_RANGE`).
-pub const MAX_CORNER: f64 = 1e6;
-
-/// A scene that cannot be traced.
-#[derive(Debug, thiserror::Error)]
-pub enum GeometryError {
-    #[error("the scene has no triangles to trace")]
-    Empty,
-    #[error("object {object}'s triangle {triangle} has a corner at {corner:?}, beyond the ±{MAX_CORNER:e} the tracer takes")]
-    OutOfBounds { object: usize, triangle: usize, corner: [f64; 3] },
-}
 
 impl Geometry {
     /// The placed meshes, one per object, in the scene's object order.

@@ -14,7 +14,7 @@
 
 use anyhow::Result;
 
-use super::experiment::Configuration;
+use super::distance_map::Configuration;
 use super::image_error::{compare, compare_all, FrameError};
 use super::pictures::{error_png, false_colour, srgb_png, ERROR_SCALE};
 use super::trace::TracedFrame;

@@ -13,7 +13,7 @@
 //! the BVH over the same triangles, smooth normals, f64), or a distance map
 //! (`super::distance_map`). Pixels are rendered in parallel with rayon.
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -21,7 +21,7 @@ use super::geometry::Geometry;
 use super::optics::{scatter, Allowed, SpecularOptics};
 use crate::scene::mesh::{self, Mesh};
 pub use crate::scene::SpecularMaterial;
-use crate::scene::{CameraPath, Depths, Diffuse, Light, Role, Scene, SceneMaterial};
+use crate::scene::{CameraPath, Depths, Diffuse, Light, Role, Scene, SceneError, SceneMaterial, SceneProblem};
 use nklut_optics::fresnel::{LutSpec, Method};
 
 /// What a ray meets.
@@ -69,20 +69,21 @@ pub struct Stage {
 impl Stage {
     /// Place every object's mesh; `material` gives the optical constants of a page id.
     pub fn from_scene(scene: &Scene, material: impl Fn(&str) -> Option<SpecularMaterial>) -> Result<Stage> {
-        let named = |problem: String| anyhow!("scene {}: {problem}", scene.file.display());
+        let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
-        for object in &scene.objects {
-            let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
+        for (i, object) in scene.objects.iter().enumerate() {
+            let loaded =
+                mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|error| named(SceneProblem::Mesh { object: i, error }))?;
             meshes.push(loaded.placed(&object.placement));
             objects.push(match &object.role {
                 Role::Specular(s) => ObjectOptics::Specular(
-                    material(&s.material).ok_or_else(|| named(format!("material {} has no optical constants", s.material)))?,
+                    material(&s.material).ok_or_else(|| named(SceneProblem::NoOpticalConstants { object: i, page: s.material.clone() }))?,
                 ),
                 Role::Diffuse(d) => ObjectOptics::Diffuse(d.clone()),
             });
         }
-        let geometry = Geometry::new(&meshes).map_err(|e| named(e.to_string()))?;
+        let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
         Ok(Stage { meshes, geometry, objects, light: scene.light.clone() })
     }
 

@@ -29,7 +29,7 @@ use super::params::{self, MaterialUniform};
 use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use nklut_effects::experiment::EffectsStats;
-use nklut_effects::scene::{read_materials, Experiment, MeshSource, Scene, SceneMaterial, Shading};
+use nklut_effects::scene::{read_materials, Experiment, MeshSource, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
 use nklut_optics::db::Database;
 use nklut_optics::fresnel::Method;
 use nklut_optics::spectrum::Kind;
@@ -327,9 +327,11 @@ fn run_image_error(
     ));
     let mut meshes: HashMap<MeshSource, GpuMesh> = HashMap::new();
     let mut rows = Vec::new();
-    for (object, specular) in scene.specular_objects() {
+    for (i, object) in scene.objects.iter().enumerate() {
+        let Some(specular) = object.specular() else { continue };
         if !meshes.contains_key(&object.mesh) {
-            let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| anyhow!("scene {}: {e}", scene.file.display()))?;
+            let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p))
+                .map_err(|error| SceneError::new(&scene.file, SceneProblem::Mesh { object: i, error }))?;
             log(&format!("  mesh {}: {} triangles", object.mesh.label(), mesh.triangles()));
             meshes.insert(object.mesh.clone(), upload_mesh(gpu, &mesh));
         }

@@ -15,7 +15,7 @@
 
 use std::ops::Range;
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -31,7 +31,7 @@ use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
 use crate::pictures::Picture;
 use crate::scene::mesh::{self, Mesh};
-use crate::scene::{LightSource, Role, Scene};
+use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
 use crate::trace::{Camera, TracedFrame};
 use nklut_pipeline::budget::{times, MemoryBudget};
 
@@ -69,18 +69,19 @@ impl SurfelScene {
     /// Load, place and subdivide every object's mesh; a subdivision whose triangles would
     /// not fit `budget` is refused (naming the object) before it is made.
     pub fn new(scene: &Scene, budget: &MemoryBudget) -> Result<SurfelScene> {
-        let named = |problem: String| anyhow!("scene {}: {problem}", scene.file.display());
+        let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
         let (mut all, mut albedo, mut object_albedo) = (Vec::new(), Vec::new(), Vec::new());
         let mut triangles = 0;
         for (i, object) in scene.objects.iter().enumerate() {
-            let loaded = mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|e| named(e.to_string()))?;
+            let loaded =
+                mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|error| named(SceneProblem::Mesh { object: i, error }))?;
             let subdivided_triangles = (loaded.triangles() as u128).saturating_mul(4u128.saturating_pow(object.subdivisions));
             let what = format!("{} triangles ({} subdivided {} times)", subdivided_triangles, object.mesh.label(), object.subdivisions);
             budget
                 .check(&format!("objects[{i}].subdivide"), what, times(triangles as u128 + subdivided_triangles, BYTES_PER_SURFEL_TRIANGLE))
-                .map_err(|e| named(e.to_string()))?;
+                .map_err(|e| named(SceneProblem::Memory(e)))?;
             let placed = subdivided_times(&loaded.placed(&object.placement), object.subdivisions);
             let own = surfels(&placed);
             let base = object.mesh.label();
@@ -104,7 +105,7 @@ impl SurfelScene {
             all.extend(own);
             meshes.push(placed);
         }
-        let geometry = Geometry::new(&meshes).map_err(|e| named(e.to_string()))?;
+        let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
         Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone() })
     }
 

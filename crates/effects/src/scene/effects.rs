@@ -15,6 +15,8 @@
 
 use serde::Deserialize;
 
+use super::error::{Each, FieldProblem, Listing, Range, SceneProblem, Value};
+
 /// A number or a list of numbers in a scene file.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
@@ -164,6 +166,14 @@ impl EffectFamily {
             EffectFamily::Surfels => &["ambient_occlusion", "indirect"],
         }
     }
+
+    /// The family in words, as messages name it.
+    pub fn description(self) -> &'static str {
+        match self {
+            EffectFamily::SpecularPaths => "specular path effects",
+            EffectFamily::Surfels => "surfel effects",
+        }
+    }
 }
 
 impl Effects {
@@ -177,43 +187,38 @@ impl Effects {
 }
 
 impl RawBounces {
-    fn bounces(&self, field: &str) -> Result<Bounces, String> {
+    fn bounces(&self, field: &str) -> Result<Bounces, SceneProblem> {
         let max_depth = self.max_depth.values();
-        if max_depth.is_empty() || max_depth.iter().any(|d| !(1..=MAX_DEPTH).contains(d)) {
-            return Err(format!("{field}.max_depth {max_depth:?} must list depths in 1..={MAX_DEPTH}"));
-        }
+        check_counts(&format!("{field}.max_depth"), &max_depth, 1, MAX_DEPTH)?;
         Ok(Bounces { max_depth })
     }
 }
 
 impl RawEffects {
     /// The checked section, or what is wrong (without the `effects.` prefix).
-    pub(crate) fn effects(self) -> Result<Effects, String> {
+    pub(crate) fn effects(self) -> Result<Effects, SceneProblem> {
         let reflection = self.reflection.as_ref().map(|r| r.bounces("reflection")).transpose()?;
         let refraction = self.refraction.as_ref().map(|r| r.bounces("refraction")).transpose()?;
         let ambient_occlusion = self.ambient_occlusion.as_ref().map(|a| a.checked()).transpose()?;
         let indirect = self.indirect.as_ref().map(|i| i.checked()).transpose()?;
         if reflection.is_none() && refraction.is_none() && ambient_occlusion.is_none() && indirect.is_none() {
-            return Err("reflection, refraction, ambient_occlusion, indirect: name at least one effect".into());
+            // Seen from the file this is `effects: name at least one effect: …`.
+            return Err(SceneProblem::Field { field: String::new(), kind: FieldProblem::Empty(Listing::Effects) });
         }
         let maps = &self.distance_maps;
+        let out_of_range = |field: &str, value: u32, range: Range| {
+            SceneProblem::field(field, FieldProblem::OutOfRange { value: Value::Integer(value.into()), range })
+        };
         if !(4..=4096).contains(&maps.size) {
-            return Err(format!("distance_maps.size {} must lie in 4..=4096", maps.size));
+            return Err(out_of_range("distance_maps.size", maps.size, Range::Integers { low: 4, high: 4096 }));
         }
         if !(2..=8).contains(&maps.layers) {
-            return Err(format!(
-                "distance_maps.layers {} must lie in 2..=8 (at least one specular layer and the diffuse one)",
-                maps.layers
-            ));
+            return Err(out_of_range("distance_maps.layers", maps.layers, Range::Layers { low: 2, high: 8 }));
         }
         let linear = maps.linear_steps.values();
         let secant = maps.secant_steps.values();
-        if linear.is_empty() || linear.iter().any(|s| !(1..=1024).contains(s)) {
-            return Err(format!("distance_maps.linear_steps {linear:?} must lie in 1..=1024"));
-        }
-        if secant.is_empty() || secant.iter().any(|s| *s > 64) {
-            return Err(format!("distance_maps.secant_steps {secant:?} must lie in 0..=64"));
-        }
+        check_counts("distance_maps.linear_steps", &linear, 1, 1024)?;
+        check_counts("distance_maps.secant_steps", &secant, 0, 64)?;
         let steps = linear.iter().flat_map(|&linear| secant.iter().map(move |&secant| SearchSteps { linear, secant })).collect();
         Ok(Effects {
             reflection,
@@ -261,11 +266,21 @@ pub struct Diffuse {
     pub pattern: Pattern,
 }
 
-fn check_albedo(field: &str, albedo: [f64; 3]) -> Result<(), String> {
+/// A list of counts (sorted, distinct) that must be non-empty with each in `low..=high`.
+fn check_counts(field: &str, values: &[u32], low: u32, high: u32) -> Result<(), SceneProblem> {
+    if values.is_empty() || values.iter().any(|v| !(low..=high).contains(v)) {
+        let range = Range::Integers { low: low.into(), high: high.into() };
+        return Err(SceneProblem::field(field, FieldProblem::OutOfRange { value: Value::Integers(values.to_vec()), range }));
+    }
+    Ok(())
+}
+
+fn check_albedo(field: &str, albedo: [f64; 3]) -> Result<(), SceneProblem> {
     if albedo.iter().all(|a| (0.0..=1.0).contains(a)) {
         Ok(())
     } else {
-        Err(format!("{field} {albedo:?} must lie in [0, 1] per channel"))
+        let range = Range::Closed { low: 0.0, high: 1.0, each: Each::Channel };
+        Err(SceneProblem::field(field, FieldProblem::OutOfRange { value: Value::Vector(albedo), range }))
     }
 }
 
@@ -274,19 +289,20 @@ fn length(v: [f64; 3]) -> f64 {
 }
 
 impl Diffuse {
-    pub(crate) fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), SceneProblem> {
         check_albedo("diffuse", self.albedo)?;
         match &self.pattern {
             Pattern::Plain => Ok(()),
             Pattern::Checker { size, albedo } => {
                 if !(size.is_finite() && *size > 0.0) {
-                    return Err(format!("pattern.checker.size {size} must be positive"));
+                    let kind = FieldProblem::OutOfRange { value: Value::Number(*size), range: Range::Positive };
+                    return Err(SceneProblem::field("pattern.checker.size", kind));
                 }
                 check_albedo("pattern.checker.albedo", *albedo)
             }
             Pattern::Gradient { axis, albedo } => {
                 if !(length(*axis) > 1e-9 && axis.iter().all(|a| a.is_finite())) {
-                    return Err(format!("pattern.gradient.axis {axis:?} must be a non-zero vector"));
+                    return Err(SceneProblem::field("pattern.gradient.axis", FieldProblem::ZeroVector { value: *axis }));
                 }
                 check_albedo("pattern.gradient.albedo", *albedo)
             }
@@ -312,6 +328,16 @@ impl Diffuse {
                 std::array::from_fn(|i| self.albedo[i] + w * (albedo[i] - self.albedo[i]))
             }
         }
+    }
+}
+
+/// A light colour, ambient term or intensity: each channel in [0, [`super::MAX_LIGHT`]].
+pub(crate) fn check_light_term(field: &str, value: [f64; 3]) -> Result<(), SceneProblem> {
+    if value.iter().all(|v| v.is_finite() && *v >= 0.0 && *v <= super::MAX_LIGHT) {
+        Ok(())
+    } else {
+        let range = Range::Closed { low: 0.0, high: super::MAX_LIGHT, each: Each::Whole };
+        Err(SceneProblem::field(field, FieldProblem::OutOfRange { value: Value::Vector(value), range }))
     }
 }
 
@@ -347,16 +373,12 @@ impl Default for Light {
 }
 
 impl Light {
-    pub(crate) fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), SceneProblem> {
         if !(length(self.direction) > 1e-9 && self.direction.iter().all(|a| a.is_finite())) {
-            return Err(format!("direction {:?} must be a non-zero vector", self.direction));
+            return Err(SceneProblem::field("direction", FieldProblem::ZeroVector { value: self.direction }));
         }
-        for (field, value) in [("colour", self.colour), ("ambient", self.ambient)] {
-            if value.iter().any(|v| !(v.is_finite() && *v >= 0.0 && *v <= super::MAX_LIGHT)) {
-                return Err(format!("{field} {value:?} must lie in [0, {:e}]", super::MAX_LIGHT));
-            }
-        }
-        Ok(())
+        check_light_term("colour", self.colour)?;
+        check_light_term("ambient", self.ambient)
     }
 
     /// Radiance leaving a diffuse point of albedo `albedo` with unit normal `normal`.

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
+use nklut_optics::db::file::FileProblem;
+use nklut_pipeline::budget::TooLarge;
 
 use crate::scene::{MeshSource, Placement};
 
@@ -22,7 +24,29 @@ pub struct Mesh {
 #[error("mesh {}: {problem}", file.display())]
 pub struct MeshError {
     pub file: PathBuf,
-    pub problem: String,
+    pub problem: MeshProblem,
+}
+
+/// What was wrong with a mesh file.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshProblem {
+    /// Missing, not a regular file, or larger than [`MAX_OBJ_BYTES`].
+    #[error("{0}")]
+    Unreadable(FileProblem),
+    /// Its parsed triangles would not fit the memory budget.
+    #[error("{0}")]
+    Memory(TooLarge),
+    /// tobj could not parse it.
+    #[error("{0}")]
+    Obj(tobj::LoadError),
+    #[error("no triangles")]
+    NoTriangles,
+    #[error("a face refers to a vertex that does not exist")]
+    MissingVertex,
+    #[error("a vertex position is not finite")]
+    NonFinitePosition,
+    #[error("a vertex normal is not finite")]
+    NonFiniteNormal,
 }
 
 impl Mesh {
@@ -140,20 +164,20 @@ pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 /// [`MAX_OBJ_BYTES`], whose parsed mesh fits the memory budget), normalise it to the unit
 /// sphere and, where the file has no normals, compute smooth area-weighted vertex normals.
 pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
-    let error = |problem: String| MeshError { file: file.into(), problem };
-    let opened = nklut_optics::db::file::open_regular(file).map_err(|e| error(e.to_string()))?;
+    let error = |problem: MeshProblem| MeshError { file: file.into(), problem };
+    let opened = nklut_optics::db::file::open_regular(file).map_err(|e| error(MeshProblem::Unreadable(e)))?;
     // The parsed mesh takes a few times the text's bytes (tobj's lists, then ours).
     let stated = opened.metadata().map(|m| m.len()).unwrap_or(0);
     nklut_pipeline::budget::MemoryBudget::of_machine()
         .check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated))
-        .map_err(|e| error(e.to_string()))?;
+        .map_err(|e| error(MeshProblem::Memory(e)))?;
     let mut bytes = Vec::new();
-    let length = nklut_optics::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(e.to_string()))?;
+    let length = nklut_optics::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(MeshProblem::Unreadable(e)))?;
     bytes.truncate(length);
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials are not read (a scene names its own).
     let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
-        .map_err(|e| error(e.to_string()))?;
+        .map_err(|e| error(MeshProblem::Obj(e)))?;
     let mut mesh = Mesh::default();
     let mut has_normals = true;
     for model in &models {
@@ -168,16 +192,16 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
         mesh.indices.extend(m.indices.iter().map(|i| base + i));
     }
     if mesh.indices.is_empty() {
-        return Err(error("no triangles".into()));
+        return Err(error(MeshProblem::NoTriangles));
     }
     if mesh.indices.iter().any(|&i| i as usize >= mesh.positions.len()) {
-        return Err(error("a face refers to a vertex that does not exist".into()));
+        return Err(error(MeshProblem::MissingVertex));
     }
     if mesh.positions.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(error("a vertex position is not finite".into()));
+        return Err(error(MeshProblem::NonFinitePosition));
     }
     if mesh.normals.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(error("a vertex normal is not finite".into()));
+        return Err(error(MeshProblem::NonFiniteNormal));
     }
     // Normalised first: the normals of faces the size of f32's range would overflow.
     normalise_to_unit_sphere(&mut mesh.positions);
@@ -239,6 +263,21 @@ pub fn normalise_to_unit_sphere(positions: &mut [[f32; 3]]) {
         let d = offset(p);
         *p = std::array::from_fn(|axis| (d[axis] * scale) as f32);
     }
+}
+
+/// The largest coordinate a triangle's corner may have: the BVH is built in f32 (boxes,
+/// Morton codes of their centres), where a corner near f32's range turns into infinities,
+/// and the builder then indexes out of bounds. Placed scenes stay within ±2e4
+/// (`scene::MAX_COORDINATE` and `SCALE_RANGE`).
+pub const MAX_CORNER: f64 = 1e6;
+
+/// A scene that cannot be traced.
+#[derive(Debug, thiserror::Error)]
+pub enum GeometryError {
+    #[error("the scene has no triangles to trace")]
+    Empty,
+    #[error("object {object}'s triangle {triangle} has a corner at {corner:?}, beyond the ±{MAX_CORNER:e} the tracer takes")]
+    OutOfBounds { object: usize, triangle: usize, corner: [f64; 3] },
 }
 
 #[cfg(test)]
@@ -320,8 +359,11 @@ mod tests {
         assert!((radius(&mesh) - 1.0).abs() < 1e-6);
         assert!(mesh.normals.iter().all(|n| (n[2] - 1.0).abs() < 1e-6));
         std::fs::write(&file, "v 0 0 0\n").unwrap();
-        assert!(load_obj(&file).unwrap_err().to_string().contains("no triangles"));
-        assert!(load_obj(&dir.join("missing.obj")).is_err());
+        assert!(matches!(load_obj(&file).unwrap_err().problem, MeshProblem::NoTriangles));
+        std::fs::write(&file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n").unwrap();
+        assert!(matches!(load_obj(&file).map(|m| m.triangles()), Err(MeshError { problem: MeshProblem::Obj(_), .. }) | Ok(1)));
+        let missing = load_obj(&dir.join("missing.obj")).unwrap_err();
+        assert!(matches!(missing.problem, MeshProblem::Unreadable(FileProblem::Io(_))), "{missing}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

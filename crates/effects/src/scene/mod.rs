@@ -23,6 +23,7 @@
 
 pub mod camera;
 pub mod effects;
+pub mod error;
 pub mod materials;
 pub mod mesh;
 pub mod surfels;
@@ -35,6 +36,7 @@ use serde::{Deserialize, Serialize};
 use nklut_optics::fresnel::Method as FresnelMethod;
 
 pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Light, Pattern, SearchSteps};
+pub use error::{Conflict, Each, FieldProblem, Listing, Range, Required, SceneError, SceneProblem, Value, Values};
 pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
 pub use surfels::LightSource;
 
@@ -347,14 +349,6 @@ pub struct Scene {
     pub lights: Vec<LightSource>,
 }
 
-/// A scene file that could not be used: the file and what was wrong.
-#[derive(Debug, thiserror::Error)]
-#[error("scene {}: {problem}", file.display())]
-pub struct SceneError {
-    pub file: PathBuf,
-    pub problem: String,
-}
-
 #[derive(Deserialize)]
 #[serde(untagged)]
 enum OneOrMany {
@@ -406,16 +400,18 @@ fn default_resolution() -> [u32; 2] {
     [512, 512]
 }
 
-fn shadings(names: OneOrMany) -> Result<Vec<Shading>, String> {
+/// The shadings a `methods` field names, distinct, in its order.
+fn shadings(names: OneOrMany) -> Result<Vec<Shading>, FieldProblem> {
     let names = match names {
         OneOrMany::One(name) => vec![name],
         OneOrMany::Many(names) => names,
     };
     let mut shadings = Vec::new();
     for name in names {
-        let shading = Shading::from_name(&name).ok_or_else(|| {
-            let known: Vec<&str> = Shading::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown method {name:?}; known: {}", known.join(", "))
+        let shading = Shading::from_name(&name).ok_or_else(|| FieldProblem::Unknown {
+            what: "method",
+            name: name.clone(),
+            known: Shading::ALL.iter().map(|m| m.name()).collect(),
         })?;
         if !shadings.contains(&shading) {
             shadings.push(shading);
@@ -426,8 +422,9 @@ fn shadings(names: OneOrMany) -> Result<Vec<Shading>, String> {
 
 impl RawObject {
     /// The object, or what is wrong with it (without the `objects[i]` prefix).
-    fn object(self, effects: bool) -> Result<SceneObject, String> {
-        let needs_effects = |field: &str| format!("{field}: only a scene with an `effects` section may use it");
+    fn object(self, effects: bool) -> Result<SceneObject, SceneProblem> {
+        let needs_effects = |field: &str| SceneProblem::field(field, FieldProblem::NeedsEffects);
+        let conflict = |conflict: Conflict| SceneProblem::Conflict { at: String::new(), conflict };
         let placement = Placement {
             position: self.position.unwrap_or([0.0; 3]),
             scale: match self.scale {
@@ -440,32 +437,35 @@ impl RawObject {
             return Err(needs_effects(if self.position.is_some() { "position" } else { "scale" }));
         }
         if placement.position.iter().any(|x| !(x.abs() <= MAX_COORDINATE)) {
-            return Err(format!("position {:?} must lie within ±{MAX_COORDINATE:e} on each axis", placement.position));
+            let range = Range::Within { bound: MAX_COORDINATE };
+            return Err(SceneProblem::field("position", FieldProblem::OutOfRange { value: Value::Vector(placement.position), range }));
         }
         if placement.scale.iter().any(|s| !(*s >= SCALE_RANGE.0 && *s <= SCALE_RANGE.1)) {
-            return Err(format!("scale {:?} must lie in [{:e}, {:e}] on each axis", placement.scale, SCALE_RANGE.0, SCALE_RANGE.1));
+            let range = Range::Closed { low: SCALE_RANGE.0, high: SCALE_RANGE.1, each: Each::Axis };
+            return Err(SceneProblem::field("scale", FieldProblem::OutOfRange { value: Value::Vector(placement.scale), range }));
         }
         let subdivisions = self.subdivide.unwrap_or(0);
         if self.subdivide.is_some() && !effects {
             return Err(needs_effects("subdivide"));
         }
         if subdivisions > surfels::MAX_SUBDIVISIONS {
-            return Err(format!("subdivide {subdivisions} must lie in 0..={}", surfels::MAX_SUBDIVISIONS));
+            let range = Range::Integers { low: 0, high: surfels::MAX_SUBDIVISIONS.into() };
+            return Err(SceneProblem::field("subdivide", FieldProblem::OutOfRange { value: Value::Integer(subdivisions.into()), range }));
         }
         let role = match (self.material, self.diffuse) {
-            (Some(_), Some(_)) => return Err("material and diffuse: an object is either specular (a material) or diffuse, not both".into()),
-            (None, None) => return Err("material: name a page id (a specular object) or a `diffuse` colour".into()),
+            (Some(_), Some(_)) => return Err(conflict(Conflict::MaterialAndDiffuse)),
+            (None, None) => return Err(SceneProblem::field("material", FieldProblem::Missing(Required::MaterialOrDiffuse))),
             (Some(material), None) => {
                 if self.pattern.is_some() {
-                    return Err("pattern: only a diffuse object has a pattern".into());
+                    return Err(conflict(Conflict::PatternOnSpecular));
                 }
-                let names = self.methods.ok_or("methods: a specular object needs at least one method")?;
-                let shadings = shadings(names).map_err(|e| format!("methods: {e}"))?;
+                let names = self.methods.ok_or(SceneProblem::field("methods", FieldProblem::Missing(Required::Methods)))?;
+                let shadings = shadings(names).map_err(|kind| SceneProblem::field("methods", kind))?;
                 if shadings.is_empty() {
-                    return Err("methods: no method named".into());
+                    return Err(SceneProblem::field("methods", FieldProblem::Empty(Listing::Methods)));
                 }
                 if material.split('/').count() != 3 {
-                    return Err(format!("material {material:?} is not a page id shelf/book/page"));
+                    return Err(SceneProblem::field("material", FieldProblem::NotAPageId { value: material }));
                 }
                 Role::Specular(Specular { material, shadings })
             }
@@ -474,7 +474,7 @@ impl RawObject {
                     return Err(needs_effects("diffuse"));
                 }
                 if self.methods.is_some() {
-                    return Err("methods: a diffuse object has no Fresnel method".into());
+                    return Err(conflict(Conflict::MethodsOnDiffuse));
                 }
                 let diffuse = Diffuse { albedo, pattern: self.pattern.unwrap_or(Pattern::Plain) };
                 diffuse.check()?;
@@ -489,47 +489,51 @@ impl Scene {
     /// Read and check a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = nklut_optics::db::file::read_regular_text(path, MAX_SCENE_BYTES)
-            .map_err(|e| SceneError { file: path.into(), problem: format!("cannot read: {e}") })?;
+            .map_err(|e| SceneError::new(path, SceneProblem::Unreadable(e)))?;
         Scene::parse(&text, path)
     }
 
     /// Parse and check scene text; `file` names it in errors and anchors relative mesh paths.
     pub fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
-        let error = |problem: String| SceneError { file: file.into(), problem };
+        let error = |problem: SceneProblem| SceneError::new(file, problem);
+        let conflict = |conflict: Conflict| error(SceneProblem::Conflict { at: String::new(), conflict });
         if let Some(deep) = nklut_optics::db::block_yaml::too_deep(text) {
-            return Err(error(deep.to_string()));
+            return Err(error(SceneProblem::TooDeep(deep)));
         }
-        let raw: RawScene = serde_yaml::from_str(text).map_err(|e| error(e.to_string()))?;
+        let raw: RawScene = serde_yaml::from_str(text).map_err(|e| error(SceneProblem::Syntax(e)))?;
         let with_effects = raw.effects.is_some();
         let mut objects = Vec::new();
         for (i, object) in raw.objects.into_iter().enumerate() {
-            objects.push(object.object(with_effects).map_err(|e| error(format!("objects[{i}].{e}")))?);
+            objects.push(object.object(with_effects).map_err(|e| error(e.within(&format!("objects[{i}]"))))?);
         }
-        let effects = raw.effects.map(|e| e.effects()).transpose().map_err(|e| error(format!("effects.{e}")))?;
+        let effects = raw.effects.map(|e| e.effects()).transpose().map_err(|e| error(e.within("effects")))?;
         if raw.light.is_some() && effects.is_none() {
-            return Err(error("light: only a scene with an `effects` section may use it".into()));
+            return Err(error(SceneProblem::field("light", FieldProblem::NeedsEffects)));
         }
         if raw.lights.is_some() && effects.is_none() {
-            return Err(error("lights: only a scene with an `effects` section may use it".into()));
+            return Err(error(SceneProblem::field("lights", FieldProblem::NeedsEffects)));
         }
         if raw.lights.is_some() && raw.light.is_some() {
-            return Err(error("light and lights: name the lights once, in `lights` (directional, point, ambient) or in `light`".into()));
+            return Err(conflict(Conflict::LightAndLights));
         }
         let distance_map_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::SpecularPaths));
         if raw.lights.is_some() && distance_map_effects {
-            return Err(error("lights: reflection and refraction light their surroundings with `light`; `lights` is for ambient_occlusion and indirect alone".into()));
+            return Err(conflict(Conflict::LightsWithSpecularPaths));
         }
         let surfel_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::Surfels));
         if let Some(i) = objects.iter().position(|o: &SceneObject| o.subdivisions > 0) {
             if !surfel_effects {
-                return Err(error(format!("objects[{i}].subdivide: only surfel effects (ambient_occlusion, indirect) use it")));
+                return Err(error(SceneProblem::field(
+                    format!("objects[{i}].subdivide"),
+                    FieldProblem::NeedsFamily(EffectFamily::Surfels),
+                )));
             }
         }
         let light = raw.light.unwrap_or_default();
         let lights = match raw.lights {
             Some(lights) => {
                 for (i, source) in lights.iter().enumerate() {
-                    source.check().map_err(|e| error(format!("lights[{i}].{e}")))?;
+                    source.check().map_err(|e| error(e.within(&format!("lights[{i}]"))))?;
                 }
                 lights
             }
@@ -557,50 +561,53 @@ impl Scene {
     /// The checks of [`Scene::parse`] again, for values changed after loading (the
     /// command line's `--resolution`, `--degrees-per-frame`, …); errors name the file.
     pub fn recheck(&self) -> Result<(), SceneError> {
-        self.check().map_err(|problem| SceneError { file: self.file.clone(), problem: format!("{problem} (after command-line overrides)") })
+        self.check().map_err(|problem| SceneError { file: self.file.clone(), values: Values::AfterOverrides, problem: Box::new(problem) })
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), SceneProblem> {
+        let out_of_range = |field: &str, value: Value, range: Range| SceneProblem::field(field, FieldProblem::OutOfRange { value, range });
         if self.objects.is_empty() {
-            return Err("objects: the scene names no object".into());
+            return Err(SceneProblem::field("objects", FieldProblem::Empty(Listing::Objects)));
         }
         // A scene whose effects are only surfel effects (ambient occlusion, indirect light)
         // needs no specular object; reflections, refractions and the plain F(|N·V|) runs do.
         let surfel_only = self.effects.as_ref().is_some_and(|e| !e.names(EffectFamily::SpecularPaths));
         if !surfel_only && self.specular_objects().next().is_none() {
-            return Err("objects: the scene names no specular object (one with a material)".into());
+            return Err(SceneProblem::field("objects", FieldProblem::Empty(Listing::SpecularObjects)));
         }
         if self.experiments.is_empty() {
-            return Err("measurements: name at least one of timing, image_error".into());
+            return Err(SceneProblem::field("measurements", FieldProblem::Empty(Listing::Measurements)));
         }
         check_resolution("resolution", self.resolution)?;
         check_resolution("timing.resolution", self.timing.resolution)?;
         let camera = &self.camera;
         if camera.axis.iter().map(|a| a * a).sum::<f64>().sqrt() < 1e-9 || camera.axis.iter().any(|a| !a.is_finite()) {
-            return Err(format!("camera.axis {:?} must be a non-zero vector", camera.axis));
+            return Err(SceneProblem::field("camera.axis", FieldProblem::ZeroVector { value: camera.axis }));
         }
         if !(camera.distance > 1.0 && camera.distance.is_finite()) {
-            return Err(format!("camera.distance {} must be above 1 (objects fill the unit sphere)", camera.distance));
+            let range = Range::Above { low: 1.0, why: "objects fill the unit sphere" };
+            return Err(out_of_range("camera.distance", Value::Number(camera.distance), range));
         }
+        let counts = |low: u32, high: u32| Range::Integers { low: low.into(), high: high.into() };
         if !(1..=MAX_FRAMES).contains(&camera.frames) {
-            return Err(format!("camera.frames {} must lie in 1..={MAX_FRAMES}", camera.frames));
+            return Err(out_of_range("camera.frames", Value::Integer(camera.frames.into()), counts(1, MAX_FRAMES)));
         }
         if !camera.degrees_per_frame.is_finite() {
-            return Err("camera.degrees_per_frame must be finite".into());
+            return Err(SceneProblem::field("camera.degrees_per_frame", FieldProblem::NotFinite));
         }
         if !(camera.fov_y_degrees > 0.0 && camera.fov_y_degrees < 180.0) {
-            return Err(format!("camera.fov_y_degrees {} must lie in (0, 180)", camera.fov_y_degrees));
+            return Err(out_of_range("camera.fov_y_degrees", Value::Number(camera.fov_y_degrees), Range::Open { low: 0.0, high: 180.0 }));
         }
         if !(1..=MAX_REPEATS).contains(&self.timing.repeats) {
-            return Err(format!("timing.repeats {} must lie in 1..={MAX_REPEATS}", self.timing.repeats));
+            return Err(out_of_range("timing.repeats", Value::Integer(self.timing.repeats.into()), counts(1, MAX_REPEATS)));
         }
         if self.timing.warmup > MAX_REPEATS {
-            return Err(format!("timing.warmup {} must lie in 0..={MAX_REPEATS}", self.timing.warmup));
+            return Err(out_of_range("timing.warmup", Value::Integer(self.timing.warmup.into()), counts(0, MAX_REPEATS)));
         }
         if !(2..=8192).contains(&self.lut.size) {
-            return Err(format!("lut.size {} must lie in 2..=8192", self.lut.size));
+            return Err(out_of_range("lut.size", Value::Integer(self.lut.size.into()), counts(2, 8192)));
         }
-        self.light.check().map_err(|e| format!("light.{e}"))
+        self.light.check().map_err(|e| e.within("light"))
     }
 
     /// Whether the scene names any effect of `family`.
@@ -661,9 +668,10 @@ impl Scene {
     }
 }
 
-fn check_resolution(name: &str, [w, h]: [u32; 2]) -> Result<(), String> {
+fn check_resolution(name: &str, [w, h]: [u32; 2]) -> Result<(), SceneProblem> {
     if w == 0 || h == 0 || w > 8192 || h > 8192 {
-        return Err(format!("{name} {w}x{h} must be between 1x1 and 8192x8192"));
+        let range = Range::Sizes { largest: [8192, 8192] };
+        return Err(SceneProblem::field(name, FieldProblem::OutOfRange { value: Value::Size([w, h]), range }));
     }
     Ok(())
 }
@@ -711,24 +719,148 @@ mod tests {
         assert_eq!(scene.objects[2].mesh.label(), "x");
     }
 
+    /// The problem of scene text that must not parse; its message names the file first.
+    fn problem(text: &str) -> SceneProblem {
+        let error = parse(text).unwrap_err();
+        assert!(error.to_string().starts_with("scene test.yaml: "), "{text:?} gave {error}");
+        assert_eq!(error.values, Values::AsWritten);
+        *error.problem
+    }
+
+    /// The field and its problem, for text whose problem is one field's value.
+    fn field_problem(text: &str) -> (String, FieldProblem) {
+        match problem(text) {
+            SceneProblem::Field { field, kind } => (field, kind),
+            other => panic!("{text:?}: not a field's problem: {other:?}"),
+        }
+    }
+
+    fn out_of_range(value: Value, range: Range) -> FieldProblem {
+        FieldProblem::OutOfRange { value, range }
+    }
+
     #[test]
     fn bad_scenes_are_named_errors() {
+        let object = "objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [timing]\n";
+        let known: Vec<&str> = Shading::ALL.iter().map(|s| s.name()).collect();
         let cases = [
-            ("objects: []\nmeasurements: [timing]\n", "no object"),
-            ("objects: [{mesh: cube, material: a/b/c, method: fast}]\nmeasurements: [timing]\n", "unknown method \"fast\""),
-            ("objects: [{mesh: cube, material: gold, method: exact}]\nmeasurements: [timing]\n", "not a page id"),
-            ("objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [speed]\n", "unknown variant"),
-            ("objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [timing]\ncamera: {axis: [0, 0, 0]}\n", "camera.axis"),
-            ("objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [timing]\nresolution: [0, 4]\n", "resolution 0x4"),
-            ("objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [timing]\ncamera: {frames: 0}\n", "frames"),
-            ("objects: [{mesh: cube, material: a/b/c, method: exact, colour: red}]\nmeasurements: [timing]\n", "unknown field"),
-            (": : :", "test.yaml"),
-            ("objects: [{mesh: cube, material: a/b/c}]\nmeasurements: [timing]\n", "objects[0].methods"),
+            ("objects: []\nmeasurements: [timing]\n".to_string(), "objects", FieldProblem::Empty(Listing::Objects)),
+            (
+                "objects: [{mesh: cube, material: a/b/c, method: fast}]\nmeasurements: [timing]\n".to_string(),
+                "objects[0].methods",
+                FieldProblem::Unknown { what: "method", name: "fast".into(), known: known.clone() },
+            ),
+            (
+                "objects: [{mesh: cube, material: gold, method: exact}]\nmeasurements: [timing]\n".to_string(),
+                "objects[0].material",
+                FieldProblem::NotAPageId { value: "gold".into() },
+            ),
+            (format!("{object}camera: {{axis: [0, 0, 0]}}\n"), "camera.axis", FieldProblem::ZeroVector { value: [0.0; 3] }),
+            (
+                format!("{object}resolution: [0, 4]\n"),
+                "resolution",
+                out_of_range(Value::Size([0, 4]), Range::Sizes { largest: [8192, 8192] }),
+            ),
+            (
+                format!("{object}timing: {{resolution: [9000, 4]}}\n"),
+                "timing.resolution",
+                out_of_range(Value::Size([9000, 4]), Range::Sizes { largest: [8192, 8192] }),
+            ),
+            (
+                format!("{object}camera: {{frames: 0}}\n"),
+                "camera.frames",
+                out_of_range(Value::Integer(0), Range::Integers { low: 1, high: 3600 }),
+            ),
+            (
+                format!("{object}camera: {{distance: 0.5}}\n"),
+                "camera.distance",
+                out_of_range(Value::Number(0.5), Range::Above { low: 1.0, why: "objects fill the unit sphere" }),
+            ),
+            (format!("{object}camera: {{degrees_per_frame: .inf}}\n"), "camera.degrees_per_frame", FieldProblem::NotFinite),
+            (
+                format!("{object}camera: {{fov_y_degrees: 180}}\n"),
+                "camera.fov_y_degrees",
+                out_of_range(Value::Number(180.0), Range::Open { low: 0.0, high: 180.0 }),
+            ),
+            (
+                format!("{object}timing: {{repeats: 0}}\n"),
+                "timing.repeats",
+                out_of_range(Value::Integer(0), Range::Integers { low: 1, high: 10_000 }),
+            ),
+            (
+                format!("{object}timing: {{warmup: 10001}}\n"),
+                "timing.warmup",
+                out_of_range(Value::Integer(10_001), Range::Integers { low: 0, high: 10_000 }),
+            ),
+            (format!("{object}lut: {{size: 1}}\n"), "lut.size", out_of_range(Value::Integer(1), Range::Integers { low: 2, high: 8192 })),
+            (
+                "objects: [{mesh: cube, material: a/b/c}]\nmeasurements: [timing]\n".to_string(),
+                "objects[0].methods",
+                FieldProblem::Missing(Required::Methods),
+            ),
+            (
+                "objects: [{mesh: cube, material: a/b/c, methods: []}]\nmeasurements: [timing]\n".to_string(),
+                "objects[0].methods",
+                FieldProblem::Empty(Listing::Methods),
+            ),
+            (
+                "objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: []\n".to_string(),
+                "measurements",
+                FieldProblem::Empty(Listing::Measurements),
+            ),
+        ];
+        for (text, field, expected) in cases {
+            assert_eq!(field_problem(&text), (field.to_string(), expected), "{text:?}");
+        }
+        // What serde_yaml refuses is a syntax problem, with its line and column.
+        for (text, says, line) in [
+            (object.replace("[timing]", "[speed]"), "unknown variant", 2),
+            (
+                "objects: [{mesh: cube, material: a/b/c, method: exact, colour: red}]\nmeasurements: [timing]\n".to_string(),
+                "unknown field",
+                1,
+            ),
+            ("objects: [\n".to_string(), "did not find expected", 2),
+        ] {
+            match problem(&text) {
+                SceneProblem::Syntax(error) => {
+                    assert!(error.to_string().contains(says) && error.location().is_some_and(|l| l.line() == line), "{text:?} gave {error}")
+                }
+                other => panic!("{text:?} gave {other:?}"),
+            }
+        }
+        let deep = format!("objects: {}{}\n", "[".repeat(100), "]".repeat(100));
+        assert!(matches!(problem(&deep), SceneProblem::TooDeep(d) if d.line == 1), "{deep}");
+    }
+
+    #[test]
+    fn messages_name_the_field_the_value_and_the_range() {
+        let object = "objects: [{mesh: cube, material: a/b/c, method: exact}]\nmeasurements: [timing]\n";
+        let cases = [
+            (format!("{object}resolution: [0, 4]\n"), "resolution 0x4 must be between 1x1 and 8192x8192"),
+            (format!("{object}camera: {{distance: 0.5}}\n"), "camera.distance 0.5 must be above 1 (objects fill the unit sphere)"),
+            (format!("{object}camera: {{fov_y_degrees: 180}}\n"), "camera.fov_y_degrees 180 must lie in (0, 180)"),
+            (format!("{object}camera: {{axis: [0, 0, 0]}}\n"), "camera.axis [0.0, 0.0, 0.0] must be a non-zero vector"),
+            (
+                "objects: [{mesh: cube, material: a/b/c, method: fast}]\nmeasurements: [timing]\n".into(),
+                "objects[0].methods: unknown method \"fast\"; known: exact, schlick",
+            ),
+            (
+                "objects: [{mesh: cube, material: gold, method: exact}]\nmeasurements: [timing]\n".into(),
+                "objects[0].material \"gold\" is not a page id shelf/book/page",
+            ),
+            ("objects: []\nmeasurements: [timing]\n".into(), "objects: the scene names no object"),
         ];
         for (text, expected) in cases {
-            let message = parse(text).unwrap_err().to_string();
-            assert!(message.contains(expected) && message.contains("test.yaml"), "{text:?} gave {message:?}");
+            let message = parse(&text).unwrap_err().to_string();
+            assert!(message.starts_with(&format!("scene test.yaml: {expected}")), "{text:?} gave {message:?}");
         }
+        // A check after the command line's overrides says so.
+        let mut scene = parse(object).unwrap();
+        scene.camera.frames = 0;
+        let error = scene.recheck().unwrap_err();
+        assert_eq!(error.values, Values::AfterOverrides);
+        assert_eq!(error.to_string(), "scene test.yaml: camera.frames 0 must lie in 1..=3600 (after command-line overrides)");
     }
 
     const EFFECTS: &str = "measurements: [image_error]\neffects:\n  reflection: {max_depth: [1, 3]}\n  distance_maps: {size: 64, layers: 3, linear_steps: 15, secant_steps: [1, 10]}\n";
@@ -761,35 +893,140 @@ mod tests {
     fn effects_fields_are_errors_naming_the_field() {
         let specular = "  - {mesh: sphere, material: a/b/c, method: exact}\n";
         let plain = "measurements: [image_error]\nobjects:\n";
-        let cases = [
+        let counts = |low: u64, high: u64| Range::Integers { low, high };
+        let field_cases = [
             // Fields that need an effects section.
-            (format!("{plain}{specular}  - {{mesh: room, diffuse: [1, 1, 1]}}\n"), "objects[1].diffuse: only a scene with an `effects` section"),
-            (format!("{plain}  - {{mesh: sphere, material: a/b/c, method: exact, position: [1, 0, 0]}}\n"), "objects[0].position"),
-            (format!("{plain}  - {{mesh: sphere, material: a/b/c, method: exact, scale: 2}}\n"), "objects[0].scale"),
-            (format!("{plain}{specular}light: {{ambient: [0, 0, 0]}}\n"), "light: only a scene with an `effects`"),
-            // Contradictions and bad values.
-            (format!("{EFFECTS}objects:\n  - {{mesh: room, material: a/b/c, diffuse: [1, 1, 1], method: exact}}\n"), "objects[0].material and diffuse"),
-            (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], method: exact}}\n"), "objects[1].methods: a diffuse object"),
-            (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room}}\n"), "objects[1].material: name a page id"),
-            (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [2, 1, 1]}}\n"), "objects[1].diffuse [2.0, 1.0, 1.0] must lie in [0, 1]"),
-            (format!("{EFFECTS}objects:\n  - {{mesh: room, diffuse: [1, 1, 1]}}\n"), "no specular object"),
-            (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: checker, size: 0, albedo: [0, 0, 0]}}}}\n"), "pattern.checker.size"),
+            (format!("{plain}{specular}  - {{mesh: room, diffuse: [1, 1, 1]}}\n"), "objects[1].diffuse", FieldProblem::NeedsEffects),
+            (format!("{plain}  - {{mesh: sphere, material: a/b/c, method: exact, position: [1, 0, 0]}}\n"), "objects[0].position", FieldProblem::NeedsEffects),
+            (format!("{plain}  - {{mesh: sphere, material: a/b/c, method: exact, scale: 2}}\n"), "objects[0].scale", FieldProblem::NeedsEffects),
+            (format!("{plain}  - {{mesh: sphere, material: a/b/c, method: exact, subdivide: 1}}\n"), "objects[0].subdivide", FieldProblem::NeedsEffects),
+            (format!("{plain}{specular}light: {{ambient: [0, 0, 0]}}\n"), "light", FieldProblem::NeedsEffects),
+            // Bad values.
+            (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room}}\n"), "objects[1].material", FieldProblem::Missing(Required::MaterialOrDiffuse)),
+            (
+                format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [2, 1, 1]}}\n"),
+                "objects[1].diffuse",
+                out_of_range(Value::Vector([2.0, 1.0, 1.0]), Range::Closed { low: 0.0, high: 1.0, each: Each::Channel }),
+            ),
+            (format!("{EFFECTS}objects:\n  - {{mesh: room, diffuse: [1, 1, 1]}}\n"), "objects", FieldProblem::Empty(Listing::SpecularObjects)),
+            (
+                format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: checker, size: 0, albedo: [0, 0, 0]}}}}\n"),
+                "objects[1].pattern.checker.size",
+                out_of_range(Value::Number(0.0), Range::Positive),
+            ),
+            (
+                format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: checker, size: 1, albedo: [0, 0, -1]}}}}\n"),
+                "objects[1].pattern.checker.albedo",
+                out_of_range(Value::Vector([0.0, 0.0, -1.0]), Range::Closed { low: 0.0, high: 1.0, each: Each::Channel }),
+            ),
+            (
+                format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: gradient, axis: [0, 0, 0], albedo: [0, 0, 0]}}}}\n"),
+                "objects[1].pattern.gradient.axis",
+                FieldProblem::ZeroVector { value: [0.0; 3] },
+            ),
+            (
+                format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, scale: [1, 0, 1]}}\n"),
+                "objects[0].scale",
+                out_of_range(Value::Vector([1.0, 0.0, 1.0]), Range::Closed { low: 1e-4, high: 1e4, each: Each::Axis }),
+            ),
+            (
+                format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, position: [0, 2e4, 0]}}\n"),
+                "objects[0].position",
+                out_of_range(Value::Vector([0.0, 2e4, 0.0]), Range::Within { bound: 1e4 }),
+            ),
+            (
+                format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, subdivide: 1}}\n"),
+                "objects[0].subdivide",
+                FieldProblem::NeedsFamily(EffectFamily::Surfels),
+            ),
+            (format!("{plain}{specular}effects: {{}}\n"), "effects", FieldProblem::Empty(Listing::Effects)),
+            (format!("{plain}{specular}effects: {{reflection: {{max_depth: 0}}}}\n"), "effects.reflection.max_depth", out_of_range(Value::Integers(vec![0]), counts(1, 8))),
+            (
+                format!("{plain}{specular}effects: {{refraction: {{max_depth: [1, 9]}}}}\n"),
+                "effects.refraction.max_depth",
+                out_of_range(Value::Integers(vec![1, 9]), counts(1, 8)),
+            ),
+            (format!("{plain}{specular}effects: {{reflection: {{max_depth: []}}}}\n"), "effects.reflection.max_depth", out_of_range(Value::Integers(vec![]), counts(1, 8))),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{size: 2}}}}\n"),
+                "effects.distance_maps.size",
+                out_of_range(Value::Integer(2), counts(4, 4096)),
+            ),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{layers: 1}}}}\n"),
+                "effects.distance_maps.layers",
+                out_of_range(Value::Integer(1), Range::Layers { low: 2, high: 8 }),
+            ),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{linear_steps: 0}}}}\n"),
+                "effects.distance_maps.linear_steps",
+                out_of_range(Value::Integers(vec![0]), counts(1, 1024)),
+            ),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{secant_steps: [1, 65]}}}}\n"),
+                "effects.distance_maps.secant_steps",
+                out_of_range(Value::Integers(vec![1, 65]), counts(0, 64)),
+            ),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}}}\nlight: {{direction: [0, 0, 0]}}\n"),
+                "light.direction",
+                FieldProblem::ZeroVector { value: [0.0; 3] },
+            ),
+            (
+                format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}}}\nlight: {{ambient: [0, .nan, 0]}}\n"),
+                "light.ambient",
+                FieldProblem::OutOfRange { value: Value::Vector([0.0, f64::NAN, 0.0]), range: Range::Closed { low: 0.0, high: 1e6, each: Each::Whole } },
+            ),
+        ];
+        for (text, field, expected) in field_cases {
+            let (got_field, got) = field_problem(&text);
+            assert_eq!(got_field, field, "{text:?}");
+            // NaN is not equal to itself: compare what the message shows.
+            assert_eq!(format!("{got:?}"), format!("{expected:?}"), "{text:?}");
+        }
+        let conflicts = [
+            (
+                format!("{EFFECTS}objects:\n  - {{mesh: room, material: a/b/c, diffuse: [1, 1, 1], method: exact}}\n"),
+                "objects[0]",
+                Conflict::MaterialAndDiffuse,
+            ),
+            (
+                format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], method: exact}}\n"),
+                "objects[1]",
+                Conflict::MethodsOnDiffuse,
+            ),
+            (
+                format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, pattern: {{kind: plain}}}}\n"),
+                "objects[0]",
+                Conflict::PatternOnSpecular,
+            ),
+        ];
+        for (text, at, expected) in conflicts {
+            match problem(&text) {
+                SceneProblem::Conflict { at: got_at, conflict } => assert_eq!((got_at.as_str(), conflict), (at, expected), "{text:?}"),
+                other => panic!("{text:?} gave {other:?}"),
+            }
+        }
+        for (text, says) in [
             (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: stripes}}}}\n"), "unknown variant `stripes`"),
             (format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [1, 1, 1], pattern: {{kind: checker, size: 1, albedo: [0, 0, 0], tilt: 2}}}}\n"), "unknown field `tilt`"),
-            (format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, scale: [1, 0, 1]}}\n"), "objects[0].scale"),
-            (format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, pattern: {{kind: plain}}}}\n"), "objects[0].pattern"),
-            (format!("{plain}{specular}effects: {{}}\n"), "effects.reflection, refraction, ambient_occlusion, indirect: name at least one"),
-            (format!("{plain}{specular}effects: {{reflection: {{max_depth: 0}}}}\n"), "effects.reflection.max_depth"),
-            (format!("{plain}{specular}effects: {{refraction: {{max_depth: [1, 9]}}}}\n"), "effects.refraction.max_depth"),
             (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1, bounces: 2}}}}\n"), "unknown field `bounces`"),
             (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, glow: {{}}}}\n"), "unknown field `glow`"),
-            (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{layers: 1}}}}\n"), "effects.distance_maps.layers 1"),
-            (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}, distance_maps: {{linear_steps: 0}}}}\n"), "effects.distance_maps.linear_steps"),
-            (format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}}}\nlight: {{direction: [0, 0, 0]}}\n"), "light.direction"),
-        ];
-        for (text, expected) in cases {
-            let message = parse(&text).unwrap_err().to_string();
-            assert!(message.contains(expected) && message.contains("test.yaml"), "{text:?} gave {message:?}");
+        ] {
+            assert!(matches!(problem(&text), SceneProblem::Syntax(e) if e.to_string().contains(says)), "{text:?}");
         }
+        let message = |text: String| parse(&text).unwrap_err().to_string();
+        assert!(message(format!("{EFFECTS}objects:\n  - {{mesh: room, material: a/b/c, diffuse: [1, 1, 1], method: exact}}\n"))
+            .ends_with("objects[0].material and diffuse: an object is either specular (a material) or diffuse, not both"));
+        assert!(message(format!("{plain}{specular}effects: {{}}\n"))
+            .ends_with("effects: name at least one effect: reflection, refraction, ambient_occlusion, indirect"));
+        assert!(message(format!("{EFFECTS}objects:\n{specular}  - {{mesh: room, diffuse: [2, 1, 1]}}\n"))
+            .ends_with("objects[1].diffuse [2.0, 1.0, 1.0] must lie in [0, 1] per channel"));
+        assert!(message(format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, scale: [1, 0, 1]}}\n"))
+            .ends_with("objects[0].scale [1.0, 0.0, 1.0] must lie in [1e-4, 1e4] on each axis"));
+        assert!(message(format!("{EFFECTS}objects:\n  - {{mesh: sphere, material: a/b/c, method: exact, subdivide: 1}}\n"))
+            .ends_with("objects[0].subdivide: only surfel effects (ambient_occlusion, indirect) use it"));
+        assert!(message(format!("{plain}{specular}effects: {{reflection: {{max_depth: 1}}}}\nlight: {{colour: [1e7, 0, 0]}}\n"))
+            .ends_with("light.colour [10000000.0, 0.0, 0.0] must lie in [0, 1e6]"));
     }
 }

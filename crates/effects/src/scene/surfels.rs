@@ -19,6 +19,9 @@
 
 use serde::Deserialize;
 
+use super::effects::check_light_term;
+use super::error::{FieldProblem, Range, SceneProblem, Value};
+
 /// The most passes a scene may ask for (each is a full gather; they converge by 3 or 4).
 pub const MAX_PASSES: u32 = 8;
 /// The most bounces of indirect light.
@@ -41,28 +44,22 @@ pub enum LightSource {
 }
 
 impl LightSource {
-    pub(crate) fn check(&self) -> Result<(), String> {
-        let finite_non_negative = |field: &str, v: &[f64; 3]| {
-            if v.iter().all(|x| x.is_finite() && *x >= 0.0 && *x <= super::MAX_LIGHT) {
-                Ok(())
-            } else {
-                Err(format!("{field} {v:?} must lie in [0, {:e}]", super::MAX_LIGHT))
-            }
-        };
+    pub(crate) fn check(&self) -> Result<(), SceneProblem> {
         match self {
             LightSource::Directional { direction, colour } => {
                 if !(direction.iter().all(|x| x.is_finite()) && direction.iter().map(|x| x * x).sum::<f64>() > 1e-18) {
-                    return Err(format!("direction {direction:?} must be a non-zero vector"));
+                    return Err(SceneProblem::field("direction", FieldProblem::ZeroVector { value: *direction }));
                 }
-                finite_non_negative("colour", colour)
+                check_light_term("colour", *colour)
             }
             LightSource::Point { position, intensity } => {
                 if !position.iter().all(|x| x.abs() <= super::MAX_COORDINATE) {
-                    return Err(format!("position {position:?} must lie within ±{:e} on each axis", super::MAX_COORDINATE));
+                    let range = Range::Within { bound: super::MAX_COORDINATE };
+                    return Err(SceneProblem::field("position", FieldProblem::OutOfRange { value: Value::Vector(*position), range }));
                 }
-                finite_non_negative("intensity", intensity)
+                check_light_term("intensity", *intensity)
             }
-            LightSource::Ambient { colour } => finite_non_negative("colour", colour),
+            LightSource::Ambient { colour } => check_light_term("colour", *colour),
         }
     }
 }
@@ -109,18 +106,22 @@ pub struct Indirect {
 }
 
 impl RawAmbientOcclusion {
-    pub(crate) fn checked(&self) -> Result<AmbientOcclusion, String> {
+    pub(crate) fn checked(&self) -> Result<AmbientOcclusion, SceneProblem> {
         if !(1..=MAX_PASSES).contains(&self.passes) {
-            return Err(format!("ambient_occlusion.passes {} must lie in 1..={MAX_PASSES}", self.passes));
+            let range = Range::Integers { low: 1, high: MAX_PASSES.into() };
+            let kind = FieldProblem::OutOfRange { value: Value::Integer(self.passes.into()), range };
+            return Err(SceneProblem::field("ambient_occlusion.passes", kind));
         }
         Ok(AmbientOcclusion { passes: self.passes, hierarchy: self.hierarchy, bent_normals: self.bent_normals })
     }
 }
 
 impl RawIndirect {
-    pub(crate) fn checked(&self) -> Result<Indirect, String> {
+    pub(crate) fn checked(&self) -> Result<Indirect, SceneProblem> {
         if !(1..=MAX_BOUNCES).contains(&self.bounces) {
-            return Err(format!("indirect.bounces {} must lie in 1..={MAX_BOUNCES}", self.bounces));
+            let range = Range::Integers { low: 1, high: MAX_BOUNCES.into() };
+            let kind = FieldProblem::OutOfRange { value: Value::Integer(self.bounces.into()), range };
+            return Err(SceneProblem::field("indirect.bounces", kind));
         }
         Ok(Indirect { bounces: self.bounces })
     }
@@ -128,7 +129,7 @@ impl RawIndirect {
 
 #[cfg(test)]
 mod tests {
-    use crate::scene::Scene;
+    use crate::scene::{Conflict, Each, EffectFamily, FieldProblem, Listing, Range, Scene, SceneProblem, Value};
     use std::path::Path;
 
     use super::{AmbientOcclusion, Indirect, LightSource};
@@ -175,42 +176,108 @@ mod tests {
         );
     }
 
+    /// The problem of scene text that must not parse, its message naming `ao.yaml`.
+    fn problem(text: &str) -> SceneProblem {
+        let error = Scene::parse(text, Path::new("ao.yaml")).unwrap_err();
+        assert!(error.to_string().starts_with("scene ao.yaml: "), "{error}");
+        *error.problem
+    }
+
     #[test]
     fn surfel_scene_contradictions_name_file_and_field() {
         let diffuse = "objects: [{ mesh: plane, diffuse: [1, 1, 1] }]\nmeasurements: [image_error]\n";
         let ao = "effects: { ambient_occlusion: {} }\n";
-        let cases = [
+        let light_range = Range::Closed { low: 0.0, high: 1e6, each: Each::Whole };
+        let fields = [
             // Reflections still need a specular object.
-            (format!("{diffuse}effects: {{ reflection: {{ max_depth: 1 }} }}\n"), "no specular object"),
-            (format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"), "light and lights"),
-            (format!("{diffuse}{ao}lights: [{{ kind: spot, colour: [1, 1, 1] }}]\n"), "unknown variant `spot`"),
-            (format!("{diffuse}{ao}lights: [{{ kind: point, position: [0, 1, 0], intensity: [1, 1, 1], radius: 2 }}]\n"), "unknown field `radius`"),
-            (format!("{diffuse}{ao}lights: [{{ kind: ambient, colour: [1, 1, 1] }}, {{ kind: point, position: [0, 1, 0], intensity: [1, -1, 1] }}]\n"), "lights[1].intensity"),
-            (format!("{diffuse}{ao}lights: [{{ kind: directional, direction: [0, 0, 0], colour: [1, 1, 1] }}]\n"), "lights[0].direction"),
-            ("objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\nlights: []\n".to_string(), "lights: only a scene with an `effects`"),
+            (format!("{diffuse}effects: {{ reflection: {{ max_depth: 1 }} }}\n"), "objects", FieldProblem::Empty(Listing::SpecularObjects)),
             (
-                "objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 }, ambient_occlusion: {} }\nlights: []\n".to_string(),
-                "lights: reflection and refraction light",
+                format!("{diffuse}{ao}lights: [{{ kind: ambient, colour: [1, 1, 1] }}, {{ kind: point, position: [0, 1, 0], intensity: [1, -1, 1] }}]\n"),
+                "lights[1].intensity",
+                FieldProblem::OutOfRange { value: Value::Vector([1.0, -1.0, 1.0]), range: light_range.clone() },
             ),
+            (
+                format!("{diffuse}{ao}lights: [{{ kind: point, position: [0, 1e5, 0], intensity: [1, 1, 1] }}]\n"),
+                "lights[0].position",
+                FieldProblem::OutOfRange { value: Value::Vector([0.0, 1e5, 0.0]), range: Range::Within { bound: 1e4 } },
+            ),
+            (
+                format!("{diffuse}{ao}lights: [{{ kind: directional, direction: [0, 0, 0], colour: [1, 1, 1] }}]\n"),
+                "lights[0].direction",
+                FieldProblem::ZeroVector { value: [0.0; 3] },
+            ),
+            (
+                format!("{diffuse}{ao}lights: [{{ kind: ambient, colour: [1e7, 0, 0] }}]\n"),
+                "lights[0].colour",
+                FieldProblem::OutOfRange { value: Value::Vector([1e7, 0.0, 0.0]), range: light_range },
+            ),
+            ("objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\nlights: []\n".to_string(), "lights", FieldProblem::NeedsEffects),
             (
                 "objects: [{ mesh: sphere, material: a/b/c, method: exact, subdivide: 1 }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 } }\n".to_string(),
-                "objects[0].subdivide: only surfel effects",
+                "objects[0].subdivide",
+                FieldProblem::NeedsFamily(EffectFamily::Surfels),
             ),
-            ("objects: [{ mesh: plane, diffuse: [1, 1, 1], subdivide: 9 }]\nmeasurements: [image_error]\neffects: { indirect: {} }\n".to_string(), "objects[0].subdivide 9"),
+            (
+                "objects: [{ mesh: plane, diffuse: [1, 1, 1], subdivide: 9 }]\nmeasurements: [image_error]\neffects: { indirect: {} }\n".to_string(),
+                "objects[0].subdivide",
+                FieldProblem::OutOfRange { value: Value::Integer(9), range: Range::Integers { low: 0, high: 6 } },
+            ),
         ];
-        for (text, expected) in cases {
-            let message = parse_file(&text).unwrap_err();
-            assert!(message.contains(expected) && message.contains("ao.yaml"), "{text:?} gave {message:?}");
+        for (text, field, expected) in fields {
+            match problem(&text) {
+                SceneProblem::Field { field: got_field, kind } => assert_eq!((got_field.as_str(), kind), (field, expected), "{text:?}"),
+                other => panic!("{text:?} gave {other:?}"),
+            }
         }
+        let conflicts = [
+            (format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"), Conflict::LightAndLights),
+            (
+                "objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 }, ambient_occlusion: {} }\nlights: []\n".to_string(),
+                Conflict::LightsWithSpecularPaths,
+            ),
+        ];
+        for (text, expected) in conflicts {
+            assert!(matches!(problem(&text), SceneProblem::Conflict { at, conflict } if at.is_empty() && conflict == expected), "{text:?}");
+        }
+        for (text, says) in [
+            (format!("{diffuse}{ao}lights: [{{ kind: spot, colour: [1, 1, 1] }}]\n"), "unknown variant `spot`"),
+            (
+                format!("{diffuse}{ao}lights: [{{ kind: point, position: [0, 1, 0], intensity: [1, 1, 1], radius: 2 }}]\n"),
+                "unknown field `radius`",
+            ),
+        ] {
+            assert!(matches!(problem(&text), SceneProblem::Syntax(e) if e.to_string().contains(says)), "{text:?}");
+        }
+        let message =
+            parse_file(&format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"))
+                .unwrap_err();
+        assert!(
+            message.ends_with("light and lights: name the lights once, in `lights` (directional, point, ambient) or in `light`"),
+            "{message}"
+        );
     }
 
     #[test]
     fn surfel_effects_name_the_bad_field() {
+        let integers = |value: u64, low: u64, high: u64| FieldProblem::OutOfRange {
+            value: Value::Integer(value),
+            range: Range::Integers { low, high },
+        };
+        for (effects, field, expected) in [
+            ("{ ambient_occlusion: { passes: 0 } }", "effects.ambient_occlusion.passes", integers(0, 1, 8)),
+            ("{ indirect: { bounces: 3 } }", "effects.indirect.bounces", integers(3, 1, 2)),
+            ("{ }", "effects", FieldProblem::Empty(Listing::Effects)),
+        ] {
+            let text = format!(
+                "measurements: [image_error]\nobjects:\n  - {{ mesh: sphere, material: a/b/c, method: exact }}\neffects: {effects}\n"
+            );
+            match problem(&text) {
+                SceneProblem::Field { field: got_field, kind } => assert_eq!((got_field.as_str(), kind), (field, expected), "{effects}"),
+                other => panic!("{effects} gave {other:?}"),
+            }
+        }
         let passes = parse("{ ambient_occlusion: { passes: 0 } }").unwrap_err();
-        assert!(passes.contains("t.yaml") && passes.contains("effects.ambient_occlusion.passes 0"), "{passes}");
-        let bounces = parse("{ indirect: { bounces: 3 } }").unwrap_err();
-        assert!(bounces.contains("effects.indirect.bounces 3"), "{bounces}");
-        assert!(parse("{ ambient_occlusion: { rays: 2 } }").unwrap_err().contains("rays"));
-        assert!(parse("{ }").unwrap_err().contains("name at least one effect"));
+        assert!(passes.ends_with("t.yaml: effects.ambient_occlusion.passes 0 must lie in 1..=8"), "{passes}");
+        assert!(parse("{ ambient_occlusion: { rays: 2 } }").unwrap_err().contains("unknown field `rays`"));
     }
 }
