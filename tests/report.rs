@@ -7,7 +7,7 @@
 
 mod common;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -239,10 +239,9 @@ fn effects_and_engine_panels_appear_when_their_tables_exist() {
     fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n")
         .unwrap();
     fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
-    fs::create_dir_all(out.join("effects_frames")).unwrap();
-    fs::write(out.join("effects_frames/teapot-reference.png"), b"not looked at").unwrap();
-    // `make gpu` writes one folder per effects scene: its tables and frames appear too.
-    fs::create_dir_all(out.join("gpu-glass-sphere/effects_gpu_frames")).unwrap();
+    // `make gpu` writes one folder per effects scene: its tables appear in that scene's
+    // section.
+    fs::create_dir_all(out.join("gpu-glass-sphere")).unwrap();
     fs::write(
         out.join("gpu-glass-sphere/effects_timing.csv"),
         "method,reflection_depth,shading_ms
@@ -250,20 +249,24 @@ exact,3,2.5
 ",
     )
     .unwrap();
-    fs::write(out.join("gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png"), b"not looked at").unwrap();
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
     assert!(
-        index.contains("<h3>effects_errors.csv</h3>") && index.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"),
-        "gallery table"
+        index.contains("href=\"effects.html#scene-top\"") && index.contains("href=\"effects.html#scene-glass-sphere\""),
+        "the index links each scene's section"
     );
-    assert!(index.contains("src=\"../effects_frames/teapot-reference.png\""), "frames");
+    let effects = fs::read_to_string(out.join("report/effects.html")).unwrap();
+    check_well_formed(&effects);
     assert!(
-        index.contains("<h3>gpu-glass-sphere/effects_timing.csv</h3>") && index.contains("<td>exact</td><td>3</td><td>2.50</td>"),
+        effects.contains("<code>effects_errors.csv</code>: 1 rows × 4 columns")
+            && effects.contains("<td>teapot</td><td>schlick</td><td>2</td><td>1.23 %</td>"),
+        "a table in the report's number format"
+    );
+    assert!(
+        effects.contains("<code>gpu-glass-sphere/effects_timing.csv</code>") && effects.contains("<td>exact</td><td>3</td><td>2.50</td>"),
         "a scene folder's table"
     );
-    assert!(index.contains("src=\"../gpu-glass-sphere/effects_gpu_frames/depth3-3_exact.png\""), "a scene folder's frames");
     assert!(index.contains("<code>ao_errors.csv</code> is absent"));
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("id=\"paste\""), "paste-in panel");
@@ -330,23 +333,47 @@ fn chromium(args: &[String]) -> Output {
         .expect("chromium is not installed: scripts/test-deps installs Debian's chromium")
 }
 
-/// Render `html` in Chromium with the audit script, keep a screenshot as `shot`.
-fn audit(html: &Path, profile: &Path, shot: &Path) -> Audit {
+/// Render `html` in Chromium `width` px wide with `script` added before `</body>`; the
+/// JSON the script leaves in `<pre id="nk-audit">`.
+fn audit_json(html: &Path, profile: &Path, script: &str, width: u32) -> String {
     let audited = html.with_file_name(format!("audit-{}", html.file_name().unwrap().to_string_lossy()));
-    fs::write(&audited, fs::read_to_string(html).unwrap().replace("</body>", &format!("{AUDIT_SCRIPT}</body>"))).unwrap();
+    fs::write(&audited, fs::read_to_string(html).unwrap().replace("</body>", &format!("{script}</body>"))).unwrap();
     let profile_arg = format!("--user-data-dir={}", profile.display());
     let url = format!("file://{}", audited.display());
-    let dom = chromium(&[profile_arg.clone(), "--window-size=1280,900".into(), "--dump-dom".into(), url]);
+    let dom = chromium(&[profile_arg, format!("--window-size={width},900"), "--dump-dom".into(), url]);
     assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
     let dom = String::from_utf8_lossy(&dom.stdout);
     let start = dom.find("<pre id=\"nk-audit\">").expect("the audit ran") + "<pre id=\"nk-audit\">".len();
-    let json = dom[start..start + dom[start..].find("</pre>").unwrap()]
+    dom[start..start + dom[start..].find("</pre>").unwrap()]
         .replace("&amp;", "&")
         .replace("&lt;", "<")
         .replace("&gt;", ">")
-        .replace("&quot;", "\"");
+        .replace("&quot;", "\"")
+}
+
+/// A screenshot of `html` `width` × `height` px from `top` px down the page.
+fn screenshot(html: &Path, profile: &Path, shot: &Path, (width, height): (u32, u32), top: u32) {
+    let shifted = html.with_file_name(format!("shot-{}", html.file_name().unwrap().to_string_lossy()));
+    let page = fs::read_to_string(html).unwrap();
+    fs::write(&shifted, page.replacen("</head>", &format!("<style>body{{margin-top:-{top}px !important}}</style></head>"), 1)).unwrap();
+    let status = chromium(&[
+        format!("--user-data-dir={}", profile.display()),
+        format!("--window-size={width},{height}"),
+        format!("--screenshot={}", shot.display()),
+        format!("file://{}", shifted.display()),
+    ]);
+    assert!(status.status.success());
+    let image = image::open(shot).unwrap().to_rgb8();
+    let distinct: std::collections::HashSet<[u8; 3]> = image.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 50, "{} has only {} colours", shot.display(), distinct.len());
+    println!("screenshot kept: {}", shot.display());
+}
+
+/// Render `html` in Chromium with the audit script, keep a screenshot as `shot`.
+fn audit(html: &Path, profile: &Path, shot: &Path) -> Audit {
+    let json = audit_json(html, profile, AUDIT_SCRIPT, 1280);
     let shot_status = chromium(&[
-        profile_arg,
+        format!("--user-data-dir={}", profile.display()),
         "--window-size=1280,2400".into(),
         format!("--screenshot={}", shot.display()),
         format!("file://{}", html.display()),
@@ -445,5 +472,356 @@ fn material_pages_carry_a_block_per_tool() {
         let text = paste["engines"][tool].as_str().unwrap();
         let escaped = text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;");
         assert!(html.contains(&format!("data-tool=\"{tool}\">{escaped}</textarea>")), "{tool} block missing or different");
+    }
+}
+
+/// Two dielectric spheres with two methods, two depths of each kind and two counts of each
+/// search step (every chart axis has two values or more), small enough for a debug build;
+/// the hero frame at the 512 px the report shows.
+const SPECULAR_SCENE: &str = "resolution: [48, 48]
+camera: { axis: [0, 1, 0], distance: 2.2, frames: 1, fov_y_degrees: 50 }
+effects:
+  reflection: { max_depth: [1, 2] }
+  refraction: { max_depth: [1, 2] }
+  distance_maps: { size: 32, layers: 2, linear_steps: [4, 12], secant_steps: [1, 4] }
+light: { direction: [-0.3, -1, -0.5], colour: [0.75, 0.75, 0.75], ambient: [0.25, 0.25, 0.25] }
+objects:
+  - { mesh: sphere, scale: 0.5, position: [-0.6, 0, 0], material: 3d/glass/BK7, methods: [exact, schlick] }
+  - { mesh: sphere, scale: 0.5, position: [0.6, 0, 0], material: 3d/crystals/diamond, methods: [exact, schlick] }
+  - { mesh: room, scale: [3, 1.5, 3], diffuse: [0.85, 0.85, 0.8], pattern: { kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45] } }
+measurements: [image_error]
+";
+
+/// A sphere on a slab under surfel ambient occlusion (brute force and the tree, 1–3 passes).
+const AO_SCENE: &str = "resolution: [48, 48]
+camera: { axis: [-0.3, 1, 0.1], distance: 2.4, frames: 1, fov_y_degrees: 55 }
+effects:
+  ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: false }
+lights:
+  - { kind: directional, direction: [-0.4, -1, -0.3], colour: [0.6, 0.6, 0.6] }
+  - { kind: ambient, colour: [0.5, 0.5, 0.5] }
+objects:
+  - { mesh: sphere, diffuse: [0.8, 0.8, 0.8] }
+  - { mesh: cube, scale: [2.8, 0.05, 2.8], position: [0, -0.7655, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 1 }
+measurements: [image_error]
+";
+
+/// An output folder as `make report` leaves it for the two scenes above: the stages for
+/// their materials, `nklut effects` per scene into `<out>/<scene>/`, then the report.
+fn effects_report(name: &str) -> Scratch {
+    let out = scratch(name);
+    stages(&out, &["3d/glass/BK7", "3d/crystals/diamond"], &[]);
+    for (scene, text, extra) in [("specular", SPECULAR_SCENE, &[][..]), ("ao", AO_SCENE, &["--ao-rays", "16"][..])] {
+        let file = out.join(format!("{scene}.yaml"));
+        fs::write(&file, text).unwrap();
+        let file = file.display().to_string();
+        let output = nklut(&out.join(scene), &[&["effects", "--hero-size", "512"], extra, &[file.as_str()]].concat());
+        assert!(output.status.success(), "effects {scene}: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    out
+}
+
+/// `name="value"` pairs of one tag (values unescaped).
+fn attributes(tag: &str) -> BTreeMap<String, String> {
+    let mut found = BTreeMap::new();
+    let mut rest = tag;
+    while let Some(eq) = rest.find("=\"") {
+        let name = rest[..eq].rsplit(|c: char| c.is_whitespace()).next().unwrap().to_string();
+        let value_start = eq + 2;
+        let value_end = value_start + rest[value_start..].find('"').unwrap();
+        let value = rest[value_start..value_end]
+            .replace("&quot;", "\"")
+            .replace("&#39;", "'")
+            .replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&amp;", "&");
+        found.insert(name, value);
+        rest = &rest[value_end + 1..];
+    }
+    found
+}
+
+/// A chart point's hover mark: its label (the `<title>`) and its attributes.
+struct Mark {
+    label: String,
+    attributes: BTreeMap<String, String>,
+}
+
+/// One axis of a mark, resolved against its table.
+struct Traced {
+    table: String,
+    column: String,
+    rows: Vec<usize>,
+    value: f64,
+}
+
+impl Mark {
+    fn axis(&self, axis: &str) -> Option<Traced> {
+        let get = |what: &str| self.attributes.get(&format!("data-{axis}{what}"));
+        Some(Traced {
+            table: get("-table")?.clone(),
+            column: get("-column")?.clone(),
+            rows: get("-rows")?.split_whitespace().map(|r| r.parse().unwrap()).collect(),
+            value: get("")?.parse().unwrap(),
+        })
+    }
+}
+
+fn marks(html: &str) -> Vec<Mark> {
+    html.split("<circle class=\"trace\"")
+        .skip(1)
+        .map(|rest| {
+            let tag = &rest[..rest.find('>').unwrap()];
+            let title = &rest[rest.find("<title>").unwrap() + 7..rest.find("</title>").unwrap()];
+            Mark { label: title.replace("&amp;", "&"), attributes: attributes(tag) }
+        })
+        .collect()
+}
+
+/// Every chart point of the effects page is the mean of the rows it names: recomputed
+/// here from the CSV (weighted as it says), and the rows are the ones its label names —
+/// per chart type: Fresnel error against depth, total error against time, geometry error
+/// against steps, AO error against passes and against time.
+#[test]
+fn effects_charts_trace_to_their_rows() {
+    let out = effects_report("effects-trace");
+    let html = fs::read_to_string(out.join("report/effects.html")).unwrap();
+    check_well_formed(&html);
+    no_external_resource(&html);
+    let marks = marks(&html);
+    let mut tables: BTreeMap<String, CsvTable> = BTreeMap::new();
+    let mut by_column: BTreeMap<(String, String), Vec<(&Mark, Traced)>> = BTreeMap::new();
+    for mark in &marks {
+        for axis in ["x", "y"] {
+            let Some(traced) = mark.axis(axis) else { continue };
+            let table = tables.entry(traced.table.clone()).or_insert_with(|| CsvTable::load(&out.join(&traced.table)).unwrap().unwrap());
+            let weight = mark.attributes.get(&format!("data-{axis}-weight"));
+            let (mut sum, mut total) = (0.0, 0.0);
+            for &r in &traced.rows {
+                let row = &table.rows[r];
+                let w: f64 = weight.map_or(1.0, |w| table.text(row, w).parse().unwrap());
+                sum += w * table.text(row, &traced.column).parse::<f64>().unwrap();
+                total += w;
+            }
+            let expected = sum / total;
+            assert!(
+                (traced.value - expected).abs() <= 1e-12 * expected.abs().max(1e-12),
+                "{}: {} against {expected}",
+                mark.label,
+                traced.value
+            );
+            let name = traced.table.rsplit('/').next().unwrap().to_string();
+            by_column.entry((name, traced.column.clone())).or_default().push((mark, traced));
+        }
+    }
+    let errors = &tables["specular/effects_errors.csv"];
+    let text = |r: usize, c: &str| errors.text(&errors.rows[r], c).to_string();
+    let every = |points: &[(&Mark, Traced)]| -> Vec<usize> {
+        let mut rows: Vec<usize> = points.iter().flat_map(|(_, t)| t.rows.clone()).collect();
+        rows.sort_unstable();
+        rows
+    };
+    // Fresnel error against depth: "material, method, depth r+t" at the finest search.
+    for column in ["fresnel_mean_delta_e2000", "fresnel_mean_rel_error"] {
+        let points = &by_column[&("effects_errors.csv".to_string(), column.to_string())];
+        for (mark, traced) in points {
+            let parts: Vec<&str> = mark.label.split(", ").collect();
+            let (r, t) = parts[2].trim_start_matches("depth ").split_once('+').unwrap();
+            for &row in &traced.rows {
+                assert_eq!(
+                    [
+                        text(row, "material"),
+                        text(row, "method"),
+                        text(row, "reflection_depth"),
+                        text(row, "refraction_depth"),
+                        text(row, "linear_steps"),
+                        text(row, "secant_steps")
+                    ],
+                    [parts[0], parts[1], r, t, "12", "4"].map(String::from),
+                    "{}",
+                    mark.label
+                );
+            }
+        }
+        let finest: Vec<usize> =
+            (0..errors.rows.len()).filter(|&r| text(r, "linear_steps") == "12" && text(r, "secant_steps") == "4").collect();
+        assert_eq!(every(points), finest, "{column}: each row at the finest search in one point");
+        assert_eq!(points.len(), 2 * 2 * 4, "2 materials × 2 methods × 4 depth pairs");
+    }
+    // Total error against time: "method r+t linear/secant", x from the CPU timing table.
+    let timing = &tables["specular/effects_cpu_timing.csv"];
+    let cost = &by_column[&("effects_errors.csv".to_string(), "total_mean_delta_e2000".to_string())];
+    for (mark, traced) in cost {
+        let (method, rest) = mark.label.split_once(' ').unwrap();
+        let (depths, steps) = rest.split_once(' ').unwrap();
+        let (r, t) = depths.split_once('+').unwrap();
+        let (l, s) = steps.split_once('/').unwrap();
+        let named = [method, r, t, l, s].map(String::from);
+        let configuration = |table: &CsvTable, row: usize| {
+            ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps"]
+                .map(|c| table.text(&table.rows[row], c).to_string())
+        };
+        assert!(traced.rows.iter().all(|&row| configuration(errors, row) == named), "{}", mark.label);
+        let x = mark.axis("x").unwrap();
+        assert_eq!((x.table.as_str(), x.column.as_str()), ("specular/effects_cpu_timing.csv", "frame_ms"));
+        assert!(!x.rows.is_empty() && x.rows.iter().all(|&row| configuration(timing, row) == named), "{}", mark.label);
+    }
+    assert_eq!(every(cost), (0..errors.rows.len()).collect::<Vec<_>>(), "every configuration has its point");
+    assert_eq!(cost.len(), 2 * 4 * 4, "2 methods × 4 depth pairs × 4 step pairs");
+    // Geometry error against steps: exact Fresnel at the deepest depths, per step pair.
+    let geometry = &by_column[&("effects_errors.csv".to_string(), "geometry_mean_delta_e2000".to_string())];
+    assert_eq!(geometry.len(), 4, "2 linear × 2 secant step counts");
+    for (mark, traced) in geometry {
+        let (l, rest) = mark.label.split_once(" linear + ").unwrap();
+        let (s, _) = rest.split_once(" secant").unwrap();
+        for &row in &traced.rows {
+            assert_eq!(
+                [
+                    text(row, "method"),
+                    text(row, "reflection_depth"),
+                    text(row, "refraction_depth"),
+                    text(row, "linear_steps"),
+                    text(row, "secant_steps")
+                ],
+                ["exact", "2", "2", l, s].map(String::from),
+                "{}",
+                mark.label
+            );
+        }
+        assert_eq!(traced.rows.len(), 2, "{}: one row per sphere", mark.label);
+    }
+    // Ambient occlusion: "technique, p pass(es)", weighted by surfels, against passes and time.
+    let ao = &tables["ao/ao_errors.csv"];
+    let passes = &by_column[&("ao_errors.csv".to_string(), "mean_error".to_string())];
+    let mut seen_rows = Vec::new();
+    for (mark, traced) in passes {
+        let (technique, rest) = mark.label.split_once(", ").unwrap();
+        let p = rest.split_once(' ').unwrap().0;
+        for &row in &traced.rows {
+            let hierarchy = ao.text(&ao.rows[row], "hierarchy") == "true";
+            assert_eq!((hierarchy, ao.text(&ao.rows[row], "passes")), (technique == "tree", p), "{}", mark.label);
+        }
+        assert_eq!(mark.attributes.get("data-y-weight").map(String::as_str), Some("surfels"));
+        seen_rows.extend(traced.rows.clone());
+    }
+    seen_rows.sort_unstable();
+    seen_rows.dedup();
+    assert_eq!(seen_rows, (0..ao.rows.len()).collect::<Vec<_>>(), "every AO row in a point");
+    let time = &by_column[&("ao_errors.csv".to_string(), "cpu_ms".to_string())];
+    assert_eq!(time.len(), 2 * 3, "brute force and tree × 3 passes");
+    for (mark, x) in time {
+        assert_eq!(x.rows, mark.axis("y").unwrap().rows, "{}: time and error of the same rows", mark.label);
+    }
+}
+
+/// What the effects audit reads off the rendered page at 1400 px.
+#[derive(serde::Deserialize, Debug)]
+struct EffectsAudit {
+    viewport: f64,
+    wide: Vec<String>,
+    texts: Vec<Text>,
+    overlaps: Vec<(String, String)>,
+    panels: Vec<Panel>,
+    heroes: Vec<Hero>,
+    figures: Vec<Figure>,
+    sections: Vec<Section>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Panel {
+    panel: String,
+    label: String,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Hero {
+    src: String,
+    width: u32,
+    height: u32,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Figure {
+    table: String,
+    row: usize,
+    column: String,
+    text: String,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct Section {
+    id: String,
+    top: u32,
+}
+
+const EFFECTS_AUDIT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={viewport:W,wide:[],texts:[],overlaps:[],panels:[],heroes:[],figures:[],sections:[]};
+for(const e of document.body.querySelectorAll('*')){const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!(e.parentElement&&e.parentElement.closest('.wide')))out.wide.push(e.tagName+'.'+e.className+' right '+Math.round(r.right));}
+if(document.documentElement.scrollWidth>W)out.wide.push('page scrolls sideways: '+document.documentElement.scrollWidth);
+for(const svg of document.querySelectorAll('svg')){const boxes=[];for(const t of svg.querySelectorAll('text')){const s=t.textContent.trim();if(!s)continue;const r=t.getBoundingClientRect();out.texts.push({text:s,size:parseFloat(getComputedStyle(t).fontSize)});boxes.push([s,r.left,r.right,r.top,r.bottom]);}
+for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)out.overlaps.push([a[0],b[0]]);}}
+for(const f of document.querySelectorAll('.panels figure')){const b=f.querySelector('figcaption b');out.panels.push({panel:f.dataset.panel||'',label:b?b.textContent.trim():''});}
+for(const i of document.querySelectorAll('img.hero'))out.heroes.push({src:i.getAttribute('src'),width:i.naturalWidth,height:i.naturalHeight});
+for(const s of document.querySelectorAll('span.figure'))out.figures.push({table:s.dataset.table,row:parseInt(s.dataset.row),column:s.dataset.column,text:s.textContent});
+for(const h of document.querySelectorAll('h2[id]'))out.sections.push({id:h.id,top:Math.round(h.getBoundingClientRect().top+window.scrollY)});
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+/// The effects page in Chromium at 1400 px: nothing wider than the window, chart text
+/// ≥ 12 px without overlaps, every hero panel labelled, every figure printed equal to
+/// effects_hero.csv in the report's format, hero frames ≥ 512 px; a screenshot of each
+/// section kept under `target/tmp/report-artefacts/`.
+#[test]
+fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
+    let out = effects_report("effects-browser");
+    let page = out.join("report/effects.html");
+    let profile = out.join("chromium-profile");
+    let json = audit_json(&page, &profile, EFFECTS_AUDIT, 1400);
+    let audit: EffectsAudit = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"));
+    assert!(audit.viewport >= 1380.0, "{}", audit.viewport);
+    assert!(audit.wide.is_empty(), "wider than the window: {:?}", audit.wide);
+    assert!(audit.texts.len() > 50, "chart text: {}", audit.texts.len());
+    let small: Vec<&Text> = audit.texts.iter().filter(|t| t.size < 12.0).collect();
+    assert!(small.is_empty(), "chart text under 12 px: {small:?}");
+    assert!(audit.overlaps.is_empty(), "overlapping chart text: {:?}", audit.overlaps);
+    let mut hero_rows = 0;
+    for scene in ["specular", "ao"] {
+        let hero = CsvTable::load(&out.join(scene).join("effects_hero.csv")).unwrap().unwrap();
+        hero_rows += hero.rows.len();
+        for row in &hero.rows {
+            let panel = hero.text(row, "panel");
+            assert!(
+                audit.panels.iter().any(|p| p.panel == panel && p.label == hero.text(row, "label")),
+                "{scene} {panel}: no panel labelled {:?}",
+                hero.text(row, "label")
+            );
+        }
+    }
+    assert_eq!(audit.panels.len(), hero_rows, "one panel per row of effects_hero.csv");
+    assert!(audit.panels.iter().all(|p| !p.label.is_empty()));
+    // Reference, exact and schlick; no AO, 1–3 passes: each frame, and the error image of
+    // each but the references.
+    assert_eq!(audit.heroes.len(), 2 * hero_rows - 2, "{:?}", audit.heroes);
+    for hero in &audit.heroes {
+        assert!(hero.width.max(hero.height) >= 512, "{} is {}×{}", hero.src, hero.width, hero.height);
+    }
+    assert_eq!(audit.figures.len(), (hero_rows - 2) * 5, "five figures per panel but the references");
+    for figure in &audit.figures {
+        let table = CsvTable::load(&out.join(&figure.table)).unwrap().unwrap();
+        let raw = table.text(&table.rows[figure.row], &figure.column);
+        let value: f64 = raw.parse().unwrap();
+        let expected = match figure.column.as_str() {
+            "mean_delta_e2000" => report::html::delta_e(value),
+            "mean_rel_error" => report::html::percent(value),
+            "pixels" => raw.to_string(),
+            _ => report::html::number(value),
+        };
+        assert_eq!(figure.text, expected, "{} row {} {}", figure.table, figure.row, figure.column);
+    }
+    let artefacts = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-artefacts");
+    fs::create_dir_all(&artefacts).unwrap();
+    assert_eq!(audit.sections.iter().filter(|s| s.id.starts_with("scene-")).count(), 2, "{:?}", audit.sections);
+    for section in &audit.sections {
+        screenshot(&page, &profile, &artefacts.join(format!("effects-{}.png", section.id)), (1400, 1400), section.top);
     }
 }

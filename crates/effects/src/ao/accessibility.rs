@@ -81,7 +81,7 @@ impl Emitters for BruteForce<'_> {
 }
 
 /// Per-surfel accessibility after the last pass, bent normals and the cost.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Accessibility {
     /// a(i) in [0, 1], one per surfel.
     pub values: Vec<f64>,
@@ -91,6 +91,8 @@ pub struct Accessibility {
     pub passes: u32,
     /// Emitter evaluations over all passes so far.
     pub interactions: u64,
+    /// Wall time of all passes so far, in ms (a measurement, not a result: two runs differ).
+    pub elapsed_ms: f64,
 }
 
 /// Accessibility after `passes` passes (0 passes: everything fully accessible).
@@ -107,7 +109,9 @@ pub fn accessibility_by_pass(emitters: &dyn Emitters, passes: u32) -> Vec<Access
         bent_normals: surfels.iter().map(|s| s.normal).collect(),
         passes: 0,
         interactions: 0,
+        elapsed_ms: 0.0,
     };
+    let start = std::time::Instant::now();
     let mut history = vec![unoccluded];
     for pass in 1..=passes {
         let previous = history.last().expect("pass 0 is always there");
@@ -117,7 +121,7 @@ pub fn accessibility_by_pass(emitters: &dyn Emitters, passes: u32) -> Vec<Access
         let values = gathered.iter().map(|o| (1.0 - o.shadow).clamp(0.0, 1.0)).collect();
         let bent_normals =
             surfels.iter().zip(&gathered).map(|(s, o)| (s.normal - o.direction).try_normalize().unwrap_or(s.normal)).collect();
-        history.push(Accessibility { values, bent_normals, passes: pass, interactions });
+        history.push(Accessibility { values, bent_normals, passes: pass, interactions, elapsed_ms: start.elapsed().as_secs_f64() * 1e3 });
     }
     history
 }

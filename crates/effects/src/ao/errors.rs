@@ -22,6 +22,11 @@ pub struct ErrorRow {
     pub mean_error: f64,
     pub max_error: f64,
     pub reference_standard_error: f64,
+    /// Emitter evaluations of all passes so far over the whole scene (every object's
+    /// receivers): the cost in operations, the same on every machine.
+    pub interactions: u64,
+    /// Wall time of those passes on the CPU in ms (the whole scene).
+    pub cpu_ms: f64,
     /// Indirect light (one bounce, emitters weighted by this row's accessibility): mean
     /// |surfels − ray-traced| over vertices and channels; `None` where the scene asks for none.
     pub indirect_mean_error: Option<f64>,
@@ -71,6 +76,8 @@ pub fn error_rows(mesh: &str, surfels: &[Surfel], reference: &ReferenceAccessibi
                     mean_error,
                     max_error,
                     reference_standard_error: reference.mean_standard_error(),
+                    interactions: result.interactions,
+                    cpu_ms: result.elapsed_ms,
                     indirect_mean_error: None,
                     indirect_reference_mean: None,
                     indirect_reference_standard_error: None,
@@ -97,6 +104,8 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             "mean standard error of the reference's per-vertex estimates (bounds its noise's effect on mean_error)",
             rows.iter().map(|r| r.reference_standard_error).collect(),
         )
+        .integer("interactions", "emitter evaluations of all passes so far, whole scene (the cost in operations: machine-independent)", rows.iter().map(|r| r.interactions as i64).collect())
+        .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene, in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
         .optional_float(
             "indirect_mean_error",
             "indirect light, one bounce with emitters weighted by this row's accessibility: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",

@@ -274,6 +274,8 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     mean_error,
                     max_error,
                     reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
+                    interactions: result.interactions,
+                    cpu_ms: result.elapsed_ms,
                     indirect_mean_error: measured.map(|m| m.0),
                     indirect_reference_mean: measured.map(|m| m.1),
                     indirect_reference_standard_error: measured.map(|m| m.2),

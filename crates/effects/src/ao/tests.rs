@@ -140,7 +140,9 @@ fn passes_weight_emitters_by_their_previous_accessibility() {
     assert_eq!(two.interactions, 12, "3 receivers × 2 emitters × 2 passes");
     // One sweep gives every pass on the way.
     let history = accessibility_by_pass(&brute, 2);
-    assert_eq!((history[0].values.clone(), &history[1], &history[2]), (vec![1.0; 3], &one, &two));
+    let result = |a: &Accessibility| (a.values.clone(), a.bent_normals.clone(), a.passes, a.interactions);
+    assert_eq!(history.iter().map(result).collect::<Vec<_>>(), vec![(vec![1.0; 3], vec![DVec3::Z; 3], 0, 0), result(&one), result(&two)]);
+    assert!(history[1].elapsed_ms <= history[2].elapsed_ms, "time adds up over the passes");
     // Everything hidden is straight up: the bent normal stays +z.
     assert!(two.bent_normals.iter().all(|b| (*b - DVec3::Z).length() < 1e-15));
 }
@@ -383,12 +385,14 @@ fn ao_errors_rows_match_a_direct_comparison() {
     assert_eq!((row.mean_error, row.max_error, row.surfels), (mean, max, s.len()));
     let table = ao_errors_table(&rows);
     assert_eq!(table.rows(), 8);
-    for name in ["mesh", "receiver_gain", "passes", "hierarchy", "mean_error", "max_error", "reference_standard_error"] {
+    for name in
+        ["mesh", "receiver_gain", "passes", "hierarchy", "mean_error", "max_error", "reference_standard_error", "interactions", "cpu_ms"]
+    {
         assert!(table.column(name).is_some(), "{name}");
     }
     let csv = String::from_utf8(table.to_csv().unwrap()).unwrap();
     assert!(
-        csv.starts_with("mesh,surfels,receiver_gain,passes,hierarchy,mean_error,max_error,reference_standard_error,indirect_mean_error,indirect_reference_mean,indirect_reference_standard_error\n"),
+        csv.starts_with("mesh,surfels,receiver_gain,passes,hierarchy,mean_error,max_error,reference_standard_error,interactions,cpu_ms,indirect_mean_error,indirect_reference_mean,indirect_reference_standard_error\n"),
         "{csv}"
     );
 }

@@ -187,6 +187,196 @@ pub struct CostPoint {
     pub cost: f64,
     pub error: f64,
     pub pareto: bool,
+    /// Where its cost and error come from, written on its hover mark (`data-x-…`,
+    /// `data-y-…`) so a reader (and a test) can find the rows.
+    pub trace: Option<[Trace; 2]>,
+}
+
+/// What a cost chart's error axis shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorAxis {
+    /// Mean relative error, drawn in percent.
+    Relative,
+    /// Mean CIEDE2000 colour difference.
+    DeltaE,
+    /// Mean absolute difference of a quantity in [0, 1] (accessibility, irradiance).
+    Absolute,
+}
+
+impl ErrorAxis {
+    fn name(self) -> &'static str {
+        match self {
+            ErrorAxis::Relative => "mean relative error (%)",
+            ErrorAxis::DeltaE => "mean colour difference ΔE2000",
+            ErrorAxis::Absolute => "mean absolute error",
+        }
+    }
+
+    fn tick(self, v: f64) -> String {
+        match self {
+            ErrorAxis::Relative => format!("{} %", super::html::significant(v * 100.0, 1)),
+            ErrorAxis::DeltaE | ErrorAxis::Absolute => super::html::significant(v, 2),
+        }
+    }
+}
+
+/// Where a drawn value comes from: a table (its path under the output folder), a column
+/// and the data rows (0-based, header not counted) whose mean it is — weighted by the
+/// column `weight` when one is named.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    pub table: String,
+    pub column: String,
+    pub rows: Vec<usize>,
+    pub weight: Option<String>,
+    pub value: f64,
+}
+
+impl Trace {
+    /// The mean of `column` over `rows` of `table` (weighted by `weight`), traced.
+    pub fn mean(path: &str, table: &super::csvdata::CsvTable, column: &str, rows: Vec<usize>, weight: Option<&str>) -> Trace {
+        let (mut sum, mut total) = (0.0, 0.0);
+        for &r in &rows {
+            let w = weight.and_then(|w| table.number(&table.rows[r], w)).unwrap_or(1.0);
+            if let Some(v) = table.number(&table.rows[r], column) {
+                sum += w * v;
+                total += w;
+            }
+        }
+        let value = if total > 0.0 { sum / total } else { f64::NAN };
+        Trace { table: path.to_string(), column: column.to_string(), rows, weight: weight.map(str::to_string), value }
+    }
+
+    /// `data-<axis>-table`, `-column`, `-rows` (space-separated), `-weight` and `data-<axis>`
+    /// (the value, shortest round-trip form).
+    fn attributes(&self, axis: &str) -> String {
+        let rows: Vec<String> = self.rows.iter().map(usize::to_string).collect();
+        let weight = self.weight.as_deref().map(|w| format!(" data-{axis}-weight=\"{}\"", super::html::escape(w))).unwrap_or_default();
+        format!(
+            " data-{axis}-table=\"{}\" data-{axis}-column=\"{}\" data-{axis}-rows=\"{}\"{weight} data-{axis}=\"{}\"",
+            super::html::escape(&self.table),
+            super::html::escape(&self.column),
+            rows.join(" "),
+            self.value
+        )
+    }
+}
+
+/// The hover mark of a point: a transparent circle with its label as title and its
+/// traces as data attributes.
+fn hover_mark(x: i32, y: i32, label: &str, traces: &[(&str, &Trace)]) -> String {
+    let data: String = traces.iter().map(|(axis, t)| t.attributes(axis)).collect();
+    format!(
+        "<circle class=\"trace\" cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"transparent\"{data}><title>{}</title></circle>",
+        super::html::escape(label)
+    )
+}
+
+/// An HTML legend (outside the plot): a line sample and the name of each entry.
+pub fn legend<'a>(entries: impl Iterator<Item = (&'a str, RGBColor, bool)>) -> String {
+    let mut out = String::from("<ul class=\"legend\">");
+    for (name, color, dashed) in entries {
+        let dash = if dashed { " stroke-dasharray=\"6 4\"" } else { "" };
+        let _ = write!(
+            out,
+            "<li><svg width=\"28\" height=\"8\"><line x1=\"0\" y1=\"4\" x2=\"28\" y2=\"4\" stroke=\"{}\" stroke-width=\"2\"{dash}/></svg>{}</li>",
+            css(color),
+            super::html::escape(name)
+        );
+    }
+    out.push_str("</ul>");
+    out
+}
+
+/// A point of a line chart: at category `x` (an index into the chart's categories), its
+/// value traced to its rows.
+pub struct LinePoint {
+    pub x: usize,
+    pub y: Trace,
+    pub label: String,
+}
+
+/// A series of a line chart.
+pub struct Series {
+    pub name: String,
+    pub color: RGBColor,
+    pub points: Vec<LinePoint>,
+}
+
+/// A line chart over categories (depths, step counts, passes): its x categories and
+/// axis names, the y axis's format.
+pub struct LineChart<'a> {
+    pub categories: &'a [String],
+    pub x_name: &'a str,
+    pub y_axis: ErrorAxis,
+    pub series: &'a [Series],
+    pub caption: Option<&'a str>,
+}
+
+/// A line chart: the categories evenly spaced on x with a tick each, y from 0, a line and a
+/// marker per series, each point's hover mark traced to its rows. Empty when nothing is
+/// finite.
+pub fn line_chart(spec: &LineChart, size: (u32, u32)) -> Result<String> {
+    let values = spec.series.iter().flat_map(|s| s.points.iter().map(|p| p.y.value)).filter(|v| v.is_finite());
+    let top = values.fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() || spec.categories.is_empty() {
+        return Ok(String::new());
+    }
+    let top = if top > 0.0 { top * 1.12 } else { 1.0 };
+    let last = (spec.categories.len() - 1).max(1) as f64;
+    let mut svg = String::new();
+    let mut marks = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let mut builder = ChartBuilder::on(&root);
+        if let Some(caption) = spec.caption {
+            builder.caption(caption, CAPTION);
+        }
+        let mut chart = builder
+            .margin(8)
+            .margin_right(24)
+            .x_label_area_size(44)
+            .y_label_area_size(64)
+            .build_cartesian_2d(-0.3f64..last + 0.3, 0f64..top)
+            .map_err(plot_error)?;
+        let axis = spec.y_axis;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(5)
+            .x_desc(spec.x_name)
+            .y_desc(axis.name())
+            .label_style(FONT)
+            .axis_desc_style(FONT)
+            .y_label_formatter(&|v| axis.tick(*v))
+            .draw()
+            .map_err(plot_error)?;
+        let style = TextStyle::from(FONT).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Center,
+            plotters::style::text_anchor::VPos::Top,
+        ));
+        for (i, name) in spec.categories.iter().enumerate() {
+            let (x, y) = chart.backend_coord(&(i as f64, 0.0));
+            root.draw(&PathElement::new(vec![(x, y), (x, y + 5)], BLACK)).map_err(plot_error)?;
+            root.draw(&Text::new(name.clone(), (x, y + 7), style.clone())).map_err(plot_error)?;
+        }
+        for s in spec.series {
+            let points: Vec<(f64, f64)> = s.points.iter().filter(|p| p.y.value.is_finite()).map(|p| (p.x as f64, p.y.value)).collect();
+            line(&mut chart, points.clone(), s.color, false)?;
+            chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, ShapeStyle::from(&s.color).filled()))).map_err(plot_error)?;
+            for p in s.points.iter().filter(|p| p.y.value.is_finite()) {
+                let (x, y) = chart.backend_coord(&(p.x as f64, p.y.value));
+                marks.push_str(&hover_mark(x, y, &p.label, &[("y", &p.y)]));
+            }
+        }
+        root.present().map_err(plot_error)?;
+    }
+    if let Some(end) = svg.rfind("</svg>") {
+        svg.insert_str(end, &marks);
+    }
+    Ok(svg)
 }
 
 /// A drawn cost chart and the points it drew at the axis floor (error 0).
@@ -208,7 +398,7 @@ fn overlaps(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> bool {
 /// Mean relative error (%) against cost, both log scales. Only the Pareto front is
 /// labelled (each label placed where it overlaps no earlier one); every point has a
 /// hover title. Points with error 0 are drawn at the axis floor as open triangles.
-pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> Result<CostChart> {
+pub fn cost_chart(points: &[CostPoint], cost_label: &str, error_axis: ErrorAxis, size: (u32, u32)) -> Result<CostChart> {
     let drawn: Vec<&CostPoint> =
         points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error >= 0.0 && p.error.is_finite()).collect();
     let positive: Vec<f64> = drawn.iter().map(|p| p.error).filter(|e| *e > 0.0).collect();
@@ -234,9 +424,9 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
             .configure_mesh()
             .disable_mesh()
             .x_desc(cost_label)
-            .y_desc("mean relative error (%)")
-            .x_label_formatter(&|v| super::html::significant(*v, 2))
-            .y_label_formatter(&|v| format!("{} %", super::html::significant(v * 100.0, 1)))
+            .y_desc(error_axis.name())
+            .x_label_formatter(&|v| if one_two_five(*v) { super::html::significant(*v, 2) } else { String::new() })
+            .y_label_formatter(&|v| if one_two_five(*v) { error_axis.tick(*v) } else { String::new() })
             .label_style(FONT)
             .axis_desc_style(FONT)
             .draw()
@@ -255,11 +445,8 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
                     .map_err(plot_error)?;
             }
             let (x, y) = chart.backend_coord(&at(p));
-            let _ = write!(
-                titles,
-                "<circle cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"transparent\"><title>{}</title></circle>",
-                super::html::escape(&p.label)
-            );
+            let traces: Vec<(&str, &Trace)> = p.trace.iter().flat_map(|[x, y]| [("x", x), ("y", y)]).collect();
+            titles.push_str(&hover_mark(x, y, &p.label, &traces));
         }
         let area = chart.plotting_area().get_pixel_range();
         let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
@@ -282,10 +469,42 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, size: (u32, u32)) -> R
         }
         root.present().map_err(plot_error)?;
     }
+    let mut svg = without_repeated_text(&svg);
     if let Some(end) = svg.rfind("</svg>") {
         svg.insert_str(end, &titles);
     }
     Ok(CostChart { svg, at_floor })
+}
+
+/// `svg` without a `<text>` element equal to an earlier one: plotters' log axes may give
+/// one tick twice (10 as the end of one decade and the start of the next).
+fn without_repeated_text(svg: &str) -> String {
+    let mut seen: Vec<&str> = Vec::new();
+    let mut out = String::with_capacity(svg.len());
+    let mut rest = svg;
+    while let Some(start) = rest.find("<text") {
+        out.push_str(&rest[..start]);
+        let Some(end) = rest[start..].find("</text>").map(|e| start + e + "</text>".len()) else { break };
+        let element = &rest[start..end];
+        if !seen.contains(&element) {
+            seen.push(element);
+            out.push_str(element);
+        }
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Whether a log axis labels its tick at `v`: 1, 2 and 5 times a power of ten (the other
+/// ticks stay unlabelled, so neighbours never overlap). Bounds span a factor of 9 or more,
+/// which always holds two of them.
+fn one_two_five(v: f64) -> bool {
+    if !(v > 0.0) {
+        return false;
+    }
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-6 * m)
 }
 
 /// Log-scale bounds with half a decade of margin.
@@ -303,6 +522,13 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_text_drawn_twice_is_kept_once() {
+        let svg = "<svg><text x=\"1\">\n10\n</text><line/><text x=\"1\">\n10\n</text><text x=\"2\">\n10\n</text></svg>";
+        assert_eq!(without_repeated_text(svg), "<svg><text x=\"1\">\n10\n</text><line/><text x=\"2\">\n10\n</text></svg>");
+        assert!(one_two_five(0.02) && one_two_five(5000.0) && one_two_five(10.0) && !one_two_five(3.0) && !one_two_five(0.0));
+    }
 
     #[test]
     fn pareto_front_keeps_undominated_points() {
@@ -328,11 +554,11 @@ mod tests {
     #[test]
     fn cost_charts_label_only_the_front_and_draw_zero_at_the_floor() {
         let points = [
-            CostPoint { label: "exact f64".into(), cost: 25.0, error: 0.0, pareto: true },
-            CostPoint { label: "schlick".into(), cost: 2.0, error: 0.05, pareto: true },
-            CostPoint { label: "lazanyi".into(), cost: 9.0, error: 0.08, pareto: false },
+            CostPoint { label: "exact f64".into(), cost: 25.0, error: 0.0, pareto: true, trace: None },
+            CostPoint { label: "schlick".into(), cost: 2.0, error: 0.05, pareto: true, trace: None },
+            CostPoint { label: "lazanyi".into(), cost: 9.0, error: 0.08, pareto: false, trace: None },
         ];
-        let chart = cost_chart(&points, "CPU time per evaluation (ns)", (600, 400)).unwrap();
+        let chart = cost_chart(&points, "CPU time per evaluation (ns)", ErrorAxis::Relative, (600, 400)).unwrap();
         assert_eq!(chart.at_floor, vec!["exact f64"]);
         assert!(chart.svg.contains(">\nschlick\n</text>") && chart.svg.contains(">\nexact f64\n</text>"), "{}", chart.svg);
         assert!(!chart.svg.contains(">\nlazanyi\n</text>"), "off-front points are not labelled");

@@ -188,9 +188,35 @@ fn strip_tags(html: &str) -> String {
     nklut_optics::db::page::strip_html(html)
 }
 
+/// A moment as `YYYY-MM-DD HH:MM UTC` (the civil date from days since 1970-01-01 by
+/// H. Hinnant's `civil_from_days`).
+pub fn utc(time: std::time::SystemTime) -> String {
+    let seconds = time.duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs() as i64).unwrap_or(0);
+    let (days, of_day) = (seconds.div_euclid(86_400), seconds.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let day_of_era = z - era * 146_097;
+    let year_of_era = (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
+    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
+    let mp = (5 * day_of_year + 2) / 153;
+    let day = day_of_year - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02} {:02}:{:02} UTC", of_day / 3600, of_day % 3600 / 60)
+}
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn moments_read_as_utc_dates() {
+        let at = |s: u64| utc(std::time::UNIX_EPOCH + std::time::Duration::from_secs(s));
+        assert_eq!(at(0), "1970-01-01 00:00 UTC");
+        // 2000-02-29 12:34:56: 10 957 days to 2000-01-01, then 59 days.
+        assert_eq!(at((10_957 + 59) * 86_400 + 12 * 3600 + 34 * 60 + 56), "2000-02-29 12:34 UTC");
+        // `date -u -d @1796300000`: Thu Dec 3 12:13:20 UTC 2026
+        assert_eq!(at(1_796_300_000), "2026-12-03 12:13 UTC");
+    }
 
     #[test]
     fn markdown_text_shows_tags_and_brackets_as_text() {

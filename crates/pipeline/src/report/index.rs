@@ -199,10 +199,16 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
     let points: Vec<CostPoint> = methods
         .iter()
         .zip(&flags)
-        .map(|(r, &pareto)| CostPoint { label: short_label(&r.method, &r.variant), cost: r.ns_per_eval, error: r.mean, pareto })
+        .map(|(r, &pareto)| CostPoint {
+            label: short_label(&r.method, &r.variant),
+            cost: r.ns_per_eval,
+            error: r.mean,
+            pareto,
+            trace: None,
+        })
         .collect();
     if points.iter().any(|p| p.cost.is_finite()) {
-        let chart = charts::cost_chart(&points, "CPU time per evaluation (ns)", (900, 460))?;
+        let chart = charts::cost_chart(&points, "CPU time per evaluation (ns)", charts::ErrorAxis::Relative, (900, 460))?;
         b.figure(&chart.svg, &format!("Mean relative error over materials against CPU time per evaluation; the Pareto front is joined and labelled, every point is in the table below and named on hover.{}", floor_note(&chart.at_floor)));
     } else {
         b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and record the figures in validate::cpu_cost_ns).");
@@ -244,9 +250,10 @@ fn lut_cost(b: &mut Builder, rows: &[CostRow]) -> Result<()> {
             cost: r.texture_bytes,
             error: r.mean,
             pareto,
+            trace: None,
         })
         .collect();
-    let chart = charts::cost_chart(&points, "texture size (bytes: N texels × 3 channels)", (900, 460))?;
+    let chart = charts::cost_chart(&points, "texture size (bytes: N texels × 3 channels)", charts::ErrorAxis::Relative, (900, 460))?;
     b.figure(&chart.svg, &format!("LUT mean relative error over materials against texture size; the Pareto front is joined and labelled, the rest are in the table and named on hover.{}", floor_note(&chart.at_floor)));
     let mut table =
         TableText::new(&["LUT (texels, encoding)", "texture bytes", "mean relative error", "median relative error", "Pareto (bytes)"]);

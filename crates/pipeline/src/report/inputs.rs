@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::time::SystemTime;
 
 use anyhow::{bail, Result};
 
@@ -14,7 +15,19 @@ use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
 
 /// Tables written by the effects, ambient-occlusion and engine-parameter stages: shown
 /// when present, named as absent otherwise.
-pub const OPTIONAL_TABLES: [&str; 5] = ["effects_errors.csv", "effects_timing.csv", "ao_errors.csv", "ao_timing.csv", "engine_params.csv"];
+pub const OPTIONAL_TABLES: [&str; 7] = [
+    "effects_errors.csv",
+    "effects_cpu_timing.csv",
+    "effects_hero.csv",
+    "effects_timing.csv",
+    "ao_errors.csv",
+    "ao_timing.csv",
+    "engine_params.csv",
+];
+
+/// Where `make report` puts the GPU results committed under `benchmarks/devices/` (one
+/// folder per adapter, each with the `gpu_timing.csv` of `nklut gpu run`).
+pub const DEVICES_DIR: &str = "devices";
 
 /// The columns of `errors.csv` the report shows or counts.
 const ERROR_COLUMNS: [&str; 10] = [
@@ -49,6 +62,10 @@ pub struct Inputs {
     /// folder: at its top, or in a folder one level down (`make effects` writes one folder
     /// per scene, `make gpu` one per effects scene).
     pub extra: BTreeMap<String, CsvTable>,
+    /// When each table of `extra` was written (its file's modification time).
+    pub extra_written: BTreeMap<String, SystemTime>,
+    /// `gpu_timing.csv` of each device under `out/devices/<device>/`, by device folder.
+    pub devices: BTreeMap<String, CsvTable>,
     /// The channel wavelengths `materials.csv` was evaluated at.
     pub channels: Channels,
     /// The `nvidia` fits `validate` kept (`.cache/nvidia-fits.bin`), read only: the
@@ -76,12 +93,22 @@ impl Inputs {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
         let mut extra = BTreeMap::new();
+        let mut extra_written = BTreeMap::new();
         for folder in std::iter::once(String::new()).chain(scene_folders(out)) {
             for name in OPTIONAL_TABLES {
                 let relative = if folder.is_empty() { name.to_string() } else { format!("{folder}/{name}") };
                 if let Some(table) = CsvTable::load(&out.join(&relative))? {
+                    if let Ok(written) = std::fs::metadata(out.join(&relative)).and_then(|m| m.modified()) {
+                        extra_written.insert(relative.clone(), written);
+                    }
                     extra.insert(relative, table);
                 }
+            }
+        }
+        let mut devices = BTreeMap::new();
+        for device in scene_folders(&out.join(DEVICES_DIR)) {
+            if let Some(table) = CsvTable::load(&out.join(DEVICES_DIR).join(&device).join("gpu_timing.csv"))? {
+                devices.insert(device, table);
             }
         }
         Ok(Self {
@@ -93,6 +120,8 @@ impl Inputs {
             gpu_timing: CsvTable::load(&out.join("gpu_timing.csv"))?,
             warnings: CsvTable::load(&out.join("warnings.csv"))?,
             extra,
+            extra_written,
+            devices,
             channels,
             fits: FitMemo::load(out),
             paste: paste_files(out),

@@ -1,7 +1,8 @@
 //! `nklut report`: a light index (`report/index.html`, `report/report.md`) linking one
 //! self-contained page per material (`report/materials/<id>.html`: inline SVG plots,
 //! PNG previews as data URIs, inline CSS; no network), and the previews as PNG files
-//! (`report/previews/<id>.png`). Every number comes from a table another stage wrote
+//! (`report/previews/<id>.png`), and with the effects' tables `report/effects.html`
+//! (charts, hero frames; see `effects`). Every number comes from a table another stage wrote
 //! (`materials.csv`, `excluded.csv`, `colors.csv`, `errors.csv`, `cost.csv`, …) and the
 //! channel wavelengths are those `materials.csv` records, so a reader can trace each
 //! figure to its CSV. Curves are recomputed from those indices and the page's data.
@@ -10,6 +11,7 @@ pub mod charts;
 pub mod context;
 pub mod csvdata;
 pub mod curves;
+pub mod effects;
 pub mod extras;
 pub mod html;
 pub mod index;
@@ -40,7 +42,7 @@ figure.plot{display:flex;align-items:flex-start;gap:12px;flex-wrap:wrap}.legend{
 .previews img{display:block;image-rendering:auto}.captions{display:grid;font-size:12px;text-align:center}.method{overflow-wrap:anywhere;padding:0 2px}\
 .strips{font-size:13px}.strip-row{display:flex;align-items:center;margin:2px 0}.strip-name{width:190px;flex:none}.strip{flex:none;width:540px;height:18px;border:1px solid #999}\
 .strip-axis{display:flex;justify-content:space-between;width:542px;font-size:13px}#search{width:22em;padding:4px;font-size:14px}\
-table.materials th{cursor:pointer}.frames{display:flex;flex-wrap:wrap;gap:8px}.frames img{max-width:360px}.paste{width:100%;font-family:monospace;font-size:13px}";
+table.materials th{cursor:pointer}.paste{width:100%;font-family:monospace;font-size:13px}";
 
 /// A CSS swatch of a linear-sRGB colour (sRGB-encoded, clamped for display).
 pub(crate) fn swatch(rgb: [f64; 3]) -> String {
@@ -55,8 +57,8 @@ pub type Spectra = HashMap<String, Result<Vec<Index>, String>>;
 /// staging folder as soon as it is built (the report is never held in memory whole), then
 /// the index and `report.md`, and the folder is renamed into place (readers see the
 /// previous report or the new one, never a mix). `spectra` holds each page's spectrum by
-/// data file, `frames` the effects' images. Returns the files written.
-pub fn build_and_write(inputs: &Inputs, pages: &[String], spectra: &Spectra, frames: &[String], out: &Path) -> Result<Vec<PathBuf>> {
+/// data file. Returns the files written.
+pub fn build_and_write(inputs: &Inputs, pages: &[String], spectra: &Spectra, out: &Path) -> Result<Vec<PathBuf>> {
     let ctx = Context::new(inputs);
     let written = Mutex::new(Vec::new());
     let put = |staging: &Path, path: String, bytes: &[u8]| -> Result<()> {
@@ -84,7 +86,10 @@ pub fn build_and_write(inputs: &Inputs, pages: &[String], spectra: &Spectra, fra
                 None => Ok(()),
             }
         })?;
-        let index = index::index_page(&ctx, pages, extras::gallery(inputs, frames))?;
+        let index = index::index_page(&ctx, pages, effects::summary(inputs))?;
+        if let Some(page) = effects::page(inputs)? {
+            put(staging, effects::EFFECTS_PAGE.into(), page.as_bytes())?;
+        }
         put(staging, "index.html".into(), index.html.as_bytes())?;
         put(staging, "report.md".into(), index.markdown.as_bytes())
     })?;
@@ -156,5 +161,5 @@ pub fn command(db: &Database, out: &Path, selection: &Selection) -> Result<Vec<P
     let inputs = Inputs::load(out)?;
     let pages = inputs::select_pages(&inputs.materials, &inputs.excluded, selection)?;
     let spectra = read_spectra(db, &inputs, &pages);
-    build_and_write(&inputs, &pages, &spectra, &extras::frames(out), out)
+    build_and_write(&inputs, &pages, &spectra, out)
 }

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use anyhow::Result;
 
-use super::charts::{self, css, DeltaE};
+use super::charts::{self, DeltaE};
 use super::context::{channel_flags, channel_triple, fitted_index, preview_path, three_channel_index, up_from_material, Context};
 use super::curves::{delta_e_over_angle, material_curves, PlotCurve};
 use super::html::{delta_e, escape, href, index, percent, reflectance, TableText};
@@ -138,13 +138,7 @@ fn mean(values: &[f64]) -> f64 {
 
 /// An HTML legend (outside the plot): a line sample and the curve's name each.
 fn legend(curves: &[PlotCurve]) -> String {
-    let mut out = String::from("<ul class=\"legend\">");
-    for c in curves {
-        let dash = if c.dashed { " stroke-dasharray=\"6 4\"" } else { "" };
-        let _ = write!(out, "<li><svg width=\"28\" height=\"8\"><line x1=\"0\" y1=\"4\" x2=\"28\" y2=\"4\" stroke=\"{}\" stroke-width=\"2\"{dash}/></svg>{}</li>", css(c.color), escape(&c.name));
-    }
-    out.push_str("</ul>");
-    out
+    charts::legend(curves.iter().map(|c| (c.name.as_str(), c.color, c.dashed)))
 }
 
 fn indices_section(html: &mut String, ctx: &Context, page: &str, row: &[String]) {

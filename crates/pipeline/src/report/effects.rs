@@ -1,0 +1,723 @@
+//! The effects page, `report/effects.html`, and its summary on the index. One section per
+//! scene (`make effects` writes `<out>/<scene>/`, `make gpu` `<out>/gpu-<scene>/`; both
+//! folders feed one section), led by charts drawn from the effects' tables:
+//!
+//! - reflections and refractions (`effects_errors.csv`): the Fresnel error (ΔE2000 and
+//!   relative) against the depths, one line per method, per material; the total error
+//!   against the time of each configuration (GPU `shading_ms` of `effects_timing.csv`
+//!   when `make gpu` ran, the CPU twin's `frame_ms` of `effects_cpu_timing.csv`
+//!   otherwise) with its Pareto front labelled; the geometry error against the search's
+//!   step counts;
+//! - ambient occlusion (`ao_errors.csv`): the error against passes per technique and
+//!   against CPU time, with the rows' statistics;
+//!
+//! then the hero frame (`effects_hero.csv`): the reference, each method and its error
+//! image side by side, every panel labelled with its figures, a colour bar in the error
+//! images' units, and the crops where the error is largest; the tables last, collapsed.
+//! Every chart point carries the table, column and rows it is the (pixel- or
+//! surfel-weighted) mean of, as data attributes of its hover mark. Pictures are linked
+//! as files (`../<scene>/effects_hero/…`), never inlined.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use anyhow::Result;
+
+use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Trace, PALETTE};
+use super::csvdata::CsvTable;
+use super::extras::cell;
+use super::html::{delta_e, escape, href, number, percent, utc, TableText};
+use super::inputs::{Inputs, DEVICES_DIR};
+
+/// The effects page, next to `index.html`.
+pub const EFFECTS_PAGE: &str = "effects.html";
+
+/// The tables the effects page reads and the command that writes each.
+const TABLES: [(&str, &str); 6] = [
+    (
+        "effects_errors.csv",
+        "image error of multiple reflections and refractions per depth and step counts (`make effects`; `make gpu` for the GPU's)",
+    ),
+    ("effects_cpu_timing.csv", "the CPU twin's frame time per configuration (`make effects`)"),
+    ("effects_hero.csv", "the hero frame's panels and their figures (`make effects`)"),
+    ("effects_timing.csv", "GPU time of the map update and the shading pass per configuration (`make gpu`)"),
+    ("ao_errors.csv", "ambient-occlusion error per passes and technique (`make effects`)"),
+    ("ao_timing.csv", "ambient-occlusion GPU time against surfel count (`make gpu`)"),
+];
+
+/// The tables of one scene: its `make effects` folder and its `make gpu` folder together.
+pub struct SceneTables<'a> {
+    /// The scene's name: the folder's, without `gpu-` (empty: tables at the top of the
+    /// output folder).
+    pub name: String,
+    /// (path under the output folder, table), in path order.
+    pub tables: Vec<(&'a str, &'a CsvTable)>,
+}
+
+impl<'a> SceneTables<'a> {
+    /// The table `name` of the folder `make effects` writes (`gpu`: of `make gpu`'s).
+    fn table(&self, name: &str, gpu: bool) -> Option<(&'a str, &'a CsvTable)> {
+        self.tables.iter().copied().find(|(path, _)| path.ends_with(name) && folder_of(path).starts_with("gpu-") == gpu)
+    }
+
+    fn id(&self) -> String {
+        format!("scene-{}", if self.name.is_empty() { "top" } else { &self.name })
+    }
+
+    fn title(&self) -> String {
+        if self.name.is_empty() {
+            "tables at the top of the output folder".to_string()
+        } else {
+            format!("scene {}", self.name)
+        }
+    }
+}
+
+/// The folder part of a table's path (`glass-sphere` of `glass-sphere/effects_errors.csv`).
+fn folder_of(path: &str) -> &str {
+    path.rsplit_once('/').map_or("", |(folder, _)| folder)
+}
+
+/// `../<folder>/<file>`: a file an effects table names, seen from the report folder.
+fn from_report(folder: &str, file: &str) -> String {
+    if folder.is_empty() {
+        format!("../{}", href(file))
+    } else {
+        format!("../{}/{}", href(folder), href(file))
+    }
+}
+
+/// The effects tables of `inputs`, grouped by scene.
+pub fn scenes(inputs: &Inputs) -> Vec<SceneTables<'_>> {
+    let mut by_scene: BTreeMap<String, Vec<(&str, &CsvTable)>> = BTreeMap::new();
+    for (path, table) in &inputs.extra {
+        if TABLES.iter().any(|(name, _)| path.ends_with(name)) {
+            let folder = folder_of(path);
+            let name = folder.strip_prefix("gpu-").unwrap_or(folder).to_string();
+            by_scene.entry(name).or_default().push((path.as_str(), table));
+        }
+    }
+    by_scene.into_iter().map(|(name, tables)| SceneTables { name, tables }).collect()
+}
+
+/// The index's effects section: where the effects page is and what it holds, or each
+/// absent table with the command that writes it.
+pub fn summary(inputs: &Inputs) -> (String, String) {
+    let scenes = scenes(inputs);
+    let mut html = String::from("<h2 id=\"effects\">Effects</h2>\n");
+    let mut markdown = String::from("\n## Effects\n\n");
+    if !scenes.is_empty() {
+        let links: Vec<String> =
+            scenes.iter().map(|s| format!("<a href=\"{EFFECTS_PAGE}#{}\">{}</a>", escape(&s.id()), escape(&s.title()))).collect();
+        let _ = writeln!(
+            html,
+            "<p>Charts of what each method and setting costs in accuracy and time, hero frames with their error images, and the tables, per scene on <a href=\"{EFFECTS_PAGE}\">the effects page</a>: {}.</p>",
+            links.join(", ")
+        );
+        let names: Vec<String> = scenes.iter().map(SceneTables::title).collect();
+        let _ = writeln!(markdown, "Per scene on {EFFECTS_PAGE}: {}.\n", names.join(", "));
+    }
+    for (name, what) in TABLES {
+        if !inputs.extra.keys().any(|path| path == name || path.ends_with(&format!("/{name}"))) {
+            let _ = writeln!(html, "<p class=\"absent\"><code>{}</code> is absent: {}.</p>", escape(name), code_spans(what));
+            let _ = writeln!(markdown, "`{name}` is absent: {what}.\n");
+        }
+    }
+    (html, markdown)
+}
+
+/// Style of the effects page beyond the report's own.
+const EFFECTS_STYLE: &str = ".wide{overflow-x:auto;max-width:100%}details{margin:0.5em 0}summary{cursor:pointer;font-size:14px}\
+.charts{display:flex;flex-wrap:wrap;gap:8px 24px;align-items:flex-start}.charts figure{margin:0}\
+.panels{display:grid;grid-template-columns:repeat(auto-fill,minmax(360px,1fr));gap:12px}.panels figure{margin:0}\
+.panels img{width:100%;height:auto;display:block;image-rendering:pixelated}.panels figcaption{font-size:14px;color:#222}\
+.crops{display:flex;flex-wrap:wrap;gap:10px}.crops figure{margin:0;width:200px}.crops img{width:196px;height:196px;image-rendering:pixelated;display:block}\
+.crops figcaption{font-size:13px;color:#222}.scale img{width:512px;height:16px;display:block}\
+.scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}";
+
+/// The effects page, or `None` when the output folder holds no effects table.
+pub fn page(inputs: &Inputs) -> Result<Option<String>> {
+    let scenes = scenes(inputs);
+    if scenes.is_empty() && inputs.devices.is_empty() {
+        return Ok(None);
+    }
+    let mut html = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>nklut report: effects</title><style>{}{EFFECTS_STYLE}</style></head><body>\n",
+        super::STYLE
+    );
+    html.push_str("<h1 id=\"top\">nklut report: effects</h1>\n<p><a href=\"index.html\">Back to the index</a>. ");
+    html.push_str("Each section is drawn from the tables named under it (the command that wrote each and when). Every chart point names, on hover and in its data attributes, the rows of the table it is the mean of; errors are against the ray-traced f64 reference.</p>\n");
+    let mut contents = Vec::new();
+    for scene in &scenes {
+        contents.push(format!("<a href=\"#{}\">{}</a>", escape(&scene.id()), escape(&scene.title())));
+    }
+    if !contents.is_empty() {
+        let _ = writeln!(html, "<p>Scenes: {}.</p>", contents.join(" · "));
+    }
+    for scene in &scenes {
+        scene_section(&mut html, inputs, scene)?;
+    }
+    devices_section(&mut html, inputs);
+    html.push_str("</body></html>\n");
+    Ok(Some(html))
+}
+
+/// What wrote a table and when.
+fn provenance(inputs: &Inputs, path: &str) -> String {
+    let name = path.rsplit('/').next().unwrap_or(path);
+    let what = TABLES.iter().find(|(n, _)| *n == name).map_or("", |(_, w)| *w);
+    let when = inputs.extra_written.get(path).map(|t| format!(", written {}", utc(*t))).unwrap_or_default();
+    format!("<code>{}</code>: {}{when}", escape(path), code_spans(what))
+}
+
+/// Text with `code` spans as `<code>` (escaped).
+fn code_spans(text: &str) -> String {
+    escape(text)
+        .split('`')
+        .enumerate()
+        .map(|(i, part)| if i % 2 == 1 { format!("<code>{part}</code>") } else { part.to_string() })
+        .collect()
+}
+
+fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Result<()> {
+    let _ = writeln!(html, "<section><h2 id=\"{}\">{}</h2>", escape(&scene.id()), escape(&scene.title()));
+    let command = if scene.name.is_empty() {
+        "<code>nklut effects SCENE</code> into the output folder".to_string()
+    } else {
+        let name = escape(&scene.name);
+        format!("<code>nklut effects scenes/{name}.yaml</code> (make effects) and <code>nklut gpu run scenes/{name}.yaml</code> (make gpu)")
+    };
+    let provenance: Vec<String> = scene.tables.iter().map(|(path, _)| provenance(inputs, path)).collect();
+    let _ = writeln!(html, "<p class=\"note\">From {command}. Tables: {}.</p>", provenance.join("; "));
+    if let Some(errors) = scene.table("effects_errors.csv", false).or_else(|| scene.table("effects_errors.csv", true)) {
+        specular_section(html, scene, errors)?;
+    }
+    if let Some(ao) = scene.table("ao_errors.csv", false) {
+        ao_section(html, ao)?;
+    }
+    if let Some(hero) = scene.table("effects_hero.csv", false) {
+        hero_section(html, hero);
+    }
+    html.push_str("<h3>Tables</h3>\n");
+    for (path, table) in &scene.tables {
+        let mut text = TableText::new(&table.headers.iter().map(String::as_str).collect::<Vec<_>>());
+        for row in &table.rows {
+            text.row(table.headers.iter().zip(row).map(|(h, v)| cell(h, v)).collect());
+        }
+        let _ = writeln!(
+            html,
+            "<details><summary><code>{}</code>: {} rows × {} columns (<a href=\"../{}\">CSV</a>)</summary><div class=\"wide\">{}</div></details>",
+            escape(path),
+            table.rows.len(),
+            table.headers.len(),
+            href(path),
+            text.html("effects")
+        );
+    }
+    html.push_str("</section>\n");
+    Ok(())
+}
+
+/// The columns that name a configuration of the distance maps, in the tables' order.
+const CONFIGURATION: [&str; 5] = ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps"];
+
+fn key(table: &CsvTable, row: &[String], columns: &[&str]) -> Vec<String> {
+    columns.iter().map(|c| table.text(row, c).to_string()).collect()
+}
+
+/// The largest value of an integer column.
+fn largest(table: &CsvTable, rows: &[usize], column: &str) -> Option<u64> {
+    rows.iter().filter_map(|&r| table.text(&table.rows[r], column).parse::<u64>().ok()).max()
+}
+
+/// Distinct values of `f` over `rows`, in first-seen order.
+fn distinct<T: PartialEq + Clone>(rows: &[usize], f: impl Fn(usize) -> T) -> Vec<T> {
+    let mut out: Vec<T> = Vec::new();
+    for &r in rows {
+        let v = f(r);
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    out
+}
+
+/// A depth configuration: reflections then refractions, e.g. `3+1`.
+fn depth_label(table: &CsvTable, row: &[String]) -> String {
+    format!("{}+{}", table.text(row, "reflection_depth"), table.text(row, "refraction_depth"))
+}
+
+/// The depth configurations of `rows`, shallowest first (by total bounces, then reflections).
+fn depth_categories(table: &CsvTable, rows: &[usize]) -> Vec<String> {
+    let mut depths: Vec<(u64, u64)> = distinct(rows, |r| {
+        let row = &table.rows[r];
+        let n = |c| table.text(row, c).parse::<u64>().unwrap_or(0);
+        (n("reflection_depth"), n("refraction_depth"))
+    });
+    depths.sort_by_key(|&(r, t)| (r + t, r));
+    depths.into_iter().map(|(r, t)| format!("{r}+{t}")).collect()
+}
+
+/// A chart in a figure, its legend beside it and its caption (none where the chart
+/// carries its title).
+fn figure(html: &mut String, svg: &str, legend: &str, caption: &str) {
+    if !svg.is_empty() {
+        let caption = if caption.is_empty() { String::new() } else { format!("<figcaption>{}</figcaption>", escape(caption)) };
+        let _ = write!(html, "<figure class=\"plot\">{svg}{legend}{caption}</figure>");
+    }
+}
+
+fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&str, &CsvTable)) -> Result<()> {
+    html.push_str("<h3>Multiple reflections and refractions</h3>\n");
+    let all: Vec<usize> = (0..errors.rows.len()).collect();
+    let (Some(linear), Some(secant)) = (largest(errors, &all, "linear_steps"), largest(errors, &all, "secant_steps")) else {
+        html.push_str("<p class=\"absent\">The table has no step counts.</p>");
+        return Ok(());
+    };
+    let at_steps: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&r| {
+            let row = &errors.rows[r];
+            errors.text(row, "linear_steps") == linear.to_string() && errors.text(row, "secant_steps") == secant.to_string()
+        })
+        .collect();
+    let methods: Vec<String> = distinct(&all, |r| errors.text(&errors.rows[r], "method").to_string());
+    let color = |method: &str| PALETTE[methods.iter().position(|m| m == method).unwrap_or(0) % PALETTE.len()];
+    let legend = charts::legend(methods.iter().map(|m| (m.as_str(), color(m), false)));
+
+    // Fresnel error against depth, per material.
+    let _ = writeln!(
+        html,
+        "<p>How each method's Fresnel error compounds with depth: the error of the image through the distance maps with the method against the same maps with exact Fresnel, at the finest search ({linear} linear + {secant} secant steps), mean over the material's pixels; lines join the depths, shallowest first (reflections+refractions).</p>"
+    );
+    html.push_str(&legend);
+    html.push_str("<div class=\"charts\">");
+    let materials: Vec<String> = distinct(&at_steps, |r| errors.text(&errors.rows[r], "material").to_string());
+    let categories = depth_categories(errors, &at_steps);
+    for material in &materials {
+        for (column, axis, what) in [
+            ("fresnel_mean_delta_e2000", ErrorAxis::DeltaE, "colour difference"),
+            ("fresnel_mean_rel_error", ErrorAxis::Relative, "relative error"),
+        ] {
+            let series: Vec<Series> = methods
+                .iter()
+                .map(|method| Series {
+                    name: method.clone(),
+                    color: color(method),
+                    points: categories
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(x, depth)| {
+                            let rows: Vec<usize> = at_steps
+                                .iter()
+                                .copied()
+                                .filter(|&r| {
+                                    let row = &errors.rows[r];
+                                    errors.text(row, "material") == material
+                                        && errors.text(row, "method") == method
+                                        && depth_label(errors, row) == *depth
+                                })
+                                .collect();
+                            (!rows.is_empty()).then(|| LinePoint {
+                                x,
+                                label: format!("{material}, {method}, depth {depth}"),
+                                y: Trace::mean(path, errors, column, rows, Some("pixels")),
+                            })
+                        })
+                        .collect(),
+                })
+                .collect();
+            let caption = format!("{material}: Fresnel {what}");
+            let svg = charts::line_chart(
+                &LineChart {
+                    categories: &categories,
+                    x_name: "depth (reflections+refractions)",
+                    y_axis: axis,
+                    series: &series,
+                    caption: Some(&caption),
+                },
+                (440, 300),
+            )?;
+            figure(html, &svg, "", "");
+        }
+    }
+    html.push_str("</div>");
+
+    // Total error against time.
+    let (timing, time_column, time_name) = match (scene.table("effects_timing.csv", true), scene.table("effects_cpu_timing.csv", false)) {
+        (Some(gpu), _) => (Some(gpu), "shading_ms", "GPU time of the shading pass (ms, effects_timing.csv)"),
+        (None, Some(cpu)) => (Some(cpu), "frame_ms", "CPU twin's frame time (ms, effects_cpu_timing.csv)"),
+        (None, None) => (None, "", ""),
+    };
+    if let Some((timing_path, timing)) = timing {
+        let configurations: Vec<Vec<String>> = distinct(&all, |r| key(errors, &errors.rows[r], &CONFIGURATION));
+        let mut points: Vec<CostPoint> = Vec::new();
+        for configuration in &configurations {
+            let rows: Vec<usize> =
+                all.iter().copied().filter(|&r| key(errors, &errors.rows[r], &CONFIGURATION) == *configuration).collect();
+            let timed: Vec<usize> =
+                (0..timing.rows.len()).filter(|&r| key(timing, &timing.rows[r], &CONFIGURATION) == *configuration).collect();
+            if timed.is_empty() {
+                continue;
+            }
+            let x = Trace::mean(timing_path, timing, time_column, timed, None);
+            let y = Trace::mean(path, errors, "total_mean_delta_e2000", rows, Some("pixels"));
+            let label = format!("{} {}+{} {}/{}", configuration[0], configuration[1], configuration[2], configuration[3], configuration[4]);
+            points.push(CostPoint { label, cost: x.value, error: y.value, pareto: false, trace: Some([x, y]) });
+        }
+        let front = charts::pareto_front(&points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>());
+        for (p, on) in points.iter_mut().zip(front) {
+            p.pareto = on;
+        }
+        let chart = charts::cost_chart(&points, time_name, ErrorAxis::DeltaE, (900, 440))?;
+        figure(
+            html,
+            &chart.svg,
+            "",
+            &format!(
+                "Total error (geometry and Fresnel against the ray-traced reference, mean ΔE2000 over the specular objects' pixels) against time, one point per configuration (method depth reflections+refractions linear/secant steps); the Pareto front is joined and labelled, every point is named on hover.{}",
+                if time_column == "frame_ms" { " CPU-twin times are ratios between configurations on this machine, not GPU cost." } else { "" }
+            ),
+        );
+    } else {
+        html.push_str("<p class=\"absent\">No timing table: <code>effects_cpu_timing.csv</code> (make effects) or <code>effects_timing.csv</code> (make gpu).</p>");
+    }
+
+    // Geometry error against the search's step counts.
+    let deepest = all.iter().copied().max_by_key(|&r| {
+        let row = &errors.rows[r];
+        let n = |c| errors.text(row, c).parse::<u64>().unwrap_or(0);
+        (n("reflection_depth") + n("refraction_depth"), n("reflection_depth"))
+    });
+    if let Some(deepest) = deepest {
+        let depth = depth_label(errors, &errors.rows[deepest]);
+        let reference_method = methods.first().cloned().unwrap_or_default();
+        let rows: Vec<usize> = all
+            .iter()
+            .copied()
+            .filter(|&r| {
+                let row = &errors.rows[r];
+                depth_label(errors, row) == depth && errors.text(row, "method") == reference_method
+            })
+            .collect();
+        let mut linear_steps: Vec<u64> = distinct(&rows, |r| errors.text(&errors.rows[r], "linear_steps").parse::<u64>().unwrap_or(0));
+        linear_steps.sort_unstable();
+        let mut secant_steps: Vec<u64> = distinct(&rows, |r| errors.text(&errors.rows[r], "secant_steps").parse::<u64>().unwrap_or(0));
+        secant_steps.sort_unstable();
+        let categories: Vec<String> = linear_steps.iter().map(u64::to_string).collect();
+        let series: Vec<Series> = secant_steps
+            .iter()
+            .enumerate()
+            .map(|(i, secant)| Series {
+                name: format!("{secant} secant steps"),
+                color: PALETTE[(i + 1) % PALETTE.len()],
+                points: linear_steps
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(x, linear)| {
+                        let at: Vec<usize> = rows
+                            .iter()
+                            .copied()
+                            .filter(|&r| {
+                                let row = &errors.rows[r];
+                                errors.text(row, "linear_steps") == linear.to_string()
+                                    && errors.text(row, "secant_steps") == secant.to_string()
+                            })
+                            .collect();
+                        (!at.is_empty()).then(|| LinePoint {
+                            x,
+                            label: format!("{linear} linear + {secant} secant steps, depth {depth}"),
+                            y: Trace::mean(path, errors, "geometry_mean_delta_e2000", at, Some("pixels")),
+                        })
+                    })
+                    .collect(),
+            })
+            .collect();
+        let svg = charts::line_chart(
+            &LineChart {
+                categories: &categories,
+                x_name: "linear search steps",
+                y_axis: ErrorAxis::DeltaE,
+                series: &series,
+                caption: Some("Geometry error against the search's steps"),
+            },
+            (640, 320),
+        )?;
+        let legend = charts::legend(series.iter().map(|s| (s.name.as_str(), s.color, false)));
+        figure(
+            html,
+            &svg,
+            &legend,
+            &format!(
+                "What the distance maps' search costs in accuracy: the error of where rays land (the twin with {reference_method} Fresnel against the reference with it), mean ΔE2000 over the specular objects' pixels at depth {depth}."
+            ),
+        );
+    }
+    Ok(())
+}
+
+fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
+    html.push_str("<h3>Ambient occlusion</h3>\n");
+    let all: Vec<usize> = (0..ao.rows.len()).collect();
+    let technique = |r: usize| if ao.text(&ao.rows[r], "hierarchy") == "true" { "tree" } else { "brute force" };
+    let techniques: Vec<&str> = distinct(&all, technique);
+    let mut passes: Vec<u64> = distinct(&all, |r| ao.text(&ao.rows[r], "passes").parse::<u64>().unwrap_or(0));
+    passes.sort_unstable();
+    let categories: Vec<String> = passes.iter().map(u64::to_string).collect();
+    let rows_of = |t: &str, p: u64| -> Vec<usize> {
+        all.iter().copied().filter(|&r| technique(r) == t && ao.text(&ao.rows[r], "passes") == p.to_string()).collect()
+    };
+    let mut charts_html = String::from("<div class=\"charts\">");
+    let mut columns = vec![("mean_error", "accessibility")];
+    if all.iter().any(|&r| ao.number(&ao.rows[r], "indirect_mean_error").is_some()) {
+        columns.push(("indirect_mean_error", "indirect light"));
+    }
+    let colors: Vec<_> = techniques.iter().enumerate().map(|(i, _)| PALETTE[(i + 1) % PALETTE.len()]).collect();
+    let legend = charts::legend(techniques.iter().zip(&colors).map(|(t, c)| (*t, *c, false)));
+    for (i, (column, what)) in columns.iter().enumerate() {
+        let series: Vec<Series> = techniques
+            .iter()
+            .zip(&colors)
+            .map(|(t, color)| Series {
+                name: t.to_string(),
+                color: *color,
+                points: passes
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(x, &p)| {
+                        let rows = rows_of(t, p);
+                        (!rows.is_empty()).then(|| LinePoint {
+                            x,
+                            label: format!("{t}, {p} pass(es)"),
+                            y: Trace::mean(path, ao, column, rows, Some("surfels")),
+                        })
+                    })
+                    .collect(),
+            })
+            .collect();
+        let caption = format!("{what}: error against passes");
+        let svg = charts::line_chart(
+            &LineChart { categories: &categories, x_name: "passes", y_axis: ErrorAxis::Absolute, series: &series, caption: Some(&caption) },
+            (440, 300),
+        )?;
+        figure(&mut charts_html, &svg, if i == 0 { &legend } else { "" }, "");
+    }
+    if ao.has("cpu_ms") {
+        let mut points: Vec<CostPoint> = Vec::new();
+        for t in &techniques {
+            for &p in &passes {
+                let rows = rows_of(t, p);
+                if rows.is_empty() {
+                    continue;
+                }
+                let x = Trace::mean(path, ao, "cpu_ms", rows.clone(), None);
+                let y = Trace::mean(path, ao, "mean_error", rows, Some("surfels"));
+                points.push(CostPoint {
+                    label: format!("{t}, {p} pass(es)"),
+                    cost: x.value,
+                    error: y.value,
+                    pareto: false,
+                    trace: Some([x, y]),
+                });
+            }
+        }
+        let front = charts::pareto_front(&points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>());
+        for (p, on) in points.iter_mut().zip(front) {
+            p.pareto = on;
+        }
+        let chart = charts::cost_chart(&points, "CPU time of the passes (ms, whole scene)", ErrorAxis::Absolute, (600, 320))?;
+        figure(
+            &mut charts_html,
+            &chart.svg,
+            "",
+            "Accessibility error against CPU time; the Pareto front is joined and labelled (CPU times are ratios on this machine).",
+        );
+    }
+    charts_html.push_str("</div>");
+    html.push_str(&charts_html);
+    // The statistics per technique and passes, over the scene's surfels.
+    let mut table = TableText::new(&[
+        "technique",
+        "passes",
+        "mean error (surfel-weighted)",
+        "largest error",
+        "reference σ (mean)",
+        "emitter evaluations",
+        "CPU ms",
+    ]);
+    for t in &techniques {
+        for &p in &passes {
+            let rows = rows_of(t, p);
+            if rows.is_empty() {
+                continue;
+            }
+            let mean = Trace::mean(path, ao, "mean_error", rows.clone(), Some("surfels")).value;
+            let sigma = Trace::mean(path, ao, "reference_standard_error", rows.clone(), Some("surfels")).value;
+            let max = rows.iter().filter_map(|&r| ao.number(&ao.rows[r], "max_error")).fold(f64::NEG_INFINITY, f64::max);
+            let first = &ao.rows[rows[0]];
+            table.row(vec![
+                t.to_string(),
+                p.to_string(),
+                number(mean),
+                number(max),
+                number(sigma),
+                ao.text(first, "interactions").to_string(),
+                ao.number(first, "cpu_ms").map(number).unwrap_or_else(|| "–".into()),
+            ]);
+        }
+    }
+    html.push_str(&table.html("ao-summary"));
+    Ok(())
+}
+
+/// The hero frame: one figure per panel (the frame above its error image, the label and
+/// the figures of `effects_hero.csv` below), the colour bar, the crops.
+fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
+    let folder = folder_of(path);
+    let effects: Vec<String> = distinct(&(0..hero.rows.len()).collect::<Vec<_>>(), |r| hero.text(&hero.rows[r], "effect").to_string());
+    for effect in effects {
+        let rows: Vec<(usize, &Vec<String>)> = hero.rows.iter().enumerate().filter(|(_, r)| hero.text(r, "effect") == effect).collect();
+        let Some((_, first)) = rows.first() else { continue };
+        let _ = writeln!(
+            html,
+            "<h3>Hero frame: {} ({})</h3>\n<p class=\"note\">Frame 0 at {} with every variant, each beside its error against the reference (<code>{}</code>). Click a picture for the full-size file.</p>",
+            escape(&effect),
+            escape(hero.text(first, "resolution")),
+            escape(hero.text(first, "resolution")),
+            escape(path)
+        );
+        html.push_str("<div class=\"panels\">");
+        for (index, row) in &rows {
+            let image = |column: &str| -> String {
+                let file = hero.text(row, column);
+                if file.is_empty() {
+                    return String::new();
+                }
+                let src = from_report(folder, file);
+                let (w, h) = hero.text(row, "resolution").split_once('x').unwrap_or(("", ""));
+                format!(
+                    "<a href=\"{src}\"><img class=\"hero\" loading=\"lazy\" src=\"{src}\" width=\"{}\" height=\"{}\" alt=\"{}\"></a>",
+                    escape(w),
+                    escape(h),
+                    escape(&format!("{} ({column})", hero.text(row, "label")))
+                )
+            };
+            let figures = if hero.text(row, "error_file").is_empty() {
+                "the reference the others are measured against".to_string()
+            } else {
+                let span = |column: &str, text: String| {
+                    format!(
+                        "<span class=\"figure\" data-table=\"{}\" data-row=\"{index}\" data-column=\"{column}\">{text}</span>",
+                        escape(path)
+                    )
+                };
+                format!(
+                    "mean ΔE2000 {}, mean relative error {}, mean |Δ| {}, largest |Δ| {} over {} pixels",
+                    span("mean_delta_e2000", delta_e(hero.number(row, "mean_delta_e2000").unwrap_or(f64::NAN))),
+                    span("mean_rel_error", percent(hero.number(row, "mean_rel_error").unwrap_or(f64::NAN))),
+                    span("mean_abs_error", number(hero.number(row, "mean_abs_error").unwrap_or(f64::NAN))),
+                    span("max_abs_error", number(hero.number(row, "max_abs_error").unwrap_or(f64::NAN))),
+                    span("pixels", hero.text(row, "pixels").to_string()),
+                )
+            };
+            let _ = write!(
+                html,
+                "<figure class=\"panel\" data-panel=\"{}\">{}{}<figcaption><b>{}</b><br>{figures}</figcaption></figure>",
+                escape(hero.text(row, "panel")),
+                image("file"),
+                image("error_file"),
+                escape(hero.text(row, "label")),
+            );
+        }
+        html.push_str("</div>\n");
+        let scale = hero.number(first, "error_scale").unwrap_or(f64::NAN);
+        let scale_file = format!("{}/error_scale.png", folder_of(hero.text(first, "file")));
+        let ticks: String = (0..=4).map(|i| format!("<span>{}</span>", number(scale * f64::from(i) / 4.0))).collect();
+        let _ = writeln!(
+            html,
+            "<figure class=\"scale\"><img src=\"{}\" width=\"512\" height=\"16\" alt=\"error colour bar\"><div class=\"scale-axis\">{ticks}</div><figcaption>Error images: |Δ| summed over R, G and B of linear radiance (white light = 1 per channel), black at 0 through blue, red and yellow to white at {} and beyond.</figcaption></figure>",
+            from_report(folder, &scale_file),
+            number(scale)
+        );
+        let (x, y, size) = (hero.text(first, "crop_x"), hero.text(first, "crop_y"), hero.text(first, "crop_size"));
+        let _ = write!(
+            html,
+            "<p class=\"note\">Where the error is largest: the {size} × {size} px window at ({x}, {y}) with the largest summed error over the variants, enlarged.</p><div class=\"crops\">",
+            size = escape(size),
+            x = escape(x),
+            y = escape(y)
+        );
+        for (_, row) in &rows {
+            for (column, what) in [("crop_file", ""), ("crop_error_file", ", error")] {
+                let file = hero.text(row, column);
+                if file.is_empty() {
+                    continue;
+                }
+                let src = from_report(folder, file);
+                let _ = write!(
+                    html,
+                    "<figure><img loading=\"lazy\" src=\"{src}\" alt=\"{0}{what} (crop)\"><figcaption>{0}{what}</figcaption></figure>",
+                    escape(hero.text(row, "panel"))
+                );
+            }
+        }
+        html.push_str("</div>\n");
+    }
+}
+
+/// The cross-device table: per method, the median over materials of its pass time
+/// relative to `exact` on each device of `<out>/devices/` (the study's Tables 6–7).
+fn devices_section(html: &mut String, inputs: &Inputs) {
+    html.push_str("<section><h2 id=\"devices\">Across devices</h2>\n");
+    if inputs.devices.is_empty() {
+        let _ = writeln!(
+            html,
+            "<p class=\"absent\">No device results: <code>{DEVICES_DIR}/&lt;adapter&gt;/gpu_timing.csv</code> is absent (`make report` copies those committed under <code>benchmarks/{DEVICES_DIR}/</code>; `make gpu` measures this machine's).</p></section>"
+        );
+        return;
+    }
+    let mut methods: Vec<String> = Vec::new();
+    let mut ratios: BTreeMap<(String, String), f64> = BTreeMap::new();
+    let mut adapters = Vec::new();
+    for (device, table) in &inputs.devices {
+        let median_of = |method: &str| -> Option<f64> {
+            let mut values: Vec<f64> = table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect();
+            values.sort_by(f64::total_cmp);
+            (!values.is_empty()).then(|| values[values.len() / 2])
+        };
+        let Some(exact) = median_of("exact") else { continue };
+        for row in &table.rows {
+            let method = table.text(row, "method").to_string();
+            if !methods.contains(&method) {
+                methods.push(method.clone());
+            }
+        }
+        for method in &methods {
+            if let Some(ms) = median_of(method) {
+                ratios.insert((method.clone(), device.clone()), ms / exact);
+            }
+        }
+        let adapter =
+            table.rows.first().map(|r| format!("{} ({} timer)", table.text(r, "adapter"), table.text(r, "timer"))).unwrap_or_default();
+        adapters.push(format!("{device}: {adapter}"));
+    }
+    let devices: Vec<&String> = inputs.devices.keys().collect();
+    let headers: Vec<String> = std::iter::once("method".to_string()).chain(devices.iter().map(|d| format!("{d} (× exact)"))).collect();
+    let mut table = TableText::new(&headers.iter().map(String::as_str).collect::<Vec<_>>());
+    for method in &methods {
+        table.row(
+            std::iter::once(method.clone())
+                .chain(
+                    devices.iter().map(|d| ratios.get(&(method.clone(), (*d).clone())).map(|r| number(*r)).unwrap_or_else(|| "–".into())),
+                )
+                .collect(),
+        );
+    }
+    let _ = writeln!(
+        html,
+        "<p>Median pass time over materials relative to exact Fresnel on the same device ({}).</p>{}</section>",
+        escape(&adapters.join("; ")),
+        table.html("devices")
+    );
+}
