@@ -20,7 +20,7 @@ else
 SELECT    := --shelf 3d
 endif
 
-.PHONY: all db build luts test test-deps test-blender bench gpu effects clean
+.PHONY: all db build luts test test-deps test-blender bench gpu effects report clean
 
 all: luts
 
@@ -124,6 +124,15 @@ effects: db build
 	for scene in $(EFFECTS_SCENES); do \
 	  $(NKLUT) --db $(DB) --out $(OUT)/$$scene effects --ao-rays $(AO_RAYS) scenes/$$scene.yaml || exit 1; \
 	done
+
+# The whole picture in one command: the tables (`make luts`), the effects of every scene
+# (`make effects`), the GPU results committed under benchmarks/devices/ (one folder per
+# adapter, copied to $(OUT)/devices/), then the report again so it draws from all of them:
+# report/index.html and report/effects.html.
+report: luts effects
+	rm -rf $(OUT)/devices
+	if [ -d benchmarks/devices ]; then cp -r benchmarks/devices $(OUT)/devices; fi
+	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
 
 clean:
 	rm -rf $(OUT)
