@@ -91,7 +91,7 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
         // Already half floats: what the texture stores.
         let stored = lut::texels(&prepared, LUT_SIZE);
         let view = lut::upload(&gpu, &stored, name).create_view(&Default::default());
-        let binding = renderer.bind(&gpu, &uniform, Some(&view));
+        let binding = renderer.bind(&gpu, &uniform, Some(&view)).unwrap();
         for method in Shading::ALL {
             let pixels = render::ramp(&gpu, &mut renderer, method, &binding, RAMP_WIDTH, 1).unwrap();
             let mut max_error = 0.0f32;

@@ -11,7 +11,8 @@ use wgpu::util::DeviceExt;
 
 use super::compose::compute_pipelines;
 use super::context::Gpu;
-use super::passes::distance_maps::{buffers_bind_group, MapTexels, MapView, StepsUniform};
+use super::passes::distance_maps::{MapTexels, MapView, StepsUniform};
+use super::passes::interface::{Binding, Interface, Pass, Resource};
 use super::render::{check_buffer_size, readback_buffer};
 use nklut_effects::distance_map::DistanceMap;
 use nklut_effects::scene::SearchSteps;
@@ -43,6 +44,24 @@ pub struct SearchHit {
     pub at: [u32; 4],
 }
 
+/// The search alone, one ray per invocation: the pass the search tests hold to the CPU twin.
+pub struct DistanceSearchPass;
+
+impl Pass for DistanceSearchPass {
+    const INTERFACE: Interface = Interface {
+        name: "distance-map search",
+        shader: "distance_search",
+        entry_points: &["cs_search"],
+        stages: wgpu::ShaderStages::COMPUTE,
+        bindings: &[
+            Binding::new(0, 0, "batch", Resource::Uniform),
+            Binding::new(0, 1, "rays", Resource::Read),
+            Binding::new(0, 2, "hits", Resource::ReadWrite),
+            Binding::new(1, 0, "map_texels", Resource::Read),
+        ],
+    };
+}
+
 /// Run the search for every ray on the GPU and read the hits back.
 pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSteps) -> Result<Vec<SearchHit>> {
     if rays.is_empty() {
@@ -59,7 +78,9 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
     let hits_bytes = (rays.len() * std::mem::size_of::<SearchHit>()) as u64;
     check_buffer_size(gpu, hits_bytes, "search hits", "search fewer rays at once")?;
     let params = SearchBatch { map: texels.views[0], steps: StepsUniform::new(steps), count: rays.len() as u32, pad: [0; 3] };
-    let [pipeline] = compute_pipelines(device, "distance_search", None, ["cs_search"], "the distance-map search")?;
+    let interface = DistanceSearchPass::INTERFACE;
+    let (pipeline_layout, layouts) = interface.pipeline_layout(device);
+    let [pipeline] = compute_pipelines(device, interface.shader, Some(&pipeline_layout), ["cs_search"], "the distance-map search")?;
     let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     };
@@ -73,9 +94,13 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
         mapped_at_creation: false,
     });
     let readback = readback_buffer(gpu, hits_bytes)?;
-    let bind_group =
-        buffers_bind_group(device, &pipeline.get_bind_group_layout(0), "distance-map search", &[&params_buffer, &ray_buffer, &hit_buffer]);
-    let map_group = buffers_bind_group(device, &pipeline.get_bind_group_layout(1), "distance map", &[&texel_buffer]);
+    let bind_group = interface.bind_group(
+        device,
+        &layouts[0],
+        0,
+        &[(0, params_buffer.as_entire_binding()), (1, ray_buffer.as_entire_binding()), (2, hit_buffer.as_entire_binding())],
+    )?;
+    let map_group = interface.bind_group(device, &layouts[1], 1, &[(0, texel_buffer.as_entire_binding())])?;
     let mut encoder = device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());

@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::Gpu;
 use super::params::MaterialUniform;
+use super::passes::interface::{Binding, Interface, Pass, Resource};
 use nklut_effects::scene::Shading;
 use nklut_optics::fresnel::Method;
 
@@ -68,7 +69,7 @@ pub fn compose(shade: Shade) -> Result<String, super::compose::ComposeError> {
 
 /// Which entry points and target a pipeline draws with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Pass {
+pub enum Draw {
     /// `vs_fullscreen` + `fs_ramp`: c = (x + ½)/width over the whole target.
     Fullscreen(wgpu::TextureFormat),
     /// The same, blended additively over what is there: the measured draw of the
@@ -104,7 +105,7 @@ impl ViewUniform {
 }
 
 /// One material's uniforms and texture, bound at group 0.
-pub struct Binding {
+pub struct MaterialBinding {
     pub view: wgpu::Buffer,
     pub bind_group: wgpu::BindGroup,
 }
@@ -123,50 +124,30 @@ pub struct Renderer {
     /// 1×1 texture bound where a material has no LUT.
     blank: wgpu::TextureView,
     modules: HashMap<Shade, wgpu::ShaderModule>,
-    pipelines: HashMap<(Shade, Pass), wgpu::RenderPipeline>,
+    pipelines: HashMap<(Shade, Draw), wgpu::RenderPipeline>,
     pub created: Created,
 }
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
+impl Pass for Renderer {
+    const INTERFACE: Interface = Interface {
+        name: "fresnel pass",
+        shader: "fresnel_pass",
+        entry_points: &["vs_fullscreen", "fs_ramp", "vs_mesh", "fs_mesh"],
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[
+            Binding::new(0, 0, "material", Resource::Uniform),
+            Binding::new(0, 1, "view", Resource::Uniform),
+            Binding::new(0, 2, "lut_texture", Resource::Texture2d),
+            Binding::new(0, 3, "lut_sampler", Resource::Sampler),
+        ],
+    };
 }
 
 impl Renderer {
     pub fn new(gpu: &Gpu) -> Self {
         let device = &gpu.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("nklut material"),
-            entries: &[
-                uniform_entry(0),
-                uniform_entry(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("nklut"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let (pipeline_layout, mut layouts) = Self::INTERFACE.pipeline_layout(device);
+        let layout = layouts.remove(0);
         let sampler = super::lut::sampler(gpu);
         let blank = super::lut::upload(gpu, &[[1.0, 1.0, 1.0, 1.0]], "blank").create_view(&Default::default());
         Renderer {
@@ -182,7 +163,7 @@ impl Renderer {
 
     /// The pipeline for `shade` in `pass`, compiled on first use. Shader errors (a library
     /// that does not validate) are returned, not panicked.
-    pub fn pipeline(&mut self, gpu: &Gpu, shade: Shade, pass: Pass) -> Result<&wgpu::RenderPipeline> {
+    pub fn pipeline(&mut self, gpu: &Gpu, shade: Shade, pass: Draw) -> Result<&wgpu::RenderPipeline> {
         if !self.pipelines.contains_key(&(shade, pass)) {
             let source = compose(shade)?;
             let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -204,7 +185,7 @@ impl Renderer {
         Ok(&self.pipelines[&(shade, pass)])
     }
 
-    fn create_pipeline(&self, gpu: &Gpu, shade: Shade, pass: Pass) -> wgpu::RenderPipeline {
+    fn create_pipeline(&self, gpu: &Gpu, shade: Shade, pass: Draw) -> wgpu::RenderPipeline {
         let module = &self.modules[&shade];
         let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let mesh_buffers =
@@ -216,12 +197,12 @@ impl Renderer {
         };
         let mut blend = None;
         let (vertex_entry, fragment_entry, format, buffers, depth_stencil): (_, _, _, &[_], _) = match pass {
-            Pass::Fullscreen(format) => ("vs_fullscreen", "fs_ramp", format, &[], None),
-            Pass::FullscreenOver(format) => {
+            Draw::Fullscreen(format) => ("vs_fullscreen", "fs_ramp", format, &[], None),
+            Draw::FullscreenOver(format) => {
                 blend = Some(wgpu::BlendState { color: additive, alpha: additive });
                 ("vs_fullscreen", "fs_ramp", format, &[], None)
             }
-            Pass::Mesh => ("vs_mesh", "fs_mesh", FLOAT_TARGET, &mesh_buffers, Some(depth_test())),
+            Draw::Mesh => ("vs_mesh", "fs_mesh", FLOAT_TARGET, &mesh_buffers, Some(depth_test())),
         };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("{} {:?}", shade.name(), pass)),
@@ -242,7 +223,7 @@ impl Renderer {
     }
 
     /// Bind a material: its uniform block and its LUT (or the blank texture).
-    pub fn bind(&self, gpu: &Gpu, material: &MaterialUniform, lut: Option<&wgpu::TextureView>) -> Binding {
+    pub fn bind(&self, gpu: &Gpu, material: &MaterialUniform, lut: Option<&wgpu::TextureView>) -> Result<MaterialBinding> {
         let device = &gpu.device;
         let material_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("material"),
@@ -254,17 +235,18 @@ impl Renderer {
             contents: bytemuck::bytes_of(&ViewUniform::default()),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: material_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: view.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(lut.unwrap_or(&self.blank)) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+        let bind_group = Self::INTERFACE.bind_group(
+            device,
+            &self.layout,
+            0,
+            &[
+                (0, material_buffer.as_entire_binding()),
+                (1, view.as_entire_binding()),
+                (2, wgpu::BindingResource::TextureView(lut.unwrap_or(&self.blank))),
+                (3, wgpu::BindingResource::Sampler(&self.sampler)),
             ],
-        });
-        Binding { view, bind_group }
+        )?;
+        Ok(MaterialBinding { view, bind_group })
     }
 }
 
@@ -405,10 +387,10 @@ pub fn readback_buffer(gpu: &Gpu, size: u64) -> Result<wgpu::Buffer> {
 
 /// Render the cosθ ramp of `method` (c = (x + ½)/width in every row) for `material` into
 /// an RGBA32Float target and read it back: the shader's F as the tests compare it.
-pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &Binding, width: u32, height: u32) -> Result<Vec<f32>> {
+pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &MaterialBinding, width: u32, height: u32) -> Result<Vec<f32>> {
     let target = Target::new(gpu, width, height, FLOAT_TARGET, false)?;
     gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
-    let pipeline = renderer.pipeline(gpu, Shade::Method(method), Pass::Fullscreen(FLOAT_TARGET))?.clone();
+    let pipeline = renderer.pipeline(gpu, Shade::Method(method), Draw::Fullscreen(FLOAT_TARGET))?.clone();
     let buffer = readback_buffer(gpu, target.readback_bytes())?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {

@@ -26,7 +26,9 @@ use super::image_error::{self, ErrorSummary};
 use super::lut;
 use super::mesh;
 use super::params::{self, MaterialUniform};
-use super::render::{padded_row_bytes, readback_buffer, Binding, Pass, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET};
+use super::render::{
+    padded_row_bytes, readback_buffer, Draw, MaterialBinding, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET,
+};
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use nklut_effects::experiment::EffectsStats;
 use nklut_effects::scene::{read_materials, Experiment, MeshSource, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
@@ -129,7 +131,7 @@ pub struct RunReport {
 /// A material of the scene, ready to bind.
 struct BoundMaterial {
     kind: Kind,
-    binding: Binding,
+    binding: MaterialBinding,
 }
 
 /// A mesh on the GPU.
@@ -213,7 +215,7 @@ fn run_fresnel_only(
             baked.push(page.clone());
             texture.create_view(&Default::default())
         });
-        bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref()) });
+        bound.insert(page.clone(), BoundMaterial { kind: optics.kind, binding: renderer.bind(gpu, &uniform, lut_view.as_ref())? });
     }
     if baked.is_empty() {
         stats.skipped.push("LUT bake: no object uses the lut method".into());
@@ -252,7 +254,7 @@ fn run_timing(
     let target = Target::new(gpu, width, height, DISPLAY_TARGET, false)?;
     let mut stopwatch = Stopwatch::new(gpu)?;
     let burner =
-        if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Pass::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
+        if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Draw::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
         "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
         settings.warmup,
@@ -261,7 +263,7 @@ fn run_timing(
         if settings.subtract { ", subtracting the burner pass" } else { "" }
     ));
     let pairs = scene.material_shadings();
-    let measured_pass = if settings.subtract { Pass::FullscreenOver(DISPLAY_TARGET) } else { Pass::Fullscreen(DISPLAY_TARGET) };
+    let measured_pass = if settings.subtract { Draw::FullscreenOver(DISPLAY_TARGET) } else { Draw::Fullscreen(DISPLAY_TARGET) };
     let mut pipelines = Vec::new();
     for (page, method) in &pairs {
         gpu.queue.write_buffer(&bound[page].binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
@@ -337,10 +339,10 @@ fn run_image_error(
         }
         let gpu_mesh = &meshes[&object.mesh];
         let material = &bound[&specular.material];
-        let reference = renderer.pipeline(gpu, Shade::Method(Shading::Fresnel(Method::Exact)), Pass::Mesh)?.clone();
+        let reference = renderer.pipeline(gpu, Shade::Method(Shading::Fresnel(Method::Exact)), Draw::Mesh)?.clone();
         let mut pipelines = Vec::new();
         for method in &specular.shadings {
-            pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Pass::Mesh)?.clone());
+            pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), Draw::Mesh)?.clone());
         }
         // Sizes against the device's limits before any allocation: one readback of every
         // target (the reference and each method) per frame.

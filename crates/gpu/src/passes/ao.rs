@@ -15,6 +15,7 @@ use anyhow::{bail, Result};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compute_pipelines;
 use crate::context::Gpu;
 use crate::render::{check_buffer_size, readback_buffer};
@@ -145,6 +146,22 @@ fn check_limits(gpu: &Gpu, count: usize, nodes: usize) -> Result<()> {
     Ok(())
 }
 
+impl Pass for SurfelAoPass {
+    const INTERFACE: Interface = Interface {
+        name: "surfel ao",
+        shader: "surfel_ao",
+        entry_points: &["cs_brute_force", "cs_node_weights", "cs_tree", "cs_shadow_terms"],
+        stages: wgpu::ShaderStages::COMPUTE,
+        bindings: &[
+            Binding::new(0, 0, "params", Resource::Uniform),
+            Binding::new(0, 1, "discs", Resource::Read),
+            Binding::new(0, 2, "links", Resource::Read),
+            Binding::new(0, 3, "state", Resource::ReadWrite),
+            Binding::new(0, 4, "bent", Resource::ReadWrite),
+        ],
+    };
+}
+
 impl SurfelAoPass {
     /// Upload `surfels` (and `tree`, for [`Gather::Hierarchy`]) and compile the kernel.
     pub fn new(
@@ -200,32 +217,11 @@ impl SurfelAoPass {
             weights: 2 * n32,
             pad: 0,
         };
-        let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let mut entries = vec![wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
-        }];
-        entries.extend([storage(1, true), storage(2, true), storage(3, false), storage(4, false)]);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel ao"), entries: &entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("surfel ao"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let interface = Self::INTERFACE;
+        let (pipeline_layout, layouts) = interface.pipeline_layout(device);
         let [brute_force, node_weights, tree_pipeline] = compute_pipelines(
             device,
-            "surfel_ao",
+            interface.shader,
             Some(&pipeline_layout),
             ["cs_brute_force", "cs_node_weights", "cs_tree"],
             "the surfel ambient-occlusion kernel",
@@ -249,14 +245,11 @@ impl SurfelAoPass {
         });
         let bind_group = |uniform: &wgpu::Buffer| {
             let buffers = [uniform, &disc_buffer, &link_buffer, &state, &bent];
-            let entries: Vec<wgpu::BindGroupEntry> = buffers
-                .iter()
-                .enumerate()
-                .map(|(binding, b)| wgpu::BindGroupEntry { binding: binding as u32, resource: b.as_entire_binding() })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("surfel ao"), layout: &layout, entries: &entries })
+            let resources: Vec<(u32, wgpu::BindingResource)> =
+                buffers.iter().enumerate().map(|(binding, b)| (binding as u32, b.as_entire_binding())).collect();
+            interface.bind_group(device, &layouts[0], 0, &resources)
         };
-        let bind_groups = [bind_group(&uniforms[0]), bind_group(&uniforms[1])];
+        let bind_groups = [bind_group(&uniforms[0])?, bind_group(&uniforms[1])?];
         if let Some(error) = pollster::block_on(scope.pop()) {
             bail!("allocating the surfel pass's buffers: {error}");
         }
@@ -346,7 +339,8 @@ pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> 
         bind_group_layouts: &[Some(&layout)],
         immediate_size: 0,
     });
-    let [pipeline] = compute_pipelines(&gpu.device, "surfel_ao", Some(&pipeline_layout), ["cs_shadow_terms"], "the shadow-term kernel")?;
+    let shader = SurfelAoPass::INTERFACE.shader;
+    let [pipeline] = compute_pipelines(&gpu.device, shader, Some(&pipeline_layout), ["cs_shadow_terms"], "the shadow-term kernel")?;
     let bytes = pairs.len() as u64 * 16;
     let readback = readback_buffer(gpu, bytes.max(16))?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());

@@ -19,6 +19,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use wgpu::util::DeviceExt;
 
+use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
 use crate::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
@@ -121,21 +122,6 @@ impl MapTexels {
         let c = view.centre;
         DistanceMap { centre: DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64), size: view.size, layers }
     }
-}
-
-/// A bind group of whole buffers at bindings 0, 1, … of `layout`.
-pub fn buffers_bind_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    label: &str,
-    buffers: &[&wgpu::Buffer],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = buffers
-        .iter()
-        .enumerate()
-        .map(|(binding, buffer)| wgpu::BindGroupEntry { binding: binding as u32, resource: buffer.as_entire_binding() })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout, entries: &entries })
 }
 
 /// `DiffuseSurface` of `shaders/diffuse.wgsl`.
@@ -276,11 +262,27 @@ const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// The map-update pass: its pipeline and the per-face uniforms, built once per scene.
 pub struct MapRenderer {
     pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
     objects: wgpu::Buffer,
     light: wgpu::Buffer,
     /// Projection range: nearer than `near` or farther than `far` is clipped.
     near: f32,
     far: f32,
+}
+
+impl Pass for MapRenderer {
+    const INTERFACE: Interface = Interface {
+        name: "distance-map faces",
+        shader: "distance_map_render",
+        entry_points: &["vs_map", "fs_map"],
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[
+            Binding::new(0, 0, "map_face", Resource::Uniform),
+            Binding::new(0, 1, "light", Resource::Uniform),
+            Binding::new(0, 2, "map_objects", Resource::Read),
+            Binding::new(0, 3, "previous", Resource::TextureArray),
+        ],
+    };
 }
 
 /// A map must have a size the texture-to-buffer copy can take (rows of size·16 bytes, a
@@ -299,7 +301,9 @@ pub fn check_map_size(gpu: &Gpu, size: u32, layers: u32) -> Result<()> {
 impl MapRenderer {
     pub fn new(gpu: &Gpu, stage: &Stage) -> Result<MapRenderer> {
         let device = &gpu.device;
-        let source = compose("#import distance_map_render")?;
+        let interface = Self::INTERFACE;
+        let source = compose(&format!("#import {}", interface.shader))?;
+        let (pipeline_layout, mut layouts) = interface.pipeline_layout(device);
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("distance_map_render"),
@@ -307,8 +311,8 @@ impl MapRenderer {
         });
         let target = Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("distance-map faces"),
-            layout: None,
+            label: Some(interface.name),
+            layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &module,
                 entry_point: Some("vs_map"),
@@ -349,6 +353,7 @@ impl MapRenderer {
         let far = 2.0 * (high - low).length().max(1e-6);
         Ok(MapRenderer {
             pipeline,
+            layout: layouts.remove(0),
             objects: buffer("map objects", bytemuck::cast_slice(&objects), wgpu::BufferUsages::STORAGE),
             light: buffer("light", bytemuck::bytes_of(&LightUniform::new(&stage.light)), wgpu::BufferUsages::UNIFORM),
             near: (far * 1e-6) as f32,
@@ -387,14 +392,15 @@ impl MapRenderer {
                 mapped_at_creation: false,
             })
         };
-        let targets = self.targets(gpu, &views);
+        let targets = self.targets(gpu, &views)?;
         Ok(GpuMaps { geometry: buffer("map geometry"), surfaces: buffer("map surfaces"), views, map_of, targets })
     }
 
-    /// The render targets of one layer's six faces and each face's bind group, for `maps`.
-    fn targets(&self, gpu: &Gpu, views: &[MapView]) -> Option<LayerTargets> {
+    /// The render targets of one layer's six faces and each face's bind group, for `maps`
+    /// (none without maps).
+    fn targets(&self, gpu: &Gpu, views: &[MapView]) -> Result<Option<LayerTargets>> {
         let device = &gpu.device;
-        let first = views.first()?;
+        let Some(first) = views.first() else { return Ok(None) };
         let (size, layers) = (first.size, first.layers);
         let texture = |label, array_layers, format, usage| {
             texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage)
@@ -414,7 +420,6 @@ impl MapRenderer {
                 ..Default::default()
             })
         };
-        let layout = self.pipeline.get_bind_group_layout(0);
         let mut bind_groups = Vec::new();
         for view in views {
             for layer in 0..layers {
@@ -426,20 +431,21 @@ impl MapRenderer {
                         contents: bytemuck::bytes_of(&uniform),
                         usage: wgpu::BufferUsages::UNIFORM,
                     });
-                    bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("map face"),
-                        layout: &layout,
-                        entries: &[
-                            wgpu::BindGroupEntry { binding: 0, resource: face_buffer.as_entire_binding() },
-                            wgpu::BindGroupEntry { binding: 1, resource: self.light.as_entire_binding() },
-                            wgpu::BindGroupEntry { binding: 2, resource: self.objects.as_entire_binding() },
-                            wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&previous_view) },
+                    bind_groups.push(Self::INTERFACE.bind_group(
+                        device,
+                        &self.layout,
+                        0,
+                        &[
+                            (0, face_buffer.as_entire_binding()),
+                            (1, self.light.as_entire_binding()),
+                            (2, self.objects.as_entire_binding()),
+                            (3, wgpu::BindingResource::TextureView(&previous_view)),
                         ],
-                    }));
+                    )?);
                 }
             }
         }
-        Some(LayerTargets {
+        Ok(Some(LayerTargets {
             geometry_faces: (0..6).map(|f| face_view(&geometry, f)).collect(),
             surface_faces: (0..6).map(|f| face_view(&surfaces, f)).collect(),
             geometry,
@@ -447,7 +453,7 @@ impl MapRenderer {
             previous,
             depth,
             bind_groups,
-        })
+        }))
     }
 
     /// Encode the update of every map in `maps` (all layers, all faces) into `encoder`: 6 ×

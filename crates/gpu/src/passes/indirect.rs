@@ -16,6 +16,7 @@ use anyhow::{bail, Result};
 use wgpu::util::DeviceExt;
 
 use super::ao::{GpuDisc, Params};
+use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compute_pipelines;
 use crate::context::Gpu;
 use crate::render::{check_buffer_size, readback_buffer};
@@ -42,6 +43,22 @@ pub struct IndirectPass {
     gathered: wgpu::Buffer,
 }
 
+impl Pass for IndirectPass {
+    const INTERFACE: Interface = Interface {
+        name: "surfel indirect",
+        shader: "surfel_ao",
+        entry_points: &["cs_indirect"],
+        stages: wgpu::ShaderStages::COMPUTE,
+        bindings: &[
+            Binding::new(0, 0, "params", Resource::Uniform),
+            Binding::new(0, 1, "discs", Resource::Read),
+            Binding::new(0, 3, "state", Resource::ReadWrite),
+            Binding::new(0, 5, "radiosity", Resource::Read),
+            Binding::new(0, 6, "gathered", Resource::ReadWrite),
+        ],
+    };
+}
+
 impl IndirectPass {
     /// Upload `surfels` and compile the gather.
     pub fn new(gpu: &Gpu, surfels: &[Surfel], form: ShadowForm) -> Result<IndirectPass> {
@@ -66,29 +83,10 @@ impl IndirectPass {
             check_buffer_size(gpu, bytes as u64, what, "use fewer surfels (coarser meshes, less subdivide)")?;
         }
         let device = &gpu.device;
-        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
-        };
-        let storage = |read_only| wgpu::BufferBindingType::Storage { read_only };
-        let entries = [
-            entry(0, wgpu::BufferBindingType::Uniform),
-            entry(1, storage(true)),
-            entry(3, storage(false)),
-            entry(5, storage(true)),
-            entry(6, storage(false)),
-        ];
-        let layout =
-            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("surfel indirect"), entries: &entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("surfel indirect"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let interface = Self::INTERFACE;
+        let (pipeline_layout, layouts) = interface.pipeline_layout(device);
         let [pipeline] =
-            compute_pipelines(device, "surfel_ao", Some(&pipeline_layout), ["cs_indirect"], "the surfel indirect-light kernel")?;
+            compute_pipelines(device, interface.shader, Some(&pipeline_layout), ["cs_indirect"], "the surfel indirect-light kernel")?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
@@ -108,13 +106,8 @@ impl IndirectPass {
             mapped_at_creation: false,
         });
         let buffers = [(0, &uniform), (1, &disc_buffer), (3, &weights), (5, &radiosity), (6, &gathered)];
-        let bind_entries: Vec<wgpu::BindGroupEntry> =
-            buffers.iter().map(|(binding, b)| wgpu::BindGroupEntry { binding: *binding, resource: b.as_entire_binding() }).collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("surfel indirect"),
-            layout: &layout,
-            entries: &bind_entries,
-        });
+        let resources: Vec<(u32, wgpu::BindingResource)> = buffers.iter().map(|(binding, b)| (*binding, b.as_entire_binding())).collect();
+        let bind_group = interface.bind_group(device, &layouts[0], 0, &resources)?;
         if let Some(error) = pollster::block_on(scope.pop()) {
             bail!("allocating the indirect pass's buffers: {error}");
         }

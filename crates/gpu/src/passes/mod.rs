@@ -1,4 +1,5 @@
-//! GPU passes as units with declared inputs and outputs: each owns its pipelines and
+//! GPU passes as units with declared inputs and outputs ([`Pass`]: the shader, entry points
+//! and bindings of [`interface`], checked against the WGSL): each owns its pipelines and
 //! buffers, checks its sizes against the device's limits before allocating, and returns
 //! wgpu's errors as `Result`s.
 //!
@@ -14,4 +15,79 @@
 pub mod ao;
 pub mod distance_maps;
 pub mod indirect;
+pub mod interface;
 pub mod specular;
+
+pub use interface::{Binding, Interface, Pass, Resource};
+
+/// Every pass's interface with the composed WGSL of each of its variants (one per
+/// (effect, method) of the specular pass, one per shading of the Fresnel pass): what
+/// [`Interface::check`] holds the declarations to.
+pub fn interfaces() -> Result<Vec<(Interface, Vec<String>)>, crate::compose::ComposeError> {
+    use nklut_effects::scene::Shading;
+    use nklut_optics::fresnel::Method;
+    let single = |interface: Interface| -> Result<(Interface, Vec<String>), crate::compose::ComposeError> {
+        Ok((interface, vec![crate::compose::compose(&format!("#import {}", interface.shader))?]))
+    };
+    let mut specular = Vec::new();
+    for effect in [specular::Effect::Reflection, specular::Effect::Refraction] {
+        for method in Method::ALL {
+            specular.push(specular::compose_effect(effect, method)?);
+        }
+    }
+    let mut fresnel = vec![crate::render::compose(crate::render::Shade::Burner)?];
+    for shading in Shading::ALL {
+        fresnel.push(crate::render::compose(crate::render::Shade::Method(shading))?);
+    }
+    Ok(vec![
+        single(<ao::SurfelAoPass as Pass>::INTERFACE)?,
+        single(<indirect::IndirectPass as Pass>::INTERFACE)?,
+        single(<distance_maps::MapRenderer as Pass>::INTERFACE)?,
+        single(<crate::distance_search::DistanceSearchPass as Pass>::INTERFACE)?,
+        (<specular::SpecularPass as Pass>::INTERFACE, specular),
+        (<crate::render::Renderer as Pass>::INTERFACE, fresnel),
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each pass's declared bindings are its shader's, by group, binding, name and kind, and
+    /// its entry points use nothing it does not declare, in every variant.
+    #[test]
+    fn every_pass_declares_what_its_shader_binds() {
+        let all = interfaces().unwrap();
+        assert_eq!(all.len(), 6);
+        for (interface, sources) in &all {
+            assert!(!sources.is_empty());
+            for source in sources {
+                interface.check(source).unwrap_or_else(|problems| panic!("{problems:#?}"));
+            }
+        }
+    }
+
+    /// The check fails on each kind of disagreement: a binding the shader lacks, a wrong
+    /// name, a wrong kind, and a binding an entry point uses that is not declared.
+    #[test]
+    fn the_check_sees_each_disagreement() {
+        let (interface, sources) = interfaces().unwrap().remove(0);
+        let source = &sources[0];
+        let with = |bindings: &'static [Binding]| Interface { bindings, ..interface };
+        let problems = |bindings| with(bindings).check(source).unwrap_err().join("\n");
+        let mut declared: Vec<Binding> = interface.bindings.to_vec();
+        // `bent` (binding 4) left out: cs_brute_force writes it.
+        declared.retain(|b| b.binding != 4);
+        assert!(problems(declared.clone().leak()).contains("uses @group(0) @binding(4)"), "{}", problems(declared.clone().leak()));
+        // `state` declared read-only.
+        let mut wrong_kind = interface.bindings.to_vec();
+        wrong_kind[3].resource = Resource::Read;
+        assert!(problems(wrong_kind.leak()).contains("state is Some(ReadWrite) in the shader, declared Read"));
+        // A misnamed binding and one the shader does not have.
+        let mut renamed = interface.bindings.to_vec();
+        renamed[1].name = "surfels";
+        renamed.push(Binding::new(0, 9, "extra", Resource::Uniform));
+        let text = problems(renamed.leak());
+        assert!(text.contains("declared surfels") && text.contains("@binding(9) extra is not in the shader"), "{text}");
+    }
+}

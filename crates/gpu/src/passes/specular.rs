@@ -23,6 +23,7 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightUniform, MapView, SceneMeshes, StepsUniform};
+use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
 use crate::contracts::ObjectRole;
@@ -130,8 +131,8 @@ pub struct Shot<'a> {
 
 /// The shading pass of one stage: its buffers, and its pipelines by (effect, method).
 pub struct SpecularPass {
-    frame_layout: wgpu::BindGroupLayout,
-    maps_layout: wgpu::BindGroupLayout,
+    /// Group 0 (the frame, objects, materials, LUT) and group 1 (the maps).
+    layouts: Vec<wgpu::BindGroupLayout>,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(Effect, Method), wgpu::RenderPipeline>,
     /// Each object's uniform but its map (set per frame from the maps bound).
@@ -149,56 +150,29 @@ pub struct SpecularPass {
     stage_channels: Vec<nklut_optics::spectrum::ChannelIndex>,
 }
 
-fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    let visibility = match ty {
-        wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, .. } => wgpu::ShaderStages::VERTEX_FRAGMENT,
-        _ => wgpu::ShaderStages::FRAGMENT,
+impl Pass for SpecularPass {
+    const INTERFACE: Interface = Interface {
+        name: "specular effect",
+        shader: "specular",
+        entry_points: &["vs_effect", "fs_effect"],
+        stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        bindings: &[
+            Binding::new(0, 0, "frame", Resource::Uniform),
+            Binding::new(0, 1, "objects", Resource::Read),
+            Binding::new(0, 2, "materials", Resource::Read),
+            Binding::new(0, 3, "lut_atlas", Resource::Texture2d),
+            Binding::new(0, 4, "lut_sampler", Resource::Sampler),
+            Binding::new(1, 0, "map_texels", Resource::Read),
+            Binding::new(1, 1, "map_surfaces", Resource::Read),
+        ],
     };
-    wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
-}
-
-fn storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(
-        binding,
-        wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    )
 }
 
 impl SpecularPass {
     /// The pass for `stage`; `lut_size` texels per curve for the `lut` method.
     pub fn new(gpu: &Gpu, stage: &Stage, lut_size: usize) -> Result<SpecularPass> {
         let device = &gpu.device;
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("effect frame"),
-            entries: &[
-                layout_entry(
-                    0,
-                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-                ),
-                storage(1),
-                storage(2),
-                layout_entry(
-                    3,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
-                layout_entry(4, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-            ],
-        });
-        let maps_layout = device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("effect maps"), entries: &[storage(0), storage(1)] });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("effect"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&maps_layout)],
-            immediate_size: 0,
-        });
+        let (pipeline_layout, layouts) = Self::INTERFACE.pipeline_layout(device);
         let mut objects = Vec::new();
         let mut stage_materials = Vec::new();
         let mut stage_channels = Vec::new();
@@ -229,8 +203,7 @@ impl SpecularPass {
         let materials: Vec<MaterialUniform> = stage_materials.iter().flatten().copied().collect();
         let materials = if materials.is_empty() { vec![MaterialUniform::default()] } else { materials };
         Ok(SpecularPass {
-            frame_layout,
-            maps_layout,
+            layouts,
             pipeline_layout,
             pipelines: HashMap::new(),
             objects,
@@ -353,22 +326,26 @@ impl SpecularPass {
             contents: bytemuck::cast_slice(&objects),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("effect frame"),
-            layout: &self.frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: frame.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: self.materials.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(self.lut_atlas.as_ref().unwrap_or(&self.blank)),
-                },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+        let interface = Self::INTERFACE;
+        let lut = self.lut_atlas.as_ref().unwrap_or(&self.blank);
+        let frame_group = interface.bind_group(
+            device,
+            &self.layouts[0],
+            0,
+            &[
+                (0, frame.as_entire_binding()),
+                (1, objects.as_entire_binding()),
+                (2, self.materials.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(lut)),
+                (4, wgpu::BindingResource::Sampler(&self.sampler)),
             ],
-        });
-        let maps_group =
-            super::distance_maps::buffers_bind_group(device, &self.maps_layout, "effect maps", &[&maps.geometry, &maps.surfaces]);
+        )?;
+        let maps_group = interface.bind_group(
+            device,
+            &self.layouts[1],
+            1,
+            &[(0, maps.geometry.as_entire_binding()), (1, maps.surfaces.as_entire_binding())],
+        )?;
         let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
             query_set: set,
             beginning_of_pass_write_index: Some(0),
