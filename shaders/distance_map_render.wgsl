@@ -30,7 +30,7 @@ struct MapObject {
 }
 
 @group(0) @binding(0) var<uniform> map_face: MapFace;
-@group(0) @binding(1) var<uniform> light: Light;
+@group(0) @binding(1) var<uniform> lights: Lights;
 @group(0) @binding(2) var<storage, read> map_objects: array<MapObject>;
 // The previous layer's six faces (distance in x; < 0: empty).
 @group(0) @binding(3) var previous: texture_2d_array<f32>;
@@ -83,7 +83,7 @@ fn fs_map(input: MeshVertexOut) -> MapTexelOut {
         out.surface = vec4<f32>(0.0, 0.0, 0.0, f32(input.object));
     } else {
         let albedo = diffuse_albedo(object.surface, input.world, n);
-        out.surface = vec4<f32>(diffuse_lit(light, albedo, n), -1.0);
+        out.surface = vec4<f32>(diffuse_lit(lights, albedo, input.world, n), -1.0);
     }
     return out;
 }

@@ -29,7 +29,7 @@
 struct EffectFrame {
     view_proj: mat4x4<f32>,
     eye: vec4<f32>,
-    light: Light,
+    lights: Lights,
     steps: SearchSteps,
     // x = the reflection's max depth, y = the refraction's
     depths: vec4<u32>,
@@ -179,7 +179,7 @@ fn fs_effect(input: MeshVertexOut) -> @location(0) vec4<f32> {
     let o = objects[input.object];
     let n = normalize(input.normal);
     if (o.role.x == ROLE_DIFFUSE) {
-        return vec4<f32>(diffuse_lit(frame.light, diffuse_albedo(o.surface, input.world, n), n), 0.0);
+        return vec4<f32>(diffuse_lit(frame.lights, diffuse_albedo(o.surface, input.world, n), input.world, n), 0.0);
     }
     let incoming = normalize(input.world - frame.eye.xyz);
     return vec4<f32>(path_radiance(input.object, input.world, n, incoming), f32(input.object + 1u));

@@ -436,9 +436,17 @@ fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
 /// A glass sphere and a gold cube in a checkered room, small enough for lavapipe.
 fn effects_stage(refraction: bool) -> (Scene, nklut::effects::trace::Stage) {
     use nklut::effects::trace::{stage_from_table, SpecularMaterial};
-    let refraction = if refraction { "  refraction: {max_depth: 3}\n" } else { "" };
+    // With refraction, every kind of light (`lights`); without, the shorthand `light`.
+    let (refraction, lights) = if refraction {
+        (
+            "  refraction: {max_depth: 3}\n",
+            "lights:\n  - {kind: directional, direction: [-0.3, -1, -0.5], colour: [0.5, 0.5, 0.5]}\n  - {kind: point, position: [0.5, 0.8, -0.5], intensity: [0.6, 0.5, 0.4]}\n  - {kind: ambient, colour: [0.2, 0.2, 0.2]}\n",
+        )
+    } else {
+        ("", "")
+    };
     let text = format!(
-        "resolution: [48, 48]\ncamera: {{axis: [0, 1, 0.2], distance: 1.8, frames: 1}}\neffects:\n  reflection: {{max_depth: 3}}\n{refraction}  distance_maps: {{size: 16, layers: 3}}\n\
+        "resolution: [48, 48]\ncamera: {{axis: [0, 1, 0.2], distance: 1.8, frames: 1}}\neffects:\n  reflection: {{max_depth: 3}}\n{refraction}  distance_maps: {{size: 16, layers: 3}}\n{lights}\
          objects:\n  - {{mesh: sphere, scale: 0.5, position: [0.2, 0, 0], material: x/y/glass, methods: [exact, schlick, lut]}}\n  - {{mesh: cube, scale: 0.25, position: [-0.6, -0.2, 0.3], material: x/y/gold, methods: [exact]}}\n\
          \x20 - {{mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.75], pattern: {{kind: checker, size: 0.5, albedo: [0.1, 0.3, 0.6]}}}}\nmeasurements: [image_error]\n"
     );

@@ -19,9 +19,10 @@ use rayon::prelude::*;
 
 use super::geometry::Geometry;
 use super::optics::{scatter, Allowed, SpecularOptics};
+use crate::scene::lights::unshadowed;
 use crate::scene::mesh::{self, Mesh};
 pub use crate::scene::SpecularMaterial;
-use crate::scene::{CameraPath, Depths, Diffuse, Light, Role, Scene, SceneError, SceneMaterial, SceneProblem};
+use crate::scene::{CameraPath, Depths, Diffuse, LightSource, Role, Scene, SceneError, SceneMaterial, SceneProblem};
 use nklut_optics::fresnel::{LutSpec, Method};
 
 /// What a ray meets.
@@ -63,7 +64,7 @@ pub struct Stage {
     pub meshes: Vec<Mesh>,
     pub geometry: Geometry,
     pub objects: Vec<ObjectOptics>,
-    pub light: Light,
+    pub lights: Vec<LightSource>,
 }
 
 impl Stage {
@@ -84,7 +85,7 @@ impl Stage {
             });
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
-        Ok(Stage { meshes, geometry, objects, light: scene.light.clone() })
+        Ok(Stage { meshes, geometry, objects, lights: scene.lights.clone() })
     }
 
     /// The Fresnel curves of every specular object for one method (`None` for diffuse ones).
@@ -106,9 +107,12 @@ impl Stage {
     pub fn surface(&self, object: usize, point: DVec3, normal: DVec3) -> Surface {
         match &self.objects[object] {
             ObjectOptics::Specular(_) => Surface::Specular(object),
-            ObjectOptics::Diffuse(d) => {
-                Surface::Diffuse(self.light.shade(d.albedo_at(point.to_array(), normal.to_array()), normal.to_array()))
-            }
+            ObjectOptics::Diffuse(d) => Surface::Diffuse(unshadowed(
+                &self.lights,
+                d.albedo_at(point.to_array(), normal.to_array()),
+                point.to_array(),
+                normal.to_array(),
+            )),
         }
     }
 

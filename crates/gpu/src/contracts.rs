@@ -4,6 +4,7 @@
 //! sides; nothing is repeated in `shaders/`.
 
 use nklut_effects::scene::effects::MAX_DEPTH;
+use nklut_effects::scene::{LightSource, MAX_LIGHTS};
 
 /// What an object of an effects scene is to `shaders/specular.wgsl` (`SceneObject.role.x`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,6 +36,18 @@ impl ObjectRole {
     }
 }
 
+/// What a light of the scene is to `shaders/diffuse.wgsl` (`LightItem.kind.x`).
+pub fn light_code(light: &LightSource) -> u32 {
+    match light {
+        LightSource::Directional { .. } => 0,
+        LightSource::Point { .. } => 1,
+        LightSource::Ambient { .. } => 2,
+    }
+}
+
+/// The WGSL constants of the light kinds, by code.
+const LIGHT_CONSTANTS: [&str; 3] = ["LIGHT_DIRECTIONAL", "LIGHT_POINT", "LIGHT_AMBIENT"];
+
 /// The branch stack of the specular pass's depth-first path walk. A hit pushes at most two
 /// branches (reflected, refracted) and the walk pops one at a time, so at most one
 /// pending sibling waits per bounce level: a path of `MAX_DEPTH` bounces (the most a
@@ -53,6 +66,10 @@ pub fn wgsl() -> String {
         text.push_str(&format!("const {}: u32 = {}u;\n", role.constant(), role.code()));
     }
     text.push_str(&format!("const PATH_STACK: u32 = {PATH_STACK}u;\nconst SURFEL_STACK: u32 = {SURFEL_STACK}u;\n"));
+    for (code, name) in LIGHT_CONSTANTS.iter().enumerate() {
+        text.push_str(&format!("const {name}: u32 = {code}u;\n"));
+    }
+    text.push_str(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;\n"));
     text
 }
 
@@ -90,6 +107,9 @@ mod tests {
         let text = wgsl();
         assert!(text.contains("const ROLE_CONDUCTOR: u32 = 1u;") && text.contains("const ROLE_DIELECTRIC: u32 = 2u;"));
         assert!(text.contains(&format!("const PATH_STACK: u32 = {}u;", MAX_DEPTH + 1)));
+        let point = LightSource::Point { position: [0.0; 3], intensity: [1.0; 3] };
+        assert!(text.contains(&format!("const LIGHT_POINT: u32 = {}u;", light_code(&point))));
+        assert!(text.contains(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;")));
         for line in text.lines().filter(|l| l.starts_with("const ")) {
             let name = line.split(':').next().unwrap();
             assert_eq!(text.matches(&format!("{name}:")).count(), 1, "{name}");

@@ -284,7 +284,7 @@ fn check_albedo(field: &str, albedo: [f64; 3]) -> Result<(), SceneProblem> {
     }
 }
 
-fn length(v: [f64; 3]) -> f64 {
+pub(crate) fn length(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
@@ -341,54 +341,6 @@ pub(crate) fn check_light_term(field: &str, value: [f64; 3]) -> Result<(), Scene
     }
 }
 
-/// The light of the diffuse surroundings: one directional light travelling along
-/// `direction` with radiance-scale `colour`, plus `ambient`. A diffuse point of albedo ρ and
-/// normal N shows ρ·(ambient + colour·max(0, −N·d̂)); no shadows, so what a distance map
-/// stores is exact and the same from every viewpoint.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Light {
-    #[serde(default = "default_light_direction")]
-    pub direction: [f64; 3],
-    #[serde(default = "default_light_colour")]
-    pub colour: [f64; 3],
-    #[serde(default = "default_ambient")]
-    pub ambient: [f64; 3],
-}
-
-fn default_light_direction() -> [f64; 3] {
-    [-0.3, -1.0, -0.5]
-}
-fn default_light_colour() -> [f64; 3] {
-    [0.8, 0.8, 0.8]
-}
-fn default_ambient() -> [f64; 3] {
-    [0.2, 0.2, 0.2]
-}
-
-impl Default for Light {
-    fn default() -> Self {
-        Self { direction: default_light_direction(), colour: default_light_colour(), ambient: default_ambient() }
-    }
-}
-
-impl Light {
-    pub(crate) fn check(&self) -> Result<(), SceneProblem> {
-        if !(length(self.direction) > 1e-9 && self.direction.iter().all(|a| a.is_finite())) {
-            return Err(SceneProblem::field("direction", FieldProblem::ZeroVector { value: self.direction }));
-        }
-        check_light_term("colour", self.colour)?;
-        check_light_term("ambient", self.ambient)
-    }
-
-    /// Radiance leaving a diffuse point of albedo `albedo` with unit normal `normal`.
-    pub fn shade(&self, albedo: [f64; 3], normal: [f64; 3]) -> [f64; 3] {
-        let d = length(self.direction);
-        let facing = (-(normal[0] * self.direction[0] + normal[1] * self.direction[1] + normal[2] * self.direction[2]) / d).max(0.0);
-        std::array::from_fn(|i| albedo[i] * (self.ambient[i] + self.colour[i] * facing))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -413,17 +365,6 @@ mod tests {
         assert_eq!(surface.albedo_at([5.0, -1.0, 3.0], [0.0, 1.0, 0.0]), [0.0, 0.2, 1.0]);
         assert_eq!(surface.albedo_at([5.0, 0.0, 3.0], [0.0, 1.0, 0.0]), [0.5, 0.2, 0.5]);
         assert_eq!(surface.albedo_at([0.0, 7.0, 0.0], [0.0, 1.0, 0.0]), [1.0, 0.2, 0.0]);
-    }
-
-    #[test]
-    fn light_is_lambert_plus_ambient() {
-        let light = Light { direction: [0.0, -2.0, 0.0], colour: [0.5, 1.0, 1.0], ambient: [0.1, 0.0, 0.2] };
-        // Facing the light: ρ(ambient + colour); 60° away: cos = ½; facing away: ambient only.
-        assert_eq!(light.shade([1.0, 0.5, 1.0], [0.0, 1.0, 0.0]), [0.6, 0.5, 1.2]);
-        let tilted = [3f64.sqrt() / 2.0, 0.5, 0.0];
-        let shaded = light.shade([1.0; 3], tilted);
-        assert!((shaded[1] - 0.5).abs() < 1e-15 && (shaded[0] - 0.35).abs() < 1e-15);
-        assert_eq!(light.shade([1.0; 3], [0.0, -1.0, 0.0]), [0.1, 0.0, 0.2]);
     }
 
     #[test]

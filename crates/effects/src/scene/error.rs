@@ -316,8 +316,6 @@ pub enum Conflict {
     MethodsOnDiffuse,
     /// Both `light` and `lights`.
     LightAndLights,
-    /// `lights` in a scene with reflections or refractions.
-    LightsWithSpecularPaths,
 }
 
 impl fmt::Display for Conflict {
@@ -327,9 +325,6 @@ impl fmt::Display for Conflict {
             Conflict::PatternOnSpecular => "pattern: only a diffuse object has a pattern",
             Conflict::MethodsOnDiffuse => "methods: a diffuse object has no Fresnel method",
             Conflict::LightAndLights => "light and lights: name the lights once, in `lights` (directional, point, ambient) or in `light`",
-            Conflict::LightsWithSpecularPaths => {
-                "lights: reflection and refraction light their surroundings with `light`; `lights` is for ambient_occlusion and indirect alone"
-            }
         })
     }
 }

@@ -24,6 +24,7 @@
 pub mod camera;
 pub mod effects;
 pub mod error;
+pub mod lights;
 pub mod materials;
 pub mod mesh;
 pub mod surfels;
@@ -35,10 +36,10 @@ use serde::{Deserialize, Serialize};
 
 use nklut_optics::fresnel::Method as FresnelMethod;
 
-pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Light, Pattern, SearchSteps};
+pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Pattern, SearchSteps};
 pub use error::{Conflict, Each, FieldProblem, Listing, Range, Required, SceneError, SceneProblem, Value, Values};
+pub use lights::{Light, LightSource, MAX_LIGHTS};
 pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
-pub use surfels::LightSource;
 
 /// How a specular object is shaded: a Fresnel method of the `fresnel` module as the shaders
 /// implement it, or one of the two cost baselines. Ordered as the methods, then the
@@ -342,10 +343,8 @@ pub struct Scene {
     pub lut: LutSettings,
     /// The light-transport effects the scene calls for; `None`: F(|N·V|) on bare objects.
     pub effects: Option<Effects>,
-    /// The light of the diffuse surroundings (scenes with `effects`).
-    pub light: Light,
-    /// The lights of the surfel effects: the scene's `lights`, or `light` as a directional
-    /// and an ambient source.
+    /// The lights of every effect (scenes with `effects`): the scene's `lights`, or `light`
+    /// (the default) as a directional and an ambient source.
     pub lights: Vec<LightSource>,
 }
 
@@ -516,10 +515,6 @@ impl Scene {
         if raw.lights.is_some() && raw.light.is_some() {
             return Err(conflict(Conflict::LightAndLights));
         }
-        let distance_map_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::SpecularPaths));
-        if raw.lights.is_some() && distance_map_effects {
-            return Err(conflict(Conflict::LightsWithSpecularPaths));
-        }
         let surfel_effects = effects.as_ref().is_some_and(|e| e.names(EffectFamily::Surfels));
         if let Some(i) = objects.iter().position(|o: &SceneObject| o.subdivisions > 0) {
             if !surfel_effects {
@@ -529,18 +524,23 @@ impl Scene {
                 )));
             }
         }
-        let light = raw.light.unwrap_or_default();
         let lights = match raw.lights {
             Some(lights) => {
+                if lights.len() > MAX_LIGHTS {
+                    let range = Range::Integers { low: 0, high: MAX_LIGHTS as u64 };
+                    let kind = FieldProblem::OutOfRange { value: Value::Integer(lights.len() as u64), range };
+                    return Err(error(SceneProblem::field("lights", kind)));
+                }
                 for (i, source) in lights.iter().enumerate() {
                     source.check().map_err(|e| error(e.within(&format!("lights[{i}]"))))?;
                 }
                 lights
             }
-            None => vec![
-                LightSource::Directional { direction: light.direction, colour: light.colour },
-                LightSource::Ambient { colour: light.ambient },
-            ],
+            None => {
+                let light = raw.light.unwrap_or_default();
+                light.check().map_err(|e| error(e.within("light")))?;
+                light.sources()
+            }
         };
         let scene = Scene {
             file: file.into(),
@@ -551,7 +551,6 @@ impl Scene {
             timing: raw.timing,
             lut: raw.lut,
             effects,
-            light,
             lights,
         };
         scene.check().map_err(error)?;
@@ -607,7 +606,7 @@ impl Scene {
         if !(2..=8192).contains(&self.lut.size) {
             return Err(out_of_range("lut.size", Value::Integer(self.lut.size.into()), counts(2, 8192)));
         }
-        self.light.check().map_err(|e| e.within("light"))
+        Ok(())
     }
 
     /// Whether the scene names any effect of `family`.
@@ -717,6 +716,27 @@ mod tests {
         );
         assert_eq!(scene.material_shadings().len(), 3);
         assert_eq!(scene.objects[2].mesh.label(), "x");
+    }
+
+    /// One lighting model for every effect: reflections and surfel effects both take
+    /// `lights` (every kind), or the shorthand `light`; more than `MAX_LIGHTS` is an error
+    /// naming the field.
+    #[test]
+    fn every_effect_takes_the_scene_s_lights() {
+        let specular = "measurements: [image_error]\nobjects: [{mesh: sphere, material: a/b/c, method: exact}]\n";
+        let both = "effects: {reflection: {max_depth: 1}, ambient_occlusion: {}}\n";
+        let point = "{kind: point, position: [0, 2, 0], intensity: [1, 1, 1]}";
+        let scene = parse(&format!("{specular}{both}lights: [{point}, {{kind: ambient, colour: [0.1, 0.1, 0.1]}}]\n")).unwrap();
+        assert_eq!(
+            scene.lights,
+            vec![LightSource::Point { position: [0.0, 2.0, 0.0], intensity: [1.0; 3] }, LightSource::Ambient { colour: [0.1; 3] }]
+        );
+        let reflection_only = parse(&format!("{specular}effects: {{reflection: {{max_depth: 1}}}}\nlights: [{point}]\n")).unwrap();
+        assert_eq!(reflection_only.lights.len(), 1);
+        let many = vec![point; MAX_LIGHTS + 1].join(", ");
+        let (field, kind) = field_problem(&format!("{specular}{both}lights: [{many}]\n"));
+        let range = Range::Integers { low: 0, high: MAX_LIGHTS as u64 };
+        assert_eq!((field.as_str(), kind), ("lights", FieldProblem::OutOfRange { value: Value::Integer(MAX_LIGHTS as u64 + 1), range }));
     }
 
     /// The problem of scene text that must not parse; its message names the file first.
@@ -883,8 +903,8 @@ mod tests {
             Role::Diffuse(d) => assert_eq!(d.pattern, Pattern::Checker { size: 0.5, albedo: [0.1; 3] }),
             other => panic!("{other:?}"),
         }
-        assert_eq!(scene.light.ambient, [0.1; 3]);
-        assert_eq!(scene.light.colour, Light::default().colour);
+        let shorthand = Light { direction: [0.0, -1.0, 0.0], ambient: [0.1; 3], ..Light::default() };
+        assert_eq!(scene.lights, shorthand.sources(), "`light` is a directional light and ambient, the colour by default");
         assert_eq!(scene.materials(), vec!["3d/metals/silver"]);
         assert_eq!(scene.shadings(), vec![Shading::Fresnel(FresnelMethod::Exact), Shading::Fresnel(FresnelMethod::Schlick)]);
     }

@@ -2,10 +2,9 @@
 //! passes, whether through the surfel hierarchy, whether to light with bent normals) and
 //! diffuse indirect light (how many bounces), after Bunnell (GPU Gems 2 ch. 14; the method
 //! and its measurements in `crate::ao`). Diffuse albedo is the objects' `diffuse`;
-//! the lights are the scene's `lights` (directional, point and ambient sources: ambient
-//! light is what accessibility darkens, directional and point light cast ray-traced
-//! shadows and feed the indirect light), or, without `lights`, the one directional light
-//! and ambient of `light`. Pure data and checks.
+//! the lights are the scene's (`super::lights`: ambient light is what accessibility
+//! darkens, directional and point light cast ray-traced shadows and feed the indirect
+//! light). Pure data and checks.
 //!
 //! ```yaml
 //! effects:
@@ -19,7 +18,6 @@
 
 use serde::Deserialize;
 
-use super::effects::check_light_term;
 use super::error::{FieldProblem, Range, SceneProblem, Value};
 
 /// The most passes a scene may ask for (each is a full gather; they converge by 3 or 4).
@@ -28,41 +26,6 @@ pub const MAX_PASSES: u32 = 8;
 pub const MAX_BOUNCES: u32 = 2;
 /// The most midpoint subdivisions of an object's mesh (each multiplies its surfels by ~4).
 pub const MAX_SUBDIVISIONS: u32 = 6;
-
-/// A light of a scene with surfel effects. Light is in the units of the scene's `light`
-/// (radiance scale: a white diffuse surface facing a directional light of colour c shows c).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum LightSource {
-    /// Parallel light travelling along `direction`: `colour` × max(0, −n·d̂), shadowed.
-    Directional { direction: [f64; 3], colour: [f64; 3] },
-    /// Light from the point `position`: `intensity` × max(0, n·l̂) / d² at distance d
-    /// (inverse square), shadowed.
-    Point { position: [f64; 3], intensity: [f64; 3] },
-    /// Light from the whole sky: `colour` × accessibility (what ambient occlusion darkens).
-    Ambient { colour: [f64; 3] },
-}
-
-impl LightSource {
-    pub(crate) fn check(&self) -> Result<(), SceneProblem> {
-        match self {
-            LightSource::Directional { direction, colour } => {
-                if !(direction.iter().all(|x| x.is_finite()) && direction.iter().map(|x| x * x).sum::<f64>() > 1e-18) {
-                    return Err(SceneProblem::field("direction", FieldProblem::ZeroVector { value: *direction }));
-                }
-                check_light_term("colour", *colour)
-            }
-            LightSource::Point { position, intensity } => {
-                if !position.iter().all(|x| x.abs() <= super::MAX_COORDINATE) {
-                    let range = Range::Within { bound: super::MAX_COORDINATE };
-                    return Err(SceneProblem::field("position", FieldProblem::OutOfRange { value: Value::Vector(*position), range }));
-                }
-                check_light_term("intensity", *intensity)
-            }
-            LightSource::Ambient { colour } => check_light_term("colour", *colour),
-        }
-    }
-}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -132,7 +95,8 @@ mod tests {
     use crate::scene::{Conflict, Each, EffectFamily, FieldProblem, Listing, Range, Scene, SceneProblem, Value};
     use std::path::Path;
 
-    use super::{AmbientOcclusion, Indirect, LightSource};
+    use super::{AmbientOcclusion, Indirect};
+    use crate::scene::LightSource;
 
     fn parse(effects: &str) -> Result<Scene, String> {
         let text = format!("measurements: [image_error]\nobjects:\n  - {{ mesh: sphere, material: a/b/c, method: exact }}\n  - {{ mesh: plane, diffuse: [0.8, 0.8, 0.8] }}\neffects: {effects}\n");
@@ -229,13 +193,10 @@ mod tests {
                 other => panic!("{text:?} gave {other:?}"),
             }
         }
-        let conflicts = [
-            (format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"), Conflict::LightAndLights),
-            (
-                "objects: [{ mesh: sphere, material: a/b/c, method: exact }]\nmeasurements: [image_error]\neffects: { reflection: { max_depth: 1 }, ambient_occlusion: {} }\nlights: []\n".to_string(),
-                Conflict::LightsWithSpecularPaths,
-            ),
-        ];
+        let conflicts = [(
+            format!("{diffuse}{ao}light: {{ ambient: [0, 0, 0] }}\nlights: [{{ kind: ambient, colour: [1, 1, 1] }}]\n"),
+            Conflict::LightAndLights,
+        )];
         for (text, expected) in conflicts {
             assert!(matches!(problem(&text), SceneProblem::Conflict { at, conflict } if at.is_empty() && conflict == expected), "{text:?}");
         }

@@ -22,10 +22,11 @@ use wgpu::util::DeviceExt;
 use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
+use crate::contracts::light_code;
 use crate::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
 use nklut_effects::distance_map::{DistanceMap, Texel};
 use nklut_effects::scene::mesh::widen;
-use nklut_effects::scene::{Diffuse, Light, Pattern, SearchSteps};
+use nklut_effects::scene::{Diffuse, LightSource, Pattern, SearchSteps, MAX_LIGHTS};
 use nklut_effects::trace::{ObjectOptics, Stage, Surface};
 
 /// Where one map sits in the map buffers (`MapView` of `shaders/distance_map.wgsl`).
@@ -149,18 +150,36 @@ impl DiffuseUniform {
     }
 }
 
-/// `Light` of `shaders/diffuse.wgsl`.
+/// `LightItem` of `shaders/diffuse.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct LightUniform {
-    pub direction: [f32; 4],
+pub struct LightItem {
+    pub kind: [u32; 4],
+    pub vector: [f32; 4],
     pub colour: [f32; 4],
-    pub ambient: [f32; 4],
 }
 
-impl LightUniform {
-    pub fn new(light: &Light) -> Self {
-        LightUniform { direction: widen3(light.direction), colour: widen3(light.colour), ambient: widen3(light.ambient) }
+/// `Lights` of `shaders/diffuse.wgsl`: the scene's lights, the first `count[0]` items.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightsUniform {
+    pub count: [u32; 4],
+    pub items: [LightItem; MAX_LIGHTS],
+}
+
+impl LightsUniform {
+    /// The lights of a stage (at most [`MAX_LIGHTS`]: the scene's check).
+    pub fn new(lights: &[LightSource]) -> Self {
+        let mut uniform = LightsUniform { count: [lights.len().min(MAX_LIGHTS) as u32, 0, 0, 0], ..Default::default() };
+        for (item, light) in uniform.items.iter_mut().zip(lights) {
+            let (vector, colour) = match light {
+                LightSource::Directional { direction, colour } => (*direction, *colour),
+                LightSource::Point { position, intensity } => (*position, *intensity),
+                LightSource::Ambient { colour } => ([0.0; 3], *colour),
+            };
+            *item = LightItem { kind: [light_code(light), 0, 0, 0], vector: widen3(vector), colour: widen3(colour) };
+        }
+        uniform
     }
 }
 
@@ -264,7 +283,7 @@ pub struct MapRenderer {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     objects: wgpu::Buffer,
-    light: wgpu::Buffer,
+    lights: wgpu::Buffer,
     /// Projection range: nearer than `near` or farther than `far` is clipped.
     near: f32,
     far: f32,
@@ -278,7 +297,7 @@ impl Pass for MapRenderer {
         stages: wgpu::ShaderStages::VERTEX_FRAGMENT,
         bindings: &[
             Binding::new(0, 0, "map_face", Resource::Uniform),
-            Binding::new(0, 1, "light", Resource::Uniform),
+            Binding::new(0, 1, "lights", Resource::Uniform),
             Binding::new(0, 2, "map_objects", Resource::Read),
             Binding::new(0, 3, "previous", Resource::TextureArray),
         ],
@@ -355,7 +374,7 @@ impl MapRenderer {
             pipeline,
             layout: layouts.remove(0),
             objects: buffer("map objects", bytemuck::cast_slice(&objects), wgpu::BufferUsages::STORAGE),
-            light: buffer("light", bytemuck::bytes_of(&LightUniform::new(&stage.light)), wgpu::BufferUsages::UNIFORM),
+            lights: buffer("lights", bytemuck::bytes_of(&LightsUniform::new(&stage.lights)), wgpu::BufferUsages::UNIFORM),
             near: (far * 1e-6) as f32,
             far: far as f32,
         })
@@ -437,7 +456,7 @@ impl MapRenderer {
                         0,
                         &[
                             (0, face_buffer.as_entire_binding()),
-                            (1, self.light.as_entire_binding()),
+                            (1, self.lights.as_entire_binding()),
                             (2, self.objects.as_entire_binding()),
                             (3, wgpu::BindingResource::TextureView(&previous_view)),
                         ],

@@ -22,7 +22,7 @@ use anyhow::{anyhow, bail, Result};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightUniform, MapView, SceneMeshes, StepsUniform};
+use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightsUniform, MapView, SceneMeshes, StepsUniform};
 use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
@@ -94,7 +94,7 @@ pub fn compose_effect(effect: Effect, method: Method) -> Result<String, crate::c
 struct FrameUniform {
     view_proj: [[f32; 4]; 4],
     eye: [f32; 4],
-    light: LightUniform,
+    lights: LightsUniform,
     steps: StepsUniform,
     depths: [u32; 4],
 }
@@ -141,7 +141,7 @@ pub struct SpecularPass {
     lut_atlas: Option<wgpu::TextureView>,
     blank: wgpu::TextureView,
     sampler: wgpu::Sampler,
-    light: LightUniform,
+    lights: LightsUniform,
     /// Pipelines compiled so far.
     pub pipelines_compiled: usize,
     /// LUT curves baked (two per specular object, only when a `lut` pipeline was asked for).
@@ -211,7 +211,7 @@ impl SpecularPass {
             lut_atlas: None,
             blank: lut::upload(gpu, &[[1.0; 4]], "blank").create_view(&Default::default()),
             sampler: lut::sampler(gpu),
-            light: LightUniform::new(&stage.light),
+            lights: LightsUniform::new(&stage.lights),
             pipelines_compiled: 0,
             lut_curves: 0,
             lut_size,
@@ -306,7 +306,7 @@ impl SpecularPass {
         let uniform = FrameUniform {
             view_proj: view.view_proj.map(|column| column.map(|x| x as f32)),
             eye: [view.eye[0] as f32, view.eye[1] as f32, view.eye[2] as f32, 1.0],
-            light: self.light,
+            lights: self.lights,
             steps: StepsUniform::new(shot.steps),
             depths: [shot.depths.reflection, shot.depths.refraction, 0, 0],
         };
@@ -397,5 +397,28 @@ impl EffectImage {
             seen: self.seen.clone(),
             rays: 0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The size naga gives the struct `name` of the composed module `source`.
+    fn wgsl_size(source: &str, name: &str) -> usize {
+        let module = naga::front::wgsl::parse_str(source).unwrap();
+        let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("struct {name}"));
+        let naga::TypeInner::Struct { span, .. } = &ty.inner else { panic!("{name} is not a struct") };
+        *span as usize
+    }
+
+    /// The uniforms Rust writes have the sizes of the structs the shaders read: the lights,
+    /// one light, and the frame that holds them.
+    #[test]
+    fn the_frame_and_its_lights_are_the_shader_s_size() {
+        let source = compose_effect(Effect::Refraction, Method::Exact).unwrap();
+        assert_eq!(wgsl_size(&source, "LightItem"), std::mem::size_of::<super::super::distance_maps::LightItem>());
+        assert_eq!(wgsl_size(&source, "Lights"), std::mem::size_of::<LightsUniform>());
+        assert_eq!(wgsl_size(&source, "EffectFrame"), std::mem::size_of::<FrameUniform>());
     }
 }
