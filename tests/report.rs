@@ -249,9 +249,21 @@ exact,3,2.5
 ",
     )
     .unwrap();
+    // Two devices' `gpu_timing.csv` (as `make report` copies them from benchmarks/devices/):
+    // per method the median over materials relative to exact's.
+    for (device, rows) in [
+        ("phone-a", "exact,3d/metals/gold,2\nexact,3d/metals/copper,4\nschlick,3d/metals/gold,1\nschlick,3d/metals/copper,2\n"),
+        ("laptop-b", "exact,3d/metals/gold,1\nschlick,3d/metals/gold,0.25\n"),
+    ] {
+        fs::create_dir_all(out.join("devices").join(device)).unwrap();
+        let rows: String = rows.lines().map(|r| format!("{device} GPU,timestamp,{r}\n")).collect();
+        fs::write(out.join("devices").join(device).join("gpu_timing.csv"), format!("adapter,timer,method,material,median_ms\n{rows}"))
+            .unwrap();
+    }
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
+    assert!(index.contains("From <code>nklut ingest</code> (materials.csv, written "), "the index says where its sections come from");
     assert!(
         index.contains("href=\"effects.html#scene-top\"") && index.contains("href=\"effects.html#scene-glass-sphere\""),
         "the index links each scene's section"
@@ -268,6 +280,9 @@ exact,3,2.5
         "a scene folder's table"
     );
     assert!(index.contains("<code>ao_errors.csv</code> is absent"));
+    // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).
+    assert!(effects.contains("<th>laptop-b (× exact)</th><th>phone-a (× exact)</th>"), "device columns");
+    assert!(effects.contains("<td>schlick</td><td>0.250</td><td>0.500</td>"), "device ratios");
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("id=\"paste\""), "paste-in panel");
     assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));

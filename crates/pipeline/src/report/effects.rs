@@ -26,7 +26,7 @@ use anyhow::Result;
 use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Trace, PALETTE};
 use super::csvdata::CsvTable;
 use super::extras::cell;
-use super::html::{delta_e, escape, href, number, percent, utc, TableText};
+use super::html::{code_spans, delta_e, escape, href, number, percent, utc, TableText};
 use super::inputs::{Inputs, DEVICES_DIR};
 
 /// The effects page, next to `index.html`.
@@ -166,17 +166,8 @@ pub fn page(inputs: &Inputs) -> Result<Option<String>> {
 fn provenance(inputs: &Inputs, path: &str) -> String {
     let name = path.rsplit('/').next().unwrap_or(path);
     let what = TABLES.iter().find(|(n, _)| *n == name).map_or("", |(_, w)| *w);
-    let when = inputs.extra_written.get(path).map(|t| format!(", written {}", utc(*t))).unwrap_or_default();
+    let when = inputs.written.get(path).map(|t| format!(", written {}", utc(*t))).unwrap_or_default();
     format!("<code>{}</code>: {}{when}", escape(path), code_spans(what))
-}
-
-/// Text with `code` spans as `<code>` (escaped).
-fn code_spans(text: &str) -> String {
-    escape(text)
-        .split('`')
-        .enumerate()
-        .map(|(i, part)| if i % 2 == 1 { format!("<code>{part}</code>") } else { part.to_string() })
-        .collect()
 }
 
 fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Result<()> {
@@ -684,7 +675,8 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
         let median_of = |method: &str| -> Option<f64> {
             let mut values: Vec<f64> = table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect();
             values.sort_by(f64::total_cmp);
-            (!values.is_empty()).then(|| values[values.len() / 2])
+            let n = values.len();
+            (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
         };
         let Some(exact) = median_of("exact") else { continue };
         for row in &table.rows {

@@ -29,6 +29,15 @@ pub fn escape(text: &str) -> String {
     })
 }
 
+/// Text with `code` spans written as `<code>` (escaped).
+pub fn code_spans(text: &str) -> String {
+    escape(text)
+        .split('`')
+        .enumerate()
+        .map(|(i, part)| if i % 2 == 1 { format!("<code>{part}</code>") } else { part.to_string() })
+        .collect()
+}
+
 /// A path for an `href`/`src` attribute: bytes outside `A-Z a-z 0-9 - _ . ~ /` are
 /// percent-encoded, so a page id with spaces or `#` still links to its file.
 pub fn href(path: &str) -> String {

@@ -10,7 +10,7 @@ use anyhow::Result;
 use super::charts::{self, CostPoint};
 use super::context::{channel_flags, channel_triple, fitted_index, material_path, Context};
 use super::csvdata::CsvTable;
-use super::html::{delta_e, escape, href, markdown_text, number, percent, raw, TableText, MARKDOWN};
+use super::html::{code_spans, delta_e, escape, href, markdown_text, number, percent, raw, TableText, MARKDOWN};
 use super::inputs::{self, Count};
 use super::page::at_bound;
 
@@ -24,6 +24,14 @@ impl Builder {
     fn heading(&mut self, level: usize, id: &str, text: &str) {
         let _ = writeln!(self.html, "<h{level} id=\"{}\">{}</h{level}>", escape(id), escape(text));
         let _ = writeln!(self.markdown, "\n{} {}\n", "#".repeat(level), markdown_text(text));
+    }
+
+    /// A small note (where a section's figures come from); nothing when empty.
+    fn note(&mut self, text: &str) {
+        if !text.is_empty() {
+            let _ = writeln!(self.html, "<p class=\"note\">{}</p>", code_spans(text));
+            let _ = writeln!(self.markdown, "{}\n", markdown_text(text));
+        }
     }
 
     fn paragraph(&mut self, text: &str) {
@@ -104,6 +112,7 @@ pub fn index_page(ctx: &Context, pages: &[String], gallery: (String, String)) ->
 
 fn overview(b: &mut Builder, inputs: &inputs::Inputs) {
     b.heading(2, "overview", "Overview");
+    b.note(&inputs.provenance(&["materials.csv", "excluded.csv"]));
     let kept = inputs::rows("materials.csv", &inputs.materials);
     let excluded = inputs::rows("excluded.csv", &inputs.excluded);
     b.counted(&[
@@ -168,6 +177,7 @@ fn floor_note(at_floor: &[String]) -> String {
 /// beside them because a few near-zero-F materials (gases) dominate means.
 fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
     b.heading(2, "cost", "What accuracy costs");
+    b.note(&inputs.provenance(&["cost.csv", "gpu_timing.csv"]));
     let Some(cost) = &inputs.cost else {
         b.paragraph("cost.csv is absent: run `nklut validate` to measure each method's error and cost.");
         return Ok(());
@@ -314,6 +324,7 @@ fn material_errors(errors: &CsvTable, column: &str) -> BTreeMap<(String, String,
 fn summaries(b: &mut Builder, ctx: &Context) {
     let inputs = ctx.inputs;
     b.heading(2, "summaries", "Where each approximation is worst");
+    b.note(&ctx.inputs.provenance(&["errors.csv", "colors.csv"]));
     match &inputs.errors {
         Some(errors) => {
             let mut by_method: BTreeMap<(String, String), Vec<(String, f64)>> = BTreeMap::new();

@@ -25,6 +25,16 @@ pub const OPTIONAL_TABLES: [&str; 7] = [
     "engine_params.csv",
 ];
 
+/// The stages' tables the index draws from and the command that writes each.
+pub const STAGE_TABLES: [(&str, &str); 6] = [
+    ("materials.csv", "nklut ingest"),
+    ("excluded.csv", "nklut ingest"),
+    ("colors.csv", "nklut colors"),
+    ("errors.csv", "nklut validate"),
+    ("cost.csv", "nklut validate"),
+    ("gpu_timing.csv", "nklut gpu run"),
+];
+
 /// Where `make report` puts the GPU results committed under `benchmarks/devices/` (one
 /// folder per adapter, each with the `gpu_timing.csv` of `nklut gpu run`).
 pub const DEVICES_DIR: &str = "devices";
@@ -62,8 +72,9 @@ pub struct Inputs {
     /// folder: at its top, or in a folder one level down (`make effects` writes one folder
     /// per scene, `make gpu` one per effects scene).
     pub extra: BTreeMap<String, CsvTable>,
-    /// When each table of `extra` was written (its file's modification time).
-    pub extra_written: BTreeMap<String, SystemTime>,
+    /// When each table read was written (its file's modification time), by path relative
+    /// to the output folder: the tables of `extra` and the stages' own.
+    pub written: BTreeMap<String, SystemTime>,
     /// `gpu_timing.csv` of each device under `out/devices/<device>/`, by device folder.
     pub devices: BTreeMap<String, CsvTable>,
     /// The channel wavelengths `materials.csv` was evaluated at.
@@ -76,6 +87,22 @@ pub struct Inputs {
 }
 
 impl Inputs {
+    /// "From `command` (table, written …; …)." for the tables a section draws from (those
+    /// read; the command of each from [`STAGE_TABLES`]).
+    pub fn provenance(&self, tables: &[&str]) -> String {
+        let mut parts = Vec::new();
+        for table in tables {
+            let Some(at) = self.written.get(*table) else { continue };
+            let command = STAGE_TABLES.iter().find(|(name, _)| name == table).map_or("", |(_, c)| *c);
+            parts.push(format!("`{command}` ({table}, written {})", super::html::utc(*at)));
+        }
+        if parts.is_empty() {
+            String::new()
+        } else {
+            format!("From {}.", parts.join("; "))
+        }
+    }
+
     /// Load from an output folder. `materials.csv` and `excluded.csv` are required, and the
     /// channel wavelengths of every table that records them must agree.
     pub fn load(out: &Path) -> Result<Self> {
@@ -93,13 +120,18 @@ impl Inputs {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
         let mut extra = BTreeMap::new();
-        let mut extra_written = BTreeMap::new();
+        let mut written = BTreeMap::new();
+        for name in STAGE_TABLES.iter().map(|(name, _)| *name) {
+            if let Ok(at) = std::fs::metadata(out.join(name)).and_then(|m| m.modified()) {
+                written.insert(name.to_string(), at);
+            }
+        }
         for folder in std::iter::once(String::new()).chain(scene_folders(out)) {
             for name in OPTIONAL_TABLES {
                 let relative = if folder.is_empty() { name.to_string() } else { format!("{folder}/{name}") };
                 if let Some(table) = CsvTable::load(&out.join(&relative))? {
-                    if let Ok(written) = std::fs::metadata(out.join(&relative)).and_then(|m| m.modified()) {
-                        extra_written.insert(relative.clone(), written);
+                    if let Ok(at) = std::fs::metadata(out.join(&relative)).and_then(|m| m.modified()) {
+                        written.insert(relative.clone(), at);
                     }
                     extra.insert(relative, table);
                 }
@@ -120,7 +152,7 @@ impl Inputs {
             gpu_timing: CsvTable::load(&out.join("gpu_timing.csv"))?,
             warnings: CsvTable::load(&out.join("warnings.csv"))?,
             extra,
-            extra_written,
+            written,
             devices,
             channels,
             fits: FitMemo::load(out),
