@@ -733,7 +733,7 @@ mod tests {
         );
         let reflection_only = parse(&format!("{specular}effects: {{reflection: {{max_depth: 1}}}}\nlights: [{point}]\n")).unwrap();
         assert_eq!(reflection_only.lights.len(), 1);
-        let many = vec![point; MAX_LIGHTS + 1].join(", ");
+        let many = [point; MAX_LIGHTS + 1].join(", ");
         let (field, kind) = field_problem(&format!("{specular}{both}lights: [{many}]\n"));
         let range = Range::Integers { low: 0, high: MAX_LIGHTS as u64 };
         assert_eq!((field.as_str(), kind), ("lights", FieldProblem::OutOfRange { value: Value::Integer(MAX_LIGHTS as u64 + 1), range }));
