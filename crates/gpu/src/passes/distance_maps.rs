@@ -253,6 +253,47 @@ pub fn mesh_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
     wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &MESH_ATTRIBUTES }
 }
 
+/// The render pipeline of a pass that draws [`SceneMeshes`] (positions and normals, depth
+/// tested, no culling) with the WGSL `source`, entry points `[vertex, fragment]`, into
+/// `targets`. A shader that does not validate is an error naming `label`.
+pub fn mesh_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    source: String,
+    [vertex, fragment]: [&str; 2],
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> Result<wgpu::RenderPipeline> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module =
+        device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some(vertex),
+            compilation_options: Default::default(),
+            buffers: &[Some(mesh_buffer_layout())],
+        },
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: Some(depth_test()),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some(fragment),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    if let Some(error) = pollster::block_on(scope.pop()) {
+        bail!("{label}: the shader does not validate: {error}");
+    }
+    Ok(pipeline)
+}
+
 /// Every map of a scene on the GPU.
 pub struct GpuMaps {
     pub geometry: wgpu::Buffer,
@@ -323,36 +364,9 @@ impl MapRenderer {
         let interface = Self::INTERFACE;
         let source = compose(&format!("#import {}", interface.shader))?;
         let (pipeline_layout, mut layouts) = interface.pipeline_layout(device);
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("distance_map_render"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
         let target = Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(interface.name),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_map"),
-                compilation_options: Default::default(),
-                buffers: &[Some(mesh_buffer_layout())],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(depth_test()),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_map"),
-                compilation_options: Default::default(),
-                targets: &[target.clone(), target],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        if let Some(error) = pollster::block_on(scope.pop()) {
-            bail!("the distance-map shader does not validate: {error}");
-        }
+        let [vertex, fragment] = [interface.entry_points[0], interface.entry_points[1]];
+        let pipeline = mesh_pipeline(device, interface.name, &pipeline_layout, source, [vertex, fragment], &[target.clone(), target])?;
         let objects: Vec<MapObjectUniform> = stage
             .objects
             .iter()

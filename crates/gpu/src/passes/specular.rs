@@ -18,17 +18,17 @@
 use std::collections::HashMap;
 use std::fmt;
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, Result};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::distance_maps::{mesh_buffer_layout, DiffuseUniform, GpuMaps, LightsUniform, MapView, SceneMeshes, StepsUniform};
+use super::distance_maps::{mesh_pipeline, DiffuseUniform, GpuMaps, LightsUniform, MapView, SceneMeshes, StepsUniform};
 use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
 use crate::contracts::ObjectRole;
 use crate::params::{prepare, MaterialUniform};
-use crate::render::{depth_test, readback_buffer, Target, FLOAT_TARGET};
+use crate::render::{readback_buffer, Target, FLOAT_TARGET};
 use crate::{camera, lut};
 use nklut_effects::optics::{inside_index, GEOMETRIC_CHANNEL};
 use nklut_effects::scene::{CameraPath, Depths, SearchSteps};
@@ -227,36 +227,11 @@ impl SpecularPass {
         }
         if !self.pipelines.contains_key(&(effect, method)) {
             let source = compose_effect(effect, method)?;
-            let device = &gpu.device;
-            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("specular"),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&format!("{effect} {}", method.name())),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_effect"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(mesh_buffer_layout())],
-                },
-                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                depth_stencil: Some(depth_test()),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_effect"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState { format: FLOAT_TARGET, blend: None, write_mask: wgpu::ColorWrites::ALL })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
-            if let Some(error) = pollster::block_on(scope.pop()) {
-                bail!("the {effect} pipeline of {} does not validate: {error}", method.name());
-            }
+            let interface = Self::INTERFACE;
+            let label = format!("the {effect} pipeline of {}", method.name());
+            let target = Some(wgpu::ColorTargetState { format: FLOAT_TARGET, blend: None, write_mask: wgpu::ColorWrites::ALL });
+            let entries = [interface.entry_points[0], interface.entry_points[1]];
+            let pipeline = mesh_pipeline(&gpu.device, &label, &self.pipeline_layout, source, entries, &[target])?;
             self.pipelines.insert((effect, method), pipeline);
             self.pipelines_compiled += 1;
         }

@@ -249,6 +249,36 @@ fn depth_categories(table: &CsvTable, rows: &[usize]) -> Vec<String> {
     depths.into_iter().map(|(r, t)| format!("{r}+{t}")).collect()
 }
 
+/// A series over the categories `0..categories`: at x, `at(x)` gives the rows and the label
+/// of its point (none when no row), the point being the mean of `column` over the rows,
+/// weighted by `weight`.
+fn series(
+    name: String,
+    color: plotters::style::RGBColor,
+    categories: usize,
+    (path, table): (&str, &CsvTable),
+    (column, weight): (&str, &str),
+    at: impl Fn(usize) -> (Vec<usize>, String),
+) -> Series {
+    let points = (0..categories)
+        .filter_map(|x| {
+            let (rows, label) = at(x);
+            (!rows.is_empty()).then(|| LinePoint { x, label, y: Trace::mean(path, table, column, rows, Some(weight)) })
+        })
+        .collect();
+    Series { name, color, points }
+}
+
+/// Cost points traced to their rows, the Pareto front over (cost, error) marked.
+fn cost_points(traced: Vec<(String, Trace, Trace)>) -> Vec<CostPoint> {
+    let front = charts::pareto_front(&traced.iter().map(|(_, x, y)| (x.value, y.value)).collect::<Vec<_>>());
+    traced
+        .into_iter()
+        .zip(front)
+        .map(|((label, x, y), pareto)| CostPoint { label, cost: x.value, error: y.value, pareto, trace: Some([x, y]) })
+        .collect()
+}
+
 /// A chart in a figure, its legend beside it and its caption (none where the chart
 /// carries its title).
 fn figure(html: &mut String, svg: &str, legend: &str, caption: &str) {
@@ -293,30 +323,21 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
         ] {
             let series: Vec<Series> = methods
                 .iter()
-                .map(|method| Series {
-                    name: method.clone(),
-                    color: color(method),
-                    points: categories
-                        .iter()
-                        .enumerate()
-                        .filter_map(|(x, depth)| {
-                            let rows: Vec<usize> = at_steps
-                                .iter()
-                                .copied()
-                                .filter(|&r| {
-                                    let row = &errors.rows[r];
-                                    errors.text(row, "material") == material
-                                        && errors.text(row, "method") == method
-                                        && depth_label(errors, row) == *depth
-                                })
-                                .collect();
-                            (!rows.is_empty()).then(|| LinePoint {
-                                x,
-                                label: format!("{material}, {method}, depth {depth}"),
-                                y: Trace::mean(path, errors, column, rows, Some("pixels")),
+                .map(|method| {
+                    series(method.clone(), color(method), categories.len(), (path, errors), (column, "pixels"), |x| {
+                        let depth = &categories[x];
+                        let rows = at_steps
+                            .iter()
+                            .copied()
+                            .filter(|&r| {
+                                let row = &errors.rows[r];
+                                errors.text(row, "material") == material
+                                    && errors.text(row, "method") == method
+                                    && depth_label(errors, row) == *depth
                             })
-                        })
-                        .collect(),
+                            .collect();
+                        (rows, format!("{material}, {method}, depth {depth}"))
+                    })
                 })
                 .collect();
             let caption = format!("{material}: Fresnel {what}");
@@ -343,7 +364,7 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
     };
     if let Some((timing_path, timing)) = timing {
         let configurations: Vec<Vec<String>> = distinct(&all, |r| key(errors, &errors.rows[r], &CONFIGURATION));
-        let mut points: Vec<CostPoint> = Vec::new();
+        let mut traced = Vec::new();
         for configuration in &configurations {
             let rows: Vec<usize> =
                 all.iter().copied().filter(|&r| key(errors, &errors.rows[r], &CONFIGURATION) == *configuration).collect();
@@ -352,15 +373,14 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
             if timed.is_empty() {
                 continue;
             }
-            let x = Trace::mean(timing_path, timing, time_column, timed, None);
-            let y = Trace::mean(path, errors, "total_mean_delta_e2000", rows, Some("pixels"));
             let label = format!("{} {}+{} {}/{}", configuration[0], configuration[1], configuration[2], configuration[3], configuration[4]);
-            points.push(CostPoint { label, cost: x.value, error: y.value, pareto: false, trace: Some([x, y]) });
+            traced.push((
+                label,
+                Trace::mean(timing_path, timing, time_column, timed, None),
+                Trace::mean(path, errors, "total_mean_delta_e2000", rows, Some("pixels")),
+            ));
         }
-        let front = charts::pareto_front(&points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>());
-        for (p, on) in points.iter_mut().zip(front) {
-            p.pareto = on;
-        }
+        let points = cost_points(traced);
         let chart = charts::cost_chart(&points, time_name, ErrorAxis::DeltaE, (900, 440))?;
         figure(
             html,
@@ -400,14 +420,17 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
         let series: Vec<Series> = secant_steps
             .iter()
             .enumerate()
-            .map(|(i, secant)| Series {
-                name: format!("{secant} secant steps"),
-                color: PALETTE[(i + 1) % PALETTE.len()],
-                points: linear_steps
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(x, linear)| {
-                        let at: Vec<usize> = rows
+            .map(|(i, secant)| {
+                let color = PALETTE[(i + 1) % PALETTE.len()];
+                series(
+                    format!("{secant} secant steps"),
+                    color,
+                    linear_steps.len(),
+                    (path, errors),
+                    ("geometry_mean_delta_e2000", "pixels"),
+                    |x| {
+                        let linear = linear_steps[x];
+                        let at = rows
                             .iter()
                             .copied()
                             .filter(|&r| {
@@ -416,13 +439,9 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
                                     && errors.text(row, "secant_steps") == secant.to_string()
                             })
                             .collect();
-                        (!at.is_empty()).then(|| LinePoint {
-                            x,
-                            label: format!("{linear} linear + {secant} secant steps, depth {depth}"),
-                            y: Trace::mean(path, errors, "geometry_mean_delta_e2000", at, Some("pixels")),
-                        })
-                    })
-                    .collect(),
+                        (at, format!("{linear} linear + {secant} secant steps, depth {depth}"))
+                    },
+                )
             })
             .collect();
         let svg = charts::line_chart(
@@ -470,21 +489,11 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         let series: Vec<Series> = techniques
             .iter()
             .zip(&colors)
-            .map(|(t, color)| Series {
-                name: t.to_string(),
-                color: *color,
-                points: passes
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(x, &p)| {
-                        let rows = rows_of(t, p);
-                        (!rows.is_empty()).then(|| LinePoint {
-                            x,
-                            label: format!("{t}, {p} pass(es)"),
-                            y: Trace::mean(path, ao, column, rows, Some("surfels")),
-                        })
-                    })
-                    .collect(),
+            .map(|(t, color)| {
+                series(t.to_string(), *color, passes.len(), (path, ao), (column, "surfels"), |x| {
+                    let p = passes[x];
+                    (rows_of(t, p), format!("{t}, {p} pass(es)"))
+                })
             })
             .collect();
         let caption = format!("{what}: error against passes");
@@ -495,28 +504,17 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         figure(&mut charts_html, &svg, if i == 0 { &legend } else { "" }, "");
     }
     if ao.has("cpu_ms") {
-        let mut points: Vec<CostPoint> = Vec::new();
+        let mut traced = Vec::new();
         for t in &techniques {
             for &p in &passes {
                 let rows = rows_of(t, p);
-                if rows.is_empty() {
-                    continue;
+                if !rows.is_empty() {
+                    let x = Trace::mean(path, ao, "cpu_ms", rows.clone(), None);
+                    traced.push((format!("{t}, {p} pass(es)"), x, Trace::mean(path, ao, "mean_error", rows, Some("surfels"))));
                 }
-                let x = Trace::mean(path, ao, "cpu_ms", rows.clone(), None);
-                let y = Trace::mean(path, ao, "mean_error", rows, Some("surfels"));
-                points.push(CostPoint {
-                    label: format!("{t}, {p} pass(es)"),
-                    cost: x.value,
-                    error: y.value,
-                    pareto: false,
-                    trace: Some([x, y]),
-                });
             }
         }
-        let front = charts::pareto_front(&points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>());
-        for (p, on) in points.iter_mut().zip(front) {
-            p.pareto = on;
-        }
+        let points = cost_points(traced);
         let chart = charts::cost_chart(&points, "CPU time of the passes (ms, whole scene)", ErrorAxis::Absolute, (600, 320))?;
         figure(
             &mut charts_html,
