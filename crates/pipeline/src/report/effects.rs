@@ -704,9 +704,15 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
                 .collect(),
         );
     }
+    let software = |a: &String| ["llvmpipe", "lavapipe", "SwiftShader"].iter().any(|s| a.contains(s));
+    let caveat = if adapters.iter().all(software) {
+        " Every device here is a CPU rasteriser: these are ratios between methods, not what a method costs on a GPU; no GPU has been measured yet."
+    } else {
+        ""
+    };
     let _ = writeln!(
         html,
-        "<p>Median pass time over materials relative to exact Fresnel on the same device ({}).</p>{}</section>",
+        "<p>Median pass time over materials relative to exact Fresnel on the same device ({}).{caveat}</p>{}</section>",
         escape(&adapters.join("; ")),
         table.html("devices")
     );
