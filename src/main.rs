@@ -308,6 +308,10 @@ mod gpu_cli {
         /// Use the adapter whose name contains this (case-insensitive); see `nklut gpu adapters`.
         #[arg(long, value_name = "SUBSTRING")]
         adapter: Option<String>,
+        /// Use this backend only: vulkan, and where the platform has them metal (macOS) and
+        /// dx12 (Windows).
+        #[arg(long, value_name = "BACKEND")]
+        backend: Option<String>,
     }
 
     #[derive(Subcommand)]
@@ -395,7 +399,7 @@ mod gpu_cli {
             }
             GpuCommand::AoTiming { meshes, max_brute, repeats, only, adapter } => {
                 use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
-                let device = gpu::open(adapter.adapter.as_deref())?;
+                let device = gpu::open(adapter.adapter.as_deref(), adapter.backend.as_deref())?;
                 eprintln!(
                     "adapter: {}{}",
                     device.line,
@@ -440,7 +444,7 @@ mod gpu_cli {
         };
         // Overrides pass the same checks as the scene file's own values.
         scene.recheck()?;
-        let device = gpu::open(adapter.adapter.as_deref())?;
+        let device = gpu::open(adapter.adapter.as_deref(), adapter.backend.as_deref())?;
         eprintln!(
             "adapter: {}{}",
             device.line,

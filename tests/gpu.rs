@@ -22,8 +22,11 @@ use nklut::spectrum::{ChannelIndex, Index, Kind};
 /// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
 fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
     static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened =
-        GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
+    let opened = GPU.get_or_init(|| {
+        gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref())
+            .map(Mutex::new)
+            .map_err(|e| format!("{e:#}"))
+    });
     match opened {
         Ok(gpu) => {
             let guard = gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
@@ -613,4 +616,16 @@ fn runner_builds_only_the_effects_the_scene_names() {
         }
         assert_eq!(stats.timed_passes, 2 * (1 + 3), "each round: one map update, one shading pass per method");
     }
+}
+
+/// `--backend` picks among the backends this build has, and names them when asked for one
+/// it lacks.
+#[test]
+fn a_backend_is_picked_by_name_and_an_unknown_one_is_named() {
+    let Some(shared) = device() else { return };
+    let vulkan = gpu::open(None, Some("Vulkan")).unwrap();
+    assert_eq!(vulkan.adapter.get_info().backend, shared.adapter.get_info().backend, "lavapipe is a Vulkan adapter");
+    let message = format!("{:#}", gpu::open(None, Some("glide")).err().expect("no such backend"));
+    let built: Vec<&str> = gpu::context::backends().into_iter().map(|(name, _)| name).collect();
+    assert!(message.contains(&format!("backend \"glide\" is not built here; built: {}", built.join(", "))), "{message}");
 }

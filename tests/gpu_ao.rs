@@ -21,8 +21,11 @@ use nklut::gpu::{self, Gpu};
 /// One device for the whole test binary; tests take turns.
 fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
     static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened =
-        GPU.get_or_init(|| gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref()).map(Mutex::new).map_err(|e| format!("{e:#}")));
+    let opened = GPU.get_or_init(|| {
+        gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref())
+            .map(Mutex::new)
+            .map_err(|e| format!("{e:#}"))
+    });
     match opened {
         Ok(gpu) => Some(gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner())),
         Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {

@@ -72,16 +72,52 @@ fn preference(device_type: wgpu::DeviceType) -> u8 {
     }
 }
 
-/// Open the adapter whose name contains `wanted` (case-insensitive), else the most capable
-/// one (discrete > integrated > virtual > other > CPU).
-pub fn open(wanted: Option<&str>) -> Result<Gpu> {
+/// The backends this build has, by the name `--backend` takes.
+pub fn backends() -> Vec<(&'static str, wgpu::Backend)> {
+    let mut compiled = vec![("vulkan", wgpu::Backend::Vulkan)];
+    if cfg!(any(target_os = "macos", target_os = "ios")) {
+        compiled.push(("metal", wgpu::Backend::Metal));
+    }
+    if cfg!(windows) {
+        compiled.push(("dx12", wgpu::Backend::Dx12));
+    }
+    compiled
+}
+
+/// Vulkan before the others where two backends reach one device.
+fn backend_preference(backend: wgpu::Backend) -> u8 {
+    match backend {
+        wgpu::Backend::Vulkan => 0,
+        wgpu::Backend::Metal | wgpu::Backend::Dx12 => 1,
+        _ => 2,
+    }
+}
+
+/// Open the adapter whose name contains `wanted` (case-insensitive) on `backend` (a name
+/// of [`backends`]), else the most capable one (discrete > integrated > virtual > other >
+/// CPU; Vulkan first among equals).
+pub fn open(wanted: Option<&str>, backend: Option<&str>) -> Result<Gpu> {
     let instance = instance();
     let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     if adapters.is_empty() {
+        let names: Vec<&str> = backends().into_iter().map(|(name, _)| name).collect();
         bail!(
-            "no GPU adapter found (wgpu built with the Vulkan backend only). Without a GPU, install a software Vulkan driver: \
-             `apt-get install mesa-vulkan-drivers` (lavapipe)"
+            "no GPU adapter found (backends built: {}). Without a GPU, install a software Vulkan driver: \
+             `apt-get install mesa-vulkan-drivers` (lavapipe)",
+            names.join(", ")
         );
+    }
+    if let Some(name) = backend {
+        let compiled = backends();
+        let Some((_, wanted_backend)) = compiled.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) else {
+            let names: Vec<&str> = compiled.iter().map(|(n, _)| *n).collect();
+            bail!("backend {name:?} is not built here; built: {}", names.join(", "));
+        };
+        let all: Vec<String> = adapters.iter().map(|a| AdapterLine::new(&a.get_info()).to_string()).collect();
+        adapters.retain(|a| a.get_info().backend == *wanted_backend);
+        if adapters.is_empty() {
+            bail!("no adapter on the {name} backend; adapters: {}", all.join("; "));
+        }
     }
     let names: Vec<String> = adapters.iter().map(|a| AdapterLine::new(&a.get_info()).to_string()).collect();
     if let Some(wanted) = wanted {
@@ -91,7 +127,7 @@ pub fn open(wanted: Option<&str>) -> Result<Gpu> {
             bail!("no adapter name contains {wanted:?}; adapters: {}", names.join("; "));
         }
     }
-    adapters.sort_by_key(|a| preference(a.get_info().device_type));
+    adapters.sort_by_key(|a| (preference(a.get_info().device_type), backend_preference(a.get_info().backend)));
     let adapter = adapters.swap_remove(0);
     let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
     let required_features = if timestamps { wgpu::Features::TIMESTAMP_QUERY } else { wgpu::Features::empty() };
