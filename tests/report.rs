@@ -235,7 +235,7 @@ fn report_selects_like_every_command_and_names_missing_pages() {
 #[test]
 fn effects_and_engine_panels_appear_when_their_tables_exist() {
     let out = scratch("panels");
-    stages(&out, &["3d/metals/gold"], &[]);
+    stages(&out, &["3d/metals/gold", "3d/liquids/water"], &[]);
     fs::write(out.join("engine_params.csv"), "page,f0_srgb8,f82_tint_r,mean_delta_e2000_f82\n3d/metals/gold,#ffd27a,0.987654,1.23456\n")
         .unwrap();
     fs::write(out.join("effects_errors.csv"), "object,method,max_depth,mean_rel_error\nteapot,schlick,2,0.0123456\n").unwrap();
@@ -252,7 +252,10 @@ exact,3,2.5
     // Two devices' `gpu_timing.csv` (as `make report` copies them from benchmarks/devices/):
     // per method the median over materials relative to exact's.
     for (device, rows) in [
-        ("phone-a", "exact,3d/metals/gold,2\nexact,3d/metals/copper,4\nschlick,3d/metals/gold,1\nschlick,3d/metals/copper,2\n"),
+        (
+            "phone-a",
+            "exact,3d/metals/gold,2\nexact,3d/metals/copper,4\nschlick,3d/metals/gold,1\nschlick,3d/metals/copper,2\nexact,3d/liquids/water,1.6\nschlick,3d/liquids/water,0.8\n",
+        ),
         ("laptop-b", "exact,3d/metals/gold,1\nschlick,3d/metals/gold,0.25\n"),
     ] {
         fs::create_dir_all(out.join("devices").join(device)).unwrap();
@@ -283,6 +286,18 @@ exact,3,2.5
     // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).
     assert!(effects.contains("<th>laptop-b (× exact)</th><th>phone-a (× exact)</th>"), "device columns");
     assert!(effects.contains("<td>schlick</td><td>0.250</td><td>0.500</td>"), "device ratios");
+    // The study's form: its Mali 400 row as published; phone-a against exact on water
+    // (1.6 ms): Schlick on water 0.8 → 0.50, exact on gold 2 → 1.25 (copper is not in
+    // materials.csv, so it has no kind), Schlick on gold 1 → 0.62 (0.625 to two decimals).
+    assert!(
+        effects.contains("<td>Samsung Galaxy S3</td><td>Mali 400</td><td>the study, Table 6</td><td>1.00</td><td>0.42</td><td>2.89</td>")
+    );
+    assert!(
+        effects.contains(
+            "<td>phone-a</td><td>phone-a GPU</td><td>measured here</td><td>1.00</td><td>0.50</td><td>1.25</td><td>0.62</td><td>–</td>"
+        ),
+        "our device in the study's form"
+    );
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("id=\"paste\""), "paste-in panel");
     assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));

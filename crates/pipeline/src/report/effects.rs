@@ -712,8 +712,75 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     };
     let _ = writeln!(
         html,
-        "<p>Median pass time over materials relative to exact Fresnel on the same device ({}).{caveat}</p>{}</section>",
+        "<p>Median pass time over materials relative to exact Fresnel on the same device ({}).{caveat}</p>{}",
         escape(&adapters.join("; ")),
         table.html("devices")
+    );
+    study_form(html, inputs);
+    html.push_str("</section>\n");
+}
+
+/// The study's Table 6: render time of each method relative to the exact dielectric formula
+/// on the same device (Unity, a full-screen quad of Fresnel reflection, 2014 devices), in
+/// the order of [`STUDY_COLUMNS`].
+const STUDY_TABLE_6: [(&str, &str, [f64; 7]); 5] = [
+    ("Lenovo W530", "Intel HD4000", [1.00, 0.54, 1.43, 0.59, 0.70, 0.50, 0.56]),
+    ("Samsung Galaxy S3", "Mali 400", [1.00, 0.42, 2.89, 0.62, 0.62, 0.36, 0.47]),
+    ("Apple iPhone 5s", "PowerVR G6430", [1.00, 0.60, 1.57, 0.75, 0.84, 0.43, 0.60]),
+    ("Google Nexus 4", "Adreno 320", [1.00, 0.32, 1.41, 0.61, 0.80, 0.27, 0.37]),
+    ("Samsung Galaxy S5", "Adreno 330", [1.00, 0.33, 1.31, 0.61, 0.75, 0.27, 0.38]),
+];
+
+/// The study's columns: a heading, our method and the kind of material it was timed on
+/// (`None`: every material).
+const STUDY_COLUMNS: [(&str, &str, Option<&str>); 7] = [
+    ("exact, dielectric", "exact", Some("dielectric")),
+    ("Schlick, dielectric", "schlick", Some("dielectric")),
+    ("exact, conductor", "exact", Some("conductor")),
+    ("Schlick, conductor", "schlick", Some("conductor")),
+    ("compensated Schlick", "schlick_compensated", None),
+    ("LUT", "lut", None),
+    ("NVIDIA fit", "nvidia", None),
+];
+
+/// The study's form: one row per device, the study's own five first, then each of ours with
+/// its medians over the materials of each kind (`materials.csv`'s `kind`) relative to the
+/// median of exact on the dielectric materials. Never averaged across devices.
+fn study_form(html: &mut String, inputs: &Inputs) {
+    let headers: Vec<&str> = ["device", "GPU", "source"].into_iter().chain(STUDY_COLUMNS.iter().map(|c| c.0)).collect();
+    let mut table = TableText::new(&headers);
+    for (device, gpu, ratios) in STUDY_TABLE_6 {
+        let cells = ratios.iter().map(|r| format!("{r:.2}"));
+        table.row([device, gpu, "the study, Table 6"].into_iter().map(String::from).chain(cells).collect());
+    }
+    let materials = super::context::ByPage::new(&inputs.materials);
+    for (device, timing) in &inputs.devices {
+        let median_of = |method: &str, kind: Option<&str>| -> Option<f64> {
+            let mut values: Vec<f64> = timing
+                .rows
+                .iter()
+                .filter(|r| timing.text(r, "method") == method)
+                .filter(|r| {
+                    let page_kind = materials.first(timing.text(r, "material")).map(|m| inputs.materials.text(m, "kind"));
+                    kind.is_none_or(|k| page_kind == Some(k))
+                })
+                .filter_map(|r| timing.number(r, "median_ms"))
+                .collect();
+            values.sort_by(f64::total_cmp);
+            let n = values.len();
+            (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
+        };
+        let anchor = median_of("exact", Some("dielectric"));
+        let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match (median_of(method, *kind), anchor) {
+            (Some(ms), Some(anchor)) if anchor > 0.0 => format!("{:.2}", ms / anchor),
+            _ => "–".to_string(),
+        });
+        let adapter = timing.rows.first().map(|r| timing.text(r, "adapter").to_string()).unwrap_or_default();
+        table.row([device.clone(), adapter, "measured here".to_string()].into_iter().chain(cells).collect());
+    }
+    let _ = writeln!(
+        html,
+        "<h3>In the study's form</h3><p>Time relative to exact Fresnel on a dielectric material, on the same device: the study's five devices (its Table 6: Unity, a full-screen quad, 2014 devices) and each device measured here (medians over the materials of each kind of <code>materials.csv</code>; – where the device timed none). One row per device, never averaged.</p>{}",
+        table.html("study-form")
     );
 }
