@@ -655,6 +655,13 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
     }
 }
 
+/// The median of `values` (the mean of the middle two for an even count), none when empty.
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
+}
+
 /// The cross-device table: per method, the median over materials of its pass time
 /// relative to `exact` on each device of `<out>/devices/` (the study's Tables 6–7).
 fn devices_section(html: &mut String, inputs: &Inputs) {
@@ -671,10 +678,7 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     let mut adapters = Vec::new();
     for (device, table) in &inputs.devices {
         let median_of = |method: &str| -> Option<f64> {
-            let mut values: Vec<f64> = table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect();
-            values.sort_by(f64::total_cmp);
-            let n = values.len();
-            (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
+            median(table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect())
         };
         let Some(exact) = median_of("exact") else { continue };
         for row in &table.rows {
@@ -756,7 +760,7 @@ fn study_form(html: &mut String, inputs: &Inputs) {
     let materials = super::context::ByPage::new(&inputs.materials);
     for (device, timing) in &inputs.devices {
         let median_of = |method: &str, kind: Option<&str>| -> Option<f64> {
-            let mut values: Vec<f64> = timing
+            let values: Vec<f64> = timing
                 .rows
                 .iter()
                 .filter(|r| timing.text(r, "method") == method)
@@ -766,9 +770,7 @@ fn study_form(html: &mut String, inputs: &Inputs) {
                 })
                 .filter_map(|r| timing.number(r, "median_ms"))
                 .collect();
-            values.sort_by(f64::total_cmp);
-            let n = values.len();
-            (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
+            median(values)
         };
         let anchor = median_of("exact", Some("dielectric"));
         let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match (median_of(method, *kind), anchor) {
