@@ -42,7 +42,7 @@ fn main() {
         write_tables(&result, &out).unwrap();
         anchor.push(start.elapsed().as_secs_f64());
         let start = Instant::now();
-        files = nklut::report::command(&db, &out, &all).unwrap().len();
+        files = nklut::report::command(&db, &out, &all, None).unwrap().len();
         report.push(start.elapsed().as_secs_f64());
     }
     let (anchor, report) = (median(anchor), median(report));

@@ -34,6 +34,11 @@ enum Command {
     Report {
         #[command(flatten)]
         pages: PageSelection,
+        /// A folder of device results, one sub-folder per adapter holding its
+        /// `gpu_timing.csv` (and `image_errors.csv`) of `nklut gpu run` (default: <out>/devices,
+        /// where `make report` copies benchmarks/devices).
+        #[arg(long, value_name = "DIR")]
+        devices: Option<std::path::PathBuf>,
     },
     /// Bake Fresnel LUT textures, manifest.json and README.md into <out>/luts (all or nothing).
     Bake(BakeArgs),
@@ -203,8 +208,8 @@ fn run(cli: Cli) -> Result<()> {
             result.check_strict()?;
             exiting_with(result);
         }
-        Command::Report { pages } => {
-            let written = nklut::report::command(&db, &cli.paths.out, &pages.selection())?;
+        Command::Report { pages, devices } => {
+            let written = nklut::report::command(&db, &cli.paths.out, &pages.selection(), devices.as_deref())?;
             eprintln!("report: {} files under {}", written.len(), cli.paths.out.join("report").display());
         }
         Command::Bake(args) => {

@@ -202,7 +202,7 @@ fn a_second_validate_remembers_every_integral_and_writes_the_same_bytes() {
 
 /// The report of `PAGES` after ingest, colors and validate, its pages' bytes by path.
 fn report(out: &Path) -> Vec<(String, u64)> {
-    nklut::report::command(&database(), out, &selection()).unwrap();
+    nklut::report::command(&database(), out, &selection(), None).unwrap();
     outputs(&out.join(nklut::report::REPORT_DIR))
 }
 

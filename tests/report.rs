@@ -263,6 +263,8 @@ exact,3,2.5
         fs::write(out.join("devices").join(device).join("gpu_timing.csv"), format!("adapter,timer,method,material,median_ms\n{rows}"))
             .unwrap();
     }
+    fs::write(out.join("devices/phone-a/image_errors.csv"), "material,method,mean_rel_error\nx,exact,0\nx,schlick,0.02\ny,schlick,0.04\n")
+        .unwrap();
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
@@ -298,6 +300,20 @@ exact,3,2.5
         ),
         "our device in the study's form"
     );
+    // Image error per device where it has the table: schlick's mean of 2 % and 4 %.
+    assert!(
+        effects.contains("<th>phone-a: mean relative error</th>") && effects.contains("<td>schlick</td><td>3.00 %</td>"),
+        "device image errors"
+    );
+    // `--devices` reads another folder instead; one that is not there is an error.
+    fs::create_dir_all(out.join("elsewhere")).unwrap();
+    fs::rename(out.join("devices/laptop-b"), out.join("elsewhere/laptop-b")).unwrap();
+    let output = nklut(&out, &["report", "--devices", &out.join("elsewhere").display().to_string()]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let effects = fs::read_to_string(out.join("report/effects.html")).unwrap();
+    assert!(effects.contains("<th>laptop-b (× exact)</th>") && !effects.contains("phone-a"), "only the named folder's devices");
+    let output = nklut(&out, &["report", "--devices", &out.join("nowhere").display().to_string()]);
+    assert!(!output.status.success() && String::from_utf8_lossy(&output.stderr).contains("nowhere: not a folder"));
     let gold = material_html(&out, "3d/metals/gold");
     assert!(gold.contains("id=\"paste\""), "paste-in panel");
     assert!(gold.contains("<td>f82_tint_r</td><td>0.988</td>") && gold.contains("<td>mean_delta_e2000_f82</td><td>1.23</td>"));

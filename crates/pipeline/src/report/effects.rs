@@ -676,7 +676,8 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     let mut methods: Vec<String> = Vec::new();
     let mut ratios: BTreeMap<(String, String), f64> = BTreeMap::new();
     let mut adapters = Vec::new();
-    for (device, table) in &inputs.devices {
+    for (device, tables) in &inputs.devices {
+        let table = &tables.timing;
         let median_of = |method: &str| -> Option<f64> {
             median(table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect())
         };
@@ -720,8 +721,47 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
         escape(&adapters.join("; ")),
         table.html("devices")
     );
+    image_errors_across(html, inputs);
     study_form(html, inputs);
     html.push_str("</section>\n");
+}
+
+/// Each method's image error against exact per device (`image_errors.csv`: the mean over its
+/// rows of `mean_rel_error`), one column per device that has the table.
+fn image_errors_across(html: &mut String, inputs: &Inputs) {
+    let with_errors: Vec<(&String, &CsvTable)> =
+        inputs.devices.iter().filter_map(|(device, tables)| tables.image_errors.as_ref().map(|t| (device, t))).collect();
+    if with_errors.is_empty() {
+        return;
+    }
+    let mut methods: Vec<String> = Vec::new();
+    for (_, table) in &with_errors {
+        for row in &table.rows {
+            let method = table.text(row, "method").to_string();
+            if !methods.contains(&method) {
+                methods.push(method);
+            }
+        }
+    }
+    let headers: Vec<String> =
+        std::iter::once("method".to_string()).chain(with_errors.iter().map(|(d, _)| format!("{d}: mean relative error"))).collect();
+    let mut table = TableText::new(&headers.iter().map(String::as_str).collect::<Vec<_>>());
+    for method in &methods {
+        let cells = with_errors.iter().map(|(_, errors)| {
+            let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
+            if values.is_empty() {
+                "–".to_string()
+            } else {
+                percent(values.iter().sum::<f64>() / values.len() as f64)
+            }
+        });
+        table.row(std::iter::once(method.clone()).chain(cells).collect());
+    }
+    let _ = writeln!(
+        html,
+        "<p>Image error of each method against exact on the same device, the mean over its materials and objects (<code>image_errors.csv</code>).</p>{}",
+        table.html("device-errors")
+    );
 }
 
 /// The study's Table 6: render time of each method relative to the exact dielectric formula
@@ -758,7 +798,8 @@ fn study_form(html: &mut String, inputs: &Inputs) {
         table.row([device, gpu, "the study, Table 6"].into_iter().map(String::from).chain(cells).collect());
     }
     let materials = super::context::ByPage::new(&inputs.materials);
-    for (device, timing) in &inputs.devices {
+    for (device, tables) in &inputs.devices {
+        let timing = &tables.timing;
         let median_of = |method: &str, kind: Option<&str>| -> Option<f64> {
             let values: Vec<f64> = timing
                 .rows

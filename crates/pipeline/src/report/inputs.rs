@@ -75,8 +75,9 @@ pub struct Inputs {
     /// When each table read was written (its file's modification time), by path relative
     /// to the output folder: the tables of `extra` and the stages' own.
     pub written: BTreeMap<String, SystemTime>,
-    /// `gpu_timing.csv` of each device under `out/devices/<device>/`, by device folder.
-    pub devices: BTreeMap<String, CsvTable>,
+    /// What each device measured (`out/devices/<device>/`, or the folder `--devices`
+    /// names), by device folder.
+    pub devices: BTreeMap<String, DeviceTables>,
     /// The channel wavelengths `materials.csv` was evaluated at.
     pub channels: Channels,
     /// The `nvidia` fits `validate` kept (`.cache/nvidia-fits.bin`), read only: the
@@ -137,12 +138,7 @@ impl Inputs {
                 }
             }
         }
-        let mut devices = BTreeMap::new();
-        for device in scene_folders(&out.join(DEVICES_DIR)) {
-            if let Some(table) = CsvTable::load(&out.join(DEVICES_DIR).join(&device).join("gpu_timing.csv"))? {
-                devices.insert(device, table);
-            }
-        }
+        let devices = read_devices(&out.join(DEVICES_DIR))?;
         Ok(Self {
             materials,
             excluded: required("excluded.csv")?,
@@ -159,6 +155,26 @@ impl Inputs {
             paste: paste_files(out),
         })
     }
+}
+
+/// What one device measured: `gpu_timing.csv` (pass time per material and method) and, when
+/// there, `image_errors.csv` (each method's image error against exact).
+pub struct DeviceTables {
+    pub timing: CsvTable,
+    pub image_errors: Option<CsvTable>,
+}
+
+/// The devices of `folder`: each sub-folder holding a `gpu_timing.csv` (none when the
+/// folder is absent).
+pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
+    let mut devices = BTreeMap::new();
+    for device in scene_folders(folder) {
+        if let Some(timing) = CsvTable::load(&folder.join(&device).join("gpu_timing.csv"))? {
+            let image_errors = CsvTable::load(&folder.join(&device).join("image_errors.csv"))?;
+            devices.insert(device, DeviceTables { timing, image_errors });
+        }
+    }
+    Ok(devices)
 }
 
 /// The paste-in files under `out/params/`, by the page id each names (a file that does not

@@ -156,9 +156,15 @@ fn read_spectra(db: &Database, inputs: &Inputs, pages: &[String]) -> Spectra {
 
 /// `nklut report`: the pages of `materials.csv` that `selection` picks (every page when
 /// it names none, as for every command). A named page or shelf the tables lack is an
-/// error naming each.
-pub fn command(db: &Database, out: &Path, selection: &Selection) -> Result<Vec<PathBuf>> {
-    let inputs = Inputs::load(out)?;
+/// error naming each. `devices`: the folder of device results (default `<out>/devices`).
+pub fn command(db: &Database, out: &Path, selection: &Selection, devices: Option<&Path>) -> Result<Vec<PathBuf>> {
+    let mut inputs = Inputs::load(out)?;
+    if let Some(folder) = devices {
+        if !folder.is_dir() {
+            anyhow::bail!("--devices {}: not a folder", folder.display());
+        }
+        inputs.devices = inputs::read_devices(folder)?;
+    }
     let pages = inputs::select_pages(&inputs.materials, &inputs.excluded, selection)?;
     let spectra = read_spectra(db, &inputs, &pages);
     build_and_write(&inputs, &pages, &spectra, out)
