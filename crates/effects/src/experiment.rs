@@ -25,6 +25,7 @@ use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
 use crate::scene::{Depths, Role, Scene, SearchSteps};
 use nklut_optics::fresnel::{Encoding, LutSpec, Method};
 use nklut_pipeline::output::Table;
+use nklut_pipeline::stats::median;
 
 /// How much of the scene's camera path to render and at what size; `lut` is the texture of
 /// the `lut` method (the GPU runner's: `lut.size` texels of half floats).
@@ -166,20 +167,6 @@ pub struct FrameTimingRow {
     pub frame_ms: f64,
     /// Median over the same frames of the reference tracer's frame.
     pub reference_ms: f64,
-}
-
-/// The median of `values` (0 for none).
-fn median(mut values: Vec<f64>) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    values.sort_by(f64::total_cmp);
-    let mid = values.len() / 2;
-    if values.len() % 2 == 1 {
-        values[mid]
-    } else {
-        0.5 * (values[mid - 1] + values[mid])
-    }
 }
 
 fn milliseconds(since: Instant) -> f64 {
@@ -330,7 +317,7 @@ pub fn measure(
                 }
             }
             let configuration = Configuration { depths, steps, map_size: maps_settings.size, layers: maps_settings.layers };
-            let reference_ms = median(reference_ms);
+            let reference_ms = median(&reference_ms).unwrap_or(0.0);
             for (&method, times) in methods.iter().zip(method_ms) {
                 report.timing.push(FrameTimingRow {
                     renderer: renderer.name(),
@@ -338,7 +325,7 @@ pub fn measure(
                     configuration,
                     frames: settings.frames,
                     resolution: settings.resolution,
-                    frame_ms: median(times),
+                    frame_ms: median(&times).unwrap_or(0.0),
                     reference_ms,
                 });
             }

@@ -28,22 +28,7 @@ impl Timer {
     }
 }
 
-/// Linear-interpolated quantile `q` ∈ [0, 1] of sorted values.
-pub fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let position = q * (sorted.len() - 1) as f64;
-    let (low, high) = (position.floor() as usize, position.ceil() as usize);
-    sorted[low] + (sorted[high] - sorted[low]) * (position - low as f64)
-}
-
-/// Median and spread (interquartile range, q75 − q25).
-pub fn median_and_iqr(samples: &[f64]) -> (f64, f64) {
-    let mut sorted = samples.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    (quantile(&sorted, 0.5), quantile(&sorted, 0.75) - quantile(&sorted, 0.25))
-}
+pub use nklut_pipeline::stats::median_and_iqr;
 
 /// One draw of a fullscreen pass: a pipeline and its bind group.
 pub type Draw<'a> = (&'a wgpu::RenderPipeline, &'a wgpu::BindGroup);
@@ -157,19 +142,5 @@ impl Stopwatch {
             }
         }
         Ok(samples)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn median_and_interquartile_range() {
-        let (median, iqr) = median_and_iqr(&[5.0, 1.0, 3.0, 2.0, 4.0]);
-        assert_eq!(median, 3.0);
-        assert_eq!(iqr, 2.0);
-        let (median, _) = median_and_iqr(&[1.0, 2.0]);
-        assert_eq!(median, 1.5);
     }
 }

@@ -7,8 +7,8 @@
 //! before it in this order (the workspace's `tests/module_order.rs` checks it): `ingest` →
 //! `colors` → `validate` / `bake` / `params` → `report`. Leaves any module may use:
 //! `output` (tables as CSV, Parquet and JSON; files and folders published as one set),
-//! `progress` (bars on a terminal, quiet in CI) and `budget` (the memory a run may take,
-//! checked before large allocations). Stages take plain values; the command line lives in
+//! `progress` (bars on a terminal, quiet in CI), `budget` (the memory a run may take,
+//! checked before large allocations) and `stats` (medians and quantiles of samples). Stages take plain values; the command line lives in
 //! the `nklut` binary.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
@@ -25,4 +25,5 @@ pub mod output;
 pub mod params;
 pub mod progress;
 pub mod report;
+pub mod stats;
 pub mod validate;
