@@ -16,7 +16,7 @@ use anyhow::Result;
 
 use super::distance_map::Configuration;
 use super::image_error::{compare, compare_all, FrameError};
-use super::pictures::{error_png, false_colour, srgb_png, ERROR_SCALE};
+use super::pictures::{error_map, error_png, false_colour, srgb_png, ERROR_SCALE};
 use super::trace::TracedFrame;
 use crate::scene::EffectFamily;
 use nklut_pipeline::output::{SetFile, Table};
@@ -117,11 +117,6 @@ pub struct HeroRow {
     pub error: FrameError,
 }
 
-/// |Δ| summed over the channels, per pixel.
-pub fn error_map(frame: &TracedFrame, reference: &TracedFrame) -> Vec<f64> {
-    frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| (0..3).map(|c| (a[c] - r[c]).abs()).sum()).collect()
-}
-
 /// The `size`-pixel square with the largest sum of `values` (row-major, `width` × `height`),
 /// on a grid of `size / 8` pixels (the window clamped into the frame; ties: the first in
 /// reading order).
@@ -165,13 +160,7 @@ pub fn error_scale_png() -> Result<Vec<u8>> {
     let row: Vec<[f64; 3]> =
         (0..ERROR_SCALE_WIDTH).map(|i| false_colour(ERROR_SCALE * f64::from(i) / f64::from(ERROR_SCALE_WIDTH - 1))).collect();
     let height = 16;
-    let bytes = (0..height).flat_map(|_| row.iter().flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8))).collect();
-    nklut_pipeline::bake::files::encode(
-        nklut_pipeline::bake::texel::Encoding::Unorm8,
-        ERROR_SCALE_WIDTH as usize,
-        height,
-        &nklut_pipeline::bake::texel::Texels::U8(bytes),
-    )
+    error_png(ERROR_SCALE_WIDTH, height, (0..height).flat_map(|_| row.iter().copied()))
 }
 
 /// The files of every hero set under [`HERO_DIR`] (with the colour bar once) and the rows

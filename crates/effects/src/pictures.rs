@@ -33,6 +33,11 @@ pub fn false_colour(error: f64) -> [f64; 3] {
     std::array::from_fn(|c| STOPS[i][c] + w * (STOPS[i + 1][c] - STOPS[i][c]))
 }
 
+/// |Δ| summed over the channels, per pixel: what an error image shows in false colour.
+pub fn error_map(frame: &TracedFrame, reference: &TracedFrame) -> Vec<f64> {
+    frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| (0..3).map(|c| (a[c] - r[c]).abs()).sum()).collect()
+}
+
 /// A PNG of linear radiance, sRGB-encoded.
 pub fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
     let bytes = linear.flat_map(srgb::srgb8).collect();
@@ -56,7 +61,7 @@ pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
         let mut files = vec![(format!("{}.exr", picture.stem), encode(Encoding::F32, w as usize, h as usize, &linear)?)];
         files.push((format!("{}.png", picture.stem), srgb_png(w, h, frame.radiance.iter().copied())?));
         if let Some(reference) = &picture.reference {
-            let errors = super::hero::error_map(frame, reference).into_iter().map(false_colour);
+            let errors = error_map(frame, reference).into_iter().map(false_colour);
             files.push((format!("{}_error.png", picture.stem), error_png(w, h, errors)?));
         }
         written.extend(files.into_iter().map(|(name, bytes)| SetFile::new(format!("{folder}/{name}"), bytes)));
