@@ -63,20 +63,24 @@ fn dash(svg: &mut String, color: RGBColor) {
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
 
-/// Tick marks and labels at 0°, 30°, 60° and 90° under the θ axis of `chart` (drawn on
-/// `area`, the chart's own drawing area or the root it was built on).
-fn theta_ticks<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, chart: &Chart<DB>) -> Result<()>
+/// Tick marks and their labels under the x axis of `chart` (drawn on `area`, the chart's own
+/// drawing area or the root it was built on), at each `(x, label)`.
+fn x_ticks<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    chart: &Chart<DB>,
+    ticks: impl IntoIterator<Item = (f64, String)>,
+) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
     let (origin_x, origin_y) = area.get_base_pixel();
     let style = TextStyle::from(FONT)
         .pos(plotters::style::text_anchor::Pos::new(plotters::style::text_anchor::HPos::Center, plotters::style::text_anchor::VPos::Top));
-    for tick in THETA_TICKS {
+    for (tick, label) in ticks {
         let (x, y) = chart.backend_coord(&(tick, 0.0));
         let (x, y) = (x - origin_x, y - origin_y);
         area.draw(&PathElement::new(vec![(x, y), (x, y + 5)], BLACK)).map_err(plot_error)?;
-        area.draw(&Text::new(format!("{tick}"), (x, y + 7), style.clone())).map_err(plot_error)?;
+        area.draw(&Text::new(label, (x, y + 7), style.clone())).map_err(plot_error)?;
     }
     Ok(())
 }
@@ -116,7 +120,7 @@ where
         .y_label_formatter(y_label)
         .draw()
         .map_err(plot_error)?;
-    theta_ticks(area, &chart)?;
+    x_ticks(area, &chart, THETA_TICKS.map(|tick| (tick, format!("{tick}"))))?;
     Ok(chart)
 }
 
@@ -353,15 +357,7 @@ pub fn line_chart(spec: &LineChart, size: (u32, u32)) -> Result<String> {
             .y_label_formatter(&|v| axis.tick(*v))
             .draw()
             .map_err(plot_error)?;
-        let style = TextStyle::from(FONT).pos(plotters::style::text_anchor::Pos::new(
-            plotters::style::text_anchor::HPos::Center,
-            plotters::style::text_anchor::VPos::Top,
-        ));
-        for (i, name) in spec.categories.iter().enumerate() {
-            let (x, y) = chart.backend_coord(&(i as f64, 0.0));
-            root.draw(&PathElement::new(vec![(x, y), (x, y + 5)], BLACK)).map_err(plot_error)?;
-            root.draw(&Text::new(name.clone(), (x, y + 7), style.clone())).map_err(plot_error)?;
-        }
+        x_ticks(&root, &chart, spec.categories.iter().enumerate().map(|(i, name)| (i as f64, name.clone())))?;
         for s in spec.series {
             let points: Vec<(f64, f64)> = s.points.iter().filter(|p| p.y.value.is_finite()).map(|p| (p.x as f64, p.y.value)).collect();
             line(&mut chart, points.clone(), s.color, false)?;
@@ -514,9 +510,16 @@ fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Indices of the points on the Pareto front: no other point is both cheaper (or equal)
-/// and more accurate (or equal), with one strict.
+/// and more accurate (or equal), with one strict. A point without a finite cost and error
+/// is never on the front and dominates none.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
-    points.iter().map(|&(cost, error)| !points.iter().any(|&(c, e)| c <= cost && e <= error && (c < cost || e < error))).collect()
+    let finite = |&(c, e): &(f64, f64)| c.is_finite() && e.is_finite();
+    points
+        .iter()
+        .map(|&(cost, error)| {
+            finite(&(cost, error)) && !points.iter().filter(|p| finite(p)).any(|&(c, e)| c <= cost && e <= error && (c < cost || e < error))
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -534,6 +537,9 @@ mod tests {
     fn pareto_front_keeps_undominated_points() {
         let points = [(1.0, 0.1), (2.0, 0.01), (3.0, 0.05), (0.5, 0.5), (2.0, 0.02)];
         assert_eq!(pareto_front(&points), vec![true, true, false, true, false]);
+        // A point without a finite cost or error is off the front and hides nothing.
+        let with_unknown = [(1.0, 0.1), (f64::NAN, 0.0), (0.0, f64::INFINITY), (2.0, 0.01)];
+        assert_eq!(pareto_front(&with_unknown), vec![true, false, false, true]);
     }
 
     #[test]

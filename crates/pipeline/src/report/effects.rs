@@ -28,6 +28,7 @@ use super::csvdata::CsvTable;
 use super::extras::cell;
 use super::html::{code_spans, delta_e, escape, href, number, percent, utc, TableText};
 use super::inputs::{Inputs, DEVICES_DIR};
+use crate::stats::median;
 
 /// The effects page, next to `index.html`.
 pub const EFFECTS_PAGE: &str = "effects.html";
@@ -216,9 +217,13 @@ fn key(table: &CsvTable, row: &[String], columns: &[&str]) -> Vec<String> {
     columns.iter().map(|c| table.text(row, c).to_string()).collect()
 }
 
-/// The largest value of an integer column.
-fn largest(table: &CsvTable, rows: &[usize], column: &str) -> Option<u64> {
-    rows.iter().filter_map(|&r| table.text(&table.rows[r], column).parse::<u64>().ok()).max()
+/// The distinct values of an integer column over `rows`, ascending (a cell that is not an
+/// integer left out).
+fn integers(table: &CsvTable, rows: &[usize], column: &str) -> Vec<u64> {
+    let mut values: Vec<u64> = rows.iter().filter_map(|&r| table.text(&table.rows[r], column).parse::<u64>().ok()).collect();
+    values.sort_unstable();
+    values.dedup();
+    values
 }
 
 /// Distinct values of `f` over `rows`, in first-seen order.
@@ -291,7 +296,8 @@ fn figure(html: &mut String, svg: &str, legend: &str, caption: &str) {
 fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&str, &CsvTable)) -> Result<()> {
     html.push_str("<h3>Multiple reflections and refractions</h3>\n");
     let all: Vec<usize> = (0..errors.rows.len()).collect();
-    let (Some(linear), Some(secant)) = (largest(errors, &all, "linear_steps"), largest(errors, &all, "secant_steps")) else {
+    let (Some(&linear), Some(&secant)) = (integers(errors, &all, "linear_steps").last(), integers(errors, &all, "secant_steps").last())
+    else {
         html.push_str("<p class=\"absent\">The table has no step counts.</p>");
         return Ok(());
     };
@@ -396,13 +402,7 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
     }
 
     // Geometry error against the search's step counts.
-    let deepest = all.iter().copied().max_by_key(|&r| {
-        let row = &errors.rows[r];
-        let n = |c| errors.text(row, c).parse::<u64>().unwrap_or(0);
-        (n("reflection_depth") + n("refraction_depth"), n("reflection_depth"))
-    });
-    if let Some(deepest) = deepest {
-        let depth = depth_label(errors, &errors.rows[deepest]);
+    if let Some(depth) = depth_categories(errors, &all).pop() {
         let reference_method = methods.first().cloned().unwrap_or_default();
         let rows: Vec<usize> = all
             .iter()
@@ -412,10 +412,7 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
                 depth_label(errors, row) == depth && errors.text(row, "method") == reference_method
             })
             .collect();
-        let mut linear_steps: Vec<u64> = distinct(&rows, |r| errors.text(&errors.rows[r], "linear_steps").parse::<u64>().unwrap_or(0));
-        linear_steps.sort_unstable();
-        let mut secant_steps: Vec<u64> = distinct(&rows, |r| errors.text(&errors.rows[r], "secant_steps").parse::<u64>().unwrap_or(0));
-        secant_steps.sort_unstable();
+        let (linear_steps, secant_steps) = (integers(errors, &rows, "linear_steps"), integers(errors, &rows, "secant_steps"));
         let categories: Vec<String> = linear_steps.iter().map(u64::to_string).collect();
         let series: Vec<Series> = secant_steps
             .iter()
@@ -472,8 +469,7 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
     let all: Vec<usize> = (0..ao.rows.len()).collect();
     let technique = |r: usize| if ao.text(&ao.rows[r], "hierarchy") == "true" { "tree" } else { "brute force" };
     let techniques: Vec<&str> = distinct(&all, technique);
-    let mut passes: Vec<u64> = distinct(&all, |r| ao.text(&ao.rows[r], "passes").parse::<u64>().unwrap_or(0));
-    passes.sort_unstable();
+    let passes = integers(ao, &all, "passes");
     let categories: Vec<String> = passes.iter().map(u64::to_string).collect();
     let rows_of = |t: &str, p: u64| -> Vec<usize> {
         all.iter().copied().filter(|&r| technique(r) == t && ao.text(&ao.rows[r], "passes") == p.to_string()).collect()
@@ -655,13 +651,6 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
     }
 }
 
-/// The median of `values` (the mean of the middle two for an even count), none when empty.
-fn median(mut values: Vec<f64>) -> Option<f64> {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    (n > 0).then(|| 0.5 * (values[(n - 1) / 2] + values[n / 2]))
-}
-
 /// The cross-device table: per method, the median over materials of its pass time
 /// relative to `exact` on each device of `<out>/devices/` (the study's Tables 6–7).
 fn devices_section(html: &mut String, inputs: &Inputs) {
@@ -679,7 +668,7 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     for (device, tables) in &inputs.devices {
         let table = &tables.timing;
         let median_of = |method: &str| -> Option<f64> {
-            median(table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect())
+            median(&table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect::<Vec<_>>())
         };
         let Some(exact) = median_of("exact") else { continue };
         for row in &table.rows {
@@ -811,7 +800,7 @@ fn study_form(html: &mut String, inputs: &Inputs) {
                 })
                 .filter_map(|r| timing.number(r, "median_ms"))
                 .collect();
-            median(values)
+            median(&values)
         };
         let anchor = median_of("exact", Some("dielectric"));
         let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match (median_of(method, *kind), anchor) {

@@ -157,13 +157,6 @@ fn cost_rows(cost: &CsvTable) -> Vec<CostRow> {
         .collect()
 }
 
-/// Pareto flags over (cost, error); points without a finite cost are never on the front.
-fn front(points: &[(f64, f64)]) -> Vec<bool> {
-    let finite: Vec<(f64, f64)> =
-        points.iter().map(|&(c, e)| if c.is_finite() && e.is_finite() { (c, e) } else { (f64::INFINITY, f64::INFINITY) }).collect();
-    charts::pareto_front(&finite).into_iter().zip(points).map(|(on, p)| on && p.0.is_finite() && p.1.is_finite()).collect()
-}
-
 fn floor_note(at_floor: &[String]) -> String {
     if at_floor.is_empty() {
         String::new()
@@ -185,7 +178,7 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
     let rows = cost_rows(cost);
     let gpu = gpu_medians(inputs);
     let methods: Vec<&CostRow> = rows.iter().filter(|r| r.method != "lut" || r.variant.starts_with("N=256,")).collect();
-    let flags = front(&methods.iter().map(|r| (r.ns_per_eval, r.mean)).collect::<Vec<_>>());
+    let flags = charts::pareto_front(&methods.iter().map(|r| (r.ns_per_eval, r.mean)).collect::<Vec<_>>());
     let mut table = TableText::new(&[
         "method",
         "variant",
@@ -251,7 +244,7 @@ fn lut_cost(b: &mut Builder, rows: &[CostRow]) -> Result<()> {
         return Ok(());
     }
     b.heading(3, "lut-cost", "Lookup textures: error against texture size");
-    let flags = front(&luts.iter().map(|r| (r.texture_bytes, r.mean)).collect::<Vec<_>>());
+    let flags = charts::pareto_front(&luts.iter().map(|r| (r.texture_bytes, r.mean)).collect::<Vec<_>>());
     let points: Vec<CostPoint> = luts
         .iter()
         .zip(&flags)
