@@ -37,16 +37,43 @@ impl ObjectRole {
 }
 
 /// What a light of the scene is to `shaders/diffuse.wgsl` (`LightItem.kind.x`).
-pub fn light_code(light: &LightSource) -> u32 {
-    match light {
-        LightSource::Directional { .. } => 0,
-        LightSource::Point { .. } => 1,
-        LightSource::Ambient { .. } => 2,
-    }
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    Directional,
+    Point,
+    Ambient,
 }
 
-/// The WGSL constants of the light kinds, by code.
-const LIGHT_CONSTANTS: [&str; 3] = ["LIGHT_DIRECTIONAL", "LIGHT_POINT", "LIGHT_AMBIENT"];
+impl LightKind {
+    pub const ALL: [LightKind; 3] = [LightKind::Directional, LightKind::Point, LightKind::Ambient];
+
+    /// The kind of a scene's light.
+    pub fn of(light: &LightSource) -> LightKind {
+        match light {
+            LightSource::Directional { .. } => LightKind::Directional,
+            LightSource::Point { .. } => LightKind::Point,
+            LightSource::Ambient { .. } => LightKind::Ambient,
+        }
+    }
+
+    /// The code the shader reads.
+    pub fn code(self) -> u32 {
+        match self {
+            LightKind::Directional => 0,
+            LightKind::Point => 1,
+            LightKind::Ambient => 2,
+        }
+    }
+
+    /// The WGSL constant's name.
+    fn constant(self) -> &'static str {
+        match self {
+            LightKind::Directional => "LIGHT_DIRECTIONAL",
+            LightKind::Point => "LIGHT_POINT",
+            LightKind::Ambient => "LIGHT_AMBIENT",
+        }
+    }
+}
 
 /// The branch stack of the specular pass's depth-first path walk. A hit pushes at most two
 /// branches (reflected, refracted) and the walk pops one at a time, so at most one
@@ -66,8 +93,8 @@ pub fn wgsl() -> String {
         text.push_str(&format!("const {}: u32 = {}u;\n", role.constant(), role.code()));
     }
     text.push_str(&format!("const PATH_STACK: u32 = {PATH_STACK}u;\nconst SURFEL_STACK: u32 = {SURFEL_STACK}u;\n"));
-    for (code, name) in LIGHT_CONSTANTS.iter().enumerate() {
-        text.push_str(&format!("const {name}: u32 = {code}u;\n"));
+    for kind in LightKind::ALL {
+        text.push_str(&format!("const {}: u32 = {}u;\n", kind.constant(), kind.code()));
     }
     text.push_str(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;\n"));
     text
@@ -108,7 +135,7 @@ mod tests {
         assert!(text.contains("const ROLE_CONDUCTOR: u32 = 1u;") && text.contains("const ROLE_DIELECTRIC: u32 = 2u;"));
         assert!(text.contains(&format!("const PATH_STACK: u32 = {}u;", MAX_DEPTH + 1)));
         let point = LightSource::Point { position: [0.0; 3], intensity: [1.0; 3] };
-        assert!(text.contains(&format!("const LIGHT_POINT: u32 = {}u;", light_code(&point))));
+        assert!(text.contains(&format!("const LIGHT_POINT: u32 = {}u;", LightKind::of(&point).code())));
         assert!(text.contains(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;")));
         for line in text.lines().filter(|l| l.starts_with("const ")) {
             let name = line.split(':').next().unwrap();

@@ -22,7 +22,7 @@ use wgpu::util::DeviceExt;
 use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compose;
 use crate::context::Gpu;
-use crate::contracts::light_code;
+use crate::contracts::LightKind;
 use crate::render::{check_buffer_size, depth_test, readback_buffer, texture_2d, DEPTH};
 use nklut_effects::distance_map::{DistanceMap, Texel};
 use nklut_effects::scene::mesh::widen;
@@ -177,7 +177,7 @@ impl LightsUniform {
                 LightSource::Point { position, intensity } => (*position, *intensity),
                 LightSource::Ambient { colour } => ([0.0; 3], *colour),
             };
-            *item = LightItem { kind: [light_code(light), 0, 0, 0], vector: widen3(vector), colour: widen3(colour) };
+            *item = LightItem { kind: [LightKind::of(light).code(), 0, 0, 0], vector: widen3(vector), colour: widen3(colour) };
         }
         uniform
     }

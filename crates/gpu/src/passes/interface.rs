@@ -104,7 +104,8 @@ impl Interface {
         group: u32,
         resources: &[(u32, wgpu::BindingResource<'_>)],
     ) -> Result<wgpu::BindGroup> {
-        let declared: Vec<u32> = self.bindings.iter().filter(|b| b.group == group).map(|b| b.binding).collect();
+        let mut declared: Vec<u32> = self.bindings.iter().filter(|b| b.group == group).map(|b| b.binding).collect();
+        declared.sort_unstable();
         let mut given: Vec<u32> = resources.iter().map(|(b, _)| *b).collect();
         given.sort_unstable();
         if given != declared {
