@@ -390,11 +390,13 @@ fn audit_json(html: &Path, profile: &Path, script: &str, width: u32) -> String {
     assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
     let dom = String::from_utf8_lossy(&dom.stdout);
     let start = dom.find("<pre id=\"nk-audit\">").expect("the audit ran") + "<pre id=\"nk-audit\">".len();
-    dom[start..start + dom[start..].find("</pre>").unwrap()]
-        .replace("&amp;", "&")
-        .replace("&lt;", "<")
-        .replace("&gt;", ">")
-        .replace("&quot;", "\"")
+    unescape(&dom[start..start + dom[start..].find("</pre>").unwrap()])
+}
+
+/// HTML text or an attribute value with the report's entities (`html::escape`) resolved,
+/// `&amp;` last so an escaped entity stays as written.
+fn unescape(text: &str) -> String {
+    text.replace("&quot;", "\"").replace("&#39;", "'").replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
 }
 
 /// A screenshot of `html` `width` × `height` px from `top` px down the page.
@@ -577,12 +579,7 @@ fn attributes(tag: &str) -> BTreeMap<String, String> {
         let name = rest[..eq].rsplit(|c: char| c.is_whitespace()).next().unwrap().to_string();
         let value_start = eq + 2;
         let value_end = value_start + rest[value_start..].find('"').unwrap();
-        let value = rest[value_start..value_end]
-            .replace("&quot;", "\"")
-            .replace("&#39;", "'")
-            .replace("&lt;", "<")
-            .replace("&gt;", ">")
-            .replace("&amp;", "&");
+        let value = unescape(&rest[value_start..value_end]);
         found.insert(name, value);
         rest = &rest[value_end + 1..];
     }
@@ -621,7 +618,7 @@ fn marks(html: &str) -> Vec<Mark> {
         .map(|rest| {
             let tag = &rest[..rest.find('>').unwrap()];
             let title = &rest[rest.find("<title>").unwrap() + 7..rest.find("</title>").unwrap()];
-            Mark { label: title.replace("&amp;", "&"), attributes: attributes(tag) }
+            Mark { label: unescape(title), attributes: attributes(tag) }
         })
         .collect()
 }
