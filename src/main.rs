@@ -370,6 +370,17 @@ mod gpu_cli {
             #[command(flatten)]
             read: ChannelArgs,
         },
+        /// Write the browser bench of each scene: one self-contained page, <out>/web/<scene>.html,
+        /// that runs the scene's F-only measurements (timing, image error) in any WebGPU
+        /// browser, phones included, from file:// or a static host, and offers the result
+        /// as device-<adapter>-<date>.json (`nklut report --devices` reads it). The folder
+        /// web/ is replaced as a whole by the pages of this run.
+        Web {
+            #[arg(required = true)]
+            scenes: Vec<PathBuf>,
+            #[command(flatten)]
+            read: ChannelArgs,
+        },
         /// Render each object of a scene with its methods and exact → image_errors.csv.
         ImageError {
             #[arg(default_value = "scenes/default.yaml")]
@@ -425,6 +436,23 @@ mod gpu_cli {
                 }
                 for path in ao_timing_table(&rows, &device).write(&paths.out, "ao_timing", false)? {
                     eprintln!("  wrote {}", path.display());
+                }
+                return Ok(());
+            }
+            GpuCommand::Web { scenes, read } => {
+                let mut pages = Vec::new();
+                let db = Database::open(paths.db.as_deref())?;
+                for file in scenes {
+                    let scene = Scene::load(&file)?;
+                    let (materials, _) = nklut::scene::read_materials(&scene, &db, &read.config())?;
+                    let bench = gpu::web::plan(&scene, &materials)?;
+                    if pages.iter().any(|p: &nklut::output::SetFile| p.name == gpu::web::page_name(&bench)) {
+                        bail!("two scenes named {}: each page is web/<scene file stem>.html", bench.scene);
+                    }
+                    pages.push(nklut::output::SetFile::new(gpu::web::page_name(&bench), gpu::web::page(&bench)?.into_bytes()));
+                }
+                for path in nklut::output::publish_set(&paths.out, "web", &pages)? {
+                    super::print_line(&path.display().to_string())?;
                 }
                 return Ok(());
             }

@@ -22,6 +22,7 @@ pub mod passes;
 pub mod render;
 pub mod runner;
 pub mod timing;
+pub mod web;
 
 // Meshes and the camera path are pure scene data (`scene`), shared with the CPU tracers.
 pub use nklut_effects::scene::{camera, mesh};

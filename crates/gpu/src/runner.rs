@@ -408,9 +408,13 @@ fn resolution_text([w, h]: [u32; 2]) -> String {
 
 /// `gpu_timing.*`: one row per timed (material, method).
 pub fn timing_table(report: &RunReport) -> Table {
-    let rows = &report.timing;
+    timing_rows_table(&report.timing, &report.adapter)
+}
+
+/// `gpu_timing.*` of `rows` measured on `a` (no rows: the columns alone, which the browser
+/// bench's results follow).
+pub fn timing_rows_table(rows: &[TimingRow], a: &AdapterLine) -> Table {
     let text = |f: &dyn Fn(&TimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
-    let a = &report.adapter;
     let mut table = Table::new();
     table
         .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
@@ -433,7 +437,11 @@ pub fn timing_table(report: &RunReport) -> Table {
 
 /// `image_errors.*`: one row per (object, material, method).
 pub fn image_error_table(report: &RunReport) -> Table {
-    let rows = &report.image_errors;
+    image_error_rows_table(&report.image_errors)
+}
+
+/// `image_errors.*` of `rows` (no rows: the columns alone).
+pub fn image_error_rows_table(rows: &[ImageErrorRow]) -> Table {
     let text = |f: &dyn Fn(&ImageErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table

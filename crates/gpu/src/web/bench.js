@@ -1,0 +1,551 @@
+// nklut browser bench: the host side of the native runner's F-only measurements
+// (crates/gpu/src/runner.rs) in WebGPU. The plan (crates/gpu/src/web.rs) brings every shader
+// module composed by the runner's own code, the material uniforms, LUT texels, meshes and
+// camera views as bytes; this script creates the device, buffers and pipelines, runs the
+// passes, times them (timestamp queries when granted, else wall time over batches closed by
+// onSubmittedWorkDone), reads the targets back and computes the image error of SPEC §6 with
+// the rule of crates/gpu/src/image_error.rs (`compare`, `ErrorSummary`) and the median and
+// interquartile range of crates/pipeline/src/stats.rs — twins held to the Rust functions by
+// tests/web_bench.rs through `window.nklut.twins`.
+
+const plan = JSON.parse(document.getElementById('nklut-plan').textContent);
+const $ = (id) => document.getElementById(id);
+const WALL_BATCH = 8;
+// The `driver` column: the browser and its version (the whole user agent is in the result).
+const BROWSER = (navigator.userAgent.match(/(Edg|Firefox|Chrome|HeadlessChrome|Version)\/[\d.]+( Mobile)?/g) || [navigator.userAgent]).pop();
+
+const result = {
+  format: plan.format,
+  scene: plan.scene,
+  date: new Date().toISOString(),
+  user_agent: navigator.userAgent,
+  adapter: null,
+  complete: false,
+  incomplete: null,
+  compile: [],
+  columns: plan.columns,
+  gpu_timing: [],
+  image_errors: [],
+  effects_timing: [],
+  skipped: plan.skipped,
+};
+
+// ---- twins of the Rust statistics -------------------------------------------------------
+
+// stats::quantile: linear interpolation between the sorted samples around q·(n − 1).
+function quantile(sorted, q) {
+  if (sorted.length === 0) return NaN;
+  const position = q * (sorted.length - 1);
+  const low = Math.floor(position), high = Math.ceil(position);
+  return sorted[low] + (sorted[high] - sorted[low]) * (position - low);
+}
+
+// stats::median_and_iqr.
+function medianAndIqr(samples) {
+  const sorted = [...samples].sort((a, b) => a - b);
+  return [quantile(sorted, 0.5), quantile(sorted, 0.75) - quantile(sorted, 0.25)];
+}
+
+// image_error::compare: covered pixels (reference alpha ≥ ½), |a − r|/r per channel where
+// r > 0, the others counted as skipped.
+function compare(method, reference) {
+  const e = { sum_relative: 0, samples: 0, max_relative: 0, pixels: 0, skipped_zero_reference: 0 };
+  for (let i = 0; i < reference.length; i += 4) {
+    if (reference[i + 3] < 0.5) continue;
+    e.pixels += 1;
+    for (let c = 0; c < 3; c++) {
+      const r = reference[i + c];
+      if (!(r > 0)) { e.skipped_zero_reference += 1; continue; }
+      const relative = Math.abs(method[i + c] - r) / r;
+      e.sum_relative += relative;
+      e.samples += 1;
+      e.max_relative = Math.max(e.max_relative, relative);
+    }
+  }
+  return e;
+}
+
+// image_error::ErrorSummary: the mean over frames of each frame's mean.
+class ErrorSummary {
+  constructor() { this.frames = 0; this.sum_of_frame_means = 0; this.frames_with_samples = 0; this.max_relative = 0; this.pixels = 0; this.skipped_zero_reference = 0; }
+  add(frame) {
+    this.frames += 1;
+    if (frame.samples > 0) { this.sum_of_frame_means += frame.sum_relative / frame.samples; this.frames_with_samples += 1; }
+    this.max_relative = Math.max(this.max_relative, frame.max_relative);
+    this.pixels += frame.pixels;
+    this.skipped_zero_reference += frame.skipped_zero_reference;
+  }
+  meanRelative() { return this.frames_with_samples > 0 ? this.sum_of_frame_means / this.frames_with_samples : null; }
+}
+
+window.nklut = { plan, result, done: false, error: null, twins: { quantile, medianAndIqr, compare, ErrorSummary }, ramp: null };
+
+// ---- page ---------------------------------------------------------------------------------
+
+// A problem the page explains to its reader (no WebGPU, a limit too small, a lost device).
+class Problem extends Error {}
+
+function status(text) { $('status').textContent = text; }
+function progress(done, total) { $('progress').max = Math.max(total, 1); $('progress').value = done; }
+function problem(text) { const p = $('problem'); p.hidden = false; p.textContent = text; }
+
+function bytes(base64) {
+  const text = atob(base64);
+  const out = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; i++) out[i] = text.charCodeAt(i);
+  return out;
+}
+
+const resolutionText = ([w, h]) => `${w}x${h}`;
+// Rows of a readback copy are padded to 256 bytes (render::padded_row_bytes).
+const paddedRow = (width, bytesPerPixel) => Math.ceil((width * bytesPerPixel) / 256) * 256;
+
+// What the plan needs of the device, each with what asks it and how to need less.
+function requirements() {
+  const needs = [];
+  const texture = (size, what) => needs.push({ limit: 'maxTextureDimension2D', size: Math.max(...size), what, remedy: 'lower the resolution' });
+  if (plan.timing) texture(plan.timing.resolution, `the ${resolutionText(plan.timing.resolution)} timing target`);
+  if (plan.image_error) {
+    const [w, h] = plan.image_error.resolution;
+    texture(plan.image_error.resolution, `the ${resolutionText(plan.image_error.resolution)} image-error targets`);
+    for (const object of plan.image_error.objects) {
+      const size = paddedRow(w, 16) * h * (object.methods.length + 1);
+      needs.push({ limit: 'maxBufferSize', size, what: `the readback of ${object.methods.length + 1} RGBA32Float ${w}x${h} images of one object`, remedy: 'lower the resolution or name fewer methods per object' });
+    }
+    for (const mesh of plan.meshes) {
+      needs.push({ limit: 'maxBufferSize', size: (mesh.vertices.length * 3) / 4, what: `the vertices of mesh ${mesh.label}`, remedy: 'use a smaller mesh' });
+    }
+  }
+  return needs;
+}
+
+async function openDevice() {
+  if (!('gpu' in navigator) || !navigator.gpu) {
+    throw new Problem('This browser has no WebGPU: navigator.gpu is missing. Open the page in a browser with WebGPU '
+      + '(Chrome or Edge 113+ on Windows, macOS, ChromeOS and Android 12+; Safari 26+; Firefox 141+ on Windows), '
+      + 'from file:// or https:// (WebGPU needs a secure context). On Linux, Chromium needs --enable-unsafe-webgpu.');
+  }
+  const adapter = await navigator.gpu.requestAdapter({ powerPreference: 'high-performance' });
+  if (!adapter) {
+    throw new Problem('navigator.gpu is here but requestAdapter() returned no adapter: WebGPU is disabled for this GPU or '
+      + 'this browser (blocklisted driver, or a flag such as --enable-unsafe-webgpu is needed; see chrome://gpu).');
+  }
+  const requiredLimits = {};
+  for (const need of requirements()) {
+    const allowed = adapter.limits[need.limit];
+    if (need.size > allowed) {
+      throw new Problem(`This device's ${need.limit} is ${allowed}, but the scene asks ${need.size} for ${need.what}; ${need.remedy}.`);
+    }
+    requiredLimits[need.limit] = Math.max(requiredLimits[need.limit] || 0, need.size);
+  }
+  const timestamps = adapter.features.has('timestamp-query');
+  const device = await adapter.requestDevice({ requiredFeatures: timestamps ? ['timestamp-query'] : [], requiredLimits });
+  const info = adapter.info || {};
+  const name = [info.vendor, info.architecture, info.device, info.description].filter(Boolean).join(' ') || 'unknown adapter';
+  result.adapter = {
+    name, vendor: info.vendor || '', architecture: info.architecture || '', device: info.device || '', description: info.description || '',
+    backend: 'WebGPU', timestamp_query: timestamps, limits_used: requiredLimits,
+    limits: { maxTextureDimension2D: adapter.limits.maxTextureDimension2D, maxBufferSize: adapter.limits.maxBufferSize },
+  };
+  return { device, timestamps };
+}
+
+// ---- device work --------------------------------------------------------------------------
+
+let lost = null;
+
+function checkLost() {
+  if (lost) throw new Problem(`The device was lost (${lost}); the rows measured before are kept and marked incomplete.`);
+}
+
+async function scoped(device, what, body) {
+  device.pushErrorScope('out-of-memory');
+  device.pushErrorScope('validation');
+  const value = body();
+  const validation = await device.popErrorScope();
+  const memory = await device.popErrorScope();
+  const error = validation || memory;
+  if (error) throw new Problem(`${what}: ${error.message}`);
+  return value;
+}
+
+async function compileChecks(device) {
+  const modules = {};
+  for (const [kind, list] of [['pass', plan.modules], ['check', plan.checks]]) {
+    for (const m of list) {
+      checkLost();
+      const module = device.createShaderModule({ label: m.name, code: m.wgsl });
+      const info = await module.getCompilationInfo();
+      const of = (type) => info.messages.filter((x) => x.type === type).map((x) => `${x.lineNum}:${x.linePos} ${x.message}`);
+      result.compile.push({ module: kind === 'pass' ? `fresnel pass + ${m.name}` : m.name, errors: of('error'), warnings: of('warning') });
+      if (kind === 'pass') modules[m.name] = module;
+    }
+  }
+  const failed = result.compile.filter((c) => c.errors.length > 0);
+  if (failed.length > 0) throw new Problem(`WGSL did not compile on this browser: ${failed.map((c) => `${c.module}: ${c.errors[0]}`).join('; ')}`);
+  return modules;
+}
+
+function setup(device, modules) {
+  const visibility = GPUShaderStage.VERTEX | GPUShaderStage.FRAGMENT;
+  const layout = device.createBindGroupLayout({
+    entries: [
+      { binding: 0, visibility, buffer: { type: 'uniform' } },
+      { binding: 1, visibility, buffer: { type: 'uniform' } },
+      { binding: 2, visibility, texture: { sampleType: 'float' } },
+      { binding: 3, visibility, sampler: { type: 'filtering' } },
+    ],
+  });
+  const pipelineLayout = device.createPipelineLayout({ bindGroupLayouts: [layout] });
+  const sampler = device.createSampler({ magFilter: 'linear', minFilter: 'linear', addressModeU: 'clamp-to-edge', addressModeV: 'clamp-to-edge' });
+  const texture = (base64, width) => {
+    const t = device.createTexture({ size: [width, 1], format: plan.formats.lut, usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
+    device.queue.writeTexture({ texture: t }, bytes(base64), { bytesPerRow: 8 * width }, [width, 1]);
+    return t;
+  };
+  const blank = texture(plan.blank_lut, 1);
+  const uniform = (data, label) => {
+    const b = device.createBuffer({ label, size: data.byteLength, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
+    device.queue.writeBuffer(b, 0, data);
+    return b;
+  };
+  const viewBytes = bytes(plan.timing ? plan.timing.view : plan.image_error.frames[0]);
+  const materials = plan.materials.map((m) => {
+    const view = uniform(viewBytes, `view ${m.page}`);
+    const lut = m.lut ? texture(m.lut, m.lut_width) : blank;
+    const group = device.createBindGroup({
+      layout,
+      entries: [
+        { binding: 0, resource: { buffer: uniform(bytes(m.uniform), m.page) } },
+        { binding: 1, resource: { buffer: view } },
+        { binding: 2, resource: lut.createView() },
+        { binding: 3, resource: sampler },
+      ],
+    });
+    return { ...m, view, group };
+  });
+  const pipelines = new Map();
+  // render::Renderer::create_pipeline: fullscreen (optionally blended additively over the
+  // burner) or mesh (float target, depth test, no culling).
+  const pipeline = (shade, draw, format) => {
+    const key = `${shade} ${draw} ${format}`;
+    if (!pipelines.has(key)) {
+      const module = modules[shade];
+      const additive = { srcFactor: 'one', dstFactor: 'one', operation: 'add' };
+      const mesh = draw === 'mesh';
+      pipelines.set(key, device.createRenderPipeline({
+        label: key,
+        layout: pipelineLayout,
+        vertex: {
+          module, entryPoint: mesh ? 'vs_mesh' : 'vs_fullscreen',
+          buffers: mesh ? [{ arrayStride: 24, attributes: [{ shaderLocation: 0, offset: 0, format: 'float32x3' }, { shaderLocation: 1, offset: 12, format: 'float32x3' }] }] : [],
+        },
+        fragment: {
+          module, entryPoint: mesh ? 'fs_mesh' : 'fs_ramp',
+          targets: [{ format: mesh ? plan.formats.float : format, blend: draw === 'over' ? { color: additive, alpha: additive } : undefined }],
+        },
+        primitive: { topology: 'triangle-list', cullMode: 'none' },
+        depthStencil: mesh ? { format: plan.formats.depth, depthWriteEnabled: true, depthCompare: 'less' } : undefined,
+      }));
+    }
+    return pipelines.get(key);
+  };
+  return { materials, pipeline };
+}
+
+function target(device, [width, height], format, depth) {
+  const colour = device.createTexture({ size: [width, height], format, usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.COPY_SRC });
+  const depthTexture = depth ? device.createTexture({ size: [width, height], format: plan.formats.depth, usage: GPUTextureUsage.RENDER_ATTACHMENT }) : null;
+  return { width, height, colour, view: colour.createView(), depth: depthTexture && depthTexture.createView() };
+}
+
+// render::Target::begin: clear colour to 0 and depth to 1.
+function begin(encoder, t, timestampWrites) {
+  return encoder.beginRenderPass({
+    colorAttachments: [{ view: t.view, clearValue: [0, 0, 0, 0], loadOp: 'clear', storeOp: 'store' }],
+    depthStencilAttachment: t.depth ? { view: t.depth, depthClearValue: 1, depthLoadOp: 'clear', depthStoreOp: 'discard' } : undefined,
+    timestampWrites,
+  });
+}
+
+function copyOut(encoder, t, buffer, offset) {
+  encoder.copyTextureToBuffer({ texture: t.colour }, { buffer, offset, bytesPerRow: paddedRow(t.width, 16), rowsPerImage: t.height }, [t.width, t.height]);
+}
+
+// RGBA f32 pixels without the row padding (render::Target::decode).
+function decode(mapped, offset, t) {
+  const row = paddedRow(t.width, 16) / 4;
+  const all = new Float32Array(mapped, offset, row * t.height);
+  const out = new Float32Array(t.width * t.height * 4);
+  for (let y = 0; y < t.height; y++) out.set(all.subarray(y * row, y * row + t.width * 4), y * t.width * 4);
+  return out;
+}
+
+async function readBuffer(buffer) {
+  await buffer.mapAsync(GPUMapMode.READ);
+  const copy = buffer.getMappedRange().slice(0);
+  buffer.unmap();
+  return copy;
+}
+
+// timing::Stopwatch::measure_interleaved: warm-up rounds, then rounds that take one sample
+// of every pair in turn. A sample is one pass (with `subtract`, the burner and the method on
+// top minus the burner alone); timestamps bracket each pass, else wall time per pass over
+// a batch of WALL_BATCH passes closed by onSubmittedWorkDone.
+async function runTiming(device, timestamps, gpu, step) {
+  const t = plan.timing;
+  const display = target(device, t.resolution, plan.formats.display, false);
+  const draws = t.pairs.map((pair) => ({
+    pair,
+    group: gpu.materials[pair.material].group,
+    pipeline: gpu.pipeline(pair.method, t.subtract ? 'over' : 'full', plan.formats.display),
+  }));
+  const burner = t.subtract ? gpu.pipeline('burner', 'full', plan.formats.display) : null;
+  // One timed pass: the draws of `list` (pipeline, group) in order.
+  const passes = (sample) => (t.subtract ? [[[burner, sample.group]], [[burner, sample.group], [sample.pipeline, sample.group]]] : [[[sample.pipeline, sample.group]]]);
+  const perPair = passes(draws[0]).length;
+  const encode = (encoder, list, writes) => {
+    const pass = begin(encoder, display, writes);
+    for (const [pipeline, group] of list) { pass.setPipeline(pipeline); pass.setBindGroup(0, group); pass.draw(3); }
+    pass.end();
+  };
+  const count = draws.length * perPair * 2;
+  let query = null;
+  if (timestamps) {
+    const set = device.createQuerySet({ type: 'timestamp', count });
+    const resolve = device.createBuffer({ size: count * 8, usage: GPUBufferUsage.QUERY_RESOLVE | GPUBufferUsage.COPY_SRC });
+    const read = device.createBuffer({ size: count * 8, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
+    query = { set, resolve, read };
+  }
+  const samples = draws.map(() => []);
+  for (let round = 0; round < t.warmup + t.repeats; round++) {
+    checkLost();
+    let times;
+    if (query) {
+      const encoder = device.createCommandEncoder();
+      draws.forEach((d, i) => passes(d).forEach((list, j) => {
+        const index = 2 * (i * perPair + j);
+        encode(encoder, list, { querySet: query.set, beginningOfPassWriteIndex: index, endOfPassWriteIndex: index + 1 });
+      }));
+      encoder.resolveQuerySet(query.set, 0, count, query.resolve, 0);
+      encoder.copyBufferToBuffer(query.resolve, 0, query.read, 0, count * 8);
+      device.queue.submit([encoder.finish()]);
+      const ticks = new BigUint64Array(await readBuffer(query.read));
+      const ms = (k) => Number(ticks[2 * k + 1] - ticks[2 * k]) / 1e6;
+      times = draws.map((_, i) => (t.subtract ? ms(i * perPair + 1) - ms(i * perPair) : ms(i)));
+    } else {
+      times = [];
+      for (const d of draws) {
+        const wall = [];
+        for (const list of passes(d)) {
+          const encoder = device.createCommandEncoder();
+          for (let b = 0; b < WALL_BATCH; b++) encode(encoder, list, undefined);
+          const start = performance.now();
+          device.queue.submit([encoder.finish()]);
+          await device.queue.onSubmittedWorkDone();
+          wall.push((performance.now() - start) / WALL_BATCH);
+        }
+        times.push(t.subtract ? wall[1] - wall[0] : wall[0]);
+      }
+    }
+    if (round >= t.warmup) times.forEach((x, i) => samples[i].push(x));
+    step(draws.length, `timing: round ${round + 1} of ${t.warmup + t.repeats}`);
+    // Rows so far, so a lost device keeps them.
+    result.gpu_timing = timingRows(draws, samples, timestamps);
+  }
+}
+
+function timingRows(draws, samples, timestamps) {
+  const t = plan.timing;
+  const a = result.adapter;
+  const rows = draws.filter((_, i) => samples[i].length > 0).map((d) => {
+    const i = draws.indexOf(d);
+    const [median, spread] = medianAndIqr(samples[i]);
+    const material = plan.materials[d.pair.material];
+    return {
+      adapter: a.name, backend: a.backend, driver: BROWSER, timer: timestamps ? 'timestamp' : 'wall',
+      method: d.pair.method, material: material.page, resolution: resolutionText(t.resolution), repeats: samples[i].length,
+      median_ms: median, spread_ms: spread, relative_to_exact_dielectric: null, kind: material.kind,
+    };
+  });
+  // The study's normalisation: exact on the first dielectric material timed.
+  const reference = rows.find((r) => r.method === 'exact' && r.kind === 'dielectric');
+  for (const r of rows) { if (reference) r.relative_to_exact_dielectric = r.median_ms / reference.median_ms; delete r.kind; }
+  return rows;
+}
+
+// runner::run_image_error: per object, the exact render and each method's, every frame,
+// read back and compared.
+async function runImageError(device, gpu, step) {
+  const plan_ = plan.image_error;
+  const [w, h] = plan_.resolution;
+  const imageBytes = paddedRow(w, 16) * h;
+  const meshes = plan.meshes.map((m) => {
+    const make = (data, usage) => { const b = device.createBuffer({ size: Math.ceil(data.byteLength / 4) * 4, usage: usage | GPUBufferUsage.COPY_DST }); device.queue.writeBuffer(b, 0, data); return b; };
+    return { ...m, vertexBuffer: make(bytes(m.vertices), GPUBufferUsage.VERTEX), indexBuffer: make(bytes(m.indices), GPUBufferUsage.INDEX) };
+  });
+  const frames = plan_.frames.map(bytes);
+  for (const object of plan_.objects) {
+    const mesh = meshes[object.mesh];
+    const material = gpu.materials[object.material];
+    const shades = ['exact', ...object.methods];
+    const pipelines = shades.map((s) => gpu.pipeline(s, 'mesh'));
+    const targets = shades.map(() => target(device, plan_.resolution, plan.formats.float, true));
+    const buffer = device.createBuffer({ size: imageBytes * shades.length, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
+    const summaries = object.methods.map(() => new ErrorSummary());
+    for (const view of frames) {
+      checkLost();
+      device.queue.writeBuffer(material.view, 0, view);
+      const encoder = device.createCommandEncoder();
+      targets.forEach((t, i) => {
+        const pass = begin(encoder, t);
+        pass.setPipeline(pipelines[i]);
+        pass.setBindGroup(0, material.group);
+        pass.setVertexBuffer(0, mesh.vertexBuffer);
+        pass.setIndexBuffer(mesh.indexBuffer, 'uint32');
+        pass.drawIndexed(mesh.index_count);
+        pass.end();
+        copyOut(encoder, t, buffer, imageBytes * i);
+      });
+      device.queue.submit([encoder.finish()]);
+      const mapped = await readBuffer(buffer);
+      const reference = decode(mapped, 0, targets[0]);
+      summaries.forEach((s, m) => s.add(compare(decode(mapped, imageBytes * (m + 1), targets[m + 1]), reference)));
+      step(1, `image error: ${mesh.label} ${material.page}`);
+    }
+    object.methods.forEach((method, m) => {
+      const s = summaries[m];
+      result.image_errors.push({
+        material: material.page, method, object: mesh.label, frames: s.frames, resolution: resolutionText(plan_.resolution),
+        mean_rel_error: s.meanRelative(), max_rel_error: s.max_relative, pixels: s.pixels, skipped_zero_reference: s.skipped_zero_reference,
+      });
+    });
+    buffer.destroy();
+    targets.forEach((t) => t.colour.destroy());
+  }
+}
+
+// The cosθ ramp of `method` for material `index` (c = (x + ½)/width), read back: what the
+// tests compare with the native runner's render::ramp. `view` is the base64 `View` of a
+// fullscreen pass of width × height (web::fullscreen_view).
+function ramp(device, gpu) {
+  return async (index, method, width, height, view) => {
+    const material = gpu.materials[index];
+    const t = target(device, [width, height], plan.formats.float, false);
+    device.queue.writeBuffer(material.view, 0, bytes(view));
+    const buffer = device.createBuffer({ size: paddedRow(width, 16) * height, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
+    const encoder = device.createCommandEncoder();
+    const pass = begin(encoder, t);
+    pass.setPipeline(gpu.pipeline(method, 'full', plan.formats.float));
+    pass.setBindGroup(0, material.group);
+    pass.draw(3);
+    pass.end();
+    copyOut(encoder, t, buffer, 0);
+    device.queue.submit([encoder.finish()]);
+    return Array.from(decode(await readBuffer(buffer), 0, t));
+  };
+}
+
+// ---- results ------------------------------------------------------------------------------
+
+function cell(row, text) { const td = document.createElement('td'); td.textContent = text; row.appendChild(td); }
+
+function table(id, headers, rows) {
+  const t = $(id);
+  t.textContent = '';
+  const head = t.createTHead().insertRow();
+  for (const h of headers) { const th = document.createElement('th'); th.textContent = h; head.appendChild(th); }
+  const body = t.createTBody();
+  for (const r of rows) { const tr = body.insertRow(); for (const x of r) cell(tr, x); }
+}
+
+const fixed = (x, digits) => (x === null || x === undefined || !Number.isFinite(x) ? '—' : x.toFixed(digits));
+
+// The ratio of each row's median to exact's on the same material (none without exact).
+function ratios() {
+  return result.gpu_timing.map((r) => {
+    const exact = result.gpu_timing.find((x) => x.material === r.material && x.method === 'exact');
+    return { ...r, ratio: exact ? r.median_ms / exact.median_ms : null };
+  });
+}
+
+function chart(rows) {
+  const shown = rows.filter((r) => r.ratio !== null);
+  const svgNs = 'http://www.w3.org/2000/svg';
+  const barHeight = 18, left = 260, width = 640;
+  const largest = Math.max(1, ...shown.map((r) => r.ratio));
+  const svg = document.createElementNS(svgNs, 'svg');
+  svg.setAttribute('width', width); svg.setAttribute('height', shown.length * barHeight + 24);
+  svg.setAttribute('role', 'img'); svg.setAttribute('aria-label', 'pass time relative to exact per material and method');
+  shown.forEach((r, i) => {
+    const y = i * barHeight;
+    const label = document.createElementNS(svgNs, 'text');
+    label.setAttribute('x', left - 6); label.setAttribute('y', y + 13); label.setAttribute('text-anchor', 'end');
+    label.textContent = `${r.material} ${r.method}`;
+    const bar = document.createElementNS(svgNs, 'rect');
+    bar.setAttribute('x', left); bar.setAttribute('y', y + 2); bar.setAttribute('height', barHeight - 4);
+    bar.setAttribute('width', Math.max(1, ((width - left - 60) * r.ratio) / largest));
+    bar.setAttribute('class', r.method === 'exact' ? 'bar exact' : 'bar');
+    const value = document.createElementNS(svgNs, 'text');
+    value.setAttribute('x', left + Math.max(1, ((width - left - 60) * r.ratio) / largest) + 4); value.setAttribute('y', y + 13);
+    value.textContent = `${r.ratio.toFixed(2)}×`;
+    svg.append(label, bar, value);
+  });
+  $('chart').textContent = '';
+  $('chart').appendChild(svg);
+}
+
+function fileName() {
+  const slug = (result.adapter ? result.adapter.name : 'no-adapter').toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '');
+  return `device-${slug || 'adapter'}-${result.date.slice(0, 10)}.json`;
+}
+
+function publish() {
+  const rows = ratios();
+  table('timing', ['material', 'method', 'timer', 'median ms', 'IQR ms', '× exact', '× exact (dielectric)'],
+    rows.map((r) => [r.material, r.method, r.timer, fixed(r.median_ms, 4), fixed(r.spread_ms, 4), fixed(r.ratio, 3), fixed(r.relative_to_exact_dielectric, 3)]));
+  chart(rows);
+  table('errors', ['material', 'method', 'object', 'frames', 'mean rel. error', 'max rel. error', 'pixels'],
+    result.image_errors.map((r) => [r.material, r.method, r.object, String(r.frames), r.mean_rel_error === null ? '—' : r.mean_rel_error.toExponential(3), r.max_rel_error.toExponential(3), String(r.pixels)]));
+  table('modules', ['module', 'errors', 'warnings'], result.compile.map((c) => [c.module, String(c.errors.length), String(c.warnings.length)]));
+  $('skipped').textContent = '';
+  for (const s of result.skipped) { const li = document.createElement('li'); li.textContent = `Not measured here: ${s}`; $('skipped').appendChild(li); }
+  const json = JSON.stringify(result, null, 1);
+  const link = $('download');
+  link.href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
+  link.download = fileName();
+  $('results').hidden = false;
+}
+
+async function main() {
+  status('Opening the GPU…');
+  const { device, timestamps } = await openDevice();
+  device.lost.then((info) => { lost = `${info.reason}: ${info.message}`; });
+  device.addEventListener('uncapturederror', (event) => { lost = lost || `uncaptured error: ${event.error.message}`; });
+  status(`Compiling ${plan.modules.length + plan.checks.length} shader modules on ${result.adapter.name}…`);
+  const modules = await compileChecks(device);
+  const gpu = await scoped(device, 'creating the buffers, textures and pipelines', () => setup(device, modules));
+  window.nklut.ramp = ramp(device, gpu);
+  const total = (plan.timing ? (plan.timing.warmup + plan.timing.repeats) * plan.timing.pairs.length : 0)
+    + (plan.image_error ? plan.image_error.frames.length * plan.image_error.objects.length : 0);
+  let done = 0;
+  const step = (n, text) => { done += n; progress(done, total); status(`${text} (${done} of ${total} steps)`); };
+  if (plan.timing) await runTiming(device, timestamps, gpu, step);
+  if (plan.image_error) await runImageError(device, gpu, step);
+  checkLost();
+  result.complete = true;
+  status(`Done: ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
+}
+
+main()
+  .catch((error) => {
+    const text = error instanceof Problem ? error.message : `Unexpected error: ${error && error.message ? error.message : error}`;
+    result.incomplete = text;
+    window.nklut.error = text;
+    problem(text);
+    status('Stopped.');
+  })
+  .finally(() => {
+    if (result.adapter) publish();
+    window.nklut.done = true;
+  });

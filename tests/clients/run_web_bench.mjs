@@ -1,0 +1,112 @@
+// Runs a browser-bench page (`nklut gpu web SCENE`) in the system Chromium through
+// puppeteer-core and writes what it produced as JSON.
+//
+// Usage: node tests/clients/run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent]
+//            [--ramp INDEX,METHOD,WIDTH,HEIGHT,VIEW_BASE64] [--twin INPUT_JSON] [--timeout SECONDS]
+//
+//   --webgpu on      (default) WebGPU on SwiftShader: --enable-unsafe-webgpu
+//                    --use-webgpu-adapter=swiftshader (it grants timestamp-query)
+//   --webgpu off     no WebGPU flags: Chromium on Linux then gives no adapter
+//   --webgpu absent  navigator.gpu removed before the page's script runs
+//   --ramp           after the run, the page's read-back cosθ ramp of METHOD for material
+//                    INDEX (window.nklut.ramp), as `ramp` in the output
+//   --twin           a JSON file {"method": [...], "reference": [...], "samples": [...]}: the
+//                    page's twins of image_error::compare and stats::median_and_iqr on it,
+//                    as `twin` in the output
+//
+// The output holds `result` (the page's result JSON, what its download link offers),
+// `download` (the link's file name), `problem` (the text of the page's problem box, null if
+// hidden), `status`, `tables` (the cell texts of the page's result tables by id) and the
+// optional `ramp` and `twin`. The page is opened from file://, nothing is fetched; the
+// browser profile is a fresh temporary folder, removed at the end. Exits 1 with a message
+// on a browser or timeout failure (default --timeout 300 s).
+
+import { createRequire } from 'node:module';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = resolve(here, '..', '..');
+const deps = process.env.NKLUT_TEST_DEPS ? resolve(process.env.NKLUT_TEST_DEPS) : join(root, '.test-deps');
+const chromiumPath = process.env.NKLUT_CHROMIUM || '/usr/bin/chromium';
+
+function fail(message) {
+  console.error(`run_web_bench: ${message}`);
+  process.exit(1);
+}
+
+const args = process.argv.slice(2);
+if (args.length < 2) fail('usage: run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent] [--ramp ...] [--twin FILE] [--timeout S]');
+const [pagePath, outPath] = args;
+const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0 && i + 1 < args.length ? args[i + 1] : fallback; };
+const webgpu = option('--webgpu', 'on');
+const rampSpec = option('--ramp', null);
+const twinFile = option('--twin', null);
+const timeoutMs = Number(option('--timeout', '300')) * 1000;
+
+const require = createRequire(join(deps, 'npm', 'node_modules', 'noop.js'));
+let puppeteer;
+try {
+  puppeteer = require('puppeteer-core');
+} catch (error) {
+  fail(`puppeteer-core is not installed under ${deps}/npm (scripts/test-deps installs it): ${error.message}`);
+}
+
+const profile = mkdtempSync(join(tmpdir(), 'nklut-web-bench-'));
+const flags = ['--no-sandbox', '--no-first-run', '--no-default-browser-check', `--user-data-dir=${profile}`];
+if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
+const browser = await puppeteer.launch({ executablePath: chromiumPath, headless: true, args: flags, pipe: true });
+const timer = setTimeout(async () => {
+  await browser.close().catch(() => {});
+  rmSync(profile, { recursive: true, force: true });
+  fail(`the page did not finish within ${timeoutMs / 1000} s`);
+}, timeoutMs);
+try {
+  const page = await browser.newPage();
+  const console_ = [];
+  page.on('console', (m) => console_.push(`${m.type()}: ${m.text()}`));
+  page.on('pageerror', (e) => console_.push(`pageerror: ${e.message}`));
+  if (webgpu === 'absent') {
+    await page.evaluateOnNewDocument(() => { Object.defineProperty(Navigator.prototype, 'gpu', { get: () => undefined, configurable: true }); });
+  }
+  await page.goto(pathToFileURL(resolve(pagePath)).href);
+  await page.waitForFunction('window.nklut && window.nklut.done === true', { timeout: timeoutMs, polling: 250 });
+  const out = await page.evaluate(() => {
+    const texts = (id) => [...document.querySelectorAll(`#${id} tr`)].map((tr) => [...tr.children].map((c) => c.textContent));
+    const problem = document.getElementById('problem');
+    return {
+      result: window.nklut.result,
+      download: document.getElementById('download').getAttribute('download'),
+      problem: problem.hidden ? null : problem.textContent,
+      status: document.getElementById('status').textContent,
+      tables: { timing: texts('timing'), errors: texts('errors'), modules: texts('modules') },
+      chart_bars: document.querySelectorAll('#chart rect').length,
+    };
+  });
+  if (rampSpec) {
+    const [index, method, width, height, view] = rampSpec.split(',');
+    out.ramp = await page.evaluate((i, m, w, h, v) => window.nklut.ramp(i, m, w, h, v), Number(index), method, Number(width), Number(height), view);
+  }
+  if (twinFile) {
+    const input = JSON.parse(readFileSync(twinFile, 'utf8'));
+    out.twin = await page.evaluate((input) => {
+      const t = window.nklut.twins;
+      const summary = new t.ErrorSummary();
+      const frame = t.compare(input.method, input.reference);
+      summary.add(frame);
+      summary.add(t.compare(input.reference, input.reference));
+      const [median, iqr] = t.medianAndIqr(input.samples);
+      return { frame, summary_mean: summary.meanRelative(), median, iqr };
+    }, input);
+  }
+  out.console = console_;
+  writeFileSync(outPath, JSON.stringify(out));
+} catch (error) {
+  fail(error.message);
+} finally {
+  clearTimeout(timer);
+  await browser.close().catch(() => {});
+  rmSync(profile, { recursive: true, force: true });
+}
