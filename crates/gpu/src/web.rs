@@ -330,9 +330,9 @@ mod tests {
     #[test]
     fn the_plan_holds_the_runner_s_modules_and_bytes() {
         let scene = scene(
-            "resolution: [32, 16]\ncamera: {axis: [0, 1, 0], distance: 3, frames: 2}\nobjects:\n  - {mesh: cube, material: g, methods: [schlick, lut]}\nmeasurements: [timing, image_error]\ntiming: {resolution: [64, 8], warmup: 1, repeats: 3}\nlut: {size: 16}\n",
+            "resolution: [32, 16]\ncamera: {axis: [0, 1, 0], distance: 3, frames: 2}\nobjects:\n  - {mesh: cube, material: t/m/g, methods: [schlick, lut]}\nmeasurements: [timing, image_error]\ntiming: {resolution: [64, 8], warmup: 1, repeats: 3}\nlut: {size: 16}\n",
         );
-        let material = SceneMaterial::new("g", [Index::new(0.2, 3.0), Index::new(0.5, 2.5), Index::new(1.3, 1.9)], Kind::Conductor);
+        let material = SceneMaterial::new("t/m/g", [Index::new(0.2, 3.0), Index::new(0.5, 2.5), Index::new(1.3, 1.9)], Kind::Conductor);
         let bench = plan(&scene, std::slice::from_ref(&material)).unwrap();
         assert_eq!(bench.scene, "tiny");
         // The F-only pass per shading, exact added as the image-error reference.
@@ -364,11 +364,11 @@ mod tests {
 
     #[test]
     fn the_page_cannot_be_closed_by_the_plan_s_text() {
-        let scene = scene("objects:\n  - {mesh: cube, material: \"a</script><b>\", methods: [schlick]}\nmeasurements: [timing]\n");
-        let material = SceneMaterial::new("a</script><b>", [Index::new(1.5, 0.0); 3], Kind::Dielectric);
+        let scene = scene("objects:\n  - {mesh: cube, material: \"t/x/a<!--<script>\", methods: [schlick]}\nmeasurements: [timing]\n");
+        let material = SceneMaterial::new("t/x/a<!--<script>", [Index::new(1.5, 0.0); 3], Kind::Dielectric);
         let html = page(&plan(&scene, &[material]).unwrap()).unwrap();
         assert_eq!(html.matches("</script>").count(), html.matches("<script").count());
-        assert!(html.contains("a\\u003c/script>\\u003cb>"));
+        assert!(html.contains("a\\u003c!--\\u003cscript>"));
         assert!(!html.contains("{{"), "every placeholder filled");
     }
 }

@@ -1,0 +1,263 @@
+//! The browser bench (`nklut gpu web`) in a real browser: the page of a small scene runs in
+//! the system Chromium's WebGPU on SwiftShader (tests/clients/run_web_bench.mjs drives it
+//! through puppeteer-core), and what it measures is held to the native runner on this
+//! machine's Vulkan adapter (lavapipe): every module compiles without a message, every timed
+//! pair has a positive median, each method's image error against `exact` agrees with the
+//! native runner's, and the page's read-back F ramp equals `render::ramp`'s. The page's
+//! twins of `image_error::compare` and `stats::median_and_iqr` are run on a hand-made
+//! input beside the Rust functions, and the failure paths show their messages: no
+//! adapter, no `navigator.gpu`, a scene over the adapter's `maxBufferSize`.
+//!
+//! Chromium and puppeteer-core come from `scripts/test-deps` (`make test`); without them
+//! these tests fail unless NKLUT_SKIP_VALIDATOR_TESTS=1. No adapter for the native side is
+//! a failure unless NKLUT_SKIP_GPU_TESTS=1 (as tests/gpu.rs).
+#![cfg(feature = "gpu")]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use common::scratch;
+use nklut::gpu::params::{self, MaterialUniform};
+use nklut::gpu::render::{self, Renderer};
+use nklut::gpu::{self, lut, web, RunStats};
+use nklut::scene::{Scene, SceneMaterial, Shading};
+use nklut::spectrum::{ChannelIndex, Index, Kind};
+use serde_json::Value;
+
+const GOLDISH: ChannelIndex = [Index::new(0.16, 3.8), Index::new(0.5, 2.3), Index::new(1.2, 1.8)];
+const WATER: ChannelIndex = [Index::new(1.331, 0.0), Index::new(1.336, 0.0), Index::new(1.338, 0.0)];
+
+const SCENE: &str = "resolution: [96, 96]
+camera: {axis: [1, 1, 1], distance: 2.0, frames: 4, degrees_per_frame: 20, fov_y_degrees: 60}
+objects:
+  - {mesh: cube, material: test/metals/goldish, methods: [exact, schlick, lut, nvidia, constant, texture]}
+  - {mesh: sphere, material: test/liquids/water, methods: [exact, schlick, lazanyi, lut]}
+measurements: [timing, image_error]
+timing: {resolution: [256, 64], warmup: 2, repeats: 6}
+lut: {size: 64}
+";
+
+const RAMP: [u32; 2] = [256, 2];
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn materials() -> Vec<SceneMaterial> {
+    vec![SceneMaterial::new("test/metals/goldish", GOLDISH, Kind::Conductor), SceneMaterial::new("test/liquids/water", WATER, Kind::Dielectric)]
+}
+
+fn scene(text: &str) -> Scene {
+    Scene::parse(text, Path::new("web-test.yaml")).unwrap()
+}
+
+fn skip_browser(reason: &str) -> bool {
+    if std::env::var("NKLUT_SKIP_VALIDATOR_TESTS").as_deref() == Ok("1") {
+        eprintln!("browser bench test skipped (NKLUT_SKIP_VALIDATOR_TESTS=1): {reason}");
+        return true;
+    }
+    false
+}
+
+/// Write the page of `text` and run it with `args`; the runner's output JSON.
+fn run_page(name: &str, text: &str, args: &[String]) -> Result<Option<Value>, String> {
+    let deps = std::env::var_os("NKLUT_TEST_DEPS").map(PathBuf::from).unwrap_or_else(|| root().join(".test-deps"));
+    let puppeteer = deps.join("npm/node_modules/puppeteer-core/package.json");
+    if !puppeteer.exists() {
+        let reason = format!("{} is missing: run `bash scripts/test-deps` (make test does)", puppeteer.display());
+        return if skip_browser(&reason) { Ok(None) } else { Err(reason) };
+    }
+    let dir = scratch(name);
+    let html = web::page(&web::plan(&scene(text), &materials()).map_err(|e| format!("{e:#}"))?).map_err(|e| format!("{e:#}"))?;
+    let page = dir.join("page.html");
+    std::fs::write(&page, html).map_err(|e| e.to_string())?;
+    let out = dir.join("out.json");
+    let output = Command::new("node")
+        .arg(root().join("tests/clients/run_web_bench.mjs"))
+        .arg(&page)
+        .arg(&out)
+        .args(args)
+        .env("NKLUT_TEST_DEPS", &deps)
+        .output()
+        .map_err(|e| format!("node (scripts/test-deps installs it): {e}"))?;
+    if !output.status.success() {
+        return Err(format!("run_web_bench failed: {}", String::from_utf8_lossy(&output.stderr)));
+    }
+    let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
+    serde_json::from_str(&text).map(Some).map_err(|e| e.to_string())
+}
+
+/// The twin input: the hand-made frame of `image_error`'s unit test and a sample list.
+const TWIN_METHOD: [f32; 8] = [0.55, 0.25, 0.1, 1.0, 0.0, 0.0, 0.0, 0.0];
+const TWIN_REFERENCE: [f32; 8] = [0.5, 0.25, 0.0, 1.0, 9.0, 9.0, 9.0, 0.0];
+const TWIN_SAMPLES: [f64; 6] = [5.0, 1.0, 3.0, 2.0, 4.0, 9.5];
+
+/// The page run of [`SCENE`] on SwiftShader with the ramp of `lut` and the twins, once.
+fn main_run() -> &'static Result<Option<Value>, String> {
+    static RUN: OnceLock<Result<Option<Value>, String>> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let dir = scratch("web-twin");
+        let twin = dir.join("twin.json");
+        let input = serde_json::json!({"method": TWIN_METHOD, "reference": TWIN_REFERENCE, "samples": TWIN_SAMPLES});
+        std::fs::write(&twin, input.to_string()).map_err(|e| e.to_string())?;
+        let ramp = format!("0,lut,{},{},{}", RAMP[0], RAMP[1], web::fullscreen_view(RAMP[0], RAMP[1]));
+        run_page("web-bench", SCENE, &["--ramp".into(), ramp, "--twin".into(), twin.display().to_string()])
+    })
+}
+
+fn page_output() -> Option<&'static Value> {
+    match main_run() {
+        Ok(value) => value.as_ref(),
+        Err(error) => panic!("{error}"),
+    }
+}
+
+fn number(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+#[test]
+fn every_module_compiles_and_every_pair_is_timed() {
+    let Some(out) = page_output() else { return };
+    let result = &out["result"];
+    assert_eq!(out["problem"], Value::Null, "{out}");
+    assert_eq!(result["complete"], true);
+    assert_eq!(result["format"], web::FORMAT);
+    // Every module of every pass, compiled unchanged: no error, no warning.
+    let plan = web::plan(&scene(SCENE), &materials()).unwrap();
+    let compiled = result["compile"].as_array().unwrap();
+    assert_eq!(compiled.len(), plan.modules.len() + plan.checks.len());
+    for module in compiled {
+        assert_eq!(module["errors"].as_array().unwrap().len(), 0, "{module}");
+        assert_eq!(module["warnings"].as_array().unwrap().len(), 0, "{module}");
+    }
+    // SwiftShader grants timestamp queries; one row per (material, method), positive.
+    let rows = result["gpu_timing"].as_array().unwrap();
+    let pairs = scene(SCENE).material_shadings();
+    assert_eq!(rows.len(), pairs.len());
+    for (row, (material, method)) in rows.iter().zip(&pairs) {
+        assert_eq!((row["material"].as_str(), row["method"].as_str()), (Some(material.as_str()), Some(method.name())));
+        assert_eq!(row["timer"], "timestamp");
+        assert_eq!(row["repeats"], 6);
+        assert!(number(&row["median_ms"]) > 0.0, "{row}");
+        assert!(number(&row["spread_ms"]) >= 0.0, "{row}");
+        // The keys are the native table's columns.
+        let keys: Vec<&str> = row.as_object().unwrap().keys().map(String::as_str).collect();
+        let mut columns: Vec<&str> = plan.columns.gpu_timing.iter().map(String::as_str).collect();
+        let mut sorted_keys = keys.clone();
+        sorted_keys.sort();
+        columns.sort();
+        assert_eq!(sorted_keys, columns);
+    }
+    // The study's normalisation: exact on water (the dielectric) is 1.
+    let water_exact = rows.iter().find(|r| r["material"] == "test/liquids/water" && r["method"] == "exact").unwrap();
+    assert!((number(&water_exact["relative_to_exact_dielectric"]) - 1.0).abs() < 1e-12);
+    // The page shows a row per pair and a bar per ratio, and names its download.
+    assert_eq!(out["tables"]["timing"].as_array().unwrap().len(), rows.len() + 1);
+    assert_eq!(out["chart_bars"].as_u64(), Some(rows.len() as u64));
+    let download = out["download"].as_str().unwrap();
+    assert!(download.starts_with("device-google-swiftshader-") && download.ends_with(".json"), "{download}");
+}
+
+#[test]
+fn the_page_s_twins_equal_the_rust_functions() {
+    let Some(out) = page_output() else { return };
+    let twin = &out["twin"];
+    let frame = gpu::image_error::compare(&TWIN_METHOD, &TWIN_REFERENCE);
+    assert_eq!(twin["frame"]["pixels"].as_u64(), Some(frame.pixels));
+    assert_eq!(twin["frame"]["samples"].as_u64(), Some(frame.samples));
+    assert_eq!(twin["frame"]["skipped_zero_reference"].as_u64(), Some(frame.skipped_zero_reference));
+    // f32 inputs: JavaScript's doubles of the same f32 values, the same operations.
+    assert!((number(&twin["frame"]["sum_relative"]) - frame.sum_relative).abs() < 1e-12);
+    assert!((number(&twin["frame"]["max_relative"]) - frame.max_relative).abs() < 1e-12);
+    let mut summary = gpu::image_error::ErrorSummary::default();
+    summary.add(&frame);
+    summary.add(&gpu::image_error::compare(&TWIN_REFERENCE, &TWIN_REFERENCE));
+    assert!((number(&twin["summary_mean"]) - summary.mean_relative().unwrap()).abs() < 1e-12);
+    // Hand-derived: sorted 1 2 3 4 5 9.5 → median 3.5, q25 = 2.25, q75 = 4.75.
+    let (median, iqr) = nklut::gpu::timing::median_and_iqr(&TWIN_SAMPLES);
+    assert_eq!((median, iqr), (3.5, 2.5));
+    assert_eq!((number(&twin["median"]), number(&twin["iqr"])), (median, iqr));
+}
+
+/// The native runner's image errors and ramp on this machine's adapter, for comparison.
+#[test]
+fn image_errors_and_the_ramp_agree_with_the_native_runner() {
+    let Some(out) = page_output() else { return };
+    let gpu = match gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref()) {
+        Ok(gpu) => gpu,
+        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+            eprintln!("GPU comparison skipped (NKLUT_SKIP_GPU_TESTS=1): {error:#}");
+            return;
+        }
+        Err(error) => panic!("no GPU adapter for the native side: {error:#} (apt-get install mesa-vulkan-drivers)"),
+    };
+    let mut image_error_scene = scene(SCENE);
+    image_error_scene.experiments = vec![nklut::scene::Experiment::ImageError];
+    let native = gpu::run_with_materials(&image_error_scene, &materials(), &gpu, RunStats::default(), &mut |_| {}).unwrap();
+    let page_rows = out["result"]["image_errors"].as_array().unwrap();
+    assert_eq!(page_rows.len(), native.image_errors.len());
+    let mut report = Vec::new();
+    for (page, native) in page_rows.iter().zip(&native.image_errors) {
+        assert_eq!(page["method"].as_str(), Some(native.method.name()));
+        assert_eq!(page["object"].as_str(), Some(native.object.as_str()));
+        assert_eq!(page["frames"].as_u64(), Some(native.frames as u64));
+        // Coverage: the two rasterisers may differ on edge pixels only (top-left rule, f32
+        // vertex transforms): within 1 % of the covered pixels.
+        let pixels = page["pixels"].as_u64().unwrap() as f64;
+        assert!((pixels - native.pixels as f64).abs() <= 0.01 * native.pixels as f64, "{page} vs {native:?}");
+        // The mean relative error of each method against exact: within 2 % of the native
+        // figure (1e-6 absolute for exact against itself). The two drivers rasterise the
+        // same f32 vertices with their own f32 maths (exp2/log2, sqrt), and the edge pixels
+        // they cover differ; measured here (SwiftShader against lavapipe): 1 % at most, on
+        // the sphere's `lut`, whose error (4.6e-4) is itself f32 and half-float noise; the
+        // analytic methods agree to 0.1 %.
+        let (p, n) = (page["mean_rel_error"].as_f64().unwrap(), native.mean_rel_error.unwrap());
+        report.push(format!("{} {}: page {p:.4e} native {n:.4e}", native.object, native.method));
+        assert!((p - n).abs() <= 0.02 * n + 1e-6, "{}", report.join("\n"));
+    }
+    eprintln!("{}", report.join("\n"));
+
+    // The read-back ramp of `lut` for the first material, texel for texel against the
+    // native render::ramp of the same uniform and texture.
+    let mut renderer = Renderer::new(&gpu);
+    let prepared = params::prepare(&GOLDISH);
+    let texture = lut::upload(&gpu, &lut::texels(&prepared, 64), "goldish");
+    let view = texture.create_view(&Default::default());
+    let binding = renderer.bind(&gpu, &MaterialUniform::from_prepared(&prepared), Some(&view)).unwrap();
+    let native_ramp = render::ramp(&gpu, &mut renderer, Shading::Fresnel(nklut::fresnel::Method::Lut), &binding, RAMP[0], RAMP[1]).unwrap();
+    let page_ramp: Vec<f64> = out["ramp"].as_array().unwrap().iter().map(number).collect();
+    assert_eq!(page_ramp.len(), native_ramp.len());
+    let worst = page_ramp.iter().zip(&native_ramp).map(|(p, n)| (p - *n as f64).abs()).fold(0.0, f64::max);
+    // The same uniform, texture and sampler through the same WGSL: measured equal to the
+    // bit between SwiftShader and lavapipe; held to 1e-6 (a few f32 steps at F ≤ 1), which
+    // leaves room for one rounding of the linear filter's weights and nothing more.
+    eprintln!("ramp: largest |page − native| = {worst:.3e}");
+    assert!(worst <= 1e-6, "largest ramp difference {worst}");
+}
+
+#[test]
+fn no_adapter_and_no_webgpu_each_say_what_is_missing() {
+    let Ok(Some(off)) = run_page("web-off", SCENE, &["--webgpu".into(), "off".into()]).map_err(|e| panic!("{e}")) else { return };
+    let text = off["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {off}"));
+    assert!(text.contains("requestAdapter() returned no adapter"), "{text}");
+    assert_eq!(off["result"]["complete"], false);
+    let Ok(Some(absent)) = run_page("web-absent", SCENE, &["--webgpu".into(), "absent".into()]).map_err(|e| panic!("{e}")) else { return };
+    let text = absent["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {absent}"));
+    assert!(text.contains("navigator.gpu is missing"), "{text}");
+}
+
+#[test]
+fn a_scene_over_the_adapter_s_buffer_limit_names_the_limit() {
+    // The cube's readback: exact and its six methods, seven 8192² RGBA32Float images in one
+    // buffer (7 GiB), over SwiftShader's 1 GiB; checked before anything is allocated.
+    let text = SCENE.replace("resolution: [96, 96]", "resolution: [8192, 8192]");
+    let Ok(Some(out)) = run_page("web-limit", &text, &[]).map_err(|e| panic!("{e}")) else { return };
+    let problem = out["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {out}"));
+    let asked = 8192u64 * 16 * 8192 * 7;
+    assert!(problem.contains("maxBufferSize") && problem.contains(&asked.to_string()), "{problem}");
+    assert_eq!(out["result"]["gpu_timing"].as_array().unwrap().len(), 0);
+}
