@@ -20,7 +20,7 @@ else
 SELECT    := --shelf 3d
 endif
 
-.PHONY: all db build luts test test-deps test-blender bench gpu effects report clean
+.PHONY: all db build luts test test-deps test-blender bench gpu web effects report clean
 
 all: luts
 
@@ -111,6 +111,14 @@ gpu: db
 	for scene in $(GPU_EFFECTS_SCENES); do \
 	  $(NKLUT) --db $(DB) --out $(OUT)/gpu-$$scene gpu run scenes/$$scene.yaml || exit 1; \
 	done
+
+# The browser bench: one self-contained page per scene (output/web/<scene>.html) that runs
+# the scene's F-only measurements in any WebGPU browser and offers its result as JSON for
+# benchmarks/devices/ (README, "The browser bench").
+WEB_SCENES ?= scenes/default.yaml
+web: db
+	$(CARGO) build --release --features gpu
+	$(NKLUT) --db $(DB) --out $(OUT) gpu web $(WEB_SCENES)
 
 # The effects scenes on the CPU, one output folder each (output/<scene>/): multiple
 # reflections and refractions (the f64 reference and the distance-map twin per Fresnel

@@ -868,3 +868,100 @@ fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
         screenshot(&page, &profile, &artefacts.join(format!("effects-{}.png", section.id)), (1400, 1400), section.top);
     }
 }
+
+/// Reads the cross-device tables off the rendered effects page: the per-device-and-method
+/// rows and the study-form rows, cell texts.
+const DEVICES_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const rows=(c)=>[...document.querySelectorAll(`table.${c} tbody tr`)].map(tr=>[...tr.children].map(td=>td.textContent));
+const out={methods:rows('device-methods'),study:rows('study-form')};
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+/// The median of `values` (mean of the middle two), computed here apart from the report.
+fn median_of(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        (values[n / 2 - 1] + values[n / 2]) / 2.0
+    }
+}
+
+/// The committed device results (`benchmarks/devices/`: lavapipe through the native runner,
+/// SwiftShader through the browser bench) in the report's cross-device section, read off the
+/// page Chromium rendered: one row per device and method, and each ratio equal to the one
+/// computed here from the input files (CSV and the browser's JSON) to the 3 digits shown.
+#[test]
+fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
+    let out = scratch("report-devices");
+    stages(&out, &["3d/metals/gold", "3d/liquids/water", "3d/crystals/diamond"], &[]);
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices");
+    // Per device, method → the pass times of its rows, from the files themselves.
+    let mut expected: BTreeMap<String, BTreeMap<String, Vec<f64>>> = BTreeMap::new();
+    let mut sources = 0;
+    for entry in fs::read_dir(&committed).unwrap().flatten() {
+        let path = entry.path();
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let times = expected.entry(name.clone()).or_default();
+        if path.is_dir() {
+            let mut reader = csv::Reader::from_path(path.join("gpu_timing.csv")).unwrap();
+            let headers = reader.headers().unwrap().clone();
+            let at = |h: &str| headers.iter().position(|x| x == h).unwrap();
+            let (method, median) = (at("method"), at("median_ms"));
+            for record in reader.records() {
+                let record = record.unwrap();
+                times.entry(record[method].to_string()).or_default().push(record[median].parse().unwrap());
+            }
+            sources += 1;
+        } else if path.extension().is_some_and(|x| x == "json") {
+            let result: serde_json::Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+            assert_eq!(result["complete"], true, "{name}");
+            for row in result["gpu_timing"].as_array().unwrap() {
+                times.entry(row["method"].as_str().unwrap().to_string()).or_default().push(row["median_ms"].as_f64().unwrap());
+            }
+            sources += 1;
+        } else {
+            expected.remove(&name);
+        }
+    }
+    assert!(sources >= 2, "a native and a browser result are committed");
+    let folder = out.join("devices");
+    fs::create_dir_all(&folder).unwrap();
+    for entry in fs::read_dir(&committed).unwrap().flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            fs::create_dir_all(folder.join(entry.file_name())).unwrap();
+            for file in fs::read_dir(&path).unwrap().flatten() {
+                fs::copy(file.path(), folder.join(entry.file_name()).join(file.file_name())).unwrap();
+            }
+        } else if path.extension().is_some_and(|x| x == "json") {
+            fs::copy(&path, folder.join(entry.file_name())).unwrap();
+        }
+    }
+    let output = nklut(&out, &["report", "--page", "3d/metals/gold", "--page", "3d/liquids/water", "--page", "3d/crystals/diamond"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let json = audit_json(&out.join("report/effects.html"), &out.join("profile"), DEVICES_SCRIPT, 1400);
+    let seen: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let rows = seen["methods"].as_array().unwrap();
+    let shown: usize = expected.values().map(|methods| methods.len()).sum();
+    assert_eq!(rows.len(), shown, "one row per device and method: {rows:?}");
+    for row in rows {
+        let cells: Vec<&str> = row.as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+        let (device, method) = (cells[0], cells[3]);
+        let times = &expected[device];
+        let ms = median_of(times[method].clone());
+        let close = |shown: &str, want: f64| {
+            let value: f64 = shown.parse().unwrap_or_else(|_| panic!("{device} {method}: {shown:?}"));
+            assert!((value - want).abs() <= 5e-3 * want.abs() + 1e-4, "{device} {method}: shown {value}, files give {want}");
+        };
+        close(cells[4], ms);
+        close(cells[5], ms / median_of(times["exact"].clone()));
+        if let Some(fetch) = times.get("texture") {
+            close(cells[6], ms / median_of(fetch.clone()));
+        }
+        assert_eq!(cells[1].starts_with("browser"), !committed.join(device).is_dir(), "{device}: source {}", cells[1]);
+    }
+    // The study's form: its five devices, then one row per device measured here.
+    let study = seen["study"].as_array().unwrap();
+    let ours: Vec<&str> = study.iter().filter(|r| r[2] == "measured here").map(|r| r[0].as_str().unwrap()).collect();
+    assert_eq!(ours, expected.keys().map(String::as_str).collect::<Vec<_>>());
+}

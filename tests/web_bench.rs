@@ -47,7 +47,10 @@ fn root() -> &'static Path {
 }
 
 fn materials() -> Vec<SceneMaterial> {
-    vec![SceneMaterial::new("test/metals/goldish", GOLDISH, Kind::Conductor), SceneMaterial::new("test/liquids/water", WATER, Kind::Dielectric)]
+    vec![
+        SceneMaterial::new("test/metals/goldish", GOLDISH, Kind::Conductor),
+        SceneMaterial::new("test/liquids/water", WATER, Kind::Dielectric),
+    ]
 }
 
 fn scene(text: &str) -> Scene {

@@ -57,7 +57,7 @@ try {
 const profile = mkdtempSync(join(tmpdir(), 'nklut-web-bench-'));
 const flags = ['--no-sandbox', '--no-first-run', '--no-default-browser-check', `--user-data-dir=${profile}`];
 if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
-const browser = await puppeteer.launch({ executablePath: chromiumPath, headless: true, args: flags, pipe: true });
+const browser = await puppeteer.launch({ executablePath: chromiumPath, headless: true, args: flags, pipe: true, protocolTimeout: timeoutMs });
 const timer = setTimeout(async () => {
   await browser.close().catch(() => {});
   rmSync(profile, { recursive: true, force: true });
@@ -72,7 +72,15 @@ try {
     await page.evaluateOnNewDocument(() => { Object.defineProperty(Navigator.prototype, 'gpu', { get: () => undefined, configurable: true }); });
   }
   await page.goto(pathToFileURL(resolve(pagePath)).href);
-  await page.waitForFunction('window.nklut && window.nklut.done === true', { timeout: timeoutMs, polling: 250 });
+  // Poll (rather than one long waitForFunction, which a busy page can outlast the
+  // protocol's timeout in); the page's status line goes to stderr every 30 s.
+  let said = 0;
+  for (;;) {
+    const state = await page.evaluate(() => ({ done: Boolean(window.nklut && window.nklut.done), status: document.getElementById('status')?.textContent }));
+    if (state.done) break;
+    if (Date.now() - said > 30000) { console.error(`run_web_bench: ${state.status}`); said = Date.now(); }
+    await new Promise((r) => setTimeout(r, 250));
+  }
   const out = await page.evaluate(() => {
     const texts = (id) => [...document.querySelectorAll(`#${id} tr`)].map((tr) => [...tr.children].map((c) => c.textContent));
     const problem = document.getElementById('problem');
@@ -104,7 +112,7 @@ try {
   out.console = console_;
   writeFileSync(outPath, JSON.stringify(out));
 } catch (error) {
-  fail(error.message);
+  fail(error.stack || error.message);
 } finally {
   clearTimeout(timer);
   await browser.close().catch(() => {});

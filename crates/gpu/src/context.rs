@@ -81,6 +81,9 @@ pub fn backends() -> Vec<(&'static str, wgpu::Backend)> {
     if cfg!(windows) {
         compiled.push(("dx12", wgpu::Backend::Dx12));
     }
+    if cfg!(any(target_os = "linux", target_os = "android")) {
+        compiled.push(("gl", wgpu::Backend::Gl));
+    }
     compiled
 }
 

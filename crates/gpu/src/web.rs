@@ -148,11 +148,13 @@ fn half_texels(texels: &[[f32; 4]]) -> String {
 /// The plan of `scene` with its materials' channel indices (`materials`, as the native
 /// runner takes them); meshes are read here.
 pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
-    let page_index = |page: &str| {
-        materials.iter().position(|m| m.page == page).ok_or_else(|| anyhow!("scene material {page} was not read"))
+    let page_index =
+        |page: &str| materials.iter().position(|m| m.page == page).ok_or_else(|| anyhow!("scene material {page} was not read"));
+    let wants_lut = |page: &str| {
+        scene
+            .specular_objects()
+            .any(|(_, s)| s.material == page && s.shadings.iter().any(|m| matches!(m, Shading::Fresnel(Method::Lut) | Shading::Texture)))
     };
-    let wants_lut =
-        |page: &str| scene.specular_objects().any(|(_, s)| s.material == page && s.shadings.iter().any(|m| matches!(m, Shading::Fresnel(Method::Lut) | Shading::Texture)));
     let material_plans = materials
         .iter()
         .map(|SceneMaterial { page, optics }| {
@@ -175,7 +177,8 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     if scene.wants(Experiment::Timing) && scene.timing.subtract {
         shades.push(Shade::Burner);
     }
-    let modules = shades.iter().map(|&shade| Ok(ModulePlan { name: shade.name(), wgsl: render::compose(shade)? })).collect::<Result<_>>()?;
+    let modules =
+        shades.iter().map(|&shade| Ok(ModulePlan { name: shade.name(), wgsl: render::compose(shade)? })).collect::<Result<_>>()?;
 
     let timing = scene.wants(Experiment::Timing).then(|| -> Result<TimingPlan> {
         let [width, height] = scene.timing.resolution;

@@ -29,6 +29,13 @@ pub struct CsvTable {
 }
 
 impl CsvTable {
+    /// A table of `headers` and text `rows` (each as long as `headers`) read from
+    /// elsewhere than a CSV file (the browser bench's JSON).
+    pub fn from_rows(headers: Vec<String>, rows: Vec<Vec<String>>) -> Self {
+        let index = headers.iter().enumerate().map(|(i, h)| (h.clone(), i)).collect();
+        Self { headers, rows, index }
+    }
+
     pub fn parse(bytes: &[u8]) -> Result<Self> {
         let mut reader = csv::Reader::from_reader(bytes);
         let headers: Vec<String> = reader.headers()?.iter().map(str::to_string).collect();

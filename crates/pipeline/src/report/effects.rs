@@ -698,7 +698,7 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
                 .collect(),
         );
     }
-    let software = |a: &String| ["llvmpipe", "lavapipe", "SwiftShader"].iter().any(|s| a.contains(s));
+    let software = |a: &String| ["llvmpipe", "lavapipe", "swiftshader"].iter().any(|s| a.to_lowercase().contains(s));
     let caveat = if adapters.iter().all(software) {
         " Every device here is a CPU rasteriser: these are ratios between methods, not what a method costs on a GPU; no GPU has been measured yet."
     } else {
@@ -710,9 +710,57 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
         escape(&adapters.join("; ")),
         table.html("devices")
     );
+    device_methods(html, inputs);
     image_errors_across(html, inputs);
     study_form(html, inputs);
     html.push_str("</section>\n");
+}
+
+/// Per device and method: the median pass time over its materials, its ratio to exact's and
+/// to the bare texture fetch's (the `texture` baseline: what a pass costs that only reads a
+/// texel) on the same device, and the mean image error against exact; with where the result
+/// came from (native tables or a browser's result file). One row per device and method.
+fn device_methods(html: &mut String, inputs: &Inputs) {
+    let headers = ["device", "source", "timer", "method", "median ms", "× exact", "× texture fetch", "image error"];
+    let mut table = TableText::new(&headers);
+    for (device, tables) in &inputs.devices {
+        let timing = &tables.timing;
+        let median_of = |method: &str| -> Option<f64> {
+            median(&timing.rows_where("method", method).filter_map(|r| timing.number(r, "median_ms")).collect::<Vec<_>>())
+        };
+        let (exact, fetch) = (median_of("exact"), median_of("texture"));
+        let mut methods: Vec<&str> = Vec::new();
+        for row in &timing.rows {
+            let method = timing.text(row, "method");
+            if !methods.contains(&method) {
+                methods.push(method);
+            }
+        }
+        let timer = timing.rows.first().map(|r| timing.text(r, "timer").to_string()).unwrap_or_default();
+        for method in methods {
+            let Some(ms) = median_of(method) else { continue };
+            let ratio = |anchor: Option<f64>| anchor.filter(|a| *a > 0.0).map_or("–".to_string(), |a| number(ms / a));
+            let error = tables.image_errors.as_ref().and_then(|errors| {
+                let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
+                (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+            });
+            table.row(vec![
+                device.clone(),
+                tables.source.clone(),
+                timer.clone(),
+                method.to_string(),
+                format!("{ms:.4}"),
+                ratio(exact),
+                ratio(fetch),
+                error.map_or("–".to_string(), percent),
+            ]);
+        }
+    }
+    let _ = writeln!(
+        html,
+        "<h3>Per device and method</h3><p>Median pass time over the materials each device timed, relative to exact and to the bare texture fetch (<code>texture</code>) on the same device, and the mean image error against exact; – where the device measured no anchor. Browser results come from <code>nklut gpu web</code>'s page.</p>{}",
+        table.html("device-methods")
+    );
 }
 
 /// Each method's image error against exact per device (`image_errors.csv`: the mean over its

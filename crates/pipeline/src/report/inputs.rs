@@ -162,19 +162,64 @@ impl Inputs {
 pub struct DeviceTables {
     pub timing: CsvTable,
     pub image_errors: Option<CsvTable>,
+    /// Where it came from: `native` (a folder of `nklut gpu run`'s tables) or the browser
+    /// bench's result file, with the user agent and, when the run stopped early, why.
+    pub source: String,
 }
 
-/// The devices of `folder`: each sub-folder holding a `gpu_timing.csv` (none when the
-/// folder is absent).
+/// The largest browser-bench result read (a scene of 30 methods × 20 materials is ~0.3 MB).
+const MAX_DEVICE_JSON: u64 = 16 << 20;
+
+/// The devices of `folder`: each sub-folder holding a `gpu_timing.csv` (native, `nklut gpu
+/// run`), and each `*.json` file holding a browser bench's result (`nklut gpu web`), named
+/// by its file stem; none when the folder is absent. A JSON file that is not a bench result
+/// is an error naming it.
 pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
     let mut devices = BTreeMap::new();
     for device in scene_folders(folder) {
         if let Some(timing) = CsvTable::load(&folder.join(&device).join("gpu_timing.csv"))? {
             let image_errors = CsvTable::load(&folder.join(&device).join("image_errors.csv"))?;
-            devices.insert(device, DeviceTables { timing, image_errors });
+            devices.insert(device, DeviceTables { timing, image_errors, source: "native".into() });
         }
     }
+    let mut files: Vec<_> = std::fs::read_dir(folder)
+        .map(|entries| entries.flatten().map(|e| e.path()).filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "json")).collect())
+        .unwrap_or_default();
+    files.sort();
+    for file in files {
+        let bytes = nklut_optics::db::file::read_regular(&file, MAX_DEVICE_JSON)?;
+        let tables = browser_result(&bytes).map_err(|e| anyhow::anyhow!("{}: not a browser bench result: {e}", file.display()))?;
+        let name = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        devices.insert(name, tables);
+    }
     Ok(devices)
+}
+
+/// The tables of one browser bench result (`nklut-web-bench/1`): its rows under the columns
+/// it lists, numbers as their JSON text, null as an empty cell.
+pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
+    let value: serde_json::Value = serde_json::from_slice(bytes)?;
+    if value["format"] != "nklut-web-bench/1" {
+        bail!("format is {}, not nklut-web-bench/1", value["format"]);
+    }
+    let table = |name: &str| -> Result<CsvTable> {
+        let Some(columns) = value["columns"][name].as_array() else { bail!("no columns.{name}") };
+        let headers: Vec<String> = columns.iter().map(|c| c.as_str().unwrap_or_default().to_string()).collect();
+        let Some(rows) = value[name].as_array() else { bail!("no {name} rows") };
+        let cell = |v: &serde_json::Value| match v {
+            serde_json::Value::String(s) => s.clone(),
+            serde_json::Value::Null => String::new(),
+            other => other.to_string(),
+        };
+        let rows = rows.iter().map(|row| headers.iter().map(|h| cell(&row[h])).collect()).collect();
+        Ok(CsvTable::from_rows(headers, rows))
+    };
+    let image_errors = table("image_errors")?;
+    let mut source = format!("browser: {}", value["user_agent"].as_str().unwrap_or("unknown browser"));
+    if value["complete"] != true {
+        source.push_str(&format!("; incomplete: {}", value["incomplete"].as_str().unwrap_or("stopped early")));
+    }
+    Ok(DeviceTables { timing: table("gpu_timing")?, image_errors: (!image_errors.rows.is_empty()).then_some(image_errors), source })
 }
 
 /// The paste-in files under `out/params/`, by the page id each names (a file that does not

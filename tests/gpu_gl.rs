@@ -1,0 +1,101 @@
+//! The runner on two backends of this machine: Vulkan (lavapipe) and OpenGL through EGL
+//! (Mesa's llvmpipe), the same scene on each. Every method's cosθ ramp (the F image the
+//! shaders compute, all 1024 columns) and the image error of each object and method over
+//! the camera orbit must agree between the two.
+//!
+//! Mesa's desktop GL 4.5 core context renders to RGBA32F (float colour buffers are core
+//! since GL 3.0) but lists neither GL_ARB_color_buffer_float nor GL_EXT_color_buffer_float,
+//! the strings wgpu 30 looks for before it allows the runner's float targets; the test
+//! process lists the first through Mesa's MESA_EXTENSION_OVERRIDE before EGL starts (one
+//! test in this binary, so no other thread reads the environment meanwhile). A user runs
+//! `MESA_EXTENSION_OVERRIDE=+GL_ARB_color_buffer_float nklut gpu run --backend gl SCENE`.
+//!
+//! No adapter on either backend is a failure unless NKLUT_SKIP_GPU_TESTS=1.
+#![cfg(all(feature = "gpu", target_os = "linux"))]
+
+use std::path::Path;
+
+use nklut::gpu::params::{self, MaterialUniform};
+use nklut::gpu::render::{self, Renderer};
+use nklut::gpu::{self, lut, Gpu, RunStats};
+use nklut::scene::{Experiment, Scene, SceneMaterial, Shading};
+use nklut::spectrum::{ChannelIndex, Index, Kind};
+
+const GOLDISH: ChannelIndex = [Index::new(0.16, 3.8), Index::new(0.5, 2.3), Index::new(1.2, 1.8)];
+const DIAMOND: ChannelIndex = [Index::new(2.409, 0.0), Index::new(2.424, 0.0), Index::new(2.432, 0.0)];
+
+const SCENE: &str = "resolution: [128, 128]
+camera: {axis: [1, 1, 1], distance: 2.0, frames: 6, degrees_per_frame: 15, fov_y_degrees: 60}
+objects:
+  - {mesh: cube, material: x/metals/goldish, methods: [exact, schlick, schlick_nk, schlick_compensated, lazanyi, nvidia, lut, f82_tint, constant, texture]}
+  - {mesh: sphere, material: x/crystals/diamond, methods: [exact, schlick, lazanyi, nvidia, lut]}
+measurements: [image_error]
+lut: {size: 64}
+";
+
+fn open(backend: &str) -> Option<Gpu> {
+    match gpu::open(None, Some(backend)) {
+        Ok(gpu) => Some(gpu),
+        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
+            eprintln!("GL comparison skipped (NKLUT_SKIP_GPU_TESTS=1): {error:#}");
+            None
+        }
+        Err(error) => panic!("no {backend} adapter: {error:#} (scripts/test-deps installs Mesa's Vulkan and EGL drivers)"),
+    }
+}
+
+/// Every method's ramp for `channels` (1024 × 1, its LUT of 64 texels) on `gpu`.
+fn ramps(gpu: &Gpu, channels: &ChannelIndex) -> Vec<(Shading, Vec<f32>)> {
+    let mut renderer = Renderer::new(gpu);
+    let prepared = params::prepare(channels);
+    let texture = lut::upload(gpu, &lut::texels(&prepared, 64), "lut");
+    let view = texture.create_view(&Default::default());
+    let binding = renderer.bind(gpu, &MaterialUniform::from_prepared(&prepared), Some(&view)).unwrap();
+    Shading::ALL.iter().map(|&m| (m, render::ramp(gpu, &mut renderer, m, &binding, 1024, 1).unwrap())).collect()
+}
+
+#[test]
+fn vulkan_and_gl_render_the_same_images() {
+    // SAFETY of the environment write: this binary's only test, before any thread starts.
+    std::env::set_var("MESA_EXTENSION_OVERRIDE", "+GL_ARB_color_buffer_float");
+    let Some(vulkan) = open("vulkan") else { return };
+    let Some(gl) = open("gl") else { return };
+    assert_eq!((vulkan.line.backend.as_str(), gl.line.backend.as_str()), ("Vulkan", "Gl"));
+    eprintln!("vulkan: {}\ngl: {}", vulkan.line, gl.line);
+
+    // The F images: every method, both materials, column by column. The same WGSL through
+    // two compilers (naga → SPIR-V → llvmpipe; naga → GLSL → Mesa's GLSL → llvmpipe): each
+    // is f32 throughout, so they may differ by the rounding of a reordered operation; the
+    // bound is 4 f32 steps at F ≤ 1 (4 · 2⁻²⁴ ≈ 2.4e-7), the half-float texture's linear
+    // filter included (the same llvmpipe sampler behind both; measured: equal to the bit).
+    let mut worst = 0.0f32;
+    for channels in [GOLDISH, DIAMOND] {
+        for ((method, a), (_, b)) in ramps(&vulkan, &channels).iter().zip(ramps(&gl, &channels)) {
+            let difference = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+            assert!(difference <= 2.4e-7, "{method}: {difference}");
+            worst = worst.max(difference);
+        }
+    }
+    eprintln!("ramps: largest |vulkan − gl| = {worst:.3e}");
+
+    // The scene's image error over the orbit: the same covered pixels (the rasterisers
+    // follow the same rules on the same f32 vertices) and each method's error against
+    // exact to 1e-4 of itself (measured: 4e-6 at most, the `lut` rows; the others equal to
+    // the digits printed).
+    let scene = Scene::parse(SCENE, Path::new("tests/gpu_gl.rs scene")).unwrap();
+    assert_eq!(scene.experiments, vec![Experiment::ImageError]);
+    let materials = [
+        SceneMaterial::new("x/metals/goldish", GOLDISH, Kind::Conductor),
+        SceneMaterial::new("x/crystals/diamond", DIAMOND, Kind::Dielectric),
+    ];
+    let on_vulkan = gpu::run_with_materials(&scene, &materials, &vulkan, RunStats::default(), &mut |_| {}).unwrap();
+    let on_gl = gpu::run_with_materials(&scene, &materials, &gl, RunStats::default(), &mut |_| {}).unwrap();
+    assert_eq!(on_vulkan.image_errors.len(), 15);
+    for (v, g) in on_vulkan.image_errors.iter().zip(&on_gl.image_errors) {
+        assert_eq!((&v.object, v.method), (&g.object, g.method));
+        assert_eq!(v.pixels, g.pixels, "{} {}: covered pixels", v.object, v.method);
+        let (a, b) = (v.mean_rel_error.unwrap(), g.mean_rel_error.unwrap());
+        eprintln!("{} {}: vulkan {a:.6e} gl {b:.6e}", v.object, v.method);
+        assert!((a - b).abs() <= 1e-4 * a + 1e-9, "{} {}: vulkan {a} gl {b}", v.object, v.method);
+    }
+}
