@@ -313,8 +313,9 @@ mod gpu_cli {
         /// Use the adapter whose name contains this (case-insensitive); see `nklut gpu adapters`.
         #[arg(long, value_name = "SUBSTRING")]
         adapter: Option<String>,
-        /// Use this backend only: vulkan, and where the platform has them metal (macOS) and
-        /// dx12 (Windows).
+        /// Use this backend only: vulkan, and where the platform has them metal (macOS), dx12
+        /// (Windows) and gl (Linux, Android; on Mesa's desktop GL set
+        /// MESA_EXTENSION_OVERRIDE=+GL_ARB_color_buffer_float for the float targets).
         #[arg(long, value_name = "BACKEND")]
         backend: Option<String>,
     }

@@ -900,7 +900,9 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
     let mut sources = 0;
     for entry in fs::read_dir(&committed).unwrap().flatten() {
         let path = entry.path();
-        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        // A folder by its whole name (dots and all), a file by its stem.
+        let name = if path.is_dir() { entry.file_name() } else { path.file_stem().unwrap().to_os_string() };
+        let name = name.to_string_lossy().into_owned();
         let times = expected.entry(name.clone()).or_default();
         if path.is_dir() {
             let mut reader = csv::Reader::from_path(path.join("gpu_timing.csv")).unwrap();
@@ -947,7 +949,7 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
     for row in rows {
         let cells: Vec<&str> = row.as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
         let (device, method) = (cells[0], cells[3]);
-        let times = &expected[device];
+        let times = expected.get(device).unwrap_or_else(|| panic!("{device:?} not among {:?}", expected.keys()));
         let ms = median_of(times[method].clone());
         let close = |shown: &str, want: f64| {
             let value: f64 = shown.parse().unwrap_or_else(|_| panic!("{device} {method}: {shown:?}"));

@@ -264,3 +264,17 @@ fn a_scene_over_the_adapter_s_buffer_limit_names_the_limit() {
     assert!(problem.contains("maxBufferSize") && problem.contains(&asked.to_string()), "{problem}");
     assert_eq!(out["result"]["gpu_timing"].as_array().unwrap().len(), 0);
 }
+
+#[test]
+fn without_timestamps_the_page_times_by_the_wall_clock() {
+    // `?timer=wall` takes the path of an adapter without timestamp queries.
+    let text = SCENE.replace("measurements: [timing, image_error]", "measurements: [timing]");
+    let Ok(Some(out)) = run_page("web-wall", &text, &["--query".into(), "timer=wall".into()]).map_err(|e| panic!("{e}")) else { return };
+    let result = &out["result"];
+    assert_eq!(result["complete"], true, "{out}");
+    assert_eq!(result["adapter"]["timestamp_query"], false);
+    let rows = result["gpu_timing"].as_array().unwrap();
+    assert_eq!(rows.len(), scene(&text).material_shadings().len());
+    assert!(rows.iter().all(|r| r["timer"] == "wall" && number(&r["median_ms"]) > 0.0), "{rows:?}");
+    assert_eq!(result["image_errors"].as_array().unwrap().len(), 0, "image error not in the scene's measurements");
+}

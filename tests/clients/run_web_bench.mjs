@@ -1,7 +1,7 @@
 // Runs a browser-bench page (`nklut gpu web SCENE`) in the system Chromium through
 // puppeteer-core and writes what it produced as JSON.
 //
-// Usage: node tests/clients/run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent]
+// Usage: node tests/clients/run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent] [--query Q]
 //            [--ramp INDEX,METHOD,WIDTH,HEIGHT,VIEW_BASE64] [--twin INPUT_JSON] [--timeout SECONDS]
 //
 //   --webgpu on      (default) WebGPU on SwiftShader: --enable-unsafe-webgpu
@@ -10,6 +10,8 @@
 //   --webgpu absent  navigator.gpu removed before the page's script runs
 //   --ramp           after the run, the page's read-back cosθ ramp of METHOD for material
 //                    INDEX (window.nklut.ramp), as `ramp` in the output
+//   --screenshot     a PNG of the whole page once it is done, for a look
+//   --query          text appended to the page's address after `?` (`timer=wall`)
 //   --twin           a JSON file {"method": [...], "reference": [...], "samples": [...]}: the
 //                    page's twins of image_error::compare and stats::median_and_iqr on it,
 //                    as `twin` in the output
@@ -44,6 +46,8 @@ const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0
 const webgpu = option('--webgpu', 'on');
 const rampSpec = option('--ramp', null);
 const twinFile = option('--twin', null);
+const query = option('--query', null);
+const screenshot = option('--screenshot', null);
 const timeoutMs = Number(option('--timeout', '300')) * 1000;
 
 const require = createRequire(join(deps, 'npm', 'node_modules', 'noop.js'));
@@ -71,7 +75,7 @@ try {
   if (webgpu === 'absent') {
     await page.evaluateOnNewDocument(() => { Object.defineProperty(Navigator.prototype, 'gpu', { get: () => undefined, configurable: true }); });
   }
-  await page.goto(pathToFileURL(resolve(pagePath)).href);
+  await page.goto(pathToFileURL(resolve(pagePath)).href + (query ? `?${query}` : ''));
   // Poll (rather than one long waitForFunction, which a busy page can outlast the
   // protocol's timeout in); the page's status line goes to stderr every 30 s.
   let said = 0;
@@ -93,6 +97,10 @@ try {
       chart_bars: document.querySelectorAll('#chart rect').length,
     };
   });
+  if (screenshot) {
+    await page.setViewport({ width: 1000, height: 800 });
+    await page.screenshot({ path: screenshot, fullPage: true });
+  }
   if (rampSpec) {
     const [index, method, width, height, view] = rampSpec.split(',');
     out.ramp = await page.evaluate((i, m, w, h, v) => window.nklut.ramp(i, m, w, h, v), Number(index), method, Number(width), Number(height), view);

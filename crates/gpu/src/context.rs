@@ -1,6 +1,7 @@
-//! Adapter choice and device creation, headless (no window, no surface). Vulkan is the one
-//! backend compiled in: every desktop GPU driver on Linux and Mesa's lavapipe (a CPU Vulkan
-//! rasteriser, what CI has) speak it.
+//! Adapter choice and device creation, headless (no window, no surface). Vulkan everywhere
+//! (every desktop GPU driver on Linux and Windows, and Mesa's lavapipe, a CPU Vulkan
+//! rasteriser, what CI has); Metal on Apple platforms, DX12 on Windows, GL/GLES through EGL
+//! on Linux and Android, each compiled only there ([`backends`]).
 
 use std::fmt;
 use std::sync::{Arc, Mutex};

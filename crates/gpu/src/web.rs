@@ -235,11 +235,10 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     let image_error = image_error.transpose()?;
 
     let mut checks = Vec::new();
-    for (interface, sources) in super::passes::interfaces()? {
-        let many = sources.len() > 1;
-        for (i, wgsl) in sources.into_iter().enumerate() {
-            let name = if many { format!("{} #{i}", interface.name) } else { interface.name.to_string() };
-            checks.push(ModulePlan { name, wgsl });
+    for (interface, variants) in super::passes::interfaces()? {
+        for variant in variants {
+            let name = if variant.name == interface.name { variant.name } else { format!("{}: {}", interface.name, variant.name) };
+            checks.push(ModulePlan { name, wgsl: variant.wgsl });
         }
     }
 

@@ -20,24 +20,35 @@ pub mod specular;
 
 pub use interface::{Binding, Interface, Pass, Resource};
 
+/// A composed module of a pass: the variant it is (`reflection, exact`; `schlick`; the
+/// pass's name where it has one module) and its WGSL.
+pub struct Variant {
+    pub name: String,
+    pub wgsl: String,
+}
+
 /// Every pass's interface with the composed WGSL of each of its variants (one per
 /// (effect, method) of the specular pass, one per shading of the Fresnel pass): what
-/// [`Interface::check`] holds the declarations to.
-pub fn interfaces() -> Result<Vec<(Interface, Vec<String>)>, crate::compose::ComposeError> {
+/// [`Interface::check`] holds the declarations to, and what the browser bench compiles.
+pub fn interfaces() -> Result<Vec<(Interface, Vec<Variant>)>, crate::compose::ComposeError> {
     use nklut_effects::scene::Shading;
     use nklut_optics::fresnel::Method;
-    let single = |interface: Interface| -> Result<(Interface, Vec<String>), crate::compose::ComposeError> {
-        Ok((interface, vec![crate::compose::compose(&format!("#import {}", interface.shader))?]))
+    let single = |interface: Interface| -> Result<(Interface, Vec<Variant>), crate::compose::ComposeError> {
+        let wgsl = crate::compose::compose(&format!("#import {}", interface.shader))?;
+        Ok((interface, vec![Variant { name: interface.name.to_string(), wgsl }]))
     };
     let mut specular = Vec::new();
     for effect in [specular::Effect::Reflection, specular::Effect::Refraction] {
         for method in Method::ALL {
-            specular.push(specular::compose_effect(effect, method)?);
+            let name = format!("{}, {}", effect.name(), method.name());
+            specular.push(Variant { name, wgsl: specular::compose_effect(effect, method)? });
         }
     }
-    let mut fresnel = vec![crate::render::compose(crate::render::Shade::Burner)?];
+    let burner = crate::render::Shade::Burner;
+    let mut fresnel = vec![Variant { name: burner.name(), wgsl: crate::render::compose(burner)? }];
     for shading in Shading::ALL {
-        fresnel.push(crate::render::compose(crate::render::Shade::Method(shading))?);
+        let shade = crate::render::Shade::Method(shading);
+        fresnel.push(Variant { name: shade.name(), wgsl: crate::render::compose(shade)? });
     }
     Ok(vec![
         single(<ao::SurfelAoPass as Pass>::INTERFACE)?,
@@ -62,7 +73,7 @@ mod tests {
         for (interface, sources) in &all {
             assert!(!sources.is_empty());
             for source in sources {
-                interface.check(source).unwrap_or_else(|problems| panic!("{problems:#?}"));
+                interface.check(&source.wgsl).unwrap_or_else(|problems| panic!("{}: {problems:#?}", source.name));
             }
         }
     }
@@ -72,7 +83,7 @@ mod tests {
     #[test]
     fn the_check_sees_each_disagreement() {
         let (interface, sources) = interfaces().unwrap().remove(0);
-        let source = &sources[0];
+        let source = &sources[0].wgsl;
         let with = |bindings: &'static [Binding]| Interface { bindings, ..interface };
         let problems = |bindings| with(bindings).check(source).unwrap_err().join("\n");
         let mut declared: Vec<Binding> = interface.bindings.to_vec();

@@ -138,7 +138,9 @@ async function openDevice() {
     }
     requiredLimits[need.limit] = Math.max(requiredLimits[need.limit] || 0, need.size);
   }
-  const timestamps = adapter.features.has('timestamp-query');
+  // `?timer=wall` in the address forces wall time where timestamps exist (to measure what
+  // the wall timer adds on one adapter).
+  const timestamps = adapter.features.has('timestamp-query') && new URLSearchParams(location.search).get('timer') !== 'wall';
   const device = await adapter.requestDevice({ requiredFeatures: timestamps ? ['timestamp-query'] : [], requiredLimits });
   const info = adapter.info || {};
   const name = [info.vendor, info.architecture, info.device, info.description].filter(Boolean).join(' ') || 'unknown adapter';
