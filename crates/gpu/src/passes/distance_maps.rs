@@ -319,6 +319,12 @@ struct LayerTargets {
 
 const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
+/// Array layers of the per-layer face textures: the six faces and one spare. wgpu's GL
+/// backend makes every square 2D texture of 6·k layers a cube map (its heuristic for cube
+/// compatibility), which it cannot copy to a buffer and which would not bind as the
+/// `texture_2d_array` the peel reads; a seventh layer keeps it a 2D array on every backend.
+const FACE_LAYERS: u32 = 7;
+
 /// The map-update pass: its pipeline and the per-face uniforms, built once per scene.
 pub struct MapRenderer {
     pipeline: wgpu::RenderPipeline,
@@ -439,9 +445,10 @@ impl MapRenderer {
             texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage)
         };
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let geometry = texture("map layer geometry", 6, MAP_FORMAT, attachment);
-        let surfaces = texture("map layer surfaces", 6, MAP_FORMAT, attachment);
-        let previous = texture("previous map layer", 6, MAP_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
+        let geometry = texture("map layer geometry", FACE_LAYERS, MAP_FORMAT, attachment);
+        let surfaces = texture("map layer surfaces", FACE_LAYERS, MAP_FORMAT, attachment);
+        let previous =
+            texture("previous map layer", FACE_LAYERS, MAP_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
         let previous_view = previous
             .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
         let depth = texture("map depth", 1, DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT).create_view(&Default::default());
