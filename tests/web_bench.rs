@@ -278,3 +278,23 @@ fn without_timestamps_the_page_times_by_the_wall_clock() {
     assert!(rows.iter().all(|r| r["timer"] == "wall" && number(&r["median_ms"]) > 0.0), "{rows:?}");
     assert_eq!(result["image_errors"].as_array().unwrap().len(), 0, "image error not in the scene's measurements");
 }
+
+#[test]
+fn the_study_s_subtraction_runs_the_burner_under_each_method() {
+    // `subtract`: each sample is the burner with the method blended on top minus the burner
+    // alone; the page compiles the burner's module and times every pair that way.
+    let text = SCENE
+        .replace("measurements: [timing, image_error]", "measurements: [timing]")
+        .replace("repeats: 6}", "repeats: 6, subtract: true}");
+    let plan = web::plan(&scene(&text), &materials()).unwrap();
+    assert!(plan.timing.as_ref().unwrap().subtract);
+    let Ok(Some(out)) = run_page("web-subtract", &text, &[]).map_err(|e| panic!("{e}")) else { return };
+    let result = &out["result"];
+    assert_eq!(result["complete"], true, "{out}");
+    let compiled: Vec<&str> = result["compile"].as_array().unwrap().iter().map(|c| c["module"].as_str().unwrap()).collect();
+    assert!(compiled.contains(&"fresnel pass + burner"), "{compiled:?}");
+    let rows = result["gpu_timing"].as_array().unwrap();
+    assert_eq!(rows.len(), scene(&text).material_shadings().len());
+    // A difference of two noisy times: finite, not necessarily positive on a CPU rasteriser.
+    assert!(rows.iter().all(|r| r["median_ms"].as_f64().is_some_and(f64::is_finite) && r["repeats"] == 6), "{rows:?}");
+}
