@@ -163,7 +163,7 @@ pub struct DeviceTables {
     pub timing: CsvTable,
     pub image_errors: Option<CsvTable>,
     /// Where it came from: `native` (a folder of `nklut gpu run`'s tables) or the browser
-    /// bench's result file, with the user agent and, when the run stopped early, why.
+    /// bench's result file, with the browser and, when the run stopped early, why.
     pub source: String,
 }
 
@@ -215,7 +215,10 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
         Ok(CsvTable::from_rows(headers, rows))
     };
     let image_errors = table("image_errors")?;
-    let mut source = format!("browser: {}", value["user_agent"].as_str().unwrap_or("unknown browser"));
+    // The browser and its version as the rows' `driver` gives it (the whole user agent is
+    // in the file).
+    let browser = value["gpu_timing"][0]["driver"].as_str().or(value["user_agent"].as_str()).unwrap_or("unknown browser");
+    let mut source = format!("browser: {browser}");
     if value["complete"] != true {
         source.push_str(&format!("; incomplete: {}", value["incomplete"].as_str().unwrap_or("stopped early")));
     }
@@ -407,6 +410,22 @@ mod tests {
 
     fn table(text: &str) -> CsvTable {
         CsvTable::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn a_browser_result_reads_as_its_columns_and_says_when_it_is_incomplete() {
+        let result = r#"{"format": "nklut-web-bench/1", "user_agent": "UA", "complete": false, "incomplete": "device lost",
+            "columns": {"gpu_timing": ["method", "median_ms", "relative_to_exact_dielectric"], "image_errors": ["method", "mean_rel_error"]},
+            "gpu_timing": [{"method": "exact", "median_ms": 2.5, "relative_to_exact_dielectric": null, "driver": "Chrome/1"}],
+            "image_errors": []}"#;
+        let tables = browser_result(result.as_bytes()).unwrap();
+        assert_eq!(tables.timing.headers, ["method", "median_ms", "relative_to_exact_dielectric"]);
+        assert_eq!(tables.timing.rows, [["exact", "2.5", ""]]);
+        assert!(tables.image_errors.is_none(), "no rows: no table");
+        assert_eq!(tables.source, "browser: Chrome/1; incomplete: device lost");
+        let other = browser_result(br#"{"format": "something else"}"#).err().unwrap();
+        assert!(other.to_string().contains("not nklut-web-bench/1"), "{other}");
+        assert!(browser_result(b"not json").is_err());
     }
 
     #[test]
