@@ -161,6 +161,8 @@ fn every_module_compiles_and_every_pair_is_timed() {
     // The page shows a row per pair and a bar per ratio, and names its download.
     assert_eq!(out["tables"]["timing"].as_array().unwrap().len(), rows.len() + 1);
     assert_eq!(out["chart_bars"].as_u64(), Some(rows.len() as u64));
+    // A bar per image-error row but exact's (10 rows, 2 of them exact).
+    assert_eq!(out["error_bars"].as_u64(), Some(8));
     let download = out["download"].as_str().unwrap();
     assert!(download.starts_with("device-google-swiftshader-") && download.ends_with(".json"), "{download}");
 }

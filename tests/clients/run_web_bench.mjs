@@ -95,6 +95,7 @@ try {
       status: document.getElementById('status').textContent,
       tables: { timing: texts('timing'), errors: texts('errors'), modules: texts('modules') },
       chart_bars: document.querySelectorAll('#chart rect').length,
+      error_bars: document.querySelectorAll('#error-chart rect').length,
     };
   });
   if (screenshot) {

@@ -471,30 +471,41 @@ function ratios() {
   });
 }
 
-function chart(rows) {
-  const shown = rows.filter((r) => r.ratio !== null);
+// A horizontal bar chart into the element `id`: one bar per item ({label, value, text,
+// grey}); lengths linear in value, or with `floor` logarithmic from floor to the largest.
+function bars(id, items, aria, floor) {
   const svgNs = 'http://www.w3.org/2000/svg';
-  const barHeight = 18, left = 260, width = 640;
-  const largest = Math.max(1, ...shown.map((r) => r.ratio));
+  const barHeight = 18, left = 260, width = 640, room = width - left - 80;
+  const largest = Math.max(...items.map((x) => x.value), floor ? floor * 10 : 1);
+  const length = (v) => Math.max(1, floor ? (room * Math.log(Math.max(v, floor) / floor)) / Math.log(largest / floor) : (room * v) / largest);
   const svg = document.createElementNS(svgNs, 'svg');
-  svg.setAttribute('width', width); svg.setAttribute('height', shown.length * barHeight + 24);
-  svg.setAttribute('role', 'img'); svg.setAttribute('aria-label', 'pass time relative to exact per material and method');
-  shown.forEach((r, i) => {
+  svg.setAttribute('width', width); svg.setAttribute('height', items.length * barHeight + 8);
+  svg.setAttribute('role', 'img'); svg.setAttribute('aria-label', aria);
+  items.forEach((x, i) => {
     const y = i * barHeight;
     const label = document.createElementNS(svgNs, 'text');
     label.setAttribute('x', left - 6); label.setAttribute('y', y + 13); label.setAttribute('text-anchor', 'end');
-    label.textContent = `${r.material} ${r.method}`;
+    label.textContent = x.label;
     const bar = document.createElementNS(svgNs, 'rect');
     bar.setAttribute('x', left); bar.setAttribute('y', y + 2); bar.setAttribute('height', barHeight - 4);
-    bar.setAttribute('width', Math.max(1, ((width - left - 60) * r.ratio) / largest));
-    bar.setAttribute('class', r.method === 'exact' ? 'bar exact' : 'bar');
+    bar.setAttribute('width', length(x.value));
+    bar.setAttribute('class', x.grey ? 'bar exact' : 'bar');
     const value = document.createElementNS(svgNs, 'text');
-    value.setAttribute('x', left + Math.max(1, ((width - left - 60) * r.ratio) / largest) + 4); value.setAttribute('y', y + 13);
-    value.textContent = `${r.ratio.toFixed(2)}×`;
+    value.setAttribute('x', left + length(x.value) + 4); value.setAttribute('y', y + 13);
+    value.textContent = x.text;
     svg.append(label, bar, value);
   });
-  $('chart').textContent = '';
-  $('chart').appendChild(svg);
+  $(id).textContent = '';
+  $(id).appendChild(svg);
+}
+
+function charts(rows) {
+  bars('chart', rows.filter((r) => r.ratio !== null).map((r) => ({ label: `${r.material} ${r.method}`, value: r.ratio, text: `${r.ratio.toFixed(2)}×`, grey: r.method === 'exact' })),
+    'pass time relative to exact per material and method');
+  // Image error on a log scale from 1e-5 (exact against itself, 0, is left out).
+  const errors = result.image_errors.filter((r) => r.method !== 'exact' && r.mean_rel_error !== null);
+  bars('error-chart', errors.map((r) => ({ label: `${r.object} ${r.material} ${r.method}`, value: r.mean_rel_error, text: `${(100 * r.mean_rel_error).toPrecision(3)} %` })),
+    'mean relative image error against exact per object, material and method (log scale)', 1e-5);
 }
 
 function fileName() {
@@ -506,7 +517,7 @@ function publish() {
   const rows = ratios();
   table('timing', ['material', 'method', 'timer', 'median ms', 'IQR ms', '× exact', '× exact (dielectric)'],
     rows.map((r) => [r.material, r.method, r.timer, fixed(r.median_ms, 4), fixed(r.spread_ms, 4), fixed(r.ratio, 3), fixed(r.relative_to_exact_dielectric, 3)]));
-  chart(rows);
+  charts(rows);
   table('errors', ['material', 'method', 'object', 'frames', 'mean rel. error', 'max rel. error', 'pixels'],
     result.image_errors.map((r) => [r.material, r.method, r.object, String(r.frames), r.mean_rel_error === null ? '—' : r.mean_rel_error.toExponential(3), r.max_rel_error.toExponential(3), String(r.pixels)]));
   table('modules', ['module', 'errors', 'warnings'], result.compile.map((c) => [c.module, String(c.errors.length), String(c.warnings.length)]));
