@@ -137,6 +137,16 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
             assert!(value.is_finite() && value >= 0.0, "{name} {value}");
         }
         assert!(row[column("mean_error")].parse::<f64>().unwrap() <= row[column("max_error")].parse::<f64>().unwrap());
+        // The order statistics are ordered, each weighting's signed mean within its mean |e|,
+        // and both objects are seen by the camera.
+        for prefix in ["", "area_", "pixel_"] {
+            let value = |name: &str| row[column(&format!("{prefix}{name}"))].parse::<f64>().unwrap();
+            let ordered = [value("median_error"), value("p90_error"), value("p99_error"), value("max_error")];
+            assert!(ordered.windows(2).all(|w| w[0] <= w[1]), "{prefix}: {ordered:?}");
+            assert!(value("signed_error").abs() <= value("mean_error") + 1e-15, "{prefix}");
+        }
+        assert!(row[column("pixels")].parse::<u64>().unwrap() > 0);
+        assert_eq!(row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
     assert!(!out.join("effects_errors.csv").exists());

@@ -20,12 +20,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
-use super::errors::{mean_and_max_difference, ErrorRow};
+use super::errors::{signed_differences, AccessibilityErrors, ErrorRow};
 use super::hierarchy::{Closeness, SurfelTree};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, ReferenceIndirect, Rgb};
 use super::reference::{reference_accessibility, RaySettings};
 use super::shadow::ShadowForm;
-use super::surfel::{subdivided_times, surfels, Surfel};
+use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
@@ -55,6 +55,8 @@ pub struct SurfelScene {
     /// Diffuse albedo per object (the plain colour, without pattern).
     pub object_albedo: Vec<Rgb>,
     pub lights: Vec<LightSource>,
+    /// Per surfel: a corner of a flipped or degenerate triangle of its mesh.
+    pub defects: Vec<bool>,
 }
 
 /// The bytes the AO run holds per triangle of a placed (and subdivided) mesh, for the
@@ -72,7 +74,7 @@ impl SurfelScene {
         let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
-        let (mut all, mut albedo, mut object_albedo) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut all, mut albedo, mut object_albedo, mut defects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut triangles = 0;
         for (i, object) in scene.objects.iter().enumerate() {
             let loaded =
@@ -103,10 +105,11 @@ impl SurfelScene {
             }));
             triangles += placed.triangles();
             all.extend(own);
+            defects.extend(mesh_defects(&placed));
             meshes.push(placed);
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
-        Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone() })
+        Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone(), defects })
     }
 
     /// Which object a global triangle index belongs to.
@@ -138,6 +141,42 @@ impl SurfelScene {
         };
         (vertices.map(|v| self.objects[object].surfels.start + v), weights)
     }
+
+    /// What each pixel of `camera`'s frame sees: the object, its triangle's surfels and the
+    /// point's barycentric weights (`None`: no surface).
+    pub fn coverage(&self, camera: &Camera) -> Vec<Option<PixelSample>> {
+        (0..camera.width * camera.height)
+            .into_par_iter()
+            .map(|i| {
+                let direction = camera.ray(i % camera.width, i / camera.width);
+                let hit = self.geometry.nearest(camera.eye, direction, None, |_| true)?;
+                let (corners, weights) = self.corners(hit.triangle as usize, hit.point);
+                Some(PixelSample { object: self.object_of_triangle(hit.triangle as usize), corners, weights })
+            })
+            .collect()
+    }
+}
+
+/// The surface a pixel sees: its object (index in [`SurfelScene::objects`]), the global
+/// surfel indices of the triangle's corners and the barycentric weights of the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelSample {
+    pub object: usize,
+    pub corners: [usize; 3],
+    pub weights: [f64; 3],
+}
+
+impl PixelSample {
+    /// Per-vertex `values` interpolated at the pixel's point.
+    pub fn interpolate(&self, values: &[f64]) -> f64 {
+        (0..3).map(|k| self.weights[k] * values[self.corners[k]]).sum()
+    }
+}
+
+/// The per-pixel errors (interpolated `values` − interpolated `reference`) of the pixels
+/// where `object` is the nearest surface.
+pub fn pixel_errors(coverage: &[Option<PixelSample>], object: usize, values: &[f64], reference: &[f64]) -> Vec<f64> {
+    coverage.iter().flatten().filter(|p| p.object == object).map(|p| p.interpolate(values) - p.interpolate(reference)).collect()
 }
 
 /// How the experiment runs: reference rays, the largest surfel count run by brute force
@@ -253,6 +292,8 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         (direct, reference)
     });
 
+    let coverage = stage.coverage(&Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]));
+    let areas: Vec<f64> = stage.surfels.iter().map(|s| s.area).collect();
     let mut report = AoReport::default();
     for (hierarchy, history) in &runs {
         for result in history.iter().skip(1) {
@@ -260,9 +301,11 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 stats.indirect_bounces += 1;
                 surfel_indirect(&stage.surfels, &stage.albedo, direct, &result.values, settings.form, 1)
             });
-            for object in &stage.objects {
+            for (index, object) in stage.objects.iter().enumerate() {
                 let range = object.surfels.clone();
-                let (mean_error, max_error) = mean_and_max_difference(&result.values[range.clone()], &reference.values[range.clone()]);
+                let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
+                let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
+                let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
                 let measured =
                     twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
                 report.rows.push(ErrorRow {
@@ -271,8 +314,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     receiver_gain: settings.form.receiver_gain,
                     passes: result.passes,
                     hierarchy: *hierarchy,
-                    mean_error,
-                    max_error,
+                    accessibility: accessibility.clone(),
                     reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
@@ -280,13 +322,21 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     indirect_reference_mean: measured.map(|m| m.1),
                     indirect_reference_standard_error: measured.map(|m| m.2),
                 });
+                let v = &accessibility.per_vertex;
                 log(&format!(
-                    "  {} {} passes {}: mean |a − ref| {:.4}, max {:.4}{}",
+                    "  {} {} passes {}: |a − ref| per vertex mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}; area-weighted {:.4}; per pixel {:.4}; {} defect vertices{}",
                     object.name,
                     result.passes,
                     if *hierarchy { "tree" } else { "brute force" },
-                    mean_error,
-                    max_error,
+                    v.mean,
+                    v.signed_mean,
+                    v.median,
+                    v.p90,
+                    v.p99,
+                    v.max,
+                    accessibility.area_weighted.map_or(0.0, |s| s.mean),
+                    accessibility.per_pixel.map_or(0.0, |s| s.mean),
+                    accessibility.defect_vertices,
                     measured.map(|m| format!(", indirect mean |Δ| {:.4} of {:.4}", m.0, m.1)).unwrap_or_default()
                 ));
             }

@@ -11,7 +11,7 @@ use super::indirect::{reference_indirect, surfel_direct, surfel_indirect, Rgb};
 use super::reference::{reference_accessibility, RaySettings, ReferenceAccessibility};
 use super::shadow::{bounce, shadow, ShadowForm};
 use super::shapes::{bumpy_sphere, torus};
-use super::surfel::{subdivided_times, surfels, Surfel, FALLBACK_NORMAL};
+use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel, FALLBACK_NORMAL};
 use crate::geometry::Geometry;
 use crate::scene::mesh::{plane, Mesh};
 use crate::scene::LightSource;
@@ -365,7 +365,8 @@ fn packets_count_what_their_rays_count_one_by_one() {
 }
 
 /// The `ao_errors` rows of a small torus: one per g × hierarchy × pass, each the mean and
-/// max of |a − ref| recomputed here, and a table with those columns.
+/// max of |a − ref| recomputed here (and, with no defect, the same without defects), the
+/// signed mean recomputed here, and a table with those columns.
 #[test]
 fn ao_errors_rows_match_a_direct_comparison() {
     let mesh = torus(1.0, 0.6, 12, 6);
@@ -377,22 +378,42 @@ fn ao_errors_rows_match_a_direct_comparison() {
         brute_force: true,
         closeness: Closeness::default(),
     };
-    let rows = error_rows("torus", &s, &reference, &comparison);
+    let defects = mesh_defects(&mesh);
+    assert!(defects.iter().all(|&d| !d), "a closed, consistently wound torus");
+    let rows = error_rows("torus", &s, &defects, &reference, &comparison);
     assert_eq!(rows.len(), 2 * 2 * 2);
     let direct = accessibility(&BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER }, 2);
     let (mean, max) = mean_abs_difference(&direct.values, &reference.values);
+    let signed = direct.values.iter().zip(&reference.values).map(|(a, r)| a - r).sum::<f64>() / s.len() as f64;
     let row = rows.iter().find(|r| r.receiver_gain == 4.0 && r.passes == 2 && !r.hierarchy).unwrap();
-    assert_eq!((row.mean_error, row.max_error, row.surfels), (mean, max, s.len()));
+    let errors = &row.accessibility;
+    assert!((errors.per_vertex.mean - mean).abs() < 1e-15 && errors.per_vertex.max == max && row.surfels == s.len());
+    assert!((errors.per_vertex.signed_mean - signed).abs() < 1e-15);
+    assert_eq!((errors.defect_vertices, errors.without_defects), (0, Some(errors.per_vertex)));
+    assert!(errors.per_pixel.is_none() && errors.area_weighted.is_some());
     let table = ao_errors_table(&rows);
     assert_eq!(table.rows(), 8);
-    for name in
-        ["mesh", "receiver_gain", "passes", "hierarchy", "mean_error", "max_error", "reference_standard_error", "interactions", "cpu_ms"]
-    {
+    for name in [
+        "mesh",
+        "receiver_gain",
+        "passes",
+        "hierarchy",
+        "mean_error",
+        "signed_error",
+        "p99_error",
+        "max_error",
+        "area_mean_error",
+        "pixel_mean_error",
+        "defect_vertices",
+        "reference_standard_error",
+        "interactions",
+        "cpu_ms",
+    ] {
         assert!(table.column(name).is_some(), "{name}");
     }
     let csv = String::from_utf8(table.to_csv().unwrap()).unwrap();
     assert!(
-        csv.starts_with("mesh,surfels,receiver_gain,passes,hierarchy,mean_error,max_error,reference_standard_error,interactions,cpu_ms,indirect_mean_error,indirect_reference_mean,indirect_reference_standard_error\n"),
+        csv.starts_with("mesh,surfels,receiver_gain,passes,hierarchy,mean_error,signed_error,median_error,p90_error,p99_error,max_error,area_mean_error,"),
         "{csv}"
     );
 }
@@ -529,4 +550,24 @@ fn sine_and_cosine_of_turns_are_libms_to_rounding() {
         let d = cosine_direction(normal, u1, u2);
         assert!((d.length() - 1.0).abs() < 1e-15 && d.dot(normal) >= -1e-15, "{u1} {u2}: {d}");
     }
+}
+
+/// Defects: a tetrahedron wound consistently has none; with one face turned round, that
+/// face disagrees with its three neighbours on all three edges (each neighbour on one), so
+/// only its corners are flagged; a triangle with collinear corners flags its corners.
+#[test]
+fn vertices_of_flipped_and_degenerate_triangles_are_flagged() {
+    let positions =
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0], [4.0, 0.0, 0.0]];
+    // Outward faces of the tetrahedron 0-1-2-3.
+    let outward = vec![0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+    let mesh = |indices: Vec<u32>| Mesh { positions: positions.clone(), normals: vec![], indices };
+    assert_eq!(mesh_defects(&mesh(outward.clone())), vec![false; 7]);
+    let mut flipped = outward.clone();
+    flipped.swap(9, 10); // 1-2-3 → 2-1-3
+    assert_eq!(mesh_defects(&mesh(flipped)), [false, true, true, true, false, false, false]);
+    // Vertices 4, 5, 6 on one line: area 0; a face naming vertex 9 is skipped.
+    let mut degenerate = outward;
+    degenerate.extend([4, 5, 6, 0, 1, 9]);
+    assert_eq!(mesh_defects(&mesh(degenerate)), [false, false, false, false, true, true, true]);
 }
