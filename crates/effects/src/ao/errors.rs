@@ -69,9 +69,14 @@ pub struct ErrorRow {
     pub interactions: u64,
     /// Wall time of those passes on the CPU in ms (the whole scene).
     pub cpu_ms: f64,
-    /// Indirect light (one bounce, emitters weighted by this row's accessibility): mean
-    /// |surfels − ray-traced| over vertices and channels; `None` where the scene asks for none.
+    /// Indirect light (one bounce, emitters weighted 1): mean |surfels − ray-traced| over
+    /// vertices and channels; `None` where the scene asks for none.
     pub indirect_mean_error: Option<f64>,
+    /// Its signed mean (surfels − ray-traced).
+    pub indirect_signed_error: Option<f64>,
+    /// The same with emitters weighted by this row's accessibility (the chapter's modulation).
+    pub indirect_accessibility_weighted_mean_error: Option<f64>,
+    pub indirect_accessibility_weighted_signed_error: Option<f64>,
     /// The ray-traced one-bounce irradiance's mean over the same vertices and channels.
     pub indirect_reference_mean: Option<f64>,
     /// Its mean standard error.
@@ -121,6 +126,9 @@ pub fn error_rows(
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
                     indirect_mean_error: None,
+                    indirect_signed_error: None,
+                    indirect_accessibility_weighted_mean_error: None,
+                    indirect_accessibility_weighted_signed_error: None,
                     indirect_reference_mean: None,
                     indirect_reference_standard_error: None,
                 });
@@ -189,8 +197,23 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
         .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene, in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
         .optional_float(
             "indirect_mean_error",
-            "indirect light, one bounce with emitters weighted by this row's accessibility: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
+            "indirect light, one bounce with emitters weighted 1: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
             rows.iter().map(|r| r.indirect_mean_error).collect(),
+        )
+        .optional_float(
+            "indirect_signed_error",
+            "mean over vertices and channels of surfels - ray-traced, emitters weighted 1 (negative: too little bounce light)",
+            rows.iter().map(|r| r.indirect_signed_error).collect(),
+        )
+        .optional_float(
+            "indirect_accessibility_weighted_mean_error",
+            "as indirect_mean_error with each emitter weighted by this row's accessibility (the chapter's modulation)",
+            rows.iter().map(|r| r.indirect_accessibility_weighted_mean_error).collect(),
+        )
+        .optional_float(
+            "indirect_accessibility_weighted_signed_error",
+            "as indirect_signed_error with each emitter weighted by this row's accessibility",
+            rows.iter().map(|r| r.indirect_accessibility_weighted_signed_error).collect(),
         )
         .optional_float("indirect_reference_mean", "mean of the ray-traced one-bounce irradiance over the same vertices and channels", rows.iter().map(|r| r.indirect_reference_mean).collect())
         .optional_float(

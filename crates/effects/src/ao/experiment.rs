@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
 use super::errors::{signed_differences, AccessibilityErrors, ErrorRow};
 use super::hierarchy::{Closeness, SurfelTree};
-use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, ReferenceIndirect, Rgb};
+use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
 use super::reference::{reference_accessibility, RaySettings};
 use super::shadow::ShadowForm;
 use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
@@ -236,14 +236,44 @@ fn mean(values: impl Iterator<Item = f64>, count: usize) -> f64 {
     values.sum::<f64>() / count.max(1) as f64
 }
 
-/// Mean |twin − reference| over a range of vertices and the three channels, and the
-/// reference's mean and mean standard error there.
-fn indirect_error(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> (f64, f64, f64) {
+/// Indirect light's error over a range of vertices and the three channels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct IndirectError {
+    /// Mean |twin − reference| with emitters weighted 1.
+    mean: f64,
+    /// Mean (twin − reference) with emitters weighted 1.
+    signed: f64,
+    /// Mean |twin − reference| with emitters weighted by the row's accessibility.
+    accessibility_weighted: f64,
+    /// Mean (twin − reference) with that weighting.
+    accessibility_weighted_signed: f64,
+    /// The reference's mean and mean standard error.
+    level: f64,
+    noise: f64,
+}
+
+/// Mean |twin − reference| and mean (twin − reference) over a range of vertices and the
+/// three channels.
+fn indirect_difference(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> (f64, f64) {
     let count = 3 * range.len();
-    let error = mean(range.clone().flat_map(|i| (0..3).map(move |c| (twin[i][c] - reference.values[i][c]).abs())), count);
-    let level = mean(range.clone().flat_map(|i| reference.values[i]), count);
-    let noise = mean(range.flat_map(|i| reference.standard_errors[i]), count);
-    (error, level, noise)
+    let difference = |i: usize, c: usize| twin[i][c] - reference.values[i][c];
+    let absolute = mean(range.clone().flat_map(|i| (0..3).map(move |c| difference(i, c).abs())), count);
+    let signed = mean(range.flat_map(|i| (0..3).map(move |c| difference(i, c))), count);
+    (absolute, signed)
+}
+
+fn indirect_error(one: &[Rgb], chapter: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> IndirectError {
+    let count = 3 * range.len();
+    let (mean_error, signed) = indirect_difference(one, reference, range.clone());
+    let (accessibility_weighted, accessibility_weighted_signed) = indirect_difference(chapter, reference, range.clone());
+    IndirectError {
+        mean: mean_error,
+        signed,
+        accessibility_weighted,
+        accessibility_weighted_signed,
+        level: mean(range.clone().flat_map(|i| reference.values[i]), count),
+        noise: mean(range.flat_map(|i| reference.standard_errors[i]), count),
+    }
 }
 
 /// Run the experiment for a scene with surfel effects; a scene without them computes
@@ -295,19 +325,27 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let coverage = stage.coverage(&Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]));
     let areas: Vec<f64> = stage.surfels.iter().map(|s| s.area).collect();
     let mut report = AoReport::default();
+    // One bounce with emitters weighted 1 (the same for every row) and, per row, weighted by
+    // its accessibility (the chapter's modulation), for comparison.
+    let one_bounce = |weight: EmitterWeight, a: &[f64]| {
+        indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &weight.weights(a), settings.form, 1))
+    };
+    let twin_one = one_bounce(EmitterWeight::One, &reference.values);
+    stats.indirect_bounces += twin_one.is_some() as u64;
     for (hierarchy, history) in &runs {
         for result in history.iter().skip(1) {
-            let twin = indirect.as_ref().map(|(direct, _)| {
-                stats.indirect_bounces += 1;
-                surfel_indirect(&stage.surfels, &stage.albedo, direct, &result.values, settings.form, 1)
-            });
+            let twin = one_bounce(EmitterWeight::Accessibility, &result.values);
+            stats.indirect_bounces += twin.is_some() as u64;
             for (index, object) in stage.objects.iter().enumerate() {
                 let range = object.surfels.clone();
                 let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
                 let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
                 let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
-                let measured =
-                    twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
+                let measured = twin
+                    .as_ref()
+                    .zip(twin_one.as_ref())
+                    .zip(indirect.as_ref())
+                    .map(|((chapter, one), (_, reference))| indirect_error(one, chapter, reference, range.clone()));
                 report.rows.push(ErrorRow {
                     mesh: object.name.clone(),
                     surfels: range.len(),
@@ -318,9 +356,12 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
-                    indirect_mean_error: measured.map(|m| m.0),
-                    indirect_reference_mean: measured.map(|m| m.1),
-                    indirect_reference_standard_error: measured.map(|m| m.2),
+                    indirect_mean_error: measured.map(|m| m.mean),
+                    indirect_signed_error: measured.map(|m| m.signed),
+                    indirect_accessibility_weighted_mean_error: measured.map(|m| m.accessibility_weighted),
+                    indirect_accessibility_weighted_signed_error: measured.map(|m| m.accessibility_weighted_signed),
+                    indirect_reference_mean: measured.map(|m| m.level),
+                    indirect_reference_standard_error: measured.map(|m| m.noise),
                 });
                 let v = &accessibility.per_vertex;
                 log(&format!(
@@ -337,7 +378,12 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     accessibility.area_weighted.map_or(0.0, |s| s.mean),
                     accessibility.per_pixel.map_or(0.0, |s| s.mean),
                     accessibility.defect_vertices,
-                    measured.map(|m| format!(", indirect mean |Δ| {:.4} of {:.4}", m.0, m.1)).unwrap_or_default()
+                    measured
+                        .map(|m| format!(
+                            ", indirect mean |Δ| {:.4} (signed {:+.4}; weighted by accessibility {:.4}, {:+.4}) of {:.4}",
+                            m.mean, m.signed, m.accessibility_weighted, m.accessibility_weighted_signed, m.level
+                        ))
+                        .unwrap_or_default()
                 ));
             }
         }
@@ -350,7 +396,9 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let bent = wanted.is_some_and(|a| a.bent_normals);
     let bounces = effects.indirect.map_or(0, |i| i.bounces);
     let gathered = |a: &Accessibility| {
-        indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &a.values, settings.form, bounces))
+        indirect.as_ref().map(|(direct, _)| {
+            surfel_indirect(&stage.surfels, &stage.albedo, direct, &EmitterWeight::One.weights(&a.values), settings.form, bounces)
+        })
     };
     let reference_lighting =
         Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
