@@ -146,6 +146,9 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
             assert!(value("signed_error").abs() <= value("mean_error") + 1e-15, "{prefix}");
         }
         assert!(row[column("pixels")].parse::<u64>().unwrap() > 0);
+        // The scene asks for bent normals: their angle to the ray-traced ones, in degrees.
+        let angle: f64 = row[column("bent_normal_mean_angle")].parse().unwrap();
+        assert!((0.0..=180.0).contains(&angle), "{angle}");
         assert_eq!(row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());

@@ -34,6 +34,15 @@ pub struct AccessibilityErrors {
     pub without_defects: Option<ErrorSummary>,
 }
 
+/// The angle (degrees) between the surfel bent normal and the ray-traced one (the mean
+/// unoccluded direction), per vertex with any open ray, and the same for the plain normal:
+/// what bending buys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BentNormalErrors {
+    pub surfel: ErrorSummary,
+    pub normal: ErrorSummary,
+}
+
 /// Signed differences a − b.
 pub fn signed_differences(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
@@ -64,6 +73,8 @@ pub struct ErrorRow {
     pub hierarchy: bool,
     pub accessibility: AccessibilityErrors,
     pub reference_standard_error: f64,
+    /// Bent normals against the ray-traced ones (where the scene asks for bent normals).
+    pub bent_normals: Option<BentNormalErrors>,
     /// Emitter evaluations of all passes so far over the whole scene (every object's
     /// receivers): the cost in operations, the same on every machine.
     pub interactions: u64,
@@ -123,6 +134,7 @@ pub fn error_rows(
                     hierarchy,
                     accessibility: AccessibilityErrors::new(&errors, &areas, defects, None),
                     reference_standard_error: reference.mean_standard_error(),
+                    bent_normals: None,
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
                     indirect_mean_error: None,
@@ -143,6 +155,7 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
     let vertex = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| f(&r.accessibility.per_vertex)).collect::<Vec<_>>();
     let area = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.area_weighted.as_ref().map(f)).collect::<Vec<_>>();
     let pixel = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.per_pixel.as_ref().map(f)).collect::<Vec<_>>();
+    let bent = |f: fn(&BentNormalErrors) -> f64| rows.iter().map(|r| r.bent_normals.as_ref().map(f)).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("mesh", "mesh name", rows.iter().map(|r| r.mesh.clone()).collect())
@@ -192,6 +205,18 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             "reference_standard_error",
             "mean standard error of the reference's per-vertex estimates (bounds its noise's effect on mean_error)",
             rows.iter().map(|r| r.reference_standard_error).collect(),
+        )
+        .optional_float(
+            "bent_normal_mean_angle",
+            "mean over vertices of the angle (degrees) between the surfel bent normal and the ray-traced one (mean unoccluded direction); empty where the scene asks for no bent normals",
+            bent(|b| b.surfel.mean),
+        )
+        .optional_float("bent_normal_median_angle", "median of that angle (degrees)", bent(|b| b.surfel.median))
+        .optional_float("bent_normal_p90_angle", "90th percentile of that angle (degrees)", bent(|b| b.surfel.p90))
+        .optional_float(
+            "normal_mean_angle",
+            "mean over vertices of the angle (degrees) between the plain normal and the ray-traced bent normal (what bending has to correct)",
+            bent(|b| b.normal.mean),
         )
         .integer("interactions", "emitter evaluations of all passes so far, whole scene (the cost in operations: machine-independent)", rows.iter().map(|r| r.interactions as i64).collect())
         .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene, in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())

@@ -20,10 +20,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
-use super::errors::{signed_differences, AccessibilityErrors, ErrorRow};
+use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow};
 use super::hierarchy::{Closeness, SurfelTree};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
-use super::reference::{reference_accessibility, RaySettings};
+use super::reference::{angles_degrees, reference_accessibility, reference_bent_normals, RaySettings};
 use super::shadow::ShadowForm;
 use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
@@ -34,6 +34,7 @@ use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
 use crate::trace::{Camera, TracedFrame};
 use nklut_pipeline::budget::{times, MemoryBudget};
+use nklut_pipeline::stats::ErrorSummary;
 
 /// One object's surfels: its name in tables and its range in the scene's surfels (the
 /// object's vertices in order) and in the geometry's triangles.
@@ -322,6 +323,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         (direct, reference)
     });
 
+    let bent = wanted.is_some_and(|a| a.bent_normals);
+    let reference_bent = bent.then(|| {
+        let start = std::time::Instant::now();
+        let normals = reference_bent_normals(&stage.geometry, &stage.surfels, settings.rays);
+        log(&format!("  reference bent normals: {} rays in {:.1} s", n as u64 * settings.rays.rays as u64, start.elapsed().as_secs_f64()));
+        normals
+    });
+    let plain_normals: Vec<DVec3> = stage.surfels.iter().map(|s| s.normal).collect();
     let coverage = stage.coverage(&Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]));
     let areas: Vec<f64> = stage.surfels.iter().map(|s| s.area).collect();
     let mut report = AoReport::default();
@@ -341,6 +350,11 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
                 let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
                 let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
+                let bent_normals = reference_bent.as_ref().and_then(|truth| {
+                    let surfel = ErrorSummary::of(&angles_degrees(&result.bent_normals[range.clone()], &truth[range.clone()]))?;
+                    let normal = ErrorSummary::of(&angles_degrees(&plain_normals[range.clone()], &truth[range.clone()]))?;
+                    Some(BentNormalErrors { surfel, normal })
+                });
                 let measured = twin
                     .as_ref()
                     .zip(twin_one.as_ref())
@@ -354,6 +368,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     hierarchy: *hierarchy,
                     accessibility: accessibility.clone(),
                     reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
+                    bent_normals,
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
                     indirect_mean_error: measured.map(|m| m.mean),
@@ -393,7 +408,6 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     // skipped), no AO, 1, 2, 3 passes and the reference.
     let use_tree = wanted.is_some_and(|a| a.hierarchy) || n > settings.max_brute;
     let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
-    let bent = wanted.is_some_and(|a| a.bent_normals);
     let bounces = effects.indirect.map_or(0, |i| i.bounces);
     let gathered = |a: &Accessibility| {
         indirect.as_ref().map(|(direct, _)| {
