@@ -58,7 +58,7 @@ fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
         reference.values.iter().sum::<f64>() / s.len() as f64
     );
     let comparison = Comparison {
-        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER],
+        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::RECEIVER_GAIN_FOUR],
         passes: 3,
         brute_force: s.len() <= max_brute,
         closeness: Closeness::default(),

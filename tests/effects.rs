@@ -115,7 +115,8 @@ fn shipped_ao_scenes_parse_and_name_surfel_effects() {
 /// `nklut effects` on a small AO scene with indirect light: ao_errors (CSV, Parquet,
 /// columns.json) with a row per object, pass count (1–3) and way of gathering (brute force
 /// and tree), finite numbers and the indirect columns filled; the pictures (no AO, 1, 2, 3
-/// passes with error images, the reference, side by side); no page read and no
+/// passes with error images, the reference, side by side, the signed accessibility error of
+/// 1, 2, 3 passes with their colour bar); no page read and no
 /// effects_errors (the scene names no reflection).
 #[test]
 fn effects_command_measures_ambient_occlusion_against_the_reference() {
@@ -156,7 +157,8 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
     let mut pictures: Vec<String> =
         std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     pictures.sort();
-    assert_eq!(pictures.len(), 4 * 3 + 2 + 2, "{pictures:?}");
+    assert_eq!(pictures.len(), 4 * 3 + 2 + 2 + 3 + 1, "{pictures:?}");
+    assert!(pictures.contains(&"ao_passes2_signed.png".to_string()) && pictures.contains(&"signed_scale.png".to_string()));
     assert!(
         pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()),
         "{pictures:?}"

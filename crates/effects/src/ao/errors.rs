@@ -160,7 +160,7 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
     table
         .text("mesh", "mesh name", rows.iter().map(|r| r.mesh.clone()).collect())
         .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .float("receiver_gain", "g of the shadow form: 1 the disc form factor, 4 the chapter's shader", rows.iter().map(|r| r.receiver_gain).collect())
+        .float("receiver_gain", "g of the shadow form: 1 the disc form factor, 4 its receiver cosine x 4 clamped to 1 (a variant)", rows.iter().map(|r| r.receiver_gain).collect())
         .integer("passes", "accessibility passes", rows.iter().map(|r| r.passes as i64).collect())
         .boolean("hierarchy", "emitters from the surfel tree (true) or every surfel (false)", rows.iter().map(|r| r.hierarchy).collect())
         .float("mean_error", "mean over vertices of |e|, e = accessibility - ray-traced reference", vertex(|s| s.mean))

@@ -29,7 +29,7 @@ use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
-use crate::pictures::Picture;
+use crate::pictures::{Picture, SignedMap};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
 use crate::trace::{Camera, TracedFrame};
@@ -220,6 +220,9 @@ impl Default for AoSettings {
 pub struct AoReport {
     pub rows: Vec<ErrorRow>,
     pub pictures: Vec<Picture>,
+    /// Per shown pass count, the per-pixel signed accessibility error (surfels − reference,
+    /// interpolated from the vertices): `ao_passes<k>_signed`.
+    pub signed_maps: Vec<SignedMap>,
     /// The pictures' variants at the hero size, when asked for.
     pub hero: Option<HeroSet>,
 }
@@ -434,6 +437,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             .collect();
         (truth, frames)
     };
+    for (a, _) in shown.iter().skip(1) {
+        report.signed_maps.push(SignedMap {
+            stem: format!("ao_passes{}_signed", a.passes),
+            width: settings.resolution[0],
+            height: settings.resolution[1],
+            values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
+        });
+    }
     let (truth, frames) = variants(settings.resolution);
     for (pass, frame) in frames.iter().enumerate() {
         let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };

@@ -104,8 +104,8 @@ fn a_disc_on_the_axis_casts_the_exact_form_factor() {
             let s = shadow(ShadowForm::FORM_FACTOR, &disc(h, DVec3::Z), DVec3::ZERO, receiver_normal);
             let exact = beta.cos() * sin2;
             assert!((s - exact).abs() <= 1e-14 * exact, "h {h} β {beta}: {s} vs {exact}");
-            // The shader's gain 4 saturates for cos β ≥ ¼: it drops the receiver's cosine.
-            let shader = shadow(ShadowForm::BUNNELL_SHADER, &disc(h, DVec3::Z), DVec3::ZERO, receiver_normal);
+            // The gain 4 saturates for cos β ≥ ¼: it drops the receiver's cosine.
+            let shader = shadow(ShadowForm::RECEIVER_GAIN_FOUR, &disc(h, DVec3::Z), DVec3::ZERO, receiver_normal);
             assert!((shader - sin2).abs() <= 1e-14 * sin2);
         }
         // Turned round, the disc shows the receiver its front: no shadow, and the same
@@ -207,7 +207,7 @@ fn reference_sees_open_and_closed_hemispheres() {
 }
 
 /// The claim of the method: two passes come closer to ray tracing than one on a closed,
-/// self-occluding mesh (a bumpy sphere), with the chapter's shader form (g = 4), whose
+/// self-occluding mesh (a bumpy sphere), with the receiver gain g = 4, whose
 /// first pass over-darkens. The reference's own noise (mean standard error) must be 10×
 /// below the errors it judges. (With g = 1 the first pass is already closer and further
 /// passes do not help on this mesh: figures in BENCHMARKS.md.)
@@ -216,7 +216,7 @@ fn two_passes_err_less_than_one_against_the_ray_traced_reference() {
     let mesh = bumpy_sphere(32, 0.4, 4.0);
     let s = surfels(&mesh);
     let reference = torus_reference(&mesh, &s, 2048);
-    let brute = BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER };
+    let brute = BruteForce { surfels: &s, form: ShadowForm::RECEIVER_GAIN_FOUR };
     let errors: Vec<(f64, f64)> = (1..=3).map(|p| mean_abs_difference(&accessibility(&brute, p).values, &reference.values)).collect();
     eprintln!(
         "bumpy sphere {} surfels: reference σ mean {:.5} max {:.5}; mean/max |a − ref| by passes 1..3: {errors:.4?}",
@@ -373,7 +373,7 @@ fn ao_errors_rows_match_a_direct_comparison() {
     let s = surfels(&mesh);
     let reference = torus_reference(&mesh, &s, 64);
     let comparison = Comparison {
-        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER],
+        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::RECEIVER_GAIN_FOUR],
         passes: 2,
         brute_force: true,
         closeness: Closeness::default(),
@@ -382,7 +382,7 @@ fn ao_errors_rows_match_a_direct_comparison() {
     assert!(defects.iter().all(|&d| !d), "a closed, consistently wound torus");
     let rows = error_rows("torus", &s, &defects, &reference, &comparison);
     assert_eq!(rows.len(), 2 * 2 * 2);
-    let direct = accessibility(&BruteForce { surfels: &s, form: ShadowForm::BUNNELL_SHADER }, 2);
+    let direct = accessibility(&BruteForce { surfels: &s, form: ShadowForm::RECEIVER_GAIN_FOUR }, 2);
     let (mean, max) = mean_abs_difference(&direct.values, &reference.values);
     let signed = direct.values.iter().zip(&reference.values).map(|(a, r)| a - r).sum::<f64>() / s.len() as f64;
     let row = rows.iter().find(|r| r.receiver_gain == 4.0 && r.passes == 2 && !r.hierarchy).unwrap();
