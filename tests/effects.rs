@@ -150,7 +150,7 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
         // The scene asks for bent normals: their angle to the ray-traced ones, in degrees.
         let angle: f64 = row[column("bent_normal_mean_angle")].parse().unwrap();
         assert!((0.0..=180.0).contains(&angle), "{angle}");
-        assert_eq!(row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
+        assert_eq!(&row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
     assert!(!out.join("effects_errors.csv").exists());
