@@ -558,7 +558,8 @@ fn sine_and_cosine_of_turns_are_libms_to_rounding() {
 
 /// Defects: a tetrahedron wound consistently has none; with one face turned round, that
 /// face disagrees with its three neighbours on all three edges (each neighbour on one), so
-/// only its corners are flagged; a triangle with collinear corners flags its corners.
+/// only its corners are flagged; a triangle with collinear corners flags its corners; so
+/// does one whose face turns away from its vertex normals.
 #[test]
 fn vertices_of_flipped_and_degenerate_triangles_are_flagged() {
     let positions =
@@ -574,6 +575,16 @@ fn vertices_of_flipped_and_degenerate_triangles_are_flagged() {
     let mut degenerate = outward;
     degenerate.extend([4, 5, 6, 0, 1, 9]);
     assert_eq!(mesh_defects(&mesh(degenerate)), [false, false, false, false, true, true, true]);
+    // Folded: triangle 0-1-2 (doubled area 1, normal +z) and 1-0-3, wound consistently with
+    // it across the edge 0-1, but with 3 = (½, ½, 0) lying on top of it (normal −z, doubled
+    // area ½). The faces' normal sum is +z at 0, 1 (1 − ½) and 2, −z at 3: the second face is
+    // 180° from it at corners 0 and 1, so it is folded and flags 0, 1, 3; the first is not.
+    let folded = Mesh {
+        positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0]],
+        normals: vec![],
+        indices: vec![0, 1, 2, 1, 0, 3],
+    };
+    assert_eq!(mesh_defects(&folded), [true, true, false, true]);
 }
 
 /// A white sphere (radius ½, 24 × 12 segments) resting 0.02 above a white floor, lit from
