@@ -25,7 +25,7 @@ use nklut::effects::ao::hierarchy::{Closeness, SurfelTree};
 use nklut::effects::ao::reference::{reference_accessibility, RaySettings};
 use nklut::effects::ao::shadow::ShadowForm;
 use nklut::effects::ao::shapes;
-use nklut::effects::ao::surfel::{surfels, Surfel};
+use nklut::effects::ao::surfel::{mesh_defects, surfels, Surfel};
 use nklut::effects::geometry::Geometry;
 use nklut::scene::mesh::{load_obj, Mesh};
 
@@ -58,12 +58,12 @@ fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
         reference.values.iter().sum::<f64>() / s.len() as f64
     );
     let comparison = Comparison {
-        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER],
+        forms: vec![ShadowForm::FORM_FACTOR, ShadowForm::RECEIVER_GAIN_FOUR],
         passes: 3,
         brute_force: s.len() <= max_brute,
         closeness: Closeness::default(),
     };
-    let (seconds, rows) = timed(|| error_rows(name, &s, &reference, &comparison));
+    let (seconds, rows) = timed(|| error_rows(name, &s, &mesh_defects(mesh), &reference, &comparison));
     println!("  mesh, g, passes, hierarchy, mean |a − ref|, max |a − ref|  ({seconds:.1} s for all)");
     for r in rows {
         println!(
@@ -71,8 +71,8 @@ fn accuracy(name: &str, mesh: &Mesh, rays: u32, max_brute: usize) {
             r.receiver_gain,
             r.passes,
             if r.hierarchy { "on" } else { "off" },
-            r.mean_error,
-            r.max_error
+            r.accessibility.per_vertex.mean,
+            r.accessibility.per_vertex.max
         );
     }
 }

@@ -115,7 +115,8 @@ fn shipped_ao_scenes_parse_and_name_surfel_effects() {
 /// `nklut effects` on a small AO scene with indirect light: ao_errors (CSV, Parquet,
 /// columns.json) with a row per object, pass count (1–3) and way of gathering (brute force
 /// and tree), finite numbers and the indirect columns filled; the pictures (no AO, 1, 2, 3
-/// passes with error images, the reference, side by side); no page read and no
+/// passes with error images, the reference, side by side, the signed accessibility error of
+/// 1, 2, 3 passes with their colour bar); no page read and no
 /// effects_errors (the scene names no reflection).
 #[test]
 fn effects_command_measures_ambient_occlusion_against_the_reference() {
@@ -137,13 +138,27 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
             assert!(value.is_finite() && value >= 0.0, "{name} {value}");
         }
         assert!(row[column("mean_error")].parse::<f64>().unwrap() <= row[column("max_error")].parse::<f64>().unwrap());
+        // The order statistics are ordered, each weighting's signed mean within its mean |e|,
+        // and both objects are seen by the camera.
+        for prefix in ["", "area_", "pixel_"] {
+            let value = |name: &str| row[column(&format!("{prefix}{name}"))].parse::<f64>().unwrap();
+            let ordered = [value("median_error"), value("p90_error"), value("p99_error"), value("max_error")];
+            assert!(ordered.windows(2).all(|w| w[0] <= w[1]), "{prefix}: {ordered:?}");
+            assert!(value("signed_error").abs() <= value("mean_error") + 1e-15, "{prefix}");
+        }
+        assert!(row[column("pixels")].parse::<u64>().unwrap() > 0);
+        // The scene asks for bent normals: their angle to the ray-traced ones, in degrees.
+        let angle: f64 = row[column("bent_normal_mean_angle")].parse().unwrap();
+        assert!((0.0..=180.0).contains(&angle), "{angle}");
+        assert_eq!(&row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
     assert!(!out.join("effects_errors.csv").exists());
     let mut pictures: Vec<String> =
         std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     pictures.sort();
-    assert_eq!(pictures.len(), 4 * 3 + 2 + 2, "{pictures:?}");
+    assert_eq!(pictures.len(), 4 * 3 + 2 + 2 + 3 + 1, "{pictures:?}");
+    assert!(pictures.contains(&"ao_passes2_signed.png".to_string()) && pictures.contains(&"signed_scale.png".to_string()));
     assert!(
         pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()),
         "{pictures:?}"

@@ -61,7 +61,7 @@ fn the_wgsl_shadow_term_matches_its_cpu_twin_on_a_ramp() {
             }
         }
     }
-    for form in [ShadowForm::FORM_FACTOR, ShadowForm::BUNNELL_SHADER] {
+    for form in [ShadowForm::FORM_FACTOR, ShadowForm::RECEIVER_GAIN_FOUR] {
         let gpu_terms = shadow_terms(&gpu, &pairs, form).unwrap();
         let mut worst: f64 = 0.0;
         let mut worst_twin: f64 = 0.0;

@@ -210,7 +210,11 @@ fn run_family(
             let report = super::ao::experiment::run(scene, &settings, stats, &mut |line| log(line))?;
             Ok(FamilyOutput {
                 tables: vec![(super::ao::errors::ao_errors_table(&report.rows), "ao_errors")],
-                pictures: super::pictures::files("ao_frames", &report.pictures)?,
+                pictures: [
+                    super::pictures::files("ao_frames", &report.pictures)?,
+                    super::pictures::signed_files("ao_frames", &report.signed_maps)?,
+                ]
+                .concat(),
                 hero: report.hero,
             })
         }

@@ -1,6 +1,7 @@
 //! Frames a person can look at: the reference beside the distance-map renders, as linear
 //! OpenEXR (float) and sRGB PNG, and a false-colour PNG of each render's error against the
-//! reference. Encoding through `bake::files` (the textures' encoders); the files join the
+//! reference; and signed maps (a per-pixel signed error, such as accessibility − reference)
+//! in a diverging colour scale with its colour bar. Encoding through `bake::files` (the textures' encoders); the files join the
 //! set of the command that made them (`output::publish_contents`), so frames of a killed
 //! or earlier run never mix with this one's.
 
@@ -31,6 +32,49 @@ pub fn false_colour(error: f64) -> [f64; 3] {
     let i = (x.floor() as usize).min(STOPS.len() - 2);
     let w = x - i as f64;
     std::array::from_fn(|c| STOPS[i][c] + w * (STOPS[i + 1][c] - STOPS[i][c]))
+}
+
+/// The signed error at which the diverging colour saturates (accessibility units).
+pub const SIGNED_SCALE: f64 = 0.25;
+/// The colour bar of the signed maps: −[`SIGNED_SCALE`] at the left, 0 in the middle.
+pub const SIGNED_SCALE_FILE: &str = "signed_scale.png";
+/// Where a signed map has no value (no surface): mid grey.
+pub const NO_VALUE: [f64; 3] = [0.5, 0.5, 0.5];
+
+/// The diverging colour of a signed error e: white at 0, to pure blue at −[`SIGNED_SCALE`]
+/// and beyond (negative: too little accessibility, the surfels over-occlude), to pure red at
+/// +[`SIGNED_SCALE`] (positive: they under-occlude); linear in between.
+pub fn signed_colour(error: f64) -> [f64; 3] {
+    let t = (error / SIGNED_SCALE).clamp(-1.0, 1.0);
+    if t >= 0.0 {
+        [1.0, 1.0 - t, 1.0 - t]
+    } else {
+        [1.0 + t, 1.0 + t, 1.0]
+    }
+}
+
+/// A per-pixel signed error (`None`: nothing there) of `width` × `height` pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SignedMap {
+    pub stem: String,
+    pub width: u32,
+    pub height: u32,
+    pub values: Vec<Option<f64>>,
+}
+
+/// `<folder>/<stem>.png` per map in [`signed_colour`] ([`NO_VALUE`] where there is none)
+/// and, with any map, the colour bar `<folder>/signed_scale.png` (256 × 16, −scale … +scale).
+pub fn signed_files(folder: &str, maps: &[SignedMap]) -> Result<Vec<SetFile>> {
+    let mut written = Vec::new();
+    for map in maps {
+        let colours = map.values.iter().map(|v| v.map_or(NO_VALUE, signed_colour));
+        written.push(SetFile::new(format!("{folder}/{}.png", map.stem), error_png(map.width, map.height, colours)?));
+    }
+    if !maps.is_empty() {
+        let bar: Vec<[f64; 3]> = (0..16).flat_map(|_| (0..256).map(|x| signed_colour(SIGNED_SCALE * (x as f64 - 127.5) / 127.5))).collect();
+        written.push(SetFile::new(format!("{folder}/{SIGNED_SCALE_FILE}"), error_png(256, 16, bar.into_iter())?));
+    }
+    Ok(written)
 }
 
 /// |Δ| summed over the channels, per pixel: what an error image shows in false colour.
@@ -84,6 +128,23 @@ mod tests {
         // An eighth: halfway between black and blue.
         let eighth = false_colour(ERROR_SCALE / 8.0);
         assert!((eighth[2] - 0.4).abs() < 1e-12 && (eighth[0] - 0.05).abs() < 1e-12);
+    }
+
+    /// White at 0, pure red at +scale, pure blue at −scale, half-way between: half-tinted.
+    #[test]
+    fn signed_colour_diverges_from_white() {
+        assert_eq!(signed_colour(0.0), [1.0; 3]);
+        assert_eq!(signed_colour(SIGNED_SCALE), [1.0, 0.0, 0.0]);
+        assert_eq!(signed_colour(3.0), [1.0, 0.0, 0.0]);
+        assert_eq!(signed_colour(-SIGNED_SCALE), [0.0, 0.0, 1.0]);
+        assert_eq!(signed_colour(SIGNED_SCALE / 2.0), [1.0, 0.5, 0.5]);
+        assert_eq!(signed_colour(-SIGNED_SCALE / 4.0), [0.75, 0.75, 1.0]);
+        let map = SignedMap { stem: "s".into(), width: 3, height: 1, values: vec![Some(SIGNED_SCALE), None, Some(-SIGNED_SCALE)] };
+        let written = signed_files("f", &[map]).unwrap();
+        assert_eq!(written.iter().map(|f| f.name.as_str()).collect::<Vec<_>>(), ["f/s.png", "f/signed_scale.png"]);
+        let decoded = nklut_pipeline::bake::files::decode(Encoding::Unorm8, &written[0].bytes).unwrap();
+        assert_eq!(decoded.texels, Texels::U8(vec![255, 0, 0, 128, 128, 128, 0, 0, 255]));
+        assert!(signed_files("f", &[]).unwrap().is_empty());
     }
 
     #[test]

@@ -1,8 +1,14 @@
 //! The `ao_errors` table: per mesh, receiver gain g, pass count and hierarchy on/off, the
-//! mean and largest |accessibility − reference| over the mesh's vertices, with the
-//! reference's own mean standard error beside them (the figure that says how far its noise
-//! can move the mean), and where the scene asks for indirect light, its error. Rows are computed here from plain data; the table is written through
-//! `nklut_pipeline::output` (CSV, Parquet, columns.json).
+//! accessibility error e = a − reference (positive: the surfels under-occlude) summarised
+//! three ways by `nklut_pipeline::stats::ErrorSummary` (mean |e|, signed mean, median, p90,
+//! p99, max |e|): per vertex, weighted by the vertices' areas (a third of the adjacent
+//! triangles: what the surface holds), and per pixel of the picture the object covers (both
+//! interpolated from the vertices: what the camera sees). Vertices of flipped or degenerate
+//! triangles (`super::surfel::mesh_defects`) are counted and the per-vertex error given
+//! without them too. Beside them the reference's own mean standard error (how far its noise
+//! can move the mean), and where the scene asks for indirect light, its error. Rows are
+//! computed here from plain data; the table is written through `nklut_pipeline::output`
+//! (CSV, Parquet, columns.json).
 
 use super::accessibility::{accessibility_by_pass, BruteForce, Emitters};
 use super::hierarchy::{Closeness, SurfelTree};
@@ -10,6 +16,52 @@ use super::reference::ReferenceAccessibility;
 use super::shadow::ShadowForm;
 use super::surfel::Surfel;
 use nklut_pipeline::output::Table;
+use nklut_pipeline::stats::ErrorSummary;
+
+/// The accessibility error of one object, summarised per vertex, per area and per pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccessibilityErrors {
+    /// Every vertex weighted 1 (a zero summary of count 0 for an object with no vertex).
+    pub per_vertex: ErrorSummary,
+    /// Each vertex weighted by its surfel's area; `None` where every area is 0.
+    pub area_weighted: Option<ErrorSummary>,
+    /// Each pixel of the picture where the object is the nearest surface; `None` where no
+    /// picture was measured or the object covers no pixel.
+    pub per_pixel: Option<ErrorSummary>,
+    /// Vertices of flipped or degenerate triangles.
+    pub defect_vertices: usize,
+    /// The per-vertex summary without those vertices (`None` when none is left).
+    pub without_defects: Option<ErrorSummary>,
+}
+
+/// The angle (degrees) between the surfel bent normal and the ray-traced one (the mean
+/// unoccluded direction), per vertex with any open ray, and the same for the plain normal:
+/// what bending buys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BentNormalErrors {
+    pub surfel: ErrorSummary,
+    pub normal: ErrorSummary,
+}
+
+/// Signed differences a − b.
+pub fn signed_differences(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+impl AccessibilityErrors {
+    /// The summaries of per-vertex errors `errors` (a − reference) with the vertices'
+    /// `areas` and `defects` flags, and the per-pixel errors where measured.
+    pub fn new(errors: &[f64], areas: &[f64], defects: &[bool], pixels: Option<&[f64]>) -> AccessibilityErrors {
+        let kept: Vec<f64> = errors.iter().zip(defects).filter(|(_, &d)| !d).map(|(&e, _)| e).collect();
+        AccessibilityErrors {
+            per_vertex: ErrorSummary::of(errors).unwrap_or(ErrorSummary::NONE),
+            area_weighted: ErrorSummary::weighted(errors, areas),
+            per_pixel: pixels.and_then(ErrorSummary::of),
+            defect_vertices: defects.iter().filter(|&&d| d).count(),
+            without_defects: ErrorSummary::of(&kept),
+        }
+    }
+}
 
 /// One configuration's error against the reference.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,17 +71,23 @@ pub struct ErrorRow {
     pub receiver_gain: f64,
     pub passes: u32,
     pub hierarchy: bool,
-    pub mean_error: f64,
-    pub max_error: f64,
+    pub accessibility: AccessibilityErrors,
     pub reference_standard_error: f64,
+    /// Bent normals against the ray-traced ones (where the scene asks for bent normals).
+    pub bent_normals: Option<BentNormalErrors>,
     /// Emitter evaluations of all passes so far over the whole scene (every object's
     /// receivers): the cost in operations, the same on every machine.
     pub interactions: u64,
     /// Wall time of those passes on the CPU in ms (the whole scene).
     pub cpu_ms: f64,
-    /// Indirect light (one bounce, emitters weighted by this row's accessibility): mean
-    /// |surfels − ray-traced| over vertices and channels; `None` where the scene asks for none.
+    /// Indirect light (one bounce, emitters weighted 1): mean |surfels − ray-traced| over
+    /// vertices and channels; `None` where the scene asks for none.
     pub indirect_mean_error: Option<f64>,
+    /// Its signed mean (surfels − ray-traced).
+    pub indirect_signed_error: Option<f64>,
+    /// The same with emitters weighted by this row's accessibility (the chapter's modulation).
+    pub indirect_accessibility_weighted_mean_error: Option<f64>,
+    pub indirect_accessibility_weighted_signed_error: Option<f64>,
     /// The ray-traced one-bounce irradiance's mean over the same vertices and channels.
     pub indirect_reference_mean: Option<f64>,
     /// Its mean standard error.
@@ -46,15 +104,16 @@ pub struct Comparison {
     pub closeness: Closeness,
 }
 
-/// Mean and largest |a − b| (0, 0 for no values).
-pub fn mean_and_max_difference(a: &[f64], b: &[f64]) -> (f64, f64) {
-    let differences = a.iter().zip(b).map(|(x, y)| (x - y).abs());
-    let (sum, max, count) = differences.fold((0.0, 0.0f64, 0usize), |(sum, max, count), d| (sum + d, max.max(d), count + 1));
-    (if count > 0 { sum / count as f64 } else { 0.0 }, max)
-}
-
-/// The rows of one mesh: every form × hierarchy (brute force first, where asked) × pass.
-pub fn error_rows(mesh: &str, surfels: &[Surfel], reference: &ReferenceAccessibility, comparison: &Comparison) -> Vec<ErrorRow> {
+/// The rows of one mesh (its vertices' `defects` flags): every form × hierarchy (brute
+/// force first, where asked) × pass; no pictures, so no per-pixel error.
+pub fn error_rows(
+    mesh: &str,
+    surfels: &[Surfel],
+    defects: &[bool],
+    reference: &ReferenceAccessibility,
+    comparison: &Comparison,
+) -> Vec<ErrorRow> {
+    let areas: Vec<f64> = surfels.iter().map(|s| s.area).collect();
     let mut rows = Vec::new();
     for &form in &comparison.forms {
         let brute = BruteForce { surfels, form };
@@ -66,19 +125,22 @@ pub fn error_rows(mesh: &str, surfels: &[Surfel], reference: &ReferenceAccessibi
         runs.push((true, &tree));
         for (hierarchy, emitters) in runs {
             for result in accessibility_by_pass(emitters, comparison.passes).iter().skip(1) {
-                let (mean_error, max_error) = mean_and_max_difference(&result.values, &reference.values);
+                let errors = signed_differences(&result.values, &reference.values);
                 rows.push(ErrorRow {
                     mesh: mesh.into(),
                     surfels: surfels.len(),
                     receiver_gain: form.receiver_gain,
                     passes: result.passes,
                     hierarchy,
-                    mean_error,
-                    max_error,
+                    accessibility: AccessibilityErrors::new(&errors, &areas, defects, None),
                     reference_standard_error: reference.mean_standard_error(),
+                    bent_normals: None,
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
                     indirect_mean_error: None,
+                    indirect_signed_error: None,
+                    indirect_accessibility_weighted_mean_error: None,
+                    indirect_accessibility_weighted_signed_error: None,
                     indirect_reference_mean: None,
                     indirect_reference_standard_error: None,
                 });
@@ -90,26 +152,93 @@ pub fn error_rows(mesh: &str, surfels: &[Surfel], reference: &ReferenceAccessibi
 
 /// The `ao_errors` table of `rows`.
 pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
+    let vertex = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| f(&r.accessibility.per_vertex)).collect::<Vec<_>>();
+    let area = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.area_weighted.as_ref().map(f)).collect::<Vec<_>>();
+    let pixel = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.per_pixel.as_ref().map(f)).collect::<Vec<_>>();
+    let bent = |f: fn(&BentNormalErrors) -> f64| rows.iter().map(|r| r.bent_normals.as_ref().map(f)).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("mesh", "mesh name", rows.iter().map(|r| r.mesh.clone()).collect())
         .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .float("receiver_gain", "g of the shadow form: 1 the disc form factor, 4 the chapter's shader", rows.iter().map(|r| r.receiver_gain).collect())
+        .float("receiver_gain", "g of the shadow form: 1 the disc form factor, 4 its receiver cosine x 4 clamped to 1 (a variant)", rows.iter().map(|r| r.receiver_gain).collect())
         .integer("passes", "accessibility passes", rows.iter().map(|r| r.passes as i64).collect())
         .boolean("hierarchy", "emitters from the surfel tree (true) or every surfel (false)", rows.iter().map(|r| r.hierarchy).collect())
-        .float("mean_error", "mean over vertices of |accessibility - ray-traced reference|", rows.iter().map(|r| r.mean_error).collect())
-        .float("max_error", "largest |accessibility - ray-traced reference| over vertices", rows.iter().map(|r| r.max_error).collect())
+        .float("mean_error", "mean over vertices of |e|, e = accessibility - ray-traced reference", vertex(|s| s.mean))
+        .float("signed_error", "mean over vertices of e (positive: the surfels under-occlude)", vertex(|s| s.signed_mean))
+        .float("median_error", "median over vertices of |e|", vertex(|s| s.median))
+        .float("p90_error", "90th percentile over vertices of |e|", vertex(|s| s.p90))
+        .float("p99_error", "99th percentile over vertices of |e|", vertex(|s| s.p99))
+        .float("max_error", "largest |e| over vertices", vertex(|s| s.max))
+        .optional_float("area_mean_error", "mean of |e| weighted by the vertices' areas (a third of each adjacent triangle)", area(|s| s.mean))
+        .optional_float("area_signed_error", "area-weighted mean of e", area(|s| s.signed_mean))
+        .optional_float("area_median_error", "area-weighted median of |e|", area(|s| s.median))
+        .optional_float("area_p90_error", "area-weighted 90th percentile of |e|", area(|s| s.p90))
+        .optional_float("area_p99_error", "area-weighted 99th percentile of |e|", area(|s| s.p99))
+        .optional_float("area_max_error", "largest |e| over vertices of positive area", area(|s| s.max))
+        .integer(
+            "pixels",
+            "pixels of the picture where the object is the nearest surface (0: no picture measured)",
+            rows.iter().map(|r| r.accessibility.per_pixel.map_or(0, |s| s.count as i64)).collect(),
+        )
+        .optional_float("pixel_mean_error", "mean over those pixels of |e|, accessibility and reference interpolated from the vertices", pixel(|s| s.mean))
+        .optional_float("pixel_signed_error", "mean over those pixels of e", pixel(|s| s.signed_mean))
+        .optional_float("pixel_median_error", "median over those pixels of |e|", pixel(|s| s.median))
+        .optional_float("pixel_p90_error", "90th percentile over those pixels of |e|", pixel(|s| s.p90))
+        .optional_float("pixel_p99_error", "99th percentile over those pixels of |e|", pixel(|s| s.p99))
+        .optional_float("pixel_max_error", "largest |e| over those pixels", pixel(|s| s.max))
+        .integer(
+            "defect_vertices",
+            "vertices of flipped or degenerate triangles (their error is the mesh's; counted in the columns above)",
+            rows.iter().map(|r| r.accessibility.defect_vertices as i64).collect(),
+        )
+        .optional_float(
+            "mean_error_without_defects",
+            "mean over vertices of |e| leaving out the defect vertices",
+            rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.mean)).collect(),
+        )
+        .optional_float(
+            "max_error_without_defects",
+            "largest |e| over vertices leaving out the defect vertices",
+            rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.max)).collect(),
+        )
         .float(
             "reference_standard_error",
             "mean standard error of the reference's per-vertex estimates (bounds its noise's effect on mean_error)",
             rows.iter().map(|r| r.reference_standard_error).collect(),
         )
+        .optional_float(
+            "bent_normal_mean_angle",
+            "mean over vertices of the angle (degrees) between the surfel bent normal and the ray-traced one (mean unoccluded direction); empty where the scene asks for no bent normals",
+            bent(|b| b.surfel.mean),
+        )
+        .optional_float("bent_normal_median_angle", "median of that angle (degrees)", bent(|b| b.surfel.median))
+        .optional_float("bent_normal_p90_angle", "90th percentile of that angle (degrees)", bent(|b| b.surfel.p90))
+        .optional_float(
+            "normal_mean_angle",
+            "mean over vertices of the angle (degrees) between the plain normal and the ray-traced bent normal (what bending has to correct)",
+            bent(|b| b.normal.mean),
+        )
         .integer("interactions", "emitter evaluations of all passes so far, whole scene (the cost in operations: machine-independent)", rows.iter().map(|r| r.interactions as i64).collect())
         .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene, in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
         .optional_float(
             "indirect_mean_error",
-            "indirect light, one bounce with emitters weighted by this row's accessibility: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
+            "indirect light, one bounce with emitters weighted 1: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
             rows.iter().map(|r| r.indirect_mean_error).collect(),
+        )
+        .optional_float(
+            "indirect_signed_error",
+            "mean over vertices and channels of surfels - ray-traced, emitters weighted 1 (negative: too little bounce light)",
+            rows.iter().map(|r| r.indirect_signed_error).collect(),
+        )
+        .optional_float(
+            "indirect_accessibility_weighted_mean_error",
+            "as indirect_mean_error with each emitter weighted by this row's accessibility (the chapter's modulation)",
+            rows.iter().map(|r| r.indirect_accessibility_weighted_mean_error).collect(),
+        )
+        .optional_float(
+            "indirect_accessibility_weighted_signed_error",
+            "as indirect_signed_error with each emitter weighted by this row's accessibility",
+            rows.iter().map(|r| r.indirect_accessibility_weighted_signed_error).collect(),
         )
         .optional_float("indirect_reference_mean", "mean of the ray-traced one-bounce irradiance over the same vertices and channels", rows.iter().map(|r| r.indirect_reference_mean).collect())
         .optional_float(

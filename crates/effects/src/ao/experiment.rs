@@ -20,20 +20,21 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
-use super::errors::{mean_and_max_difference, ErrorRow};
+use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow};
 use super::hierarchy::{Closeness, SurfelTree};
-use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, ReferenceIndirect, Rgb};
-use super::reference::{reference_accessibility, RaySettings};
+use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
+use super::reference::{angles_degrees, reference_accessibility, reference_bent_normals, RaySettings};
 use super::shadow::ShadowForm;
-use super::surfel::{subdivided_times, surfels, Surfel};
+use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
-use crate::pictures::Picture;
+use crate::pictures::{Picture, SignedMap};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
 use crate::trace::{Camera, TracedFrame};
 use nklut_pipeline::budget::{times, MemoryBudget};
+use nklut_pipeline::stats::ErrorSummary;
 
 /// One object's surfels: its name in tables and its range in the scene's surfels (the
 /// object's vertices in order) and in the geometry's triangles.
@@ -55,6 +56,8 @@ pub struct SurfelScene {
     /// Diffuse albedo per object (the plain colour, without pattern).
     pub object_albedo: Vec<Rgb>,
     pub lights: Vec<LightSource>,
+    /// Per surfel: a corner of a flipped or degenerate triangle of its mesh.
+    pub defects: Vec<bool>,
 }
 
 /// The bytes the AO run holds per triangle of a placed (and subdivided) mesh, for the
@@ -72,7 +75,7 @@ impl SurfelScene {
         let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
-        let (mut all, mut albedo, mut object_albedo) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut all, mut albedo, mut object_albedo, mut defects) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut triangles = 0;
         for (i, object) in scene.objects.iter().enumerate() {
             let loaded =
@@ -103,10 +106,11 @@ impl SurfelScene {
             }));
             triangles += placed.triangles();
             all.extend(own);
+            defects.extend(mesh_defects(&placed));
             meshes.push(placed);
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
-        Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone() })
+        Ok(SurfelScene { meshes, geometry, surfels: all, objects, albedo, object_albedo, lights: scene.lights.clone(), defects })
     }
 
     /// Which object a global triangle index belongs to.
@@ -138,6 +142,42 @@ impl SurfelScene {
         };
         (vertices.map(|v| self.objects[object].surfels.start + v), weights)
     }
+
+    /// What each pixel of `camera`'s frame sees: the object, its triangle's surfels and the
+    /// point's barycentric weights (`None`: no surface).
+    pub fn coverage(&self, camera: &Camera) -> Vec<Option<PixelSample>> {
+        (0..camera.width * camera.height)
+            .into_par_iter()
+            .map(|i| {
+                let direction = camera.ray(i % camera.width, i / camera.width);
+                let hit = self.geometry.nearest(camera.eye, direction, None, |_| true)?;
+                let (corners, weights) = self.corners(hit.triangle as usize, hit.point);
+                Some(PixelSample { object: self.object_of_triangle(hit.triangle as usize), corners, weights })
+            })
+            .collect()
+    }
+}
+
+/// The surface a pixel sees: its object (index in [`SurfelScene::objects`]), the global
+/// surfel indices of the triangle's corners and the barycentric weights of the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelSample {
+    pub object: usize,
+    pub corners: [usize; 3],
+    pub weights: [f64; 3],
+}
+
+impl PixelSample {
+    /// Per-vertex `values` interpolated at the pixel's point.
+    pub fn interpolate(&self, values: &[f64]) -> f64 {
+        (0..3).map(|k| self.weights[k] * values[self.corners[k]]).sum()
+    }
+}
+
+/// The per-pixel errors (interpolated `values` − interpolated `reference`) of the pixels
+/// where `object` is the nearest surface.
+pub fn pixel_errors(coverage: &[Option<PixelSample>], object: usize, values: &[f64], reference: &[f64]) -> Vec<f64> {
+    coverage.iter().flatten().filter(|p| p.object == object).map(|p| p.interpolate(values) - p.interpolate(reference)).collect()
 }
 
 /// How the experiment runs: reference rays, the largest surfel count run by brute force
@@ -180,6 +220,9 @@ impl Default for AoSettings {
 pub struct AoReport {
     pub rows: Vec<ErrorRow>,
     pub pictures: Vec<Picture>,
+    /// Per shown pass count, the per-pixel signed accessibility error (surfels − reference,
+    /// interpolated from the vertices): `ao_passes<k>_signed`.
+    pub signed_maps: Vec<SignedMap>,
     /// The pictures' variants at the hero size, when asked for.
     pub hero: Option<HeroSet>,
 }
@@ -197,14 +240,44 @@ fn mean(values: impl Iterator<Item = f64>, count: usize) -> f64 {
     values.sum::<f64>() / count.max(1) as f64
 }
 
-/// Mean |twin − reference| over a range of vertices and the three channels, and the
-/// reference's mean and mean standard error there.
-fn indirect_error(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> (f64, f64, f64) {
+/// Indirect light's error over a range of vertices and the three channels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct IndirectError {
+    /// Mean |twin − reference| with emitters weighted 1.
+    mean: f64,
+    /// Mean (twin − reference) with emitters weighted 1.
+    signed: f64,
+    /// Mean |twin − reference| with emitters weighted by the row's accessibility.
+    accessibility_weighted: f64,
+    /// Mean (twin − reference) with that weighting.
+    accessibility_weighted_signed: f64,
+    /// The reference's mean and mean standard error.
+    level: f64,
+    noise: f64,
+}
+
+/// Mean |twin − reference| and mean (twin − reference) over a range of vertices and the
+/// three channels.
+fn indirect_difference(twin: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> (f64, f64) {
     let count = 3 * range.len();
-    let error = mean(range.clone().flat_map(|i| (0..3).map(move |c| (twin[i][c] - reference.values[i][c]).abs())), count);
-    let level = mean(range.clone().flat_map(|i| reference.values[i]), count);
-    let noise = mean(range.flat_map(|i| reference.standard_errors[i]), count);
-    (error, level, noise)
+    let difference = |i: usize, c: usize| twin[i][c] - reference.values[i][c];
+    let absolute = mean(range.clone().flat_map(|i| (0..3).map(move |c| difference(i, c).abs())), count);
+    let signed = mean(range.flat_map(|i| (0..3).map(move |c| difference(i, c))), count);
+    (absolute, signed)
+}
+
+fn indirect_error(one: &[Rgb], chapter: &[Rgb], reference: &ReferenceIndirect, range: Range<usize>) -> IndirectError {
+    let count = 3 * range.len();
+    let (mean_error, signed) = indirect_difference(one, reference, range.clone());
+    let (accessibility_weighted, accessibility_weighted_signed) = indirect_difference(chapter, reference, range.clone());
+    IndirectError {
+        mean: mean_error,
+        signed,
+        accessibility_weighted,
+        accessibility_weighted_signed,
+        level: mean(range.clone().flat_map(|i| reference.values[i]), count),
+        noise: mean(range.flat_map(|i| reference.standard_errors[i]), count),
+    }
 }
 
 /// Run the experiment for a scene with surfel effects; a scene without them computes
@@ -253,41 +326,82 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         (direct, reference)
     });
 
+    let bent = wanted.is_some_and(|a| a.bent_normals);
+    let reference_bent = bent.then(|| {
+        let start = std::time::Instant::now();
+        let normals = reference_bent_normals(&stage.geometry, &stage.surfels, settings.rays);
+        log(&format!("  reference bent normals: {} rays in {:.1} s", n as u64 * settings.rays.rays as u64, start.elapsed().as_secs_f64()));
+        normals
+    });
+    let plain_normals: Vec<DVec3> = stage.surfels.iter().map(|s| s.normal).collect();
+    let coverage = stage.coverage(&Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]));
+    let areas: Vec<f64> = stage.surfels.iter().map(|s| s.area).collect();
     let mut report = AoReport::default();
+    // One bounce with emitters weighted 1 (the same for every row) and, per row, weighted by
+    // its accessibility (the chapter's modulation), for comparison.
+    let one_bounce = |weight: EmitterWeight, a: &[f64]| {
+        indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &weight.weights(a), settings.form, 1))
+    };
+    let twin_one = one_bounce(EmitterWeight::One, &reference.values);
+    stats.indirect_bounces += twin_one.is_some() as u64;
     for (hierarchy, history) in &runs {
         for result in history.iter().skip(1) {
-            let twin = indirect.as_ref().map(|(direct, _)| {
-                stats.indirect_bounces += 1;
-                surfel_indirect(&stage.surfels, &stage.albedo, direct, &result.values, settings.form, 1)
-            });
-            for object in &stage.objects {
+            let twin = one_bounce(EmitterWeight::Accessibility, &result.values);
+            stats.indirect_bounces += twin.is_some() as u64;
+            for (index, object) in stage.objects.iter().enumerate() {
                 let range = object.surfels.clone();
-                let (mean_error, max_error) = mean_and_max_difference(&result.values[range.clone()], &reference.values[range.clone()]);
-                let measured =
-                    twin.as_ref().zip(indirect.as_ref()).map(|(twin, (_, reference))| indirect_error(twin, reference, range.clone()));
+                let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
+                let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
+                let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
+                let bent_normals = reference_bent.as_ref().and_then(|truth| {
+                    let surfel = ErrorSummary::of(&angles_degrees(&result.bent_normals[range.clone()], &truth[range.clone()]))?;
+                    let normal = ErrorSummary::of(&angles_degrees(&plain_normals[range.clone()], &truth[range.clone()]))?;
+                    Some(BentNormalErrors { surfel, normal })
+                });
+                let measured = twin
+                    .as_ref()
+                    .zip(twin_one.as_ref())
+                    .zip(indirect.as_ref())
+                    .map(|((chapter, one), (_, reference))| indirect_error(one, chapter, reference, range.clone()));
                 report.rows.push(ErrorRow {
                     mesh: object.name.clone(),
                     surfels: range.len(),
                     receiver_gain: settings.form.receiver_gain,
                     passes: result.passes,
                     hierarchy: *hierarchy,
-                    mean_error,
-                    max_error,
+                    accessibility: accessibility.clone(),
                     reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
+                    bent_normals,
                     interactions: result.interactions,
                     cpu_ms: result.elapsed_ms,
-                    indirect_mean_error: measured.map(|m| m.0),
-                    indirect_reference_mean: measured.map(|m| m.1),
-                    indirect_reference_standard_error: measured.map(|m| m.2),
+                    indirect_mean_error: measured.map(|m| m.mean),
+                    indirect_signed_error: measured.map(|m| m.signed),
+                    indirect_accessibility_weighted_mean_error: measured.map(|m| m.accessibility_weighted),
+                    indirect_accessibility_weighted_signed_error: measured.map(|m| m.accessibility_weighted_signed),
+                    indirect_reference_mean: measured.map(|m| m.level),
+                    indirect_reference_standard_error: measured.map(|m| m.noise),
                 });
+                let v = &accessibility.per_vertex;
                 log(&format!(
-                    "  {} {} passes {}: mean |a − ref| {:.4}, max {:.4}{}",
+                    "  {} {} passes {}: |a − ref| per vertex mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}; area-weighted {:.4}; per pixel {:.4}; {} defect vertices{}",
                     object.name,
                     result.passes,
                     if *hierarchy { "tree" } else { "brute force" },
-                    mean_error,
-                    max_error,
-                    measured.map(|m| format!(", indirect mean |Δ| {:.4} of {:.4}", m.0, m.1)).unwrap_or_default()
+                    v.mean,
+                    v.signed_mean,
+                    v.median,
+                    v.p90,
+                    v.p99,
+                    v.max,
+                    accessibility.area_weighted.map_or(0.0, |s| s.mean),
+                    accessibility.per_pixel.map_or(0.0, |s| s.mean),
+                    accessibility.defect_vertices,
+                    measured
+                        .map(|m| format!(
+                            ", indirect mean |Δ| {:.4} (signed {:+.4}; weighted by accessibility {:.4}, {:+.4}) of {:.4}",
+                            m.mean, m.signed, m.accessibility_weighted, m.accessibility_weighted_signed, m.level
+                        ))
+                        .unwrap_or_default()
                 ));
             }
         }
@@ -297,10 +411,11 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     // skipped), no AO, 1, 2, 3 passes and the reference.
     let use_tree = wanted.is_some_and(|a| a.hierarchy) || n > settings.max_brute;
     let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
-    let bent = wanted.is_some_and(|a| a.bent_normals);
     let bounces = effects.indirect.map_or(0, |i| i.bounces);
     let gathered = |a: &Accessibility| {
-        indirect.as_ref().map(|(direct, _)| surfel_indirect(&stage.surfels, &stage.albedo, direct, &a.values, settings.form, bounces))
+        indirect.as_ref().map(|(direct, _)| {
+            surfel_indirect(&stage.surfels, &stage.albedo, direct, &EmitterWeight::One.weights(&a.values), settings.form, bounces)
+        })
     };
     let reference_lighting =
         Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
@@ -322,6 +437,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             .collect();
         (truth, frames)
     };
+    for (a, _) in shown.iter().skip(1) {
+        report.signed_maps.push(SignedMap {
+            stem: format!("ao_passes{}_signed", a.passes),
+            width: settings.resolution[0],
+            height: settings.resolution[1],
+            values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
+        });
+    }
     let (truth, frames) = variants(settings.resolution);
     for (pass, frame) in frames.iter().enumerate() {
         let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };

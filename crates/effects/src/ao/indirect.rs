@@ -10,9 +10,18 @@
 //! Surfels (Bunnell, GPU Gems 2 ch. 14, indirect lighting): a lit surfel's front emits
 //! radiosity B_j = ρ_j · E_d(j) (ρ the diffuse albedo per channel; B = π × radiance), and
 //! a receiver gathers E₁(i) = Σ_j B_j · F_ij · w_j with F_ij the disc form factor to the
-//! emitter's front ([`super::shadow::bounce`]) and w_j the emitter's accessibility (a front
-//! that is itself hidden shows less of itself — the chapter's modulation), or 1. A second
-//! bounce repeats the gather with B_j = ρ_j · E₁(j); the result is the sum of the bounces.
+//! emitter's front ([`super::shadow::bounce`]) and w_j the emitter's weight
+//! ([`EmitterWeight`]): 1 by default, or the emitter's accessibility (the chapter's
+//! modulation: a front that is itself hidden shows less of itself). A second bounce repeats
+//! the gather with B_j = ρ_j · E₁(j); the result is the sum of the bounces.
+//!
+//! Why 1: B_j already carries the emitter's shadowing (E_d has its shadow ray), and its
+//! accessibility measures how much of *its* hemisphere is covered — by the very surfaces that
+//! face it, which are the receivers it lights. A floor under a sphere has accessibility well
+//! below 1 because the sphere is above it, and that is where the sphere's underside gets its
+//! bounce; weighting by accessibility darkens exactly the emitters that matter. Measured on
+//! `scenes/ao-colour-bleeding.yaml` (docs/ao.md): the sphere's one-bounce error falls from a
+//! signed −0.065 (weight = accessibility) to near 0 with weight 1.
 //!
 //! Reference (one bounce): E₁(x) = ∫ L(y(ω)) cos θ dω with L = ρ(y) E_d(y) / π at the first
 //! surface y the ray meets; with cosine-distributed directions the estimator is the mean of
@@ -81,6 +90,26 @@ pub fn direct_irradiance(geometry: &Geometry, point: DVec3, normal: DVec3, light
 /// Direct irradiance at every surfel.
 pub fn surfel_direct(geometry: &Geometry, surfels: &[Surfel], lights: &[LightSource], offset: f64) -> Vec<Rgb> {
     surfels.par_iter().map(|s| direct_irradiance(geometry, s.centre, s.normal, lights, offset)).collect()
+}
+
+/// How a gather weights an emitter's radiosity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EmitterWeight {
+    /// 1: the radiosity as lit (its shadow ray already darkens it); the measured default.
+    #[default]
+    One,
+    /// The emitter's accessibility (the chapter's modulation).
+    Accessibility,
+}
+
+impl EmitterWeight {
+    /// The per-emitter weights given the emitters' `accessibility`.
+    pub fn weights(self, accessibility: &[f64]) -> Vec<f64> {
+        match self {
+            EmitterWeight::One => vec![1.0; accessibility.len()],
+            EmitterWeight::Accessibility => accessibility.to_vec(),
+        }
+    }
 }
 
 /// Indirect irradiance at every surfel after `bounces` bounces (summed), by brute force

@@ -164,6 +164,33 @@ pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }
 
+/// The ray-traced bent normal of every surfel: the normalised mean of the directions of its
+/// cosine-distributed rays that meet nothing (the mean unoccluded direction), `None` where
+/// every ray is blocked. Rays one by one from the surfel's own stream of a seed apart from
+/// the accessibility's.
+pub fn reference_bent_normals(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> Vec<Option<DVec3>> {
+    nklut_pipeline::progress::par_map(surfels.len(), "bent normal rays", |i| {
+        let surfel = &surfels[i];
+        let mut random = SplitMix64::new(settings.seed ^ 0xbe27, i as u64);
+        let origin = surfel.centre + surfel.normal * settings.offset;
+        let hemisphere = Hemisphere::about(surfel.normal);
+        let sum = (0..settings.rays.max(1)).fold(DVec3::ZERO, |sum, _| {
+            let direction = hemisphere.direction(random.next_f64(), random.next_f64());
+            if geometry.occluded(origin, direction) {
+                sum
+            } else {
+                sum + direction
+            }
+        });
+        sum.try_normalize()
+    })
+}
+
+/// Angles in degrees between unit vectors `a` and the reference's (`None`: left out).
+pub fn angles_degrees(a: &[DVec3], reference: &[Option<DVec3>]) -> Vec<f64> {
+    a.iter().zip(reference).filter_map(|(v, r)| r.map(|r| v.dot(r).clamp(-1.0, 1.0).acos().to_degrees())).collect()
+}
+
 /// Rays per direction bin (on average): the packets [`Geometry::open_rays`] traces together.
 const RAYS_PER_PACKET: u32 = 48;
 

@@ -8,6 +8,17 @@
 //! normal; a vertex no triangle uses, or one only degenerate triangles use, gets area 0 (it
 //! casts no shadow) and the normal +z; duplicate vertices are separate surfels (the shadow
 //! term gives coincident discs nothing to cast on each other).
+//!
+//! Defects ([`mesh_defects`]): a triangle is *flipped* when at least two of its edges are
+//! run in the same direction by the triangle across them (a consistently wound surface runs
+//! every shared edge once each way, so a lone triangle wound the wrong way disagrees on all
+//! three of its edges and each neighbour on one), or when it is folded over: its face normal
+//! more than 120° (cosine below −½) from the area-weighted sum of the faces' normals at two
+//! or more of its corners (wound consistently but turned over by the geometry — the
+//! sculpture has 70 such triangles); *degenerate* when its area is not finite or below 1e-9 of its longest edge
+//! squared (collinear or coincident corners). The vertices of such triangles are flagged:
+//! their normals and areas come from faces that are not a surface, so their error is the
+//! mesh's, not the method's, and is reported apart.
 
 use std::collections::HashMap;
 
@@ -54,6 +65,54 @@ pub fn surfels(mesh: &Mesh) -> Vec<Surfel> {
             Surfel { centre: centres[vertex], normal, area: areas[vertex] }
         })
         .collect()
+}
+
+/// Per vertex of `mesh`: whether it is a corner of a flipped or degenerate triangle
+/// (module doc); a face naming a vertex that does not exist is skipped.
+pub fn mesh_defects(mesh: &Mesh) -> Vec<bool> {
+    let vertices = mesh.positions.len();
+    let faces: Vec<[usize; 3]> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| [t[0] as usize, t[1] as usize, t[2] as usize])
+        .filter(|t| t.iter().all(|&v| v < vertices))
+        .collect();
+    let mut directed: HashMap<(usize, usize), u32> = HashMap::with_capacity(3 * faces.len());
+    for face in &faces {
+        for k in 0..3 {
+            *directed.entry((face[k], face[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    // The faces' area-weighted normal at each vertex (not the mesh's own normals: a fold is
+    // a face turned against its neighbours, whatever the normals say).
+    let mut normals = vec![DVec3::ZERO; vertices];
+    for face in &faces {
+        let [a, b, c] = face.map(|v| widen(mesh.positions[v]));
+        let doubled = (b - a).cross(c - a);
+        if doubled.is_finite() {
+            for &v in face {
+                normals[v] += doubled;
+            }
+        }
+    }
+    let normals: Vec<DVec3> = normals.iter().map(|n| n.normalize_or_zero()).collect();
+    let mut flagged = vec![false; vertices];
+    for face in &faces {
+        let [a, b, c] = face.map(|v| widen(mesh.positions[v]));
+        let longest = [(b - a), (c - b), (a - c)].iter().map(|e| e.length_squared()).fold(0.0, f64::max);
+        let doubled = (b - a).cross(c - a);
+        let degenerate = !(doubled.length().is_finite() && longest.is_finite()) || doubled.length() <= 1e-9 * longest;
+        let facing = doubled.normalize_or_zero();
+        let folded = !degenerate && face.iter().filter(|&&v| facing.dot(normals[v]) < -0.5).count() >= 2;
+        // An edge (u, v) run the same way by another face: its count is above one.
+        let disagreeing = (0..3).filter(|&k| directed.get(&(face[k], face[(k + 1) % 3])).copied().unwrap_or(0) > 1).count();
+        if degenerate || folded || disagreeing >= 2 {
+            for &v in face {
+                flagged[v] = true;
+            }
+        }
+    }
+    flagged
 }
 
 /// One level of midpoint subdivision: every triangle into four, a new vertex at the middle

@@ -367,8 +367,8 @@ pub struct SceneSurfels {
 }
 
 /// Run the surfel effects a scene names on the GPU (ambient occlusion with its passes,
-/// hierarchy on or off; indirect light with its bounces, emitters weighted by their
-/// accessibility), counting surfels, tree nodes, passes and bounces into `stats`. A scene
+/// hierarchy on or off; indirect light with its bounces, emitters weighted as
+/// `EmitterWeight::default()`: 1), counting surfels, tree nodes, passes and bounces into `stats`. A scene
 /// that names neither computes nothing and returns `None`.
 pub fn run_scene(
     scene: &nklut_effects::scene::Scene,
@@ -409,7 +409,8 @@ pub fn run_scene(
     let indirect = match effects.indirect {
         Some(indirect) => {
             let direct = surfel_direct(&stage.geometry, &stage.surfels, &stage.lights, settings.rays.offset);
-            let weights: Vec<f64> = output.accessibility.iter().map(|&a| a as f64).collect();
+            let accessibility: Vec<f64> = output.accessibility.iter().map(|&a| a as f64).collect();
+            let weights = nklut_effects::ao::indirect::EmitterWeight::default().weights(&accessibility);
             let light = super::indirect::IndirectPass::new(gpu, &stage.surfels, settings.form)?.run(
                 gpu,
                 &stage.albedo,

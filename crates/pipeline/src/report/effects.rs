@@ -553,7 +553,58 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         }
     }
     html.push_str(&table.html("ao-summary"));
+    if let Some(statistics) = ao_statistics_table(ao) {
+        html.push_str(
+            "<p>Per object, e = accessibility − reference (positive: too light, the surfels under-occlude): |e| per vertex (mean, median, p90, p99, max), its signed mean, the area-weighted and the per-pixel mean (what the surface holds and what the camera sees), and the vertices of flipped or degenerate triangles with the mean without them.</p>",
+        );
+        html.push_str(&statistics);
+    }
     Ok(())
+}
+
+/// The per-object error statistics of `ao_errors.csv` (one row per object, technique and
+/// passes), `None` for a table written before it had them.
+fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
+    if !ao.has("p90_error") {
+        return None;
+    }
+    let columns = [
+        "mean_error",
+        "signed_error",
+        "median_error",
+        "p90_error",
+        "p99_error",
+        "max_error",
+        "area_mean_error",
+        "pixel_mean_error",
+        "defect_vertices",
+        "mean_error_without_defects",
+    ];
+    let mut table = TableText::new(&[
+        "object",
+        "technique",
+        "passes",
+        "mean |e|",
+        "signed e",
+        "median |e|",
+        "p90",
+        "p99",
+        "max",
+        "area-weighted",
+        "per pixel",
+        "defect vertices",
+        "mean without them",
+    ]);
+    for row in &ao.rows {
+        let technique = if ao.text(row, "hierarchy") == "true" { "tree" } else { "brute force" };
+        let mut cells = vec![ao.text(row, "mesh").to_string(), technique.to_string(), ao.text(row, "passes").to_string()];
+        cells.extend(columns.iter().map(|c| match *c {
+            "defect_vertices" => ao.text(row, c).to_string(),
+            _ => ao.number(row, c).map(number).unwrap_or_else(|| "–".into()),
+        }));
+        table.row(cells);
+    }
+    Some(table.html("ao-statistics"))
 }
 
 /// The hero frame: one figure per panel (the frame above its error image, the label and
@@ -863,4 +914,24 @@ fn study_form(html: &mut String, inputs: &Inputs) {
         "<h3>In the study's form</h3><p>Time relative to exact Fresnel on a dielectric material, on the same device: the study's five devices (its Table 6: Unity, a full-screen quad, 2014 devices) and each device measured here (medians over the materials of each kind of <code>materials.csv</code>; – where the device timed none). One row per device, never averaged.</p>{}",
         table.html("study-form")
     );
+}
+
+#[cfg(test)]
+mod ao_statistics_tests {
+    use super::*;
+
+    /// One row per object and configuration with its figures (3 significant digits), – for an
+    /// empty cell; nothing for a table without the statistics.
+    #[test]
+    fn statistics_table_lists_each_object_and_configuration() {
+        let csv = "mesh,hierarchy,passes,mean_error,signed_error,median_error,p90_error,p99_error,max_error,area_mean_error,pixel_mean_error,defect_vertices,mean_error_without_defects\n\
+                   bunny,true,2,0.0653,0.0378,0.0157,0.21,0.602,0.7146,0.0705,,3,0.0650\n";
+        let html = ao_statistics_table(&CsvTable::parse(csv.as_bytes()).unwrap()).unwrap();
+        for cell in ["<td>bunny</td>", "<td>tree</td>", "<td>0.0378</td>", "<td>0.210</td>", "<td>0.715</td>", "<td>–</td>", "<td>3</td>"]
+        {
+            assert!(html.contains(cell), "{cell} in {html}");
+        }
+        assert_eq!(html.matches("<tr>").count(), 2, "header and one row");
+        assert!(ao_statistics_table(&CsvTable::parse(b"mesh,mean_error\nbunny,0.1\n").unwrap()).is_none());
+    }
 }
