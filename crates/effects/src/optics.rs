@@ -95,12 +95,30 @@ pub fn refract(incoming: DVec3, normal: DVec3, eta: f64) -> Option<DVec3> {
     (cos_t2 >= 0.0).then(|| (incoming * eta + normal * (eta * cos_i - cos_t2.sqrt())).normalize())
 }
 
+/// The side a ray meets a surface from and the normal its bounce uses: the surface's own
+/// plane (`geometric`, the triangle's normal on the mesh's outside) decides the side, so a
+/// grazing ray on a coarse mesh whose interpolated `normal` faces the other way is still
+/// seen arriving from where it came; the bounce takes the interpolated normal turned to
+/// that side, or the plane's own where the interpolated one faces away from the ray.
+/// Returns (from inside, the unit normal facing the ray, cosθᵢ ∈ [0, 1]).
+pub fn facing(incoming: DVec3, normal: DVec3, geometric: DVec3) -> (bool, DVec3, f64) {
+    let from_inside = incoming.dot(geometric) > 0.0;
+    let side = if from_inside { -1.0 } else { 1.0 };
+    let smooth = normal * side;
+    let cos_smooth = -incoming.dot(smooth);
+    if cos_smooth > 0.0 {
+        (from_inside, smooth, cos_smooth.min(1.0))
+    } else {
+        let plane = geometric * side;
+        (from_inside, plane, (-incoming.dot(plane)).clamp(0.0, 1.0))
+    }
+}
+
 /// The branches leaving a specular surface hit by unit `incoming` with unit shading
-/// `normal` (the mesh's outward normal): at most two.
-pub fn scatter(optics: &SpecularOptics, incoming: DVec3, normal: DVec3, allowed: Allowed) -> Vec<Branch> {
-    let from_inside = incoming.dot(normal) > 0.0;
-    let facing = if from_inside { -normal } else { normal };
-    let cos_i = (-incoming.dot(facing)).min(1.0);
+/// `normal` (the mesh's outward normal) on a surface whose own plane has the outward unit
+/// normal `geometric` ([`facing`]): at most two.
+pub fn scatter(optics: &SpecularOptics, incoming: DVec3, normal: DVec3, geometric: DVec3, allowed: Allowed) -> Vec<Branch> {
+    let (from_inside, facing, cos_i) = facing(incoming, normal, geometric);
     let mirror = reflect(incoming, facing);
     let reflectance = optics.reflectance(from_inside && optics.kind == Kind::Dielectric, cos_i);
     let reflection = Branch { direction: mirror, weight: reflectance, turn: Turn::Reflection };
@@ -152,13 +170,13 @@ mod tests {
             let theta = f64::to_radians(degrees);
             // From outside, and from inside (past 41.8° the refracted share turns back).
             for (incoming, normal) in [(arriving(theta), DVec3::Z), (DVec3::new(theta.sin(), 0.0, theta.cos()), DVec3::Z)] {
-                let branches = scatter(&optics, incoming, normal, BOTH);
+                let branches = scatter(&optics, incoming, normal, normal, BOTH);
                 let total: Vec<f64> = (0..3).map(|c| branches.iter().map(|b| b.weight[c]).sum()).collect();
                 assert!(total.iter().all(|t| (t - 1.0).abs() < 1e-15), "{degrees}°: {total:?}");
             }
         }
         // Normal incidence from outside: F = ((n − 1)/(n + 1))² per channel.
-        let branches = scatter(&optics, DVec3::NEG_Z, DVec3::Z, BOTH);
+        let branches = scatter(&optics, DVec3::NEG_Z, DVec3::Z, DVec3::Z, BOTH);
         assert!((branches[0].weight[1] - 0.04).abs() < 1e-15);
         assert!((branches[0].weight[0] - (0.49f64 / 2.49).powi(2)).abs() < 1e-15);
     }
@@ -167,13 +185,13 @@ mod tests {
     fn snell_bends_towards_the_normal_going_in_and_away_coming_out() {
         let optics = glass(Method::Exact);
         let theta = 40f64.to_radians();
-        let inward = scatter(&optics, arriving(theta), DVec3::Z, BOTH);
+        let inward = scatter(&optics, arriving(theta), DVec3::Z, DVec3::Z, BOTH);
         let refracted = inward.iter().find(|b| b.turn == Turn::Refraction).unwrap();
         // sinθₜ = sinθᵢ/1.5, travelling on into −z.
         assert!((refracted.direction.x - theta.sin() / 1.5).abs() < 1e-15 && refracted.direction.z < 0.0);
         // From inside (the ray meets the outward normal from behind) at 30°: sinθₜ = 1.5 sin 30° = 0.75.
         let inside_ray = DVec3::new(0.5, 0.0, 3f64.sqrt() / 2.0);
-        let outward = scatter(&optics, inside_ray, DVec3::Z, BOTH);
+        let outward = scatter(&optics, inside_ray, DVec3::Z, DVec3::Z, BOTH);
         let out = outward.iter().find(|b| b.turn == Turn::Refraction).unwrap();
         assert!((out.direction.x - 0.75).abs() < 1e-15 && out.direction.z > 0.0);
         // Its F is that of the inside index 1/1.5 at 30°.
@@ -191,19 +209,19 @@ mod tests {
             let optics = glass(method);
             let theta = 45f64.to_radians();
             let inside_ray = DVec3::new(theta.sin(), 0.0, theta.cos());
-            let branches = scatter(&optics, inside_ray, DVec3::Z, BOTH);
+            let branches = scatter(&optics, inside_ray, DVec3::Z, DVec3::Z, BOTH);
             assert_eq!(branches.len(), 1, "{method}");
             assert_eq!(branches[0].turn, Turn::TotalInternalReflection);
             assert_eq!(branches[0].weight, [1.0; 3]);
             assert!((branches[0].direction - DVec3::new(theta.sin(), 0.0, -theta.cos())).length() < 1e-15);
             // Just inside the critical angle a refracted ray still exists.
             let below = critical - 1e-6;
-            let grazing = scatter(&optics, DVec3::new(below.sin(), 0.0, below.cos()), DVec3::Z, BOTH);
+            let grazing = scatter(&optics, DVec3::new(below.sin(), 0.0, below.cos()), DVec3::Z, DVec3::Z, BOTH);
             assert!(grazing.iter().any(|b| b.turn == Turn::Refraction));
         }
         // With reflection only, past the critical angle exact F is 1 anyway (to within the
         // blue channel's absorption, k = 1e-7).
-        let only = scatter(&glass(Method::Exact), DVec3::new(0.8, 0.0, 0.6), DVec3::Z, Allowed { reflection: true, refraction: false });
+        let only = scatter(&glass(Method::Exact), DVec3::new(0.8, 0.0, 0.6), DVec3::Z, DVec3::Z, Allowed { reflection: true, refraction: false });
         assert_eq!((only.len(), only[0].turn), (1, Turn::Reflection));
         assert!(only[0].weight.iter().all(|f| (f - 1.0).abs() < 1e-5), "{:?}", only[0].weight);
     }
@@ -212,9 +230,9 @@ mod tests {
     fn a_conductor_only_reflects_and_nothing_is_allowed_means_no_branch() {
         let gold = [Index::new(0.16, 3.8), Index::new(0.5, 2.2), Index::new(1.2, 1.8)];
         let optics = SpecularOptics::new(&gold, Kind::Conductor, Method::Exact, LutSpec::default());
-        let branches = scatter(&optics, arriving(0.3), DVec3::Z, BOTH);
+        let branches = scatter(&optics, arriving(0.3), DVec3::Z, DVec3::Z, BOTH);
         assert_eq!(branches.len(), 1);
         assert_eq!(branches[0].weight[0], exact(0.16, 3.8, 0.3f64.cos()));
-        assert!(scatter(&glass(Method::Exact), arriving(0.3), DVec3::Z, Allowed { reflection: false, refraction: false }).is_empty());
+        assert!(scatter(&glass(Method::Exact), arriving(0.3), DVec3::Z, DVec3::Z, Allowed { reflection: false, refraction: false }).is_empty());
     }
 }

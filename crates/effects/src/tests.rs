@@ -212,3 +212,35 @@ fn the_experiment_renders_only_what_the_scene_names() {
     let nothing = image_errors(&plain, &plain_stage, Settings::of(&plain), &mut |_| {});
     assert_eq!((nothing.stats, nothing.rows.len(), nothing.pictures.len()), (Default::default(), 0, 0));
 }
+
+#[test]
+fn a_grazing_ray_on_a_coarse_mesh_takes_its_side_from_the_triangle() {
+    use super::geometry::Geometry;
+    use super::optics::{facing, scatter, Allowed, SpecularOptics, Turn};
+    use crate::scene::mesh::Mesh;
+    use glam::DVec3;
+    // One triangle in z = 0 whose vertex normals lean 45° towards +x, as a coarse mesh's
+    // averaged normals do near a silhouette. A ray travelling along (1, 0, −0.2) meets the
+    // triangle's front (its plane normal +z faces the ray) while the interpolated normal
+    // (1, 0, 1)/√2 points along the ray: read from the interpolated normal it would arrive
+    // from inside (and, in glass, turn back by total internal reflection).
+    let lean = [std::f32::consts::FRAC_1_SQRT_2, 0.0, std::f32::consts::FRAC_1_SQRT_2];
+    let mesh = Mesh { positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]], normals: vec![lean; 3], indices: vec![0, 1, 2] };
+    let geometry = Geometry::new(&[mesh]).unwrap();
+    let direction = DVec3::new(1.0, 0.0, -0.2).normalize();
+    let hit = geometry.nearest(DVec3::new(-1.0, 0.0, 0.2), direction, None, |_| true).expect("the triangle");
+    assert!(direction.dot(hit.normal) > 0.0, "the interpolated normal faces away from the ray");
+    assert!((hit.geometric - DVec3::Z).length() < 1e-15, "{:?}", hit.geometric);
+    let (inside, normal, cos_i) = facing(direction, hit.normal, hit.geometric);
+    let cos_expected = 0.2 / 1.04f64.sqrt();
+    assert!(!inside && (normal - DVec3::Z).length() < 1e-15 && (cos_i - cos_expected).abs() < 1e-15);
+    // Glass from outside: reflection up with F(1.5, cosθᵢ), refraction down into the glass.
+    let glass = SpecularOptics::new(&[Index::new(1.5, 0.0); 3], Kind::Dielectric, Method::Exact, LutSpec::default());
+    let branches = scatter(&glass, direction, hit.normal, hit.geometric, Allowed { reflection: true, refraction: true });
+    assert_eq!(branches.iter().map(|b| b.turn).collect::<Vec<_>>(), [Turn::Reflection, Turn::Refraction]);
+    assert!(branches[0].direction.z > 0.0 && branches[1].direction.z < 0.0);
+    assert!((branches[0].weight[1] - exact(1.5, 0.0, cos_expected)).abs() < 1e-15);
+    // sinθₜ = sinθᵢ/1.5 along +x.
+    let sin_i = (1.0 - cos_expected * cos_expected).sqrt();
+    assert!((branches[1].direction.x - sin_i / 1.5).abs() < 1e-15);
+}

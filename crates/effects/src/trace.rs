@@ -34,11 +34,14 @@ pub enum Surface {
     Diffuse([f64; 3]),
 }
 
-/// The surface a ray meets: where, its unit shading normal, and what it is.
+/// The surface a ray meets: where, its unit shading normal, the unit normal of the
+/// surface's own plane (the triangle's; a distance map knows only its texel's normal and
+/// gives that), and what it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
     pub point: DVec3,
     pub normal: DVec3,
+    pub geometric: DVec3,
     pub surface: Surface,
     /// The triangle, where the tracer knows it (so a ray leaving it does not hit it again).
     pub triangle: Option<u32>,
@@ -122,6 +125,7 @@ impl Stage {
         Some(SurfaceHit {
             point: hit.point,
             normal: hit.normal,
+            geometric: hit.geometric,
             surface: self.surface(hit.object, hit.point, hit.normal),
             triangle: Some(hit.triangle),
         })
@@ -156,7 +160,7 @@ pub fn radiance(rules: PathRules, tracer: &dyn Tracer, hit: &SurfaceHit, incomin
     let Some(optics) = &rules.optics[object] else { return [0.0; 3] };
     let allowed = Allowed { reflection: bounces < rules.depths.reflection, refraction: bounces < rules.depths.refraction };
     let mut total = [0.0; 3];
-    for branch in scatter(optics, incoming, hit.normal, allowed) {
+    for branch in scatter(optics, incoming, hit.normal, hit.geometric, allowed) {
         *rays += 1;
         if let Some(next) = tracer.trace(hit.point, branch.direction, hit) {
             let seen = radiance(rules, tracer, &next, branch.direction, bounces + 1, rays);
