@@ -185,7 +185,8 @@ fn run_family(
         EffectFamily::SpecularPaths => {
             let db = open_db()?;
             let (materials, _) = crate::scene::read_materials(scene, &db, &request.config)?;
-            let stage = super::trace::stage_from_table(scene, &materials)?;
+            let mut stage = super::trace::stage_from_table(scene, &materials)?;
+            stage.channels_nm = request.config.channels.nanometres();
             let settings = experiment::Settings { hero: request.hero_resolution(scene), ..experiment::Settings::of(scene) };
             let report = experiment::image_errors(scene, &stage, settings, &mut |line| log(line));
             *stats = report.stats;

@@ -24,6 +24,7 @@ use crate::scene::mesh::{self, Mesh};
 pub use crate::scene::SpecularMaterial;
 use crate::scene::{CameraPath, Depths, Diffuse, LightSource, Role, Scene, SceneError, SceneMaterial, SceneProblem};
 use nklut_optics::fresnel::{LutSpec, Method};
+use nklut_optics::spectrum::Channels;
 
 /// What a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,6 +69,12 @@ pub struct Stage {
     pub geometry: Geometry,
     pub objects: Vec<ObjectOptics>,
     pub lights: Vec<LightSource>,
+    /// The channels' wavelengths (nm; red, green, blue) the materials' indices were taken
+    /// at: where the reference attenuates each channel.
+    pub channels_nm: [f64; 3],
+    /// Metres per scene unit (the scene's `effects.metres_per_unit`, 1 unless it says
+    /// otherwise): the length Beer–Lambert attenuation is measured in.
+    pub metres_per_unit: f64,
 }
 
 impl Stage {
@@ -88,7 +95,14 @@ impl Stage {
             });
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
-        Ok(Stage { meshes, geometry, objects, lights: scene.lights.clone() })
+        Ok(Stage {
+            meshes,
+            geometry,
+            objects,
+            lights: scene.lights.clone(),
+            channels_nm: Channels::default().nanometres(),
+            metres_per_unit: scene.effects.as_ref().map_or(1.0, |e| e.metres_per_unit),
+        })
     }
 
     /// The Fresnel curves of every specular object for one method (`None` for diffuse ones).
@@ -97,6 +111,18 @@ impl Stage {
             .iter()
             .map(|o| match o {
                 ObjectOptics::Specular(m) => Some(SpecularOptics::new(&m.channels, m.kind, method, lut)),
+                ObjectOptics::Diffuse(_) => None,
+            })
+            .collect()
+    }
+
+    /// The f64 reference's optics of every specular object ([`SpecularOptics::reference`]:
+    /// exact Fresnel, the transmitted-angle rule from inside, Beer–Lambert attenuation).
+    pub fn reference_optics(&self) -> Vec<Option<SpecularOptics>> {
+        self.objects
+            .iter()
+            .map(|o| match o {
+                ObjectOptics::Specular(m) => Some(SpecularOptics::reference(&m.channels, m.kind, self.channels_nm, self.metres_per_unit)),
                 ObjectOptics::Diffuse(_) => None,
             })
             .collect()
@@ -164,8 +190,9 @@ pub fn radiance(rules: PathRules, tracer: &dyn Tracer, hit: &SurfaceHit, incomin
         *rays += 1;
         if let Some(next) = tracer.trace(hit.point, branch.direction, hit) {
             let seen = radiance(rules, tracer, &next, branch.direction, bounces + 1, rays);
+            let kept = if branch.inside { optics.transmittance(next.point.distance(hit.point)) } else { [1.0; 3] };
             for c in 0..3 {
-                total[c] += branch.weight[c] * seen[c];
+                total[c] += branch.weight[c] * kept[c] * seen[c];
             }
         }
     }
@@ -262,9 +289,11 @@ where
     frame
 }
 
-/// The f64 reference frame: exact geometry, exact Fresnel.
-pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, lut: LutSpec) -> TracedFrame {
-    let optics = stage.optics(Method::Exact, lut);
+/// The f64 reference frame: exact geometry, exact Fresnel, the transmitted-angle rule
+/// from inside and Beer–Lambert attenuation ([`Stage::reference_optics`]). (`lut` is not
+/// used: exact Fresnel has no texture.)
+pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, _lut: LutSpec) -> TracedFrame {
+    let optics = stage.reference_optics();
     let tracer = ReferenceTracer { stage };
     render(stage, camera, PathRules { optics: &optics, depths }, |_| &tracer)
 }
