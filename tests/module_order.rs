@@ -33,10 +33,12 @@ const CRATES: [Layers; 3] = [
         krate: "effects",
         order: &[
             "scene",
+            "upsample",
             "optics",
             "geometry",
             "packet",
             "trace",
+            "spectral",
             "distance_map",
             "image_error",
             "pictures",

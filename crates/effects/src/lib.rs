@@ -6,6 +6,10 @@
 //!   reflection.
 //! - [`trace`]: the bounce loop over any [`trace::Tracer`], the camera, frames rendered in
 //!   parallel, and the exact f64 reference (BVH tracer, exact Fresnel).
+//! - [`upsample`]: RGB albedos and lights lifted to spectra (Smits 1999, corrected to
+//!   round-trip exactly).
+//! - [`spectral`]: the spectral mode of the reference: per wavelength on a grid of the 1 nm
+//!   samples of `colors`, dispersion, F(λ) at every bounce, Beer–Lambert inside.
 //! - [`distance_map`]: the layered distance maps of GPU Gems 3 ch. 17 and their linear +
 //!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
 //!   split an image's error into geometry (the map) and Fresnel (the method).
@@ -38,7 +42,9 @@ pub mod optics;
 pub mod packet;
 pub mod pictures;
 pub mod scene;
+pub mod spectral;
 pub mod trace;
+pub mod upsample;
 
 #[cfg(test)]
 mod tests;

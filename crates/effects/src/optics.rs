@@ -289,7 +289,8 @@ mod tests {
         }
         // With reflection only, past the critical angle exact F is 1 anyway (to within the
         // blue channel's absorption, k = 1e-7).
-        let only = scatter(&glass(Method::Exact), DVec3::new(0.8, 0.0, 0.6), DVec3::Z, DVec3::Z, Allowed { reflection: true, refraction: false });
+        let only =
+            scatter(&glass(Method::Exact), DVec3::new(0.8, 0.0, 0.6), DVec3::Z, DVec3::Z, Allowed { reflection: true, refraction: false });
         assert_eq!((only.len(), only[0].turn), (1, Turn::Reflection));
         assert!(only[0].weight.iter().all(|f| (f - 1.0).abs() < 1e-5), "{:?}", only[0].weight);
     }
@@ -301,6 +302,8 @@ mod tests {
         let branches = scatter(&optics, arriving(0.3), DVec3::Z, DVec3::Z, BOTH);
         assert_eq!(branches.len(), 1);
         assert_eq!(branches[0].weight[0], exact(0.16, 3.8, 0.3f64.cos()));
-        assert!(scatter(&glass(Method::Exact), arriving(0.3), DVec3::Z, DVec3::Z, Allowed { reflection: false, refraction: false }).is_empty());
+        assert!(
+            scatter(&glass(Method::Exact), arriving(0.3), DVec3::Z, DVec3::Z, Allowed { reflection: false, refraction: false }).is_empty()
+        );
     }
 }

@@ -225,7 +225,8 @@ fn a_grazing_ray_on_a_coarse_mesh_takes_its_side_from_the_triangle() {
     // (1, 0, 1)/√2 points along the ray: read from the interpolated normal it would arrive
     // from inside (and, in glass, turn back by total internal reflection).
     let lean = [std::f32::consts::FRAC_1_SQRT_2, 0.0, std::f32::consts::FRAC_1_SQRT_2];
-    let mesh = Mesh { positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]], normals: vec![lean; 3], indices: vec![0, 1, 2] };
+    let mesh =
+        Mesh { positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]], normals: vec![lean; 3], indices: vec![0, 1, 2] };
     let geometry = Geometry::new(&[mesh]).unwrap();
     let direction = DVec3::new(1.0, 0.0, -0.2).normalize();
     let hit = geometry.nearest(DVec3::new(-1.0, 0.0, 0.2), direction, None, |_| true).expect("the triangle");

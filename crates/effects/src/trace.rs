@@ -24,7 +24,7 @@ use crate::scene::mesh::{self, Mesh};
 pub use crate::scene::SpecularMaterial;
 use crate::scene::{CameraPath, Depths, Diffuse, LightSource, Role, Scene, SceneError, SceneMaterial, SceneProblem};
 use nklut_optics::fresnel::{LutSpec, Method};
-use nklut_optics::spectrum::Channels;
+use nklut_optics::spectrum::{Channels, Index};
 
 /// What a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,6 +75,9 @@ pub struct Stage {
     /// Metres per scene unit (the scene's `effects.metres_per_unit`, 1 unless it says
     /// otherwise): the length Beer–Lambert attenuation is measured in.
     pub metres_per_unit: f64,
+    /// Each object's index on the 1 nm grid of `colors` (360–830 nm), where its material
+    /// came with its page's data: what the spectral reference traces (`super::spectral`).
+    pub spectra: Vec<Option<Vec<Index>>>,
 }
 
 impl Stage {
@@ -102,6 +105,7 @@ impl Stage {
             lights: scene.lights.clone(),
             channels_nm: Channels::default().nanometres(),
             metres_per_unit: scene.effects.as_ref().map_or(1.0, |e| e.metres_per_unit),
+            spectra: vec![None; scene.objects.len()],
         })
     }
 
@@ -300,5 +304,11 @@ pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, _lut: LutSpec) 
 
 /// A scene file's stage with the optical constants of its materials.
 pub fn stage_from_table(scene: &Scene, table: &[SceneMaterial]) -> Result<Stage> {
-    Stage::from_scene(scene, |page| table.iter().find(|m| m.page == page).map(|m| m.optics))
+    let mut stage = Stage::from_scene(scene, |page| table.iter().find(|m| m.page == page).map(|m| m.optics))?;
+    stage.spectra = scene
+        .objects
+        .iter()
+        .map(|o| o.specular().and_then(|s| table.iter().find(|m| m.page == s.material)).and_then(|m| m.spectrum.clone()))
+        .collect();
+    Ok(stage)
 }
