@@ -44,6 +44,7 @@ const CRATES: [Layers; 3] = [
             "pictures",
             "hero",
             "experiment",
+            "spectral_errors",
             "ao",
             "command",
         ],

@@ -20,6 +20,8 @@
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
+//! - [`spectral_errors`]: the three-channel reference against the spectral one per object,
+//!   index source and depth (`spectral_errors`), and the price of each.
 //! - [`command`]: the `effects` stage: the scene with its overrides, the memory check of
 //!   every size it asks for, the experiments it names, and their outputs as one set.
 //!
@@ -43,6 +45,7 @@ pub mod packet;
 pub mod pictures;
 pub mod scene;
 pub mod spectral;
+pub mod spectral_errors;
 pub mod trace;
 pub mod upsample;
 

@@ -50,11 +50,11 @@ pub enum SpectralError {
     SpectrumLength { object: usize, samples: usize, expected: usize },
 }
 
-/// The wavelengths of a spectral frame: each bin's middle sample on the 1 nm grid (index
-/// into it), its wavelength and its colour weight (the sum of the bin's 1 nm weights).
+/// The wavelengths of a spectral frame: each bin's centre as a (fractional) position on
+/// the 1 nm grid, its wavelength and its colour weight (the sum of the bin's 1 nm weights).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WavelengthGrid {
-    pub samples: Vec<usize>,
+    pub centres: Vec<f64>,
     pub nm: Vec<f64>,
     pub weights: Vec<[f64; 3]>,
 }
@@ -73,23 +73,37 @@ impl WavelengthGrid {
             return Err(SpectralError::WavelengthCount { count, max: active });
         }
         let mut grid =
-            WavelengthGrid { samples: Vec::with_capacity(count), nm: Vec::with_capacity(count), weights: Vec::with_capacity(count) };
+            WavelengthGrid { centres: Vec::with_capacity(count), nm: Vec::with_capacity(count), weights: Vec::with_capacity(count) };
         for bin in 0..count {
             let (start, end) = (bin * active / count, (bin + 1) * active / count);
-            let middle = (start + end - 1) / 2;
-            grid.samples.push(middle);
-            grid.nm.push(spectral_wavelength_nm(middle));
+            // The bin's centre, between samples for an even run (a sample to one side
+            // would bias every bin by half a nanometre, an error no count removes).
+            let centre = (start + end - 1) as f64 / 2.0;
+            grid.centres.push(centre);
+            grid.nm.push(spectral_wavelength_nm(0) + centre);
             grid.weights.push(weights.rgb[start..end].iter().fold([0.0; 3], |s, w| [s[0] + w[0], s[1] + w[1], s[2] + w[2]]));
         }
         Ok(grid)
     }
 
     pub fn len(&self) -> usize {
-        self.samples.len()
+        self.centres.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.samples.is_empty()
+        self.centres.is_empty()
+    }
+
+    /// The index at a bin's centre: the 1 nm samples linearly interpolated (a whole
+    /// position is the sample itself, so the full grid reads exactly `colors`' indices).
+    pub fn index_at(spectrum: &[Index], centre: f64) -> Index {
+        let low = centre.floor() as usize;
+        let t = centre - low as f64;
+        if t == 0.0 || low + 1 >= spectrum.len() {
+            return spectrum[low.min(spectrum.len() - 1)];
+        }
+        let (a, b) = (spectrum[low], spectrum[low + 1]);
+        Index::new(a.n + t * (b.n - a.n), a.k + t * (b.k - a.k))
     }
 
     /// Σ_λ L(λ) w(λ): the linear sRGB of a spectrum on this grid.
@@ -118,11 +132,11 @@ struct SpectralOptics {
 impl SpectralOptics {
     fn new(spectrum: &[Index], kind: Kind, grid: &WavelengthGrid, metres_per_unit: f64) -> SpectralOptics {
         let lanes: Vec<Lane> = grid
-            .samples
+            .centres
             .iter()
             .zip(&grid.nm)
-            .map(|(&i, &nm)| {
-                let index = sanitise(spectrum[i]);
+            .map(|(&centre, &nm)| {
+                let index = sanitise(WavelengthGrid::index_at(spectrum, centre));
                 let attenuation = match kind {
                     Kind::Dielectric => super::optics::attenuation_per_unit(index.k, nm, metres_per_unit),
                     Kind::Conductor => 0.0,
@@ -390,8 +404,11 @@ mod tests {
             let white = grid.colour(&vec![1.0; count]);
             assert!(white.iter().all(|v| (v - 1.0).abs() < 1e-13), "{count}: {white:?}");
         }
-        // Three bins of 421: 0..140 (middle 69), 140..280 (209), 280..421 (350).
-        assert_eq!(WavelengthGrid::new(3).unwrap().samples, vec![69, 209, 350]);
+        // Three bins of 421: 0..140 (centre 69.5), 140..280 (209.5), 280..421 (350).
+        assert_eq!(WavelengthGrid::new(3).unwrap().centres, vec![69.5, 209.5, 350.0]);
+        let line = [Index::new(1.0, 0.5), Index::new(2.0, 0.0)];
+        assert_eq!(WavelengthGrid::index_at(&line, 0.25), Index::new(1.25, 0.375));
+        assert_eq!(WavelengthGrid::index_at(&line, 1.0), line[1]);
         assert_eq!(WavelengthGrid::new(0), Err(SpectralError::WavelengthCount { count: 0, max: 421 }));
         assert!(WavelengthGrid::new(422).is_err());
     }

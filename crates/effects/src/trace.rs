@@ -297,9 +297,14 @@ where
 /// from inside and Beer–Lambert attenuation ([`Stage::reference_optics`]). (`lut` is not
 /// used: exact Fresnel has no texture.)
 pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, _lut: LutSpec) -> TracedFrame {
-    let optics = stage.reference_optics();
+    reference_with(stage, camera, depths, &stage.reference_optics())
+}
+
+/// The reference tracer's frame with the given optics per object (another source of the
+/// channel indices, say).
+pub fn reference_with(stage: &Stage, camera: &Camera, depths: Depths, optics: &[Option<SpecularOptics>]) -> TracedFrame {
     let tracer = ReferenceTracer { stage };
-    render(stage, camera, PathRules { optics: &optics, depths }, |_| &tracer)
+    render(stage, camera, PathRules { optics, depths }, |_| &tracer)
 }
 
 /// A scene file's stage with the optical constants of its materials.
