@@ -236,3 +236,64 @@ pub fn spectral_error_table(rows: &[SpectralErrorRow]) -> Table {
         );
     table
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::SceneMaterial;
+    use crate::trace::stage_from_table;
+    use nklut_optics::spectrum::{spectral_wavelength_nm, Index, SPECTRAL_SAMPLES};
+    use std::path::Path;
+
+    fn material(page: &str, kind: Kind, index: impl Fn(f64) -> Index) -> SceneMaterial {
+        let spectrum: Vec<Index> = (0..SPECTRAL_SAMPLES).map(|i| index(spectral_wavelength_nm(i))).collect();
+        SceneMaterial::new(page, [685.0, 535.0, 475.0].map(&index), kind).with_spectrum(spectrum)
+    }
+
+    #[test]
+    fn a_flat_material_costs_nothing_and_a_coloured_one_grows_with_depth() {
+        // A flat metal: three channels are the spectrum, ΔE 0 at depth 1 (deeper, it shows the
+        // other metal's reflections, which are not flat). A metal whose k
+        // falls across the spectrum (reflecting red more than blue, like gold): each bounce
+        // multiplies in F(λ) again, so three channels err more as the depth grows.
+        let table = vec![
+            material("t/metals/flat", Kind::Conductor, |_| Index::new(0.4, 2.8)),
+            material("t/metals/warm", Kind::Conductor, |nm| {
+                Index::new(0.2 + 1.2 * (700.0 - nm).max(0.0) / 300.0, 1.5 + 3.0 * (nm - 400.0).max(0.0) / 300.0)
+            }),
+        ];
+        let text = "measurements: [image_error]\ncamera: {axis: [0, 1, 0.3], distance: 2.2, fov_y_degrees: 50}\neffects: {reflection: {max_depth: [1, 4]}, spectral: {wavelengths: 24}}\nlight: {direction: [-0.3, -1, -0.5], colour: [0.7, 0.7, 0.7], ambient: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: sphere, scale: 0.45, position: [-0.5, 0, 0], material: t/metals/flat, method: exact}\n  - {mesh: sphere, scale: 0.45, position: [0.5, 0, 0], material: t/metals/warm, method: exact}\n  - {mesh: plane, scale: 1.2, position: [0, -0.45, 0], material: t/metals/warm, method: exact}\n  - {mesh: room, scale: 3, diffuse: [0.85, 0.85, 0.8], pattern: {kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45]}}\n";
+        let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
+        let stage = stage_from_table(&scene, &table).unwrap();
+        let report = spectral_errors(&scene, &stage, [20, 16], 24, &mut |_| {}).unwrap();
+        // 2 depths × 2 sources × 3 specular objects.
+        assert_eq!(report.rows.len(), 12);
+        let row = |object: &str, material: &str, source: IndexSource, depth: u32| {
+            report
+                .rows
+                .iter()
+                .find(|r| r.object == object && r.material == material && r.source == source && r.depths.reflection == depth)
+                .unwrap()
+        };
+        let flat = row("sphere", "t/metals/flat", IndexSource::ThreeWavelength, 1);
+        assert!(flat.pixels > 0 && flat.max_delta_e2000 < 1e-6, "{flat:?}");
+        let (shallow, deep) = (
+            row("sphere", "t/metals/warm", IndexSource::ThreeWavelength, 1),
+            row("sphere", "t/metals/warm", IndexSource::ThreeWavelength, 4),
+        );
+        assert!(deep.mean_delta_e2000 > shallow.mean_delta_e2000 && shallow.mean_delta_e2000 > 0.1, "{shallow:?} {deep:?}");
+        assert!(deep.p95_delta_e2000 <= deep.max_delta_e2000 && deep.mean_delta_e2000 <= deep.max_delta_e2000);
+        assert!(deep.spectral_ms > 0.0 && deep.spectral_wavelength_rays_per_s > 0.0 && deep.three_channel_rays_per_s > 0.0);
+        // The effective fit is closer than three wavelengths at depth 1 (it fits one bounce).
+        let effective = row("sphere", "t/metals/warm", IndexSource::Effective, 1);
+        assert!(effective.mean_delta_e2000 < shallow.mean_delta_e2000, "{effective:?} vs {shallow:?}");
+        // Pictures: per depth the spectral frame and each source's frame; a ΔE map per source.
+        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (6, 4));
+        let table = spectral_error_table(&report.rows);
+        assert_eq!(table.rows(), 12);
+        eprintln!(
+            "warm metal three-wavelength ΔE mean: depth 1 {:.3}, depth 4 {:.3}; effective depth 1 {:.3}",
+            shallow.mean_delta_e2000, deep.mean_delta_e2000, effective.mean_delta_e2000
+        );
+    }
+}
