@@ -158,6 +158,12 @@ pub struct SpectralFrame {
     pub total_internal_reflections: u64,
 }
 
+/// One row of a frame: its colours and the specular object each pixel shows.
+struct TracedRow {
+    radiance: Vec<[f64; 3]>,
+    seen: Vec<Option<usize>>,
+}
+
 #[derive(Clone, Copy, Default)]
 struct Counts {
     rays: u64,
@@ -340,7 +346,7 @@ pub fn spectral_pixel(
 /// specular object needs its spectrum on the 1 nm grid ([`Stage::spectra`]).
 pub fn spectral_reference(stage: &Stage, camera: &Camera, depths: Depths, grid: &WavelengthGrid) -> Result<SpectralFrame, SpectralError> {
     let context = Context::new(stage, depths, grid)?;
-    let rows: Vec<(Vec<[f64; 3]>, Vec<Option<usize>>, Counts)> = (0..camera.height)
+    let rows: Vec<(TracedRow, Counts)> = (0..camera.height)
         .into_par_iter()
         .map(|y| {
             let mut counts = Counts::default();
@@ -358,14 +364,14 @@ pub fn spectral_reference(stage: &Stage, camera: &Camera, depths: Depths, grid: 
                     }
                 }
             }
-            (radiance, seen, counts)
+            (TracedRow { radiance, seen }, counts)
         })
         .collect();
     let mut frame = TracedFrame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
     let (mut wavelength_rays, mut total_internal_reflections) = (0, 0);
-    for (radiance, seen, counts) in rows {
-        frame.radiance.extend(radiance);
-        frame.seen.extend(seen);
+    for (row, counts) in rows {
+        frame.radiance.extend(row.radiance);
+        frame.seen.extend(row.seen);
         frame.rays += counts.rays;
         wavelength_rays += counts.wavelength_rays;
         total_internal_reflections += counts.total_internal_reflections;
