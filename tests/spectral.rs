@@ -1,5 +1,6 @@
 //! The spectral reference of the effects on the real database: one bounce off a flat
-//! mirror of each `3d` metal is `colors`' spectral reference colour; the spectral frame of
+//! mirror of each `3d` metal is `colors`' spectral reference colour; lossless spheres of the
+//! pages' n(λ) in a white furnace lose only the depth-truncated share; the spectral frame of
 //! the shipped gold-in-gold and prism scenes converges as the wavelength count doubles;
 //! total internal reflection happens in the prism scene.
 
@@ -76,5 +77,52 @@ fn the_spectral_frame_converges_as_the_wavelength_count_doubles() {
         }
         eprintln!("{file}: ΔE2000 (mean, max) between N and 2N wavelengths for N = {:?}: {curve:?}", &counts[..5]);
         assert!(curve[4].0 < 0.05, "{file}: 96 → 192 wavelengths moves the mean by {}", curve[4].0);
+    }
+}
+
+#[test]
+fn lossless_water_bk7_and_diamond_spheres_in_a_white_furnace_lose_only_the_truncated_share() {
+    // The pages' n(λ) with k set to 0, one sphere each in a room of radiance 1, depths 8/8:
+    // per wavelength a perfect sphere returns 1 − (1 − F)F⁷ (F the outside F at the entry
+    // angle; every inner hit is at that wavelength's refraction angle), the pixel its
+    // weighted sum; the tessellated sphere (64×32) loses a little more.
+    use nklut::effects::spectral::spectral_pixel;
+    use nklut::fresnel::exact;
+    use nklut::spectrum::Index;
+    let db = database();
+    for page in ["3d/liquids/water", "3d/glass/BK7", "3d/crystals/diamond"] {
+        let text = format!("measurements: [image_error]\ncamera: {{axis: [0, 1, 0], distance: 1.2, fov_y_degrees: 52}}\neffects: {{reflection: {{max_depth: 8}}, refraction: {{max_depth: 8}}}}\nlight: {{colour: [0, 0, 0], ambient: [1, 1, 1]}}\nobjects:\n  - {{mesh: sphere, scale: 0.5, material: {page}, method: exact}}\n  - {{mesh: room, scale: 3, diffuse: [1, 1, 1]}}\n");
+        let scene = Scene::parse(&text, Path::new("furnace.yaml")).unwrap();
+        let (mut materials, _) = read_materials(&scene, &db, &Config::default()).unwrap();
+        let lossless: Vec<Index> = materials[0].spectrum.as_ref().unwrap().iter().map(|i| Index::new(i.n, 0.0)).collect();
+        materials[0].spectrum = Some(lossless.clone());
+        let stage = stage_from_table(&scene, &materials).unwrap();
+        let camera = Camera::new(&scene.camera, 0, 16, 16);
+        let grid = WavelengthGrid::new(12).unwrap();
+        let depths = Depths { reflection: 8, refraction: 8 };
+        let (mut rendered, mut analytic, mut pixels) = (0.0, 0.0, 0);
+        for y in 0..16 {
+            for x in 0..16 {
+                let d = camera.ray(x, y);
+                let along = -camera.eye.dot(d);
+                let miss2 = camera.eye.length_squared() - along * along;
+                if miss2 >= 0.25 * 0.98 {
+                    continue; // the rim, where the tessellation decides what is hit
+                }
+                let cos = (1.0 - miss2 / 0.25).sqrt();
+                let (spectrum, _) = spectral_pixel(&stage, &camera, (x, y), depths, &grid).unwrap();
+                for (lane, l) in spectrum.iter().enumerate() {
+                    // Every wavelength conserves energy: at most 1.
+                    assert!(*l <= 1.0 + 1e-12, "{page}: {l}");
+                    let f = exact(WavelengthGrid::index_at(&lossless, grid.centres[lane]).n, 0.0, cos);
+                    rendered += l / grid.len() as f64;
+                    analytic += (1.0 - (1.0 - f) * f.powi(7)) / grid.len() as f64;
+                }
+                pixels += 1;
+            }
+        }
+        let (rendered, analytic) = (rendered / pixels as f64, analytic / pixels as f64);
+        eprintln!("white furnace, {page} (k = 0): mean over wavelengths and pixels {rendered:.6}, perfect sphere {analytic:.6}");
+        assert!((rendered - analytic).abs() < 5e-3 && rendered <= 1.0, "{page}: {rendered} vs {analytic}");
     }
 }
