@@ -126,3 +126,23 @@ fn lossless_water_bk7_and_diamond_spheres_in_a_white_furnace_lose_only_the_trunc
         assert!((rendered - analytic).abs() < 5e-3 && rendered <= 1.0, "{page}: {rendered} vs {analytic}");
     }
 }
+
+#[test]
+fn total_internal_reflection_happens_in_the_prism_scene() {
+    // The shipped prism scene at its deepest depths: wavelengths are turned back inside the
+    // prisms (counted per wavelength), which no sphere of glass-sphere.yaml ever does.
+    let scene = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/prism.yaml")).unwrap();
+    let (materials, _) = read_materials(&scene, &database(), &Config::default()).unwrap();
+    let stage = stage_from_table(&scene, &materials).unwrap();
+    let camera = Camera::new(&scene.camera, 0, 24, 24);
+    let depths = *scene.effects.as_ref().unwrap().depths().last().unwrap();
+    let frame = spectral_reference(&stage, &camera, depths, &WavelengthGrid::new(24).unwrap()).unwrap();
+    eprintln!("prism scene, 24², 24 wavelengths: {} total internal reflections", frame.total_internal_reflections);
+    assert!(frame.total_internal_reflections > 0);
+    let glass = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-sphere.yaml")).unwrap();
+    let (materials, _) = read_materials(&glass, &database(), &Config::default()).unwrap();
+    let stage = stage_from_table(&glass, &materials).unwrap();
+    let camera = Camera::new(&glass.camera, 0, 24, 24);
+    let spheres = spectral_reference(&stage, &camera, Depths { reflection: 1, refraction: 3 }, &WavelengthGrid::new(24).unwrap()).unwrap();
+    assert_eq!(spheres.total_internal_reflections, 0, "a chord of a sphere meets its surface at the angle it entered at");
+}
