@@ -54,6 +54,15 @@ fn shipped_effects_scenes_parse_and_name_their_effects() {
         assert_eq!(scene.materials().len(), 3, "{file}");
         assert!(scene.objects.iter().any(|o| matches!(o.role, Role::Diffuse(_))), "{file}");
     }
+    // The spectral scenes: depths, the spectral reference's wavelengths, the scene unit.
+    for (file, unit) in [("gold-in-gold.yaml", 1.0), ("prism.yaml", 1.0), ("coloured-glass.yaml", 0.05)] {
+        let scene = Scene::load(&root().join("scenes").join(file)).unwrap();
+        let effects = scene.effects.as_ref().unwrap();
+        assert_eq!(effects.spectral.map(|s| s.wavelengths), Some(96), "{file}");
+        assert_eq!(effects.metres_per_unit, unit, "{file}");
+    }
+    let gold = Scene::load(&root().join("scenes/gold-in-gold.yaml")).unwrap();
+    assert_eq!(gold.effects.unwrap().reflection.unwrap().max_depth, (1..=8).collect::<Vec<u32>>());
     // The default scene has no effects: exactly what it meant before.
     assert!(Scene::load(&root().join("scenes/default.yaml")).unwrap().effects.is_none());
 }

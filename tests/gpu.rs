@@ -390,7 +390,7 @@ fn the_wgsl_distance_map_search_matches_its_cpu_twin() {
     let text = "camera: {frames: 1}\neffects: {reflection: {max_depth: 2}, refraction: {max_depth: 2}}\nobjects:\n  - {mesh: sphere, scale: 0.5, material: x/y/glass, method: exact}\n  - {mesh: room, scale: [3, 2, 3], diffuse: [0.5, 0.5, 0.5]}\nmeasurements: [image_error]\n";
     let scene = Scene::parse(text, Path::new("tests/gpu.rs inline scene")).unwrap();
     let glass = SpecularMaterial { channels: [Index::new(1.5, 0.0); 3], kind: Kind::Dielectric };
-    let stage = stage_from_table(&scene, &[SceneMaterial { page: "x/y/glass".to_string(), optics: glass }]).unwrap();
+    let stage = stage_from_table(&scene, &[SceneMaterial { page: "x/y/glass".to_string(), optics: glass, spectrum: None }]).unwrap();
     let map = DistanceMap::render(&stage, 0, 16, 3);
     // Rays from the sphere's surface outwards and inwards, and from inside it, over a
     // Fibonacci spiral of directions.
@@ -455,8 +455,8 @@ fn effects_stage(refraction: bool) -> (Scene, nklut::effects::trace::Stage) {
     );
     let scene = Scene::parse(&text, Path::new("tests/gpu.rs effects scene")).unwrap();
     let table = [
-        SceneMaterial { page: "x/y/glass".into(), optics: SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric } },
-        SceneMaterial { page: "x/y/gold".into(), optics: SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor } },
+        SceneMaterial { page: "x/y/glass".into(), optics: SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric }, spectrum: None },
+        SceneMaterial { page: "x/y/gold".into(), optics: SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor }, spectrum: None },
     ];
     let stage = stage_from_table(&scene, &table).unwrap();
     (scene, stage)
@@ -587,10 +587,12 @@ fn runner_builds_only_the_effects_the_scene_names() {
             SceneMaterial {
                 page: "x/y/glass".into(),
                 optics: nklut::effects::trace::SpecularMaterial { channels: DIAMOND, kind: Kind::Dielectric },
+                spectrum: None,
             },
             SceneMaterial {
                 page: "x/y/gold".into(),
                 optics: nklut::effects::trace::SpecularMaterial { channels: GOLDISH, kind: Kind::Conductor },
+                spectrum: None,
             },
         ];
         let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), log).unwrap();

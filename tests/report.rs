@@ -265,6 +265,13 @@ exact,3,2.5
     }
     fs::write(out.join("devices/phone-a/image_errors.csv"), "material,method,mean_rel_error\nx,exact,0\nx,schlick,0.02\ny,schlick,0.04\n")
         .unwrap();
+    // A spectral scene's comparison: a chart per material over depth, one line per index source.
+    fs::create_dir_all(out.join("gold-in-gold")).unwrap();
+    fs::write(
+        out.join("gold-in-gold/spectral_errors.csv"),
+        "object,material,index_source,reflection_depth,refraction_depth,wavelengths,pixels,mean_delta_e2000\nsphere,3d/metals/gold,three-wavelength,1,0,96,100,2.5\nsphere,3d/metals/gold,three-wavelength,8,0,96,100,7.5\nsphere,3d/metals/gold,effective,1,0,96,100,0.5\nsphere,3d/metals/gold,effective,8,0,96,100,3.25\n",
+    )
+    .unwrap();
     let output = nklut(&out, &["report"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let index = fs::read_to_string(out.join("report/index.html")).unwrap();
@@ -285,6 +292,12 @@ exact,3,2.5
         "a scene folder's table"
     );
     assert!(index.contains("<code>ao_errors.csv</code> is absent"));
+    assert!(
+        effects.contains("<h3>Three channels against the spectrum</h3>")
+            && effects.contains("3d/metals/gold: ΔE2000, three channels vs spectrum"),
+        "the spectral chart"
+    );
+    assert!(effects.contains("src=\"../gold-in-gold/spectral_frames/depth8-0_effective_delta_e.png\""), "the deepest depth's ΔE map");
     // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).
     assert!(effects.contains("<th>laptop-b (× exact)</th><th>phone-a (× exact)</th>"), "device columns");
     assert!(effects.contains("<td>schlick</td><td>0.250</td><td>0.500</td>"), "device ratios");

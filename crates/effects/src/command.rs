@@ -118,7 +118,10 @@ fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<Memory
             let configurations = effects.depths().len() as u128;
             // Kept: per depth, the reference and each method's frame with a copy of the
             // reference; in flight: the reference, the exact twin and a method's twin.
-            let frames = configurations * (1 + 2 * methods) + 3;
+            // The spectral comparison (`effects.spectral`), per depth: the spectral frame
+            // and each index source's frame with a copy of the spectral one as its reference.
+            let spectral = if effects.spectral.is_some() { configurations * 5 } else { 0 };
+            let frames = configurations * (1 + 2 * methods) + 3 + spectral;
             vec![
                 // Each map's texels are gathered per texel, then laid out per layer: twice at once.
                 MemoryNeed {
@@ -185,18 +188,29 @@ fn run_family(
         EffectFamily::SpecularPaths => {
             let db = open_db()?;
             let (materials, _) = crate::scene::read_materials(scene, &db, &request.config)?;
-            let stage = super::trace::stage_from_table(scene, &materials)?;
+            let mut stage = super::trace::stage_from_table(scene, &materials)?;
+            stage.channels_nm = request.config.channels.nanometres();
             let settings = experiment::Settings { hero: request.hero_resolution(scene), ..experiment::Settings::of(scene) };
             let report = experiment::image_errors(scene, &stage, settings, &mut |line| log(line));
             *stats = report.stats;
-            Ok(FamilyOutput {
-                tables: vec![
-                    (experiment::error_table(&report.rows), "effects_errors"),
-                    (experiment::timing_table(&report.timing), "effects_cpu_timing"),
-                ],
-                pictures: super::pictures::files("effects_frames", &report.pictures)?,
-                hero: report.hero,
-            })
+            let mut tables = vec![
+                (experiment::error_table(&report.rows), "effects_errors"),
+                (experiment::timing_table(&report.timing), "effects_cpu_timing"),
+            ];
+            let mut pictures = super::pictures::files("effects_frames", &report.pictures)?;
+            if let Some(spectral) = scene.effects.as_ref().and_then(|e| e.spectral) {
+                let compared =
+                    super::spectral_errors::spectral_errors(scene, &stage, scene.resolution, spectral.wavelengths, &mut |line| log(line))?;
+                tables.push((super::spectral_errors::spectral_error_table(&compared.rows), "spectral_errors"));
+                pictures.extend(super::pictures::files(super::spectral_errors::SPECTRAL_DIR, &compared.pictures)?);
+                pictures.extend(
+                    compared
+                        .delta_e_maps
+                        .into_iter()
+                        .map(|f| SetFile::new(format!("{}/{}", super::spectral_errors::SPECTRAL_DIR, f.name), f.bytes)),
+                );
+            }
+            Ok(FamilyOutput { tables, pictures, hero: report.hero })
         }
         EffectFamily::Surfels => {
             let mut settings = AoSettings {

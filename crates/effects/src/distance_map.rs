@@ -231,7 +231,13 @@ pub struct DistanceMapTracer<'a> {
 impl Tracer for DistanceMapTracer<'_> {
     fn trace(&self, origin: DVec3, direction: DVec3, _from: &SurfaceHit) -> Option<SurfaceHit> {
         let hit = self.map.search(origin - self.map.centre, direction, self.steps)?;
-        Some(SurfaceHit { point: hit.point + self.map.centre, normal: hit.texel.normal, surface: hit.texel.surface, triangle: None })
+        Some(SurfaceHit {
+            point: hit.point + self.map.centre,
+            normal: hit.texel.normal,
+            geometric: hit.texel.normal,
+            surface: hit.texel.surface,
+            triangle: None,
+        })
     }
 }
 

@@ -80,6 +80,19 @@ impl Triangle {
         let geometric = (b - a).cross(c - a);
         n.try_normalize().or_else(|| geometric.try_normalize()).unwrap_or(DVec3::Z)
     }
+
+    /// The triangle's own unit normal (its plane's), turned to the side its vertex normals
+    /// point to (the mesh's outside, whatever the winding); the interpolated normal where
+    /// the plane is degenerate.
+    fn geometric(&self, u: f64, v: f64) -> DVec3 {
+        let [a, b, c] = self.corners;
+        let [na, nb, nc] = self.normals;
+        match (b - a).cross(c - a).try_normalize() {
+            Some(plane) if plane.dot(na + nb + nc) < 0.0 => -plane,
+            Some(plane) => plane,
+            None => self.normal(u, v),
+        }
+    }
 }
 
 /// The watertight test of a ray (its shear) against a triangle whose corners are given
@@ -196,6 +209,10 @@ pub struct Hit {
     pub point: DVec3,
     /// The interpolated (smooth) unit normal, on the side the mesh's normals point to.
     pub normal: DVec3,
+    /// The triangle's plane normal on the same side: what decides whether a ray arrives
+    /// from outside or inside (an interpolated normal can face a grazing ray that the
+    /// triangle itself faces away from).
+    pub geometric: DVec3,
     /// Index of the object in the scene's object list.
     pub object: usize,
     /// Index of the triangle in the geometry (to leave it without hitting it again).
@@ -359,6 +376,7 @@ impl Geometry {
             t,
             point: origin + direction * t,
             normal: triangle.normal(crossing.u, crossing.v),
+            geometric: triangle.geometric(crossing.u, crossing.v),
             object: triangle.object as usize,
             triangle: index,
         }

@@ -53,9 +53,20 @@ pub fn compare_object(frame: &TracedFrame, reference: &TracedFrame, object: usiz
     compare_where(frame, reference, |seen| seen == Some(object))
 }
 
-fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
+/// CIEDE2000 between two linear-sRGB colours (→ XYZ → CIELAB, D65 white): the colour
+/// difference every effects table reports.
+pub fn delta_e2000_rgb(a: [f64; 3], r: [f64; 3]) -> f64 {
     let to_xyz = rgb_to_xyz_matrix(D65_WHITE_XYZ);
     let lab = |rgb: [f64; 3]| xyz_to_lab(multiply(&to_xyz, rgb), D65_WHITE_XYZ);
+    delta_e2000(lab(a), lab(r))
+}
+
+/// [`delta_e2000_rgb`] per pixel of `frame` against `reference`.
+pub fn delta_e_map(frame: &TracedFrame, reference: &TracedFrame) -> Vec<f64> {
+    frame.radiance.iter().zip(&reference.radiance).map(|(a, r)| delta_e2000_rgb(*a, *r)).collect()
+}
+
+fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(Option<usize>) -> bool) -> FrameError {
     let mut error = FrameError::default();
     let (mut relative_sum, mut relative_count, mut absolute_sum, mut delta_e_sum) = (0.0, 0usize, 0.0, 0.0);
     for ((a, r), seen) in frame.radiance.iter().zip(&reference.radiance).zip(&reference.seen) {
@@ -76,7 +87,7 @@ fn compare_where(frame: &TracedFrame, reference: &TracedFrame, counted: impl Fn(
                 None => error.skipped_zero_reference += 1,
             }
         }
-        delta_e_sum += delta_e2000(lab(*a), lab(*r));
+        delta_e_sum += delta_e2000_rgb(*a, *r);
     }
     let mean = |sum: f64, count: usize| if count > 0 { sum / count as f64 } else { 0.0 };
     error.mean_relative = (relative_count > 0).then(|| relative_sum / relative_count as f64);

@@ -6,6 +6,10 @@
 //!   reflection.
 //! - [`trace`]: the bounce loop over any [`trace::Tracer`], the camera, frames rendered in
 //!   parallel, and the exact f64 reference (BVH tracer, exact Fresnel).
+//! - [`upsample`]: RGB albedos and lights lifted to spectra (Smits 1999, corrected to
+//!   round-trip exactly).
+//! - [`spectral`]: the spectral mode of the reference: per wavelength on a grid of the 1 nm
+//!   samples of `colors`, dispersion, F(λ) at every bounce, Beer–Lambert inside.
 //! - [`distance_map`]: the layered distance maps of GPU Gems 3 ch. 17 and their linear +
 //!   secant search, as a tracer: the CPU twin the GPU shaders are held to, and the way to
 //!   split an image's error into geometry (the map) and Fresnel (the method).
@@ -16,6 +20,8 @@
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
+//! - [`spectral_errors`]: the three-channel reference against the spectral one per object,
+//!   index source and depth (`spectral_errors`), and the price of each.
 //! - [`command`]: the `effects` stage: the scene with its overrides, the memory check of
 //!   every size it asks for, the experiments it names, and their outputs as one set.
 //!
@@ -38,7 +44,10 @@ pub mod optics;
 pub mod packet;
 pub mod pictures;
 pub mod scene;
+pub mod spectral;
+pub mod spectral_errors;
 pub mod trace;
+pub mod upsample;
 
 #[cfg(test)]
 mod tests;

@@ -212,3 +212,147 @@ fn the_experiment_renders_only_what_the_scene_names() {
     let nothing = image_errors(&plain, &plain_stage, Settings::of(&plain), &mut |_| {});
     assert_eq!((nothing.stats, nothing.rows.len(), nothing.pictures.len()), (Default::default(), 0, 0));
 }
+
+#[test]
+fn a_grazing_ray_on_a_coarse_mesh_takes_its_side_from_the_triangle() {
+    use super::geometry::Geometry;
+    use super::optics::{facing, scatter, Allowed, SpecularOptics, Turn};
+    use crate::scene::mesh::Mesh;
+    use glam::DVec3;
+    // One triangle in z = 0 whose vertex normals lean 45° towards +x, as a coarse mesh's
+    // averaged normals do near a silhouette. A ray travelling along (1, 0, −0.2) meets the
+    // triangle's front (its plane normal +z faces the ray) while the interpolated normal
+    // (1, 0, 1)/√2 points along the ray: read from the interpolated normal it would arrive
+    // from inside (and, in glass, turn back by total internal reflection).
+    let lean = [std::f32::consts::FRAC_1_SQRT_2, 0.0, std::f32::consts::FRAC_1_SQRT_2];
+    let mesh =
+        Mesh { positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]], normals: vec![lean; 3], indices: vec![0, 1, 2] };
+    let geometry = Geometry::new(&[mesh]).unwrap();
+    let direction = DVec3::new(1.0, 0.0, -0.2).normalize();
+    let hit = geometry.nearest(DVec3::new(-1.0, 0.0, 0.2), direction, None, |_| true).expect("the triangle");
+    assert!(direction.dot(hit.normal) > 0.0, "the interpolated normal faces away from the ray");
+    assert!((hit.geometric - DVec3::Z).length() < 1e-15, "{:?}", hit.geometric);
+    let (inside, normal, cos_i) = facing(direction, hit.normal, hit.geometric);
+    let cos_expected = 0.2 / 1.04f64.sqrt();
+    assert!(!inside && (normal - DVec3::Z).length() < 1e-15 && (cos_i - cos_expected).abs() < 1e-15);
+    // Glass from outside: reflection up with F(1.5, cosθᵢ), refraction down into the glass.
+    let glass = SpecularOptics::new(&[Index::new(1.5, 0.0); 3], Kind::Dielectric, Method::Exact, LutSpec::default());
+    let branches = scatter(&glass, direction, hit.normal, hit.geometric, Allowed { reflection: true, refraction: true });
+    assert_eq!(branches.iter().map(|b| b.turn).collect::<Vec<_>>(), [Turn::Reflection, Turn::Refraction]);
+    assert!(branches[0].direction.z > 0.0 && branches[1].direction.z < 0.0);
+    assert!((branches[0].weight[1] - exact(1.5, 0.0, cos_expected)).abs() < 1e-15);
+    // sinθₜ = sinθᵢ/1.5 along +x.
+    let sin_i = (1.0 - cos_expected * cos_expected).sqrt();
+    assert!((branches[1].direction.x - sin_i / 1.5).abs() < 1e-15);
+}
+
+/// A scene of one specular object in a room whose walls all show radiance `wall` (ambient
+/// light only), `effects` naming depths and anything else.
+fn furnace(object: &str, wall: f64, effects: &str, distance: f64, fov: f64) -> String {
+    format!(
+        "measurements: [image_error]\ncamera: {{axis: [0, 1, 0], distance: {distance}, fov_y_degrees: {fov}}}\neffects: {effects}\nlight: {{colour: [0, 0, 0], ambient: [1, 1, 1]}}\nobjects:\n  - {object}\n  - {{mesh: room, scale: 3, diffuse: [{wall}, {wall}, {wall}]}}\n"
+    )
+}
+
+#[test]
+fn light_through_an_absorbing_slab_falls_as_beer_lambert_says() {
+    // A cube of glass (n = 1.5 in every channel, k per channel) seen face on through its
+    // centre, refraction only: in (1 − F0), a straight path of the cube's thickness d, out
+    // (1 − F0), then the wall: (1 − F0)² e^(−αd) with α = 4πk/λ at each channel's
+    // wavelength, d in metres (the scene's unit is the centimetre).
+    let k = [1e-5, 2e-5, 4e-5];
+    let mut table = materials();
+    table.push(material("test/glass/tinted", [1.5; 3], k, Kind::Dielectric));
+    let text = furnace(
+        "{mesh: cube, scale: 0.5, material: test/glass/tinted, method: exact}",
+        0.8,
+        "{refraction: {max_depth: 2}, metres_per_unit: 0.01}",
+        2.0,
+        30.0,
+    );
+    let scene = Scene::parse(&text, Path::new("t.yaml")).unwrap();
+    let stage = stage_from_table(&scene, &table).unwrap();
+    let camera = Camera::new(&scene.camera, 0, 9, 9);
+    let frame = reference(&stage, &camera, Depths { reflection: 0, refraction: 2 }, LutSpec::default());
+    assert_eq!(frame.seen[40], Some(0));
+    // The placed cube's extent along the ray (+z: the eye sits at (0, 0, −2)).
+    let z: Vec<f64> = stage.meshes[0].positions.iter().map(|p| f64::from(p[2])).collect();
+    let thickness = z.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - z.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert!((thickness - 1.0 / 3f64.sqrt()).abs() < 1e-7, "{thickness}");
+    let f0 = 0.04;
+    for c in 0..3 {
+        let alpha = 4.0 * std::f64::consts::PI * k[c] / ([685e-9, 535e-9, 475e-9][c]) * 0.01;
+        let expected = (1.0 - f0) * (1.0 - f0) * (-alpha * thickness).exp() * 0.8;
+        assert!((frame.radiance[40][c] / expected - 1.0).abs() < 1e-9, "channel {c}: {} vs {expected}", frame.radiance[40][c]);
+    }
+    // Green: α = 4π·2e-5/535 nm = 469.7 m⁻¹, over 5.774 mm: e^(−2.712) = 0.0664.
+    assert!((frame.radiance[40][1] / (0.96 * 0.96 * 0.8) - 0.0664).abs() < 1e-4);
+}
+
+/// Whether the pixel's ray from the camera meets a perfect sphere of radius `radius` at the
+/// origin, and the cosine of its angle of incidence there.
+fn analytic_cos_incidence(camera: &Camera, x: u32, y: u32, radius: f64) -> Option<f64> {
+    let d = camera.ray(x, y);
+    let along = -camera.eye.dot(d);
+    let miss2 = camera.eye.length_squared() - along * along;
+    (miss2 < radius * radius).then(|| (1.0 - miss2 / (radius * radius)).sqrt())
+}
+
+#[test]
+fn a_lossless_dispersive_sphere_in_a_white_furnace_loses_only_what_the_depth_truncates() {
+    // A BK7-like sphere (n per channel at 685/535/475 nm, k = 0) in a room of radiance 1
+    // everywhere. On a perfect sphere every inner hit meets the surface at the green
+    // refraction angle, where (transmitted-angle rule) each channel's F is its outside F at
+    // the entry angle θᵢ: a path enters (1 − F), reflects m times inside (F each) and leaves
+    // (1 − F), or reflects off the outside (F). Depths 8/8 allow m ≤ 6, so the pixel returns
+    // F + (1 − F)(1 − F⁷) = 1 − (1 − F)F⁷: the truncated share (1 − F)F⁷ is all that is lost.
+    let n = [1.5131, 1.5195, 1.5228];
+    let mut table = materials();
+    table.push(material("test/glass/bk7", n, [0.0; 3], Kind::Dielectric));
+    let text = furnace(
+        "{mesh: sphere, scale: 0.5, material: test/glass/bk7, method: exact}",
+        1.0,
+        "{reflection: {max_depth: 8}, refraction: {max_depth: 8}}",
+        1.2,
+        52.0,
+    );
+    let scene = Scene::parse(&text, Path::new("t.yaml")).unwrap();
+    let stage = stage_from_table(&scene, &table).unwrap();
+    let camera = Camera::new(&scene.camera, 0, 48, 48);
+    let depths = Depths { reflection: 8, refraction: 8 };
+    let frame = reference(&stage, &camera, depths, LutSpec::default());
+    let (mut rendered, mut analytic, mut pixels) = ([0.0; 3], [0.0; 3], 0);
+    for y in 0..48 {
+        for x in 0..48 {
+            let i = (y * 48 + x) as usize;
+            let value = frame.radiance[i];
+            // Energy is conserved bounce by bounce in every channel: never more than 1.
+            assert!(value.iter().all(|v| *v <= 1.0 + 1e-12), "({x}, {y}): {value:?}");
+            if frame.seen[i] != Some(0) {
+                continue;
+            }
+            let Some(cos) = analytic_cos_incidence(&camera, x, y, 0.5) else { continue };
+            pixels += 1;
+            for c in 0..3 {
+                let f = exact(n[c], 0.0, cos);
+                rendered[c] += value[c];
+                analytic[c] += 1.0 - (1.0 - f) * f.powi(7);
+            }
+        }
+    }
+    let rendered = rendered.map(|v| v / pixels as f64);
+    let analytic = analytic.map(|v| v / pixels as f64);
+    eprintln!("white furnace, BK7-like sphere, depths 8/8, {pixels} pixels: rendered {rendered:?}, perfect sphere {analytic:?}");
+    for c in 0..3 {
+        assert!((rendered[c] - analytic[c]).abs() < 2e-3, "channel {c}: {} vs {}", rendered[c], analytic[c]);
+    }
+    // The GPU algorithm's rule (each channel's inside curve at the angle of incidence, on
+    // the green direction) traps blue at the rim: past asin(n_g/n_b) from outside, blue
+    // meets F = 1 at every inner hit while green leaves. The reference's rule does not.
+    let inside_curve = stage.optics(Method::Exact, LutSpec::default());
+    let tracer = super::trace::ReferenceTracer { stage: &stage };
+    let gpu_rule = super::trace::render(&stage, &camera, super::trace::PathRules { optics: &inside_curve, depths }, |_| &tracer);
+    let gap = |f: &TracedFrame| f.radiance.iter().map(|v| v[1] - v[2]).fold(0.0f64, f64::max);
+    eprintln!("largest green − blue: transmitted-angle rule {:.4}, inside-curve rule {:.4}", gap(&frame), gap(&gpu_rule));
+    assert!(gap(&gpu_rule) > 0.1 && gap(&frame) < 0.02, "{} {}", gap(&gpu_rule), gap(&frame));
+}

@@ -24,6 +24,7 @@ use crate::scene::mesh::{self, Mesh};
 pub use crate::scene::SpecularMaterial;
 use crate::scene::{CameraPath, Depths, Diffuse, LightSource, Role, Scene, SceneError, SceneMaterial, SceneProblem};
 use nklut_optics::fresnel::{LutSpec, Method};
+use nklut_optics::spectrum::{Channels, Index};
 
 /// What a ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,11 +35,14 @@ pub enum Surface {
     Diffuse([f64; 3]),
 }
 
-/// The surface a ray meets: where, its unit shading normal, and what it is.
+/// The surface a ray meets: where, its unit shading normal, the unit normal of the
+/// surface's own plane (the triangle's; a distance map knows only its texel's normal and
+/// gives that), and what it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
     pub point: DVec3,
     pub normal: DVec3,
+    pub geometric: DVec3,
     pub surface: Surface,
     /// The triangle, where the tracer knows it (so a ray leaving it does not hit it again).
     pub triangle: Option<u32>,
@@ -65,6 +69,15 @@ pub struct Stage {
     pub geometry: Geometry,
     pub objects: Vec<ObjectOptics>,
     pub lights: Vec<LightSource>,
+    /// The channels' wavelengths (nm; red, green, blue) the materials' indices were taken
+    /// at: where the reference attenuates each channel.
+    pub channels_nm: [f64; 3],
+    /// Metres per scene unit (the scene's `effects.metres_per_unit`, 1 unless it says
+    /// otherwise): the length Beer–Lambert attenuation is measured in.
+    pub metres_per_unit: f64,
+    /// Each object's index on the 1 nm grid of `colors` (360–830 nm), where its material
+    /// came with its page's data: what the spectral reference traces (`super::spectral`).
+    pub spectra: Vec<Option<Vec<Index>>>,
 }
 
 impl Stage {
@@ -85,7 +98,15 @@ impl Stage {
             });
         }
         let geometry = Geometry::new(&meshes).map_err(|e| named(SceneProblem::Geometry(e)))?;
-        Ok(Stage { meshes, geometry, objects, lights: scene.lights.clone() })
+        Ok(Stage {
+            meshes,
+            geometry,
+            objects,
+            lights: scene.lights.clone(),
+            channels_nm: Channels::default().nanometres(),
+            metres_per_unit: scene.effects.as_ref().map_or(1.0, |e| e.metres_per_unit),
+            spectra: vec![None; scene.objects.len()],
+        })
     }
 
     /// The Fresnel curves of every specular object for one method (`None` for diffuse ones).
@@ -94,6 +115,18 @@ impl Stage {
             .iter()
             .map(|o| match o {
                 ObjectOptics::Specular(m) => Some(SpecularOptics::new(&m.channels, m.kind, method, lut)),
+                ObjectOptics::Diffuse(_) => None,
+            })
+            .collect()
+    }
+
+    /// The f64 reference's optics of every specular object ([`SpecularOptics::reference`]:
+    /// exact Fresnel, the transmitted-angle rule from inside, Beer–Lambert attenuation).
+    pub fn reference_optics(&self) -> Vec<Option<SpecularOptics>> {
+        self.objects
+            .iter()
+            .map(|o| match o {
+                ObjectOptics::Specular(m) => Some(SpecularOptics::reference(&m.channels, m.kind, self.channels_nm, self.metres_per_unit)),
                 ObjectOptics::Diffuse(_) => None,
             })
             .collect()
@@ -122,6 +155,7 @@ impl Stage {
         Some(SurfaceHit {
             point: hit.point,
             normal: hit.normal,
+            geometric: hit.geometric,
             surface: self.surface(hit.object, hit.point, hit.normal),
             triangle: Some(hit.triangle),
         })
@@ -156,12 +190,13 @@ pub fn radiance(rules: PathRules, tracer: &dyn Tracer, hit: &SurfaceHit, incomin
     let Some(optics) = &rules.optics[object] else { return [0.0; 3] };
     let allowed = Allowed { reflection: bounces < rules.depths.reflection, refraction: bounces < rules.depths.refraction };
     let mut total = [0.0; 3];
-    for branch in scatter(optics, incoming, hit.normal, allowed) {
+    for branch in scatter(optics, incoming, hit.normal, hit.geometric, allowed) {
         *rays += 1;
         if let Some(next) = tracer.trace(hit.point, branch.direction, hit) {
             let seen = radiance(rules, tracer, &next, branch.direction, bounces + 1, rays);
+            let kept = if branch.inside { optics.transmittance(next.point.distance(hit.point)) } else { [1.0; 3] };
             for c in 0..3 {
-                total[c] += branch.weight[c] * seen[c];
+                total[c] += branch.weight[c] * kept[c] * seen[c];
             }
         }
     }
@@ -258,14 +293,27 @@ where
     frame
 }
 
-/// The f64 reference frame: exact geometry, exact Fresnel.
-pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, lut: LutSpec) -> TracedFrame {
-    let optics = stage.optics(Method::Exact, lut);
+/// The f64 reference frame: exact geometry, exact Fresnel, the transmitted-angle rule
+/// from inside and Beer–Lambert attenuation ([`Stage::reference_optics`]). (`lut` is not
+/// used: exact Fresnel has no texture.)
+pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, _lut: LutSpec) -> TracedFrame {
+    reference_with(stage, camera, depths, &stage.reference_optics())
+}
+
+/// The reference tracer's frame with the given optics per object (another source of the
+/// channel indices, say).
+pub fn reference_with(stage: &Stage, camera: &Camera, depths: Depths, optics: &[Option<SpecularOptics>]) -> TracedFrame {
     let tracer = ReferenceTracer { stage };
-    render(stage, camera, PathRules { optics: &optics, depths }, |_| &tracer)
+    render(stage, camera, PathRules { optics, depths }, |_| &tracer)
 }
 
 /// A scene file's stage with the optical constants of its materials.
 pub fn stage_from_table(scene: &Scene, table: &[SceneMaterial]) -> Result<Stage> {
-    Stage::from_scene(scene, |page| table.iter().find(|m| m.page == page).map(|m| m.optics))
+    let mut stage = Stage::from_scene(scene, |page| table.iter().find(|m| m.page == page).map(|m| m.optics))?;
+    stage.spectra = scene
+        .objects
+        .iter()
+        .map(|o| o.specular().and_then(|s| table.iter().find(|m| m.page == s.material)).and_then(|m| m.spectrum.clone()))
+        .collect();
+    Ok(stage)
 }

@@ -205,7 +205,7 @@ fn run_fresnel_only(
     let mut renderer = Renderer::new(gpu);
     let mut bound = HashMap::new();
     let mut baked = Vec::new();
-    for SceneMaterial { page, optics } in materials {
+    for SceneMaterial { page, optics, .. } in materials {
         let prepared = params::prepare(&optics.channels);
         let uniform = MaterialUniform::from_prepared(&prepared);
         let wants_lut = scene.specular_objects().any(|(_, s)| s.material == *page && s.shadings.contains(&Shading::Fresnel(Method::Lut)));

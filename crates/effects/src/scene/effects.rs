@@ -90,7 +90,30 @@ pub(crate) struct RawEffects {
     distance_maps: RawDistanceMaps,
     ambient_occlusion: Option<super::surfels::RawAmbientOcclusion>,
     indirect: Option<super::surfels::RawIndirect>,
+    metres_per_unit: Option<f64>,
+    spectral: Option<RawSpectral>,
 }
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSpectral {
+    wavelengths: u32,
+}
+
+/// The most wavelengths of a spectral frame: the weighted 1 nm samples of `colors`
+/// (360–780 nm).
+pub const MAX_WAVELENGTHS: u32 = 421;
+
+/// The spectral reference (`effects.spectral`): the f64 reference traced per wavelength on
+/// `wavelengths` bins of the 1 nm grid of `colors`, measured against the three-channel
+/// reference (`spectral_errors`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Spectral {
+    pub wavelengths: u32,
+}
+
+/// The range of `metres_per_unit`: a nanometre to a kilometre per scene unit.
+pub const METRES_PER_UNIT_RANGE: (f64, f64) = (1e-9, 1e3);
 
 /// The deepest path a scene may ask for: every extra bounce multiplies the cost of a frame.
 pub const MAX_DEPTH: u32 = 8;
@@ -131,7 +154,7 @@ pub struct DistanceMaps {
 
 /// The effects a scene calls for: at least one of `reflection`, `refraction`,
 /// `ambient_occlusion`, `indirect` is named (an AO-only scene is valid).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Effects {
     pub reflection: Option<Bounces>,
     pub refraction: Option<Bounces>,
@@ -140,6 +163,11 @@ pub struct Effects {
     pub ambient_occlusion: Option<super::surfels::AmbientOcclusion>,
     /// Surfel indirect light (`super::surfels`).
     pub indirect: Option<super::surfels::Indirect>,
+    /// The length of one scene unit in metres (`metres_per_unit`, default 1): Beer–Lambert
+    /// attenuation inside a dielectric, e^(−4πkd/λ), needs the path length d in metres.
+    pub metres_per_unit: f64,
+    /// The spectral reference and its comparison with the three-channel one.
+    pub spectral: Option<Spectral>,
 }
 
 /// The families of effects a scene can name, each built by its own parts (its settings
@@ -220,7 +248,24 @@ impl RawEffects {
         check_counts("distance_maps.linear_steps", &linear, 1, 1024)?;
         check_counts("distance_maps.secant_steps", &secant, 0, 64)?;
         let steps = linear.iter().flat_map(|&linear| secant.iter().map(move |&secant| SearchSteps { linear, secant })).collect();
+        let metres_per_unit = self.metres_per_unit.unwrap_or(1.0);
+        if !(METRES_PER_UNIT_RANGE.0..=METRES_PER_UNIT_RANGE.1).contains(&metres_per_unit) {
+            let range = Range::Closed { low: METRES_PER_UNIT_RANGE.0, high: METRES_PER_UNIT_RANGE.1, each: Each::Whole };
+            return Err(SceneProblem::field("metres_per_unit", FieldProblem::OutOfRange { value: Value::Number(metres_per_unit), range }));
+        }
+        let spectral = match &self.spectral {
+            None => None,
+            Some(raw) => {
+                if reflection.is_none() && refraction.is_none() {
+                    return Err(SceneProblem::field("spectral", FieldProblem::NeedsFamily(EffectFamily::SpecularPaths)));
+                }
+                check_counts("spectral.wavelengths", &[raw.wavelengths], 1, MAX_WAVELENGTHS)?;
+                Some(Spectral { wavelengths: raw.wavelengths })
+            }
+        };
         Ok(Effects {
+            metres_per_unit,
+            spectral,
             reflection,
             refraction,
             distance_maps: DistanceMaps { size: maps.size, layers: maps.layers, steps },
@@ -379,6 +424,8 @@ mod tests {
             },
             ambient_occlusion: None,
             indirect: None,
+            metres_per_unit: None,
+            spectral: None,
         }
         .effects()
         .unwrap();

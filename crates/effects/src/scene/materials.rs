@@ -6,7 +6,7 @@ use anyhow::{anyhow, Result};
 
 use super::Scene;
 use nklut_optics::db::Database;
-use nklut_optics::spectrum::{ChannelIndex, Kind};
+use nklut_optics::spectrum::{ChannelIndex, Index, Kind};
 use nklut_pipeline::ingest::{self, Selection};
 
 /// A specular object's optical constants: (n, k) per channel and conductor or dielectric.
@@ -21,11 +21,20 @@ pub struct SpecularMaterial {
 pub struct SceneMaterial {
     pub page: String,
     pub optics: SpecularMaterial,
+    /// n, k on the 1 nm grid 360–830 nm of `colors` (`color::sample_spectrum`), where the
+    /// page's data were read: what the spectral reference traces.
+    pub spectrum: Option<Vec<Index>>,
 }
 
 impl SceneMaterial {
     pub fn new(page: impl Into<String>, channels: ChannelIndex, kind: Kind) -> Self {
-        Self { page: page.into(), optics: SpecularMaterial { channels, kind } }
+        Self { page: page.into(), optics: SpecularMaterial { channels, kind }, spectrum: None }
+    }
+
+    /// With its spectrum on the 1 nm grid.
+    pub fn with_spectrum(mut self, spectrum: Vec<Index>) -> Self {
+        self.spectrum = Some(spectrum);
+        self
     }
 }
 
@@ -45,7 +54,8 @@ pub fn read_materials(scene: &Scene, db: &Database, config: &ingest::Config) -> 
     let materials = pages
         .into_iter()
         .map(|page| match result.find(&page) {
-            Some(kept) => Ok(SceneMaterial::new(page, kept.material.channels, kept.material.kind)),
+            Some(kept) => Ok(SceneMaterial::new(page, kept.material.channels, kept.material.kind)
+                .with_spectrum(nklut_optics::color::sample_spectrum(&kept.material.data).0)),
             None => {
                 let why = result.excluded.iter().find(|e| e.page == page).map(|e| e.error.to_string()).unwrap_or_else(|| "not kept".into());
                 Err(anyhow!("scene {}: material {page} cannot be used: {why}", scene.file.display()))

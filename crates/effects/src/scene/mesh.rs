@@ -81,6 +81,7 @@ pub fn load(source: &MeshSource, path: impl Fn(&Path) -> PathBuf) -> Result<Mesh
         MeshSource::Sphere => Ok(sphere(64, 32)),
         MeshSource::Room => Ok(room()),
         MeshSource::Plane => Ok(plane()),
+        MeshSource::Prism => Ok(prism()),
         MeshSource::File(file) => load_obj(&path(file)),
     }
 }
@@ -132,6 +133,36 @@ pub fn plane() -> Mesh {
         normals: vec![[0.0, 1.0, 0.0]; 4],
         indices: vec![0, 1, 2, 0, 2, 3],
     }
+}
+
+/// The prism: an equilateral triangular prism with flat faces, corners on the unit sphere.
+/// Its cross-section in the xz plane has corners at angles 0°, 120° and 240° on a circle of
+/// radius 1/√2 (the apex edge at +x, so a ray along +z meets the face whose outward normal
+/// is (½, 0, −√3/2) at 30° and leaves through the one of (½, 0, √3/2): an apex angle of
+/// 60°), extruded over y ∈ [−1/√2, 1/√2].
+pub fn prism() -> Mesh {
+    let r = std::f32::consts::FRAC_1_SQRT_2;
+    let corner = |degrees: f32, y: f32| [r * degrees.to_radians().cos(), y, r * degrees.to_radians().sin()];
+    let mut mesh = Mesh::default();
+    let mut quad = |corners: [[f32; 3]; 4], normal: [f32; 3]| {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(corners);
+        mesh.normals.extend([normal; 4]);
+        mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    };
+    // The three sides, each between two corners of the section, normal at their mid-angle.
+    for (a, b) in [(0.0f32, 120.0f32), (120.0, 240.0), (240.0, 360.0)] {
+        let mid = ((a + b) / 2.0).to_radians();
+        quad([corner(a, -r), corner(b, -r), corner(b, r), corner(a, r)], [mid.cos(), 0.0, mid.sin()]);
+    }
+    // The two ends.
+    for (y, normal) in [(r, 1.0f32), (-r, -1.0)] {
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend([corner(0.0, y), corner(120.0, y), corner(240.0, y)]);
+        mesh.normals.extend([[0.0, normal, 0.0]; 3]);
+        mesh.indices.extend([base, base + 1, base + 2]);
+    }
+    mesh
 }
 
 /// A UV sphere of radius 1 with exact normals: `segments` around, `rings` pole to pole.

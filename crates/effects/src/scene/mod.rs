@@ -36,7 +36,7 @@ use serde::{Deserialize, Serialize};
 
 use nklut_optics::fresnel::Method as FresnelMethod;
 
-pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Pattern, SearchSteps};
+pub use effects::{Bounces, Depths, Diffuse, DistanceMaps, EffectFamily, Effects, Pattern, SearchSteps, Spectral};
 pub use error::{Conflict, Each, FieldProblem, Listing, Range, Required, SceneError, SceneProblem, Value, Values};
 pub use lights::{Light, LightSource, MAX_LIGHTS};
 pub use materials::{read_materials, SceneMaterial, SpecularMaterial};
@@ -126,6 +126,8 @@ pub enum MeshSource {
     Sphere,
     Room,
     Plane,
+    /// An equilateral triangular prism (apex angle 60°), fitted to the unit sphere.
+    Prism,
     File(PathBuf),
 }
 
@@ -136,6 +138,7 @@ impl MeshSource {
             "sphere" => MeshSource::Sphere,
             "room" => MeshSource::Room,
             "plane" => MeshSource::Plane,
+            "prism" => MeshSource::Prism,
             path => MeshSource::File(PathBuf::from(path)),
         }
     }
@@ -147,6 +150,7 @@ impl MeshSource {
             MeshSource::Sphere => "sphere".into(),
             MeshSource::Room => "room".into(),
             MeshSource::Plane => "plane".into(),
+            MeshSource::Prism => "prism".into(),
             MeshSource::File(path) => {
                 path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
             }

@@ -34,7 +34,7 @@ use crate::stats::median;
 pub const EFFECTS_PAGE: &str = "effects.html";
 
 /// The tables the effects page reads and the command that writes each.
-const TABLES: [(&str, &str); 6] = [
+const TABLES: [(&str, &str); 7] = [
     (
         "effects_errors.csv",
         "image error of multiple reflections and refractions per depth and step counts (`make effects`; `make gpu` for the GPU's)",
@@ -43,6 +43,10 @@ const TABLES: [(&str, &str); 6] = [
     ("effects_hero.csv", "the hero frame's panels and their figures (`make effects`)"),
     ("effects_timing.csv", "GPU time of the map update and the shading pass per configuration (`make gpu`)"),
     ("ao_errors.csv", "ambient-occlusion error per passes and technique (`make effects`)"),
+    (
+        "spectral_errors.csv",
+        "three-channel against spectral reference per object, index source and depth (`nklut effects` on a scene with `effects.spectral`)",
+    ),
     ("ao_timing.csv", "ambient-occlusion GPU time against surfel count (`make gpu`)"),
 ];
 
@@ -186,6 +190,9 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Res
     }
     if let Some(ao) = scene.table("ao_errors.csv", false) {
         ao_section(html, ao)?;
+    }
+    if let Some(spectral) = scene.table("spectral_errors.csv", false) {
+        spectral_section(html, spectral)?;
     }
     if let Some(hero) = scene.table("effects_hero.csv", false) {
         hero_section(html, hero);
@@ -460,6 +467,81 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
                 "What the distance maps' search costs in accuracy: the error of where rays land (the twin with {reference_method} Fresnel against the reference with it), mean ΔE2000 over the specular objects' pixels at depth {depth}."
             ),
         );
+    }
+    Ok(())
+}
+
+/// What three colour channels cost: per material a chart of the mean ΔE2000 of the
+/// three-channel reference against the spectral one over depth, one line per index source,
+/// and the deepest depth's frames (spectral, each source, its ΔE map) side by side.
+fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> Result<()> {
+    html.push_str("<h3>Three channels against the spectrum</h3>\n");
+    let all: Vec<usize> = (0..spectral.rows.len()).collect();
+    let first = spectral.rows.first();
+    let _ = writeln!(
+        html,
+        "<p>The three-channel f64 reference against the spectral one ({} wavelengths): mean ΔE2000 over each material's pixels, per depth (reflections+refractions) and source of the channel indices (<code>{}</code>).</p>",
+        escape(first.map_or("", |row| spectral.text(row, "wavelengths"))),
+        escape(path)
+    );
+    let sources: Vec<String> = distinct(&all, |r| spectral.text(&spectral.rows[r], "index_source").to_string());
+    let color = |source: &str| PALETTE[sources.iter().position(|s| s == source).unwrap_or(0) % PALETTE.len()];
+    html.push_str(&charts::legend(sources.iter().map(|s| (s.as_str(), color(s), false))));
+    html.push_str("<div class=\"charts\">");
+    let categories = depth_categories(spectral, &all);
+    for material in distinct(&all, |r| spectral.text(&spectral.rows[r], "material").to_string()) {
+        let series: Vec<Series> = sources
+            .iter()
+            .map(|source| {
+                series(source.clone(), color(source), categories.len(), (path, spectral), ("mean_delta_e2000", "pixels"), |x| {
+                    let depth = &categories[x];
+                    let rows = all
+                        .iter()
+                        .copied()
+                        .filter(|&r| {
+                            let row = &spectral.rows[r];
+                            spectral.text(row, "material") == material
+                                && spectral.text(row, "index_source") == source
+                                && depth_label(spectral, row) == *depth
+                        })
+                        .collect();
+                    (rows, format!("{material}, {source}, depth {depth}"))
+                })
+            })
+            .collect();
+        let caption = format!("{material}: ΔE2000, three channels vs spectrum");
+        let svg = charts::line_chart(
+            &LineChart {
+                categories: &categories,
+                x_name: "depth (reflections+refractions)",
+                y_axis: ErrorAxis::DeltaE,
+                series: &series,
+                caption: Some(&caption),
+            },
+            (440, 300),
+        )?;
+        figure(html, &svg, "", "");
+    }
+    html.push_str("</div>");
+    if let Some(depth) = categories.last() {
+        let folder = folder_of(path);
+        let stem = format!("spectral_frames/depth{}", depth.replace('+', "-"));
+        let mut files = vec![(format!("{stem}_spectral.png"), "spectral".to_string())];
+        for source in &sources {
+            files.push((format!("{stem}_{source}.png"), source.clone()));
+            files.push((format!("{stem}_{source}_delta_e.png"), format!("ΔE2000 of {source} (white at 5)")));
+        }
+        let _ = writeln!(html, "<p class=\"note\">Depth {}: the spectral frame, each source's three-channel frame and its ΔE2000 map (EXR beside each PNG).</p><div class=\"panels\">", escape(depth));
+        for (file, label) in files {
+            let src = from_report(folder, &file);
+            let _ = write!(
+                html,
+                "<figure><a href=\"{src}\"><img loading=\"lazy\" src=\"{src}\" alt=\"{}\"></a><figcaption>{}</figcaption></figure>",
+                escape(&label),
+                escape(&label)
+            );
+        }
+        html.push_str("</div>");
     }
     Ok(())
 }

@@ -1,0 +1,299 @@
+//! What three colour channels cost over many bounces: the three-channel f64 reference
+//! (`super::trace::reference`) against the spectral one (`super::spectral`) on the same
+//! frame, per specular object, source of the channel indices and depth — the mean, 95th
+//! percentile and largest CIEDE2000 over the object's pixels — and the price: each
+//! reference's wall time and rays per second for that frame. Written as `spectral_errors`
+//! with pictures of both frames and the ΔE map.
+//!
+//! Index sources: `three-wavelength` (n, k at the channel wavelengths, SPEC §3) and
+//! `effective` (the fit over angle of `colors`, docs/colors.md: per channel the (n, k) whose
+//! exact F is closest to the spectral reference colour's curve). Attenuation inside a
+//! dielectric keeps the three-wavelength k under either source: the fitted k is a
+//! reflectance shape correction, not a volume property.
+
+use std::time::Instant;
+
+use anyhow::Result;
+
+use super::image_error::delta_e_map;
+use super::optics::{attenuation_per_unit, SpecularOptics};
+use super::pictures::{error_png, false_colour, Picture, ERROR_SCALE};
+use super::spectral::{spectral_reference, WavelengthGrid};
+use super::trace::{reference_with, Camera, ObjectOptics, Stage};
+use crate::scene::{Depths, Scene};
+use nklut_optics::color::{angle_quadrature, fit_effective_index, PreparedSpectrum};
+use nklut_optics::spectrum::{ChannelIndex, Kind};
+use nklut_pipeline::output::{SetFile, Table};
+use nklut_pipeline::stats::quantile;
+
+/// Where a three-channel frame's indices come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IndexSource {
+    ThreeWavelength,
+    Effective,
+}
+
+impl IndexSource {
+    pub const ALL: [IndexSource; 2] = [IndexSource::ThreeWavelength, IndexSource::Effective];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IndexSource::ThreeWavelength => "three-wavelength",
+            IndexSource::Effective => "effective",
+        }
+    }
+}
+
+/// The folder of the spectral comparison's pictures in the effects' set.
+pub const SPECTRAL_DIR: &str = "spectral_frames";
+
+/// ΔE2000 at which the ΔE map's false colour is white.
+pub const DELTA_E_SCALE: f64 = 5.0;
+
+/// One row of `spectral_errors`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpectralErrorRow {
+    pub object: String,
+    pub material: String,
+    pub source: IndexSource,
+    pub depths: Depths,
+    pub wavelengths: u32,
+    pub resolution: [u32; 2],
+    pub pixels: usize,
+    pub mean_delta_e2000: f64,
+    pub p95_delta_e2000: f64,
+    pub max_delta_e2000: f64,
+    pub spectral_ms: f64,
+    pub three_channel_ms: f64,
+    pub spectral_wavelength_rays_per_s: f64,
+    pub three_channel_rays_per_s: f64,
+    pub total_internal_reflections: u64,
+}
+
+/// The rows and the pictures (camera frame 0 of every depth: the spectral frame, each
+/// source's three-channel frame with its |Δ| error image, and its ΔE map).
+#[derive(Clone, Debug, Default)]
+pub struct SpectralReport {
+    pub rows: Vec<SpectralErrorRow>,
+    pub pictures: Vec<Picture>,
+    pub delta_e_maps: Vec<SetFile>,
+}
+
+/// The channel indices of a material from `source`: the page's three-wavelength ones, or
+/// per channel the fit over angle to the spectral reference curve (`colors`' fit).
+pub fn channel_indices(three: &ChannelIndex, spectrum: Option<&[nklut_optics::spectrum::Index]>, source: IndexSource) -> ChannelIndex {
+    match (source, spectrum) {
+        (IndexSource::ThreeWavelength, _) | (IndexSource::Effective, None) => *three,
+        (IndexSource::Effective, Some(spectrum)) => {
+            let quadrature = angle_quadrature();
+            let curve = PreparedSpectrum::new(spectrum).curve(&quadrature.cosines);
+            std::array::from_fn(|c| {
+                let reference: Vec<f64> = curve.iter().map(|rgb| rgb[c]).collect();
+                fit_effective_index(&reference, three[c], quadrature).index
+            })
+        }
+    }
+}
+
+/// The reference optics of every object with its indices from `source`.
+fn optics_for(stage: &Stage, source: IndexSource) -> Vec<Option<SpecularOptics>> {
+    stage
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(object, o)| match o {
+            ObjectOptics::Diffuse(_) => None,
+            ObjectOptics::Specular(m) => {
+                let spectrum = stage.spectra.get(object).and_then(|s| s.as_deref());
+                let channels = channel_indices(&m.channels, spectrum, source);
+                let mut optics = SpecularOptics::reference(&channels, m.kind, stage.channels_nm, stage.metres_per_unit);
+                if m.kind == Kind::Dielectric {
+                    optics.absorption =
+                        std::array::from_fn(|c| attenuation_per_unit(m.channels[c].k, stage.channels_nm[c], stage.metres_per_unit));
+                }
+                Some(optics)
+            }
+        })
+        .collect()
+}
+
+fn per_second(count: u64, ms: f64) -> f64 {
+    if ms > 0.0 {
+        count as f64 / (ms * 1e-3)
+    } else {
+        0.0
+    }
+}
+
+/// Run the comparison on camera frame 0 at `resolution` for every depth configuration of
+/// the scene with `wavelengths` bins; `log` receives a line per row.
+pub fn spectral_errors(
+    scene: &Scene,
+    stage: &Stage,
+    resolution: [u32; 2],
+    wavelengths: u32,
+    log: &mut dyn FnMut(&str),
+) -> Result<SpectralReport> {
+    let mut report = SpectralReport::default();
+    let Some(effects) = &scene.effects else { return Ok(report) };
+    let grid = WavelengthGrid::new(wavelengths as usize)?;
+    let camera = Camera::new(&scene.camera, 0, resolution[0], resolution[1]);
+    let sources: Vec<(IndexSource, Vec<Option<SpecularOptics>>)> =
+        IndexSource::ALL.into_iter().map(|s| (s, optics_for(stage, s))).collect();
+    for depths in effects.depths() {
+        let stem = |name: &str| format!("depth{}-{}_{name}", depths.reflection, depths.refraction);
+        let start = Instant::now();
+        let spectral = spectral_reference(stage, &camera, depths, &grid)?;
+        let spectral_ms = start.elapsed().as_secs_f64() * 1e3;
+        report.pictures.push(Picture { stem: stem("spectral"), frame: spectral.frame.clone(), reference: None });
+        for (source, optics) in &sources {
+            let start = Instant::now();
+            let three = reference_with(stage, &camera, depths, optics);
+            let three_ms = start.elapsed().as_secs_f64() * 1e3;
+            let delta_e = delta_e_map(&three, &spectral.frame);
+            let (w, h) = (three.width, three.height);
+            let map = error_png(w, h, delta_e.iter().map(|e| false_colour(e / DELTA_E_SCALE * ERROR_SCALE)))?;
+            report.delta_e_maps.push(SetFile::new(format!("{}_delta_e.png", stem(source.name())), map));
+            report.pictures.push(Picture { stem: stem(source.name()), frame: three.clone(), reference: Some(spectral.frame.clone()) });
+            for (object, scene_object) in scene.objects.iter().enumerate() {
+                let Some(specular) = scene_object.specular() else { continue };
+                let mut values: Vec<f64> =
+                    delta_e.iter().zip(&spectral.frame.seen).filter(|(_, seen)| **seen == Some(object)).map(|(e, _)| *e).collect();
+                values.sort_by(f64::total_cmp);
+                let mean = if values.is_empty() { 0.0 } else { values.iter().sum::<f64>() / values.len() as f64 };
+                let row = SpectralErrorRow {
+                    object: scene_object.mesh.label(),
+                    material: specular.material.clone(),
+                    source: *source,
+                    depths,
+                    wavelengths,
+                    resolution,
+                    pixels: values.len(),
+                    mean_delta_e2000: mean,
+                    p95_delta_e2000: if values.is_empty() { 0.0 } else { quantile(&values, 0.95) },
+                    max_delta_e2000: values.last().copied().unwrap_or(0.0),
+                    spectral_ms,
+                    three_channel_ms: three_ms,
+                    spectral_wavelength_rays_per_s: per_second(spectral.wavelength_rays, spectral_ms),
+                    three_channel_rays_per_s: per_second(three.rays, three_ms),
+                    total_internal_reflections: spectral.total_internal_reflections,
+                };
+                log(&format!(
+                    "  spectral {} {} {} depth {}/{}: ΔE2000 mean {:.3}, p95 {:.3}, max {:.3}; spectral {:.0} ms ({:.2} M wavelength-rays/s), three-channel {:.0} ms",
+                    row.object,
+                    row.material,
+                    source.name(),
+                    depths.reflection,
+                    depths.refraction,
+                    row.mean_delta_e2000,
+                    row.p95_delta_e2000,
+                    row.max_delta_e2000,
+                    spectral_ms,
+                    row.spectral_wavelength_rays_per_s / 1e6,
+                    three_ms
+                ));
+                report.rows.push(row);
+            }
+        }
+    }
+    Ok(report)
+}
+
+/// `spectral_errors.*`: one row per (object, material, index source, depths).
+pub fn spectral_error_table(rows: &[SpectralErrorRow]) -> Table {
+    let text = |f: &dyn Fn(&SpectralErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let integer = |f: &dyn Fn(&SpectralErrorRow) -> i64| rows.iter().map(f).collect::<Vec<_>>();
+    let float = |f: &dyn Fn(&SpectralErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+    let mut table = Table::new();
+    table
+        .text("object", "mesh of the specular object: sphere, cube, prism, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
+        .text("material", "page id", text(&|r| r.material.clone()))
+        .text(
+            "index_source",
+            "where the three-channel frame's (n, k) come from: three-wavelength (at the channel wavelengths) or effective (colors' fit over angle to the spectral reference; attenuation keeps the three-wavelength k)",
+            text(&|r| r.source.name().into()),
+        )
+        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection as i64))
+        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction as i64))
+        .integer("wavelengths", "wavelength bins of the spectral frame (421: every 1 nm of 360-780 nm, colors' sum)", integer(&|r| r.wavelengths as i64))
+        .text("resolution", "frame size WxH in pixels (camera frame 0)", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .integer("pixels", "pixels where the spectral frame shows the object", integer(&|r| r.pixels as i64))
+        .float("mean_delta_e2000", "three-channel reference vs spectral reference: mean CIEDE2000 over the object's pixels", float(&|r| r.mean_delta_e2000))
+        .float("p95_delta_e2000", "95th percentile (linear interpolation) of the CIEDE2000 over the object's pixels", float(&|r| r.p95_delta_e2000))
+        .float("max_delta_e2000", "largest CIEDE2000 over the object's pixels", float(&|r| r.max_delta_e2000))
+        .float("spectral_ms", "wall time of the spectral reference's frame (all objects)", float(&|r| r.spectral_ms))
+        .float("three_channel_ms", "wall time of the three-channel reference's frame with this index source", float(&|r| r.three_channel_ms))
+        .float(
+            "spectral_wavelength_rays_per_s",
+            "wavelength-rays (one ray at one wavelength; a ray carrying a bundle counts each) per second of the spectral frame",
+            float(&|r| r.spectral_wavelength_rays_per_s),
+        )
+        .float("three_channel_rays_per_s", "rays per second of the three-channel frame", float(&|r| r.three_channel_rays_per_s))
+        .integer(
+            "total_internal_reflections",
+            "total internal reflections in the spectral frame, counted per wavelength (all objects)",
+            integer(&|r| r.total_internal_reflections as i64),
+        );
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::SceneMaterial;
+    use crate::trace::stage_from_table;
+    use nklut_optics::spectrum::{spectral_wavelength_nm, Index, SPECTRAL_SAMPLES};
+    use std::path::Path;
+
+    fn material(page: &str, kind: Kind, index: impl Fn(f64) -> Index) -> SceneMaterial {
+        let spectrum: Vec<Index> = (0..SPECTRAL_SAMPLES).map(|i| index(spectral_wavelength_nm(i))).collect();
+        SceneMaterial::new(page, [685.0, 535.0, 475.0].map(&index), kind).with_spectrum(spectrum)
+    }
+
+    #[test]
+    fn a_flat_material_costs_nothing_and_a_coloured_one_grows_with_depth() {
+        // A flat metal: three channels are the spectrum, ΔE 0 at depth 1 (deeper, it shows the
+        // other metal's reflections, which are not flat). A metal whose k
+        // falls across the spectrum (reflecting red more than blue, like gold): each bounce
+        // multiplies in F(λ) again, so three channels err more as the depth grows.
+        let table = vec![
+            material("t/metals/flat", Kind::Conductor, |_| Index::new(0.4, 2.8)),
+            material("t/metals/warm", Kind::Conductor, |nm| {
+                Index::new(0.2 + 1.2 * (700.0 - nm).max(0.0) / 300.0, 1.5 + 3.0 * (nm - 400.0).max(0.0) / 300.0)
+            }),
+        ];
+        let text = "measurements: [image_error]\ncamera: {axis: [0, 1, 0.3], distance: 2.2, fov_y_degrees: 50}\neffects: {reflection: {max_depth: [1, 4]}, spectral: {wavelengths: 24}}\nlight: {direction: [-0.3, -1, -0.5], colour: [0.7, 0.7, 0.7], ambient: [0.3, 0.3, 0.3]}\nobjects:\n  - {mesh: sphere, scale: 0.45, position: [-0.5, 0, 0], material: t/metals/flat, method: exact}\n  - {mesh: sphere, scale: 0.45, position: [0.5, 0, 0], material: t/metals/warm, method: exact}\n  - {mesh: plane, scale: 1.2, position: [0, -0.45, 0], material: t/metals/warm, method: exact}\n  - {mesh: room, scale: 3, diffuse: [0.85, 0.85, 0.8], pattern: {kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45]}}\n";
+        let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
+        let stage = stage_from_table(&scene, &table).unwrap();
+        let report = spectral_errors(&scene, &stage, [20, 16], 24, &mut |_| {}).unwrap();
+        // 2 depths × 2 sources × 3 specular objects.
+        assert_eq!(report.rows.len(), 12);
+        let row = |object: &str, material: &str, source: IndexSource, depth: u32| {
+            report
+                .rows
+                .iter()
+                .find(|r| r.object == object && r.material == material && r.source == source && r.depths.reflection == depth)
+                .unwrap()
+        };
+        let flat = row("sphere", "t/metals/flat", IndexSource::ThreeWavelength, 1);
+        assert!(flat.pixels > 0 && flat.max_delta_e2000 < 1e-6, "{flat:?}");
+        let (shallow, deep) = (
+            row("sphere", "t/metals/warm", IndexSource::ThreeWavelength, 1),
+            row("sphere", "t/metals/warm", IndexSource::ThreeWavelength, 4),
+        );
+        assert!(deep.mean_delta_e2000 > shallow.mean_delta_e2000 && shallow.mean_delta_e2000 > 0.1, "{shallow:?} {deep:?}");
+        assert!(deep.p95_delta_e2000 <= deep.max_delta_e2000 && deep.mean_delta_e2000 <= deep.max_delta_e2000);
+        assert!(deep.spectral_ms > 0.0 && deep.spectral_wavelength_rays_per_s > 0.0 && deep.three_channel_rays_per_s > 0.0);
+        // The effective fit is closer than three wavelengths at depth 1 (it fits one bounce).
+        let effective = row("sphere", "t/metals/warm", IndexSource::Effective, 1);
+        assert!(effective.mean_delta_e2000 < shallow.mean_delta_e2000, "{effective:?} vs {shallow:?}");
+        // Pictures: per depth the spectral frame and each source's frame; a ΔE map per source.
+        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (6, 4));
+        let table = spectral_error_table(&report.rows);
+        assert_eq!(table.rows(), 12);
+        eprintln!(
+            "warm metal three-wavelength ΔE mean: depth 1 {:.3}, depth 4 {:.3}; effective depth 1 {:.3}",
+            shallow.mean_delta_e2000, deep.mean_delta_e2000, effective.mean_delta_e2000
+        );
+    }
+}
