@@ -157,7 +157,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     };
     let material_plans = materials
         .iter()
-        .map(|SceneMaterial { page, optics }| {
+        .map(|SceneMaterial { page, optics, .. }| {
             let prepared = params::prepare(&optics.channels);
             let lut = wants_lut(page).then(|| half_texels(&super::lut::texels(&prepared, scene.lut.size as usize)));
             MaterialPlan {
