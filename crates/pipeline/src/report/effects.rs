@@ -281,6 +281,31 @@ fn series(
     Series { name, color, points }
 }
 
+/// One line against depth: at each depth category, the pixel-weighted mean of `column` over
+/// the `rows` of `material` whose `key` column reads `value`; named `value`.
+fn depth_series(
+    (path, table): (&str, &CsvTable),
+    rows: &[usize],
+    categories: &[String],
+    material: &str,
+    (key, value): (&str, &str),
+    column: &str,
+    color: plotters::style::RGBColor,
+) -> Series {
+    series(value.to_string(), color, categories.len(), (path, table), (column, "pixels"), |x| {
+        let depth = &categories[x];
+        let picked = rows
+            .iter()
+            .copied()
+            .filter(|&r| {
+                let row = &table.rows[r];
+                table.text(row, "material") == material && table.text(row, key) == value && depth_label(table, row) == *depth
+            })
+            .collect();
+        (picked, format!("{material}, {value}, depth {depth}"))
+    })
+}
+
 /// Cost points traced to their rows, the Pareto front over (cost, error) marked.
 fn cost_points(traced: Vec<(String, Trace, Trace)>) -> Vec<CostPoint> {
     let front = charts::pareto_front(&traced.iter().map(|(_, x, y)| (x.value, y.value)).collect::<Vec<_>>());
@@ -336,22 +361,7 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
         ] {
             let series: Vec<Series> = methods
                 .iter()
-                .map(|method| {
-                    series(method.clone(), color(method), categories.len(), (path, errors), (column, "pixels"), |x| {
-                        let depth = &categories[x];
-                        let rows = at_steps
-                            .iter()
-                            .copied()
-                            .filter(|&r| {
-                                let row = &errors.rows[r];
-                                errors.text(row, "material") == material
-                                    && errors.text(row, "method") == method
-                                    && depth_label(errors, row) == *depth
-                            })
-                            .collect();
-                        (rows, format!("{material}, {method}, depth {depth}"))
-                    })
-                })
+                .map(|method| depth_series((path, errors), &at_steps, &categories, material, ("method", method), column, color(method)))
                 .collect();
             let caption = format!("{material}: Fresnel {what}");
             let svg = charts::line_chart(
@@ -493,20 +503,7 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
         let series: Vec<Series> = sources
             .iter()
             .map(|source| {
-                series(source.clone(), color(source), categories.len(), (path, spectral), ("mean_delta_e2000", "pixels"), |x| {
-                    let depth = &categories[x];
-                    let rows = all
-                        .iter()
-                        .copied()
-                        .filter(|&r| {
-                            let row = &spectral.rows[r];
-                            spectral.text(row, "material") == material
-                                && spectral.text(row, "index_source") == source
-                                && depth_label(spectral, row) == *depth
-                        })
-                        .collect();
-                    (rows, format!("{material}, {source}, depth {depth}"))
-                })
+                depth_series((path, spectral), &all, &categories, &material, ("index_source", source), "mean_delta_e2000", color(source))
             })
             .collect();
         let caption = format!("{material}: ΔE2000, three channels vs spectrum");
