@@ -16,13 +16,14 @@ use std::time::Instant;
 use anyhow::Result;
 
 use super::image_error::delta_e_map;
-use super::optics::{attenuation_per_unit, SpecularOptics};
+use super::optics::{attenuation_per_unit, inside_index, SpecularOptics, GEOMETRIC_CHANNEL};
 use super::pictures::{error_png, false_colour, Picture, ERROR_SCALE};
 use super::spectral::{spectral_reference, WavelengthGrid};
 use super::trace::{reference_with, Camera, ObjectOptics, Stage};
 use crate::scene::{Depths, Scene};
 use nklut_optics::color::{angle_quadrature, fit_effective_index, PreparedSpectrum};
-use nklut_optics::spectrum::{ChannelIndex, Kind};
+use nklut_optics::fresnel::{LutSpec, Method, Model};
+use nklut_optics::spectrum::{ChannelIndex, Index, Kind};
 use nklut_pipeline::output::{SetFile, Table};
 use nklut_pipeline::stats::quantile;
 
@@ -31,15 +32,21 @@ use nklut_pipeline::stats::quantile;
 pub enum IndexSource {
     ThreeWavelength,
     Effective,
+    /// What engines take: a conductor as F82-tint curves (OpenPBR, Adobe Standard Material;
+    /// per channel from the three-wavelength index, `fresnel::Method::F82Tint`), a dielectric
+    /// as one IOR (the geometric channel's n) for every channel's F, its per-channel
+    /// absorption kept.
+    Engine,
 }
 
 impl IndexSource {
-    pub const ALL: [IndexSource; 2] = [IndexSource::ThreeWavelength, IndexSource::Effective];
+    pub const ALL: [IndexSource; 3] = [IndexSource::ThreeWavelength, IndexSource::Effective, IndexSource::Engine];
 
     pub fn name(self) -> &'static str {
         match self {
             IndexSource::ThreeWavelength => "three-wavelength",
             IndexSource::Effective => "effective",
+            IndexSource::Engine => "engine",
         }
     }
 }
@@ -83,7 +90,7 @@ pub struct SpectralReport {
 /// per channel the fit over angle to the spectral reference curve (`colors`' fit).
 pub fn channel_indices(three: &ChannelIndex, spectrum: Option<&[nklut_optics::spectrum::Index]>, source: IndexSource) -> ChannelIndex {
     match (source, spectrum) {
-        (IndexSource::ThreeWavelength, _) | (IndexSource::Effective, None) => *three,
+        (IndexSource::ThreeWavelength | IndexSource::Engine, _) | (IndexSource::Effective, None) => *three,
         (IndexSource::Effective, Some(spectrum)) => {
             let quadrature = angle_quadrature();
             let curve = PreparedSpectrum::new(spectrum).curve(&quadrature.cosines);
@@ -110,6 +117,18 @@ fn optics_for(stage: &Stage, source: IndexSource) -> Vec<Option<SpecularOptics>>
                 if m.kind == Kind::Dielectric {
                     optics.absorption =
                         std::array::from_fn(|c| attenuation_per_unit(m.channels[c].k, stage.channels_nm[c], stage.metres_per_unit));
+                }
+                if source == IndexSource::Engine {
+                    let models = |method: Method, channels: ChannelIndex| {
+                        (
+                            channels.map(|i| Model::new(i, method, LutSpec::default())),
+                            channels.map(|i| Model::new(inside_index(i), method, LutSpec::default())),
+                        )
+                    };
+                    (optics.outside, optics.inside) = match m.kind {
+                        Kind::Conductor => models(Method::F82Tint, channels),
+                        Kind::Dielectric => models(Method::Exact, [Index::new(channels[GEOMETRIC_CHANNEL].n, 0.0); 3]),
+                    };
                 }
                 Some(optics)
             }
@@ -210,7 +229,7 @@ pub fn spectral_error_table(rows: &[SpectralErrorRow]) -> Table {
         .text("material", "page id", text(&|r| r.material.clone()))
         .text(
             "index_source",
-            "where the three-channel frame's (n, k) come from: three-wavelength (at the channel wavelengths) or effective (colors' fit over angle to the spectral reference; attenuation keeps the three-wavelength k)",
+            "where the three-channel frame's (n, k) come from: three-wavelength (at the channel wavelengths), effective (colors' fit over angle to the spectral reference; attenuation keeps the three-wavelength k) or engine (conductors as F82-tint curves from the three-wavelength index, dielectrics as one IOR, the green channel's n, absorption kept)",
             text(&|r| r.source.name().into()),
         )
         .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection as i64))
@@ -266,8 +285,8 @@ mod tests {
         let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
         let stage = stage_from_table(&scene, &table).unwrap();
         let report = spectral_errors(&scene, &stage, [20, 16], 24, &mut |_| {}).unwrap();
-        // 2 depths × 2 sources × 3 specular objects.
-        assert_eq!(report.rows.len(), 12);
+        // 2 depths × 3 sources × 3 specular objects.
+        assert_eq!(report.rows.len(), 18);
         let row = |object: &str, material: &str, source: IndexSource, depth: u32| {
             report
                 .rows
@@ -287,13 +306,40 @@ mod tests {
         // The effective fit is closer than three wavelengths at depth 1 (it fits one bounce).
         let effective = row("sphere", "t/metals/warm", IndexSource::Effective, 1);
         assert!(effective.mean_delta_e2000 < shallow.mean_delta_e2000, "{effective:?} vs {shallow:?}");
+        // The engine's F82-tint curve is not the flat metal's exact curve (it matches it at 0°
+        // and 82° only): a colour error where three wavelengths have none.
+        let engine = row("sphere", "t/metals/flat", IndexSource::Engine, 1);
+        assert!(engine.mean_delta_e2000 > 1e-3, "{engine:?}");
         // Pictures: per depth the spectral frame and each source's frame; a ΔE map per source.
-        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (6, 4));
+        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (8, 6));
         let table = spectral_error_table(&report.rows);
-        assert_eq!(table.rows(), 12);
+        assert_eq!(table.rows(), 18);
         eprintln!(
             "warm metal three-wavelength ΔE mean: depth 1 {:.3}, depth 4 {:.3}; effective depth 1 {:.3}",
             shallow.mean_delta_e2000, deep.mean_delta_e2000, effective.mean_delta_e2000
         );
+    }
+
+    #[test]
+    fn the_engine_s_one_ior_glass_is_exact_without_dispersion_and_not_with_it() {
+        // One IOR for every channel: for a glass whose n is the same at every wavelength the
+        // engine's frame is the three-wavelength frame exactly; for a dispersive one (BK7's
+        // Cauchy fit) the green n in red and blue's F is a colour error of its own. One
+        // sphere per scene, so no path of one glass passes through the other.
+        let frames = |glass: SceneMaterial| {
+            let text = format!("measurements: [image_error]\ncamera: {{axis: [0, 1, 0.3], distance: 2.2, fov_y_degrees: 50}}\neffects: {{reflection: {{max_depth: 2}}, refraction: {{max_depth: 2}}, spectral: {{wavelengths: 24}}}}\nlight: {{direction: [-0.3, -1, -0.5], colour: [0.7, 0.7, 0.7], ambient: [0.3, 0.3, 0.3]}}\nobjects:\n  - {{mesh: sphere, scale: 0.6, material: {}, method: exact}}\n  - {{mesh: room, scale: 3, diffuse: [0.85, 0.85, 0.8], pattern: {{kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45]}}}}\n", glass.page);
+            let scene = Scene::parse(&text, Path::new("t.yaml")).unwrap();
+            let stage = stage_from_table(&scene, &[glass]).unwrap();
+            let report = spectral_errors(&scene, &stage, [20, 16], 24, &mut |_| {}).unwrap();
+            let frame = |source: IndexSource| {
+                report.pictures.iter().find(|p| p.stem == format!("depth2-2_{}", source.name())).unwrap().frame.clone()
+            };
+            let (three, engine) = (frame(IndexSource::ThreeWavelength), frame(IndexSource::Engine));
+            assert!(three.seen.iter().any(|s| *s == Some(0)), "the sphere is in view");
+            three.radiance.iter().zip(&engine.radiance).filter(|(a, b)| a != b).count()
+        };
+        assert_eq!(frames(material("t/glass/flat", Kind::Dielectric, |_| Index::new(1.5, 0.0))), 0, "flat glass: the same frame");
+        let dispersive = frames(material("t/glass/dispersive", Kind::Dielectric, |nm| Index::new(1.5046 + 4200.0 / (nm * nm), 0.0)));
+        assert!(dispersive > 0, "dispersive glass: one IOR changes the colour");
     }
 }
