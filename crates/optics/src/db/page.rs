@@ -1503,10 +1503,27 @@ mod tests {
         }
     }
 
+    /// Whether a marker sits inside a longer string of the parsed value: a "table" the line
+    /// scan cut out of another block's text (`data: |` inside a block scalar), which no DATA
+    /// block can claim, so [`parse_page`] reads the whole text instead (`Unclaimed`).
+    fn marker_inside_text(value: &serde_yaml::Value) -> bool {
+        use serde_yaml::Value;
+        match value {
+            Value::String(s) => s.contains(TABLE_MARKER) && !s.trim().starts_with(TABLE_MARKER),
+            Value::Sequence(items) => items.iter().any(marker_inside_text),
+            Value::Mapping(map) => map.iter().any(|(k, v)| marker_inside_text(k) || marker_inside_text(v)),
+            _ => false,
+        }
+    }
+
     /// The compact text parses as the blanked one, or fails where it fails, and the keys
-    /// found in it are on the file's lines.
+    /// found in it are on the file's lines — wherever each cut table is a string of its own
+    /// (elsewhere the reader does not use the cut: [`marker_inside_text`]).
     fn compact_is_blanked(text: &str) -> Result<(), proptest::test_runner::TestCaseError> {
         if let Some(cut) = CutTables::cut(text) {
+            if serde_yaml::from_str::<serde_yaml::Value>(&cut.compact).is_ok_and(|v| marker_inside_text(&v)) {
+                return Ok(());
+            }
             let blanked = cut.blanked();
             let value = |t: &str| serde_yaml::from_str::<serde_yaml::Value>(t).ok().map(line_ends_emptied);
             proptest::prop_assert_eq!(value(&cut.compact), value(&blanked), "{:?}", text);
