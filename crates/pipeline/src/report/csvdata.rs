@@ -113,6 +113,18 @@ impl CsvTable {
         self.text(row, column).parse().ok()
     }
 
+    /// The values of `column` in the order they first appear.
+    pub fn distinct(&self, column: &str) -> Vec<&str> {
+        let mut values: Vec<&str> = Vec::new();
+        for row in &self.rows {
+            let value = self.text(row, column);
+            if !values.contains(&value) {
+                values.push(value);
+            }
+        }
+        values
+    }
+
     /// Rows whose `column` equals `value`.
     pub fn rows_where<'a>(&'a self, column: &'a str, value: &'a str) -> impl Iterator<Item = &'a Vec<String>> + 'a {
         self.rows.iter().filter(move |r| self.text(r, column) == value)

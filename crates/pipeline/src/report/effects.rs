@@ -27,7 +27,7 @@ use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Tr
 use super::csvdata::CsvTable;
 use super::extras::cell;
 use super::html::{code_spans, delta_e, escape, href, number, percent, utc, TableText};
-use super::inputs::{Inputs, DEVICES_DIR};
+use super::inputs::{DeviceTables, Inputs, DEVICES_DIR};
 use crate::stats::median;
 
 /// The effects page, next to `index.html`.
@@ -306,6 +306,13 @@ fn depth_series(
     })
 }
 
+/// A chart of `series` against depth (reflections+refractions), as a figure of `html`.
+fn depth_chart(html: &mut String, categories: &[String], y_axis: ErrorAxis, series: &[Series], caption: &str) -> Result<()> {
+    let chart = LineChart { categories, x_name: "depth (reflections+refractions)", y_axis, series, caption: Some(caption) };
+    figure(html, &charts::line_chart(&chart, (440, 300))?, "", "");
+    Ok(())
+}
+
 /// Cost points traced to their rows, the Pareto front over (cost, error) marked.
 fn cost_points(traced: Vec<(String, Trace, Trace)>) -> Vec<CostPoint> {
     let front = charts::pareto_front(&traced.iter().map(|(_, x, y)| (x.value, y.value)).collect::<Vec<_>>());
@@ -363,18 +370,7 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
                 .iter()
                 .map(|method| depth_series((path, errors), &at_steps, &categories, material, ("method", method), column, color(method)))
                 .collect();
-            let caption = format!("{material}: Fresnel {what}");
-            let svg = charts::line_chart(
-                &LineChart {
-                    categories: &categories,
-                    x_name: "depth (reflections+refractions)",
-                    y_axis: axis,
-                    series: &series,
-                    caption: Some(&caption),
-                },
-                (440, 300),
-            )?;
-            figure(html, &svg, "", "");
+            depth_chart(html, &categories, axis, &series, &format!("{material}: Fresnel {what}"))?;
         }
     }
     html.push_str("</div>");
@@ -506,18 +502,7 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
                 depth_series((path, spectral), &all, &categories, &material, ("index_source", source), "mean_delta_e2000", color(source))
             })
             .collect();
-        let caption = format!("{material}: ΔE2000, three channels vs spectrum");
-        let svg = charts::line_chart(
-            &LineChart {
-                categories: &categories,
-                x_name: "depth (reflections+refractions)",
-                y_axis: ErrorAxis::DeltaE,
-                series: &series,
-                caption: Some(&caption),
-            },
-            (440, 300),
-        )?;
-        figure(html, &svg, "", "");
+        depth_chart(html, &categories, ErrorAxis::DeltaE, &series, &format!("{material}: ΔE2000, three channels vs spectrum"))?;
     }
     html.push_str("</div>");
     if let Some(depth) = categories.last() {
@@ -797,18 +782,14 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     let mut adapters = Vec::new();
     for (device, tables) in &inputs.devices {
         let table = &tables.timing;
-        let median_of = |method: &str| -> Option<f64> {
-            median(&table.rows_where("method", method).filter_map(|r| table.number(r, "median_ms")).collect::<Vec<_>>())
-        };
-        let Some(exact) = median_of("exact") else { continue };
-        for row in &table.rows {
-            let method = table.text(row, "method").to_string();
-            if !methods.contains(&method) {
-                methods.push(method.clone());
+        let Some(exact) = tables.median_ms("exact") else { continue };
+        for method in table.distinct("method") {
+            if !methods.iter().any(|m| m == method) {
+                methods.push(method.to_string());
             }
         }
         for method in &methods {
-            if let Some(ms) = median_of(method) {
+            if let Some(ms) = tables.median_ms(method) {
                 ratios.insert((method.clone(), device.clone()), ms / exact);
             }
         }
@@ -855,25 +836,12 @@ fn device_methods(html: &mut String, inputs: &Inputs) {
     let mut table = TableText::new(&headers);
     for (device, tables) in &inputs.devices {
         let timing = &tables.timing;
-        let median_of = |method: &str| -> Option<f64> {
-            median(&timing.rows_where("method", method).filter_map(|r| timing.number(r, "median_ms")).collect::<Vec<_>>())
-        };
-        let (exact, fetch) = (median_of("exact"), median_of("texture"));
-        let mut methods: Vec<&str> = Vec::new();
-        for row in &timing.rows {
-            let method = timing.text(row, "method");
-            if !methods.contains(&method) {
-                methods.push(method);
-            }
-        }
+        let (exact, fetch) = (tables.median_ms("exact"), tables.median_ms("texture"));
         let timer = timing.rows.first().map(|r| timing.text(r, "timer").to_string()).unwrap_or_default();
-        for method in methods {
-            let Some(ms) = median_of(method) else { continue };
+        for method in timing.distinct("method") {
+            let Some(ms) = tables.median_ms(method) else { continue };
             let ratio = |anchor: Option<f64>| anchor.filter(|a| *a > 0.0).map_or("–".to_string(), |a| number(ms / a));
-            let error = tables.image_errors.as_ref().and_then(|errors| {
-                let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
-                (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
-            });
+            let error = tables.mean_image_error(method);
             table.row(vec![
                 device.clone(),
                 tables.source.clone(),
@@ -896,15 +864,13 @@ fn device_methods(html: &mut String, inputs: &Inputs) {
 /// Each method's image error against exact per device (`image_errors.csv`: the mean over its
 /// rows of `mean_rel_error`), one column per device that has the table.
 fn image_errors_across(html: &mut String, inputs: &Inputs) {
-    let with_errors: Vec<(&String, &CsvTable)> =
-        inputs.devices.iter().filter_map(|(device, tables)| tables.image_errors.as_ref().map(|t| (device, t))).collect();
+    let with_errors: Vec<(&String, &DeviceTables)> = inputs.devices.iter().filter(|(_, tables)| tables.image_errors.is_some()).collect();
     if with_errors.is_empty() {
         return;
     }
-    let mut methods: Vec<String> = Vec::new();
-    for (_, table) in &with_errors {
-        for row in &table.rows {
-            let method = table.text(row, "method").to_string();
+    let mut methods: Vec<&str> = Vec::new();
+    for errors in with_errors.iter().filter_map(|(_, tables)| tables.image_errors.as_ref()) {
+        for method in errors.distinct("method") {
             if !methods.contains(&method) {
                 methods.push(method);
             }
@@ -913,16 +879,9 @@ fn image_errors_across(html: &mut String, inputs: &Inputs) {
     let headers: Vec<String> =
         std::iter::once("method".to_string()).chain(with_errors.iter().map(|(d, _)| format!("{d}: mean relative error"))).collect();
     let mut table = TableText::new(&headers.iter().map(String::as_str).collect::<Vec<_>>());
-    for method in &methods {
-        let cells = with_errors.iter().map(|(_, errors)| {
-            let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
-            if values.is_empty() {
-                "–".to_string()
-            } else {
-                percent(values.iter().sum::<f64>() / values.len() as f64)
-            }
-        });
-        table.row(std::iter::once(method.clone()).chain(cells).collect());
+    for method in methods {
+        let cells = with_errors.iter().map(|(_, tables)| tables.mean_image_error(method).map_or("–".to_string(), percent));
+        table.row(std::iter::once(method.to_string()).chain(cells).collect());
     }
     let _ = writeln!(
         html,

@@ -168,6 +168,22 @@ pub struct DeviceTables {
     pub source: String,
 }
 
+impl DeviceTables {
+    /// The median over the materials timed of `method`'s pass time (ms).
+    pub fn median_ms(&self, method: &str) -> Option<f64> {
+        let timing = &self.timing;
+        crate::stats::median(&timing.rows_where("method", method).filter_map(|r| timing.number(r, "median_ms")).collect::<Vec<_>>())
+    }
+
+    /// The mean over its rows (materials, objects) of `method`'s `mean_rel_error`, where the
+    /// device measured image errors.
+    pub fn mean_image_error(&self, method: &str) -> Option<f64> {
+        let errors = self.image_errors.as_ref()?;
+        let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
+        (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+    }
+}
+
 /// The largest browser-bench result read (a scene of 30 methods × 20 materials is ~0.3 MB).
 const MAX_DEVICE_JSON: u64 = 16 << 20;
 
