@@ -32,7 +32,7 @@ pub fn upload_rows(gpu: &Gpu, texels: &[[f32; 4]], rows: u32, label: &str) -> wg
     let width = texels.len() as u32 / rows.max(1);
     let size = wgpu::Extent3d { width, height: rows, depth_or_array_layers: 1 };
     let texture = super::render::texture_2d(gpu, label, size, FORMAT, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
-    let halves: Vec<u16> = texels.iter().flat_map(|t| t.map(|x| f16::from_f32(x).to_bits())).collect();
+    let halves = half_bits(texels);
     gpu.queue.write_texture(
         wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
         bytemuck::cast_slice(&halves),
@@ -40,6 +40,12 @@ pub fn upload_rows(gpu: &Gpu, texels: &[[f32; 4]], rows: u32, label: &str) -> wg
         size,
     );
     texture
+}
+
+/// The half-float bits of RGBA texels as [`FORMAT`] stores them, row-major (what
+/// [`upload_rows`] writes and the browser bench embeds).
+pub fn half_bits(texels: &[[f32; 4]]) -> Vec<u16> {
+    texels.iter().flat_map(|t| t.map(|x| f16::from_f32(x).to_bits())).collect()
 }
 
 /// The sampler every LUT is read with (SPEC §5.7): linear filtering, clamp-to-edge.

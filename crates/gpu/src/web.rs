@@ -27,7 +27,7 @@ use serde::Serialize;
 use super::camera;
 use super::mesh;
 use super::params::{self, MaterialUniform};
-use super::render::{self, Shade, ViewUniform};
+use super::render::{self, ViewUniform};
 use nklut_effects::scene::{EffectFamily, Experiment, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
 use nklut_optics::fresnel::Method;
 
@@ -46,12 +46,11 @@ pub struct Bench {
     pub materials: Vec<MaterialPlan>,
     /// The 1×1 texture bound where a material has no LUT (half-float bits, base64).
     pub blank_lut: String,
-    /// The F-only pass composed per shading (`burner` among them with `subtract`).
-    pub modules: Vec<ModulePlan>,
     pub timing: Option<TimingPlan>,
     pub image_error: Option<ImagePlan>,
     pub meshes: Vec<MeshPlan>,
-    /// Every composed module of every pass, compiled by the page and its messages recorded.
+    /// Every composed module of every pass, compiled by the page and its messages recorded;
+    /// the F-only pass's variants are also the page's pipelines.
     pub checks: Vec<ModulePlan>,
     /// What the page leaves out for this scene, each with why.
     pub skipped: Vec<String>,
@@ -89,6 +88,9 @@ pub struct MaterialPlan {
 #[derive(Debug, Serialize)]
 pub struct ModulePlan {
     pub name: String,
+    /// The shading a variant of the F-only pass draws (`schlick`, `burner`): the page's
+    /// pipelines take their module from it. None for the other passes' modules.
+    pub shade: Option<String>,
     pub wgsl: String,
 }
 
@@ -139,10 +141,9 @@ fn base64(bytes: &[u8]) -> String {
     base64::engine::general_purpose::STANDARD.encode(bytes)
 }
 
-/// Half-float bits of RGBA texels, as `lut::upload_rows` writes them.
+/// Half-float bits of RGBA texels, as `lut::upload_rows` writes them, base64.
 fn half_texels(texels: &[[f32; 4]]) -> String {
-    let halves: Vec<u16> = texels.iter().flat_map(|t| t.map(|x| half::f16::from_f32(x).to_bits())).collect();
-    base64(bytemuck::cast_slice(&halves))
+    base64(bytemuck::cast_slice(&super::lut::half_bits(texels)))
 }
 
 /// The plan of `scene` with its materials' channel indices (`materials`, as the native
@@ -169,16 +170,6 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
             }
         })
         .collect();
-
-    let mut shades: Vec<Shade> = scene.shadings().into_iter().map(Shade::Method).collect();
-    if scene.wants(Experiment::ImageError) && !shades.contains(&Shade::Method(Shading::Fresnel(Method::Exact))) {
-        shades.push(Shade::Method(Shading::Fresnel(Method::Exact)));
-    }
-    if scene.wants(Experiment::Timing) && scene.timing.subtract {
-        shades.push(Shade::Burner);
-    }
-    let modules =
-        shades.iter().map(|&shade| Ok(ModulePlan { name: shade.name(), wgsl: render::compose(shade)? })).collect::<Result<_>>()?;
 
     let timing = scene.wants(Experiment::Timing).then(|| -> Result<TimingPlan> {
         let [width, height] = scene.timing.resolution;
@@ -236,9 +227,11 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
 
     let mut checks = Vec::new();
     for (interface, variants) in super::passes::interfaces()? {
+        let f_only = interface.name == <render::Renderer as super::passes::Pass>::INTERFACE.name;
         for variant in variants {
+            let shade = f_only.then(|| variant.name.clone());
             let name = if variant.name == interface.name { variant.name } else { format!("{}: {}", interface.name, variant.name) };
-            checks.push(ModulePlan { name, wgsl: variant.wgsl });
+            checks.push(ModulePlan { name, shade, wgsl: variant.wgsl });
         }
     }
 
@@ -275,7 +268,6 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         },
         materials: material_plans,
         blank_lut: half_texels(&[[1.0; 4]]),
-        modules,
         timing,
         image_error,
         meshes: meshes.into_iter().map(|(_, plan)| plan).collect(),
@@ -323,6 +315,7 @@ pub fn page_name(bench: &Bench) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::Shade;
     use nklut_optics::spectrum::{Index, Kind};
 
     fn scene(text: &str) -> Scene {
@@ -337,10 +330,16 @@ mod tests {
         let material = SceneMaterial::new("t/m/g", [Index::new(0.2, 3.0), Index::new(0.5, 2.5), Index::new(1.3, 1.9)], Kind::Conductor);
         let bench = plan(&scene, std::slice::from_ref(&material)).unwrap();
         assert_eq!(bench.scene, "tiny");
-        // The F-only pass per shading, exact added as the image-error reference.
-        let names: Vec<&str> = bench.modules.iter().map(|m| m.name.as_str()).collect();
-        assert_eq!(names, ["schlick", "lut", "exact"]);
-        assert_eq!(bench.modules[0].wgsl, render::compose(Shade::Method(Shading::Fresnel(Method::Schlick))).unwrap());
+        // The F-only pass per shading, the burner and exact (the image-error reference)
+        // among them, each the runner's module.
+        let shaded: Vec<&ModulePlan> = bench.checks.iter().filter(|m| m.shade.is_some()).collect();
+        let shade = |name: &str| shaded.iter().find(|m| m.shade.as_deref() == Some(name)).unwrap_or_else(|| panic!("no {name}"));
+        for name in ["schlick", "lut", "exact", "burner"] {
+            assert_eq!(shade(name).name, format!("fresnel pass: {name}"));
+        }
+        assert_eq!(shade("schlick").wgsl, render::compose(Shade::Method(Shading::Fresnel(Method::Schlick))).unwrap());
+        assert_eq!(shade("burner").wgsl, render::compose(Shade::Burner).unwrap());
+        assert_eq!(shaded.len(), Shading::ALL.len() + 1);
         // Bytes as the native runner uploads them.
         let decode = |s: &str| base64::engine::general_purpose::STANDARD.decode(s).unwrap();
         let uniform = MaterialUniform::from_prepared(&params::prepare(&material.optics.channels));

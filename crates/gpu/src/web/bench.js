@@ -172,16 +172,15 @@ async function scoped(device, what, body) {
 }
 
 async function compileChecks(device) {
+  // The F-only pass's modules by shading, for the pipelines.
   const modules = {};
-  for (const [kind, list] of [['pass', plan.modules], ['check', plan.checks]]) {
-    for (const m of list) {
-      checkLost();
-      const module = device.createShaderModule({ label: m.name, code: m.wgsl });
-      const info = await module.getCompilationInfo();
-      const of = (type) => info.messages.filter((x) => x.type === type).map((x) => `${x.lineNum}:${x.linePos} ${x.message}`);
-      result.compile.push({ module: kind === 'pass' ? `fresnel pass + ${m.name}` : m.name, errors: of('error'), warnings: of('warning') });
-      if (kind === 'pass') modules[m.name] = module;
-    }
+  for (const m of plan.checks) {
+    checkLost();
+    const module = device.createShaderModule({ label: m.name, code: m.wgsl });
+    const info = await module.getCompilationInfo();
+    const of = (type) => info.messages.filter((x) => x.type === type).map((x) => `${x.lineNum}:${x.linePos} ${x.message}`);
+    result.compile.push({ module: m.name, errors: of('error'), warnings: of('warning') });
+    if (m.shade) modules[m.shade] = module;
   }
   const failed = result.compile.filter((c) => c.errors.length > 0);
   if (failed.length > 0) throw new Problem(`WGSL did not compile on this browser: ${failed.map((c) => `${c.module}: ${c.errors[0]}`).join('; ')}`);
@@ -535,7 +534,7 @@ async function main() {
   const { device, timestamps } = await openDevice();
   device.lost.then((info) => { lost = `${info.reason}: ${info.message}`; });
   device.addEventListener('uncapturederror', (event) => { lost = lost || `uncaptured error: ${event.error.message}`; });
-  status(`Compiling ${plan.modules.length + plan.checks.length} shader modules on ${result.adapter.name}…`);
+  status(`Compiling ${plan.checks.length} shader modules on ${result.adapter.name}…`);
   const modules = await compileChecks(device);
   const gpu = await scoped(device, 'creating the buffers, textures and pipelines', () => setup(device, modules));
   window.nklut.ramp = ramp(device, gpu);
