@@ -46,11 +46,11 @@ fn main() {
         stage.geometry.triangles(),
         rayon::current_num_threads()
     );
-    let (anchor_s, anchor) = best_of(3, || reference(&stage, &camera, Depths { reflection: 0, refraction: 0 }, lut));
+    let (anchor_s, anchor) = best_of(3, || reference(&stage, &camera, Depths { reflection: 0, refraction: 0 }));
     let anchor_rate = anchor.rays as f64 / anchor_s;
     println!("  reference, primary rays only (anchor): {} rays in {anchor_s:.3} s = {:.2} M rays/s", anchor.rays, anchor_rate / 1e6);
     for depth in 1..=3 {
-        let (seconds, frame) = best_of(3, || reference(&stage, &camera, Depths { reflection: depth, refraction: 0 }, lut));
+        let (seconds, frame) = best_of(3, || reference(&stage, &camera, Depths { reflection: depth, refraction: 0 }));
         let rate = frame.rays as f64 / seconds;
         println!(
             "  reference, reflection depth {depth}: {} rays ({:.2} per pixel) in {seconds:.3} s = {:.2} M rays/s ({:.2}× the anchor's rate)",

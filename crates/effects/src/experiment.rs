@@ -267,7 +267,7 @@ pub fn measure(
             for frame in 0..settings.frames {
                 let camera = Camera::new(&scene.camera, frame, width, height);
                 let start = Instant::now();
-                let truth = reference(stage, &camera, depths, settings.lut);
+                let truth = reference(stage, &camera, depths);
                 reference_ms.push(milliseconds(start));
                 let start = Instant::now();
                 let exact_twin = renderer.frame(frame, &camera, Method::Exact, depths, steps)?;
@@ -363,14 +363,14 @@ pub fn measure(
         }
     }
     if let Some(size) = settings.hero {
-        report.hero = Some(hero(scene, stage, settings.lut, size, &methods, renderer)?);
+        report.hero = Some(hero(scene, stage, size, &methods, renderer)?);
     }
     Ok(report)
 }
 
 /// The hero frame: camera frame 0 of the deepest depth configuration at the last search
 /// configuration, at `size`: the reference and the distance maps with each method.
-fn hero(scene: &Scene, stage: &Stage, lut: LutSpec, size: [u32; 2], methods: &[Method], renderer: &mut dyn MapFrames) -> Result<HeroSet> {
+fn hero(scene: &Scene, stage: &Stage, size: [u32; 2], methods: &[Method], renderer: &mut dyn MapFrames) -> Result<HeroSet> {
     let Some(effects) = scene.effects.as_ref() else { anyhow::bail!("a hero frame needs a scene with effects") };
     let (Some(depths), Some(&steps)) =
         (effects.depths().into_iter().max_by_key(|d| (d.reflection + d.refraction, *d)), effects.distance_maps.steps.last())
@@ -378,7 +378,7 @@ fn hero(scene: &Scene, stage: &Stage, lut: LutSpec, size: [u32; 2], methods: &[M
         anyhow::bail!("a hero frame needs a depth and a search configuration")
     };
     let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
-    let reference = reference(stage, &camera, depths, lut);
+    let reference = reference(stage, &camera, depths);
     let mut panels = Vec::new();
     for &method in methods {
         let frame = renderer.frame(0, &camera, method, depths, steps)?;

@@ -158,12 +158,6 @@ pub struct SpectralFrame {
     pub total_internal_reflections: u64,
 }
 
-/// One row of a frame: its colours and the specular object each pixel shows.
-struct TracedRow {
-    radiance: Vec<[f64; 3]>,
-    seen: Vec<Option<usize>>,
-}
-
 #[derive(Clone, Copy, Default)]
 struct Counts {
     rays: u64,
@@ -346,7 +340,7 @@ pub fn spectral_pixel(
 /// specular object needs its spectrum on the 1 nm grid ([`Stage::spectra`]).
 pub fn spectral_reference(stage: &Stage, camera: &Camera, depths: Depths, grid: &WavelengthGrid) -> Result<SpectralFrame, SpectralError> {
     let context = Context::new(stage, depths, grid)?;
-    let rows: Vec<(TracedRow, Counts)> = (0..camera.height)
+    let rows: Vec<(TracedFrame, Counts)> = (0..camera.height)
         .into_par_iter()
         .map(|y| {
             let mut counts = Counts::default();
@@ -364,19 +358,13 @@ pub fn spectral_reference(stage: &Stage, camera: &Camera, depths: Depths, grid: 
                     }
                 }
             }
-            (TracedRow { radiance, seen }, counts)
+            (TracedFrame { width: camera.width, height: 1, radiance, seen, rays: counts.rays }, counts)
         })
         .collect();
-    let mut frame = TracedFrame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
-    let (mut wavelength_rays, mut total_internal_reflections) = (0, 0);
-    for (row, counts) in rows {
-        frame.radiance.extend(row.radiance);
-        frame.seen.extend(row.seen);
-        frame.rays += counts.rays;
-        wavelength_rays += counts.wavelength_rays;
-        total_internal_reflections += counts.total_internal_reflections;
-    }
-    Ok(SpectralFrame { frame, wavelength_rays, total_internal_reflections })
+    let (rows, counts): (Vec<TracedFrame>, Vec<Counts>) = rows.into_iter().unzip();
+    let wavelength_rays = counts.iter().map(|c| c.wavelength_rays).sum();
+    let total_internal_reflections = counts.iter().map(|c| c.total_internal_reflections).sum();
+    Ok(SpectralFrame { frame: TracedFrame::stack(camera.width, rows), wavelength_rays, total_internal_reflections })
 }
 
 #[cfg(test)]
@@ -384,7 +372,7 @@ mod tests {
     use super::*;
     use crate::scene::{Scene, SceneMaterial};
     use crate::trace::{reference, stage_from_table};
-    use nklut_optics::fresnel::{exact, LutSpec};
+    use nklut_optics::fresnel::exact;
     use std::path::Path;
 
     /// A material whose index on the 1 nm grid is `index(λ)`, with its three channels at
@@ -435,7 +423,7 @@ mod tests {
         let grid = WavelengthGrid::new(23).unwrap();
         for depth in 1..=4 {
             let depths = Depths { reflection: depth, refraction: depth };
-            let three = reference(&stage, &camera, depths, LutSpec::default());
+            let three = reference(&stage, &camera, depths);
             let spectral = spectral_reference(&stage, &camera, depths, &grid).unwrap();
             assert_eq!(spectral.frame.seen, three.seen);
             let worst = three

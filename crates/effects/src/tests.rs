@@ -44,7 +44,7 @@ const ALBEDO: [f64; 3] = [0.5, 0.6, 0.7];
 /// The centre pixel of a 9×9 frame, whose ray runs through the sphere's centre.
 fn centre_pixel(scene: &Scene, stage: &Stage, depths: Depths) -> [f64; 3] {
     let camera = Camera::new(&scene.camera, 0, 9, 9);
-    let frame = reference(stage, &camera, depths, LutSpec::default());
+    let frame = reference(stage, &camera, depths);
     assert_eq!(frame.seen[40], Some(0));
     frame.radiance[40]
 }
@@ -111,7 +111,7 @@ fn a_mirror_sphere_at_depth_one_matches_the_reference_to_a_texel() {
     let (scene, stage) = stage(RAMP_ROOM);
     let camera = Camera::new(&scene.camera, 0, 24, 24);
     let depths = Depths { reflection: 1, refraction: 0 };
-    let truth = reference(&stage, &camera, depths, LutSpec::default());
+    let truth = reference(&stage, &camera, depths);
     let steps = SearchSteps { linear: 80, secant: 10 };
     let mut errors = Vec::new();
     for size in [16, 64] {
@@ -136,7 +136,7 @@ fn teapot() -> PathBuf {
 fn geometry_errors(text: &str, size: u32, depths: Depths, configurations: &[SearchSteps]) -> Vec<FrameError> {
     let (scene, stage) = stage(text);
     let camera = Camera::new(&scene.camera, 0, 24, 24);
-    let truth = reference(&stage, &camera, depths, LutSpec::default());
+    let truth = reference(&stage, &camera, depths);
     let maps = maps(&stage, size, 3);
     configurations.iter().map(|&steps| compare(&twin(&stage, &camera, &maps, Method::Exact, depths, steps), &truth)).collect()
 }
@@ -273,7 +273,7 @@ fn light_through_an_absorbing_slab_falls_as_beer_lambert_says() {
     let scene = Scene::parse(&text, Path::new("t.yaml")).unwrap();
     let stage = stage_from_table(&scene, &table).unwrap();
     let camera = Camera::new(&scene.camera, 0, 9, 9);
-    let frame = reference(&stage, &camera, Depths { reflection: 0, refraction: 2 }, LutSpec::default());
+    let frame = reference(&stage, &camera, Depths { reflection: 0, refraction: 2 });
     assert_eq!(frame.seen[40], Some(0));
     // The placed cube's extent along the ray (+z: the eye sits at (0, 0, −2)).
     let z: Vec<f64> = stage.meshes[0].positions.iter().map(|p| f64::from(p[2])).collect();
@@ -320,7 +320,7 @@ fn a_lossless_dispersive_sphere_in_a_white_furnace_loses_only_what_the_depth_tru
     let stage = stage_from_table(&scene, &table).unwrap();
     let camera = Camera::new(&scene.camera, 0, 48, 48);
     let depths = Depths { reflection: 8, refraction: 8 };
-    let frame = reference(&stage, &camera, depths, LutSpec::default());
+    let frame = reference(&stage, &camera, depths);
     let (mut rendered, mut analytic, mut pixels) = ([0.0; 3], [0.0; 3], 0);
     for y in 0..48 {
         for x in 0..48 {

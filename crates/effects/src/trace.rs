@@ -284,19 +284,25 @@ where
             TracedFrame { width: camera.width, height: 1, radiance: radiance_row, seen: seen_row, rays }
         })
         .collect();
-    let mut frame = TracedFrame { width: camera.width, height: camera.height, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
-    for row in rows {
-        frame.radiance.extend(row.radiance);
-        frame.seen.extend(row.seen);
-        frame.rays += row.rays;
+    TracedFrame::stack(camera.width, rows)
+}
+
+impl TracedFrame {
+    /// The frame of `rows` (each one row of `width` pixels, top first), their rays summed.
+    pub fn stack(width: u32, rows: Vec<TracedFrame>) -> TracedFrame {
+        let mut frame = TracedFrame { width, height: rows.len() as u32, radiance: Vec::new(), seen: Vec::new(), rays: 0 };
+        for row in rows {
+            frame.radiance.extend(row.radiance);
+            frame.seen.extend(row.seen);
+            frame.rays += row.rays;
+        }
+        frame
     }
-    frame
 }
 
 /// The f64 reference frame: exact geometry, exact Fresnel, the transmitted-angle rule
-/// from inside and Beer–Lambert attenuation ([`Stage::reference_optics`]). (`lut` is not
-/// used: exact Fresnel has no texture.)
-pub fn reference(stage: &Stage, camera: &Camera, depths: Depths, _lut: LutSpec) -> TracedFrame {
+/// from inside and Beer–Lambert attenuation ([`Stage::reference_optics`]).
+pub fn reference(stage: &Stage, camera: &Camera, depths: Depths) -> TracedFrame {
     reference_with(stage, camera, depths, &stage.reference_optics())
 }
 
