@@ -9,40 +9,15 @@
 mod common;
 
 use std::path::Path;
-use std::sync::{Mutex, OnceLock};
 
+use common::gpu::shared as device;
 use common::{database, scratch};
 use nklut::fresnel;
 use nklut::gpu::params::{self, MaterialUniform};
 use nklut::gpu::render::{self, Renderer};
-use nklut::gpu::{self, lut, Gpu, RunStats};
+use nklut::gpu::{self, lut, RunStats};
 use nklut::scene::{Scene, SceneMaterial, Shading};
 use nklut::spectrum::{ChannelIndex, Index, Kind};
-
-/// One device for the whole test binary; tests take turns (2 cores, a CPU rasteriser).
-fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
-    static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened = GPU.get_or_init(|| {
-        gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref())
-            .map(Mutex::new)
-            .map_err(|e| format!("{e:#}"))
-    });
-    match opened {
-        Ok(gpu) => {
-            let guard = gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-            eprintln!("adapter: {}", guard.line);
-            Some(guard)
-        }
-        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-            eprintln!("GPU test skipped (NKLUT_SKIP_GPU_TESTS=1): {error}");
-            None
-        }
-        Err(error) => panic!(
-            "no GPU adapter for the GPU tests: {error}\n\
-             Install a software Vulkan driver (Debian: apt-get install mesa-vulkan-drivers) or set NKLUT_SKIP_GPU_TESTS=1 to skip."
-        ),
-    }
-}
 
 const GOLDISH: ChannelIndex = [Index::new(0.16, 3.8), Index::new(0.5, 2.3), Index::new(1.2, 1.8)];
 const WATER: ChannelIndex = [Index::new(1.331, 0.0), Index::new(1.336, 0.0), Index::new(1.338, 0.0)];

@@ -7,8 +7,9 @@
 //! NKLUT_SKIP_GPU_TESTS=1, which skips these tests with a message.
 #![cfg(feature = "gpu")]
 
-use std::sync::{Mutex, OnceLock};
+mod common;
 
+use common::gpu::shared as device;
 use glam::DVec3;
 use nklut::effects::ao::accessibility::{accessibility_by_pass, BruteForce};
 use nklut::effects::ao::hierarchy::{Closeness, SurfelTree};
@@ -16,25 +17,6 @@ use nklut::effects::ao::shadow::{disc_term_real, transfer, ShadowForm};
 use nklut::effects::ao::shapes::torus;
 use nklut::effects::ao::surfel::{surfels, Surfel};
 use nklut::gpu::passes::ao::{shadow_terms, Gather, SurfelAoPass};
-use nklut::gpu::{self, Gpu};
-
-/// One device for the whole test binary; tests take turns.
-fn device() -> Option<std::sync::MutexGuard<'static, Gpu>> {
-    static GPU: OnceLock<Result<Mutex<Gpu>, String>> = OnceLock::new();
-    let opened = GPU.get_or_init(|| {
-        gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref())
-            .map(Mutex::new)
-            .map_err(|e| format!("{e:#}"))
-    });
-    match opened {
-        Ok(gpu) => Some(gpu.lock().unwrap_or_else(|poisoned| poisoned.into_inner())),
-        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-            eprintln!("GPU test skipped (NKLUT_SKIP_GPU_TESTS=1): {error}");
-            None
-        }
-        Err(error) => panic!("no GPU adapter for the GPU tests: {error}\nInstall a software Vulkan driver (apt-get install mesa-vulkan-drivers) or set NKLUT_SKIP_GPU_TESTS=1."),
-    }
-}
 
 /// The shadow term over a ramp, against its f32 twin (`disc_term_real::<f32>`) and the f64
 /// form: a disc of area 0.05 at distances 0.05 … 5 along a direction

@@ -14,6 +14,8 @@
 //! No adapter on either backend is a failure unless NKLUT_SKIP_GPU_TESTS=1.
 #![cfg(all(feature = "gpu", target_os = "linux"))]
 
+mod common;
+
 use std::path::Path;
 
 use nklut::gpu::params::{self, MaterialUniform};
@@ -53,17 +55,6 @@ objects:
 measurements: [image_error]
 ";
 
-fn open(backend: &str) -> Option<Gpu> {
-    match gpu::open(None, Some(backend)) {
-        Ok(gpu) => Some(gpu),
-        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-            eprintln!("GL comparison skipped (NKLUT_SKIP_GPU_TESTS=1): {error:#}");
-            None
-        }
-        Err(error) => panic!("no {backend} adapter: {error:#} (scripts/test-deps installs Mesa's Vulkan and EGL drivers)"),
-    }
-}
-
 /// Every method's ramp for `channels` (1024 × 1, its LUT of 64 texels) on `gpu`.
 fn ramps(gpu: &Gpu, channels: &ChannelIndex) -> Vec<(Shading, Vec<f32>)> {
     let mut renderer = Renderer::new(gpu);
@@ -78,8 +69,8 @@ fn ramps(gpu: &Gpu, channels: &ChannelIndex) -> Vec<(Shading, Vec<f32>)> {
 fn vulkan_and_gl_render_the_same_images() {
     // SAFETY of the environment write: this binary's only test, before any thread starts.
     std::env::set_var("MESA_EXTENSION_OVERRIDE", "+GL_ARB_color_buffer_float");
-    let Some(vulkan) = open("vulkan") else { return };
-    let Some(gl) = open("gl") else { return };
+    let Some(vulkan) = common::gpu::open(Some("vulkan")) else { return };
+    let Some(gl) = common::gpu::open(Some("gl")) else { return };
     assert_eq!((vulkan.line.backend.as_str(), gl.line.backend.as_str()), ("Vulkan", "Gl"));
     eprintln!("vulkan: {}\ngl: {}", vulkan.line, gl.line);
 

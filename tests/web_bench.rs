@@ -192,14 +192,7 @@ fn the_page_s_twins_equal_the_rust_functions() {
 #[test]
 fn image_errors_and_the_ramp_agree_with_the_native_runner() {
     let Some(out) = page_output() else { return };
-    let gpu = match gpu::open(std::env::var("NKLUT_GPU_ADAPTER").ok().as_deref(), std::env::var("NKLUT_GPU_BACKEND").ok().as_deref()) {
-        Ok(gpu) => gpu,
-        Err(error) if std::env::var("NKLUT_SKIP_GPU_TESTS").as_deref() == Ok("1") => {
-            eprintln!("GPU comparison skipped (NKLUT_SKIP_GPU_TESTS=1): {error:#}");
-            return;
-        }
-        Err(error) => panic!("no GPU adapter for the native side: {error:#} (apt-get install mesa-vulkan-drivers)"),
-    };
+    let Some(gpu) = common::gpu::open(None) else { return };
     let mut image_error_scene = scene(SCENE);
     image_error_scene.experiments = vec![nklut::scene::Experiment::ImageError];
     let native = gpu::run_with_materials(&image_error_scene, &materials(), &gpu, RunStats::default(), &mut |_| {}).unwrap();

