@@ -11,7 +11,7 @@
 const plan = JSON.parse(document.getElementById('nklut-plan').textContent);
 const $ = (id) => document.getElementById(id);
 const WALL_BATCH = 8;
-// The `driver` column: the browser and its version (the whole user agent is in the result).
+// The `driver` column: the browser and its version (the whole `userAgent` is in the result).
 const BROWSER = (navigator.userAgent.match(/(Edg|Firefox|Chrome|HeadlessChrome|Version)\/[\d.]+( Mobile)?/g) || [navigator.userAgent]).pop();
 
 const result = {

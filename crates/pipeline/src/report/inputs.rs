@@ -232,7 +232,7 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
         Ok(CsvTable::from_rows(headers, rows))
     };
     let image_errors = table("image_errors")?;
-    // The browser and its version as the rows' `driver` gives it (the whole user agent is
+    // The browser and its version as the rows' `driver` gives it (the whole `user_agent` is
     // in the file).
     let browser = value["gpu_timing"][0]["driver"].as_str().or(value["user_agent"].as_str()).unwrap_or("unknown browser");
     let mut source = format!("browser: {browser}");
