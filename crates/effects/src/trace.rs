@@ -236,6 +236,22 @@ impl Camera {
         }
     }
 
+    /// `point` in view space: x right, y up, the camera at the origin looking down −z.
+    pub fn view_point(&self, point: DVec3) -> DVec3 {
+        self.view_direction(point - self.eye)
+    }
+
+    /// A direction in view space.
+    pub fn view_direction(&self, direction: DVec3) -> DVec3 {
+        DVec3::new(direction.dot(self.right), direction.dot(self.up), -direction.dot(self.forward))
+    }
+
+    /// The focal length in pixels: the view-space point (x, y, z) lies at pixel coordinates
+    /// (w/2 + f·x/−z, h/2 − f·y/−z), the inverse of [`Camera::ray`].
+    pub fn focal_pixels(&self) -> f64 {
+        self.height as f64 / (2.0 * self.tan_half_y)
+    }
+
     /// Unit direction through the centre of pixel (x, y), y down.
     pub fn ray(&self, x: u32, y: u32) -> DVec3 {
         let ndc_x = 2.0 * (x as f64 + 0.5) / self.width as f64 - 1.0;

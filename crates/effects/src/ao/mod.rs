@@ -13,6 +13,8 @@
 //! - [`experiment`]: a scene's surfel effects: surfels of every placed object, accessibility
 //!   against the reference per object (brute force and tree, 1–3 passes), indirect light's
 //!   error, and pictures with no AO, 1, 2, 3 passes and the reference.
+//! - [`gtao`]: screen-space ground-truth AO (Jimenez et al. 2016) over a G-buffer of
+//!   view-space points and normals: the technique engines ship, the surfels' comparison.
 //! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
 //!   summed area), traversed from the root, descending only where an emitter is close
 //!   relative to its size.
@@ -27,6 +29,7 @@
 pub mod accessibility;
 pub mod errors;
 pub mod experiment;
+pub mod gtao;
 pub mod hierarchy;
 pub mod indirect;
 pub mod reference;

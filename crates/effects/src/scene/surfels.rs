@@ -1,14 +1,17 @@
 //! The surfel effects a scene may call for inside `effects`: ambient occlusion (how many
 //! passes, whether through the surfel hierarchy, whether to light with bent normals) and
 //! diffuse indirect light (how many bounces), after Bunnell (GPU Gems 2 ch. 14; the method
-//! and its measurements in `crate::ao`). Diffuse albedo is the objects' `diffuse`;
+//! and its measurements in `crate::ao`); and, beside the surfels, screen-space ground-truth
+//! AO (GTAO, Jimenez et al. 2016: `crate::ao::gtao`) with its search radius in scene units,
+//! slices per pixel and steps per side of a slice. Diffuse albedo is the objects' `diffuse`;
 //! the lights are the scene's (`super::lights`: ambient light is what accessibility
 //! darkens, directional and point light cast ray-traced shadows and feed the indirect
 //! light). Pure data and checks.
 //!
 //! ```yaml
 //! effects:
-//!   ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: true }
+//!   ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: true,
+//!                        gtao: { radius: 0.5, slices: 4, steps: 8 } }
 //!   indirect: { bounces: 1 }
 //! lights:
 //!   - { kind: directional, direction: [-0.3, -1, -0.5], colour: [0.8, 0.8, 0.8] }
@@ -26,6 +29,12 @@ pub const MAX_PASSES: u32 = 8;
 pub const MAX_BOUNCES: u32 = 2;
 /// The most midpoint subdivisions of an object's mesh (each multiplies its surfels by ~4).
 pub const MAX_SUBDIVISIONS: u32 = 6;
+/// The most GTAO slices per pixel and steps per side of a slice (engines use 1–4 slices
+/// and 4–16 steps; the cost is slices × 2 × steps G-buffer reads per pixel).
+pub const MAX_GTAO_SLICES: u32 = 64;
+pub const MAX_GTAO_STEPS: u32 = 256;
+/// The largest GTAO radius in scene units (scenes are fitted around the unit sphere).
+pub const MAX_GTAO_RADIUS: f64 = 100.0;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -36,6 +45,31 @@ pub(crate) struct RawAmbientOcclusion {
     hierarchy: bool,
     #[serde(default)]
     bent_normals: bool,
+    #[serde(default)]
+    gtao: Option<RawGtao>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawGtao {
+    #[serde(default = "default_gtao_radius")]
+    radius: f64,
+    #[serde(default = "default_gtao_slices")]
+    slices: u32,
+    #[serde(default = "default_gtao_steps")]
+    steps: u32,
+}
+
+fn default_gtao_radius() -> f64 {
+    1.0
+}
+
+fn default_gtao_slices() -> u32 {
+    4
+}
+
+fn default_gtao_steps() -> u32 {
+    8
 }
 
 fn default_passes() -> u32 {
@@ -54,12 +88,23 @@ fn default_bounces() -> u32 {
 }
 
 /// Surfel ambient occlusion: `passes` in 1..=[`MAX_PASSES`], through the tree or by brute
-/// force, lighting with bent normals or the normals.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// force, lighting with bent normals or the normals; and GTAO beside it where named.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AmbientOcclusion {
     pub passes: u32,
     pub hierarchy: bool,
     pub bent_normals: bool,
+    pub gtao: Option<Gtao>,
+}
+
+/// Screen-space GTAO's parameters: occluders within `radius` (scene units) of the shaded
+/// point count, searched along `slices` directions per pixel with `steps` G-buffer reads
+/// on each side (defaults 1.0, 4, 8).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gtao {
+    pub radius: f64,
+    pub slices: u32,
+    pub steps: u32,
 }
 
 /// Diffuse indirect light from surfels: `bounces` in 1..=[`MAX_BOUNCES`].
@@ -75,7 +120,26 @@ impl RawAmbientOcclusion {
             let kind = FieldProblem::OutOfRange { value: Value::Integer(self.passes.into()), range };
             return Err(SceneProblem::field("ambient_occlusion.passes", kind));
         }
-        Ok(AmbientOcclusion { passes: self.passes, hierarchy: self.hierarchy, bent_normals: self.bent_normals })
+        let gtao = self.gtao.as_ref().map(RawGtao::checked).transpose()?;
+        Ok(AmbientOcclusion { passes: self.passes, hierarchy: self.hierarchy, bent_normals: self.bent_normals, gtao })
+    }
+}
+
+impl RawGtao {
+    fn checked(&self) -> Result<Gtao, SceneProblem> {
+        if !(self.radius > 0.0 && self.radius <= MAX_GTAO_RADIUS) {
+            let range = Range::Closed { low: 0.0, high: MAX_GTAO_RADIUS, each: super::error::Each::Whole };
+            let kind = FieldProblem::OutOfRange { value: Value::Number(self.radius), range };
+            return Err(SceneProblem::field("ambient_occlusion.gtao.radius", kind));
+        }
+        for (field, value, high) in [("slices", self.slices, MAX_GTAO_SLICES), ("steps", self.steps, MAX_GTAO_STEPS)] {
+            if !(1..=high).contains(&value) {
+                let range = Range::Integers { low: 1, high: high.into() };
+                let kind = FieldProblem::OutOfRange { value: Value::Integer(value.into()), range };
+                return Err(SceneProblem::field(&format!("ambient_occlusion.gtao.{field}"), kind));
+            }
+        }
+        Ok(Gtao { radius: self.radius, slices: self.slices, steps: self.steps })
     }
 }
 
@@ -95,7 +159,7 @@ mod tests {
     use crate::scene::{Conflict, Each, EffectFamily, FieldProblem, Listing, Range, Scene, SceneProblem, Value};
     use std::path::Path;
 
-    use super::{AmbientOcclusion, Indirect};
+    use super::{AmbientOcclusion, Gtao, Indirect};
     use crate::scene::LightSource;
 
     fn parse(effects: &str) -> Result<Scene, String> {
@@ -107,7 +171,9 @@ mod tests {
     fn surfel_effects_parse_with_defaults_and_alone() {
         let scene = parse("{ ambient_occlusion: { passes: 3, hierarchy: true }, indirect: {} }").unwrap();
         let effects = scene.effects.unwrap();
-        assert_eq!(effects.ambient_occlusion, Some(AmbientOcclusion { passes: 3, hierarchy: true, bent_normals: false }));
+        assert_eq!(effects.ambient_occlusion, Some(AmbientOcclusion { passes: 3, hierarchy: true, bent_normals: false, gtao: None }));
+        let gtao = parse("{ ambient_occlusion: { gtao: { radius: 0.5, steps: 12 } } }").unwrap().effects.unwrap();
+        assert_eq!(gtao.ambient_occlusion.and_then(|a| a.gtao), Some(Gtao { radius: 0.5, slices: 4, steps: 12 }));
         assert_eq!(effects.indirect, Some(Indirect { bounces: 1 }));
         assert_eq!((effects.reflection, effects.refraction), (None, None));
         let plain = parse("{ reflection: { max_depth: 1 } }").unwrap().effects.unwrap();
@@ -227,6 +293,13 @@ mod tests {
         for (effects, field, expected) in [
             ("{ ambient_occlusion: { passes: 0 } }", "effects.ambient_occlusion.passes", integers(0, 1, 8)),
             ("{ indirect: { bounces: 3 } }", "effects.indirect.bounces", integers(3, 1, 2)),
+            ("{ ambient_occlusion: { gtao: { slices: 0 } } }", "effects.ambient_occlusion.gtao.slices", integers(0, 1, 64)),
+            ("{ ambient_occlusion: { gtao: { steps: 300 } } }", "effects.ambient_occlusion.gtao.steps", integers(300, 1, 256)),
+            (
+                "{ ambient_occlusion: { gtao: { radius: -1 } } }",
+                "effects.ambient_occlusion.gtao.radius",
+                FieldProblem::OutOfRange { value: Value::Number(-1.0), range: Range::Closed { low: 0.0, high: 100.0, each: Each::Whole } },
+            ),
             ("{ }", "effects", FieldProblem::Empty(Listing::Effects)),
         ] {
             let text = format!(

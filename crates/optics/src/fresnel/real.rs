@@ -30,6 +30,12 @@ pub trait Real:
     fn truncate(self) -> Self;
     /// A texel index from a value already clamped to [0, N − 1].
     fn index(self) -> usize;
+    /// The trigonometry of the horizon-based AO integral (`acos` of a value in [−1, 1]).
+    fn acos(self) -> Self;
+    fn cos(self) -> Self;
+    fn sin(self) -> Self;
+    /// ⌊x⌋ for any sign (a pixel coordinate).
+    fn floor(self) -> Self;
 }
 
 impl Real for f64 {
@@ -91,6 +97,26 @@ impl Real for f64 {
     fn index(self) -> usize {
         self as usize
     }
+
+    #[inline]
+    fn acos(self) -> Self {
+        f64::acos(self)
+    }
+
+    #[inline]
+    fn cos(self) -> Self {
+        f64::cos(self)
+    }
+
+    #[inline]
+    fn sin(self) -> Self {
+        f64::sin(self)
+    }
+
+    #[inline]
+    fn floor(self) -> Self {
+        f64::floor(self)
+    }
 }
 
 impl Real for f32 {
@@ -151,5 +177,25 @@ impl Real for f32 {
     #[inline]
     fn index(self) -> usize {
         self as usize
+    }
+
+    #[inline]
+    fn acos(self) -> Self {
+        f32::acos(self)
+    }
+
+    #[inline]
+    fn cos(self) -> Self {
+        f32::cos(self)
+    }
+
+    #[inline]
+    fn sin(self) -> Self {
+        f32::sin(self)
+    }
+
+    #[inline]
+    fn floor(self) -> Self {
+        f32::floor(self)
     }
 }
