@@ -3,7 +3,9 @@
 //! three ways by `nklut_pipeline::stats::ErrorSummary` (mean |e|, signed mean, median, p90,
 //! p99, max |e|): per vertex, weighted by the vertices' areas (a third of the adjacent
 //! triangles: what the surface holds), and per pixel of the picture the object covers (both
-//! interpolated from the vertices: what the camera sees). Vertices of flipped or degenerate
+//! interpolated from the vertices: what the camera sees). Screen-space GTAO
+//! (`super::gtao`) has rows of its own (`technique` gtao): per pixel only, against the same
+//! interpolated reference on the same pixels. Vertices of flipped or degenerate
 //! triangles (`super::surfel::mesh_defects`) are counted and the per-vertex error given
 //! without them too. Beside them the reference's own mean standard error (how far its noise
 //! can move the mean), and where the scene asks for indirect light, its error. Rows are
@@ -63,10 +65,37 @@ impl AccessibilityErrors {
     }
 }
 
+/// How a row's accessibility was computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Technique {
+    /// Surfel AO: the row's passes, hierarchy and receiver gain say how.
+    Surfels,
+    /// Screen-space GTAO with these parameters (one pass per frame, per pixel only).
+    Gtao(crate::scene::surfels::Gtao),
+}
+
+impl Technique {
+    /// The name in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Surfels => "surfels",
+            Technique::Gtao(_) => "gtao",
+        }
+    }
+
+    fn gtao(self) -> Option<crate::scene::surfels::Gtao> {
+        match self {
+            Technique::Surfels => None,
+            Technique::Gtao(g) => Some(g),
+        }
+    }
+}
+
 /// One configuration's error against the reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ErrorRow {
     pub mesh: String,
+    pub technique: Technique,
     pub surfels: usize,
     pub receiver_gain: f64,
     pub passes: u32,
@@ -128,6 +157,7 @@ pub fn error_rows(
                 let errors = signed_differences(&result.values, &reference.values);
                 rows.push(ErrorRow {
                     mesh: mesh.into(),
+                    technique: Technique::Surfels,
                     surfels: surfels.len(),
                     receiver_gain: form.receiver_gain,
                     passes: result.passes,
@@ -152,23 +182,35 @@ pub fn error_rows(
 
 /// The `ao_errors` table of `rows`.
 pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
-    let vertex = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| f(&r.accessibility.per_vertex)).collect::<Vec<_>>();
+    let surfels = |r: &ErrorRow| r.technique == Technique::Surfels;
+    let vertex = |f: fn(&ErrorSummary) -> f64| {
+        rows.iter().map(|r| (r.accessibility.per_vertex.count > 0).then(|| f(&r.accessibility.per_vertex))).collect::<Vec<_>>()
+    };
+    let gtao = |f: fn(crate::scene::surfels::Gtao) -> f64| rows.iter().map(|r| r.technique.gtao().map(f)).collect::<Vec<_>>();
     let area = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.area_weighted.as_ref().map(f)).collect::<Vec<_>>();
     let pixel = |f: fn(&ErrorSummary) -> f64| rows.iter().map(|r| r.accessibility.per_pixel.as_ref().map(f)).collect::<Vec<_>>();
     let bent = |f: fn(&BentNormalErrors) -> f64| rows.iter().map(|r| r.bent_normals.as_ref().map(f)).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("mesh", "mesh name", rows.iter().map(|r| r.mesh.clone()).collect())
+        .text("technique", "surfels (surfel AO, Bunnell) or gtao (screen-space ground-truth AO, Jimenez et al. 2016: per pixel only)", rows.iter().map(|r| r.technique.name().to_string()).collect())
         .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .float("receiver_gain", "g of the shadow form: 1 the disc form factor, 4 its receiver cosine x 4 clamped to 1 (a variant)", rows.iter().map(|r| r.receiver_gain).collect())
-        .integer("passes", "accessibility passes", rows.iter().map(|r| r.passes as i64).collect())
-        .boolean("hierarchy", "emitters from the surfel tree (true) or every surfel (false)", rows.iter().map(|r| r.hierarchy).collect())
-        .float("mean_error", "mean over vertices of |e|, e = accessibility - ray-traced reference", vertex(|s| s.mean))
-        .float("signed_error", "mean over vertices of e (positive: the surfels under-occlude)", vertex(|s| s.signed_mean))
-        .float("median_error", "median over vertices of |e|", vertex(|s| s.median))
-        .float("p90_error", "90th percentile over vertices of |e|", vertex(|s| s.p90))
-        .float("p99_error", "99th percentile over vertices of |e|", vertex(|s| s.p99))
-        .float("max_error", "largest |e| over vertices", vertex(|s| s.max))
+        .optional_float(
+            "receiver_gain",
+            "g of the shadow form: 1 the disc form factor, 4 its receiver cosine x 4 clamped to 1 (a variant); empty for gtao",
+            rows.iter().map(|r| surfels(r).then_some(r.receiver_gain)).collect(),
+        )
+        .integer("passes", "accessibility passes (gtao: 0, one screen-space pass per frame)", rows.iter().map(|r| r.passes as i64).collect())
+        .boolean("hierarchy", "emitters from the surfel tree (true) or every surfel (false); false for gtao", rows.iter().map(|r| r.hierarchy).collect())
+        .optional_float("gtao_radius", "gtao: occluders within this distance count (scene units)", gtao(|g| g.radius))
+        .optional_float("gtao_slices", "gtao: slice directions per pixel", gtao(|g| g.slices as f64))
+        .optional_float("gtao_steps", "gtao: G-buffer samples per side of a slice", gtao(|g| g.steps as f64))
+        .optional_float("mean_error", "mean over vertices of |e|, e = accessibility - ray-traced reference (empty for gtao: no per-vertex values)", vertex(|s| s.mean))
+        .optional_float("signed_error", "mean over vertices of e (positive: the surfels under-occlude)", vertex(|s| s.signed_mean))
+        .optional_float("median_error", "median over vertices of |e|", vertex(|s| s.median))
+        .optional_float("p90_error", "90th percentile over vertices of |e|", vertex(|s| s.p90))
+        .optional_float("p99_error", "99th percentile over vertices of |e|", vertex(|s| s.p99))
+        .optional_float("max_error", "largest |e| over vertices", vertex(|s| s.max))
         .optional_float("area_mean_error", "mean of |e| weighted by the vertices' areas (a third of each adjacent triangle)", area(|s| s.mean))
         .optional_float("area_signed_error", "area-weighted mean of e", area(|s| s.signed_mean))
         .optional_float("area_median_error", "area-weighted median of |e|", area(|s| s.median))
@@ -218,8 +260,8 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             "mean over vertices of the angle (degrees) between the plain normal and the ray-traced bent normal (what bending has to correct)",
             bent(|b| b.normal.mean),
         )
-        .integer("interactions", "emitter evaluations of all passes so far, whole scene (the cost in operations: machine-independent)", rows.iter().map(|r| r.interactions as i64).collect())
-        .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene, in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
+        .integer("interactions", "emitter evaluations of all passes so far, whole scene (gtao: G-buffer reads of the frame, pixels x slices x 2 x steps); the cost in operations, machine-independent", rows.iter().map(|r| r.interactions as i64).collect())
+        .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene (gtao: the frame), in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
         .optional_float(
             "indirect_mean_error",
             "indirect light, one bounce with emitters weighted 1: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",

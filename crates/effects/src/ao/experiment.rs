@@ -20,7 +20,8 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
-use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow};
+use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow, Technique};
+use super::gtao::{gtao, GBuffer, Parameters};
 use super::hierarchy::{Closeness, SurfelTree};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
 use super::reference::{angles_degrees, reference_accessibility, reference_bent_normals, RaySettings};
@@ -227,10 +228,18 @@ pub struct AoReport {
     pub hero: Option<HeroSet>,
 }
 
-/// Per-vertex values to light a picture with: accessibility, indirect irradiance and bent
+/// Accessibility to light a picture with: per vertex (surfels, the reference), or per
+/// pixel of the frame (GTAO; `None` where no surface is).
+#[derive(Clone, Copy)]
+enum Shown<'a> {
+    PerVertex(&'a [f64]),
+    PerPixel(&'a [Option<f64>]),
+}
+
+/// Values to light a picture with: accessibility, per-vertex indirect irradiance and bent
 /// normals (`None`: the normal).
 struct Lighting<'a> {
-    accessibility: &'a [f64],
+    accessibility: Shown<'a>,
     indirect: Option<&'a [Rgb]>,
     bent_normals: Option<&'a [DVec3]>,
 }
@@ -334,7 +343,8 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         normals
     });
     let plain_normals: Vec<DVec3> = stage.surfels.iter().map(|s| s.normal).collect();
-    let coverage = stage.coverage(&Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]));
+    let camera = Camera::new(&scene.camera, 0, settings.resolution[0], settings.resolution[1]);
+    let coverage = stage.coverage(&camera);
     let areas: Vec<f64> = stage.surfels.iter().map(|s| s.area).collect();
     let mut report = AoReport::default();
     // One bounce with emitters weighted 1 (the same for every row) and, per row, weighted by
@@ -365,6 +375,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     .map(|((chapter, one), (_, reference))| indirect_error(one, chapter, reference, range.clone()));
                 report.rows.push(ErrorRow {
                     mesh: object.name.clone(),
+                    technique: Technique::Surfels,
                     surfels: range.len(),
                     receiver_gain: settings.form.receiver_gain,
                     passes: result.passes,
@@ -407,6 +418,60 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         }
     }
 
+    // Screen-space GTAO where the scene names it: per pixel, on the same frame and against
+    // the same interpolated reference as the surfels' per-pixel figures.
+    let gtao_settings = wanted.and_then(|a| a.gtao);
+    let gtao_values = gtao_settings.map(|g| {
+        let frame = gtao_frame(&stage, &camera, &coverage, g);
+        for (index, object) in stage.objects.iter().enumerate() {
+            let range = object.surfels.clone();
+            let pixels: Vec<f64> = coverage
+                .iter()
+                .zip(&frame.values)
+                .filter_map(|(p, v)| p.as_ref().filter(|p| p.object == index).zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
+                .collect();
+            let accessibility = AccessibilityErrors {
+                per_vertex: ErrorSummary::NONE,
+                area_weighted: None,
+                per_pixel: ErrorSummary::of(&pixels),
+                defect_vertices: stage.defects[range.clone()].iter().filter(|&&d| d).count(),
+                without_defects: None,
+            };
+            if let Some(p) = accessibility.per_pixel {
+                log(&format!(
+                    "  {} gtao (radius {}, {} slices, {} steps): |a − ref| per pixel mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4} over {} pixels; {:.1} ms",
+                    object.name, g.radius, g.slices, g.steps, p.mean, p.signed_mean, p.median, p.p90, p.p99, p.max, p.count, frame.cpu_ms
+                ));
+            }
+            report.rows.push(ErrorRow {
+                mesh: object.name.clone(),
+                technique: Technique::Gtao(g),
+                surfels: range.len(),
+                receiver_gain: settings.form.receiver_gain,
+                passes: 0,
+                hierarchy: false,
+                accessibility,
+                reference_standard_error: mean(range.clone().map(|i| reference.standard_errors[i]), range.len()),
+                bent_normals: None,
+                interactions: frame.reads,
+                cpu_ms: frame.cpu_ms,
+                indirect_mean_error: None,
+                indirect_signed_error: None,
+                indirect_accessibility_weighted_mean_error: None,
+                indirect_accessibility_weighted_signed_error: None,
+                indirect_reference_mean: None,
+                indirect_reference_standard_error: None,
+            });
+        }
+        report.signed_maps.push(SignedMap {
+            stem: "ao_gtao_signed".into(),
+            width: settings.resolution[0],
+            height: settings.resolution[1],
+            values: coverage.iter().zip(&frame.values).map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values))).collect(),
+        });
+        frame.values
+    });
+
     // Pictures: the scene's own emitters (the tree where it asks for it or brute force was
     // skipped), no AO, 1, 2, 3 passes and the reference.
     let use_tree = wanted.is_some_and(|a| a.hierarchy) || n > settings.max_brute;
@@ -417,8 +482,11 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             surfel_indirect(&stage.surfels, &stage.albedo, direct, &EmitterWeight::One.weights(&a.values), settings.form, bounces)
         })
     };
-    let reference_lighting =
-        Lighting { accessibility: &reference.values, indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()), bent_normals: None };
+    let reference_lighting = Lighting {
+        accessibility: Shown::PerVertex(&reference.values),
+        indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()),
+        bent_normals: None,
+    };
     // Each shown variant's lighting is gathered once and rendered at every size asked for.
     let shown: Vec<(&Accessibility, Option<Vec<Rgb>>)> = history.iter().take(4).map(|a| (a, gathered(a))).collect();
     let variants = |[width, height]: [u32; 2]| {
@@ -428,7 +496,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             .iter()
             .map(|(a, light)| {
                 let lighting = Lighting {
-                    accessibility: &a.values,
+                    accessibility: Shown::PerVertex(&a.values),
                     indirect: light.as_deref(),
                     bent_normals: bent.then_some(a.bent_normals.as_slice()),
                 };
@@ -445,6 +513,12 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
         });
     }
+    // GTAO's picture takes the reference's indirect light, so that it differs from the
+    // reference by accessibility alone.
+    let gtao_picture = |camera: &Camera, values: &[Option<f64>]| {
+        let lighting = Lighting { accessibility: Shown::PerPixel(values), bent_normals: None, ..reference_lighting };
+        render(&stage, camera, &lighting)
+    };
     let (truth, frames) = variants(settings.resolution);
     for (pass, frame) in frames.iter().enumerate() {
         let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };
@@ -454,12 +528,29 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         stats.indirect_bounces += bounces as u64 * frames.len() as u64;
     }
     let mut row = frames;
+    if let Some(values) = &gtao_values {
+        let frame = gtao_picture(&camera, values);
+        report.pictures.push(Picture { stem: "ao_gtao".into(), frame: frame.clone(), reference: Some(truth.clone()) });
+        row.push(frame);
+    }
     row.push(truth.clone());
     report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
     report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&row), reference: None });
     if let Some(size) = settings.hero {
         let (truth, frames) = variants(size);
         let gather = if use_tree { "tree" } else { "brute force" };
+        let gtao_panel = gtao_settings.map(|g| {
+            let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
+            let frame = gtao_frame(&stage, &camera, &stage.coverage(&camera), g);
+            HeroPanel {
+                stem: "gtao".into(),
+                label: format!("GTAO, radius {}, {} slices × {} steps", g.radius, g.slices, g.steps),
+                method: "gtao".into(),
+                configuration: None,
+                passes: None,
+                frame: gtao_picture(&camera, &frame.values),
+            }
+        });
         let panels = frames
             .into_iter()
             .enumerate()
@@ -471,6 +562,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 passes: Some(pass as u32),
                 frame,
             })
+            .chain(gtao_panel)
             .collect();
         report.hero = Some(HeroSet {
             effect: crate::scene::EffectFamily::Surfels,
@@ -481,6 +573,24 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         });
     }
     Ok(report)
+}
+
+/// GTAO over one frame: per pixel accessibility, the G-buffer reads it took, CPU time.
+struct GtaoFrame {
+    values: Vec<Option<f64>>,
+    reads: u64,
+    cpu_ms: f64,
+}
+
+/// GTAO over `camera`'s frame from what its pixels see (`coverage`): the G-buffer of points
+/// and smooth normals interpolated from the vertices, as a rasteriser writes them.
+fn gtao_frame(stage: &SurfelScene, camera: &Camera, coverage: &[Option<PixelSample>], g: crate::scene::surfels::Gtao) -> GtaoFrame {
+    let gbuffer = GBuffer::from_coverage(camera, coverage, &stage.surfels);
+    let start = std::time::Instant::now();
+    let values = gtao(&gbuffer, Parameters::of(g));
+    let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+    let covered = coverage.iter().flatten().count() as u64;
+    GtaoFrame { values, reads: covered * g.slices as u64 * 2 * g.steps as u64, cpu_ms }
 }
 
 /// Frames of equal height next to each other, left to right.
@@ -519,7 +629,10 @@ fn render(stage: &SurfelScene, camera: &Camera, lighting: &Lighting) -> TracedFr
             let Some(hit) = stage.geometry.nearest(camera.eye, direction, None, |_| true) else { return ([0.0; 3], 1) };
             let (corners, w) = stage.corners(hit.triangle as usize, hit.point);
             let blend = |f: &dyn Fn(usize) -> f64| w[0] * f(corners[0]) + w[1] * f(corners[1]) + w[2] * f(corners[2]);
-            let a = blend(&|v| lighting.accessibility[v]);
+            let a = match lighting.accessibility {
+                Shown::PerVertex(values) => blend(&|v| values[v]),
+                Shown::PerPixel(values) => values.get(i as usize).copied().flatten().unwrap_or(1.0),
+            };
             let albedo: Rgb = std::array::from_fn(|c| blend(&|v| stage.albedo[v][c]));
             // The side the camera sees: a back face is lit as its front would be from there.
             let normal = if hit.normal.dot(direction) > 0.0 { -hit.normal } else { hit.normal };

@@ -136,7 +136,7 @@ impl RawGtao {
             if !(1..=high).contains(&value) {
                 let range = Range::Integers { low: 1, high: high.into() };
                 let kind = FieldProblem::OutOfRange { value: Value::Integer(value.into()), range };
-                return Err(SceneProblem::field(&format!("ambient_occlusion.gtao.{field}"), kind));
+                return Err(SceneProblem::field(format!("ambient_occlusion.gtao.{field}"), kind));
             }
         }
         Ok(Gtao { radius: self.radius, slices: self.slices, steps: self.steps })
