@@ -10,7 +10,7 @@
 use anyhow::{bail, Result};
 
 /// The shader files of `shaders/`, by import name.
-pub const SHADERS: [(&str, &str); 10] = [
+pub const SHADERS: [(&str, &str); 11] = [
     ("fresnel", include_str!("../../../shaders/fresnel.wgsl")),
     ("fresnel_pass", include_str!("../../../shaders/fresnel_pass.wgsl")),
     ("distance_map", include_str!("../../../shaders/distance_map.wgsl")),
@@ -21,6 +21,7 @@ pub const SHADERS: [(&str, &str); 10] = [
     ("specular", include_str!("../../../shaders/specular.wgsl")),
     ("lut_sample", include_str!("../../../shaders/lut_sample.wgsl")),
     ("surfel_ao", include_str!("../../../shaders/surfel_ao.wgsl")),
+    ("gtao", include_str!("../../../shaders/gtao.wgsl")),
 ];
 
 /// Why a module could not be composed.

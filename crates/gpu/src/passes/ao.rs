@@ -358,11 +358,21 @@ pub fn shadow_terms(gpu: &Gpu, pairs: &[(Surfel, Surfel)], form: ShadowForm) -> 
 
 /// What a scene's surfel effects gave on the GPU: accessibility and bent normals after the
 /// scene's passes, the indirect light where it asks for it, and the largest difference of
-/// the accessibility from the f64 CPU twin (the same emitters and passes).
+/// the accessibility from the f64 CPU twin (the same emitters and passes); GTAO's frame
+/// where the scene names it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSurfels {
     pub accessibility: AoOutput,
     pub indirect: Option<super::indirect::IndirectOutput>,
+    pub twin_difference: f64,
+    pub gtao: Option<SceneGtao>,
+}
+
+/// GTAO on the GPU over the scene's first frame (its `resolution`): per pixel accessibility
+/// and the largest difference from the f32 CPU twin over the covered pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneGtao {
+    pub accessibility: Vec<Option<f32>>,
     pub twin_difference: f64,
 }
 
@@ -424,5 +434,24 @@ pub fn run_scene(
         }
         None => None,
     };
-    Ok(Some(SceneSurfels { accessibility: output, indirect, twin_difference }))
+    let gtao = match effects.ambient_occlusion.and_then(|a| a.gtao) {
+        Some(g) => {
+            use nklut_effects::ao::gtao::{gtao, GBuffer, Parameters};
+            let [width, height] = scene.resolution;
+            let camera = nklut_effects::trace::Camera::new(&scene.camera, 0, width, height);
+            let gbuffer = GBuffer::from_coverage(&camera, &stage.coverage(&camera), &stage.surfels).narrowed();
+            let parameters = Parameters::of(g).narrowed();
+            let accessibility = super::gtao::GtaoPass::new(gpu, &gbuffer, parameters)?.run(gpu)?;
+            let twin = gtao(&gbuffer, parameters);
+            let twin_difference =
+                accessibility.iter().zip(&twin).filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs() as f64)).fold(0.0, f64::max);
+            log(&format!(
+                "gtao on the GPU: {width}×{height}, radius {}, {} slices × {} steps; max |GPU − CPU twin| {twin_difference:.2e}",
+                g.radius, g.slices, g.steps
+            ));
+            Some(SceneGtao { accessibility, twin_difference })
+        }
+        None => None,
+    };
+    Ok(Some(SceneSurfels { accessibility: output, indirect, twin_difference, gtao }))
 }

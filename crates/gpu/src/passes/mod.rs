@@ -9,11 +9,14 @@
 //!   maps, one pipeline per (effect, method) (`shaders/specular.wgsl`).
 //! - [`ao`]: surfel accessibility and bent normals, N passes, brute force or through the
 //!   surfel tree (`shaders/surfel_ao.wgsl`), held to the f64 CPU twin of `effects::ao`.
+//! - [`gtao`]: screen-space ground-truth AO per pixel of a G-buffer (`shaders/gtao.wgsl`),
+//!   held to the CPU twin of `effects::ao::gtao`.
 //! - [`indirect`]: one or two bounces of diffuse indirect light between surfels (the same
 //!   shader's `cs_indirect`), held to `effects::ao::indirect`.
 
 pub mod ao;
 pub mod distance_maps;
+pub mod gtao;
 pub mod indirect;
 pub mod interface;
 pub mod specular;
@@ -53,6 +56,7 @@ pub fn interfaces() -> Result<Vec<(Interface, Vec<Variant>)>, crate::compose::Co
     Ok(vec![
         single(<ao::SurfelAoPass as Pass>::INTERFACE)?,
         single(<indirect::IndirectPass as Pass>::INTERFACE)?,
+        single(<gtao::GtaoPass as Pass>::INTERFACE)?,
         single(<distance_maps::MapRenderer as Pass>::INTERFACE)?,
         single(<crate::distance_search::DistanceSearchPass as Pass>::INTERFACE)?,
         (<specular::SpecularPass as Pass>::INTERFACE, specular),
@@ -69,7 +73,7 @@ mod tests {
     #[test]
     fn every_pass_declares_what_its_shader_binds() {
         let all = interfaces().unwrap();
-        assert_eq!(all.len(), 6);
+        assert_eq!(all.len(), 7);
         for (interface, sources) in &all {
             assert!(!sources.is_empty());
             for source in sources {
