@@ -339,6 +339,13 @@ mod gpu_cli {
             /// Time only the sweep meshes whose name contains this (e.g. `bunny-subdivided`).
             #[arg(long)]
             only: Option<String>,
+            /// AO scenes timed as they are (their surfel pass, 1–3 passes, and GTAO where
+            /// they name it), on the same run.
+            #[arg(long, num_args = 0.., default_values = ["scenes/ao-bunny.yaml", "scenes/ao-sculpture.yaml"])]
+            scenes: Vec<PathBuf>,
+            /// Square frame sizes GTAO is timed at.
+            #[arg(long, value_delimiter = ',', default_values_t = [256u32, 1024])]
+            gtao_resolutions: Vec<u32>,
             #[command(flatten)]
             adapter: AdapterArg,
         },
@@ -414,8 +421,8 @@ mod gpu_cli {
                 }
                 return Ok(());
             }
-            GpuCommand::AoTiming { meshes, max_brute, repeats, only, adapter } => {
-                use nklut::gpu::ao_timing::{ao_timing_table, sweep, sweep_meshes, SweepSettings};
+            GpuCommand::AoTiming { meshes, max_brute, repeats, only, scenes, gtao_resolutions, adapter } => {
+                use nklut::gpu::ao_timing::{ao_timing_table, scene_rows, sweep, sweep_meshes, SweepSettings};
                 let device = gpu::open(adapter.adapter.as_deref(), adapter.backend.as_deref())?;
                 eprintln!(
                     "adapter: {}{}",
@@ -429,11 +436,17 @@ mod gpu_cli {
                 }
                 all.retain(|m| only.as_deref().is_none_or(|only| m.name.contains(only)));
                 let settings = SweepSettings { max_brute, repeats: repeats.max(1), ..SweepSettings::default() };
-                let rows = sweep(&device, &all, &settings, &mut |line| eprintln!("{line}"))?;
+                let mut rows = sweep(&device, &all, &settings, &mut |line| eprintln!("{line}"))?;
                 for gather in ["brute_force", "hierarchy"] {
-                    if let Some(row) = rows.iter().find(|r| nklut::gpu::ao_timing::gather_name(r.gather) == gather) {
+                    if let Some(row) = rows.iter().find(|r| r.gather.name() == gather) {
                         eprintln!("  {gather}: time ∝ n^{:.2}", row.fitted_exponent);
                     }
+                }
+                let scene_settings = SweepSettings { passes: 3, ..settings };
+                for file in &scenes {
+                    let scene = Scene::load(file)?;
+                    let name = file.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+                    rows.extend(scene_rows(&device, &name, &scene, &gtao_resolutions, &scene_settings, &mut |line| eprintln!("{line}"))?);
                 }
                 for path in ao_timing_table(&rows, &device).write(&paths.out, "ao_timing", false)? {
                     eprintln!("  wrote {}", path.display());

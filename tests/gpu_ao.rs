@@ -300,3 +300,41 @@ fn the_wgsl_gtao_matches_its_cpu_twin_on_a_frame() {
         assert!(largest < 2e-4, "{largest}");
     }
 }
+
+/// `ao_timing`'s scene rows: an AO scene's surfel pass (1–2 passes, brute force and tree)
+/// and GTAO at each resolution, timed in one run; GTAO's rows count the pixels that see a
+/// surface (as many as the coverage has), its parameters, and take one dispatch.
+#[test]
+fn ao_timing_times_the_scene_surfels_beside_gtao_at_each_resolution() {
+    use nklut::effects::ao::experiment::{AoSettings, SurfelScene};
+    use nklut::effects::trace::Camera;
+    use nklut::gpu::ao_timing::{ao_timing_table, scene_rows, SweepSettings, Timed};
+    use nklut::scene::Scene;
+    use std::path::Path;
+    let Some(gpu) = device() else { return };
+    let text = "camera: { axis: [0.3, 1, 0.2], distance: 3, frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: 0.5, slices: 2, steps: 4 } } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n";
+    let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
+    let settings = SweepSettings { passes: 2, repeats: 2, ..SweepSettings::default() };
+    let rows = scene_rows(&gpu, "t", &scene, &[16, 32], &settings, &mut |_| {}).unwrap();
+    let names: Vec<(&str, u32)> = rows.iter().map(|r| (r.gather.name(), r.passes)).collect();
+    assert_eq!(names, [("brute_force", 1), ("brute_force", 2), ("hierarchy", 1), ("hierarchy", 2), ("gtao", 1), ("gtao", 1)]);
+    let stage = SurfelScene::new(&scene, &AoSettings::default().budget).unwrap();
+    for (row, size) in rows[4..].iter().zip([16u32, 32]) {
+        let covered = stage.coverage(&Camera::new(&scene.camera, 0, size, size)).iter().flatten().count();
+        assert!(covered > 0);
+        assert_eq!(
+            row.gather,
+            Timed::Gtao {
+                gtao: scene.effects.as_ref().unwrap().ambient_occlusion.unwrap().gtao.unwrap(),
+                resolution: [size, size],
+                covered
+            }
+        );
+        assert_eq!((row.dispatches, row.surfels), (1, 6 * 9));
+    }
+    assert!(rows.iter().all(|r| r.median_ms.is_finite() && r.median_ms > 0.0 && r.spread_ms >= 0.0));
+    let table = ao_timing_table(&rows, &gpu);
+    for column in ["emitters", "width", "height", "covered_pixels", "slices", "steps", "median_ms"] {
+        assert!(table.column(column).is_some(), "{column}");
+    }
+}

@@ -1,15 +1,20 @@
 //! `ao_timing`: the surfel ambient-occlusion pass's GPU time against surfel count, by brute
 //! force and through the surfel tree, over a sweep of meshes (the scanned meshes decimated
 //! by vertex clustering and subdivided), with the fitted exponent p of time ∝ nᵖ
-//! (least squares on log t over log n) per way of gathering. Time is GPU timestamps around
-//! the compute pass where the adapter has them, else wall time from submit until the
-//! device is idle; the table says which. On a CPU rasteriser (lavapipe) the figures are
-//! only meaningful as ratios.
+//! (least squares on log t over log n) per way of gathering; and, for the AO scenes that
+//! name GTAO, on the same run, the scene's surfel pass (1–3 passes, tree and brute force)
+//! beside the screen-space GTAO pass over the scene's frame at each resolution asked for
+//! (the G-buffer from the same coverage as `ao_errors`' per-pixel figures), so that error
+//! (`ao_errors`) and time sit side by side. Time is GPU timestamps around the compute
+//! pass where the adapter has them, else wall time from submit until the device is idle;
+//! the table says which. On a CPU rasteriser (lavapipe) the figures are only meaningful
+//! as ratios.
 
 use anyhow::Result;
 
 use super::context::Gpu;
 use super::passes::ao::{Gather, SurfelAoPass};
+use super::passes::gtao::GtaoPass;
 use super::timing::{median_and_iqr, Stopwatch, Timer};
 use nklut_effects::ao::hierarchy::{Closeness, SurfelTree};
 use nklut_effects::ao::shadow::ShadowForm;
@@ -64,12 +69,30 @@ impl Default for SweepSettings {
     }
 }
 
+/// What a row times: the surfel pass gathering one way, or GTAO over a frame of
+/// `resolution` of which `covered` pixels see a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Timed {
+    Surfels(Gather),
+    Gtao { gtao: nklut_effects::scene::surfels::Gtao, resolution: [u32; 2], covered: usize },
+}
+
+impl Timed {
+    /// The `emitters` column: brute_force, hierarchy or gtao.
+    pub fn name(self) -> &'static str {
+        match self {
+            Timed::Surfels(gather) => gather_name(gather),
+            Timed::Gtao { .. } => "gtao",
+        }
+    }
+}
+
 /// One (mesh, way of gathering) timed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AoTimingRow {
     pub mesh: String,
     pub surfels: usize,
-    pub gather: Gather,
+    pub gather: Timed,
     pub tree_nodes: usize,
     pub passes: u32,
     pub dispatches: u64,
@@ -145,7 +168,7 @@ pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mu
             rows.push(AoTimingRow {
                 mesh: mesh.name.clone(),
                 surfels: mesh.surfels.len(),
-                gather,
+                gather: Timed::Surfels(gather),
                 tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
                 passes: settings.passes,
                 dispatches,
@@ -158,28 +181,154 @@ pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mu
         }
     }
     for gather in [Gather::BruteForce, Gather::Hierarchy] {
-        let points: Vec<(f64, f64)> = rows.iter().filter(|r| r.gather == gather).map(|r| (r.surfels as f64, r.median_ms)).collect();
+        let timed = Timed::Surfels(gather);
+        let points: Vec<(f64, f64)> = rows.iter().filter(|r| r.gather == timed).map(|r| (r.surfels as f64, r.median_ms)).collect();
         let p = fitted_exponent(&points);
         // One point fits no slope: the column stays empty.
-        rows.iter_mut().filter(|r| r.gather == gather).for_each(|r| r.fitted_exponent = p);
+        rows.iter_mut().filter(|r| r.gather == timed).for_each(|r| r.fitted_exponent = p);
     }
     Ok(rows)
 }
 
-/// `ao_timing.*`: one row per (mesh, way of gathering).
+/// Median and IQR of `settings.repeats` timed samples after `settings.warmup` untimed ones.
+fn timed(settings: &SweepSettings, mut sample: impl FnMut() -> Result<f64>) -> Result<(f64, f64)> {
+    let mut samples = Vec::new();
+    for round in 0..settings.warmup + settings.repeats {
+        let ms = sample()?;
+        if round >= settings.warmup {
+            samples.push(ms);
+        }
+    }
+    Ok(median_and_iqr(&samples))
+}
+
+/// An AO scene's surfel pass (passes 1..=`settings.passes`, through the tree and, up to
+/// `settings.max_brute` surfels, by brute force) and, where the scene names GTAO, the GTAO
+/// pass over its frame at each of `resolutions` (square), all timed in this run. A scene
+/// naming no surfel effect gives no rows.
+pub fn scene_rows(
+    gpu: &Gpu,
+    name: &str,
+    scene: &nklut_effects::scene::Scene,
+    resolutions: &[u32],
+    settings: &SweepSettings,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<AoTimingRow>> {
+    use nklut_effects::ao::experiment::{AoSettings, SurfelScene};
+    use nklut_effects::ao::gtao::{GBuffer, Parameters};
+    use nklut_effects::trace::Camera;
+    let Some(effects) = &scene.effects else { return Ok(Vec::new()) };
+    if !effects.names(nklut_effects::scene::EffectFamily::Surfels) {
+        return Ok(Vec::new());
+    }
+    let stage = SurfelScene::new(scene, &AoSettings::default().budget)?;
+    let n = stage.surfels.len();
+    let mut stopwatch = Stopwatch::new(gpu)?;
+    let timer = stopwatch.timer();
+    let tree = SurfelTree::new(&stage.surfels, settings.form, settings.closeness);
+    let mut rows = Vec::new();
+    for gather in [Gather::BruteForce, Gather::Hierarchy] {
+        if gather == Gather::BruteForce && n > settings.max_brute {
+            log(&format!("  {name} ({n} surfels): brute force skipped (> {})", settings.max_brute));
+            continue;
+        }
+        let pass = SurfelAoPass::new(gpu, &stage.surfels, Some(&tree), gather, settings.form, settings.closeness)?;
+        for passes in 1..=settings.passes {
+            let mut dispatches = 0;
+            let (median_ms, spread_ms) = timed(settings, || {
+                let (ms, d) = sample(gpu, &pass, passes, &mut stopwatch)?;
+                dispatches = d;
+                Ok(ms)
+            })?;
+            log(&format!(
+                "  {name} ({n} surfels) {}, {passes} passes: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
+                gather_name(gather)
+            ));
+            rows.push(AoTimingRow {
+                mesh: name.into(),
+                surfels: n,
+                gather: Timed::Surfels(gather),
+                tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
+                passes,
+                dispatches,
+                timer,
+                repeats: settings.repeats,
+                median_ms,
+                spread_ms,
+                fitted_exponent: f64::NAN,
+            });
+        }
+    }
+    if let Some(g) = effects.ambient_occlusion.and_then(|a| a.gtao) {
+        for &size in resolutions {
+            let camera = Camera::new(&scene.camera, 0, size, size);
+            let coverage = stage.coverage(&camera);
+            let covered = coverage.iter().flatten().count();
+            let gbuffer = GBuffer::from_coverage(&camera, &coverage, &stage.surfels).narrowed();
+            let pass = GtaoPass::new(gpu, &gbuffer, Parameters::of(g).narrowed())?;
+            let (median_ms, spread_ms) = timed(settings, || {
+                stopwatch.time_pass(gpu, |encoder, timestamps| {
+                    let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    });
+                    pass.encode(encoder, writes);
+                })
+            })?;
+            log(&format!(
+                "  {name} gtao {size}×{size} ({covered} covered pixels, radius {}, {} slices × {} steps): median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
+                g.radius, g.slices, g.steps
+            ));
+            rows.push(AoTimingRow {
+                mesh: name.into(),
+                surfels: n,
+                gather: Timed::Gtao { gtao: g, resolution: [size, size], covered },
+                tree_nodes: 0,
+                passes: 1,
+                dispatches: 1,
+                timer,
+                repeats: settings.repeats,
+                median_ms,
+                spread_ms,
+                fitted_exponent: f64::NAN,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// `ao_timing.*`: one row per (mesh, way of gathering), and per scene's GTAO resolution.
 pub fn ao_timing_table(rows: &[AoTimingRow], gpu: &Gpu) -> Table {
     let a = &gpu.line;
     let text = |f: &dyn Fn(&AoTimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let gtao = |f: &dyn Fn(nklut_effects::scene::surfels::Gtao, [u32; 2], usize) -> i64| {
+        rows.iter()
+            .map(|r| match r.gather {
+                Timed::Gtao { gtao, resolution, covered } => f(gtao, resolution, covered),
+                Timed::Surfels(_) => 0,
+            })
+            .collect::<Vec<_>>()
+    };
     let mut table = Table::new();
     table
         .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
         .text("driver", "driver name and version", text(&|_| a.driver.clone()))
         .text("mesh", "mesh of the sweep: name, then decimated (vertex-clustering cell edge) or subdivided (levels)", text(&|r| r.mesh.clone()))
         .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .text("emitters", "brute_force (every surfel) or hierarchy (the surfel tree's cut, kappa = 16)", text(&|r| gather_name(r.gather).into()))
+        .text(
+            "emitters",
+            "brute_force (every surfel), hierarchy (the surfel tree's cut, kappa = 16), or gtao (screen-space, per pixel: no emitters)",
+            text(&|r| r.gather.name().into()),
+        )
         .integer("tree_nodes", "nodes of the surfel tree uploaded (0 for brute force)", rows.iter().map(|r| r.tree_nodes as i64).collect())
         .integer("passes", "accessibility passes per timed sample", rows.iter().map(|r| r.passes as i64).collect())
         .integer("dispatches", "compute dispatches per timed sample", rows.iter().map(|r| r.dispatches as i64).collect())
+        .integer("width", "gtao: frame width in pixels (0 for the surfel pass, which is per vertex)", gtao(&|_, [w, _], _| w as i64))
+        .integer("height", "gtao: frame height in pixels (0 for the surfel pass)", gtao(&|_, [_, h], _| h as i64))
+        .integer("covered_pixels", "gtao: pixels that see a surface (0 for the surfel pass)", gtao(&|_, _, c| c as i64))
+        .integer("slices", "gtao: slices per pixel (0 for the surfel pass)", gtao(&|g, _, _| g.slices as i64))
+        .integer("steps", "gtao: G-buffer samples per side of a slice (0 for the surfel pass)", gtao(&|g, _, _| g.steps as i64))
         .text("timer", "timestamp (GPU timestamp queries around the compute pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
         .integer("repeats", "timed samples (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
         .float("median_ms", "median time of one sample (ms)", rows.iter().map(|r| r.median_ms).collect())
