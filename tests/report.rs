@@ -553,11 +553,12 @@ objects:
 measurements: [image_error]
 ";
 
-/// A sphere on a slab under surfel ambient occlusion (brute force and the tree, 1–3 passes).
+/// A sphere on a slab under surfel ambient occlusion (brute force and the tree, 1–3 passes)
+/// and screen-space GTAO.
 const AO_SCENE: &str = "resolution: [48, 48]
 camera: { axis: [-0.3, 1, 0.1], distance: 2.4, frames: 1, fov_y_degrees: 55 }
 effects:
-  ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: false }
+  ambient_occlusion: { passes: 2, hierarchy: true, bent_normals: false, gtao: { radius: 0.5, slices: 2, steps: 4 } }
 lights:
   - { kind: directional, direction: [-0.4, -1, -0.3], colour: [0.6, 0.6, 0.6] }
   - { kind: ambient, colour: [0.5, 0.5, 0.5] }
@@ -764,7 +765,19 @@ fn effects_charts_trace_to_their_rows() {
     }
     seen_rows.sort_unstable();
     seen_rows.dedup();
-    assert_eq!(seen_rows, (0..ao.rows.len()).collect::<Vec<_>>(), "every AO row in a point");
+    let surfel_rows: Vec<usize> = (0..ao.rows.len()).filter(|&r| ao.text(&ao.rows[r], "technique") == "surfels").collect();
+    assert_eq!(seen_rows, surfel_rows, "every surfel AO row in a point (GTAO's are per pixel only)");
+    // GTAO's rows (one per object) in the per-pixel table beside the surfels', with their
+    // per-pixel mean as the CSV has it.
+    let gtao_rows: Vec<&Vec<String>> = ao.rows.iter().filter(|r| ao.text(r, "technique") == "gtao").collect();
+    assert_eq!(gtao_rows.len(), 2);
+    let per_pixel = &html[html.find("class=\"ao-per-pixel\"").expect("the per-pixel table")..];
+    let per_pixel = &per_pixel[..per_pixel.find("</table>").unwrap()];
+    for row in gtao_rows {
+        let mean = report::html::number(ao.text(row, "pixel_mean_error").parse().unwrap());
+        let cells = format!("<td>{}</td><td>GTAO r 0.5, 2×4</td><td>–</td><td>{}</td><td>{mean}</td>", ao.text(row, "mesh"), ao.text(row, "pixels"));
+        assert!(per_pixel.contains(&cells), "{cells} not in {per_pixel}");
+    }
     let time = &by_column[&("ao_errors.csv".to_string(), "cpu_ms".to_string())];
     assert_eq!(time.len(), 2 * 3, "brute force and tree × 3 passes");
     for (mark, x) in time {

@@ -530,9 +530,10 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
 
 fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
     html.push_str("<h3>Ambient occlusion</h3>\n");
-    let all: Vec<usize> = (0..ao.rows.len()).collect();
-    let technique = |r: usize| if ao.text(&ao.rows[r], "hierarchy") == "true" { "tree" } else { "brute force" };
-    let techniques: Vec<&str> = distinct(&all, technique);
+    // The surfel rows (GTAO's, per pixel only, have a table of their own below).
+    let all: Vec<usize> = (0..ao.rows.len()).filter(|&r| !is_gtao(ao, &ao.rows[r])).collect();
+    let technique = |r: usize| technique_label(ao, &ao.rows[r]);
+    let techniques: Vec<String> = distinct(&all, technique);
     let passes = integers(ao, &all, "passes");
     let categories: Vec<String> = passes.iter().map(u64::to_string).collect();
     let rows_of = |t: &str, p: u64| -> Vec<usize> {
@@ -544,7 +545,7 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         columns.push(("indirect_mean_error", "indirect light"));
     }
     let colors: Vec<_> = techniques.iter().enumerate().map(|(i, _)| PALETTE[(i + 1) % PALETTE.len()]).collect();
-    let legend = charts::legend(techniques.iter().zip(&colors).map(|(t, c)| (*t, *c, false)));
+    let legend = charts::legend(techniques.iter().zip(&colors).map(|(t, c)| (t.as_str(), *c, false)));
     for (i, (column, what)) in columns.iter().enumerate() {
         let series: Vec<Series> = techniques
             .iter()
@@ -617,6 +618,12 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         }
     }
     html.push_str(&table.html("ao-summary"));
+    if let Some(screen) = ao_per_pixel_table(ao) {
+        html.push_str(
+            "<p>Surfel AO beside screen-space GTAO (Jimenez et al. 2016) on the same frame: e = accessibility − reference per covered pixel (surfel values and the reference interpolated from the vertices; GTAO per pixel from the G-buffer), with each row's cost (emitter evaluations or G-buffer reads, and CPU time over the scene or the frame).</p>",
+        );
+        html.push_str(&screen);
+    }
     if let Some(statistics) = ao_statistics_table(ao) {
         html.push_str(
             "<p>Per object, e = accessibility − reference (positive: too light, the surfels under-occlude): |e| per vertex (mean, median, p90, p99, max), its signed mean, the area-weighted and the per-pixel mean (what the surface holds and what the camera sees), and the vertices of flipped or degenerate triangles with the mean without them.</p>",
@@ -624,6 +631,56 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
         html.push_str(&statistics);
     }
     Ok(())
+}
+
+/// Whether a row of `ao_errors.csv` is GTAO's (a table written before GTAO has none).
+fn is_gtao(ao: &CsvTable, row: &[String]) -> bool {
+    ao.has("technique") && ao.text(row, "technique") == "gtao"
+}
+
+/// How a row of `ao_errors.csv` was computed, in words: `tree`, `brute force`, or GTAO
+/// with its radius, slices and steps.
+fn technique_label(ao: &CsvTable, row: &[String]) -> String {
+    if is_gtao(ao, row) {
+        format!("GTAO r {}, {}×{}", ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"))
+    } else if ao.text(row, "hierarchy") == "true" {
+        "tree".into()
+    } else {
+        "brute force".into()
+    }
+}
+
+/// Every row's per-pixel figures side by side (surfels and GTAO), `None` where the table
+/// has no GTAO row.
+fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
+    if !ao.rows.iter().any(|r| is_gtao(ao, r)) {
+        return None;
+    }
+    let columns = ["pixels", "pixel_mean_error", "pixel_signed_error", "pixel_median_error", "pixel_p90_error", "pixel_p99_error", "pixel_max_error", "interactions", "cpu_ms"];
+    let mut table = TableText::new(&[
+        "object",
+        "technique",
+        "passes",
+        "pixels",
+        "mean |e|",
+        "signed e",
+        "median |e|",
+        "p90",
+        "p99",
+        "max",
+        "evaluations or reads",
+        "CPU ms",
+    ]);
+    for row in &ao.rows {
+        let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.text(row, "passes").to_string() };
+        let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), passes];
+        cells.extend(columns.iter().map(|c| match *c {
+            "pixels" | "interactions" => ao.text(row, c).to_string(),
+            _ => ao.number(row, c).map(number).unwrap_or_else(|| "–".into()),
+        }));
+        table.row(cells);
+    }
+    Some(table.html("ao-per-pixel"))
 }
 
 /// The per-object error statistics of `ao_errors.csv` (one row per object, technique and
@@ -659,9 +716,8 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
         "defect vertices",
         "mean without them",
     ]);
-    for row in &ao.rows {
-        let technique = if ao.text(row, "hierarchy") == "true" { "tree" } else { "brute force" };
-        let mut cells = vec![ao.text(row, "mesh").to_string(), technique.to_string(), ao.text(row, "passes").to_string()];
+    for row in ao.rows.iter().filter(|r| !is_gtao(ao, r)) {
+        let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), ao.text(row, "passes").to_string()];
         cells.extend(columns.iter().map(|c| match *c {
             "defect_vertices" => ao.text(row, c).to_string(),
             _ => ao.number(row, c).map(number).unwrap_or_else(|| "–".into()),
