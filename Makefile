@@ -122,11 +122,13 @@ web: db
 
 # The effects scenes on the CPU, one output folder each (output/<scene>/): multiple
 # reflections and refractions (the f64 reference and the distance-map twin per Fresnel
-# method → effects_errors.csv) and surfel ambient occlusion / indirect light (against the
+# method → effects_errors.csv), the spectral scenes (dispersion and absorption: the
+# spectral reference against the three-channel one → spectral_errors.csv), and surfel
+# ambient occlusion / indirect light with screen-space GTAO beside it (against the
 # ray-traced reference → ao_errors.csv, ao_frames/). The AO scenes run with small
 # reference ray counts (AO_RAYS per vertex, σ ≤ 1/32 per vertex) to keep the target short;
 # raise AO_RAYS for figures.
-EFFECTS_SCENES ?= teapot-in-a-box glass-sphere ao-bunny ao-sculpture ao-colour-bleeding
+EFFECTS_SCENES ?= teapot-in-a-box glass-sphere gold-in-gold prism coloured-glass ao-bunny ao-sculpture ao-colour-bleeding
 AO_RAYS ?= 256
 effects: db build
 	for scene in $(EFFECTS_SCENES); do \
