@@ -325,7 +325,7 @@ fn ao_timing_times_the_scene_surfels_beside_gtao_at_each_resolution() {
         assert_eq!(
             row.gather,
             Timed::Gtao {
-                gtao: scene.effects.as_ref().unwrap().ambient_occlusion.unwrap().gtao.unwrap(),
+                gtao: scene.effects.as_ref().unwrap().ambient_occlusion.as_ref().unwrap().gtao[0],
                 resolution: [size, size],
                 covered
             }

@@ -775,7 +775,11 @@ fn effects_charts_trace_to_their_rows() {
     let per_pixel = &per_pixel[..per_pixel.find("</table>").unwrap()];
     for row in gtao_rows {
         let mean = report::html::number(ao.text(row, "pixel_mean_error").parse().unwrap());
-        let cells = format!("<td>{}</td><td>GTAO r 0.5, 2×4</td><td>–</td><td>{}</td><td>{mean}</td>", ao.text(row, "mesh"), ao.text(row, "pixels"));
+        let cells = format!(
+            "<td>{}</td><td>GTAO r 0.5, 2×4</td><td>–</td><td>{}</td><td>{mean}</td>",
+            ao.text(row, "mesh"),
+            ao.text(row, "pixels")
+        );
         assert!(per_pixel.contains(&cells), "{cells} not in {per_pixel}");
     }
     let time = &by_column[&("ao_errors.csv".to_string(), "cpu_ms".to_string())];

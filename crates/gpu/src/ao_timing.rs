@@ -204,7 +204,8 @@ fn timed(settings: &SweepSettings, mut sample: impl FnMut() -> Result<f64>) -> R
 
 /// An AO scene's surfel pass (passes 1..=`settings.passes`, through the tree and, up to
 /// `settings.max_brute` surfels, by brute force) and, where the scene names GTAO, the GTAO
-/// pass over its frame at each of `resolutions` (square), all timed in this run. A scene
+/// pass of each configuration over its frame at each of `resolutions` (square), all timed
+/// in this run. A scene
 /// naming no surfel effect gives no rows.
 pub fn scene_rows(
     gpu: &Gpu,
@@ -259,12 +260,13 @@ pub fn scene_rows(
             });
         }
     }
-    if let Some(g) = effects.ambient_occlusion.and_then(|a| a.gtao) {
-        for &size in resolutions {
-            let camera = Camera::new(&scene.camera, 0, size, size);
-            let coverage = stage.coverage(&camera);
-            let covered = coverage.iter().flatten().count();
-            let gbuffer = GBuffer::from_coverage(&camera, &coverage, &stage.surfels).narrowed();
+    let configurations = effects.ambient_occlusion.as_ref().map(|a| a.gtao.clone()).unwrap_or_default();
+    for &size in resolutions {
+        let camera = Camera::new(&scene.camera, 0, size, size);
+        let coverage = stage.coverage(&camera);
+        let covered = coverage.iter().flatten().count();
+        let gbuffer = GBuffer::from_coverage(&camera, &coverage, &stage.surfels).narrowed();
+        for &g in &configurations {
             let pass = GtaoPass::new(gpu, &gbuffer, Parameters::of(g).narrowed())?;
             let (median_ms, spread_ms) = timed(settings, || {
                 stopwatch.time_pass(gpu, |encoder, timestamps| {

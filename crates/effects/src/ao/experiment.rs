@@ -302,7 +302,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     let tree = SurfelTree::new(&stage.surfels, settings.form, settings.closeness);
     stats.tree_nodes += tree.nodes.len();
     let brute = BruteForce { surfels: &stage.surfels, form: settings.form };
-    let wanted = effects.ambient_occlusion;
+    let wanted = effects.ambient_occlusion.as_ref();
     let passes = settings.passes.max(wanted.map_or(0, |a| a.passes)).max(1);
     log(&format!(
         "ao: {n} surfels in {} objects, {} tree nodes, {} triangles",
@@ -420,8 +420,10 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
 
     // Screen-space GTAO where the scene names it: per pixel, on the same frame and against
     // the same interpolated reference as the surfels' per-pixel figures.
-    let gtao_settings = wanted.and_then(|a| a.gtao);
-    let gtao_values = gtao_settings.map(|g| {
+    // One row set per configuration (radius); the first named is the one pictured.
+    let gtao_settings: Vec<crate::scene::surfels::Gtao> = wanted.map(|a| a.gtao.clone()).unwrap_or_default();
+    let mut gtao_values = None;
+    for (configuration, &g) in gtao_settings.iter().enumerate() {
         let frame = gtao_frame(&stage, &camera, &coverage, g);
         for (index, object) in stage.objects.iter().enumerate() {
             let range = object.surfels.clone();
@@ -463,14 +465,20 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 indirect_reference_standard_error: None,
             });
         }
-        report.signed_maps.push(SignedMap {
-            stem: "ao_gtao_signed".into(),
-            width: settings.resolution[0],
-            height: settings.resolution[1],
-            values: coverage.iter().zip(&frame.values).map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values))).collect(),
-        });
-        frame.values
-    });
+        if configuration == 0 {
+            report.signed_maps.push(SignedMap {
+                stem: "ao_gtao_signed".into(),
+                width: settings.resolution[0],
+                height: settings.resolution[1],
+                values: coverage
+                    .iter()
+                    .zip(&frame.values)
+                    .map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
+                    .collect(),
+            });
+            gtao_values = Some(frame.values);
+        }
+    }
 
     // Pictures: the scene's own emitters (the tree where it asks for it or brute force was
     // skipped), no AO, 1, 2, 3 passes and the reference.
@@ -539,7 +547,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     if let Some(size) = settings.hero {
         let (truth, frames) = variants(size);
         let gather = if use_tree { "tree" } else { "brute force" };
-        let gtao_panel = gtao_settings.map(|g| {
+        let gtao_panel = gtao_settings.first().map(|&g| {
             let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
             let frame = gtao_frame(&stage, &camera, &stage.coverage(&camera), g);
             HeroPanel {

@@ -484,13 +484,20 @@ fn gtao_rows_sit_beside_the_surfel_rows_on_the_same_pixels() {
     use crate::scene::Scene;
     use std::path::Path;
     let settings = AoSettings { rays: RaySettings { rays: 16, ..RaySettings::default() }, resolution: [24, 16], ..AoSettings::default() };
-    let text = "measurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: 0.5, slices: 2, steps: 3 } } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n  - { mesh: plane, position: [0, -0.6, 0], diffuse: [0.5, 0.5, 0.5], subdivide: 2 }\n";
+    let text = "measurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: [0.5, 3], slices: 2, steps: 3 } } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n  - { mesh: plane, position: [0, -0.6, 0], diffuse: [0.5, 0.5, 0.5], subdivide: 2 }\n";
     let scene = Scene::parse(text, Path::new("gtao.yaml")).unwrap();
     let report = run(&scene, &settings, &mut EffectsStats::default(), &mut |_| {}).unwrap();
-    let gtao: Vec<_> = report.rows.iter().filter(|r| r.technique != Technique::Surfels).collect();
-    assert_eq!(report.rows.len(), 2 * 3 * 2 + 2);
-    assert_eq!(gtao.len(), 2);
+    let all_gtao: Vec<_> = report.rows.iter().filter(|r| r.technique != Technique::Surfels).collect();
+    assert_eq!(report.rows.len(), 2 * 3 * 2 + 2 * 2, "two objects × (3 passes × 2 gatherings + 2 radii)");
     let g = Gtao { radius: 0.5, slices: 2, steps: 3 };
+    let gtao: Vec<_> = all_gtao.iter().filter(|r| r.technique == Technique::Gtao(g)).collect();
+    assert_eq!(gtao.len(), 2);
+    // The wider radius sees more of the cube over the plane: the plane's mean error falls.
+    let plane_error = |radius: f64| {
+        let row = all_gtao.iter().find(|r| r.mesh == "plane" && r.technique == Technique::Gtao(Gtao { radius, ..g })).unwrap();
+        row.accessibility.per_pixel.unwrap().mean
+    };
+    assert!(plane_error(3.0) < plane_error(0.5), "{} !< {}", plane_error(3.0), plane_error(0.5));
     let surfel_plane = report.rows.iter().find(|r| r.mesh == "plane" && r.technique == Technique::Surfels).unwrap();
     let mut covered = 0;
     for row in &gtao {

@@ -270,6 +270,8 @@ pub enum Listing {
     Measurements,
     Effects,
     Methods,
+    /// A list of numbers with none in it.
+    Values,
 }
 
 impl fmt::Display for Listing {
@@ -283,6 +285,7 @@ impl fmt::Display for Listing {
                 write!(f, "name at least one effect: {}", keys.join(", "))
             }
             Listing::Methods => f.write_str("no method named"),
+            Listing::Values => f.write_str("the list holds no value"),
         }
     }
 }

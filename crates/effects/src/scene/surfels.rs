@@ -49,19 +49,27 @@ pub(crate) struct RawAmbientOcclusion {
     gtao: Option<RawGtao>,
 }
 
+/// One radius or a list of them (each a GTAO configuration, in the order written).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum Radii {
+    One(f64),
+    Many(Vec<f64>),
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawGtao {
     #[serde(default = "default_gtao_radius")]
-    radius: f64,
+    radius: Radii,
     #[serde(default = "default_gtao_slices")]
     slices: u32,
     #[serde(default = "default_gtao_steps")]
     steps: u32,
 }
 
-fn default_gtao_radius() -> f64 {
-    1.0
+fn default_gtao_radius() -> Radii {
+    Radii::One(1.0)
 }
 
 fn default_gtao_slices() -> u32 {
@@ -88,18 +96,19 @@ fn default_bounces() -> u32 {
 }
 
 /// Surfel ambient occlusion: `passes` in 1..=[`MAX_PASSES`], through the tree or by brute
-/// force, lighting with bent normals or the normals; and GTAO beside it where named.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// force, lighting with bent normals or the normals; and GTAO beside it where named, one
+/// configuration per radius listed (the first is the one pictured; empty: no GTAO).
+#[derive(Clone, Debug, PartialEq)]
 pub struct AmbientOcclusion {
     pub passes: u32,
     pub hierarchy: bool,
     pub bent_normals: bool,
-    pub gtao: Option<Gtao>,
+    pub gtao: Vec<Gtao>,
 }
 
 /// Screen-space GTAO's parameters: occluders within `radius` (scene units) of the shaded
 /// point count, searched along `slices` directions per pixel with `steps` G-buffer reads
-/// on each side (defaults 1.0, 4, 8).
+/// on each side (defaults 1.0, 4, 8). `radius` may be a list: one configuration each.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gtao {
     pub radius: f64,
@@ -120,18 +129,33 @@ impl RawAmbientOcclusion {
             let kind = FieldProblem::OutOfRange { value: Value::Integer(self.passes.into()), range };
             return Err(SceneProblem::field("ambient_occlusion.passes", kind));
         }
-        let gtao = self.gtao.as_ref().map(RawGtao::checked).transpose()?;
+        let gtao = self.gtao.as_ref().map(RawGtao::checked).transpose()?.unwrap_or_default();
         Ok(AmbientOcclusion { passes: self.passes, hierarchy: self.hierarchy, bent_normals: self.bent_normals, gtao })
     }
 }
 
 impl RawGtao {
-    fn checked(&self) -> Result<Gtao, SceneProblem> {
-        if !(self.radius > 0.0 && self.radius <= MAX_GTAO_RADIUS) {
-            let range = Range::Closed { low: 0.0, high: MAX_GTAO_RADIUS, each: super::error::Each::Whole };
-            let kind = FieldProblem::OutOfRange { value: Value::Number(self.radius), range };
-            return Err(SceneProblem::field("ambient_occlusion.gtao.radius", kind));
+    fn checked(&self) -> Result<Vec<Gtao>, SceneProblem> {
+        let mut radii = match &self.radius {
+            Radii::One(r) => vec![*r],
+            Radii::Many(list) => list.clone(),
+        };
+        if radii.is_empty() {
+            return Err(SceneProblem::field("ambient_occlusion.gtao.radius", FieldProblem::Empty(super::error::Listing::Values)));
         }
+        for &radius in &radii {
+            if !(radius > 0.0 && radius <= MAX_GTAO_RADIUS) {
+                let range = Range::Closed { low: 0.0, high: MAX_GTAO_RADIUS, each: super::error::Each::Whole };
+                let kind = FieldProblem::OutOfRange { value: Value::Number(radius), range };
+                return Err(SceneProblem::field("ambient_occlusion.gtao.radius", kind));
+            }
+        }
+        let mut seen = Vec::new();
+        radii.retain(|r| {
+            let fresh = !seen.contains(r);
+            seen.push(*r);
+            fresh
+        });
         for (field, value, high) in [("slices", self.slices, MAX_GTAO_SLICES), ("steps", self.steps, MAX_GTAO_STEPS)] {
             if !(1..=high).contains(&value) {
                 let range = Range::Integers { low: 1, high: high.into() };
@@ -139,7 +163,7 @@ impl RawGtao {
                 return Err(SceneProblem::field(format!("ambient_occlusion.gtao.{field}"), kind));
             }
         }
-        Ok(Gtao { radius: self.radius, slices: self.slices, steps: self.steps })
+        Ok(radii.into_iter().map(|radius| Gtao { radius, slices: self.slices, steps: self.steps }).collect())
     }
 }
 
@@ -171,9 +195,13 @@ mod tests {
     fn surfel_effects_parse_with_defaults_and_alone() {
         let scene = parse("{ ambient_occlusion: { passes: 3, hierarchy: true }, indirect: {} }").unwrap();
         let effects = scene.effects.unwrap();
-        assert_eq!(effects.ambient_occlusion, Some(AmbientOcclusion { passes: 3, hierarchy: true, bent_normals: false, gtao: None }));
+        assert_eq!(effects.ambient_occlusion, Some(AmbientOcclusion { passes: 3, hierarchy: true, bent_normals: false, gtao: vec![] }));
         let gtao = parse("{ ambient_occlusion: { gtao: { radius: 0.5, steps: 12 } } }").unwrap().effects.unwrap();
-        assert_eq!(gtao.ambient_occlusion.and_then(|a| a.gtao), Some(Gtao { radius: 0.5, slices: 4, steps: 12 }));
+        assert_eq!(gtao.ambient_occlusion.unwrap().gtao, [Gtao { radius: 0.5, slices: 4, steps: 12 }]);
+        // A list of radii: one configuration each, in the order written, repeats dropped.
+        let radii = parse("{ ambient_occlusion: { gtao: { radius: [2, 0.5, 2] } } }").unwrap().effects.unwrap();
+        let configurations = radii.ambient_occlusion.unwrap().gtao;
+        assert_eq!(configurations, [Gtao { radius: 2.0, slices: 4, steps: 8 }, Gtao { radius: 0.5, slices: 4, steps: 8 }]);
         assert_eq!(effects.indirect, Some(Indirect { bounces: 1 }));
         assert_eq!((effects.reflection, effects.refraction), (None, None));
         let plain = parse("{ reflection: { max_depth: 1 } }").unwrap().effects.unwrap();
@@ -295,6 +323,11 @@ mod tests {
             ("{ indirect: { bounces: 3 } }", "effects.indirect.bounces", integers(3, 1, 2)),
             ("{ ambient_occlusion: { gtao: { slices: 0 } } }", "effects.ambient_occlusion.gtao.slices", integers(0, 1, 64)),
             ("{ ambient_occlusion: { gtao: { steps: 300 } } }", "effects.ambient_occlusion.gtao.steps", integers(300, 1, 256)),
+            (
+                "{ ambient_occlusion: { gtao: { radius: [] } } }",
+                "effects.ambient_occlusion.gtao.radius",
+                FieldProblem::Empty(Listing::Values),
+            ),
             (
                 "{ ambient_occlusion: { gtao: { radius: -1 } } }",
                 "effects.ambient_occlusion.gtao.radius",

@@ -368,8 +368,9 @@ pub struct SceneSurfels {
     pub gtao: Option<SceneGtao>,
 }
 
-/// GTAO on the GPU over the scene's first frame (its `resolution`): per pixel accessibility
-/// and the largest difference from the f32 CPU twin over the covered pixels.
+/// GTAO on the GPU over the scene's first frame (its `resolution`), the scene's first GTAO
+/// configuration: per pixel accessibility and the largest difference from the f32 CPU twin
+/// over the covered pixels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneGtao {
     pub accessibility: Vec<Option<f32>>,
@@ -397,8 +398,8 @@ pub fn run_scene(
     let stage = SurfelScene::new(scene, &settings.budget)?;
     let n = stage.surfels.len();
     stats.surfels += n;
-    let passes = effects.ambient_occlusion.map_or(0, |a| a.passes);
-    let hierarchy = effects.ambient_occlusion.is_some_and(|a| a.hierarchy);
+    let passes = effects.ambient_occlusion.as_ref().map_or(0, |a| a.passes);
+    let hierarchy = effects.ambient_occlusion.as_ref().is_some_and(|a| a.hierarchy);
     let tree = hierarchy.then(|| SurfelTree::new(&stage.surfels, settings.form, settings.closeness));
     stats.tree_nodes += tree.as_ref().map_or(0, |t| t.nodes.len());
     let gather = if hierarchy { Gather::Hierarchy } else { Gather::BruteForce };
@@ -434,7 +435,7 @@ pub fn run_scene(
         }
         None => None,
     };
-    let gtao = match effects.ambient_occlusion.and_then(|a| a.gtao) {
+    let gtao = match effects.ambient_occlusion.as_ref().and_then(|a| a.gtao.first().copied()) {
         Some(g) => {
             use nklut_effects::ao::gtao::{gtao, GBuffer, Parameters};
             let [width, height] = scene.resolution;

@@ -656,7 +656,17 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
     if !ao.rows.iter().any(|r| is_gtao(ao, r)) {
         return None;
     }
-    let columns = ["pixels", "pixel_mean_error", "pixel_signed_error", "pixel_median_error", "pixel_p90_error", "pixel_p99_error", "pixel_max_error", "interactions", "cpu_ms"];
+    let columns = [
+        "pixels",
+        "pixel_mean_error",
+        "pixel_signed_error",
+        "pixel_median_error",
+        "pixel_p90_error",
+        "pixel_p99_error",
+        "pixel_max_error",
+        "interactions",
+        "cpu_ms",
+    ];
     let mut table = TableText::new(&[
         "object",
         "technique",
