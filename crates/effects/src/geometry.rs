@@ -313,12 +313,19 @@ impl Geometry {
     /// for ambient occlusion and shadow rays): the traversal stops at the first such crossing
     /// instead of searching for the nearest.
     pub fn occluded(&self, origin: DVec3, direction: DVec3) -> bool {
+        self.occluded_within(origin, direction, f64::INFINITY)
+    }
+
+    /// [`Geometry::occluded`] counting only crossings closer than `reach` (a range-limited
+    /// occlusion query: what an AO radius sees).
+    pub fn occluded_within(&self, origin: DVec3, direction: DVec3, reach: f64) -> bool {
         if !(origin.is_finite() && direction.is_finite()) {
             return false;
         }
         let escaped = self.bvh.ray_traverse_miss(Self::bvh_ray(origin, direction), |_, id| {
             let index = self.bvh.primitive_indices[id];
-            let crossed = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE);
+            let crossed =
+                self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE && c.t < reach);
             if crossed {
                 0.0
             } else {

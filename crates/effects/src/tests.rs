@@ -356,3 +356,23 @@ fn a_lossless_dispersive_sphere_in_a_white_furnace_loses_only_what_the_depth_tru
     eprintln!("largest green − blue: transmitted-angle rule {:.4}, inside-curve rule {:.4}", gap(&frame), gap(&gpu_rule));
     assert!(gap(&gpu_rule) > 0.1 && gap(&frame) < 0.02, "{} {}", gap(&gpu_rule), gap(&frame));
 }
+
+/// The camera's view space is the inverse of its rays: a point along the ray through the
+/// centre of pixel (x, y) lands, in view space, at pixel coordinates (x + ½, y + ½) by the
+/// focal length (what GTAO's G-buffer relies on), for a wide, non-square frame.
+#[test]
+fn view_space_points_project_back_to_their_pixels() {
+    let path = crate::scene::CameraPath { axis: [-0.3, 1.0, 0.1], distance: 2.4, fov_y_degrees: 55.0, ..Default::default() };
+    let camera = Camera::new(&path, 3, 37, 23);
+    let f = camera.focal_pixels();
+    for (x, y) in [(0, 0), (36, 22), (18, 11), (5, 20)] {
+        for t in [0.5, 2.0, 7.0] {
+            let p = camera.view_point(camera.eye + camera.ray(x, y) * t);
+            assert!(p.z < 0.0);
+            let px = 37.0 / 2.0 + f * p.x / -p.z;
+            let py = 23.0 / 2.0 - f * p.y / -p.z;
+            assert!((px - (x as f64 + 0.5)).abs() < 1e-9 && (py - (y as f64 + 0.5)).abs() < 1e-9, "({x}, {y}) → ({px}, {py})");
+            assert!((p.length() - t).abs() < 1e-12, "distance kept");
+        }
+    }
+}

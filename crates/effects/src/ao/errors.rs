@@ -121,6 +121,9 @@ pub struct ErrorRow {
     pub indirect_reference_mean: Option<f64>,
     /// Its mean standard error.
     pub indirect_reference_standard_error: Option<f64>,
+    /// GTAO only: the per-pixel error against a reference that counts occluders within
+    /// GTAO's radius alone (what the depth buffer misses, the radius's cut aside).
+    pub within_radius: Option<ErrorSummary>,
 }
 
 /// What to compare: the forms, the passes 1..=`passes`, and whether to run brute force
@@ -173,6 +176,7 @@ pub fn error_rows(
                     indirect_accessibility_weighted_signed_error: None,
                     indirect_reference_mean: None,
                     indirect_reference_standard_error: None,
+                    within_radius: None,
                 });
             }
         }
@@ -283,6 +287,16 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             rows.iter().map(|r| r.indirect_accessibility_weighted_signed_error).collect(),
         )
         .optional_float("indirect_reference_mean", "mean of the ray-traced one-bounce irradiance over the same vertices and channels", rows.iter().map(|r| r.indirect_reference_mean).collect())
+        .optional_float(
+            "pixel_mean_error_within_radius",
+            "gtao: mean over the covered pixels of |e| against a reference that counts occluders within the radius only (what the screen space misses, the radius's cut aside)",
+            rows.iter().map(|r| r.within_radius.map(|s| s.mean)).collect(),
+        )
+        .optional_float(
+            "pixel_signed_error_within_radius",
+            "gtao: mean over the covered pixels of e against that range-limited reference",
+            rows.iter().map(|r| r.within_radius.map(|s| s.signed_mean)).collect(),
+        )
         .optional_float(
             "indirect_reference_standard_error",
             "mean standard error of the ray-traced one-bounce irradiance",

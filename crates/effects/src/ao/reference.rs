@@ -158,8 +158,19 @@ pub fn sin_cos_of_turns(u: f64) -> (f64, f64) {
 
 /// The reference accessibility of every surfel against `geometry`.
 pub fn reference_accessibility(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> ReferenceAccessibility {
+    reference_accessibility_within(geometry, surfels, settings, f64::INFINITY)
+}
+
+/// The reference accessibility counting only occluders closer than `reach` (a range-limited
+/// reference: what an AO radius could see at best; ∞ gives [`reference_accessibility`]).
+pub fn reference_accessibility_within(
+    geometry: &Geometry,
+    surfels: &[Surfel],
+    settings: RaySettings,
+    reach: f64,
+) -> ReferenceAccessibility {
     let estimates: Vec<(f64, f64)> =
-        nklut_pipeline::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings));
+        nklut_pipeline::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings, reach));
     let (values, standard_errors) = estimates.into_iter().unzip();
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }
@@ -199,25 +210,25 @@ const RAYS_PER_PACKET: u32 = 48;
 /// (u1, u2) fall on a grid of the unit square — neighbouring cells of the square are
 /// neighbouring patches of the hemisphere under Malley's map — and each group is traced as
 /// one packet, which counts what its rays count one by one.
-fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: RaySettings) -> (f64, f64) {
+fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: RaySettings, reach: f64) -> (f64, f64) {
     let mut random = SplitMix64::new(settings.seed, stream);
     let origin = surfel.centre + surfel.normal * settings.offset;
     let rays = settings.rays.max(1);
-    let open = if settings.packets {
+    let open = if settings.packets && reach == f64::INFINITY {
         open_in_packets(geometry, origin, surfel.normal, rays, &mut random)
     } else {
-        open_one_by_one(geometry, origin, surfel.normal, rays, &mut random)
+        open_one_by_one(geometry, origin, surfel.normal, rays, reach, &mut random)
     };
     let p = open as f64 / rays as f64;
     (p, (p * (1.0 - p) / rays as f64).sqrt())
 }
 
 /// How many of `rays` cosine-weighted rays about `normal` meet nothing, traced one by one.
-fn open_one_by_one(geometry: &Geometry, origin: DVec3, normal: DVec3, rays: u32, random: &mut SplitMix64) -> usize {
+fn open_one_by_one(geometry: &Geometry, origin: DVec3, normal: DVec3, rays: u32, reach: f64, random: &mut SplitMix64) -> usize {
     (0..rays)
         .filter(|_| {
             let direction = cosine_direction(normal, random.next_f64(), random.next_f64());
-            !geometry.occluded(origin, direction)
+            !geometry.occluded_within(origin, direction, reach)
         })
         .count()
 }

@@ -723,3 +723,29 @@ fn ray_traced_bent_normal_beside_a_wall_is_the_mean_open_direction() {
     assert_eq!(blocked, vec![None]);
     assert!(angles_degrees(&[DVec3::Z], &blocked).is_empty());
 }
+
+/// The range-limited reference against the closed form GTAO's wall test uses: a floor point
+/// at distance d from a wall taller and longer than the reach R sees
+/// A = 1 − φ₀/π + d √(R² − d²) / (π R²), φ₀ = acos(d/R) (derivation in `gtao.rs`); with
+/// the reach unbounded the wall hides half the sky. 16 384 rays: σ ≤ 0.004; bound 4σ.
+#[test]
+fn the_range_limited_reference_meets_the_wall_closed_form() {
+    use super::reference::reference_accessibility_within;
+    let quad = |corners: [[f32; 3]; 4], normal: [f32; 3]| Mesh {
+        positions: corners.to_vec(),
+        normals: vec![normal; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    let floor = quad([[-20.0, 0.0, -20.0], [-20.0, 0.0, 20.0], [20.0, 0.0, 20.0], [20.0, 0.0, -20.0]], [0.0, 1.0, 0.0]);
+    let (d, r) = (0.5f64, 1.0f64);
+    let wall = quad([[0.5, -1.0, -20.0], [0.5, 20.0, -20.0], [0.5, 20.0, 20.0], [0.5, -1.0, 20.0]], [-1.0, 0.0, 0.0]);
+    let geometry = crate::geometry::Geometry::new(&[floor, wall]).unwrap();
+    let point = [Surfel { centre: DVec3::ZERO, normal: DVec3::Y, area: 0.0 }];
+    let settings = RaySettings { rays: 16_384, packets: false, ..RaySettings::default() };
+    let phi0 = (d / r).acos();
+    let expected = 1.0 - phi0 / std::f64::consts::PI + d * (r * r - d * d).sqrt() / (std::f64::consts::PI * r * r);
+    let within = reference_accessibility_within(&geometry, &point, settings, r);
+    assert!((within.values[0] - expected).abs() < 4.0 * within.standard_errors[0].max(0.001), "{} against {expected}", within.values[0]);
+    let unbounded = reference_accessibility_within(&geometry, &point, settings, f64::INFINITY);
+    assert!((unbounded.values[0] - 0.5).abs() < 4.0 * unbounded.standard_errors[0], "{}", unbounded.values[0]);
+}
