@@ -5,7 +5,8 @@
 //! 1, 2, 3 passes (and the scene's own count), and compared per object with the ray-traced
 //! reference; where the scene asks for indirect light, the surfels' one-bounce gather is
 //! compared with the ray-traced bounce. The result is the rows of `ao_errors` and pictures
-//! of the scene with no AO, 1, 2, 3 passes and the reference, side by side.
+//! of the scene with no AO, 1, 2, 3 passes and the reference, side by side, each labelled
+//! with its technique and its accessibility error per covered pixel.
 //!
 //! Lighting of a visible point x with albedo ρ (units of the scene's `light`):
 //! ρ · (Σ ambient · a(x) + Σ direct(x) + E_indirect(x)), a and E_indirect interpolated over
@@ -29,6 +30,7 @@ use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
+use crate::labels::{self, Panel};
 use crate::pictures::{Picture, SignedMap};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
@@ -453,10 +455,10 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     if indirect.is_some() {
         stats.indirect_bounces += bounces as u64 * frames.len() as u64;
     }
-    let mut row = frames;
-    row.push(truth.clone());
+    let mut panels = surfel_panels(frames, &shown, use_tree, &coverage, &reference.values);
+    panels.push(Panel { label: REFERENCE_LABEL.into(), frame: truth.clone() });
     report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
-    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&row), reference: None });
+    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: labels::side_by_side(&panels), reference: None });
     if let Some(size) = settings.hero {
         let (truth, frames) = variants(size);
         let gather = if use_tree { "tree" } else { "brute force" };
@@ -483,27 +485,48 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     Ok(report)
 }
 
-/// Frames of equal height next to each other, left to right.
-pub fn side_by_side(frames: &[TracedFrame]) -> TracedFrame {
-    let height = frames.iter().map(|f| f.height).max().unwrap_or(0);
-    let width = frames.iter().map(|f| f.width).sum();
-    let mut out = TracedFrame {
-        width,
-        height,
-        radiance: Vec::with_capacity((width * height) as usize),
-        seen: Vec::new(),
-        rays: frames.iter().map(|f| f.rays).sum(),
+/// The side-by-side picture's label of the reference panel.
+pub const REFERENCE_LABEL: &str = "ray-traced reference";
+
+/// The mean over the pixels that see a surface of |interpolated `values` − interpolated
+/// `reference`| (every object together: the figure of a whole picture); `None` where no
+/// pixel sees one.
+pub fn picture_mean_error(coverage: &[Option<PixelSample>], values: &[f64], reference: &[f64]) -> Option<f64> {
+    let errors: Vec<f64> = coverage.iter().flatten().map(|p| p.interpolate(values) - p.interpolate(reference)).collect();
+    ErrorSummary::of(&errors).map(|s| s.mean)
+}
+
+/// The label of a surfel picture: the technique ("no AO" for 0 passes) and its
+/// accessibility error per covered pixel.
+pub fn surfel_label(passes: u32, hierarchy: bool, error: Option<f64>) -> String {
+    let technique = match passes {
+        0 => "no AO".to_string(),
+        1 => format!("surfel AO, 1 pass, {}", if hierarchy { "tree" } else { "brute force" }),
+        p => format!("surfel AO, {p} passes, {}", if hierarchy { "tree" } else { "brute force" }),
     };
-    for y in 0..height {
-        for frame in frames {
-            for x in 0..frame.width {
-                let pixel = if y < frame.height { frame.radiance[(y * frame.width + x) as usize] } else { [0.0; 3] };
-                out.radiance.push(pixel);
-            }
-        }
+    match error {
+        Some(e) => format!("{technique}: mean |Δ| {e:.3}/px"),
+        None => technique,
     }
-    out.seen = vec![None; out.radiance.len()];
-    out
+}
+
+/// The side-by-side picture's panels of the shown surfel variants (no AO, 1, 2, 3 passes),
+/// each labelled with its technique and its error per covered pixel.
+fn surfel_panels(
+    frames: Vec<TracedFrame>,
+    shown: &[(&Accessibility, Option<Vec<Rgb>>)],
+    hierarchy: bool,
+    coverage: &[Option<PixelSample>],
+    reference: &[f64],
+) -> Vec<Panel> {
+    frames
+        .into_iter()
+        .zip(shown)
+        .map(|(frame, (a, _))| Panel {
+            label: surfel_label(a.passes, hierarchy, picture_mean_error(coverage, &a.values, reference)),
+            frame,
+        })
+        .collect()
 }
 
 /// One frame of the scene lit with per-vertex `lighting`.

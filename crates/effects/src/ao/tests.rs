@@ -450,7 +450,8 @@ fn surfel_counters_stay_zero_unless_the_scene_asks_for_ambient_occlusion() {
     assert!(row.indirect_mean_error.is_none());
     let stems: Vec<&str> = report.pictures.iter().map(|p| p.stem.as_str()).collect();
     assert_eq!(stems, ["ao_none", "ao_passes1", "ao_passes2", "ao_passes3", "ao_reference", "ao_side_by_side"]);
-    assert_eq!(report.pictures[5].frame.width, 5 * 8);
+    // Five panels 8 px wide, 4 px apart; too narrow for a label's character: no strip.
+    assert_eq!((report.pictures[5].frame.width, report.pictures[5].frame.height), (5 * 8 + 4 * crate::labels::GAP, 6));
 
     // With indirect light (two bounces in the pictures): every row carries the indirect
     // error, one one-bounce gather per row and `bounces` per picture.
@@ -666,4 +667,22 @@ fn ray_traced_bent_normal_beside_a_wall_is_the_mean_open_direction() {
     let blocked = reference_bent_normals(&geometry, &[Surfel { normal: DVec3::X, ..receiver }], settings);
     assert_eq!(blocked, vec![None]);
     assert!(angles_degrees(&[DVec3::Z], &blocked).is_empty());
+}
+
+/// A panel's label names the technique and its accessibility error per covered pixel: two
+/// pixels see a surface (a = 0.5 at a vertex, a = 0.75 halfway along an edge, against a
+/// reference of 0.7 everywhere: errors −0.2 and +0.05, mean |Δ| 0.125), one sees none.
+#[test]
+fn panel_labels_carry_the_error_per_covered_pixel() {
+    use super::experiment::{picture_mean_error, surfel_label, PixelSample, REFERENCE_LABEL};
+    let at = |weights: [f64; 3]| Some(PixelSample { object: 0, corners: [0, 1, 2], weights });
+    let coverage = [at([1.0, 0.0, 0.0]), None, at([0.5, 0.5, 0.0])];
+    let error = picture_mean_error(&coverage, &[0.5, 1.0, 0.0], &[0.7; 3]).unwrap();
+    assert!((error - 0.125).abs() < 1e-15, "{error}");
+    assert_eq!(picture_mean_error(&[None, None], &[0.5], &[0.7]), None);
+    assert_eq!(surfel_label(2, true, Some(error)), "surfel AO, 2 passes, tree: mean |Δ| 0.125/px");
+    assert_eq!(surfel_label(1, false, Some(0.0213)), "surfel AO, 1 pass, brute force: mean |Δ| 0.021/px");
+    assert_eq!(surfel_label(0, true, Some(0.3)), "no AO: mean |Δ| 0.300/px");
+    assert_eq!(surfel_label(3, true, None), "surfel AO, 3 passes, tree");
+    assert_eq!(REFERENCE_LABEL, "ray-traced reference");
 }
