@@ -94,6 +94,27 @@ pub fn strip_height(lines: usize) -> u32 {
     }
 }
 
+/// The width in pixels of `text` in one line.
+pub fn text_width(text: &str) -> u32 {
+    text.chars().count() as u32 * GLYPH
+}
+
+/// `text` in one line with its top-left corner at (x, y) of a `width`-pixel-wide picture
+/// of `pixels`, its ink set to `ink` (what falls outside the picture is left out).
+pub fn draw_text(pixels: &mut [[f64; 3]], width: u32, (x, y): (u32, u32), text: &str, ink: [f64; 3]) {
+    let height = pixels.len() as u32 / width.max(1);
+    for (k, c) in text.chars().enumerate() {
+        for (row, bits) in glyph(c).into_iter().enumerate() {
+            for bit in 0..GLYPH {
+                let (px, py) = (x + k as u32 * GLYPH + bit, y + row as u32);
+                if bits >> bit & 1 == 1 && px < width && py < height {
+                    pixels[(py * width + px) as usize] = ink;
+                }
+            }
+        }
+    }
+}
+
 /// One panel of a side-by-side picture: what it shows (technique and error figure) and the
 /// frame.
 #[derive(Clone, Debug)]
