@@ -44,9 +44,14 @@ pub fn columns(width: u32) -> usize {
     (width.saturating_sub(2 * MARGIN) / GLYPH) as usize
 }
 
-/// `text` in lines of at most `columns` characters, broken between words (a word longer
-/// than a line is cut at the line's end); no line for no column or no text.
+/// `text` in lines of at most `columns` characters: a new line at each `\n`, and between
+/// words where a line is full (a word longer than a line cut at the line's end); no line
+/// for no column or no text.
 pub fn wrap(text: &str, columns: usize) -> Vec<String> {
+    text.split('\n').flat_map(|paragraph| wrap_words(paragraph, columns)).collect()
+}
+
+fn wrap_words(text: &str, columns: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     if columns == 0 {
         return lines;
@@ -191,6 +196,7 @@ mod tests {
     fn words_wrap_at_the_column_count() {
         assert_eq!(wrap("surfel AO, 2 passes, tree: mean |Δ| 0.021/px", 26), ["surfel AO, 2 passes, tree:", "mean |Δ| 0.021/px"]);
         assert_eq!(wrap("abcdefgh ij", 3), ["abc", "def", "gh", "ij"]);
+        assert_eq!(wrap("no AO\nmean 0.3\n\n", 20), ["no AO", "mean 0.3"]);
         assert_eq!(wrap("  a   b ", 3), ["a b"]);
         assert!(wrap("anything", 0).is_empty() && wrap("   ", 5).is_empty());
         assert_eq!((columns(256), columns(12), columns(11), columns(0)), (31, 1, 0, 0));

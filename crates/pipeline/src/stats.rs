@@ -128,7 +128,8 @@ pub struct HistogramBins {
 /// is left out (as in [`ErrorSummary`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Histogram {
-    /// bins + 1 edges, `low` to `high`: edges[k] = low + (high − low)·k/bins.
+    /// bins + 1 edges, `low` to `high`: edges[k] = (low·(bins − k) + high·k)/bins (exact at
+    /// both ends, and at every edge a decimal range such as ±0.5 in 40 bins names).
     pub edges: Vec<f64>,
     pub counts: Vec<u64>,
     pub weights: Vec<f64>,
@@ -142,7 +143,7 @@ impl Histogram {
         if n == 0 || !low.is_finite() || !high.is_finite() || !(low < high) {
             return None;
         }
-        let edges: Vec<f64> = (0..=n).map(|k| if k == n { high } else { low + (high - low) * k as f64 / n as f64 }).collect();
+        let edges: Vec<f64> = (0..=n).map(|k| (low * (n - k) as f64 + high * k as f64) / n as f64).collect();
         let mut counts = vec![0; n];
         let mut summed = vec![0.0; n];
         for (&value, &weight) in values.iter().zip(weights) {

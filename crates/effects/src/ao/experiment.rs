@@ -23,6 +23,7 @@ use rayon::prelude::*;
 use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
 use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow};
 use super::hierarchy::{Closeness, SurfelTree};
+use super::histogram::{histogram_rows, HistogramRow};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
 use super::reference::{angles_degrees, reference_accessibility, reference_bent_normals, RaySettings};
 use super::shadow::ShadowForm;
@@ -227,6 +228,8 @@ pub struct AoReport {
     pub signed_maps: Vec<SignedMap>,
     /// The pictures' variants at the hero size, when asked for.
     pub hero: Option<HeroSet>,
+    /// The signed error's histograms per object, technique and passes: `ao_histogram`.
+    pub histograms: Vec<HistogramRow>,
 }
 
 /// Per-vertex values to light a picture with: accessibility, indirect irradiance and bent
@@ -355,6 +358,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
                 let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
                 let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
+                report.histograms.extend(histogram_rows(
+                    &object.name,
+                    technique(*hierarchy),
+                    result.passes,
+                    &errors,
+                    &areas[range.clone()],
+                    Some(&pixels),
+                ));
                 let bent_normals = reference_bent.as_ref().and_then(|truth| {
                     let surfel = ErrorSummary::of(&angles_degrees(&result.bent_normals[range.clone()], &truth[range.clone()]))?;
                     let normal = ErrorSummary::of(&angles_degrees(&plain_normals[range.clone()], &truth[range.clone()]))?;
@@ -485,6 +496,15 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     Ok(report)
 }
 
+/// The name of surfel AO's way of gathering emitters in tables and labels.
+pub fn technique(hierarchy: bool) -> &'static str {
+    if hierarchy {
+        "tree"
+    } else {
+        "brute force"
+    }
+}
+
 /// The side-by-side picture's label of the reference panel.
 pub const REFERENCE_LABEL: &str = "ray-traced reference";
 
@@ -496,16 +516,16 @@ pub fn picture_mean_error(coverage: &[Option<PixelSample>], values: &[f64], refe
     ErrorSummary::of(&errors).map(|s| s.mean)
 }
 
-/// The label of a surfel picture: the technique ("no AO" for 0 passes) and its
-/// accessibility error per covered pixel.
+/// The label of a surfel picture: the technique ("no AO" for 0 passes) and, on a line of
+/// its own, its accessibility error per covered pixel.
 pub fn surfel_label(passes: u32, hierarchy: bool, error: Option<f64>) -> String {
     let technique = match passes {
         0 => "no AO".to_string(),
-        1 => format!("surfel AO, 1 pass, {}", if hierarchy { "tree" } else { "brute force" }),
-        p => format!("surfel AO, {p} passes, {}", if hierarchy { "tree" } else { "brute force" }),
+        1 => format!("surfel AO, 1 pass, {}", technique(hierarchy)),
+        p => format!("surfel AO, {p} passes, {}", technique(hierarchy)),
     };
     match error {
-        Some(e) => format!("{technique}: mean |Δ| {e:.3}/px"),
+        Some(e) => format!("{technique}\nmean |Δ| {e:.3}/px"),
         None => technique,
     }
 }

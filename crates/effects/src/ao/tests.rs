@@ -448,6 +448,21 @@ fn surfel_counters_stay_zero_unless_the_scene_asks_for_ambient_occlusion() {
     let row = report.rows.iter().find(|r| r.mesh == "plane" && r.passes == 2 && r.hierarchy).unwrap();
     assert_eq!(row.surfels, 25);
     assert!(row.indirect_mean_error.is_none());
+    // A histogram per row and weighting (vertex, area, pixel), each counting every vertex
+    // of its object once (the pixel ones every pixel the object covers).
+    assert_eq!(report.histograms.len(), 3 * report.rows.len());
+    for h in &report.histograms {
+        let row = report
+            .rows
+            .iter()
+            .find(|r| r.mesh == h.mesh && r.passes == h.passes && super::experiment::technique(r.hierarchy) == h.technique)
+            .unwrap();
+        let expected = match h.weighting {
+            super::histogram::Weighting::Pixel => row.accessibility.per_pixel.map_or(0, |s| s.count),
+            _ => row.surfels,
+        };
+        assert_eq!(h.histogram.counts.iter().sum::<u64>() as usize, expected, "{} {} {:?}", h.mesh, h.technique, h.weighting);
+    }
     let stems: Vec<&str> = report.pictures.iter().map(|p| p.stem.as_str()).collect();
     assert_eq!(stems, ["ao_none", "ao_passes1", "ao_passes2", "ao_passes3", "ao_reference", "ao_side_by_side"]);
     // Five panels 8 px wide, 4 px apart; too narrow for a label's character: no strip.
@@ -680,9 +695,9 @@ fn panel_labels_carry_the_error_per_covered_pixel() {
     let error = picture_mean_error(&coverage, &[0.5, 1.0, 0.0], &[0.7; 3]).unwrap();
     assert!((error - 0.125).abs() < 1e-15, "{error}");
     assert_eq!(picture_mean_error(&[None, None], &[0.5], &[0.7]), None);
-    assert_eq!(surfel_label(2, true, Some(error)), "surfel AO, 2 passes, tree: mean |Δ| 0.125/px");
-    assert_eq!(surfel_label(1, false, Some(0.0213)), "surfel AO, 1 pass, brute force: mean |Δ| 0.021/px");
-    assert_eq!(surfel_label(0, true, Some(0.3)), "no AO: mean |Δ| 0.300/px");
+    assert_eq!(surfel_label(2, true, Some(error)), "surfel AO, 2 passes, tree\nmean |Δ| 0.125/px");
+    assert_eq!(surfel_label(1, false, Some(0.0213)), "surfel AO, 1 pass, brute force\nmean |Δ| 0.021/px");
+    assert_eq!(surfel_label(0, true, Some(0.3)), "no AO\nmean |Δ| 0.300/px");
     assert_eq!(surfel_label(3, true, None), "surfel AO, 3 passes, tree");
     assert_eq!(REFERENCE_LABEL, "ray-traced reference");
 }
