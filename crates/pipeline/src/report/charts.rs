@@ -548,7 +548,7 @@ pub struct HistogramChart<'a> {
     pub caption: Option<&'a str>,
 }
 
-/// A histogram chart: x over the bins' span with 5 ticks, y the share in percent from 0;
+/// A histogram chart: x over the bins' span (and a little room) with 5 ticks, y the share in percent from 0;
 /// in each bin one bar per series side by side (series k in the k-th part of the bin's
 /// width), each a `<rect class="bar">` (heights in unrounded pixels, proportional to the
 /// share) carrying its table, row, count and share as data attributes and its figures as
@@ -577,7 +577,9 @@ pub fn histogram_chart(spec: &HistogramChart, size: (u32, u32)) -> Result<String
             .margin_right(24)
             .x_label_area_size(44)
             .y_label_area_size(64)
-            .build_cartesian_2d(low..high, 0f64..top)
+            // 6 % of the span free at each side, so the first x tick's label clears the y
+            // axis's 0.
+            .build_cartesian_2d(low - 0.06 * (high - low)..high + 0.06 * (high - low), 0f64..top)
             .map_err(plot_error)?;
         chart
             .configure_mesh()
