@@ -1001,7 +1001,7 @@ struct HistogramBar {
 }
 
 /// The AO histograms on the page Chromium rendered are `ao_histogram.csv`: one chart per
-/// object and technique at the largest pass count, one bar per row of its vertex and pixel
+/// object and technique at its largest pass count, one bar per row of its vertex and pixel
 /// histograms, each bar's count the row's, its share the count over its histogram's total
 /// (recounted here from the CSV), its rendered height proportional to that share within
 /// 0.01 px, and each vertex histogram counting every surfel of its object (`ao_errors.csv`).
@@ -1020,7 +1020,9 @@ fn ao_histogram_bars_are_its_counts() {
     let bars: Vec<HistogramBar> = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"));
     let table = CsvTable::load(&out.join("ao/ao_histogram.csv")).unwrap().unwrap();
     let errors = CsvTable::load(&out.join("ao/ao_errors.csv")).unwrap().unwrap();
+    // Both techniques ran 1–3 passes: each is drawn at 3.
     let passes = table.distinct("passes").into_iter().map(|p| p.parse::<u32>().unwrap()).max().unwrap().to_string();
+    assert_eq!(passes, "3");
     // The histograms drawn: vertex and pixel, at the largest pass count, every row once.
     let drawn: Vec<usize> = (0..table.rows.len())
         .filter(|&r| {

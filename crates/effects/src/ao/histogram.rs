@@ -43,8 +43,9 @@ pub struct HistogramRow {
     pub histogram: Histogram,
 }
 
-/// The histograms of one object's per-vertex signed `errors` with its vertices' `areas`,
-/// and of its per-pixel errors where a picture was measured.
+/// The histograms of one object's per-vertex signed `errors` with its vertices' `areas`
+/// (none for no vertex error: a technique measured per pixel only), and of its per-pixel
+/// errors where a picture was measured.
 pub fn histogram_rows(
     mesh: &str,
     technique: &str,
@@ -54,7 +55,10 @@ pub fn histogram_rows(
     pixels: Option<&[f64]>,
 ) -> Vec<HistogramRow> {
     let ones = vec![1.0; errors.len()];
-    let mut measured = vec![(Weighting::Vertex, errors, ones.as_slice()), (Weighting::Area, errors, areas)];
+    let mut measured = Vec::new();
+    if !errors.is_empty() {
+        measured.extend([(Weighting::Vertex, errors, ones.as_slice()), (Weighting::Area, errors, areas)]);
+    }
     let pixel_ones = pixels.map(|p| vec![1.0; p.len()]);
     if let (Some(pixels), Some(ones)) = (pixels, &pixel_ones) {
         measured.push((Weighting::Pixel, pixels, ones.as_slice()));
@@ -117,6 +121,8 @@ mod tests {
         assert_eq!((rows[1].histogram.weights[0], rows[1].histogram.weights[20], rows[1].histogram.weights[32]), (1.0, 2.0, 5.0));
         assert_eq!(nonzero(&rows[2].histogram), [(20, 2)]);
         assert_eq!(histogram_rows("cube", "tree", 2, &[0.0], &[1.0], None).len(), 2, "no picture: no pixel histogram");
+        let per_pixel_only = histogram_rows("cube", "screen space", 0, &[], &[], Some(&[0.01]));
+        assert_eq!(per_pixel_only.iter().map(|r| r.weighting).collect::<Vec<_>>(), [Weighting::Pixel]);
 
         let table = ao_histogram_table(&rows);
         assert_eq!(table.rows(), 3 * 40);

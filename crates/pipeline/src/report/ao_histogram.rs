@@ -1,6 +1,6 @@
 //! The ambient-occlusion error histograms on the effects page, drawn from
 //! `ao_histogram.csv` (binned once by `nklut effects` with `stats::Histogram`): per object
-//! and technique at the table's largest pass count, the share of the object's vertices and
+//! and technique at the technique's largest pass count, the share of the object's vertices and
 //! of the pixels it covers in each bin of the signed error e = accessibility − reference
 //! (positive: the surfels under-occlude). Each bar is one row of the table and says which.
 
@@ -41,14 +41,17 @@ pub fn bars(table: &CsvTable, mesh: &str, technique: &str, passes: &str, weighti
         .collect()
 }
 
-/// The histograms' part of the AO section: one chart per object and technique.
+/// The largest pass count of `technique`'s rows (`None`: no row with a pass count).
+pub fn largest_passes(table: &CsvTable, technique: &str) -> Option<u64> {
+    table.rows_where("technique", technique).filter_map(|row| table.text(row, "passes").parse::<u64>().ok()).max()
+}
+
+/// The histograms' part of the AO section: one chart per object and technique, at the
+/// technique's largest pass count.
 pub fn section(html: &mut String, (path, table): (&str, &CsvTable)) -> Result<()> {
-    let Some(passes) = table.distinct("passes").into_iter().filter_map(|p| p.parse::<u64>().ok()).max() else { return Ok(()) };
-    let passes = passes.to_string();
     let _ = writeln!(
         html,
-        "<p>Distribution of e = accessibility − reference (positive: too light, the surfels under-occlude) after {} passes, per object and technique: the share of the object's vertices and of the pixels it covers in each bin (<code>{}</code>; the end bins also hold everything beyond them; the area-weighted histograms are in the table).</p>",
-        escape(&passes),
+        "<p>Distribution of e = accessibility − reference (positive: too light, the surfels under-occlude) per object and technique at its largest pass count: the share of the object's vertices and of the pixels it covers in each bin (<code>{}</code>; the end bins also hold everything beyond them; the area-weighted histograms are in the table).</p>",
         escape(path)
     );
     let legend = charts::legend(DRAWN.iter().map(|&(_, name, color)| (name, PALETTE[color], false)));
@@ -56,6 +59,8 @@ pub fn section(html: &mut String, (path, table): (&str, &CsvTable)) -> Result<()
     let mut first = true;
     for mesh in table.distinct("mesh") {
         for technique in table.distinct("technique") {
+            let Some(passes) = largest_passes(table, technique) else { continue };
+            let passes = passes.to_string();
             let series: Vec<BarSeries> = DRAWN
                 .iter()
                 .map(|&(weighting, name, color)| BarSeries {
@@ -65,7 +70,7 @@ pub fn section(html: &mut String, (path, table): (&str, &CsvTable)) -> Result<()
                 })
                 .filter(|s| !s.bars.is_empty())
                 .collect();
-            let caption = format!("{mesh}, {technique}");
+            let caption = format!("{mesh}, {technique}, {passes} passes");
             let svg = charts::histogram_chart(
                 &HistogramChart { table: path, x_name: "signed error e (accessibility)", series: &series, caption: Some(&caption) },
                 (440, 300),
