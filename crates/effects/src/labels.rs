@@ -188,9 +188,6 @@ pub fn side_by_side(panels: &[Panel]) -> TracedFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pictures::{files, Picture};
-    use nklut_pipeline::bake::files::decode;
-    use nklut_pipeline::bake::texel::{Encoding, Texels};
 
     #[test]
     fn words_wrap_at_the_column_count() {
@@ -211,81 +208,5 @@ mod tests {
         assert_eq!(glyph('é'), font8x8::legacy::LATIN_LEGACY[0xE9 - 0xA0]);
         assert_eq!(glyph('—'), glyph('-'));
         assert_eq!(glyph('→'), glyph('?'));
-    }
-
-    /// Two labelled panels (3 × 2 px of one colour, 20 × 3 of another) written as the PNG a
-    /// person opens and decoded: the sizes and places are exact, the frames' pixels are where
-    /// they belong, and every pixel of the label strips is the font's bitmap of the labels
-    /// (read here straight from the crate's tables), white on black.
-    #[test]
-    fn labels_decode_to_the_fonts_glyphs() {
-        let solid = |width: u32, height: u32, value: f64| TracedFrame {
-            width,
-            height,
-            radiance: vec![[value; 3]; (width * height) as usize],
-            seen: vec![None; (width * height) as usize],
-            rays: 1,
-        };
-        // 20 px hold 2 columns: "AΔ 7" wraps to "AΔ", "7"; 3 px hold none.
-        let panels =
-            [Panel { label: "too narrow".into(), frame: solid(3, 2, 0.5) }, Panel { label: "AΔ 7".into(), frame: solid(20, 3, 1.0) }];
-        let strip = 2 * MARGIN + LINE + GLYPH;
-        let placed = places(&panels);
-        assert_eq!(placed[0], PanelPlace { x: 0, y: strip, width: 3, height: 2, lines: vec![] });
-        assert_eq!(placed[1], PanelPlace { x: 3 + GAP, y: strip, width: 20, height: 3, lines: vec!["AΔ".into(), "7".into()] });
-        let frame = side_by_side(&panels);
-        let (width, height) = (3 + GAP + 20, strip + 3);
-        assert_eq!((frame.width, frame.height, frame.radiance.len(), frame.rays), (width, height, (width * height) as usize, 2));
-
-        let written = files("f", &[Picture { stem: "s".into(), frame, reference: None }]).unwrap();
-        let png = decode(Encoding::Unorm8Srgb, &written.iter().find(|f| f.name == "f/s.png").unwrap().bytes).unwrap();
-        let Texels::U8(bytes) = png.texels else { panic!("8-bit PNG") };
-        let pixel = |x: u32, y: u32| {
-            let i = 3 * (y * width + x) as usize;
-            [bytes[i], bytes[i + 1], bytes[i + 2]]
-        };
-        let font = |c: char| match c {
-            'Δ' => font8x8::legacy::GREEK_LEGACY[0x394 - 0x390],
-            _ => font8x8::legacy::BASIC_LEGACY[c as usize],
-        };
-        let grey = nklut_optics::color::srgb::srgb8(GAP_RADIANCE);
-        let half = nklut_optics::color::srgb::srgb8([0.5; 3]);
-        for y in 0..height {
-            for x in 0..width {
-                let expected = if (3..3 + GAP).contains(&x) {
-                    grey
-                } else if x < 3 {
-                    // The narrow panel: an empty strip, its frame, black below it.
-                    if (strip..strip + 2).contains(&y) {
-                        half
-                    } else {
-                        [0; 3]
-                    }
-                } else if y >= strip {
-                    [255; 3]
-                } else {
-                    let (px, py) = (x - 3 - GAP, y);
-                    let ink = match (px.checked_sub(MARGIN), py.checked_sub(MARGIN)) {
-                        (Some(gx), Some(gy)) if gx < 16 && gy % LINE < GLYPH => {
-                            let text = if gy < LINE { ['A', 'Δ'].get((gx / 8) as usize) } else { ['7'].get((gx / 8) as usize) };
-                            text.is_some_and(|&c| font(c)[(gy % LINE) as usize] & (1 << (gx % 8)) != 0)
-                        }
-                        _ => false,
-                    };
-                    if ink {
-                        [255; 3]
-                    } else {
-                        [0; 3]
-                    }
-                };
-                assert_eq!(pixel(x, y), expected, "pixel ({x}, {y})");
-            }
-        }
-        // Some ink was drawn: 'A' has 28 set bits in the font, 'Δ' and '7' more than none.
-        let inked_pixels =
-            (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).filter(|&(x, y)| y < strip && pixel(x, y) == [255; 3]).count();
-        let set_bits = |c: char| font(c).iter().map(|r| r.count_ones() as usize).sum::<usize>();
-        assert_eq!(set_bits('A'), 28);
-        assert_eq!(inked_pixels, set_bits('A') + set_bits('Δ') + set_bits('7'));
     }
 }

@@ -339,4 +339,86 @@ mod tests {
         // |Δ| = 0.1 at the first pixel: white; none at the second: black.
         assert_eq!(error.texels, Texels::U8(vec![255, 255, 255, 0, 0, 0]));
     }
+
+    /// The labels module's side-by-side picture with two labelled panels (3 × 2 px of one colour, 20 × 3 of another) written as the PNG a
+    /// person opens and decoded: the sizes and places are exact, the frames' pixels are where
+    /// they belong, and every pixel of the label strips is the font's bitmap of the labels
+    /// (read here straight from the crate's tables), white on black.
+    #[test]
+    fn labels_decode_to_the_fonts_glyphs() {
+        let solid = |width: u32, height: u32, value: f64| TracedFrame {
+            width,
+            height,
+            radiance: vec![[value; 3]; (width * height) as usize],
+            seen: vec![None; (width * height) as usize],
+            rays: 1,
+        };
+        // 20 px hold 2 columns: "AΔ 7" wraps to "AΔ", "7"; 3 px hold none.
+        let panels = [
+            labels::Panel { label: "too narrow".into(), frame: solid(3, 2, 0.5) },
+            labels::Panel { label: "AΔ 7".into(), frame: solid(20, 3, 1.0) },
+        ];
+        let strip = 2 * labels::MARGIN + labels::LINE + labels::GLYPH;
+        let placed = labels::places(&panels);
+        assert_eq!(placed[0], labels::PanelPlace { x: 0, y: strip, width: 3, height: 2, lines: vec![] });
+        assert_eq!(
+            placed[1],
+            labels::PanelPlace { x: 3 + labels::GAP, y: strip, width: 20, height: 3, lines: vec!["AΔ".into(), "7".into()] }
+        );
+        let frame = labels::side_by_side(&panels);
+        let (width, height) = (3 + labels::GAP + 20, strip + 3);
+        assert_eq!((frame.width, frame.height, frame.radiance.len(), frame.rays), (width, height, (width * height) as usize, 2));
+
+        let written = files("f", &[Picture { stem: "s".into(), frame, reference: None }]).unwrap();
+        let png = nklut_pipeline::bake::files::decode(Encoding::Unorm8Srgb, &written.iter().find(|f| f.name == "f/s.png").unwrap().bytes)
+            .unwrap();
+        let Texels::U8(bytes) = png.texels else { panic!("8-bit PNG") };
+        let pixel = |x: u32, y: u32| {
+            let i = 3 * (y * width + x) as usize;
+            [bytes[i], bytes[i + 1], bytes[i + 2]]
+        };
+        let font = |c: char| match c {
+            'Δ' => font8x8::legacy::GREEK_LEGACY[0x394 - 0x390],
+            _ => font8x8::legacy::BASIC_LEGACY[c as usize],
+        };
+        let grey = nklut_optics::color::srgb::srgb8(labels::GAP_RADIANCE);
+        let half = nklut_optics::color::srgb::srgb8([0.5; 3]);
+        for y in 0..height {
+            for x in 0..width {
+                let expected = if (3..3 + labels::GAP).contains(&x) {
+                    grey
+                } else if x < 3 {
+                    // The narrow panel: an empty strip, its frame, black below it.
+                    if (strip..strip + 2).contains(&y) {
+                        half
+                    } else {
+                        [0; 3]
+                    }
+                } else if y >= strip {
+                    [255; 3]
+                } else {
+                    let (px, py) = (x - 3 - labels::GAP, y);
+                    let ink = match (px.checked_sub(labels::MARGIN), py.checked_sub(labels::MARGIN)) {
+                        (Some(gx), Some(gy)) if gx < 16 && gy % labels::LINE < labels::GLYPH => {
+                            let text = if gy < labels::LINE { ['A', 'Δ'].get((gx / 8) as usize) } else { ['7'].get((gx / 8) as usize) };
+                            text.is_some_and(|&c| font(c)[(gy % labels::LINE) as usize] & (1 << (gx % 8)) != 0)
+                        }
+                        _ => false,
+                    };
+                    if ink {
+                        [255; 3]
+                    } else {
+                        [0; 3]
+                    }
+                };
+                assert_eq!(pixel(x, y), expected, "pixel ({x}, {y})");
+            }
+        }
+        // Some ink was drawn: 'A' has 28 set bits in the font, 'Δ' and '7' more than none.
+        let inked_pixels =
+            (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).filter(|&(x, y)| y < strip && pixel(x, y) == [255; 3]).count();
+        let set_bits = |c: char| font(c).iter().map(|r| r.count_ones() as usize).sum::<usize>();
+        assert_eq!(set_bits('A'), 28);
+        assert_eq!(inked_pixels, set_bits('A') + set_bits('Δ') + set_bits('7'));
+    }
 }
