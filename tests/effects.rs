@@ -125,7 +125,8 @@ fn shipped_ao_scenes_parse_and_name_surfel_effects() {
 /// columns.json) with a row per object, pass count (1–3) and way of gathering (brute force
 /// and tree), finite numbers and the indirect columns filled; the pictures (no AO, 1, 2, 3
 /// passes with error images, the reference, side by side, the signed accessibility error of
-/// 1, 2, 3 passes with their colour bar); no page read and no
+/// 1, 2, 3 passes above their legend, and the legend alone); the error histograms
+/// (`ao_histogram`); no page read and no
 /// effects_errors (the scene names no reflection).
 #[test]
 fn effects_command_measures_ambient_occlusion_against_the_reference() {
@@ -162,6 +163,30 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
         assert_eq!(&row[column("defect_vertices")], "0", "cubes are closed and consistently wound");
     }
     assert!(out.join("ao_errors.parquet").exists() && out.join("ao_errors.columns.json").exists());
+    // The histograms: per row of ao_errors, 40 bins per vertex, area and pixel weighting;
+    // each vertex histogram counts its object's surfels.
+    let (histogram_headers, bins) = read_csv(&out.join("ao_histogram.csv"));
+    assert_eq!(bins.len(), rows.len() * 3 * 40);
+    let at = |name: &str| histogram_headers.iter().position(|h| h == name).unwrap_or_else(|| panic!("{name}"));
+    for row in &rows {
+        let technique = if &row[column("hierarchy")] == "true" { "tree" } else { "brute force" };
+        let counted: u64 = bins
+            .iter()
+            .filter(|b| {
+                b[at("mesh")] == row[column("mesh")]
+                    && &b[at("technique")] == technique
+                    && b[at("passes")] == row[column("passes")]
+                    && &b[at("weighting")] == "vertex"
+            })
+            .map(|b| b[at("count")].parse::<u64>().unwrap())
+            .sum();
+        assert_eq!(counted, row[column("surfels")].parse::<u64>().unwrap());
+    }
+    assert!(out.join("ao_histogram.parquet").exists() && out.join("ao_histogram.columns.json").exists());
+    // A signed map above its legend, at least as wide as the legend's text.
+    let signed = image::open(out.join("ao_frames/ao_passes2_signed.png")).unwrap();
+    let legend = nklut::effects::pictures::LEGEND_HEIGHT;
+    assert_eq!((signed.width(), signed.height()), (nklut::effects::pictures::LEGEND_WIDTH, 8 + legend));
     assert!(!out.join("effects_errors.csv").exists());
     let mut pictures: Vec<String> =
         std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();

@@ -41,6 +41,7 @@ const CRATES: [Layers; 3] = [
             "spectral",
             "distance_map",
             "image_error",
+            "labels",
             "pictures",
             "hero",
             "experiment",

@@ -997,3 +997,93 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
     let ours: Vec<&str> = study.iter().filter(|r| r[2] == "measured here").map(|r| r[0].as_str().unwrap()).collect();
     assert_eq!(ours, expected.keys().map(String::as_str).collect::<Vec<_>>());
 }
+
+/// Reads every bar of the AO histograms off the rendered effects page: its chart's object,
+/// technique and passes, its table row, series, count and share, and its rendered height.
+const HISTOGRAM_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const out=[];
+for(const f of document.querySelectorAll('figure.histogram'))for(const b of f.querySelectorAll('rect.bar'))out.push({mesh:f.dataset.mesh,technique:f.dataset.technique,passes:f.dataset.passes,table:b.dataset.table,row:parseInt(b.dataset.row),series:b.dataset.series,count:parseInt(b.dataset.count),share:parseFloat(b.dataset.share),height:b.getBoundingClientRect().height});
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+#[derive(serde::Deserialize, Debug)]
+struct HistogramBar {
+    mesh: String,
+    technique: String,
+    passes: String,
+    table: String,
+    row: usize,
+    series: String,
+    count: u64,
+    share: f64,
+    height: f64,
+}
+
+/// The AO histograms on the page Chromium rendered are `ao_histogram.csv`: one chart per
+/// object and technique at its largest pass count, one bar per row of its vertex and pixel
+/// histograms, each bar's count the row's, its share the count over its histogram's total
+/// (recounted here from the CSV), its rendered height proportional to that share within
+/// 0.01 px, and each vertex histogram counting every surfel of its object (`ao_errors.csv`).
+#[test]
+fn ao_histogram_bars_are_its_counts() {
+    let out = scratch("effects-histogram");
+    stages(&out, &["3d/metals/gold"], &[]);
+    let file = out.join("ao.yaml");
+    fs::write(&file, AO_SCENE).unwrap();
+    let output = nklut(&out.join("ao"), &["effects", "--ao-rays", "16", &file.display().to_string()]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let page = out.join("report/effects.html");
+    let json = audit_json(&page, &out.join("chromium-profile"), HISTOGRAM_SCRIPT, 1400);
+    let bars: Vec<HistogramBar> = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"));
+    let table = CsvTable::load(&out.join("ao/ao_histogram.csv")).unwrap().unwrap();
+    let errors = CsvTable::load(&out.join("ao/ao_errors.csv")).unwrap().unwrap();
+    // Both techniques ran 1–3 passes: each is drawn at 3.
+    let passes = table.distinct("passes").into_iter().map(|p| p.parse::<u32>().unwrap()).max().unwrap().to_string();
+    assert_eq!(passes, "3");
+    // The histograms drawn: vertex and pixel, at the largest pass count, every row once.
+    let drawn: Vec<usize> = (0..table.rows.len())
+        .filter(|&r| {
+            let row = &table.rows[r];
+            table.text(row, "passes") == passes && ["vertex", "pixel"].contains(&table.text(row, "weighting"))
+        })
+        .collect();
+    let mut rows: Vec<usize> = bars.iter().map(|b| b.row).collect();
+    rows.sort_unstable();
+    assert_eq!(rows, drawn, "one bar per row of the drawn histograms");
+    let meshes = table.distinct("mesh").len();
+    assert_eq!(meshes, 2, "sphere and slab");
+    assert_eq!(drawn.len(), meshes * 2 * 2 * 40, "objects × techniques × (vertex, pixel) × 40 bins");
+    let key = |r: usize, what: &str| table.text(&table.rows[r], what).to_string();
+    // Each histogram's total count, from the CSV.
+    let mut totals: BTreeMap<(String, String, String), u64> = BTreeMap::new();
+    for &r in &drawn {
+        *totals.entry((key(r, "mesh"), key(r, "technique"), key(r, "weighting"))).or_default() += key(r, "count").parse::<u64>().unwrap();
+    }
+    let mut pixels_per_share: BTreeMap<(String, String), f64> = BTreeMap::new();
+    for bar in &bars {
+        assert_eq!(bar.table, "ao/ao_histogram.csv");
+        let r = bar.row;
+        assert_eq!(
+            (bar.mesh.as_str(), bar.technique.as_str(), bar.passes.as_str()),
+            (key(r, "mesh").as_str(), key(r, "technique").as_str(), passes.as_str())
+        );
+        assert_eq!(bar.series, if key(r, "weighting") == "vertex" { "per vertex" } else { "per covered pixel" });
+        assert_eq!(bar.count, key(r, "count").parse::<u64>().unwrap(), "row {r}");
+        let total = totals[&(key(r, "mesh"), key(r, "technique"), key(r, "weighting"))];
+        let share = bar.count as f64 / total as f64;
+        assert!((bar.share - share).abs() < 1e-12, "row {r}: share {} against {share}", bar.share);
+        // Heights in one chart are proportional to the shares: the tallest bar sets the scale.
+        let tallest =
+            bars.iter().filter(|b| b.mesh == bar.mesh && b.technique == bar.technique).max_by(|a, b| a.share.total_cmp(&b.share)).unwrap();
+        let scale = *pixels_per_share.entry((bar.mesh.clone(), bar.technique.clone())).or_insert(tallest.height / tallest.share);
+        assert!(scale > 100.0, "the tallest bar is drawn ({} px for {})", tallest.height, tallest.share);
+        assert!((bar.height - share * scale).abs() < 0.01, "row {r}: {} px for share {share} at {scale} px per share", bar.height);
+    }
+    // A vertex histogram counts every surfel of its object once.
+    for ((mesh, technique, weighting), total) in &totals {
+        if weighting == "vertex" {
+            let row = errors.rows.iter().find(|row| errors.text(row, "mesh") == mesh).unwrap();
+            assert_eq!(*total, errors.text(row, "surfels").parse::<u64>().unwrap(), "{mesh} {technique}");
+        }
+    }
+}

@@ -223,7 +223,10 @@ fn run_family(
             settings.rays.rays = request.ao_rays;
             let report = super::ao::experiment::run(scene, &settings, stats, &mut |line| log(line))?;
             Ok(FamilyOutput {
-                tables: vec![(super::ao::errors::ao_errors_table(&report.rows), "ao_errors")],
+                tables: vec![
+                    (super::ao::errors::ao_errors_table(&report.rows), "ao_errors"),
+                    (super::ao::histogram::ao_histogram_table(&report.histograms), "ao_histogram"),
+                ],
                 pictures: [
                     super::pictures::files("ao_frames", &report.pictures)?,
                     super::pictures::signed_files("ao_frames", &report.signed_maps)?,

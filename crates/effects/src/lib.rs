@@ -16,6 +16,8 @@
 //! - [`image_error`]: a frame against its reference.
 //! - [`packet`]: packets of rays from one origin traced together for occlusion (the
 //!   ambient-occlusion reference's hemisphere rays).
+//! - [`labels`]: text burned into pictures (8 × 8 bitmap font): labelled panels side by
+//!   side, the signed maps' legends.
 //! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
@@ -40,6 +42,7 @@ pub mod experiment;
 pub mod geometry;
 pub mod hero;
 pub mod image_error;
+pub mod labels;
 pub mod optics;
 pub mod packet;
 pub mod pictures;

@@ -10,6 +10,9 @@
 //! sorted values sit at the centres of their weights, c_k = Σ_{i<k} w_i + w_k/2, rescaled so
 //! the first sits at 0 and the last at 1, and q is interpolated linearly between them; with
 //! equal weights c_k is (k − ½)·w and the positions are k/(n − 1), the type-7 ones.
+//!
+//! Histograms ([`Histogram`]) of the same weighted signed errors: equal bins over a range,
+//! counts and summed weights per bin, values beyond the range counted in the end bins.
 
 /// Linear-interpolated quantile `q` ∈ [0, 1] of sorted values (NaN for none).
 pub fn quantile(sorted: &[f64], q: f64) -> f64 {
@@ -110,9 +113,112 @@ impl ErrorSummary {
     }
 }
 
+/// The bins of a histogram: `bins` equal bins from `low` to `high`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HistogramBins {
+    pub low: f64,
+    pub high: f64,
+    pub bins: usize,
+}
+
+/// A weighted histogram of signed errors over [`HistogramBins`]: per bin how many entries
+/// fall in it and their summed weight; bin k holds edges[k] ≤ e < edges[k + 1], a value
+/// below `low` is counted in the first bin and one at or above `high` in the last (none is
+/// lost), and an entry with a non-finite value or a weight that is not positive and finite
+/// is left out (as in [`ErrorSummary`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Histogram {
+    /// bins + 1 edges, `low` to `high`: edges[k] = (low·(bins − k) + high·k)/bins (exact at
+    /// both ends, and at every edge a decimal range such as ±0.5 in 40 bins names).
+    pub edges: Vec<f64>,
+    pub counts: Vec<u64>,
+    pub weights: Vec<f64>,
+}
+
+impl Histogram {
+    /// The histogram of `values` with `weights` (one per value); `None` for bins that are
+    /// not a finite, increasing range of at least one bin.
+    pub fn weighted(values: &[f64], weights: &[f64], bins: HistogramBins) -> Option<Histogram> {
+        let HistogramBins { low, high, bins: n } = bins;
+        if n == 0 || !low.is_finite() || !high.is_finite() || !(low < high) {
+            return None;
+        }
+        let edges: Vec<f64> = (0..=n).map(|k| (low * (n - k) as f64 + high * k as f64) / n as f64).collect();
+        let mut counts = vec![0; n];
+        let mut summed = vec![0.0; n];
+        for (&value, &weight) in values.iter().zip(weights) {
+            if !(value.is_finite() && weight.is_finite() && weight > 0.0) {
+                continue;
+            }
+            // The bin of the last edge at or below the value (edges are increasing), clamped.
+            let bin = edges.partition_point(|&edge| edge <= value).saturating_sub(1).min(n - 1);
+            counts[bin] += 1;
+            summed[bin] += weight;
+        }
+        Some(Histogram { edges, counts, weights: summed })
+    }
+
+    /// The histogram with every value weighted 1.
+    pub fn of(values: &[f64], bins: HistogramBins) -> Option<Histogram> {
+        Histogram::weighted(values, &vec![1.0; values.len()], bins)
+    }
+
+    /// The summed weight of every bin.
+    pub fn total_weight(&self) -> f64 {
+        self.weights.iter().sum()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Four bins over [−1, 1) (edges −1, −0.5, 0, 0.5, 1): −3 and −1 in the first (below the
+    /// range, at its low edge), −0.5 in the second (a value on an edge belongs to the bin it
+    /// opens), −0.2 too; 0 and 0.25 in the third; 0.5, 0.9, 1 and 7 in the last (at or above
+    /// the high edge counted there); NaN and ±∞ left out.
+    #[test]
+    fn histogram_of_a_hand_made_list() {
+        let bins = HistogramBins { low: -1.0, high: 1.0, bins: 4 };
+        let values = [-3.0, -1.0, -0.5, -0.2, 0.0, 0.25, 0.5, 0.9, 1.0, 7.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+        let h = Histogram::of(&values, bins).unwrap();
+        assert_eq!(h.edges, [-1.0, -0.5, 0.0, 0.5, 1.0]);
+        assert_eq!(h.counts, [2, 2, 2, 4]);
+        assert_eq!(h.weights, [2.0, 2.0, 2.0, 4.0]);
+        assert_eq!(h.total_weight(), 10.0);
+        // Area weights: a weight of 0, negative or NaN leaves its entry out; the rest sum.
+        let weights = [0.5, 0.25, 2.0, 0.0, 1.5, -1.0, 0.125, f64::NAN, 3.0, 1.0, 1.0, 1.0, 1.0];
+        let w = Histogram::weighted(&values, &weights, bins).unwrap();
+        assert_eq!(w.counts, [2, 1, 1, 3]);
+        assert_eq!(w.weights, [0.75, 2.0, 1.5, 4.125]);
+        // Bins that are no range: none.
+        for bad in [
+            HistogramBins { low: 0.0, high: 1.0, bins: 0 },
+            HistogramBins { low: 1.0, high: 1.0, bins: 2 },
+            HistogramBins { low: 1.0, high: -1.0, bins: 2 },
+            HistogramBins { low: f64::NAN, high: 1.0, bins: 2 },
+            HistogramBins { low: 0.0, high: f64::INFINITY, bins: 2 },
+        ] {
+            assert_eq!(Histogram::of(&values, bad), None, "{bad:?}");
+        }
+        assert_eq!(Histogram::of(&[], bins).unwrap().counts, [0; 4]);
+    }
+
+    proptest::proptest! {
+        /// Every finite value is counted once, in the bin whose edges hold it (the end bins
+        /// also holding what lies beyond).
+        #[test]
+        fn every_value_lands_in_its_bin(values in proptest::collection::vec(-3.0f64..3.0, 0..200), bins in 1usize..50) {
+            let h = Histogram::of(&values, HistogramBins { low: -1.0, high: 2.0, bins }).unwrap();
+            proptest::prop_assert_eq!(h.counts.iter().sum::<u64>(), values.len() as u64);
+            for k in 0..bins {
+                let inside = values.iter().filter(|&&v| {
+                    (k == 0 || v >= h.edges[k]) && (k == bins - 1 || v < h.edges[k + 1])
+                }).count() as u64;
+                proptest::prop_assert_eq!(h.counts[k], inside, "bin {}", k);
+            }
+        }
+    }
 
     /// A hand-made list: errors −0.3, 0.1, −0.2, 0.5, 0.0 (|e| sorted 0, 0.1, 0.2, 0.3, 0.5 at
     /// positions 0, ¼, ½, ¾, 1). Mean |e| 1.1/5 = 0.22, signed mean 0.1/5 = 0.02, median

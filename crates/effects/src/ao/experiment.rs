@@ -5,7 +5,8 @@
 //! 1, 2, 3 passes (and the scene's own count), and compared per object with the ray-traced
 //! reference; where the scene asks for indirect light, the surfels' one-bounce gather is
 //! compared with the ray-traced bounce. The result is the rows of `ao_errors` and pictures
-//! of the scene with no AO, 1, 2, 3 passes and the reference, side by side.
+//! of the scene with no AO, 1, 2, 3 passes and the reference, side by side, each labelled
+//! with its technique and its accessibility error per covered pixel.
 //!
 //! Lighting of a visible point x with albedo ρ (units of the scene's `light`):
 //! ρ · (Σ ambient · a(x) + Σ direct(x) + E_indirect(x)), a and E_indirect interpolated over
@@ -23,6 +24,7 @@ use super::accessibility::{accessibility_by_pass, Accessibility, BruteForce};
 use super::errors::{signed_differences, AccessibilityErrors, BentNormalErrors, ErrorRow, Technique};
 use super::gtao::{gtao, GBuffer, Parameters};
 use super::hierarchy::{Closeness, SurfelTree};
+use super::histogram::{histogram_rows, HistogramRow};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
 use super::reference::{angles_degrees, reference_accessibility, reference_accessibility_within, reference_bent_normals, RaySettings};
 use super::shadow::ShadowForm;
@@ -30,6 +32,7 @@ use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
 use crate::geometry::Geometry;
 use crate::hero::{ErrorMask, HeroPanel, HeroSet};
+use crate::labels::{self, Panel};
 use crate::pictures::{Picture, SignedMap};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
@@ -226,6 +229,8 @@ pub struct AoReport {
     pub signed_maps: Vec<SignedMap>,
     /// The pictures' variants at the hero size, when asked for.
     pub hero: Option<HeroSet>,
+    /// The signed error's histograms per object, technique and passes: `ao_histogram`.
+    pub histograms: Vec<HistogramRow>,
 }
 
 /// Accessibility to light a picture with: per vertex (surfels, the reference), or per
@@ -363,6 +368,14 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                 let errors = signed_differences(&result.values[range.clone()], &reference.values[range.clone()]);
                 let pixels = pixel_errors(&coverage, index, &result.values, &reference.values);
                 let accessibility = AccessibilityErrors::new(&errors, &areas[range.clone()], &stage.defects[range.clone()], Some(&pixels));
+                report.histograms.extend(histogram_rows(
+                    &object.name,
+                    technique(*hierarchy),
+                    result.passes,
+                    &errors,
+                    &areas[range.clone()],
+                    Some(&pixels),
+                ));
                 let bent_normals = reference_bent.as_ref().and_then(|truth| {
                     let surfel = ErrorSummary::of(&angles_degrees(&result.bent_normals[range.clone()], &truth[range.clone()]))?;
                     let normal = ErrorSummary::of(&angles_degrees(&plain_normals[range.clone()], &truth[range.clone()]))?;
@@ -563,15 +576,25 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     if indirect.is_some() {
         stats.indirect_bounces += bounces as u64 * frames.len() as u64;
     }
-    let mut row = frames;
-    if let Some(values) = &gtao_values {
+    let mut panels = surfel_panels(frames, &shown, use_tree, &coverage, &reference.values);
+    if let (Some(values), Some(g)) = (&gtao_values, gtao_settings.first()) {
         let frame = gtao_picture(&camera, values);
         report.pictures.push(Picture { stem: "ao_gtao".into(), frame: frame.clone(), reference: Some(truth.clone()) });
-        row.push(frame);
+        let errors: Vec<f64> = coverage
+            .iter()
+            .zip(values)
+            .filter_map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
+            .collect();
+        let label = format!("GTAO, radius {}, {}×{}", g.radius, g.slices, g.steps);
+        let label = match ErrorSummary::of(&errors) {
+            Some(e) => format!("{label}\nmean |Δ| {:.3}/px", e.mean),
+            None => label,
+        };
+        panels.push(Panel { label, frame });
     }
-    row.push(truth.clone());
+    panels.push(Panel { label: REFERENCE_LABEL.into(), frame: truth.clone() });
     report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
-    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: side_by_side(&row), reference: None });
+    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: labels::side_by_side(&panels), reference: None });
     if let Some(size) = settings.hero {
         let (truth, frames) = variants(size);
         let gather = if use_tree { "tree" } else { "brute force" };
@@ -629,27 +652,57 @@ fn gtao_frame(stage: &SurfelScene, camera: &Camera, coverage: &[Option<PixelSamp
     GtaoFrame { values, reads: covered * g.slices as u64 * 2 * g.steps as u64, cpu_ms }
 }
 
-/// Frames of equal height next to each other, left to right.
-pub fn side_by_side(frames: &[TracedFrame]) -> TracedFrame {
-    let height = frames.iter().map(|f| f.height).max().unwrap_or(0);
-    let width = frames.iter().map(|f| f.width).sum();
-    let mut out = TracedFrame {
-        width,
-        height,
-        radiance: Vec::with_capacity((width * height) as usize),
-        seen: Vec::new(),
-        rays: frames.iter().map(|f| f.rays).sum(),
-    };
-    for y in 0..height {
-        for frame in frames {
-            for x in 0..frame.width {
-                let pixel = if y < frame.height { frame.radiance[(y * frame.width + x) as usize] } else { [0.0; 3] };
-                out.radiance.push(pixel);
-            }
-        }
+/// The name of surfel AO's way of gathering emitters in tables and labels.
+pub fn technique(hierarchy: bool) -> &'static str {
+    if hierarchy {
+        "tree"
+    } else {
+        "brute force"
     }
-    out.seen = vec![None; out.radiance.len()];
-    out
+}
+
+/// The side-by-side picture's label of the reference panel.
+pub const REFERENCE_LABEL: &str = "ray-traced reference";
+
+/// The mean over the pixels that see a surface of |interpolated `values` − interpolated
+/// `reference`| (every object together: the figure of a whole picture); `None` where no
+/// pixel sees one.
+pub fn picture_mean_error(coverage: &[Option<PixelSample>], values: &[f64], reference: &[f64]) -> Option<f64> {
+    let errors: Vec<f64> = coverage.iter().flatten().map(|p| p.interpolate(values) - p.interpolate(reference)).collect();
+    ErrorSummary::of(&errors).map(|s| s.mean)
+}
+
+/// The label of a surfel picture: the technique ("no AO" for 0 passes) and, on a line of
+/// its own, its accessibility error per covered pixel.
+pub fn surfel_label(passes: u32, hierarchy: bool, error: Option<f64>) -> String {
+    let technique = match passes {
+        0 => "no AO".to_string(),
+        1 => format!("surfel AO, 1 pass, {}", technique(hierarchy)),
+        p => format!("surfel AO, {p} passes, {}", technique(hierarchy)),
+    };
+    match error {
+        Some(e) => format!("{technique}\nmean |Δ| {e:.3}/px"),
+        None => technique,
+    }
+}
+
+/// The side-by-side picture's panels of the shown surfel variants (no AO, 1, 2, 3 passes),
+/// each labelled with its technique and its error per covered pixel.
+fn surfel_panels(
+    frames: Vec<TracedFrame>,
+    shown: &[(&Accessibility, Option<Vec<Rgb>>)],
+    hierarchy: bool,
+    coverage: &[Option<PixelSample>],
+    reference: &[f64],
+) -> Vec<Panel> {
+    frames
+        .into_iter()
+        .zip(shown)
+        .map(|(frame, (a, _))| Panel {
+            label: surfel_label(a.passes, hierarchy, picture_mean_error(coverage, &a.values, reference)),
+            frame,
+        })
+        .collect()
 }
 
 /// One frame of the scene lit with per-vertex `lighting`.

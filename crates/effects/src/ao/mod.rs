@@ -10,6 +10,8 @@
 //! - [`accessibility`]: accessibility by brute force over every emitter, in passes (pass k
 //!   weights each emitter by its accessibility of pass k − 1), and bent normals.
 //! - [`errors`]: the `ao_errors` rows (error per mesh, g, passes, hierarchy) and table.
+//! - [`histogram`]: the `ao_histogram` table (the signed error's distribution per object,
+//!   technique and passes; per vertex, per area and per pixel).
 //! - [`experiment`]: a scene's surfel effects: surfels of every placed object, accessibility
 //!   against the reference per object (brute force and tree, 1–3 passes), indirect light's
 //!   error, and pictures with no AO, 1, 2, 3 passes and the reference.
@@ -31,6 +33,7 @@ pub mod errors;
 pub mod experiment;
 pub mod gtao;
 pub mod hierarchy;
+pub mod histogram;
 pub mod indirect;
 pub mod reference;
 pub mod shadow;

@@ -448,9 +448,25 @@ fn surfel_counters_stay_zero_unless_the_scene_asks_for_ambient_occlusion() {
     let row = report.rows.iter().find(|r| r.mesh == "plane" && r.passes == 2 && r.hierarchy).unwrap();
     assert_eq!(row.surfels, 25);
     assert!(row.indirect_mean_error.is_none());
+    // A histogram per row and weighting (vertex, area, pixel), each counting every vertex
+    // of its object once (the pixel ones every pixel the object covers).
+    assert_eq!(report.histograms.len(), 3 * report.rows.len());
+    for h in &report.histograms {
+        let row = report
+            .rows
+            .iter()
+            .find(|r| r.mesh == h.mesh && r.passes == h.passes && super::experiment::technique(r.hierarchy) == h.technique)
+            .unwrap();
+        let expected = match h.weighting {
+            super::histogram::Weighting::Pixel => row.accessibility.per_pixel.map_or(0, |s| s.count),
+            _ => row.surfels,
+        };
+        assert_eq!(h.histogram.counts.iter().sum::<u64>() as usize, expected, "{} {} {:?}", h.mesh, h.technique, h.weighting);
+    }
     let stems: Vec<&str> = report.pictures.iter().map(|p| p.stem.as_str()).collect();
     assert_eq!(stems, ["ao_none", "ao_passes1", "ao_passes2", "ao_passes3", "ao_reference", "ao_side_by_side"]);
-    assert_eq!(report.pictures[5].frame.width, 5 * 8);
+    // Five panels 8 px wide, 4 px apart; too narrow for a label's character: no strip.
+    assert_eq!((report.pictures[5].frame.width, report.pictures[5].frame.height), (5 * 8 + 4 * crate::labels::GAP, 6));
 
     // With indirect light (two bounces in the pictures): every row carries the indirect
     // error, one one-bounce gather per row and `bounces` per picture.
@@ -513,7 +529,7 @@ fn gtao_rows_sit_beside_the_surfel_rows_on_the_same_pixels() {
     assert_eq!(gtao[0].interactions, covered as u64 * 2 * 2 * 3);
     let stems: Vec<&str> = report.pictures.iter().map(|p| p.stem.as_str()).collect();
     assert_eq!(stems, ["ao_none", "ao_passes1", "ao_passes2", "ao_passes3", "ao_gtao", "ao_reference", "ao_side_by_side"]);
-    assert_eq!(report.pictures[6].frame.width, 6 * 24);
+    assert_eq!(report.pictures[6].frame.width, 6 * 24 + 5 * crate::labels::GAP, "six panels: no AO, 3 passes, GTAO, the reference");
     assert!(report.signed_maps.iter().any(|m| m.stem == "ao_gtao_signed"));
     let table = ao_errors_table(&report.rows);
     assert!(table.column("technique").is_some() && table.column("gtao_radius").is_some());
@@ -748,4 +764,22 @@ fn the_range_limited_reference_meets_the_wall_closed_form() {
     assert!((within.values[0] - expected).abs() < 4.0 * within.standard_errors[0].max(0.001), "{} against {expected}", within.values[0]);
     let unbounded = reference_accessibility_within(&geometry, &point, settings, f64::INFINITY);
     assert!((unbounded.values[0] - 0.5).abs() < 4.0 * unbounded.standard_errors[0], "{}", unbounded.values[0]);
+}
+
+/// A panel's label names the technique and its accessibility error per covered pixel: two
+/// pixels see a surface (a = 0.5 at a vertex, a = 0.75 halfway along an edge, against a
+/// reference of 0.7 everywhere: errors −0.2 and +0.05, mean |Δ| 0.125), one sees none.
+#[test]
+fn panel_labels_carry_the_error_per_covered_pixel() {
+    use super::experiment::{picture_mean_error, surfel_label, PixelSample, REFERENCE_LABEL};
+    let at = |weights: [f64; 3]| Some(PixelSample { object: 0, corners: [0, 1, 2], weights });
+    let coverage = [at([1.0, 0.0, 0.0]), None, at([0.5, 0.5, 0.0])];
+    let error = picture_mean_error(&coverage, &[0.5, 1.0, 0.0], &[0.7; 3]).unwrap();
+    assert!((error - 0.125).abs() < 1e-15, "{error}");
+    assert_eq!(picture_mean_error(&[None, None], &[0.5], &[0.7]), None);
+    assert_eq!(surfel_label(2, true, Some(error)), "surfel AO, 2 passes, tree\nmean |Δ| 0.125/px");
+    assert_eq!(surfel_label(1, false, Some(0.0213)), "surfel AO, 1 pass, brute force\nmean |Δ| 0.021/px");
+    assert_eq!(surfel_label(0, true, Some(0.3)), "no AO\nmean |Δ| 0.300/px");
+    assert_eq!(surfel_label(3, true, None), "surfel AO, 3 passes, tree");
+    assert_eq!(REFERENCE_LABEL, "ray-traced reference");
 }

@@ -522,6 +522,120 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
         .collect()
 }
 
+/// One bar of a histogram: its bin's edges, its share of the histogram's weight (drawn),
+/// its count and the table row it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bar {
+    pub lower: f64,
+    pub upper: f64,
+    pub share: f64,
+    pub count: u64,
+    pub row: usize,
+}
+
+/// The bars of one histogram, drawn side by side with the others' in each bin.
+pub struct BarSeries {
+    pub name: String,
+    pub color: RGBColor,
+    pub bars: Vec<Bar>,
+}
+
+/// A histogram chart: the table its bars are rows of, the x axis's name, the series.
+pub struct HistogramChart<'a> {
+    pub table: &'a str,
+    pub x_name: &'a str,
+    pub series: &'a [BarSeries],
+    pub caption: Option<&'a str>,
+}
+
+/// A histogram chart: x over the bins' span (and a little room) with 5 ticks, y the share in percent from 0;
+/// in each bin one bar per series side by side (series k in the k-th part of the bin's
+/// width), each a `<rect class="bar">` (heights in unrounded pixels, proportional to the
+/// share) carrying its table, row, count and share as data attributes and its figures as
+/// title. Empty when there is no bar.
+pub fn histogram_chart(spec: &HistogramChart, size: (u32, u32)) -> Result<String> {
+    let bars = || spec.series.iter().flat_map(|s| s.bars.iter());
+    let (Some(low), Some(high)) = (bars().map(|b| b.lower).reduce(f64::min), bars().map(|b| b.upper).reduce(f64::max)) else {
+        return Ok(String::new());
+    };
+    if !(low < high) {
+        return Ok(String::new());
+    }
+    let top = bars().map(|b| b.share).filter(|v| v.is_finite()).fold(0.0, f64::max);
+    let top = if top > 0.0 { top * 1.12 } else { 1.0 };
+    let mut svg = String::new();
+    let mut marks = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        let mut builder = ChartBuilder::on(&root);
+        if let Some(caption) = spec.caption {
+            builder.caption(caption, CAPTION);
+        }
+        let mut chart = builder
+            .margin(8)
+            .margin_right(24)
+            .x_label_area_size(44)
+            .y_label_area_size(64)
+            // 6 % of the span free at each side, so the first x tick's label clears the y
+            // axis's 0.
+            .build_cartesian_2d(low - 0.06 * (high - low)..high + 0.06 * (high - low), 0f64..top)
+            .map_err(plot_error)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(5)
+            .x_desc(spec.x_name)
+            .y_desc("share (%)")
+            .label_style(FONT)
+            .axis_desc_style(FONT)
+            .y_label_formatter(&|v| super::html::significant(v * 100.0, 2))
+            .draw()
+            .map_err(plot_error)?;
+        x_ticks(&root, &chart, (0..=4).map(|k| low + (high - low) * f64::from(k) / 4.0).map(|x| (x, super::html::significant(x, 2))))?;
+        // Pixel coordinates, unrounded: plotters maps linearly, so two mapped points give it.
+        let (x0, y0) = chart.backend_coord(&(low, 0.0));
+        let (x1, y1) = chart.backend_coord(&(high, top));
+        let px = |x: f64| f64::from(x0) + (f64::from(x1) - f64::from(x0)) * (x - low) / (high - low);
+        let py = |y: f64| f64::from(y0) + (f64::from(y1) - f64::from(y0)) * y / top;
+        let parts = spec.series.len().max(1) as f64;
+        for (k, series) in spec.series.iter().enumerate() {
+            for bar in &series.bars {
+                let share = if bar.share.is_finite() { bar.share.max(0.0) } else { 0.0 };
+                let width = (bar.upper - bar.lower) / parts;
+                let (left, right) = (px(bar.lower + width * k as f64), px(bar.lower + width * (k as f64 + 1.0)));
+                let (bottom, height) = (py(0.0), py(0.0) - py(share));
+                let _ = write!(
+                    marks,
+                    "<rect class=\"bar\" x=\"{left:.3}\" y=\"{:.3}\" width=\"{:.3}\" height=\"{height:.3}\" fill=\"{}\" data-table=\"{}\" data-row=\"{}\" data-series=\"{}\" data-count=\"{}\" data-share=\"{}\"><title>{}</title></rect>",
+                    bottom - height,
+                    (right - left).max(0.0),
+                    css(series.color),
+                    super::html::escape(spec.table),
+                    bar.row,
+                    super::html::escape(&series.name),
+                    bar.count,
+                    bar.share,
+                    super::html::escape(&format!(
+                        "{}: {} … {}: {} ({} %)",
+                        series.name,
+                        super::html::significant(bar.lower, 3),
+                        super::html::significant(bar.upper, 3),
+                        bar.count,
+                        super::html::significant(share * 100.0, 3)
+                    ))
+                );
+            }
+        }
+        root.present().map_err(plot_error)?;
+    }
+    if let Some(end) = svg.rfind("</svg>") {
+        svg.insert_str(end, &marks);
+    }
+    Ok(svg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,7 +9,8 @@
 //!   otherwise) with its Pareto front labelled; the geometry error against the search's
 //!   step counts;
 //! - ambient occlusion (`ao_errors.csv`): the error against passes per technique and
-//!   against CPU time, with the rows' statistics;
+//!   against CPU time, with the rows' statistics; the signed error's histograms
+//!   (`ao_histogram.csv`, `super::ao_histogram`);
 //!
 //! then the hero frame (`effects_hero.csv`): the reference, each method and its error
 //! image side by side, every panel labelled with its figures, a colour bar in the error
@@ -34,7 +35,7 @@ use crate::stats::median;
 pub const EFFECTS_PAGE: &str = "effects.html";
 
 /// The tables the effects page reads and the command that writes each.
-const TABLES: [(&str, &str); 7] = [
+const TABLES: [(&str, &str); 8] = [
     (
         "effects_errors.csv",
         "image error of multiple reflections and refractions per depth and step counts (`make effects`; `make gpu` for the GPU's)",
@@ -48,6 +49,7 @@ const TABLES: [(&str, &str); 7] = [
         "three-channel against spectral reference per object, index source and depth (`nklut effects` on a scene with `effects.spectral`)",
     ),
     ("ao_timing.csv", "ambient-occlusion GPU time against surfel count (`make gpu`)"),
+    ("ao_histogram.csv", "ambient-occlusion signed error per bin, object, technique and passes (`make effects`)"),
 ];
 
 /// The tables of one scene: its `make effects` folder and its `make gpu` folder together.
@@ -190,6 +192,9 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Res
     }
     if let Some(ao) = scene.table("ao_errors.csv", false) {
         ao_section(html, ao)?;
+    }
+    if let Some(histogram) = scene.table("ao_histogram.csv", false) {
+        super::ao_histogram::section(html, histogram)?;
     }
     if let Some(spectral) = scene.table("spectral_errors.csv", false) {
         spectral_section(html, spectral)?;

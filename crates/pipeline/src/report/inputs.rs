@@ -15,13 +15,14 @@ use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
 
 /// Tables written by the effects, ambient-occlusion and engine-parameter stages: shown
 /// when present, named as absent otherwise.
-pub const OPTIONAL_TABLES: [&str; 8] = [
+pub const OPTIONAL_TABLES: [&str; 9] = [
     "effects_errors.csv",
     "effects_cpu_timing.csv",
     "effects_hero.csv",
     "effects_timing.csv",
     "ao_errors.csv",
     "ao_timing.csv",
+    "ao_histogram.csv",
     "spectral_errors.csv",
     "engine_params.csv",
 ];
