@@ -354,3 +354,115 @@ fn row_cells(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use base64::Engine;
+    use nklut_optics::spectrum::{Index, Kind};
+
+    const SCENE: &str = "resolution: [32, 32]
+camera: {axis: [0, 1, 0.2], distance: 1.8, frames: 1}
+effects:
+  reflection: {max_depth: 2}
+  distance_maps: {size: 16, layers: 3, linear_steps: [8, 15], secant_steps: [1]}
+objects:
+  - {mesh: sphere, scale: 0.5, position: [0.2, 0, 0], material: t/l/glass, methods: [exact, lut]}
+  - {mesh: cube, scale: 0.25, position: [-0.6, -0.2, 0.3], material: t/m/gold, methods: [exact]}
+  - {mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.75]}
+measurements: [timing]
+timing: {resolution: [40, 24], warmup: 1, repeats: 2}
+lut: {size: 32}
+";
+
+    fn decode(s: &str) -> Vec<u8> {
+        base64::engine::general_purpose::STANDARD.decode(s).unwrap()
+    }
+
+    fn materials() -> Vec<SceneMaterial> {
+        vec![
+            SceneMaterial::new("t/l/glass", [Index::new(1.5, 0.0); 3], Kind::Dielectric),
+            SceneMaterial::new("t/m/gold", [Index::new(0.2, 3.0), Index::new(0.5, 2.5), Index::new(1.3, 1.9)], Kind::Conductor),
+        ]
+    }
+
+    /// The plan's bytes are the native passes' uploads, and its layer steps land where a
+    /// hand count puts them.
+    #[test]
+    fn the_effects_plan_holds_the_native_passes_bytes() {
+        let scene = Scene::parse(SCENE, std::path::Path::new("scenes/effects-tiny.yaml")).unwrap();
+        let plan = plan(&scene, &materials()).unwrap().expect("reflection and timing: a plan");
+        let stage = stage_from_table(&scene, &materials()).unwrap();
+        // Meshes: the packed arrays, one draw per object.
+        let packed = PackedMeshes::of(&stage);
+        assert_eq!(decode(&plan.meshes.vertices), bytemuck::cast_slice::<f32, u8>(&packed.vertices));
+        assert_eq!(decode(&plan.meshes.indices), bytemuck::cast_slice::<u32, u8>(&packed.indices));
+        assert_eq!(plan.meshes.draws.len(), 3);
+        assert_eq!((plan.meshes.stride, plan.meshes.attributes[1].offset), (24, 12));
+        // Maps: two specular objects, 6 × 16² × 3 texels each, 16 bytes a texel.
+        let maps = &plan.maps;
+        assert_eq!((maps.cube_maps, maps.buffer_bytes), (2, 2 * 6 * 256 * 3 * 16));
+        let uniforms = MapUniforms::of(&stage);
+        assert_eq!(decode(&maps.objects), bytemuck::cast_slice::<_, u8>(&uniforms.objects));
+        assert_eq!(decode(&maps.lights), bytemuck::bytes_of(&uniforms.lights));
+        // Steps: per map, layers 0 and 1 peel the specular objects (0 and 1), layer 2 holds
+        // the room (2); layer l of map m at (m·3 + l)·6·16²·16 bytes; only layer 1 peels.
+        assert_eq!(maps.steps.len(), 6);
+        for (s, step) in maps.steps.iter().enumerate() {
+            let layer = s % 3;
+            assert_eq!(step.offset, (s * 6 * 256 * 16) as u64);
+            assert_eq!(step.draw, if layer == 2 { vec![2] } else { vec![0, 1] });
+            assert_eq!(step.keep, layer < 2);
+            let faces: Vec<distance_maps::FaceUniform> = step.faces.iter().map(|f| bytemuck::pod_read_unaligned(&decode(f))).collect();
+            assert_eq!(faces.iter().map(|f| f.face).collect::<Vec<_>>(), [0, 1, 2, 3, 4, 5]);
+            assert!(faces.iter().all(|f| f.peel == (layer == 1) as u32 && f.near == uniforms.near && f.far == uniforms.far));
+        }
+        // Shading: objects with their maps, materials, the lut atlas (two rows per specular
+        // object, 32 half-float RGBA texels each).
+        let shading = StageUniforms::of(&stage);
+        let (views, map_of) = map_layout(&stage, 16, 3);
+        assert_eq!(decode(&plan.shading.objects), bytemuck::cast_slice::<_, u8>(&shading.with_maps(&map_of, &views)));
+        assert_eq!(decode(&plan.shading.materials), bytemuck::cast_slice::<_, u8>(&shading.materials));
+        assert_eq!((plan.shading.lut_width, plan.shading.lut_rows), (32, 4));
+        assert_eq!(decode(plan.shading.lut.as_ref().unwrap()).len(), 4 * 32 * 4 * 2);
+        // Configurations: depth 2 × steps 8 and 15 × exact and lut; each frame the native one.
+        let names: Vec<(&str, &str)> = plan.configurations.iter().map(|c| (c.method, c.module.as_str())).collect();
+        assert_eq!(
+            names,
+            [
+                ("exact", "specular effect: reflection, exact"),
+                ("lut", "specular effect: reflection, lut"),
+                ("exact", "specular effect: reflection, exact"),
+                ("lut", "specular effect: reflection, lut")
+            ]
+        );
+        let second = timed_configurations(&scene)[2];
+        let shot = Shot { camera: &scene.camera, frame: 0, depths: second.depths, steps: second.steps };
+        assert_eq!(decode(&plan.configurations[2].frame), bytemuck::bytes_of(&FrameUniform::new(shading.lights, shot, [40, 24])));
+        // The row cells: the configuration's columns as the native table writes them, the
+        // measured ones left to the page.
+        let row = &plan.configurations[2].row;
+        assert_eq!(
+            (row["linear_steps"].as_u64(), row["reflection_depth"].as_u64(), row["refraction_depth"].as_u64()),
+            (Some(15), Some(2), Some(0))
+        );
+        assert_eq!(
+            (row["effect"].as_str(), row["resolution"].as_str(), row["repeats"].as_u64()),
+            (Some("reflection"), Some("40x24"), Some(2))
+        );
+        let columns = timing_table(&[], &Default::default()).columns.len();
+        assert_eq!(row.len() + MEASURED.len(), columns);
+        assert!(MEASURED.iter().all(|m| !row.contains_key(*m)));
+    }
+
+    /// No plan where the scene names no reflection or refraction, or no timing.
+    #[test]
+    fn only_a_timed_effects_scene_has_a_plan() {
+        let without_timing = SCENE.replace("measurements: [timing]", "measurements: [image_error]");
+        let scene = Scene::parse(&without_timing, std::path::Path::new("s.yaml")).unwrap();
+        assert!(plan(&scene, &materials()).unwrap().is_none());
+        let bare = "objects:\n  - {mesh: cube, material: t/l/glass, methods: [exact]}\nmeasurements: [timing]\n";
+        let scene = Scene::parse(bare, std::path::Path::new("s.yaml")).unwrap();
+        assert!(plan(&scene, &materials()).unwrap().is_none());
+    }
+}
