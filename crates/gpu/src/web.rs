@@ -16,9 +16,11 @@
 //! `gpu_timing` and `image_errors` ([`crate::runner::timing_rows_table`],
 //! [`crate::runner::image_error_rows_table`]); `nklut report --devices` reads it.
 //!
-//! Not in the page: the reflection/refraction and surfel passes' own measurements
-//! (`effects_timing` stays empty, and the page says so); their modules are compiled and
-//! their compilation messages recorded.
+//! For a scene that names reflection or refraction the page, as the native runner, leaves
+//! the F-only passes out and times the map update and the shading pass per configuration
+//! as `effects_timing` ([`effects`]). Not in the page: the surfel passes' measurements and
+//! the effects' image error against the f64 reference (traced on the CPU by the native
+//! runner); the page says so, and compiles their modules and records their messages.
 
 pub mod effects;
 
