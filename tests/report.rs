@@ -939,7 +939,7 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
                 for record in reader.records() {
                     let record = record.unwrap();
                     let cell = |h: &str| record[headers.iter().position(|x| x == h).unwrap()].to_string();
-                    let configuration = EFFECTS_CONFIGURATION.map(|c| cell(c));
+                    let configuration = EFFECTS_CONFIGURATION.map(&cell);
                     effects.entry(name.clone()).or_default().push((cell("method"), configuration, cell("shading_ms").parse().unwrap()));
                 }
             }
@@ -955,7 +955,7 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
                     serde_json::Value::String(text) => text.clone(),
                     other => other.to_string(),
                 };
-                let configuration = EFFECTS_CONFIGURATION.map(|c| cell(c));
+                let configuration = EFFECTS_CONFIGURATION.map(&cell);
                 effects.entry(name.clone()).or_default().push((cell("method"), configuration, row["shading_ms"].as_f64().unwrap()));
             }
             sources += 1;

@@ -264,8 +264,7 @@ fn browser_name(value: &serde_json::Value) -> String {
     let Some(agent) = value["user_agent"].as_str() else { return "unknown browser".into() };
     agent
         .split_whitespace()
-        .filter(|token| ["Edg/", "Firefox/", "Chrome/", "HeadlessChrome/", "Version/"].iter().any(|name| token.starts_with(name)))
-        .next_back()
+        .rfind(|token| ["Edg/", "Firefox/", "Chrome/", "HeadlessChrome/", "Version/"].iter().any(|name| token.starts_with(name)))
         .unwrap_or(agent)
         .to_string()
 }
