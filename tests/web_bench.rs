@@ -3,7 +3,10 @@
 //! through puppeteer-core), and what it measures is held to the native runner on this
 //! machine's Vulkan adapter (lavapipe): every module compiles without a message, every timed
 //! pair has a positive median, each method's image error against `exact` agrees with the
-//! native runner's, and the page's read-back F ramp equals `render::ramp`'s. The page's
+//! native runner's, and the page's read-back F ramp equals `render::ramp`'s. A reflection
+//! and refraction scene's page times every configuration the native runner times
+//! (`effects_timing`, by timestamps and by the wall clock) and renders the frame lavapipe
+//! renders, within a stated bound; maps over the storage limit are named. The page's
 //! twins of `image_error::compare` and `stats::median_and_iqr` are run on a hand-made
 //! input beside the Rust functions, and the failure paths show their messages: no
 //! adapter, no `navigator.gpu`, a scene over the adapter's `maxBufferSize`.
@@ -487,4 +490,33 @@ fn the_page_s_effects_frame_agrees_with_the_native_runner() {
     assert!(seen_differs * 50 <= pixels, "{seen_differs} of {pixels} pixels see another object");
     assert!(close * 100 >= radiance.len() * 95, "{close} of {} pixels within 1e-3", radiance.len());
     assert!(far * 100 <= radiance.len() * 3, "{far} of {} pixels over 1e-2", radiance.len());
+}
+
+#[test]
+fn without_timestamps_the_effects_are_timed_by_the_wall_clock() {
+    // `?timer=wall`: each pass submitted alone and closed by onSubmittedWorkDone.
+    let text = EFFECTS_SCENE.replace("linear_steps: [8, 15]", "linear_steps: [8]");
+    let Ok(Some(out)) = run_page("web-effects-wall", &text, &["--query".into(), "timer=wall".into()]).map_err(|e| panic!("{e}")) else {
+        return;
+    };
+    let result = &out["result"];
+    assert_eq!(result["complete"], true, "{out}");
+    assert_eq!(result["adapter"]["timestamp_query"], false);
+    let rows = result["effects_timing"].as_array().unwrap();
+    // 2 depths × 1 search configuration × 3 methods.
+    assert_eq!(rows.len(), 6);
+    assert!(rows.iter().all(|r| r["timer"] == "wall" && number(&r["map_update_ms"]) > 0.0 && number(&r["shading_ms"]) > 0.0), "{rows:?}");
+}
+
+#[test]
+fn distance_maps_over_the_adapter_s_storage_limit_name_the_limit() {
+    // Two maps of 6 × 4096² texels × 8 layers, 16 bytes each: 12.9 GB per buffer, over
+    // SwiftShader's storage binding limit; checked before anything is allocated.
+    let text = EFFECTS_SCENE.replace("size: 16, layers: 3", "size: 4096, layers: 8");
+    let Ok(Some(out)) = run_page("web-effects-limit", &text, &[]).map_err(|e| panic!("{e}")) else { return };
+    let problem = out["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {out}"));
+    let asked = 2u64 * 6 * 4096 * 4096 * 8 * 16;
+    assert!(problem.contains("maxStorageBufferBindingSize") && problem.contains(&asked.to_string()), "{problem}");
+    assert!(problem.contains("lower effects.distance_maps.size or layers"), "{problem}");
+    assert_eq!(out["result"]["effects_timing"].as_array().unwrap().len(), 0);
 }
