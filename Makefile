@@ -113,9 +113,10 @@ gpu: db
 	done
 
 # The browser bench: one self-contained page per scene (output/web/<scene>.html) that runs
-# the scene's F-only measurements in any WebGPU browser and offers its result as JSON for
+# the scene's F-only measurements (default) or its reflections' map update and shading pass
+# (teapot-in-a-box: effects_timing) in any WebGPU browser and offers its result as JSON for
 # benchmarks/devices/ (README, "The browser bench").
-WEB_SCENES ?= scenes/default.yaml
+WEB_SCENES ?= scenes/default.yaml scenes/teapot-in-a-box.yaml
 web: db
 	$(CARGO) build --release --features gpu
 	$(NKLUT) --db $(DB) --out $(OUT) gpu web $(WEB_SCENES)

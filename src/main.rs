@@ -379,8 +379,9 @@ mod gpu_cli {
             read: ChannelArgs,
         },
         /// Write the browser bench of each scene: one self-contained page, <out>/web/<scene>.html,
-        /// that runs the scene's F-only measurements (timing, image error) in any WebGPU
-        /// browser, phones included, from file:// or a static host, and offers the result
+        /// that runs the scene's F-only measurements (timing, image error), or for a scene
+        /// with reflections or refractions the timing of its map update and shading pass
+        /// (effects_timing), in any WebGPU browser, phones included, from file:// or a static host, and offers the result
         /// as device-<adapter>-<date>.json (`nklut report --devices` reads it). The folder
         /// web/ is replaced as a whole by the pages of this run.
         Web {

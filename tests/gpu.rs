@@ -452,7 +452,7 @@ fn gpu_distance_maps_match_the_ray_cast_twin() {
     let renderer = MapRenderer::new(&gpu, &stage).unwrap();
     let meshes = SceneMeshes::upload(&gpu, &stage).unwrap();
     let maps = renderer.allocate(&gpu, &stage, 16, 3).unwrap();
-    renderer.render(&gpu, &stage, &meshes, &maps).unwrap();
+    renderer.render(&gpu, &meshes, &maps).unwrap();
     let texels = maps.read(&gpu).unwrap();
     assert_eq!(texels.views.len(), 2, "one map per specular object");
     for (m, object) in [(0, 0), (1, 1)] {

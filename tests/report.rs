@@ -902,8 +902,14 @@ fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
 /// Reads the cross-device tables off the rendered effects page: the per-device-and-method
 /// rows and the study-form rows, cell texts.
 const DEVICES_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const rows=(c)=>[...document.querySelectorAll(`table.${c} tbody tr`)].map(tr=>[...tr.children].map(td=>td.textContent));
-const out={methods:rows('device-methods'),study:rows('study-form')};
+const out={methods:rows('device-methods'),study:rows('study-form'),effects:rows('device-effects')};
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+/// The columns that tell one effects configuration from another (with the method).
+const EFFECTS_CONFIGURATION: [&str; 6] = ["effect", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps", "resolution"];
+
+/// An effects configuration's cells, in the order of [`EFFECTS_CONFIGURATION`].
+type EffectsConfiguration = [String; 6];
 
 /// The median of `values` (mean of the middle two), computed here apart from the report.
 fn median_of(mut values: Vec<f64>) -> f64 {
@@ -927,6 +933,8 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
     let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices");
     // Per device, method → the pass times of its rows, from the files themselves.
     let mut expected: BTreeMap<String, BTreeMap<String, Vec<f64>>> = BTreeMap::new();
+    // Per device, the effects_timing rows: (method, configuration) → shading ms.
+    let mut effects: BTreeMap<String, Vec<(String, EffectsConfiguration, f64)>> = BTreeMap::new();
     let mut sources = 0;
     for entry in fs::read_dir(&committed).unwrap().flatten() {
         let path = entry.path();
@@ -943,12 +951,29 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
                 let record = record.unwrap();
                 times.entry(record[method].to_string()).or_default().push(record[median].parse().unwrap());
             }
+            if let Ok(mut reader) = csv::Reader::from_path(path.join("effects_timing.csv")) {
+                let headers = reader.headers().unwrap().clone();
+                for record in reader.records() {
+                    let record = record.unwrap();
+                    let cell = |h: &str| record[headers.iter().position(|x| x == h).unwrap()].to_string();
+                    let configuration = EFFECTS_CONFIGURATION.map(&cell);
+                    effects.entry(name.clone()).or_default().push((cell("method"), configuration, cell("shading_ms").parse().unwrap()));
+                }
+            }
             sources += 1;
         } else if path.extension().is_some_and(|x| x == "json") {
             let result: serde_json::Value = serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
             assert_eq!(result["complete"], true, "{name}");
             for row in result["gpu_timing"].as_array().unwrap() {
                 times.entry(row["method"].as_str().unwrap().to_string()).or_default().push(row["median_ms"].as_f64().unwrap());
+            }
+            for row in result["effects_timing"].as_array().unwrap() {
+                let cell = |h: &str| match &row[h] {
+                    serde_json::Value::String(text) => text.clone(),
+                    other => other.to_string(),
+                };
+                let configuration = EFFECTS_CONFIGURATION.map(&cell);
+                effects.entry(name.clone()).or_default().push((cell("method"), configuration, row["shading_ms"].as_f64().unwrap()));
             }
             sources += 1;
         } else {
@@ -991,6 +1016,40 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
             close(cells[6], ms / median_of(fetch.clone()));
         }
         assert_eq!(cells[1].starts_with("browser"), !committed.join(device).is_dir(), "{device}: source {}", cells[1]);
+    }
+    // Reflections and refractions: one row per device and configuration of the files'
+    // effects_timing rows, the shading time and its ratio to exact's in the same
+    // configuration computed here.
+    let shown_effects = seen["effects"].as_array().unwrap();
+    assert_eq!(shown_effects.len(), effects.values().map(Vec::len).sum::<usize>(), "{shown_effects:?}");
+    assert!(effects.len() >= 2, "a native and a browser effects_timing are committed: {:?}", effects.keys());
+    let mut shown_rows = shown_effects.iter();
+    for (device, rows) in &effects {
+        for (method, configuration, ms) in rows {
+            let cells: Vec<&str> = shown_rows.next().unwrap().as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+            let [effect, reflection, refraction, linear, secant, resolution] = configuration.clone();
+            assert_eq!(
+                (cells[0], cells[3], cells[4], cells[5], cells[6], cells[7]),
+                (
+                    device.as_str(),
+                    method.as_str(),
+                    effect.as_str(),
+                    format!("{reflection}/{refraction}").as_str(),
+                    format!("{linear}/{secant}").as_str(),
+                    resolution.as_str()
+                )
+            );
+            let exact = rows.iter().find(|(m, c, _)| m == "exact" && c == configuration).map(|(_, _, ms)| *ms).unwrap();
+            let close = |shown: &str, want: f64| {
+                let value: f64 = shown.parse().unwrap_or_else(|_| panic!("{device} {method}: {shown:?}"));
+                assert!(
+                    (value - want).abs() <= 5e-3 * want.abs() + 1e-4,
+                    "{device} {method} {configuration:?}: shown {value}, files give {want}"
+                );
+            };
+            close(cells[9], *ms);
+            close(cells[10], ms / exact);
+        }
     }
     // The study's form: its five devices, then one row per device measured here.
     let study = seen["study"].as_array().unwrap();

@@ -3,7 +3,10 @@
 //! through puppeteer-core), and what it measures is held to the native runner on this
 //! machine's Vulkan adapter (lavapipe): every module compiles without a message, every timed
 //! pair has a positive median, each method's image error against `exact` agrees with the
-//! native runner's, and the page's read-back F ramp equals `render::ramp`'s. The page's
+//! native runner's, and the page's read-back F ramp equals `render::ramp`'s. A reflection
+//! and refraction scene's page times every configuration the native runner times
+//! (`effects_timing`, by timestamps and by the wall clock) and renders the frame lavapipe
+//! renders, within a stated bound; maps over the storage limit are named. The page's
 //! twins of `image_error::compare` and `stats::median_and_iqr` are run on a hand-made
 //! input beside the Rust functions, and the failure paths show their messages: no
 //! adapter, no `navigator.gpu`, a scene over the adapter's `maxBufferSize`.
@@ -292,4 +295,228 @@ fn the_study_s_subtraction_runs_the_burner_under_each_method() {
     assert_eq!(rows.len(), scene(&text).material_shadings().len());
     // A difference of two noisy times: finite, not necessarily positive on a CPU rasteriser.
     assert!(rows.iter().all(|r| r["median_ms"].as_f64().is_some_and(f64::is_finite) && r["repeats"] == 6), "{rows:?}");
+}
+
+/// A water sphere and a gold cube in a checkered room, reflections one and two bounces deep
+/// with refraction, two linear search lengths: 2 depths × 2 search configurations × 3
+/// methods, small enough for SwiftShader and lavapipe (16² maps, a 48² target).
+const EFFECTS_SCENE: &str = "resolution: [48, 48]
+camera: {axis: [0, 1, 0.2], distance: 1.8, frames: 1}
+effects:
+  reflection: {max_depth: [1, 2]}
+  refraction: {max_depth: 2}
+  distance_maps: {size: 16, layers: 3, linear_steps: [8, 15], secant_steps: [1]}
+lights:
+  - {kind: directional, direction: [-0.3, -1, -0.5], colour: [0.5, 0.5, 0.5]}
+  - {kind: point, position: [0.5, 0.8, -0.5], intensity: [0.6, 0.5, 0.4]}
+  - {kind: ambient, colour: [0.2, 0.2, 0.2]}
+objects:
+  - {mesh: sphere, scale: 0.5, position: [0.2, 0, 0], material: test/liquids/water, methods: [exact, schlick, lut]}
+  - {mesh: cube, scale: 0.25, position: [-0.6, -0.2, 0.3], material: test/metals/goldish, methods: [exact]}
+  - {mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.75], pattern: {kind: checker, size: 0.5, albedo: [0.1, 0.3, 0.6]}}
+measurements: [timing]
+timing: {resolution: [48, 48], warmup: 1, repeats: 3}
+lut: {size: 64}
+";
+
+/// The effects configuration whose frame the page reads back: `lut` (its atlas, sampler and
+/// half floats in play) at reflection depth 2 and refraction 2, 15 linear steps.
+const EFFECT_FRAME: usize = 11;
+
+/// The page run of [`EFFECTS_SCENE`] with the frame of [`EFFECT_FRAME`] read back, once.
+fn effects_run() -> Option<&'static Value> {
+    static RUN: OnceLock<Result<Option<Value>, String>> = OnceLock::new();
+    match RUN.get_or_init(|| run_page("web-effects", EFFECTS_SCENE, &["--effect-frame".into(), EFFECT_FRAME.to_string()])) {
+        Ok(value) => value.as_ref(),
+        Err(error) => panic!("{error}"),
+    }
+}
+
+/// A configuration's key: (method, effect, reflection depth, refraction depth, linear steps,
+/// secant steps).
+type ConfigurationKey = (String, String, u64, u64, u64, u64);
+
+fn key_of(row: &Value) -> ConfigurationKey {
+    let int = |name: &str| row[name].as_u64().unwrap_or_else(|| panic!("{name} in {row}"));
+    let text = |name: &str| row[name].as_str().unwrap_or_else(|| panic!("{name} in {row}")).to_string();
+    (text("method"), text("effect"), int("reflection_depth"), int("refraction_depth"), int("linear_steps"), int("secant_steps"))
+}
+
+#[test]
+fn the_page_times_every_effects_configuration_the_native_runner_times() {
+    use nklut::gpu::effects::timed_configurations;
+    use nklut::gpu::passes::specular::Effect;
+    let scene = scene(EFFECTS_SCENE);
+    let plan = web::plan(&scene, &materials()).unwrap();
+    // As the native runner: a scene with specular effects measures those, not the F-only passes.
+    assert!(plan.timing.is_none() && plan.image_error.is_none());
+    let effects = plan.effects.as_ref().expect("an effects plan");
+    let planned: Vec<ConfigurationKey> = timed_configurations(&scene)
+        .iter()
+        .map(|c| {
+            let effect = Effect::of(c.depths).name().to_string();
+            (
+                c.method.name().to_string(),
+                effect,
+                c.depths.reflection.into(),
+                c.depths.refraction.into(),
+                c.steps.linear.into(),
+                c.steps.secant.into(),
+            )
+        })
+        .collect();
+    // Hand count: depths (1, 2) and (2, 2) × linear steps 8 and 15 × exact, schlick, lut.
+    assert_eq!(planned.len(), 12);
+    assert_eq!(planned[EFFECT_FRAME], ("lut".into(), "refraction".into(), 2, 2, 15, 1));
+    assert_eq!(effects.configurations.len(), planned.len());
+    // The map update: 2 specular objects × 3 layers, each step six faces.
+    assert_eq!((effects.maps.cube_maps, effects.maps.steps.len()), (2, 6));
+    assert_eq!(effects.maps.buffer_bytes, 2 * 6 * 16 * 16 * 3 * 16);
+
+    let Some(out) = effects_run() else { return };
+    let result = &out["result"];
+    assert_eq!(out["problem"], Value::Null, "{out}");
+    assert_eq!(result["complete"], true);
+    let rows = result["effects_timing"].as_array().unwrap();
+    let page: Vec<ConfigurationKey> = rows.iter().map(key_of).collect();
+    assert_eq!(page, planned, "one row per configuration, in the native order");
+    let mut columns: Vec<&str> = plan.columns.effects_timing.iter().map(String::as_str).collect();
+    columns.sort();
+    for row in rows {
+        // The native table's columns, no more, no fewer.
+        let mut keys: Vec<&str> = row.as_object().unwrap().keys().map(String::as_str).collect();
+        keys.sort();
+        assert_eq!(keys, columns, "{row}");
+        // SwiftShader grants timestamp queries.
+        assert_eq!(row["timer"], "timestamp");
+        assert_eq!((row["repeats"].as_u64(), row["map_size"].as_u64(), row["layers"].as_u64()), (Some(3), Some(16), Some(3)));
+        assert_eq!((row["cube_maps"].as_u64(), row["resolution"].as_str()), (Some(2), Some("48x48")));
+        for name in ["map_update_ms", "shading_ms"] {
+            let ms = number(&row[name]);
+            assert!(ms.is_finite() && ms > 0.0, "{name} {row}");
+        }
+        assert!(number(&row["shading_spread_ms"]) >= 0.0, "{row}");
+        let frame = number(&row["frame_ms"]) - number(&row["map_update_ms"]) - number(&row["shading_ms"]);
+        assert!(frame.abs() <= 1e-9 * number(&row["frame_ms"]), "frame_ms is the sum {row}");
+    }
+    // One map update per round, shared by the rows.
+    assert!(rows.iter().all(|r| r["map_update_ms"] == rows[0]["map_update_ms"]));
+    // The page's table: a header and a row per configuration.
+    assert_eq!(out["tables"]["effects"].as_array().unwrap().len(), rows.len() + 1);
+
+    // The native runner on this machine's adapter times the same set.
+    let Some(gpu) = common::gpu::open(None) else { return };
+    let mut quick = scene.clone();
+    quick.timing.warmup = 0;
+    quick.timing.repeats = 1;
+    let native = gpu::run_with_materials(&quick, &materials(), &gpu, RunStats::default(), &mut |_| {}).unwrap();
+    let native: Vec<ConfigurationKey> = native
+        .effects
+        .timing
+        .iter()
+        .map(|r| {
+            let (d, s) = (r.depths, r.steps);
+            (
+                r.method.name().to_string(),
+                r.effect.name().to_string(),
+                d.reflection.into(),
+                d.refraction.into(),
+                s.linear.into(),
+                s.secant.into(),
+            )
+        })
+        .collect();
+    assert_eq!(page, native);
+}
+
+/// The page's frame of one configuration (its maps rendered by the page, then the shading
+/// pass) against the native runner's on lavapipe: the same maps rendered by the same
+/// WGSL from the same bytes, then the same shading.
+#[test]
+fn the_page_s_effects_frame_agrees_with_the_native_runner() {
+    use nklut::effects::trace::stage_from_table;
+    use nklut::gpu::effects::timed_configurations;
+    use nklut::gpu::passes::distance_maps::{MapRenderer, SceneMeshes};
+    use nklut::gpu::passes::specular::{Shot, SpecularPass};
+    let Some(out) = effects_run() else { return };
+    let Some(gpu) = common::gpu::open(None) else { return };
+    let scene = scene(EFFECTS_SCENE);
+    let configuration = timed_configurations(&scene)[EFFECT_FRAME];
+    let stage = stage_from_table(&scene, &materials()).unwrap();
+    let meshes = SceneMeshes::upload(&gpu, &stage).unwrap();
+    let renderer = MapRenderer::new(&gpu, &stage).unwrap();
+    let settings = &scene.effects.as_ref().unwrap().distance_maps;
+    let maps = renderer.allocate(&gpu, &stage, settings.size, settings.layers).unwrap();
+    renderer.render(&gpu, &meshes, &maps).unwrap();
+    let mut pass = SpecularPass::new(&gpu, &stage, scene.lut.size as usize).unwrap();
+    let shot = Shot { camera: &scene.camera, frame: 0, depths: configuration.depths, steps: configuration.steps };
+    let native = pass.render(&gpu, &meshes, &maps, shot, configuration.method, scene.timing.resolution).unwrap();
+
+    let page: Vec<f64> = out["effect_frame"].as_array().unwrap_or_else(|| panic!("no frame: {out}")).iter().map(number).collect();
+    let [width, height] = scene.timing.resolution;
+    assert_eq!(page.len(), (4 * width * height) as usize);
+    let mut seen_differs = 0;
+    let mut radiance = Vec::new();
+    for (p, (rgb, seen)) in page.chunks_exact(4).zip(native.radiance.iter().zip(&native.seen)) {
+        let page_seen = (p[3] >= 1.0).then(|| p[3] as usize - 1);
+        if page_seen != *seen {
+            seen_differs += 1;
+            continue;
+        }
+        radiance.push((0..3).map(|c| (p[c] - rgb[c] as f64).abs()).fold(0.0, f64::max));
+    }
+    radiance.sort_by(f64::total_cmp);
+    let pixels = (width * height) as usize;
+    let close = radiance.iter().filter(|d| **d <= 1e-3).count();
+    let far = radiance.iter().filter(|d| **d > 1e-2).count();
+    let worst = radiance.last().copied().unwrap_or(0.0);
+    let specular = native.seen.iter().filter(|s| s.is_some()).count();
+    let brightest = native.radiance.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+    eprintln!(
+        "effects frame: {specular} specular pixels, brightest {brightest:.3}; {seen_differs} of {pixels} pixels see another object; of the rest {close} within 1e-3, {far} over 1e-2, median {:.3e}, largest {worst:.3e}",
+        radiance[radiance.len() / 2]
+    );
+    // Not an empty frame: the sphere and the cube cover a fifth of it, lit.
+    assert!(specular * 5 >= pixels && brightest > 0.1, "{specular} specular pixels, brightest {brightest}");
+    // Bound: the two rasterisers may cover different silhouette pixels (held to 2 % of the
+    // frame), and each bounce's search runs in f32 through maps that differ on edge texels
+    // and in f32 rounding (SwiftShader's and lavapipe's exp2/log2/sqrt), so a ray near an
+    // edge or a checker border can land on the other side and take the other cell's colour
+    // (a difference up to the checker's contrast, ~0.5). Held: ≥ 95 % of the pixels within
+    // 1e-3 of the native radiance (brightest ≈ 0.55), ≤ 3 % over 1e-2. Measured
+    // (SwiftShader in Chromium 156 against lavapipe, Mesa 22.3.6): no pixel sees another
+    // object, 2242 of 2304 within 1e-3 (97.3 %), 38 over 1e-2 (1.6 %), median difference
+    // 8.8e-6, largest 0.32.
+    assert!(seen_differs * 50 <= pixels, "{seen_differs} of {pixels} pixels see another object");
+    assert!(close * 100 >= radiance.len() * 95, "{close} of {} pixels within 1e-3", radiance.len());
+    assert!(far * 100 <= radiance.len() * 3, "{far} of {} pixels over 1e-2", radiance.len());
+}
+
+#[test]
+fn without_timestamps_the_effects_are_timed_by_the_wall_clock() {
+    // `?timer=wall`: each pass submitted alone and closed by onSubmittedWorkDone.
+    let text = EFFECTS_SCENE.replace("linear_steps: [8, 15]", "linear_steps: [8]");
+    let Ok(Some(out)) = run_page("web-effects-wall", &text, &["--query".into(), "timer=wall".into()]).map_err(|e| panic!("{e}")) else {
+        return;
+    };
+    let result = &out["result"];
+    assert_eq!(result["complete"], true, "{out}");
+    assert_eq!(result["adapter"]["timestamp_query"], false);
+    let rows = result["effects_timing"].as_array().unwrap();
+    // 2 depths × 1 search configuration × 3 methods.
+    assert_eq!(rows.len(), 6);
+    assert!(rows.iter().all(|r| r["timer"] == "wall" && number(&r["map_update_ms"]) > 0.0 && number(&r["shading_ms"]) > 0.0), "{rows:?}");
+}
+
+#[test]
+fn distance_maps_over_the_adapter_s_storage_limit_name_the_limit() {
+    // Two maps of 6 × 4096² texels × 8 layers, 16 bytes each: 12.9 GB per buffer, over
+    // SwiftShader's storage binding limit; checked before anything is allocated.
+    let text = EFFECTS_SCENE.replace("size: 16, layers: 3", "size: 4096, layers: 8");
+    let Ok(Some(out)) = run_page("web-effects-limit", &text, &[]).map_err(|e| panic!("{e}")) else { return };
+    let problem = out["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {out}"));
+    let asked = 2u64 * 6 * 4096 * 4096 * 8 * 16;
+    assert!(problem.contains("maxStorageBufferBindingSize") && problem.contains(&asked.to_string()), "{problem}");
+    assert!(problem.contains("lower effects.distance_maps.size or layers"), "{problem}");
+    assert_eq!(out["result"]["effects_timing"].as_array().unwrap().len(), 0);
 }

@@ -2,7 +2,8 @@
 // puppeteer-core and writes what it produced as JSON.
 //
 // Usage: node tests/clients/run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent] [--query Q]
-//            [--ramp INDEX,METHOD,WIDTH,HEIGHT,VIEW_BASE64] [--twin INPUT_JSON] [--timeout SECONDS]
+//            [--ramp INDEX,METHOD,WIDTH,HEIGHT,VIEW_BASE64] [--effect-frame INDEX] [--twin INPUT_JSON]
+//            [--timeout SECONDS]
 //
 //   --webgpu on      (default) WebGPU on SwiftShader: --enable-unsafe-webgpu
 //                    --use-webgpu-adapter=swiftshader (it grants timestamp-query)
@@ -12,6 +13,9 @@
 //                    INDEX (window.nklut.ramp), as `ramp` in the output
 //   --screenshot     a PNG of the whole page once it is done, for a look
 //   --query          text appended to the page's address after `?` (`timer=wall`)
+//   --effect-frame   after the run, the page's read-back frame of effects configuration INDEX
+//                    (window.nklut.effectFrame: maps updated, then the shading pass), as
+//                    `effect_frame` (RGBA f32 pixels, top row first)
 //   --twin           a JSON file {"method": [...], "reference": [...], "samples": [...]}: the
 //                    page's twins of image_error::compare and stats::median_and_iqr on it,
 //                    as `twin` in the output
@@ -19,7 +23,7 @@
 // The output holds `result` (the page's result JSON, what its download link offers),
 // `download` (the link's file name), `problem` (the text of the page's problem box, null if
 // hidden), `status`, `tables` (the cell texts of the page's result tables by id) and the
-// optional `ramp` and `twin`. The page is opened from file://, nothing is fetched; the
+// optional `ramp`, `effect_frame` and `twin`. The page is opened from file://, nothing is fetched; the
 // browser profile is a fresh temporary folder, removed at the end. Exits 1 with a message
 // on a browser or timeout failure (default --timeout 300 s).
 
@@ -46,6 +50,7 @@ const option = (name, fallback) => { const i = args.indexOf(name); return i >= 0
 const webgpu = option('--webgpu', 'on');
 const rampSpec = option('--ramp', null);
 const twinFile = option('--twin', null);
+const effectFrame = option('--effect-frame', null);
 const query = option('--query', null);
 const screenshot = option('--screenshot', null);
 const timeoutMs = Number(option('--timeout', '300')) * 1000;
@@ -93,7 +98,7 @@ try {
       download: document.getElementById('download').getAttribute('download'),
       problem: problem.hidden ? null : problem.textContent,
       status: document.getElementById('status').textContent,
-      tables: { timing: texts('timing'), errors: texts('errors'), modules: texts('modules') },
+      tables: { timing: texts('timing'), errors: texts('errors'), effects: texts('effects'), modules: texts('modules') },
       chart_bars: document.querySelectorAll('#chart rect').length,
       error_bars: document.querySelectorAll('#error-chart rect').length,
     };
@@ -105,6 +110,9 @@ try {
   if (rampSpec) {
     const [index, method, width, height, view] = rampSpec.split(',');
     out.ramp = await page.evaluate((i, m, w, h, v) => window.nklut.ramp(i, m, w, h, v), Number(index), method, Number(width), Number(height), view);
+  }
+  if (effectFrame !== null) {
+    out.effect_frame = await page.evaluate((i) => window.nklut.effectFrame(i), Number(effectFrame));
   }
   if (twinFile) {
     const input = JSON.parse(readFileSync(twinFile, 'utf8'));

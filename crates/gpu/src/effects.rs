@@ -26,7 +26,7 @@ use super::timing::{median_and_iqr, Stopwatch, Timer};
 use nklut_effects::experiment::{configuration_columns, measure, Configuration, EffectErrorRow, MapFrames, Settings};
 use nklut_effects::pictures::Picture;
 use nklut_effects::scene::{Depths, Experiment, Scene, SceneMaterial, SearchSteps};
-use nklut_effects::trace::{stage_from_table, Camera, Stage, TracedFrame};
+use nklut_effects::trace::{stage_from_table, Camera, TracedFrame};
 use nklut_optics::fresnel::Method;
 use nklut_pipeline::output::Table;
 
@@ -61,6 +61,32 @@ pub struct EffectsRun {
 /// The scene's Fresnel methods, in the crate's order.
 fn methods(scene: &Scene) -> Vec<Method> {
     Method::ALL.into_iter().filter(|m| scene.shadings().iter().any(|s| s.fresnel() == Some(*m))).collect()
+}
+
+/// One timed configuration of `effects_timing`: the shading pass's Fresnel method, depths
+/// and search steps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TimedConfiguration {
+    pub method: Method,
+    pub depths: Depths,
+    pub steps: SearchSteps,
+}
+
+/// Every configuration the scene's `timing` measures, in the order of its rows: per depths,
+/// per search steps, per method (none without specular effects).
+pub fn timed_configurations(scene: &Scene) -> Vec<TimedConfiguration> {
+    let Some(effects) = scene.effects.as_ref().filter(|e| e.names(nklut_effects::scene::EffectFamily::SpecularPaths)) else {
+        return Vec::new();
+    };
+    let mut configurations = Vec::new();
+    for depths in effects.depths() {
+        for &steps in &effects.distance_maps.steps {
+            for method in methods(scene) {
+                configurations.push(TimedConfiguration { method, depths, steps });
+            }
+        }
+    }
+    configurations
 }
 
 /// The GPU's frames, for `effects::experiment::measure`.
@@ -101,7 +127,7 @@ pub fn run_scene(
     let renderer = MapRenderer::new(gpu, &stage)?;
     let maps =
         renderer.allocate(gpu, &stage, settings.size, settings.layers).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
-    renderer.render(gpu, &stage, &meshes, &maps)?;
+    renderer.render(gpu, &meshes, &maps)?;
     stats.effects.cube_maps = maps.views.len();
     stats.effects.layers = settings.layers;
     log(&format!(
@@ -118,7 +144,7 @@ pub fn run_scene(
         }
     }
     if scene.wants(Experiment::Timing) {
-        run.timing = time_effects(scene, &stage, gpu, &renderer, &meshes, &maps, &mut pass, stats, log)?;
+        run.timing = time_effects(scene, gpu, &renderer, &meshes, &maps, &mut pass, stats, log)?;
     }
     if scene.wants(Experiment::ImageError) {
         let report = {
@@ -142,7 +168,6 @@ pub fn run_scene(
 #[allow(clippy::too_many_arguments)]
 fn time_effects(
     scene: &Scene,
-    stage: &Stage,
     gpu: &Gpu,
     renderer: &MapRenderer,
     meshes: &SceneMeshes,
@@ -155,23 +180,16 @@ fn time_effects(
     let [width, height] = scene.timing.resolution;
     let target = Target::new(gpu, width, height, FLOAT_TARGET, true)?;
     let mut stopwatch = Stopwatch::new(gpu)?;
-    let mut configurations = Vec::new();
-    for depths in effects.depths() {
-        for &steps in &effects.distance_maps.steps {
-            for method in methods(scene) {
-                configurations.push((method, depths, steps));
-            }
-        }
-    }
+    let configurations = timed_configurations(scene);
     let settings = &scene.timing;
     let mut update = Vec::new();
     let mut shading = vec![Vec::new(); configurations.len()];
     for round in 0..settings.warmup + settings.repeats {
-        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(stage, meshes, maps, encoder, timestamps))?;
+        let ms = stopwatch.time_pass(gpu, |encoder, timestamps| renderer.encode(meshes, maps, encoder, timestamps))?;
         if round >= settings.warmup {
             update.push(ms);
         }
-        for (samples, &(method, depths, steps)) in shading.iter_mut().zip(&configurations) {
+        for (samples, &TimedConfiguration { method, depths, steps }) in shading.iter_mut().zip(&configurations) {
             let shot = Shot { camera: &scene.camera, frame: 0, depths, steps };
             let mut failed = None;
             let ms = stopwatch.time_pass(gpu, |encoder, timestamps| {
@@ -188,7 +206,7 @@ fn time_effects(
     stats.timed_passes += stopwatch.passes;
     let (map_update_ms, _) = median_and_iqr(&update);
     let mut rows = Vec::new();
-    for (samples, (method, depths, steps)) in shading.iter().zip(configurations) {
+    for (samples, TimedConfiguration { method, depths, steps }) in shading.iter().zip(configurations) {
         let (shading_ms, shading_spread_ms) = median_and_iqr(samples);
         log(&format!(
             "  {} depth {}/{} steps {}/{}: map update {map_update_ms:.3} ms, shading {shading_ms:.3} ms ({})",

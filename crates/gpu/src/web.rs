@@ -16,9 +16,13 @@
 //! `gpu_timing` and `image_errors` ([`crate::runner::timing_rows_table`],
 //! [`crate::runner::image_error_rows_table`]); `nklut report --devices` reads it.
 //!
-//! Not in the page: the reflection/refraction and surfel passes' own measurements
-//! (`effects_timing` stays empty, and the page says so); their modules are compiled and
-//! their compilation messages recorded.
+//! For a scene that names reflection or refraction the page, as the native runner, leaves
+//! the F-only passes out and times the map update and the shading pass per configuration
+//! as `effects_timing` ([`effects`]). Not in the page: the surfel passes' measurements and
+//! the effects' image error against the f64 reference (traced on the CPU by the native
+//! runner); the page says so, and compiles their modules and records their messages.
+
+pub mod effects;
 
 use anyhow::{anyhow, Result};
 use base64::Engine;
@@ -49,6 +53,9 @@ pub struct Bench {
     pub timing: Option<TimingPlan>,
     pub image_error: Option<ImagePlan>,
     pub meshes: Vec<MeshPlan>,
+    /// The specular effects' map update and shading pass per configuration
+    /// (`effects_timing`), when the scene names reflection or refraction and `timing`.
+    pub effects: Option<effects::EffectsPlan>,
     /// Every composed module of every pass, compiled by the page and its messages recorded;
     /// the F-only pass's variants are also the page's pipelines.
     pub checks: Vec<ModulePlan>,
@@ -141,6 +148,17 @@ fn base64(bytes: &[u8]) -> String {
     base64::engine::general_purpose::STANDARD.encode(bytes)
 }
 
+/// The WebGPU name of a texture format the runner uses.
+fn texture_format(format: wgpu::TextureFormat) -> &'static str {
+    match format {
+        wgpu::TextureFormat::Rgba8Unorm => "rgba8unorm",
+        wgpu::TextureFormat::Rgba32Float => "rgba32float",
+        wgpu::TextureFormat::Rgba16Float => "rgba16float",
+        wgpu::TextureFormat::Depth32Float => "depth32float",
+        _ => "unsupported",
+    }
+}
+
 /// Half-float bits of RGBA texels, as `lut::upload_rows` writes them, base64.
 fn half_texels(texels: &[[f32; 4]]) -> String {
     base64(bytemuck::cast_slice(&super::lut::half_bits(texels)))
@@ -171,7 +189,10 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         })
         .collect();
 
-    let timing = scene.wants(Experiment::Timing).then(|| -> Result<TimingPlan> {
+    // As the native runner: a scene with specular effects measures those, not the F-only
+    // passes.
+    let specular_effects = scene.names_effect(EffectFamily::SpecularPaths);
+    let timing = (scene.wants(Experiment::Timing) && !specular_effects).then(|| -> Result<TimingPlan> {
         let [width, height] = scene.timing.resolution;
         let pairs = scene
             .material_shadings()
@@ -189,7 +210,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     });
 
     let mut meshes: Vec<(nklut_effects::scene::MeshSource, MeshPlan)> = Vec::new();
-    let image_error = scene.wants(Experiment::ImageError).then(|| -> Result<ImagePlan> {
+    let image_error = (scene.wants(Experiment::ImageError) && !specular_effects).then(|| -> Result<ImagePlan> {
         let [width, height] = scene.resolution;
         let frames = (0..scene.camera.frames)
             .map(|i| base64(bytemuck::bytes_of(&ViewUniform::camera(&camera::frame(&scene.camera, i, width, height), width, height))))
@@ -230,27 +251,31 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         let f_only = interface.name == <render::Renderer as super::passes::Pass>::INTERFACE.name;
         for variant in variants {
             let shade = f_only.then(|| variant.name.clone());
-            let name = if variant.name == interface.name { variant.name } else { format!("{}: {}", interface.name, variant.name) };
-            checks.push(ModulePlan { name, shade, wgsl: variant.wgsl });
+            checks.push(ModulePlan { name: effects::module_name(&interface, &variant.name), shade, wgsl: variant.wgsl });
         }
     }
 
+    let effects = effects::plan(scene, materials)?;
     let mut skipped = Vec::new();
-    if scene.names_effect(EffectFamily::SpecularPaths) || scene.names_effect(EffectFamily::Surfels) {
+    if scene.names_effect(EffectFamily::Surfels) {
         skipped.push(
-            "the scene's effects (reflection, refraction, surfel AO): their modules are compiled, their timing is the native runner's (`nklut gpu run`)"
+            "the scene's surfel AO and indirect light: their modules are compiled, their timing is the native runner's (`nklut gpu run`)"
                 .to_string(),
         );
     }
-    let format = |f: wgpu::TextureFormat| -> &'static str {
-        match f {
-            wgpu::TextureFormat::Rgba8Unorm => "rgba8unorm",
-            wgpu::TextureFormat::Rgba32Float => "rgba32float",
-            wgpu::TextureFormat::Rgba16Float => "rgba16float",
-            wgpu::TextureFormat::Depth32Float => "depth32float",
-            _ => "unsupported",
+    if specular_effects {
+        skipped.push("F-only passes: the scene's reflection and refraction take its measurements, as in the native runner".to_string());
+        if scene.wants(Experiment::ImageError) {
+            skipped.push(
+                "reflection, refraction image error (effects_errors): against the f64 ray-traced reference, which `nklut gpu run` traces on the CPU"
+                    .to_string(),
+            );
         }
-    };
+        if !scene.wants(Experiment::Timing) {
+            skipped.push("reflection, refraction timing: the scene does not ask for it (`measurements: [timing]`)".to_string());
+        }
+    }
+    let format = texture_format;
     let names = |table: nklut_pipeline::output::Table| table.columns.into_iter().map(|c| c.name).collect();
     Ok(Bench {
         format: FORMAT,
@@ -271,6 +296,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         timing,
         image_error,
         meshes: meshes.into_iter().map(|(_, plan)| plan).collect(),
+        effects,
         checks,
         skipped,
     })

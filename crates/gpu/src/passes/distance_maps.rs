@@ -186,20 +186,144 @@ impl LightsUniform {
 /// `MapFace` of `shaders/distance_map_render.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct FaceUniform {
-    centre: [f32; 4],
-    face: u32,
-    peel: u32,
-    near: f32,
-    far: f32,
+pub struct FaceUniform {
+    pub centre: [f32; 4],
+    pub face: u32,
+    pub peel: u32,
+    pub near: f32,
+    pub far: f32,
 }
 
 /// `MapObject` of `shaders/distance_map_render.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct MapObjectUniform {
-    surface: DiffuseUniform,
-    specular: [u32; 4],
+pub struct MapObjectUniform {
+    pub surface: DiffuseUniform,
+    pub specular: [u32; 4],
+}
+
+/// What a layer's geometry target is cleared to: distance −1, nothing seen.
+pub const GEOMETRY_CLEAR: [f64; 4] = [-1.0, 0.0, 0.0, 0.0];
+/// What a layer's surface target is cleared to: object −1, no specular object.
+pub const SURFACE_CLEAR: [f64; 4] = [0.0, 0.0, 0.0, -1.0];
+
+/// The map-update pass's uniforms for a stage, as plain data: each object's
+/// [`MapObjectUniform`], the lights, and the projection range (nearer than `near` or
+/// farther than `far` is clipped), which spans the whole scene from any reference point
+/// inside its box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapUniforms {
+    pub objects: Vec<MapObjectUniform>,
+    pub lights: LightsUniform,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl MapUniforms {
+    pub fn of(stage: &Stage) -> MapUniforms {
+        let objects = stage
+            .objects
+            .iter()
+            .map(|o| match o {
+                ObjectOptics::Specular(_) => MapObjectUniform { surface: DiffuseUniform::default(), specular: [1, 0, 0, 0] },
+                ObjectOptics::Diffuse(d) => MapObjectUniform { surface: DiffuseUniform::new(d), specular: [0; 4] },
+            })
+            .collect();
+        let (low, high) = stage.meshes.iter().flat_map(|m| &m.positions).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| {
+            let p = widen(*p);
+            (low.min(p), high.max(p))
+        });
+        let far = 2.0 * (high - low).length().max(1e-6);
+        MapUniforms { objects, lights: LightsUniform::new(&stage.lights), near: (far * 1e-6) as f32, far: far as f32 }
+    }
+}
+
+/// Where every map of a stage sits: one [`MapView`] per specular object in object order,
+/// and each object's map (`None` for diffuse ones).
+pub fn map_layout(stage: &Stage, size: u32, layers: u32) -> (Vec<MapView>, Vec<Option<u32>>) {
+    let mut views = Vec::new();
+    let mut map_of = Vec::new();
+    let mut texels = 0usize;
+    for object in 0..stage.objects.len() {
+        if stage.is_specular(object) {
+            map_of.push(Some(views.len() as u32));
+            let view = view_of(stage.geometry.object_centre(object), size, layers, texels);
+            texels += view.texels();
+            views.push(view);
+        } else {
+            map_of.push(None);
+        }
+    }
+    (views, map_of)
+}
+
+/// The bytes of one map buffer (`geometry` or `surfaces`) holding every map of `views`
+/// (16 at least: a binding is never empty).
+pub fn map_buffer_bytes(views: &[MapView]) -> u64 {
+    (views.iter().map(MapView::texels).sum::<usize>().max(1) * 16) as u64
+}
+
+/// One layer of one map in the map update: its six faces' uniforms (one render pass each,
+/// in face order), the objects its passes draw, and where its faces land in the map
+/// buffers. Layers below the diffuse one are also kept as the next layer's `previous`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerStep {
+    pub map: usize,
+    pub layer: u32,
+    /// The last layer: the diffuse surfaces (else the specular ones, peeled).
+    pub diffuse: bool,
+    pub faces: [FaceUniform; 6],
+    /// The objects drawn into every face (each as instance `object`).
+    pub draw: Vec<usize>,
+    /// Byte offset of the layer's six faces in each map buffer.
+    pub offset: u64,
+}
+
+/// Every layer step of the map update of `views`, in encoding order (map, then layer).
+pub fn layer_steps(stage: &Stage, views: &[MapView], uniforms: &MapUniforms) -> Vec<LayerStep> {
+    let mut steps = Vec::new();
+    for (map, view) in views.iter().enumerate() {
+        for layer in 0..view.layers {
+            let diffuse = layer + 1 == view.layers;
+            let peel = (layer > 0 && !diffuse) as u32;
+            let faces = std::array::from_fn(|face| FaceUniform {
+                centre: view.centre,
+                face: face as u32,
+                peel,
+                near: uniforms.near,
+                far: uniforms.far,
+            });
+            let draw = (0..stage.objects.len()).filter(|&o| stage.is_specular(o) != diffuse).collect();
+            let offset = (view.base as u64 + (layer * 6 * view.size * view.size) as u64) * 16;
+            steps.push(LayerStep { map, layer, diffuse, faces, draw, offset });
+        }
+    }
+    steps
+}
+
+/// Every object's placed mesh packed in one vertex and one index array: object o's indices
+/// are `ranges[o]`, its vertices start at `base_vertex[o]` (what [`SceneMeshes`] uploads).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackedMeshes {
+    /// Position and normal per vertex, 6 f32 ([`MESH_ATTRIBUTES`]).
+    pub vertices: Vec<f32>,
+    pub indices: Vec<u32>,
+    pub ranges: Vec<std::ops::Range<u32>>,
+    pub base_vertex: Vec<i32>,
+}
+
+impl PackedMeshes {
+    pub fn of(stage: &Stage) -> PackedMeshes {
+        let mut packed = PackedMeshes { vertices: Vec::new(), indices: Vec::new(), ranges: Vec::new(), base_vertex: Vec::new() };
+        for mesh in &stage.meshes {
+            packed.base_vertex.push((packed.vertices.len() / 6) as i32);
+            let start = packed.indices.len() as u32;
+            packed.indices.extend_from_slice(&mesh.indices);
+            packed.ranges.push(start..packed.indices.len() as u32);
+            packed.vertices.extend(mesh.interleaved());
+        }
+        packed
+    }
 }
 
 /// Every object's placed mesh in one vertex and one index buffer; object o's indices are
@@ -214,14 +338,7 @@ pub struct SceneMeshes {
 
 impl SceneMeshes {
     pub fn upload(gpu: &Gpu, stage: &Stage) -> Result<SceneMeshes> {
-        let (mut vertices, mut indices, mut ranges, mut base_vertex) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for mesh in &stage.meshes {
-            base_vertex.push((vertices.len() / 6) as i32);
-            let start = indices.len() as u32;
-            indices.extend_from_slice(&mesh.indices);
-            ranges.push(start..indices.len() as u32);
-            vertices.extend(mesh.interleaved());
-        }
+        let PackedMeshes { vertices, indices, ranges, base_vertex } = PackedMeshes::of(stage);
         check_buffer_size(gpu, (vertices.len() * 4) as u64, "scene vertices", "use coarser meshes")?;
         let buffer = |label: &str, contents: &[u8], usage| {
             gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
@@ -314,16 +431,19 @@ struct LayerTargets {
     depth: wgpu::TextureView,
     geometry_faces: Vec<wgpu::TextureView>,
     surface_faces: Vec<wgpu::TextureView>,
+    /// What each layer of each map draws and where it lands ([`layer_steps`]).
+    steps: Vec<LayerStep>,
+    /// One per face of each step, in step order.
     bind_groups: Vec<wgpu::BindGroup>,
 }
 
-const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Array layers of the per-layer face textures: the six faces and one spare. wgpu's GL
 /// backend makes every square 2D texture of 6·k layers a cube map (its heuristic for cube
 /// compatibility), which it cannot copy to a buffer and which would not bind as the
 /// `texture_2d_array` the peel reads; a seventh layer keeps it a 2D array on every backend.
-const FACE_LAYERS: u32 = 7;
+pub const FACE_LAYERS: u32 = 7;
 
 /// The map-update pass: its pipeline and the per-face uniforms, built once per scene.
 pub struct MapRenderer {
@@ -331,9 +451,7 @@ pub struct MapRenderer {
     layout: wgpu::BindGroupLayout,
     objects: wgpu::Buffer,
     lights: wgpu::Buffer,
-    /// Projection range: nearer than `near` or farther than `far` is clipped.
-    near: f32,
-    far: f32,
+    uniforms: MapUniforms,
 }
 
 impl Pass for MapRenderer {
@@ -373,30 +491,16 @@ impl MapRenderer {
         let target = Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
         let [vertex, fragment] = [interface.entry_points[0], interface.entry_points[1]];
         let pipeline = mesh_pipeline(device, interface.name, &pipeline_layout, source, [vertex, fragment], &[target.clone(), target])?;
-        let objects: Vec<MapObjectUniform> = stage
-            .objects
-            .iter()
-            .map(|o| match o {
-                ObjectOptics::Specular(_) => MapObjectUniform { surface: DiffuseUniform::default(), specular: [1, 0, 0, 0] },
-                ObjectOptics::Diffuse(d) => MapObjectUniform { surface: DiffuseUniform::new(d), specular: [0; 4] },
-            })
-            .collect();
+        let uniforms = MapUniforms::of(stage);
         let buffer = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
-        // The projection spans the whole scene from any reference point inside its box.
-        let (low, high) = stage.meshes.iter().flat_map(|m| &m.positions).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), p| {
-            let p = widen(*p);
-            (low.min(p), high.max(p))
-        });
-        let far = 2.0 * (high - low).length().max(1e-6);
         Ok(MapRenderer {
             pipeline,
             layout: layouts.remove(0),
-            objects: buffer("map objects", bytemuck::cast_slice(&objects), wgpu::BufferUsages::STORAGE),
-            lights: buffer("lights", bytemuck::bytes_of(&LightsUniform::new(&stage.lights)), wgpu::BufferUsages::UNIFORM),
-            near: (far * 1e-6) as f32,
-            far: far as f32,
+            objects: buffer("map objects", bytemuck::cast_slice(&uniforms.objects), wgpu::BufferUsages::STORAGE),
+            lights: buffer("lights", bytemuck::bytes_of(&uniforms.lights), wgpu::BufferUsages::UNIFORM),
+            uniforms,
         })
     }
 
@@ -404,20 +508,8 @@ impl MapRenderer {
     /// `layers` layers. Sizes are checked before anything is allocated.
     pub fn allocate(&self, gpu: &Gpu, stage: &Stage, size: u32, layers: u32) -> Result<GpuMaps> {
         check_map_size(gpu, size, layers)?;
-        let mut views = Vec::new();
-        let mut map_of = Vec::new();
-        let mut texels = 0usize;
-        for object in 0..stage.objects.len() {
-            if stage.is_specular(object) {
-                map_of.push(Some(views.len() as u32));
-                let view = view_of(stage.geometry.object_centre(object), size, layers, texels);
-                texels += view.texels();
-                views.push(view);
-            } else {
-                map_of.push(None);
-            }
-        }
-        let bytes = (texels.max(1) * 16) as u64;
+        let (views, map_of) = map_layout(stage, size, layers);
+        let bytes = map_buffer_bytes(&views);
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         if bytes > limit {
             bail!("{} distance maps of {size}x{size}x6x{layers} texels need {bytes} bytes, over this device's max_storage_buffer_binding_size ({limit})", views.len());
@@ -431,16 +523,16 @@ impl MapRenderer {
                 mapped_at_creation: false,
             })
         };
-        let targets = self.targets(gpu, &views)?;
+        let targets = self.targets(gpu, stage, &views)?;
         Ok(GpuMaps { geometry: buffer("map geometry"), surfaces: buffer("map surfaces"), views, map_of, targets })
     }
 
     /// The render targets of one layer's six faces and each face's bind group, for `maps`
     /// (none without maps).
-    fn targets(&self, gpu: &Gpu, views: &[MapView]) -> Result<Option<LayerTargets>> {
+    fn targets(&self, gpu: &Gpu, stage: &Stage, views: &[MapView]) -> Result<Option<LayerTargets>> {
         let device = &gpu.device;
         let Some(first) = views.first() else { return Ok(None) };
-        let (size, layers) = (first.size, first.layers);
+        let size = first.size;
         let texture = |label, array_layers, format, usage| {
             texture_2d(gpu, label, wgpu::Extent3d { width: size, height: size, depth_or_array_layers: array_layers }, format, usage)
         };
@@ -460,32 +552,28 @@ impl MapRenderer {
                 ..Default::default()
             })
         };
+        let steps = layer_steps(stage, views, &self.uniforms);
         let mut bind_groups = Vec::new();
-        for view in views {
-            for layer in 0..layers {
-                for face in 0..6u32 {
-                    let peel = (layer > 0 && layer + 1 < layers) as u32;
-                    let uniform = FaceUniform { centre: view.centre, face, peel, near: self.near, far: self.far };
-                    let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("map face"),
-                        contents: bytemuck::bytes_of(&uniform),
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    });
-                    bind_groups.push(Self::INTERFACE.bind_group(
-                        device,
-                        &self.layout,
-                        0,
-                        &[
-                            (0, face_buffer.as_entire_binding()),
-                            (1, self.lights.as_entire_binding()),
-                            (2, self.objects.as_entire_binding()),
-                            (3, wgpu::BindingResource::TextureView(&previous_view)),
-                        ],
-                    )?);
-                }
-            }
+        for uniform in steps.iter().flat_map(|step| &step.faces) {
+            let face_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("map face"),
+                contents: bytemuck::bytes_of(uniform),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            bind_groups.push(Self::INTERFACE.bind_group(
+                device,
+                &self.layout,
+                0,
+                &[
+                    (0, face_buffer.as_entire_binding()),
+                    (1, self.lights.as_entire_binding()),
+                    (2, self.objects.as_entire_binding()),
+                    (3, wgpu::BindingResource::TextureView(&previous_view)),
+                ],
+            )?);
         }
         Ok(Some(LayerTargets {
+            steps,
             geometry_faces: (0..6).map(|f| face_view(&geometry, f)).collect(),
             surface_faces: (0..6).map(|f| face_view(&surfaces, f)).collect(),
             geometry,
@@ -501,83 +589,76 @@ impl MapRenderer {
     /// below the diffuse layer, kept for the next layer's peel). `timestamps`, where given,
     /// are written at the start of the first pass and the end of the last. Maps uploaded
     /// from the CPU have no targets: nothing is encoded.
-    pub fn encode(
-        &self,
-        stage: &Stage,
-        meshes: &SceneMeshes,
-        maps: &GpuMaps,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<&wgpu::QuerySet>,
-    ) {
-        let (Some(targets), Some(first)) = (&maps.targets, maps.views.first()) else { return };
-        let (size, layers) = (first.size, first.layers);
+    pub fn encode(&self, meshes: &SceneMeshes, maps: &GpuMaps, encoder: &mut wgpu::CommandEncoder, timestamps: Option<&wgpu::QuerySet>) {
+        let Some(targets) = &maps.targets else { return };
         let total_passes = targets.bind_groups.len();
-        for (m, view) in maps.views.iter().enumerate() {
-            for layer in 0..layers {
-                let diffuse_layer = layer + 1 == layers;
-                for face in 0..6usize {
-                    let pass_number = (m * layers as usize + layer as usize) * 6 + face;
-                    let writes = timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| {
-                        wgpu::RenderPassTimestampWrites {
-                            query_set: set,
-                            beginning_of_pass_write_index: (pass_number == 0).then_some(0),
-                            end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
-                        }
+        let colour = |[r, g, b, a]: [f64; 4]| wgpu::Color { r, g, b, a };
+        for (s, step) in targets.steps.iter().enumerate() {
+            let size = maps.views[step.map].size;
+            for face in 0..6usize {
+                let pass_number = s * 6 + face;
+                let writes =
+                    timestamps.filter(|_| pass_number == 0 || pass_number + 1 == total_passes).map(|set| wgpu::RenderPassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: (pass_number == 0).then_some(0),
+                        end_of_pass_write_index: (pass_number + 1 == total_passes).then_some(1),
                     });
-                    let clear = |view, colour| wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(colour), store: wgpu::StoreOp::Store },
-                    };
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("distance-map face"),
-                        color_attachments: &[
-                            Some(clear(&targets.geometry_faces[face], wgpu::Color { r: -1.0, g: 0.0, b: 0.0, a: 0.0 })),
-                            Some(clear(&targets.surface_faces[face], wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: -1.0 })),
-                        ],
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &targets.depth,
-                            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                            stencil_ops: None,
-                        }),
-                        timestamp_writes: writes,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                    pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &targets.bind_groups[pass_number], &[]);
-                    meshes.draw(&mut pass, |object| stage.is_specular(object) != diffuse_layer);
-                }
-                let whole = wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 };
-                let at = |texture| wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
+                let clear = |view, colour| wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(colour), store: wgpu::StoreOp::Store },
                 };
-                if !diffuse_layer {
-                    encoder.copy_texture_to_texture(at(&targets.geometry), at(&targets.previous), whole);
-                }
-                let offset = (view.base as u64 + (layer * 6 * size * size) as u64) * 16;
-                for (texture, buffer) in [(&targets.geometry, &maps.geometry), (&targets.surfaces, &maps.surfaces)] {
-                    encoder.copy_texture_to_buffer(
-                        at(texture),
-                        wgpu::TexelCopyBufferInfo {
-                            buffer,
-                            layout: wgpu::TexelCopyBufferLayout { offset, bytes_per_row: Some(size * 16), rows_per_image: Some(size) },
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("distance-map face"),
+                    color_attachments: &[
+                        Some(clear(&targets.geometry_faces[face], colour(GEOMETRY_CLEAR))),
+                        Some(clear(&targets.surface_faces[face], colour(SURFACE_CLEAR))),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &targets.depth,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: writes,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &targets.bind_groups[pass_number], &[]);
+                meshes.draw(&mut pass, |object| step.draw.contains(&object));
+            }
+            let whole = wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 };
+            let at = |texture| wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            };
+            if !step.diffuse {
+                encoder.copy_texture_to_texture(at(&targets.geometry), at(&targets.previous), whole);
+            }
+            for (texture, buffer) in [(&targets.geometry, &maps.geometry), (&targets.surfaces, &maps.surfaces)] {
+                encoder.copy_texture_to_buffer(
+                    at(texture),
+                    wgpu::TexelCopyBufferInfo {
+                        buffer,
+                        layout: wgpu::TexelCopyBufferLayout {
+                            offset: step.offset,
+                            bytes_per_row: Some(size * 16),
+                            rows_per_image: Some(size),
                         },
-                        whole,
-                    );
-                }
+                    },
+                    whole,
+                );
             }
         }
     }
 
     /// Update every map and wait for it.
-    pub fn render(&self, gpu: &Gpu, stage: &Stage, meshes: &SceneMeshes, maps: &GpuMaps) -> Result<()> {
+    pub fn render(&self, gpu: &Gpu, meshes: &SceneMeshes, maps: &GpuMaps) -> Result<()> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        self.encode(stage, meshes, maps, &mut encoder, None);
+        self.encode(meshes, maps, &mut encoder, None);
         gpu.queue.submit([encoder.finish()]);
         gpu.wait()?;
         gpu.take_errors()

@@ -30,6 +30,11 @@ pub struct Variant {
     pub wgsl: String,
 }
 
+/// The name of the specular pass's variant of (effect, method): `reflection, exact`.
+pub fn specular_variant(effect: specular::Effect, method: nklut_optics::fresnel::Method) -> String {
+    format!("{}, {}", effect.name(), method.name())
+}
+
 /// Every pass's interface with the composed WGSL of each of its variants (one per
 /// (effect, method) of the specular pass, one per shading of the Fresnel pass): what
 /// [`Interface::check`] holds the declarations to, and what the browser bench compiles.
@@ -43,7 +48,7 @@ pub fn interfaces() -> Result<Vec<(Interface, Vec<Variant>)>, crate::compose::Co
     let mut specular = Vec::new();
     for effect in [specular::Effect::Reflection, specular::Effect::Refraction] {
         for method in Method::ALL {
-            let name = format!("{}, {}", effect.name(), method.name());
+            let name = specular_variant(effect, method);
             specular.push(Variant { name, wgsl: specular::compose_effect(effect, method)? });
         }
     }

@@ -91,22 +91,104 @@ pub fn compose_effect(effect: Effect, method: Method) -> Result<String, crate::c
 /// `EffectFrame` of `shaders/specular.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct FrameUniform {
-    view_proj: [[f32; 4]; 4],
-    eye: [f32; 4],
-    lights: LightsUniform,
-    steps: StepsUniform,
-    depths: [u32; 4],
+pub struct FrameUniform {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub lights: LightsUniform,
+    pub steps: StepsUniform,
+    pub depths: [u32; 4],
+}
+
+impl FrameUniform {
+    /// The frame of `shot` on a target of `width` × `height` pixels, lit by `lights`.
+    pub fn new(lights: LightsUniform, shot: Shot, [width, height]: [u32; 2]) -> FrameUniform {
+        let near = 1e-3 * shot.camera.distance.max(1e-3);
+        let far = 100.0 * shot.camera.distance.max(1.0);
+        let view = camera::frame_within(shot.camera, shot.frame, width, height, near, far);
+        FrameUniform {
+            view_proj: view.view_proj.map(|column| column.map(|x| x as f32)),
+            eye: [view.eye[0] as f32, view.eye[1] as f32, view.eye[2] as f32, 1.0],
+            lights,
+            steps: StepsUniform::new(shot.steps),
+            depths: [shot.depths.reflection, shot.depths.refraction, 0, 0],
+        }
+    }
 }
 
 /// `SceneObject` of `shaders/specular.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct ObjectUniform {
-    surface: DiffuseUniform,
-    role: [u32; 4],
-    geometric_n: [f32; 4],
-    map: MapView,
+pub struct ObjectUniform {
+    pub surface: DiffuseUniform,
+    pub role: [u32; 4],
+    pub geometric_n: [f32; 4],
+    pub map: MapView,
+}
+
+/// The shading pass's per-stage data, as plain data: each object's uniform (its map left
+/// empty: [`StageUniforms::with_maps`] fills it), the materials (per specular object, its
+/// parameters from outside then from inside; one empty material where there is none, as a
+/// binding is never empty) and each specular object's channel indices (the LUT atlas's
+/// source).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StageUniforms {
+    pub objects: Vec<ObjectUniform>,
+    pub materials: Vec<MaterialUniform>,
+    pub channels: Vec<nklut_optics::spectrum::ChannelIndex>,
+    pub lights: LightsUniform,
+}
+
+impl StageUniforms {
+    pub fn of(stage: &Stage) -> StageUniforms {
+        let mut objects = Vec::new();
+        let mut materials = Vec::new();
+        let mut channels = Vec::new();
+        for optics in &stage.objects {
+            objects.push(match optics {
+                ObjectOptics::Diffuse(d) => ObjectUniform { surface: DiffuseUniform::new(d), ..Default::default() },
+                ObjectOptics::Specular(m) => {
+                    let role = match m.kind {
+                        Kind::Conductor => ObjectRole::Conductor,
+                        Kind::Dielectric => ObjectRole::Dielectric,
+                    }
+                    .code();
+                    let material = channels.len() as u32;
+                    materials.push(MaterialUniform::from_channels(&m.channels));
+                    materials.push(MaterialUniform::from_channels(&m.channels.map(inside_index)));
+                    channels.push(m.channels);
+                    ObjectUniform {
+                        role: [role, material, 0, 0],
+                        geometric_n: [m.channels[GEOMETRIC_CHANNEL].n as f32, 0.0, 0.0, 0.0],
+                        ..Default::default()
+                    }
+                }
+            });
+        }
+        if materials.is_empty() {
+            materials.push(MaterialUniform::default());
+        }
+        StageUniforms { objects, materials, channels, lights: LightsUniform::new(&stage.lights) }
+    }
+
+    /// Each object's uniform with its map of `views` (`map_of[o]`; none for diffuse objects).
+    pub fn with_maps(&self, map_of: &[Option<u32>], views: &[MapView]) -> Vec<ObjectUniform> {
+        self.objects
+            .iter()
+            .zip(map_of)
+            .map(|(object, map)| ObjectUniform { map: map.map(|m| views[m as usize]).unwrap_or_default(), ..*object })
+            .collect()
+    }
+
+    /// The `lut` atlas's texels, `lut_size` per row: per specular object, its curve from
+    /// outside then from inside (`2 × channels` rows; none without specular objects).
+    pub fn lut_atlas(&self, lut_size: usize) -> Vec<[f32; 4]> {
+        let mut texels = Vec::new();
+        for channels in &self.channels {
+            texels.extend(lut::texels(&prepare(channels), lut_size));
+            texels.extend(lut::texels(&prepare(&channels.map(inside_index)), lut_size));
+        }
+        texels
+    }
 }
 
 /// One rendered frame of the effect, read back.
@@ -135,19 +217,18 @@ pub struct SpecularPass {
     layouts: Vec<wgpu::BindGroupLayout>,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(Effect, Method), wgpu::RenderPipeline>,
-    /// Each object's uniform but its map (set per frame from the maps bound).
-    objects: Vec<ObjectUniform>,
+    /// Each object's uniform but its map (set per frame from the maps bound), the
+    /// materials, lights and LUT sources.
+    uniforms: StageUniforms,
     materials: wgpu::Buffer,
     lut_atlas: Option<wgpu::TextureView>,
     blank: wgpu::TextureView,
     sampler: wgpu::Sampler,
-    lights: LightsUniform,
     /// Pipelines compiled so far.
     pub pipelines_compiled: usize,
     /// LUT curves baked (two per specular object, only when a `lut` pipeline was asked for).
     pub lut_curves: usize,
     lut_size: usize,
-    stage_channels: Vec<nklut_optics::spectrum::ChannelIndex>,
 }
 
 impl Pass for SpecularPass {
@@ -173,49 +254,24 @@ impl SpecularPass {
     pub fn new(gpu: &Gpu, stage: &Stage, lut_size: usize) -> Result<SpecularPass> {
         let device = &gpu.device;
         let (pipeline_layout, layouts) = Self::INTERFACE.pipeline_layout(device);
-        let mut objects = Vec::new();
-        let mut stage_materials = Vec::new();
-        let mut stage_channels = Vec::new();
-        for optics in &stage.objects {
-            objects.push(match optics {
-                ObjectOptics::Diffuse(d) => ObjectUniform { surface: DiffuseUniform::new(d), ..Default::default() },
-                ObjectOptics::Specular(m) => {
-                    let role = match m.kind {
-                        Kind::Conductor => ObjectRole::Conductor,
-                        Kind::Dielectric => ObjectRole::Dielectric,
-                    }
-                    .code();
-                    let material = stage_materials.len() as u32;
-                    stage_materials
-                        .push([MaterialUniform::from_channels(&m.channels), MaterialUniform::from_channels(&m.channels.map(inside_index))]);
-                    stage_channels.push(m.channels);
-                    ObjectUniform {
-                        role: [role, material, 0, 0],
-                        geometric_n: [m.channels[GEOMETRIC_CHANNEL].n as f32, 0.0, 0.0, 0.0],
-                        ..Default::default()
-                    }
-                }
-            });
-        }
-        let buffer = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
-        };
-        let materials: Vec<MaterialUniform> = stage_materials.iter().flatten().copied().collect();
-        let materials = if materials.is_empty() { vec![MaterialUniform::default()] } else { materials };
+        let uniforms = StageUniforms::of(stage);
+        let materials = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("effect materials"),
+            contents: bytemuck::cast_slice(&uniforms.materials),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         Ok(SpecularPass {
             layouts,
             pipeline_layout,
             pipelines: HashMap::new(),
-            objects,
-            materials: buffer("effect materials", bytemuck::cast_slice(&materials), wgpu::BufferUsages::STORAGE),
+            uniforms,
+            materials,
             lut_atlas: None,
             blank: lut::upload(gpu, &[[1.0; 4]], "blank").create_view(&Default::default()),
             sampler: lut::sampler(gpu),
-            lights: LightsUniform::new(&stage.lights),
             pipelines_compiled: 0,
             lut_curves: 0,
             lut_size,
-            stage_channels,
         })
     }
 
@@ -240,12 +296,8 @@ impl SpecularPass {
 
     /// Bake the `lut` atlas: per specular object, its curve from outside then from inside.
     fn bake_luts(&mut self, gpu: &Gpu) {
-        let mut texels = Vec::new();
-        for channels in &self.stage_channels {
-            texels.extend(lut::texels(&prepare(channels), self.lut_size));
-            texels.extend(lut::texels(&prepare(&channels.map(inside_index)), self.lut_size));
-        }
-        let rows = 2 * self.stage_channels.len() as u32;
+        let texels = self.uniforms.lut_atlas(self.lut_size);
+        let rows = 2 * self.uniforms.channels.len() as u32;
         if rows > 0 {
             self.lut_atlas = Some(lut::upload_rows(gpu, &texels, rows, "effect lut atlas").create_view(&Default::default()));
             self.lut_curves = rows as usize;
@@ -275,27 +327,13 @@ impl SpecularPass {
         let pipeline =
             self.pipelines.get(&(effect, method)).ok_or_else(|| anyhow!("the {effect} pipeline of {} was not compiled", method.name()))?;
         let device = &gpu.device;
-        let near = 1e-3 * shot.camera.distance.max(1e-3);
-        let far = 100.0 * shot.camera.distance.max(1.0);
-        let view = camera::frame_within(shot.camera, shot.frame, target.width, target.height, near, far);
-        let uniform = FrameUniform {
-            view_proj: view.view_proj.map(|column| column.map(|x| x as f32)),
-            eye: [view.eye[0] as f32, view.eye[1] as f32, view.eye[2] as f32, 1.0],
-            lights: self.lights,
-            steps: StepsUniform::new(shot.steps),
-            depths: [shot.depths.reflection, shot.depths.refraction, 0, 0],
-        };
+        let uniform = FrameUniform::new(self.uniforms.lights, shot, [target.width, target.height]);
         let frame = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("effect frame"),
             contents: bytemuck::bytes_of(&uniform),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let objects: Vec<ObjectUniform> = self
-            .objects
-            .iter()
-            .zip(&maps.map_of)
-            .map(|(object, map)| ObjectUniform { map: map.map(|m| maps.views[m as usize]).unwrap_or_default(), ..*object })
-            .collect();
+        let objects = self.uniforms.with_maps(&maps.map_of, &maps.views);
         let objects = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("effect objects"),
             contents: bytemuck::cast_slice(&objects),

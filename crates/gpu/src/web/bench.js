@@ -1,7 +1,9 @@
 // nklut browser bench: the host side of the native runner's F-only measurements
-// (crates/gpu/src/runner.rs) in WebGPU. The plan (crates/gpu/src/web.rs) brings every shader
+// (crates/gpu/src/runner.rs) and of its specular effects' timing (crates/gpu/src/effects.rs:
+// the distance-map update and the shading pass per configuration) in WebGPU. The plan (crates/gpu/src/web.rs) brings every shader
 // module composed by the runner's own code, the material uniforms, LUT texels, meshes and
-// camera views as bytes; this script creates the device, buffers and pipelines, runs the
+// camera views as bytes (and, for reflection/refraction scenes, every uniform, map layout and
+// mesh byte of the effects, crates/gpu/src/web/effects.rs); this script creates the device, buffers and pipelines, runs the
 // passes, times them (timestamp queries when granted, else wall time over batches closed by
 // onSubmittedWorkDone), reads the targets back and computes the image error of SPEC §6 with
 // the rule of crates/gpu/src/image_error.rs (`compare`, `ErrorSummary`) and the median and
@@ -78,7 +80,7 @@ class ErrorSummary {
   meanRelative() { return this.frames_with_samples > 0 ? this.sum_of_frame_means / this.frames_with_samples : null; }
 }
 
-window.nklut = { plan, result, done: false, error: null, twins: { quantile, medianAndIqr, compare, ErrorSummary }, ramp: null };
+window.nklut = { plan, result, done: false, error: null, twins: { quantile, medianAndIqr, compare, ErrorSummary }, ramp: null, effectFrame: null };
 
 // ---- page ---------------------------------------------------------------------------------
 
@@ -116,6 +118,16 @@ function requirements() {
       needs.push({ limit: 'maxBufferSize', size: (mesh.vertices.length * 3) / 4, what: `the vertices of mesh ${mesh.label}`, remedy: 'use a smaller mesh' });
     }
   }
+  if (plan.effects) {
+    const e = plan.effects;
+    texture(e.resolution, `the ${resolutionText(e.resolution)} effects target`);
+    texture([e.maps.size], `distance maps of ${e.maps.size}² texels per face`);
+    needs.push({ limit: 'maxTextureArrayLayers', size: e.maps.face_layers, what: 'the six faces of a distance-map layer and a spare', remedy: 'use another device' });
+    for (const limit of ['maxStorageBufferBindingSize', 'maxBufferSize']) {
+      needs.push({ limit, size: e.maps.buffer_bytes, what: `${e.maps.cube_maps} distance maps of 6×${e.maps.size}²×${e.maps.layers} texels`, remedy: 'lower effects.distance_maps.size or layers' });
+    }
+    needs.push({ limit: 'maxBufferSize', size: (e.meshes.vertices.length * 3) / 4, what: 'the scene\'s vertices', remedy: 'use coarser meshes' });
+  }
   return needs;
 }
 
@@ -147,7 +159,7 @@ async function openDevice() {
   result.adapter = {
     name, vendor: info.vendor || '', architecture: info.architecture || '', device: info.device || '', description: info.description || '',
     backend: 'WebGPU', timestamp_query: timestamps, limits_used: requiredLimits,
-    limits: { maxTextureDimension2D: adapter.limits.maxTextureDimension2D, maxBufferSize: adapter.limits.maxBufferSize },
+    limits: Object.fromEntries(['maxTextureDimension2D', 'maxTextureArrayLayers', 'maxBufferSize', 'maxStorageBufferBindingSize'].map((l) => [l, adapter.limits[l]])),
   };
   return { device, timestamps };
 }
@@ -172,8 +184,10 @@ async function scoped(device, what, body) {
 }
 
 async function compileChecks(device) {
-  // The F-only pass's modules by shading, for the pipelines.
+  // The F-only pass's modules by shading, for its pipelines; every module by name, for the
+  // effects' pipelines.
   const modules = {};
+  const named = {};
   for (const m of plan.checks) {
     checkLost();
     const module = device.createShaderModule({ label: m.name, code: m.wgsl });
@@ -181,10 +195,11 @@ async function compileChecks(device) {
     const of = (type) => info.messages.filter((x) => x.type === type).map((x) => `${x.lineNum}:${x.linePos} ${x.message}`);
     result.compile.push({ module: m.name, errors: of('error'), warnings: of('warning') });
     if (m.shade) modules[m.shade] = module;
+    named[m.name] = module;
   }
   const failed = result.compile.filter((c) => c.errors.length > 0);
   if (failed.length > 0) throw new Problem(`WGSL did not compile on this browser: ${failed.map((c) => `${c.module}: ${c.errors[0]}`).join('; ')}`);
-  return modules;
+  return { modules, named };
 }
 
 function setup(device, modules) {
@@ -447,6 +462,235 @@ function ramp(device, gpu) {
   };
 }
 
+// ---- specular effects ---------------------------------------------------------------------
+
+// The bind group layouts of a pass's declared bindings (passes/interface.rs, `binding_type`),
+// one per group in group order.
+function bindGroupLayouts(device, bindings) {
+  const visibility = GPUShaderStage.VERTEX | GPUShaderStage.FRAGMENT;
+  const entry = (b) => {
+    switch (b.kind) {
+      case 'uniform': case 'read-only-storage': case 'storage': return { buffer: { type: b.kind } };
+      case 'float-2d': return { texture: { sampleType: 'float', viewDimension: '2d' } };
+      case 'unfilterable-float-2d-array': return { texture: { sampleType: 'unfilterable-float', viewDimension: '2d-array' } };
+      case 'filtering': return { sampler: { type: 'filtering' } };
+      default: throw new Problem(`the plan names a binding kind this page does not know: ${b.kind}`);
+    }
+  };
+  const groups = [...new Set(bindings.map((b) => b.group))].sort((a, b) => a - b);
+  return groups.map((g) => device.createBindGroupLayout({ entries: bindings.filter((b) => b.group === g).map((b) => ({ binding: b.binding, visibility, ...entry(b) })) }));
+}
+
+// A bind group of `group` from `resources` by the bindings' WGSL names.
+function bindGroup(device, layouts, bindings, group, resources) {
+  return device.createBindGroup({
+    layout: layouts[group],
+    entries: bindings.filter((b) => b.group === group).map((b) => {
+      const r = resources[b.name];
+      if (r === undefined) throw new Problem(`no resource for the binding ${b.name}`);
+      return { binding: b.binding, resource: r instanceof GPUBuffer ? { buffer: r } : r };
+    }),
+  });
+}
+
+// Buffers, textures, pipelines and bind groups of the map update and the shading pass
+// (passes/distance_maps.rs MapRenderer, passes/specular.rs SpecularPass), from the plan's
+// bytes; `encodeMaps` and `encodeShading` record their passes.
+function setupEffects(device, named) {
+  const e = plan.effects;
+  const usage = GPUBufferUsage;
+  const upload = (base64, flags, label) => {
+    const data = bytes(base64);
+    const b = device.createBuffer({ label, size: Math.max(16, Math.ceil(data.byteLength / 4) * 4), usage: flags | usage.COPY_DST });
+    device.queue.writeBuffer(b, 0, data);
+    return b;
+  };
+  const vertices = upload(e.meshes.vertices, usage.VERTEX, 'scene vertices');
+  const indices = upload(e.meshes.indices, usage.INDEX, 'scene indices');
+  const vertexLayout = { arrayStride: e.meshes.stride, attributes: e.meshes.attributes.map((a) => ({ shaderLocation: a.location, offset: a.offset, format: a.format })) };
+  // distance_maps::mesh_pipeline: scene meshes, depth tested, no culling.
+  const meshPipeline = (label, layouts, module, vertex, fragment, formats) => device.createRenderPipeline({
+    label,
+    layout: device.createPipelineLayout({ bindGroupLayouts: layouts }),
+    vertex: { module, entryPoint: vertex, buffers: [vertexLayout] },
+    fragment: { module, entryPoint: fragment, targets: formats.map((format) => ({ format })) },
+    primitive: { topology: 'triangle-list', cullMode: 'none' },
+    depthStencil: { format: plan.formats.depth, depthWriteEnabled: true, depthCompare: 'less' },
+  });
+  // SceneMeshes::draw: the objects `include` takes, each as instance `object`.
+  const draw = (pass, include) => {
+    pass.setVertexBuffer(0, vertices);
+    pass.setIndexBuffer(indices, 'uint32');
+    for (const d of e.meshes.draws) if (include(d.object)) pass.drawIndexed(d.index_count, 1, d.first_index, d.base_vertex, d.object);
+  };
+  const moduleOf = (name) => { if (!named[name]) throw new Problem(`the plan names a module it does not hold: ${name}`); return named[name]; };
+
+  // The map update.
+  const m = e.maps;
+  const mapBuffer = (label) => device.createBuffer({ label, size: m.buffer_bytes, usage: usage.STORAGE | usage.COPY_DST | usage.COPY_SRC });
+  const maps = { geometry: mapBuffer('map geometry'), surfaces: mapBuffer('map surfaces') };
+  const texture = (label, layers, format, flags) => device.createTexture({ label, size: [m.size, m.size, layers], format, usage: flags });
+  const attachment = GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.COPY_SRC;
+  const layer = { geometry: texture('map layer geometry', m.face_layers, m.format, attachment), surfaces: texture('map layer surfaces', m.face_layers, m.format, attachment) };
+  const previous = texture('previous map layer', m.face_layers, m.format, GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST);
+  const depth = texture('map depth', 1, plan.formats.depth, GPUTextureUsage.RENDER_ATTACHMENT).createView();
+  const face = (t, f) => t.createView({ dimension: '2d', baseArrayLayer: f, arrayLayerCount: 1 });
+  const faces = { geometry: [0, 1, 2, 3, 4, 5].map((f) => face(layer.geometry, f)), surfaces: [0, 1, 2, 3, 4, 5].map((f) => face(layer.surfaces, f)) };
+  const mapLayouts = bindGroupLayouts(device, m.pass.bindings);
+  const mapPipeline = meshPipeline('distance-map faces', mapLayouts, moduleOf(m.pass.module), m.pass.vertex, m.pass.fragment, [m.format, m.format]);
+  const lights = upload(m.lights, usage.UNIFORM, 'lights');
+  const mapObjects = upload(m.objects, usage.STORAGE, 'map objects');
+  const previousView = previous.createView({ dimension: '2d-array' });
+  const faceGroups = m.steps.flatMap((step) => step.faces.map((f) => bindGroup(device, mapLayouts, m.pass.bindings, 0, {
+    map_face: upload(f, usage.UNIFORM, 'map face'), lights, map_objects: mapObjects, previous: previousView,
+  })));
+  // MapRenderer::encode: 6 passes per layer step, the layer copied into the map buffers (and,
+  // below the diffuse layer, into `previous`); `writes(first, last)` gives a pass's timestamps.
+  const encodeMaps = (encoder, writes) => {
+    const total = faceGroups.length;
+    const whole = [m.size, m.size, 6];
+    m.steps.forEach((step, s) => {
+      for (let f = 0; f < 6; f++) {
+        const n = s * 6 + f;
+        const pass = encoder.beginRenderPass({
+          label: 'distance-map face',
+          colorAttachments: [
+            { view: faces.geometry[f], clearValue: m.geometry_clear, loadOp: 'clear', storeOp: 'store' },
+            { view: faces.surfaces[f], clearValue: m.surface_clear, loadOp: 'clear', storeOp: 'store' },
+          ],
+          depthStencilAttachment: { view: depth, depthClearValue: 1, depthLoadOp: 'clear', depthStoreOp: 'discard' },
+          timestampWrites: writes ? writes(n === 0, n + 1 === total) : undefined,
+        });
+        pass.setPipeline(mapPipeline);
+        pass.setBindGroup(0, faceGroups[n]);
+        draw(pass, (object) => step.draw.includes(object));
+        pass.end();
+      }
+      if (step.keep) encoder.copyTextureToTexture({ texture: layer.geometry }, { texture: previous }, whole);
+      for (const which of ['geometry', 'surfaces']) {
+        encoder.copyTextureToBuffer({ texture: layer[which] }, { buffer: maps[which], offset: step.offset, bytesPerRow: m.size * 16, rowsPerImage: m.size }, whole);
+      }
+    });
+  };
+
+  // The shading pass.
+  const s = e.shading;
+  const shadingLayouts = bindGroupLayouts(device, s.bindings);
+  const lutTexture = (base64, width, rows) => {
+    const t = device.createTexture({ size: [width, rows], format: plan.formats.lut, usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
+    device.queue.writeTexture({ texture: t }, bytes(base64), { bytesPerRow: 8 * width, rowsPerImage: rows }, [width, rows]);
+    return t;
+  };
+  const lut = s.lut ? lutTexture(s.lut, s.lut_width, s.lut_rows) : lutTexture(plan.blank_lut, 1, 1);
+  const common = {
+    objects: upload(s.objects, usage.STORAGE, 'effect objects'),
+    materials: upload(s.materials, usage.STORAGE, 'effect materials'),
+    lut_atlas: lut.createView(),
+    lut_sampler: device.createSampler({ magFilter: 'linear', minFilter: 'linear', addressModeU: 'clamp-to-edge', addressModeV: 'clamp-to-edge', addressModeW: 'clamp-to-edge' }),
+  };
+  const mapsGroup = bindGroup(device, shadingLayouts, s.bindings, 1, { map_texels: maps.geometry, map_surfaces: maps.surfaces });
+  const pipelines = new Map();
+  const configurations = e.configurations.map((c) => {
+    if (!pipelines.has(c.module)) pipelines.set(c.module, meshPipeline(c.module, shadingLayouts, moduleOf(c.module), s.vertex, s.fragment, [plan.formats.float]));
+    const frame = upload(c.frame, usage.UNIFORM, 'effect frame');
+    return { ...c, pipeline: pipelines.get(c.module), group: bindGroup(device, shadingLayouts, s.bindings, 0, { frame, ...common }) };
+  });
+  const shadingTarget = target(device, e.resolution, plan.formats.float, true);
+  // SpecularPass::encode: every object rasterised, the bounce loop through the maps.
+  const encodeShading = (encoder, i, timestampWrites) => {
+    const c = configurations[i];
+    const pass = begin(encoder, shadingTarget, timestampWrites);
+    pass.setPipeline(c.pipeline);
+    pass.setBindGroup(0, c.group);
+    pass.setBindGroup(1, mapsGroup);
+    draw(pass, () => true);
+    pass.end();
+  };
+  return { configurations, encodeMaps, encodeShading, shadingTarget };
+}
+
+// effects::time_effects: warm-up rounds, then rounds that time one map update and the
+// shading pass of every configuration in turn. Timestamps at the start of the update's first
+// pass and the end of its last, and around each shading pass; else wall time per pass (one
+// pass per submit, closed by onSubmittedWorkDone).
+async function runEffects(device, timestamps, effects, step) {
+  const e = plan.effects;
+  const n = effects.configurations.length;
+  let query = null;
+  if (timestamps) {
+    const count = 2 * (1 + n);
+    query = {
+      count,
+      set: device.createQuerySet({ type: 'timestamp', count }),
+      resolve: device.createBuffer({ size: count * 8, usage: GPUBufferUsage.QUERY_RESOLVE | GPUBufferUsage.COPY_SRC }),
+      read: device.createBuffer({ size: count * 8, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ }),
+    };
+  }
+  const update = [];
+  const shading = effects.configurations.map(() => []);
+  const wall = async (record) => {
+    const encoder = device.createCommandEncoder();
+    record(encoder);
+    const start = performance.now();
+    device.queue.submit([encoder.finish()]);
+    await device.queue.onSubmittedWorkDone();
+    return performance.now() - start;
+  };
+  for (let round = 0; round < e.warmup + e.repeats; round++) {
+    checkLost();
+    let times;
+    if (query) {
+      const encoder = device.createCommandEncoder();
+      effects.encodeMaps(encoder, (first, last) => (first || last ? { querySet: query.set, beginningOfPassWriteIndex: first ? 0 : undefined, endOfPassWriteIndex: last ? 1 : undefined } : undefined));
+      for (let i = 0; i < n; i++) effects.encodeShading(encoder, i, { querySet: query.set, beginningOfPassWriteIndex: 2 * (i + 1), endOfPassWriteIndex: 2 * (i + 1) + 1 });
+      encoder.resolveQuerySet(query.set, 0, query.count, query.resolve, 0);
+      encoder.copyBufferToBuffer(query.resolve, 0, query.read, 0, query.count * 8);
+      device.queue.submit([encoder.finish()]);
+      const ticks = new BigUint64Array(await readBuffer(query.read));
+      times = Array.from({ length: n + 1 }, (_, k) => Number(ticks[2 * k + 1] - ticks[2 * k]) / 1e6);
+    } else {
+      times = [await wall((encoder) => effects.encodeMaps(encoder, null))];
+      for (let i = 0; i < n; i++) times.push(await wall((encoder) => effects.encodeShading(encoder, i, undefined)));
+    }
+    if (round >= e.warmup) {
+      update.push(times[0]);
+      times.slice(1).forEach((x, i) => shading[i].push(x));
+    }
+    step(1 + n, `effects: round ${round + 1} of ${e.warmup + e.repeats}`);
+    // Rows so far, so a lost device keeps them.
+    result.effects_timing = effectRows(effects, update, shading, timestamps);
+  }
+}
+
+// effects::timing_table's rows: the plan's cells of each configuration and the measured ones.
+function effectRows(effects, update, shading, timestamps) {
+  if (update.length === 0) return [];
+  const a = result.adapter;
+  const [mapUpdate] = medianAndIqr(update);
+  return effects.configurations.map((c, i) => {
+    const [median, spread] = medianAndIqr(shading[i]);
+    return {
+      ...c.row, adapter: a.name, backend: a.backend, timer: timestamps ? 'timestamp' : 'wall',
+      map_update_ms: mapUpdate, shading_ms: median, shading_spread_ms: spread, frame_ms: mapUpdate + median,
+    };
+  });
+}
+
+// The frame of configuration `index` (maps updated, then the shading pass), read back as
+// RGBA f32 pixels: what the tests compare with the native runner's SpecularPass::render.
+function effectFrame(device, effects) {
+  return async (index) => {
+    const t = effects.shadingTarget;
+    const buffer = device.createBuffer({ size: paddedRow(t.width, 16) * t.height, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
+    const encoder = device.createCommandEncoder();
+    effects.encodeMaps(encoder, null);
+    effects.encodeShading(encoder, index, undefined);
+    copyOut(encoder, t, buffer, 0);
+    device.queue.submit([encoder.finish()]);
+    return Array.from(decode(await readBuffer(buffer), 0, t));
+  };
+}
+
 // ---- results ------------------------------------------------------------------------------
 
 function cell(row, text) { const td = document.createElement('td'); td.textContent = text; row.appendChild(td); }
@@ -519,6 +763,9 @@ function publish() {
   charts(rows);
   table('errors', ['material', 'method', 'object', 'frames', 'mean rel. error', 'max rel. error', 'pixels'],
     result.image_errors.map((r) => [r.material, r.method, r.object, String(r.frames), r.mean_rel_error === null ? '—' : r.mean_rel_error.toExponential(3), r.max_rel_error.toExponential(3), String(r.pixels)]));
+  table('effects', ['method', 'effect', 'depths (reflection/refraction)', 'steps (linear/secant)', 'timer', 'map update ms', 'shading ms', 'IQR ms'],
+    result.effects_timing.map((r) => [r.method, r.effect, `${r.reflection_depth}/${r.refraction_depth}`, `${r.linear_steps}/${r.secant_steps}`, r.timer, fixed(r.map_update_ms, 4), fixed(r.shading_ms, 4), fixed(r.shading_spread_ms, 4)]));
+  $('effects-section').hidden = result.effects_timing.length === 0;
   table('modules', ['module', 'errors', 'warnings'], result.compile.map((c) => [c.module, String(c.errors.length), String(c.warnings.length)]));
   $('skipped').textContent = '';
   for (const s of result.skipped) { const li = document.createElement('li'); li.textContent = `Not measured here: ${s}`; $('skipped').appendChild(li); }
@@ -535,18 +782,28 @@ async function main() {
   device.lost.then((info) => { lost = `${info.reason}: ${info.message}`; });
   device.addEventListener('uncapturederror', (event) => { lost = lost || `uncaptured error: ${event.error.message}`; });
   status(`Compiling ${plan.checks.length} shader modules on ${result.adapter.name}…`);
-  const modules = await compileChecks(device);
-  const gpu = await scoped(device, 'creating the buffers, textures and pipelines', () => setup(device, modules));
-  window.nklut.ramp = ramp(device, gpu);
+  const { modules, named } = await compileChecks(device);
+  let fresnel = null;
+  if (plan.timing || plan.image_error) {
+    fresnel = await scoped(device, 'creating the buffers, textures and pipelines', () => setup(device, modules));
+    window.nklut.ramp = ramp(device, fresnel);
+  }
+  let effects = null;
+  if (plan.effects) {
+    effects = await scoped(device, 'creating the effects\' buffers, textures and pipelines', () => setupEffects(device, named));
+    window.nklut.effectFrame = effectFrame(device, effects);
+  }
   const total = (plan.timing ? (plan.timing.warmup + plan.timing.repeats) * plan.timing.pairs.length : 0)
-    + (plan.image_error ? plan.image_error.frames.length * plan.image_error.objects.length : 0);
+    + (plan.image_error ? plan.image_error.frames.length * plan.image_error.objects.length : 0)
+    + (plan.effects ? (plan.effects.warmup + plan.effects.repeats) * (1 + plan.effects.configurations.length) : 0);
   let done = 0;
   const step = (n, text) => { done += n; progress(done, total); status(`${text} (${done} of ${total} steps)`); };
-  if (plan.timing) await runTiming(device, timestamps, gpu, step);
-  if (plan.image_error) await runImageError(device, gpu, step);
+  if (plan.timing) await runTiming(device, timestamps, fresnel, step);
+  if (plan.image_error) await runImageError(device, fresnel, step);
+  if (effects) await runEffects(device, timestamps, effects, step);
   checkLost();
   result.complete = true;
-  status(`Done: ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
+  status(`Done: ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows, ${result.effects_timing.length} effects-timing rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
 }
 
 main()

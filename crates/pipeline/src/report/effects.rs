@@ -894,6 +894,7 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     );
     device_methods(html, inputs);
     image_errors_across(html, inputs);
+    effects_across(html, &inputs.devices);
     study_form(html, inputs);
     html.push_str("</section>\n");
 }
@@ -961,6 +962,71 @@ fn image_errors_across(html: &mut String, inputs: &Inputs) {
     );
 }
 
+/// The reflection/refraction timing of each device that measured it (`effects_timing`,
+/// native or from the browser bench's page): one row per device and configuration, its map
+/// update and shading pass times and the shading pass relative to `exact`'s in the same
+/// configuration (effect, depths, search steps, resolution) on the same device.
+fn effects_across(html: &mut String, devices: &BTreeMap<String, DeviceTables>) {
+    let with_effects: Vec<(&String, &DeviceTables, &CsvTable)> =
+        devices.iter().filter_map(|(device, tables)| Some((device, tables, tables.effects_timing.as_ref()?))).collect();
+    if with_effects.is_empty() {
+        return;
+    }
+    let headers = [
+        "device",
+        "source",
+        "timer",
+        "method",
+        "effect",
+        "depths (reflection/refraction)",
+        "steps (linear/secant)",
+        "resolution",
+        "map update ms",
+        "shading ms",
+        "shading × exact",
+    ];
+    let mut table = TableText::new(&headers);
+    for (device, tables, rows) in with_effects {
+        let configuration = |r: &[String]| -> Vec<String> {
+            ["effect", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps", "resolution"]
+                .iter()
+                .map(|c| rows.text(r, c).to_string())
+                .collect()
+        };
+        for row in &rows.rows {
+            let shading = rows.number(row, "shading_ms");
+            let exact = rows
+                .rows
+                .iter()
+                .find(|r| rows.text(r, "method") == "exact" && configuration(r) == configuration(row))
+                .and_then(|r| rows.number(r, "shading_ms"));
+            let ratio = match (shading, exact) {
+                (Some(ms), Some(anchor)) if anchor > 0.0 => number(ms / anchor),
+                _ => "–".to_string(),
+            };
+            let ms = |column: &str| rows.number(row, column).map_or("–".to_string(), |x| format!("{x:.4}"));
+            table.row(vec![
+                device.clone(),
+                tables.source.clone(),
+                rows.text(row, "timer").to_string(),
+                rows.text(row, "method").to_string(),
+                rows.text(row, "effect").to_string(),
+                format!("{}/{}", rows.text(row, "reflection_depth"), rows.text(row, "refraction_depth")),
+                format!("{}/{}", rows.text(row, "linear_steps"), rows.text(row, "secant_steps")),
+                rows.text(row, "resolution").to_string(),
+                ms("map_update_ms"),
+                ms("shading_ms"),
+                ratio,
+            ]);
+        }
+    }
+    let _ = writeln!(
+        html,
+        "<h3>Reflections and refractions</h3><p>Per device and configuration (<code>effects_timing</code>, native or from the browser bench's page): the median time of one update of every distance map and of the shading pass, and the shading pass relative to <code>exact</code>'s in the same configuration on the same device. One row per device and configuration, never averaged.</p>{}",
+        table.html("device-effects")
+    );
+}
+
 /// The study's Table 6: render time of each method relative to the exact dielectric formula
 /// on the same device (Unity, a full-screen quad of Fresnel reflection, 2014 devices), in
 /// the order of [`STUDY_COLUMNS`].
@@ -1023,6 +1089,58 @@ fn study_form(html: &mut String, inputs: &Inputs) {
         "<h3>In the study's form</h3><p>Time relative to exact Fresnel on a dielectric material, on the same device: the study's five devices (its Table 6: Unity, a full-screen quad, 2014 devices) and each device measured here (medians over the materials of each kind of <code>materials.csv</code>; – where the device timed none). One row per device, never averaged.</p>{}",
         table.html("study-form")
     );
+}
+
+#[cfg(test)]
+mod device_effects_tests {
+    use super::*;
+
+    /// One row per device and configuration with its times; the shading ratio against
+    /// exact's in the same configuration on the same device (hand-computed: 3.0 / 2.0 = 1.50,
+    /// 0.5 / 0.25 = 2.00), – where that configuration has no exact row; a device without
+    /// the table adds no row, and without any such device there is no table.
+    #[test]
+    fn effects_rows_per_device_and_configuration_with_the_ratio_to_exact() {
+        let columns = "adapter,backend,timer,method,effect,reflection_depth,refraction_depth,linear_steps,secant_steps,map_size,layers,cube_maps,resolution,repeats,map_update_ms,shading_ms,shading_spread_ms,frame_ms";
+        let native = format!(
+            "{columns}\nllvmpipe,Vulkan,timestamp,exact,reflection,1,0,15,1,128,3,3,64x64,3,4.0,2.0,0.1,6.0\n\
+             llvmpipe,Vulkan,timestamp,lut,reflection,1,0,15,1,128,3,3,64x64,3,4.0,3.0,0.1,7.0\n\
+             llvmpipe,Vulkan,timestamp,lut,reflection,2,0,15,1,128,3,3,64x64,3,4.0,5.0,0.1,9.0\n"
+        );
+        let browser = format!(
+            "{columns}\nswiftshader,WebGPU,timestamp,exact,refraction,1,1,8,1,16,3,2,48x48,3,1.5,0.25,0.01,1.75\n\
+             swiftshader,WebGPU,timestamp,schlick,refraction,1,1,8,1,16,3,2,48x48,3,1.5,0.5,0.01,2.0\n"
+        );
+        let device = |csv: &str, source: &str| DeviceTables {
+            timing: CsvTable::parse(b"method,median_ms\n").unwrap(),
+            image_errors: None,
+            effects_timing: Some(CsvTable::parse(csv.as_bytes()).unwrap()),
+            source: source.into(),
+        };
+        let mut devices = BTreeMap::new();
+        devices.insert("lavapipe".to_string(), device(&native, "native"));
+        devices.insert("swiftshader".to_string(), device(&browser, "browser: HeadlessChrome/156"));
+        devices.insert("other".to_string(), DeviceTables { effects_timing: None, ..device(&native, "native") });
+        let mut html = String::new();
+        effects_across(&mut html, &devices);
+        let rows: Vec<Vec<String>> = html
+            .split("<tr>")
+            .skip(2)
+            .map(|row| row.split("<td>").skip(1).map(|cell| cell.split("</td>").next().unwrap().to_string()).collect())
+            .collect();
+        assert_eq!(rows.len(), 5, "{html}");
+        let pick = |row: &Vec<String>| (row[0].clone(), row[3].clone(), row[5].clone(), row[8].clone(), row[9].clone(), row[10].clone());
+        let s = |x: &str| x.to_string();
+        assert_eq!(pick(&rows[0]), (s("lavapipe"), s("exact"), s("1/0"), s("4.0000"), s("2.0000"), number(1.0)));
+        assert_eq!(pick(&rows[1]), (s("lavapipe"), s("lut"), s("1/0"), s("4.0000"), s("3.0000"), number(1.5)));
+        assert_eq!(pick(&rows[2]), (s("lavapipe"), s("lut"), s("2/0"), s("4.0000"), s("5.0000"), s("–")));
+        assert_eq!(pick(&rows[4]), (s("swiftshader"), s("schlick"), s("1/1"), s("1.5000"), s("0.5000"), number(2.0)));
+        assert_eq!((rows[4][1].as_str(), rows[4][6].as_str(), rows[4][7].as_str()), ("browser: HeadlessChrome/156", "8/1", "48x48"));
+        let mut none = String::new();
+        devices.retain(|name, _| name == "other");
+        effects_across(&mut none, &devices);
+        assert!(none.is_empty());
+    }
 }
 
 #[cfg(test)]

@@ -160,10 +160,13 @@ impl Inputs {
 }
 
 /// What one device measured: `gpu_timing.csv` (pass time per material and method) and, when
-/// there, `image_errors.csv` (each method's image error against exact).
+/// there, `image_errors.csv` (each method's image error against exact) and
+/// `effects_timing.csv` (the reflection/refraction map update and shading pass per
+/// configuration).
 pub struct DeviceTables {
     pub timing: CsvTable,
     pub image_errors: Option<CsvTable>,
+    pub effects_timing: Option<CsvTable>,
     /// Where it came from: `native` (a folder of `nklut gpu run`'s tables) or the browser
     /// bench's result file, with the browser and, when the run stopped early, why.
     pub source: String,
@@ -197,7 +200,8 @@ pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
     for device in scene_folders(folder) {
         if let Some(timing) = CsvTable::load(&folder.join(&device).join("gpu_timing.csv"))? {
             let image_errors = CsvTable::load(&folder.join(&device).join("image_errors.csv"))?;
-            devices.insert(device, DeviceTables { timing, image_errors, source: "native".into() });
+            let effects_timing = CsvTable::load(&folder.join(&device).join("effects_timing.csv"))?;
+            devices.insert(device, DeviceTables { timing, image_errors, effects_timing, source: "native".into() });
         }
     }
     let mut files: Vec<_> = std::fs::read_dir(folder)
@@ -233,14 +237,37 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
         Ok(CsvTable::from_rows(headers, rows))
     };
     let image_errors = table("image_errors")?;
+    // Rows of the reflection/refraction timing, where the page ran a scene with those effects.
+    let effects_timing =
+        value["effects_timing"].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table("effects_timing")).transpose()?;
     // The browser and its version as the rows' `driver` gives it (the whole `user_agent` is
     // in the file).
-    let browser = value["gpu_timing"][0]["driver"].as_str().or(value["user_agent"].as_str()).unwrap_or("unknown browser");
+    let browser = browser_name(&value);
     let mut source = format!("browser: {browser}");
     if value["complete"] != true {
         source.push_str(&format!("; incomplete: {}", value["incomplete"].as_str().unwrap_or("stopped early")));
     }
-    Ok(DeviceTables { timing: table("gpu_timing")?, image_errors: (!image_errors.rows.is_empty()).then_some(image_errors), source })
+    Ok(DeviceTables {
+        timing: table("gpu_timing")?,
+        image_errors: (!image_errors.rows.is_empty()).then_some(image_errors),
+        effects_timing,
+        source,
+    })
+}
+
+/// The browser and its version: the `driver` of the F-only rows, else the browser token of
+/// the user agent (as the page's script takes it: the last `Name/version`), else the whole
+/// user agent.
+fn browser_name(value: &serde_json::Value) -> String {
+    if let Some(driver) = value["gpu_timing"][0]["driver"].as_str() {
+        return driver.to_string();
+    }
+    let Some(agent) = value["user_agent"].as_str() else { return "unknown browser".into() };
+    agent
+        .split_whitespace()
+        .rfind(|token| ["Edg/", "Firefox/", "Chrome/", "HeadlessChrome/", "Version/"].iter().any(|name| token.starts_with(name)))
+        .unwrap_or(agent)
+        .to_string()
 }
 
 /// The paste-in files under `out/params/`, by the page id each names (a file that does not
@@ -441,6 +468,18 @@ mod tests {
         assert_eq!(tables.timing.rows, [["exact", "2.5", ""]]);
         assert!(tables.image_errors.is_none(), "no rows: no table");
         assert_eq!(tables.source, "browser: Chrome/1; incomplete: device lost");
+        assert!(tables.effects_timing.is_none(), "no effects_timing rows: no table");
+        // A result of a scene with reflections: effects rows under their columns, no F-only
+        // rows, the browser named from the user agent.
+        let effects = r#"{"format": "nklut-web-bench/1", "user_agent": "Mozilla/5.0 (X11) HeadlessChrome/156.0.1 Safari/537.36", "complete": true,
+            "columns": {"gpu_timing": ["method"], "image_errors": ["method"], "effects_timing": ["method", "reflection_depth", "shading_ms"]},
+            "gpu_timing": [], "image_errors": [],
+            "effects_timing": [{"method": "lut", "reflection_depth": 2, "shading_ms": 0.75}]}"#;
+        let tables = browser_result(effects.as_bytes()).unwrap();
+        let rows = tables.effects_timing.expect("effects rows");
+        assert_eq!(rows.headers, ["method", "reflection_depth", "shading_ms"]);
+        assert_eq!(rows.rows, [["lut", "2", "0.75"]]);
+        assert_eq!(tables.source, "browser: HeadlessChrome/156.0.1");
         let other = browser_result(br#"{"format": "something else"}"#).err().unwrap();
         assert!(other.to_string().contains("not nklut-web-bench/1"), "{other}");
         assert!(browser_result(b"not json").is_err());
