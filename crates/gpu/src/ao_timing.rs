@@ -139,46 +139,9 @@ fn sample(gpu: &Gpu, pass: &SurfelAoPass, passes: u32, stopwatch: &mut Stopwatch
 /// Time every mesh by brute force (up to `settings.max_brute` surfels) and through the tree.
 pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mut dyn FnMut(&str)) -> Result<Vec<AoTimingRow>> {
     let mut stopwatch = Stopwatch::new(gpu)?;
-    let timer = stopwatch.timer();
     let mut rows = Vec::new();
     for mesh in meshes {
-        let tree = SurfelTree::new(&mesh.surfels, settings.form, settings.closeness);
-        for gather in [Gather::BruteForce, Gather::Hierarchy] {
-            if gather == Gather::BruteForce && mesh.surfels.len() > settings.max_brute {
-                log(&format!("  {} ({} surfels): brute force skipped (> {})", mesh.name, mesh.surfels.len(), settings.max_brute));
-                continue;
-            }
-            let pass = SurfelAoPass::new(gpu, &mesh.surfels, Some(&tree), gather, settings.form, settings.closeness)?;
-            let mut samples = Vec::new();
-            let mut dispatches = 0;
-            for round in 0..settings.warmup + settings.repeats {
-                let (ms, d) = sample(gpu, &pass, settings.passes, &mut stopwatch)?;
-                dispatches = d;
-                if round >= settings.warmup {
-                    samples.push(ms);
-                }
-            }
-            let (median_ms, spread_ms) = median_and_iqr(&samples);
-            log(&format!(
-                "  {} ({} surfels) {}: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
-                mesh.name,
-                mesh.surfels.len(),
-                gather_name(gather)
-            ));
-            rows.push(AoTimingRow {
-                mesh: mesh.name.clone(),
-                surfels: mesh.surfels.len(),
-                gather: Timed::Surfels(gather),
-                tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
-                passes: settings.passes,
-                dispatches,
-                timer,
-                repeats: settings.repeats,
-                median_ms,
-                spread_ms,
-                fitted_exponent: f64::NAN,
-            });
-        }
+        rows.extend(surfel_rows(gpu, &mesh.name, &mesh.surfels, settings.passes..=settings.passes, settings, &mut stopwatch, log)?);
     }
     for gather in [Gather::BruteForce, Gather::Hierarchy] {
         let timed = Timed::Surfels(gather);
@@ -186,6 +149,55 @@ pub fn sweep(gpu: &Gpu, meshes: &[SweepMesh], settings: &SweepSettings, log: &mu
         let p = fitted_exponent(&points);
         // One point fits no slope: the column stays empty.
         rows.iter_mut().filter(|r| r.gather == timed).for_each(|r| r.fitted_exponent = p);
+    }
+    Ok(rows)
+}
+
+/// The surfel pass over `surfels` (named `name`), through the tree and, up to
+/// `settings.max_brute` surfels, by brute force, timed at each pass count of `pass_counts`.
+fn surfel_rows(
+    gpu: &Gpu,
+    name: &str,
+    surfels: &[Surfel],
+    pass_counts: std::ops::RangeInclusive<u32>,
+    settings: &SweepSettings,
+    stopwatch: &mut Stopwatch,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<AoTimingRow>> {
+    let n = surfels.len();
+    let tree = SurfelTree::new(surfels, settings.form, settings.closeness);
+    let mut rows = Vec::new();
+    for gather in [Gather::BruteForce, Gather::Hierarchy] {
+        if gather == Gather::BruteForce && n > settings.max_brute {
+            log(&format!("  {name} ({n} surfels): brute force skipped (> {})", settings.max_brute));
+            continue;
+        }
+        let pass = SurfelAoPass::new(gpu, surfels, Some(&tree), gather, settings.form, settings.closeness)?;
+        for passes in pass_counts.clone() {
+            let mut dispatches = 0;
+            let (median_ms, spread_ms) = timed(settings, || {
+                let (ms, d) = sample(gpu, &pass, passes, stopwatch)?;
+                dispatches = d;
+                Ok(ms)
+            })?;
+            log(&format!(
+                "  {name} ({n} surfels) {}, {passes} passes: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
+                gather_name(gather)
+            ));
+            rows.push(AoTimingRow {
+                mesh: name.into(),
+                surfels: n,
+                gather: Timed::Surfels(gather),
+                tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
+                passes,
+                dispatches,
+                timer: stopwatch.timer(),
+                repeats: settings.repeats,
+                median_ms,
+                spread_ms,
+                fitted_exponent: f64::NAN,
+            });
+        }
     }
     Ok(rows)
 }
@@ -226,40 +238,7 @@ pub fn scene_rows(
     let n = stage.surfels.len();
     let mut stopwatch = Stopwatch::new(gpu)?;
     let timer = stopwatch.timer();
-    let tree = SurfelTree::new(&stage.surfels, settings.form, settings.closeness);
-    let mut rows = Vec::new();
-    for gather in [Gather::BruteForce, Gather::Hierarchy] {
-        if gather == Gather::BruteForce && n > settings.max_brute {
-            log(&format!("  {name} ({n} surfels): brute force skipped (> {})", settings.max_brute));
-            continue;
-        }
-        let pass = SurfelAoPass::new(gpu, &stage.surfels, Some(&tree), gather, settings.form, settings.closeness)?;
-        for passes in 1..=settings.passes {
-            let mut dispatches = 0;
-            let (median_ms, spread_ms) = timed(settings, || {
-                let (ms, d) = sample(gpu, &pass, passes, &mut stopwatch)?;
-                dispatches = d;
-                Ok(ms)
-            })?;
-            log(&format!(
-                "  {name} ({n} surfels) {}, {passes} passes: median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
-                gather_name(gather)
-            ));
-            rows.push(AoTimingRow {
-                mesh: name.into(),
-                surfels: n,
-                gather: Timed::Surfels(gather),
-                tree_nodes: if gather == Gather::Hierarchy { tree.nodes.len() } else { 0 },
-                passes,
-                dispatches,
-                timer,
-                repeats: settings.repeats,
-                median_ms,
-                spread_ms,
-                fitted_exponent: f64::NAN,
-            });
-        }
-    }
+    let mut rows = surfel_rows(gpu, name, &stage.surfels, 1..=settings.passes, settings, &mut stopwatch, log)?;
     let configurations = effects.ambient_occlusion.as_ref().map(|a| a.gtao.clone()).unwrap_or_default();
     for &size in resolutions {
         let camera = Camera::new(&scene.camera, 0, size, size);

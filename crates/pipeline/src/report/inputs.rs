@@ -256,17 +256,17 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
 }
 
 /// The browser and its version: the `driver` of the F-only rows, else the browser token of
-/// the user agent (as the page's script takes it: the last `Name/version`), else the whole
-/// user agent.
+/// the `user_agent` string (as the page's script takes it: the last `Name/version`), else
+/// the whole string.
 fn browser_name(value: &serde_json::Value) -> String {
     if let Some(driver) = value["gpu_timing"][0]["driver"].as_str() {
         return driver.to_string();
     }
-    let Some(agent) = value["user_agent"].as_str() else { return "unknown browser".into() };
-    agent
+    let Some(identification) = value["user_agent"].as_str() else { return "unknown browser".into() };
+    identification
         .split_whitespace()
         .rfind(|token| ["Edg/", "Firefox/", "Chrome/", "HeadlessChrome/", "Version/"].iter().any(|name| token.starts_with(name)))
-        .unwrap_or(agent)
+        .unwrap_or(identification)
         .to_string()
 }
 
@@ -470,7 +470,7 @@ mod tests {
         assert_eq!(tables.source, "browser: Chrome/1; incomplete: device lost");
         assert!(tables.effects_timing.is_none(), "no effects_timing rows: no table");
         // A result of a scene with reflections: effects rows under their columns, no F-only
-        // rows, the browser named from the user agent.
+        // rows, the browser named from its `user_agent` string.
         let effects = r#"{"format": "nklut-web-bench/1", "user_agent": "Mozilla/5.0 (X11) HeadlessChrome/156.0.1 Safari/537.36", "complete": true,
             "columns": {"gpu_timing": ["method"], "image_errors": ["method"], "effects_timing": ["method", "reflection_depth", "shading_ms"]},
             "gpu_timing": [], "image_errors": [],
