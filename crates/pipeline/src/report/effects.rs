@@ -655,6 +655,21 @@ fn technique_label(ao: &CsvTable, row: &[String]) -> String {
     }
 }
 
+/// A row of an AO table: the object, the technique in words, the passes ("–" for GTAO),
+/// then `columns` — those in `counts` as written, the others as numbers ("–" where empty).
+fn ao_row_cells(ao: &CsvTable, row: &[String], columns: &[&str], counts: &[&str]) -> Vec<String> {
+    let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.text(row, "passes").to_string() };
+    let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), passes];
+    cells.extend(columns.iter().map(|c| {
+        if counts.contains(c) {
+            ao.text(row, c).to_string()
+        } else {
+            ao.number(row, c).map(number).unwrap_or_else(|| "–".into())
+        }
+    }));
+    cells
+}
+
 /// Every row's per-pixel figures side by side (surfels and GTAO), `None` where the table
 /// has no GTAO row.
 fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
@@ -687,13 +702,7 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
         "CPU ms",
     ]);
     for row in &ao.rows {
-        let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.text(row, "passes").to_string() };
-        let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), passes];
-        cells.extend(columns.iter().map(|c| match *c {
-            "pixels" | "interactions" => ao.text(row, c).to_string(),
-            _ => ao.number(row, c).map(number).unwrap_or_else(|| "–".into()),
-        }));
-        table.row(cells);
+        table.row(ao_row_cells(ao, row, &columns, &["pixels", "interactions"]));
     }
     Some(table.html("ao-per-pixel"))
 }
@@ -732,12 +741,7 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
         "mean without them",
     ]);
     for row in ao.rows.iter().filter(|r| !is_gtao(ao, r)) {
-        let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), ao.text(row, "passes").to_string()];
-        cells.extend(columns.iter().map(|c| match *c {
-            "defect_vertices" => ao.text(row, c).to_string(),
-            _ => ao.number(row, c).map(number).unwrap_or_else(|| "–".into()),
-        }));
-        table.row(cells);
+        table.row(ao_row_cells(ao, row, &columns, &["defect_vertices"]));
     }
     Some(table.html("ao-statistics"))
 }
