@@ -9,7 +9,11 @@
 //! `effective` (the fit over angle of `colors`, docs/colors.md: per channel the (n, k) whose
 //! exact F is closest to the spectral reference colour's curve). Attenuation inside a
 //! dielectric keeps the three-wavelength k under either source: the fitted k is a
-//! reflectance shape correction, not a volume property.
+//! reflectance shape correction, not a volume property. `engine`: a conductor as F82-tint
+//! curves, a dielectric as one IOR; `gulbrandsen`: a conductor as MaterialX's
+//! `artistic_ior` takes it (Gulbrandsen 2014: per channel the reflectivity r = the
+//! reference colour at normal incidence and the edge tint g fitted to its curve, shaded with
+//! the exact F of the (n, k) they give), a dielectric as three-wavelength.
 
 use std::time::Instant;
 
@@ -37,16 +41,22 @@ pub enum IndexSource {
     /// as one IOR (the geometric channel's n) for every channel's F, its per-channel
     /// absorption kept.
     Engine,
+    /// MaterialX's `artistic_ior` for a conductor: per channel Gulbrandsen's (r, g), r the
+    /// reference colour at normal incidence and g fitted to its curve over angle
+    /// (`nklut_pipeline::params::Gulbrandsen::fit`), shaded with the exact F of the (n, k)
+    /// they give; a dielectric as three-wavelength (the model is for conductors).
+    Gulbrandsen,
 }
 
 impl IndexSource {
-    pub const ALL: [IndexSource; 3] = [IndexSource::ThreeWavelength, IndexSource::Effective, IndexSource::Engine];
+    pub const ALL: [IndexSource; 4] = [IndexSource::ThreeWavelength, IndexSource::Effective, IndexSource::Engine, IndexSource::Gulbrandsen];
 
     pub fn name(self) -> &'static str {
         match self {
             IndexSource::ThreeWavelength => "three-wavelength",
             IndexSource::Effective => "effective",
             IndexSource::Engine => "engine",
+            IndexSource::Gulbrandsen => "gulbrandsen",
         }
     }
 }
@@ -86,17 +96,34 @@ pub struct SpectralReport {
     pub delta_e_maps: Vec<SetFile>,
 }
 
-/// The channel indices of a material from `source`: the page's three-wavelength ones, or
-/// per channel the fit over angle to the spectral reference curve (`colors`' fit).
-pub fn channel_indices(three: &ChannelIndex, spectrum: Option<&[nklut_optics::spectrum::Index]>, source: IndexSource) -> ChannelIndex {
+/// The channel indices of a material of `kind` from `source`: the page's three-wavelength
+/// ones, per channel the fit over angle to the spectral reference curve (`colors`' fit), or
+/// for a conductor Gulbrandsen's (r, g) fitted to that curve, as (n, k).
+pub fn channel_indices(
+    three: &ChannelIndex,
+    spectrum: Option<&[nklut_optics::spectrum::Index]>,
+    kind: Kind,
+    source: IndexSource,
+) -> ChannelIndex {
     match (source, spectrum) {
-        (IndexSource::ThreeWavelength | IndexSource::Engine, _) | (IndexSource::Effective, None) => *three,
+        (IndexSource::ThreeWavelength | IndexSource::Engine, _) | (IndexSource::Effective | IndexSource::Gulbrandsen, None) => *three,
+        (IndexSource::Gulbrandsen, Some(_)) if kind != Kind::Conductor => *three,
         (IndexSource::Effective, Some(spectrum)) => {
             let quadrature = angle_quadrature();
             let curve = PreparedSpectrum::new(spectrum).curve(&quadrature.cosines);
             std::array::from_fn(|c| {
                 let reference: Vec<f64> = curve.iter().map(|rgb| rgb[c]).collect();
                 fit_effective_index(&reference, three[c], quadrature).index
+            })
+        }
+        (IndexSource::Gulbrandsen, Some(spectrum)) => {
+            let quadrature = angle_quadrature();
+            let prepared = PreparedSpectrum::new(spectrum);
+            let curve = prepared.curve(&quadrature.cosines);
+            let normal = prepared.curve(&[1.0])[0];
+            std::array::from_fn(|c| {
+                let reference: Vec<f64> = curve.iter().map(|rgb| rgb[c]).collect();
+                nklut_pipeline::params::Gulbrandsen::fit(normal[c], &reference, quadrature).index()
             })
         }
     }
@@ -112,7 +139,7 @@ fn optics_for(stage: &Stage, source: IndexSource) -> Vec<Option<SpecularOptics>>
             ObjectOptics::Diffuse(_) => None,
             ObjectOptics::Specular(m) => {
                 let spectrum = stage.spectra.get(object).and_then(|s| s.as_deref());
-                let channels = channel_indices(&m.channels, spectrum, source);
+                let channels = channel_indices(&m.channels, spectrum, m.kind, source);
                 let mut optics = SpecularOptics::reference(&channels, m.kind, stage.channels_nm, stage.metres_per_unit);
                 if m.kind == Kind::Dielectric {
                     optics.absorption =
@@ -285,8 +312,8 @@ mod tests {
         let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
         let stage = stage_from_table(&scene, &table).unwrap();
         let report = spectral_errors(&scene, &stage, [20, 16], 24, &mut |_| {}).unwrap();
-        // 2 depths × 3 sources × 3 specular objects.
-        assert_eq!(report.rows.len(), 18);
+        // 2 depths × 4 sources × 3 specular objects.
+        assert_eq!(report.rows.len(), 24);
         let row = |object: &str, material: &str, source: IndexSource, depth: u32| {
             report
                 .rows
@@ -310,13 +337,18 @@ mod tests {
         // and 82° only): a colour error where three wavelengths have none.
         let engine = row("sphere", "t/metals/flat", IndexSource::Engine, 1);
         assert!(engine.mean_delta_e2000 > 1e-3, "{engine:?}");
+        // Gulbrandsen's (r, g) is a change of variables of (n, k) (r ≤ 0.99): fitted to the
+        // flat metal's exact curve it gives back its (n, k), so no colour error at depth 1,
+        // where F82-tint has one.
+        let gulbrandsen = row("sphere", "t/metals/flat", IndexSource::Gulbrandsen, 1);
+        assert!(gulbrandsen.mean_delta_e2000 < 0.01 && gulbrandsen.mean_delta_e2000 < engine.mean_delta_e2000, "{gulbrandsen:?}");
         // Pictures: per depth the spectral frame and each source's frame; a ΔE map per source.
-        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (8, 6));
+        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (10, 8));
         let table = spectral_error_table(&report.rows);
-        assert_eq!(table.rows(), 18);
+        assert_eq!(table.rows(), 24);
         eprintln!(
-            "warm metal three-wavelength ΔE mean: depth 1 {:.3}, depth 4 {:.3}; effective depth 1 {:.3}",
-            shallow.mean_delta_e2000, deep.mean_delta_e2000, effective.mean_delta_e2000
+            "warm metal three-wavelength ΔE mean: depth 1 {:.3}, depth 4 {:.3}; effective depth 1 {:.3}; flat metal engine {:.4}, gulbrandsen {:.2e}",
+            shallow.mean_delta_e2000, deep.mean_delta_e2000, effective.mean_delta_e2000, engine.mean_delta_e2000, gulbrandsen.mean_delta_e2000
         );
     }
 
