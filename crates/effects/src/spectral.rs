@@ -168,7 +168,7 @@ struct Counts {
 struct Context<'a> {
     stage: &'a Stage,
     optics: Vec<Option<SpectralOptics>>,
-    lift: Upsampler,
+    upsampler: Upsampler,
     depths: Depths,
 }
 
@@ -179,23 +179,22 @@ struct Bundle {
 }
 
 impl Context<'_> {
-    /// The radiance spectrum of a diffuse surface: albedo spectrum × the lights' spectrum.
-    fn diffuse(&self, hit: &Hit) -> Vec<f64> {
+    /// The radiance spectrum of a diffuse surface, albedo spectrum × the lights' spectrum,
+    /// added into `out` at the bundle's wavelengths only.
+    fn diffuse(&self, hit: &Hit, bundle: &Bundle, out: &mut [f64]) {
         let ObjectOptics::Diffuse(d) = &self.stage.objects[hit.object] else { unreachable!("called for diffuse objects") };
         let (p, n) = (hit.point.to_array(), hit.normal.to_array());
-        let albedo = self.lift.spectrum(d.albedo_at(p, n));
-        let light = self.lift.spectrum(unshadowed(&self.stage.lights, [1.0; 3], p, n));
-        albedo.iter().zip(&light).map(|(a, l)| a * l).collect()
+        let albedo = self.upsampler.lift(d.albedo_at(p, n));
+        let light = self.upsampler.lift(unshadowed(&self.stage.lights, [1.0; 3], p, n));
+        for (&lane, w) in bundle.lanes.iter().zip(&bundle.weights) {
+            let lane = lane as usize;
+            out[lane] += w * (self.upsampler.value(&albedo, lane) * self.upsampler.value(&light, lane));
+        }
     }
 
     fn shade(&self, hit: &Hit, incoming: DVec3, bounces: u32, bundle: Bundle, out: &mut [f64], counts: &mut Counts) {
         match &self.optics[hit.object] {
-            None => {
-                let radiance = self.diffuse(hit);
-                for (&lane, w) in bundle.lanes.iter().zip(&bundle.weights) {
-                    out[lane as usize] += w * radiance[lane as usize];
-                }
-            }
+            None => self.diffuse(hit, &bundle, out),
             Some(optics) => self.specular(optics, hit, incoming, bounces, bundle, out, counts),
         }
     }
@@ -304,7 +303,7 @@ impl<'a> Context<'a> {
                 }
             });
         }
-        Ok(Context { stage, optics, lift: Upsampler::new(&grid.nm, &grid.weights), depths })
+        Ok(Context { stage, optics, upsampler: Upsampler::new(&grid.nm, &grid.weights), depths })
     }
 
     /// The radiance spectrum (per lane of the grid) along the camera ray `direction`, and

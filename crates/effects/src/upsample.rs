@@ -35,12 +35,56 @@ fn bin(nm: f64) -> usize {
     (((nm - 380.0) / 34.0).floor().max(0.0) as usize).min(9)
 }
 
+/// The seven basis spectra in the order of a [`Lifted`]'s weights.
+const BASIS: [&[f64; 10]; 7] = [&WHITE, &CYAN, &MAGENTA, &YELLOW, &RED, &GREEN, &BLUE];
+/// The positions of red, green and blue in [`BASIS`] (the correction's primaries).
+const PRIMARIES: [usize; 3] = [4, 5, 6];
+
+/// A colour lifted to a spectrum, held as its weights on Smits's seven basis spectra
+/// (white, cyan, magenta, yellow, red, green, blue; the correction included): its value at
+/// one wavelength of the grid costs seven products, so a ray carrying a few wavelengths
+/// reads only those.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lifted([f64; 7]);
+
+/// Smits's weights of `rgb` on the basis: the smallest channel on white, the next
+/// difference on the secondary the two larger channels share, the last on the primary of
+/// the largest.
+fn smits_weights(rgb: [f64; 3]) -> [f64; 7] {
+    let [r, g, b] = rgb;
+    let (white, cyan, magenta, yellow, red, green, blue) = (0, 1, 2, 3, 4, 5, 6);
+    let terms: [(usize, f64); 3] = if r <= g && r <= b {
+        if g <= b {
+            [(white, r), (cyan, g - r), (blue, b - g)]
+        } else {
+            [(white, r), (cyan, b - r), (green, g - b)]
+        }
+    } else if g <= r && g <= b {
+        if r <= b {
+            [(white, g), (magenta, r - g), (blue, b - r)]
+        } else {
+            [(white, g), (magenta, b - g), (red, r - b)]
+        }
+    } else if r <= g {
+        [(white, b), (yellow, r - b), (green, g - r)]
+    } else {
+        [(white, b), (yellow, g - b), (red, r - g)]
+    };
+    let mut weights = [0.0; 7];
+    for (basis, weight) in terms {
+        weights[basis] = weight;
+    }
+    weights
+}
+
 /// The lift of RGB to spectra on one set of wavelengths with their linear-sRGB weights.
 #[derive(Clone, Debug)]
 pub struct Upsampler {
-    /// Each basis spectrum at each wavelength: white, cyan, magenta, yellow, red, green, blue.
-    basis: [Vec<f64>; 7],
+    /// The basis spectra at each wavelength, in [`BASIS`] order.
+    basis: Vec<[f64; 7]>,
     weights: Vec<[f64; 3]>,
+    /// The colour of each basis spectrum on the grid (colour is linear in the spectrum).
+    basis_colours: [[f64; 3]; 7],
     /// G⁻¹, G[i][c] = Σ_λ w_i(λ) primary_c(λ).
     correction: Matrix3,
 }
@@ -49,41 +93,29 @@ impl Upsampler {
     /// For wavelengths `nm` whose colour weights are `weights` (Σ_λ w(λ)S(λ) is the linear
     /// sRGB of a spectrum S).
     pub fn new(nm: &[f64], weights: &[[f64; 3]]) -> Upsampler {
-        let sample = |table: &[f64; 10]| nm.iter().map(|&l| table[bin(l)]).collect::<Vec<f64>>();
-        let basis = [&WHITE, &CYAN, &MAGENTA, &YELLOW, &RED, &GREEN, &BLUE].map(sample);
-        let colour = |spectrum: &[f64]| {
-            spectrum.iter().zip(weights).fold([0.0; 3], |rgb, (s, w)| [rgb[0] + s * w[0], rgb[1] + s * w[1], rgb[2] + s * w[2]])
-        };
-        let primaries = [colour(&basis[4]), colour(&basis[5]), colour(&basis[6])];
-        let g: Matrix3 = std::array::from_fn(|i| std::array::from_fn(|c| primaries[c][i]));
+        let basis: Vec<[f64; 7]> = nm.iter().map(|&l| BASIS.map(|table| table[bin(l)])).collect();
+        let basis_colours: [[f64; 3]; 7] = std::array::from_fn(|j| {
+            basis.iter().zip(weights).fold([0.0; 3], |rgb, (s, w)| [rgb[0] + s[j] * w[0], rgb[1] + s[j] * w[1], rgb[2] + s[j] * w[2]])
+        });
+        let g: Matrix3 = std::array::from_fn(|i| std::array::from_fn(|c| basis_colours[PRIMARIES[c]][i]));
         // On a grid too coarse to tell the primaries apart the correction is left out
         // (the round trip is then Smits's own).
         let correction = invert(&g).unwrap_or([[0.0; 3]; 3]);
-        Upsampler { basis, weights: weights.to_vec(), correction }
+        Upsampler { basis, weights: weights.to_vec(), basis_colours, correction }
+    }
+
+    /// The lifted spectrum's value at wavelength `lane` of the grid.
+    pub fn value(&self, lifted: &Lifted, lane: usize) -> f64 {
+        self.basis[lane].iter().zip(&lifted.0).map(|(b, w)| b * w).sum()
+    }
+
+    fn values(&self, lifted: &Lifted) -> Vec<f64> {
+        (0..self.basis.len()).map(|lane| self.value(lifted, lane)).collect()
     }
 
     /// Smits's spectrum of `rgb` alone, before the correction.
     pub fn smits(&self, rgb: [f64; 3]) -> Vec<f64> {
-        let [r, g, b] = rgb;
-        let [white, cyan, magenta, yellow, red, green, blue] = &self.basis;
-        let terms: [(f64, &Vec<f64>); 3] = if r <= g && r <= b {
-            if g <= b {
-                [(r, white), (g - r, cyan), (b - g, blue)]
-            } else {
-                [(r, white), (b - r, cyan), (g - b, green)]
-            }
-        } else if g <= r && g <= b {
-            if r <= b {
-                [(g, white), (r - g, magenta), (b - r, blue)]
-            } else {
-                [(g, white), (b - g, magenta), (r - b, red)]
-            }
-        } else if r <= g {
-            [(b, white), (r - b, yellow), (g - r, green)]
-        } else {
-            [(b, white), (g - b, yellow), (r - g, red)]
-        };
-        (0..white.len()).map(|i| terms.iter().map(|(a, s)| a * s[i]).sum()).collect()
+        self.values(&Lifted(smits_weights(rgb)))
     }
 
     /// The colour of a spectrum on these wavelengths.
@@ -97,19 +129,25 @@ impl Upsampler {
         std::array::from_fn(|c| rgb[c] - back[c])
     }
 
-    /// The spectrum of `rgb`: Smits's, corrected in his primaries so that its colour is
-    /// `rgb` to rounding. A grey is flat (white is 1) and left as it is.
-    pub fn spectrum(&self, rgb: [f64; 3]) -> Vec<f64> {
-        let mut spectrum = self.smits(rgb);
+    /// `rgb` lifted: Smits's weights, corrected in his primaries so that the spectrum's
+    /// colour is `rgb` to rounding (the residual from the basis colours, colour being
+    /// linear). A grey is flat (white is 1) and left as it is.
+    pub fn lift(&self, rgb: [f64; 3]) -> Lifted {
+        let mut weights = smits_weights(rgb);
         if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
-            return spectrum;
+            return Lifted(weights);
         }
-        let residual = self.smits_residual(rgb);
-        let delta: [f64; 3] = std::array::from_fn(|c| (0..3).map(|i| self.correction[c][i] * residual[i]).sum());
-        for (i, s) in spectrum.iter_mut().enumerate() {
-            *s += delta[0] * self.basis[4][i] + delta[1] * self.basis[5][i] + delta[2] * self.basis[6][i];
+        let back = weights.iter().zip(&self.basis_colours).fold([0.0; 3], |s, (w, c)| [s[0] + w * c[0], s[1] + w * c[1], s[2] + w * c[2]]);
+        let residual: [f64; 3] = std::array::from_fn(|c| rgb[c] - back[c]);
+        for (c, primary) in PRIMARIES.iter().enumerate() {
+            weights[*primary] += (0..3).map(|i| self.correction[c][i] * residual[i]).sum::<f64>();
         }
-        spectrum
+        Lifted(weights)
+    }
+
+    /// The spectrum of `rgb` on the grid ([`Upsampler::lift`] at every wavelength).
+    pub fn spectrum(&self, rgb: [f64; 3]) -> Vec<f64> {
+        self.values(&self.lift(rgb))
     }
 }
 
