@@ -151,14 +151,16 @@ pub fn prism() -> Mesh {
         mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     };
     // The three sides, each between two corners of the section, normal at their mid-angle.
-    for (a, b) in [(0.0f32, 120.0f32), (120.0, 240.0), (240.0, 360.0)] {
-        let mid = ((a + b) / 2.0).to_radians();
-        quad([corner(a, -r), corner(b, -r), corner(b, r), corner(a, r)], [mid.cos(), 0.0, mid.sin()]);
+    // The last side ends at the first corner itself (0°, not 360°, whose f32 sine is 1.2e-7:
+    // the seam would not close).
+    for (a, b, mid) in [(0.0f32, 120.0f32, 60.0f32), (120.0, 240.0, 180.0), (240.0, 0.0, 300.0)] {
+        let mid = mid.to_radians();
+        quad([corner(a, -r), corner(a, r), corner(b, r), corner(b, -r)], [mid.cos(), 0.0, mid.sin()]);
     }
-    // The two ends.
-    for (y, normal) in [(r, 1.0f32), (-r, -1.0)] {
+    // The two ends, counter-clockwise seen from outside like every face.
+    for (y, normal, turn) in [(r, 1.0f32, [0.0f32, 240.0, 120.0]), (-r, -1.0, [0.0, 120.0, 240.0])] {
         let base = mesh.positions.len() as u32;
-        mesh.positions.extend([corner(0.0, y), corner(120.0, y), corner(240.0, y)]);
+        mesh.positions.extend(turn.map(|degrees| corner(degrees, y)));
         mesh.normals.extend([[0.0, normal, 0.0]; 3]);
         mesh.indices.extend([base, base + 1, base + 2]);
     }
@@ -334,6 +336,31 @@ mod tests {
             let face = cross(sub(b, a), sub(c, a));
             face.iter().zip(mesh.normals[triangle[0] as usize]).map(|(f, n)| f * n).sum::<f32>() > 0.0
         })
+    }
+
+    /// Whether every edge of the mesh, by its corners' exact positions, is shared by exactly
+    /// two triangles: the surface is closed, with no crack a ray could pass through.
+    fn closed(mesh: &Mesh) -> bool {
+        let mut edges: std::collections::HashMap<[[u32; 3]; 2], usize> = std::collections::HashMap::new();
+        for triangle in mesh.indices.chunks_exact(3) {
+            let corners = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize].map(f32::to_bits));
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                let mut edge = [corners[a], corners[b]];
+                edge.sort();
+                *edges.entry(edge).or_default() += 1;
+            }
+        }
+        edges.values().all(|&count| count == 2)
+    }
+
+    #[test]
+    fn the_built_in_solids_are_closed() {
+        assert!(closed(&cube()));
+        let prism = prism();
+        assert_eq!(prism.triangles(), 8);
+        assert!(wound_along_normals(&prism));
+        assert!(closed(&prism), "the seam at 0° must meet itself");
+        assert!(!closed(&plane()));
     }
 
     #[test]
