@@ -24,10 +24,10 @@
 use std::sync::OnceLock;
 
 use glam::{DVec3, Vec3A};
-use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray, RayHit};
-use obvhs::triangle::Triangle as BvhTriangle;
 use obvhs::BvhBuildParams;
 
 use super::packet::{Corners, Packet, PacketTree, RayMask, PACKET_RAYS};
@@ -41,6 +41,14 @@ pub const SELF_HIT_DISTANCE: f64 = 1e-7;
 /// How far behind the true origin the traversal's ray starts: more than obvhs's own start
 /// (t = 1e-4), so no box around a crossing near the origin is skipped.
 const TRAVERSAL_BACKOFF: f64 = 2e-4;
+
+/// How far each triangle's box is widened for the BVH's f32 node test, relative to its
+/// largest coordinate (at least 1). The test's slab distances are rounded in f32 (and the
+/// traversal's ray is the f64 ray rounded to f32), so a ray through an edge where two flat
+/// boxes meet — a room's corner, seen along a diagonal plane — could enter neither box and
+/// escape a closed room; the watertight triangle test then never runs. 10⁻⁵ is ~80 f32
+/// steps: every rounding of the slab test and the ray fits inside it.
+const BOX_PADDING: f64 = 1e-5;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the
 /// triangle test).
@@ -79,6 +87,15 @@ impl Triangle {
         let [a, b, c] = self.corners;
         let geometric = (b - a).cross(c - a);
         n.try_normalize().or_else(|| geometric.try_normalize()).unwrap_or(DVec3::Z)
+    }
+
+    /// The triangle's box for obvhs's f32 node test, widened by [`BOX_PADDING`] of its
+    /// largest coordinate (at least 1).
+    fn padded_box(&self) -> Aabb {
+        let (low, high) = self.corners.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+        let pad = BOX_PADDING * (1.0 + low.abs().max(high.abs()).max_element());
+        let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
+        Aabb::new(narrow(low - DVec3::splat(pad)), narrow(high + DVec3::splat(pad)))
     }
 
     /// The triangle's own unit normal (its plane's), turned to the side its vertex normals
@@ -247,12 +264,8 @@ impl Geometry {
         if triangles.is_empty() {
             return Err(GeometryError::Empty);
         }
-        let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
-        let boxes: Vec<BvhTriangle> = triangles
-            .iter()
-            .map(|t| BvhTriangle { v0: narrow(t.corners[0]), v1: narrow(t.corners[1]), v2: narrow(t.corners[2]) })
-            .collect();
-        let bvh = build_cwbvh_from_tris(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
+        let boxes: Vec<Aabb> = triangles.iter().map(Triangle::padded_box).collect();
+        let bvh = build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
         Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new() })
     }
 
@@ -548,5 +561,40 @@ mod tests {
                 proptest::prop_assert!(crossing.is_none_or(|c| c.t <= 0.0), "{:?} {:?} {:?}", relative, direction, crossing);
             }
         }
+    }
+
+    #[test]
+    fn rays_aimed_at_a_closed_room_s_edges_and_corners_never_escape() {
+        // The room's walls meet at edges where two flat boxes touch; a ray aimed exactly at
+        // an edge or corner must still meet a wall there (before the boxes were widened, a
+        // ray in the room's diagonal plane x = −y left through the edge (3, −3, z)).
+        use crate::scene::mesh::room;
+        use crate::scene::Placement;
+        let geometry = Geometry::new(&[room().placed(&Placement { position: [0.0; 3], scale: [3.0; 3] })]).unwrap();
+        let mut targets = Vec::new();
+        for a in [-3.0, 3.0] {
+            for b in [-3.0, 3.0] {
+                for t in [-2.9, -1.7, -0.4, 0.0, 0.3, 1.1, 2.5] {
+                    targets.extend([DVec3::new(a, b, t), DVec3::new(a, t, b), DVec3::new(t, a, b)]);
+                }
+                targets.extend([DVec3::new(a, b, -3.0), DVec3::new(a, b, 3.0)]);
+            }
+        }
+        let mut rays = 0;
+        for x in [-2.5, -1.0, 0.0, 0.2953293607927585, 1.7] {
+            for y in [-2.0, -0.2953293607927585, 0.0, 0.9] {
+                for z in [-1.5, 0.0, 0.2731158383122385, 2.2] {
+                    let origin = DVec3::new(x, y, z);
+                    for &target in &targets {
+                        let direction = (target - origin).normalize();
+                        let hit = geometry.nearest(origin, direction, None, |_| true);
+                        let hit = hit.unwrap_or_else(|| panic!("escaped: from {origin} towards {target}"));
+                        assert!(hit.point.distance(target) < 1e-9, "from {origin} towards {target}: {}", hit.point);
+                        rays += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(rays, 80 * 92);
     }
 }

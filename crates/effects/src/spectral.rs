@@ -172,6 +172,23 @@ struct Context<'a> {
     depths: Depths,
 }
 
+/// Where a pixel's light goes, per wavelength (lane) of the grid: what returns to the
+/// camera, and what is still in flight when the depths run out (a bounce the depths do not
+/// allow). Absorption (Beer–Lambert, a conductor's 1 − F) and rays leaving the scene are
+/// neither. In a closed white furnace of lossless dielectrics every interface splits a
+/// weight into F and 1 − F (weight 1 at a total internal reflection), so the two sum to 1
+/// at every wavelength, whatever the mesh: the depth-truncation share is the whole loss.
+struct Sums<'a> {
+    radiance: &'a mut [f64],
+    truncated: &'a mut [f64],
+}
+
+impl Sums<'_> {
+    fn cut(&mut self, lane: u16, weight: f64) {
+        self.truncated[lane as usize] += weight;
+    }
+}
+
 /// A bundle: the wavelengths (lanes of the grid) a ray carries and their weights.
 struct Bundle {
     lanes: Vec<u16>,
@@ -181,18 +198,18 @@ struct Bundle {
 impl Context<'_> {
     /// The radiance spectrum of a diffuse surface, albedo spectrum × the lights' spectrum,
     /// added into `out` at the bundle's wavelengths only.
-    fn diffuse(&self, hit: &Hit, bundle: &Bundle, out: &mut [f64]) {
+    fn diffuse(&self, hit: &Hit, bundle: &Bundle, out: &mut Sums) {
         let ObjectOptics::Diffuse(d) = &self.stage.objects[hit.object] else { unreachable!("called for diffuse objects") };
         let (p, n) = (hit.point.to_array(), hit.normal.to_array());
         let albedo = self.upsampler.lift(d.albedo_at(p, n));
         let light = self.upsampler.lift(unshadowed(&self.stage.lights, [1.0; 3], p, n));
         for (&lane, w) in bundle.lanes.iter().zip(&bundle.weights) {
             let lane = lane as usize;
-            out[lane] += w * (self.upsampler.value(&albedo, lane) * self.upsampler.value(&light, lane));
+            out.radiance[lane] += w * (self.upsampler.value(&albedo, lane) * self.upsampler.value(&light, lane));
         }
     }
 
-    fn shade(&self, hit: &Hit, incoming: DVec3, bounces: u32, bundle: Bundle, out: &mut [f64], counts: &mut Counts) {
+    fn shade(&self, hit: &Hit, incoming: DVec3, bounces: u32, bundle: Bundle, out: &mut Sums, counts: &mut Counts) {
         match &self.optics[hit.object] {
             None => self.diffuse(hit, &bundle, out),
             Some(optics) => self.specular(optics, hit, incoming, bounces, bundle, out, counts),
@@ -207,7 +224,7 @@ impl Context<'_> {
         inside: Option<&SpectralOptics>,
         bounces: u32,
         mut bundle: Bundle,
-        out: &mut [f64],
+        out: &mut Sums,
         counts: &mut Counts,
     ) {
         counts.rays += 1;
@@ -233,17 +250,19 @@ impl Context<'_> {
         incoming: DVec3,
         bounces: u32,
         bundle: Bundle,
-        out: &mut [f64],
+        out: &mut Sums,
         counts: &mut Counts,
     ) {
         let allowed = Allowed { reflection: bounces < self.depths.reflection, refraction: bounces < self.depths.refraction };
         let (from_inside, facing, cos_i) = facing(incoming, hit.normal, hit.geometric);
         let mirror = reflect(incoming, facing);
         if optics.kind == Kind::Conductor {
+            let weights: Vec<f64> =
+                bundle.lanes.iter().zip(&bundle.weights).map(|(&l, w)| w * optics.lanes[l as usize].terms.reflectance(cos_i)).collect();
             if allowed.reflection {
-                let weights =
-                    bundle.lanes.iter().zip(&bundle.weights).map(|(&l, w)| w * optics.lanes[l as usize].terms.reflectance(cos_i)).collect();
                 self.follow(hit, mirror, None, bounces, Bundle { lanes: bundle.lanes, weights }, out, counts);
+            } else {
+                bundle.lanes.iter().zip(weights).for_each(|(&l, w)| out.cut(l, w));
             }
             return;
         }
@@ -259,15 +278,20 @@ impl Context<'_> {
                 Some(direction) => {
                     let cos_f = if from_inside { direction.dot(-facing).clamp(0.0, 1.0) } else { cos_i };
                     let f: Vec<f64> = lanes.iter().map(|&l| optics.lanes[l as usize].terms.reflectance(cos_f)).collect();
+                    let reflected = weights.iter().zip(&f).map(|(w, f)| w * f);
                     if allowed.reflection {
                         mirrored.lanes.extend_from_slice(lanes);
-                        mirrored.weights.extend(weights.iter().zip(&f).map(|(w, f)| w * f));
+                        mirrored.weights.extend(reflected);
+                    } else {
+                        lanes.iter().zip(reflected).for_each(|(&l, w)| out.cut(l, w));
                     }
+                    let transmitted = weights.iter().zip(&f).map(|(w, f)| w * (1.0 - f));
                     if allowed.refraction {
-                        let refracted =
-                            Bundle { lanes: lanes.to_vec(), weights: weights.iter().zip(&f).map(|(w, f)| w * (1.0 - f)).collect() };
+                        let refracted = Bundle { lanes: lanes.to_vec(), weights: transmitted.collect() };
                         let inside = (!from_inside).then_some(optics);
                         self.follow(hit, direction, inside, bounces, refracted, out, counts);
+                    } else {
+                        lanes.iter().zip(transmitted).for_each(|(&l, w)| out.cut(l, w));
                     }
                 }
                 None if allowed.refraction || allowed.reflection => {
@@ -277,7 +301,7 @@ impl Context<'_> {
                     mirrored.lanes.extend_from_slice(lanes);
                     mirrored.weights.extend_from_slice(weights);
                 }
-                None => {}
+                None => lanes.iter().zip(weights).for_each(|(&l, &w)| out.cut(l, w)),
             }
             start = end;
         }
@@ -308,31 +332,41 @@ impl<'a> Context<'a> {
 
     /// The radiance spectrum (per lane of the grid) along the camera ray `direction`, and
     /// the object it shows first; `None`: the ray meets nothing.
-    fn primary(&self, eye: DVec3, direction: DVec3, lanes: usize, spectrum: &mut [f64], counts: &mut Counts) -> Option<usize> {
+    fn primary(&self, eye: DVec3, direction: DVec3, out: &mut Sums, counts: &mut Counts) -> Option<usize> {
+        let lanes = out.radiance.len();
         counts.rays += 1;
         counts.wavelength_rays += lanes as u64;
+        out.radiance.iter_mut().chain(out.truncated.iter_mut()).for_each(|s| *s = 0.0);
         let hit = self.stage.geometry.nearest(eye, direction, None, |_| true)?;
-        spectrum.iter_mut().for_each(|s| *s = 0.0);
         let bundle = Bundle { lanes: (0..lanes as u16).collect(), weights: vec![1.0; lanes] };
-        self.shade(&hit, direction, 0, bundle, spectrum, counts);
+        self.shade(&hit, direction, 0, bundle, out, counts);
         Some(hit.object)
     }
 }
 
-/// The radiance spectrum of pixel (`x`, `y`) on `grid`'s wavelengths (L(λ) relative to D65),
-/// and the number of total internal reflections along its paths.
+/// One pixel on a grid's wavelengths: its radiance spectrum L(λ) (relative to D65), the
+/// share of each wavelength still in flight when the depths ran out (see [`Sums`]) and the
+/// total internal reflections along its paths.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpectralPixel {
+    pub radiance: Vec<f64>,
+    pub truncated: Vec<f64>,
+    pub total_internal_reflections: u64,
+}
+
+/// Pixel (`x`, `y`) of the spectral reference on `grid`'s wavelengths.
 pub fn spectral_pixel(
     stage: &Stage,
     camera: &Camera,
     (x, y): (u32, u32),
     depths: Depths,
     grid: &WavelengthGrid,
-) -> Result<(Vec<f64>, u64), SpectralError> {
+) -> Result<SpectralPixel, SpectralError> {
     let context = Context::new(stage, depths, grid)?;
-    let mut spectrum = vec![0.0; grid.len()];
+    let (mut radiance, mut truncated) = (vec![0.0; grid.len()], vec![0.0; grid.len()]);
     let mut counts = Counts::default();
-    context.primary(camera.eye, camera.ray(x, y), grid.len(), &mut spectrum, &mut counts);
-    Ok((spectrum, counts.total_internal_reflections))
+    context.primary(camera.eye, camera.ray(x, y), &mut Sums { radiance: &mut radiance, truncated: &mut truncated }, &mut counts);
+    Ok(SpectralPixel { radiance, truncated, total_internal_reflections: counts.total_internal_reflections })
 }
 
 /// The spectral reference frame of `stage` through `camera` at `depths` on `grid`: every
@@ -344,9 +378,10 @@ pub fn spectral_reference(stage: &Stage, camera: &Camera, depths: Depths, grid: 
         .map(|y| {
             let mut counts = Counts::default();
             let (mut radiance, mut seen) = (Vec::with_capacity(camera.width as usize), Vec::with_capacity(camera.width as usize));
-            let mut spectrum = vec![0.0; grid.len()];
+            let (mut spectrum, mut truncated) = (vec![0.0; grid.len()], vec![0.0; grid.len()]);
             for x in 0..camera.width {
-                match context.primary(camera.eye, camera.ray(x, y), grid.len(), &mut spectrum, &mut counts) {
+                let mut sums = Sums { radiance: &mut spectrum, truncated: &mut truncated };
+                match context.primary(camera.eye, camera.ray(x, y), &mut sums, &mut counts) {
                     None => {
                         radiance.push([0.0; 3]);
                         seen.push(None);
@@ -525,7 +560,9 @@ mod tests {
                 "white furnace, {name}: rendered {rendered:?}, perfect sphere {analytic:?}, {} TIR",
                 frame.total_internal_reflections
             );
-            assert!((0..3).all(|c| (rendered[c] - analytic[c]).abs() < 5e-3), "{name}: {rendered:?} vs {analytic:?}");
+            // Measured ≤ 1.1·10⁻⁵ (the 64×32 tessellation; 10⁻³ before rays through the
+            // room's edges stopped escaping, geometry.rs).
+            assert!((0..3).all(|c| (rendered[c] - analytic[c]).abs() < 1e-4), "{name}: {rendered:?} vs {analytic:?}");
         }
     }
 
@@ -545,8 +582,9 @@ mod tests {
         let (eye, ray) = (camera.eye, camera.ray(0, 0));
         assert!(eye.y.abs() < 1e-15 && ray.y.abs() < 1e-15);
         let grid = WavelengthGrid::new(WavelengthGrid::full_count()).unwrap();
-        let (spectrum, tir) = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 2 }, &grid).unwrap();
-        assert_eq!(tir, 0);
+        let pixel = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 2 }, &grid).unwrap();
+        let spectrum = pixel.radiance;
+        assert_eq!(pixel.total_internal_reflections, 0);
         // The section's corners as placed (x, z): at 0°, 120°, 240°.
         let corner = |degrees: f64| {
             let p = stage.meshes[0]
@@ -634,13 +672,15 @@ mod tests {
         let (scene, stage) = staged(text, &table);
         let camera = Camera::new(&scene.camera, 0, 1, 1);
         let grid = WavelengthGrid::new(40).unwrap();
-        let (spectrum, tir) = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 2 }, &grid).unwrap();
+        let pixel = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 2 }, &grid).unwrap();
+        let (spectrum, tir) = (pixel.radiance, pixel.total_internal_reflections);
         // Refraction depth 2: in, then total internal reflection (the second bounce), then no
         // bounce left: black at every wavelength, 40 reflections counted.
         assert_eq!(tir, 40);
         assert!(spectrum.iter().all(|&l| l == 0.0), "{spectrum:?}");
         // With more depth the reflected light leaves through the third face.
-        let (deeper, tir) = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 4 }, &grid).unwrap();
+        let pixel = spectral_pixel(&stage, &camera, (0, 0), Depths { reflection: 0, refraction: 4 }, &grid).unwrap();
+        let (deeper, tir) = (pixel.radiance, pixel.total_internal_reflections);
         assert!(tir >= 40 && deeper.iter().all(|&l| l > 0.0), "{tir} {deeper:?}");
     }
 }
