@@ -356,11 +356,7 @@ impl Geometry {
         if !origin.is_finite() {
             return directions.len();
         }
-        let tree = self.packet_tree.get_or_init(|| {
-            let narrow = |p: DVec3| [p.x as f32, p.y as f32, p.z as f32];
-            let corners: Vec<Corners> = self.triangles.iter().map(|t| t.corners.map(narrow)).collect();
-            PacketTree::new(&corners, PACKET_LEAF_TRIANGLES)
-        });
+        let tree = self.packet_tree();
         directions
             .chunks(PACKET_RAYS)
             .map(|chunk| {
@@ -388,6 +384,55 @@ impl Geometry {
                 )
             })
             .sum()
+    }
+
+    /// [`Geometry::nearest`] over every object for rays that share an origin (the
+    /// wavelengths one refraction bends each by its own n), traced together as packets of up
+    /// to [`PACKET_RAYS`] over the packet tree, each ray's walk ending at its nearest
+    /// crossing so far. The triangle test is the same, so is each ray's nearest distance (at
+    /// an exact tie, two triangles through one edge, either may be named).
+    pub fn nearest_rays(&self, origin: DVec3, directions: &[DVec3], leaving: Option<u32>) -> Vec<Option<Hit>> {
+        if directions.len() < 2 || !origin.is_finite() || !directions.iter().all(|d| d.is_finite()) {
+            return directions.iter().map(|d| self.nearest(origin, *d, leaving, |_| true)).collect();
+        }
+        let tree = self.packet_tree();
+        let mut hits = Vec::with_capacity(directions.len());
+        for chunk in directions.chunks(PACKET_RAYS) {
+            let mut packet = Packet::new(origin, chunk);
+            let shears: Vec<Shear> = chunk.iter().map(|d| Shear::of(*d)).collect();
+            let headings = Headings::of(&shears);
+            let nearest = tree.nearest(&mut packet, |index, relative, rays, nearest| {
+                if Some(index) == leaving {
+                    return;
+                }
+                let mut candidates = rays & !headings.behind(relative);
+                while candidates != 0 {
+                    let ray = candidates.trailing_zeros() as usize;
+                    candidates &= candidates - 1;
+                    if let Some(c) = crossing_from(*relative, &shears[ray]) {
+                        if c.t > SELF_HIT_DISTANCE && nearest[ray].is_none_or(|(t, _)| c.t < t) {
+                            nearest[ray] = Some((c.t, index));
+                        }
+                    }
+                }
+            });
+            hits.extend(chunk.iter().zip(nearest).map(|(&direction, found)| {
+                let (t, index) = found?;
+                // The same test on the same corners as in the walk: the same crossing.
+                let crossing = self.triangles[index as usize].crossing(origin, direction)?;
+                Some(self.hit(t, crossing, index, origin, direction))
+            }));
+        }
+        hits
+    }
+
+    /// The packet tree, built on first use.
+    fn packet_tree(&self) -> &PacketTree {
+        self.packet_tree.get_or_init(|| {
+            let narrow = |p: DVec3| [p.x as f32, p.y as f32, p.z as f32];
+            let corners: Vec<Corners> = self.triangles.iter().map(|t| t.corners.map(narrow)).collect();
+            PacketTree::new(&corners, PACKET_LEAF_TRIANGLES)
+        })
     }
 
     fn hit(&self, t: f64, crossing: Crossing, index: u32, origin: DVec3, direction: DVec3) -> Hit {
@@ -568,8 +613,6 @@ mod tests {
         // The room's walls meet at edges where two flat boxes touch; a ray aimed exactly at
         // an edge or corner must still meet a wall there (before the boxes were widened, a
         // ray in the room's diagonal plane x = −y left through the edge (3, −3, z)).
-        use crate::scene::mesh::room;
-        use crate::scene::Placement;
         let geometry = Geometry::new(&[room().placed(&Placement { position: [0.0; 3], scale: [3.0; 3] })]).unwrap();
         let mut targets = Vec::new();
         for a in [-3.0, 3.0] {
@@ -596,5 +639,52 @@ mod tests {
             }
         }
         assert_eq!(rays, 80 * 92);
+    }
+
+    #[test]
+    fn rays_of_one_origin_traced_together_meet_what_each_meets_alone() {
+        // A glass sphere and a prism in a room: fans of 96 nearly parallel rays (one
+        // refraction's wavelengths) and of 150 spread ones, from inside and outside the
+        // objects and from a point on a triangle left behind: each ray's nearest hit in the
+        // packet walk is the one `nearest` finds for it alone.
+        use crate::scene::mesh::prism;
+        let geometry = Geometry::new(&[
+            sphere(24, 12).placed(&Placement { position: [-0.8, 0.0, 0.0], scale: [0.5; 3] }),
+            prism().placed(&Placement { position: [0.7, 0.1, 0.2], scale: [0.6; 3] }),
+            room().placed(&Placement { position: [0.0; 3], scale: [3.0; 3] }),
+        ])
+        .unwrap();
+        let start = geometry.nearest(DVec3::new(-0.8, 0.0, -2.0), DVec3::Z, None, |_| true).unwrap();
+        let mut cases = vec![(start.point, Some(start.triangle))];
+        cases.extend([DVec3::new(-0.8, 0.05, 0.1), DVec3::new(0.7, 0.1, 0.2), DVec3::new(0.1, -0.4, -2.5)].map(|o| (o, None)));
+        let mut compared = 0;
+        for (case, &(origin, leaving)) in cases.iter().enumerate() {
+            for fan in 0..6 {
+                let axis =
+                    DVec3::new((fan as f64 * 1.3 + case as f64).sin(), 0.3 * (fan as f64).cos(), (fan as f64 * 0.7).cos()).normalize();
+                let (count, spread) = if fan % 2 == 0 { (96, 0.01) } else { (150, 1.5) };
+                let directions: Vec<DVec3> = (0..count)
+                    .map(|i| {
+                        let a = i as f64 / count as f64;
+                        (axis + DVec3::new((a * 17.0).sin(), (a * 29.0).cos(), a - 0.5) * spread).normalize()
+                    })
+                    .collect();
+                let together = geometry.nearest_rays(origin, &directions, leaving);
+                for (direction, hit) in directions.iter().zip(&together) {
+                    let alone = geometry.nearest(origin, *direction, leaving, |_| true);
+                    match (hit, alone) {
+                        (Some(h), Some(a)) => {
+                            assert_eq!(h.t, a.t, "from {origin} along {direction}");
+                            assert_eq!(h.point, a.point);
+                            assert!(h.triangle == a.triangle || h.object == a.object, "a tie across objects");
+                        }
+                        (None, None) => {}
+                        (h, a) => panic!("from {origin} along {direction}: together {:?}, alone {:?}", h.map(|h| h.t), a.map(|a| a.t)),
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 4 * 3 * (96 + 150));
     }
 }

@@ -59,6 +59,8 @@ pub struct PacketTree {
     root: Option<PacketNode>,
     pairs: Vec<SiblingPair>,
     corners: Vec<Corners>,
+    /// Each of `corners`' triangles' index in the list the tree was built from.
+    indices: Vec<u32>,
 }
 
 /// The rays of a packet: their origin and their reciprocal directions in
@@ -67,6 +69,11 @@ pub struct Packet {
     origin: DVec3,
     rays: usize,
     reciprocal: [[f64; PACKET_RAYS]; 3],
+    /// How far along each ray a box still counts: the nearest crossing found so far in a
+    /// nearest-hit walk, infinity for occlusion.
+    limits: [f64; PACKET_RAYS],
+    /// The first ray's direction: the order a nearest-hit walk takes two children in.
+    heading: DVec3,
 }
 
 /// 1/x, its size held to at most 10³⁰⁰ (a zero or denormal component), so the slab test's
@@ -92,7 +99,13 @@ impl Packet {
                 reciprocal[axis][i] = reciprocal_of(d[axis]);
             }
         }
-        Packet { origin, rays: directions.len(), reciprocal }
+        Packet {
+            origin,
+            rays: directions.len(),
+            reciprocal,
+            limits: [f64::INFINITY; PACKET_RAYS],
+            heading: directions.first().copied().unwrap_or(DVec3::Z),
+        }
     }
 
     /// Every ray of the packet.
@@ -128,7 +141,8 @@ impl Packet {
             if (live >> base) & 0xff == 0 {
                 continue;
             }
-            let (mut enter, mut exit) = ([0.0f64; 8], [f64::INFINITY; 8]);
+            let mut enter = [0.0f64; 8];
+            let mut exit: [f64; 8] = std::array::from_fn(|lane| self.limits[base + lane]);
             for axis in 0..3 {
                 let reciprocal = &self.reciprocal[axis][base..base + 8];
                 for lane in 0..8 {
@@ -163,7 +177,7 @@ impl PacketTree {
         // children reads pairs that lie close in memory.
         let mut pairs = Vec::new();
         if triangles.is_empty() {
-            return PacketTree { root: None, pairs, corners: Vec::new() };
+            return PacketTree { root: None, pairs, corners: Vec::new(), indices: Vec::new() };
         }
         let mut root = node(0);
         let mut pending: Vec<(usize, usize)> = Vec::new();
@@ -182,13 +196,72 @@ impl PacketTree {
             pairs[pair].0[side] = parent;
         }
         let corners = bvh.primitive_indices.iter().map(|&i| triangles[i as usize]).collect();
-        PacketTree { root: Some(root), pairs, corners }
+        PacketTree { root: Some(root), pairs, corners, indices: bvh.primitive_indices }
     }
 
     /// How many rays of `packet` cross no triangle (`blocked` as in [`open`]).
     pub fn open_rays(&self, packet: &Packet, blocked: impl Fn(&[DVec3; 3], RayMask) -> RayMask) -> usize {
         open(self, packet, blocked).count_ones() as usize
     }
+
+    /// Each ray's nearest crossing (distance, index of the triangle in the list the tree was
+    /// built from): `cross(index, relative, rays, nearest)` updates `nearest` for those of
+    /// `rays` that cross the triangle nearer than their nearest so far (`relative`: its
+    /// corners less the origin). A ray's limit shrinks to its nearest crossing, so boxes
+    /// wholly beyond it are no longer entered.
+    pub fn nearest(&self, packet: &mut Packet, cross: impl FnMut(u32, &[DVec3; 3], RayMask, &mut Nearest)) -> Nearest {
+        nearest(self, packet, cross)
+    }
+}
+
+/// Each ray's nearest crossing so far: (distance, triangle index).
+pub type Nearest = [Option<(f64, u32)>; PACKET_RAYS];
+
+/// The nearest-hit walk of [`PacketTree::nearest`]: as [`open`], but a ray stays in the
+/// walk until the boxes left are beyond its nearest crossing, and a popped node is tested
+/// again against the limits as they are by then.
+#[multiversion::multiversion(targets("x86_64+avx512f", "x86_64+avx2"))]
+fn nearest<F: FnMut(u32, &[DVec3; 3], RayMask, &mut Nearest)>(tree: &PacketTree, packet: &mut Packet, mut cross: F) -> Nearest {
+    let mut best: Nearest = [None; PACKET_RAYS];
+    let Some(root) = &tree.root else { return best };
+    let mut stack: Vec<(&PacketNode, RayMask)> = Vec::with_capacity(64);
+    let lanes = match_target! {
+        "x86_64+avx512f" => |margins: &[f64; 8]| nonnegative_lanes_avx512(margins),
+        "x86_64+avx2" => |margins: &[f64; 8]| nonnegative_lanes_avx2(margins),
+        _ => nonnegative_lanes,
+    };
+    stack.push((root, packet.all()));
+    while let Some((node, rays)) = stack.pop() {
+        let rays = packet.entering_by(node.low, node.high, rays, lanes);
+        if rays == 0 {
+            continue;
+        }
+        if node.count == 0 {
+            let [first, second] = &tree.pairs[node.first as usize].0;
+            // The nearer child along the heading is walked first (stacked last), so the
+            // limits shrink before the farther one is tested.
+            let along = |n: &PacketNode| (widen(n.low) + widen(n.high) - 2.0 * packet.origin).dot(packet.heading);
+            let (near, far) = if along(first) <= along(second) { (first, second) } else { (second, first) };
+            for child in [far, near] {
+                if child.count == 0 {
+                    prefetch(&tree.pairs[child.first as usize]);
+                }
+                stack.push((child, rays));
+            }
+            continue;
+        }
+        let leaf = node.first as usize..(node.first + node.count) as usize;
+        for (corners, &index) in tree.corners[leaf.clone()].iter().zip(&tree.indices[leaf]) {
+            let relative = corners.map(|p| widen(p) - packet.origin);
+            cross(index, &relative, rays, &mut best);
+        }
+        for (limit, found) in packet.limits.iter_mut().zip(&best).take(packet.rays) {
+            if let Some((t, _)) = found {
+                *limit = t.min(*limit);
+            }
+        }
+    }
+    best
 }
 
 /// The rays of `packet` that no triangle whose box they enter blocks, as a mask:

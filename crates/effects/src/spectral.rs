@@ -28,6 +28,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
+use smallvec::SmallVec;
 
 use super::geometry::Hit;
 use super::optics::{facing, reflect, refract, Allowed};
@@ -189,10 +190,15 @@ impl Sums<'_> {
     }
 }
 
+/// A bundle's lanes and weights, inline up to four (past a dispersive refraction most
+/// bundles carry one wavelength).
+type Lanes = SmallVec<[u16; 4]>;
+type Weights = SmallVec<[f64; 4]>;
+
 /// A bundle: the wavelengths (lanes of the grid) a ray carries and their weights.
 struct Bundle {
-    lanes: Vec<u16>,
-    weights: Vec<f64>,
+    lanes: Lanes,
+    weights: Weights,
 }
 
 impl Context<'_> {
@@ -223,13 +229,31 @@ impl Context<'_> {
         direction: DVec3,
         inside: Option<&SpectralOptics>,
         bounces: u32,
+        bundle: Bundle,
+        out: &mut Sums,
+        counts: &mut Counts,
+    ) {
+        let next = self.stage.geometry.nearest(from.point, direction, Some(from.triangle), |_| true);
+        self.arrive(from, next, direction, inside, bounces, bundle, out, counts);
+    }
+
+    /// The bundle that left `from` along `direction` arrives at `next` (`None`: it leaves
+    /// the scene): attenuated on the way through `inside`, then shaded there.
+    #[allow(clippy::too_many_arguments)]
+    fn arrive(
+        &self,
+        from: &Hit,
+        next: Option<Hit>,
+        direction: DVec3,
+        inside: Option<&SpectralOptics>,
+        bounces: u32,
         mut bundle: Bundle,
         out: &mut Sums,
         counts: &mut Counts,
     ) {
         counts.rays += 1;
         counts.wavelength_rays += bundle.lanes.len() as u64;
-        let Some(next) = self.stage.geometry.nearest(from.point, direction, Some(from.triangle), |_| true) else { return };
+        let Some(next) = next else { return };
         if let Some(medium) = inside.filter(|m| m.absorbing) {
             let distance = next.point.distance(from.point);
             for (&lane, w) in bundle.lanes.iter().zip(bundle.weights.iter_mut()) {
@@ -257,7 +281,7 @@ impl Context<'_> {
         let (from_inside, facing, cos_i) = facing(incoming, hit.normal, hit.geometric);
         let mirror = reflect(incoming, facing);
         if optics.kind == Kind::Conductor {
-            let weights: Vec<f64> =
+            let weights: Weights =
                 bundle.lanes.iter().zip(&bundle.weights).map(|(&l, w)| w * optics.lanes[l as usize].terms.reflectance(cos_i)).collect();
             if allowed.reflection {
                 self.follow(hit, mirror, None, bounces, Bundle { lanes: bundle.lanes, weights }, out, counts);
@@ -266,7 +290,9 @@ impl Context<'_> {
             }
             return;
         }
-        let mut mirrored = Bundle { lanes: Vec::new(), weights: Vec::new() };
+        let mut mirrored = Bundle { lanes: Lanes::new(), weights: Weights::new() };
+        // Each run's refracted ray; all leave this point, so they are traced together.
+        let mut refracted: SmallVec<[(DVec3, Bundle); 1]> = SmallVec::new();
         let mut start = 0;
         while start < bundle.lanes.len() {
             // A run of wavelengths with one n shares its refracted ray.
@@ -277,7 +303,7 @@ impl Context<'_> {
             match refract(incoming, facing, eta) {
                 Some(direction) => {
                     let cos_f = if from_inside { direction.dot(-facing).clamp(0.0, 1.0) } else { cos_i };
-                    let f: Vec<f64> = lanes.iter().map(|&l| optics.lanes[l as usize].terms.reflectance(cos_f)).collect();
+                    let f: Weights = lanes.iter().map(|&l| optics.lanes[l as usize].terms.reflectance(cos_f)).collect();
                     let reflected = weights.iter().zip(&f).map(|(w, f)| w * f);
                     if allowed.reflection {
                         mirrored.lanes.extend_from_slice(lanes);
@@ -287,9 +313,7 @@ impl Context<'_> {
                     }
                     let transmitted = weights.iter().zip(&f).map(|(w, f)| w * (1.0 - f));
                     if allowed.refraction {
-                        let refracted = Bundle { lanes: lanes.to_vec(), weights: transmitted.collect() };
-                        let inside = (!from_inside).then_some(optics);
-                        self.follow(hit, direction, inside, bounces, refracted, out, counts);
+                        refracted.push((direction, Bundle { lanes: Lanes::from_slice(lanes), weights: transmitted.collect() }));
                     } else {
                         lanes.iter().zip(transmitted).for_each(|(&l, w)| out.cut(l, w));
                     }
@@ -304,6 +328,18 @@ impl Context<'_> {
                 None => lanes.iter().zip(weights).for_each(|(&l, &w)| out.cut(l, w)),
             }
             start = end;
+        }
+        let inside = (!from_inside).then_some(optics);
+        if let [(direction, _)] = refracted.as_slice() {
+            let direction = *direction;
+            let (_, bundle) = refracted.pop().expect("one refracted ray");
+            self.follow(hit, direction, inside, bounces, bundle, out, counts);
+        } else if !refracted.is_empty() {
+            let directions: Vec<DVec3> = refracted.iter().map(|(d, _)| *d).collect();
+            let hits = self.stage.geometry.nearest_rays(hit.point, &directions, Some(hit.triangle));
+            for ((direction, bundle), next) in refracted.into_iter().zip(hits) {
+                self.arrive(hit, next, direction, inside, bounces, bundle, out, counts);
+            }
         }
         if !mirrored.lanes.is_empty() {
             let inside = from_inside.then_some(optics);
@@ -338,7 +374,7 @@ impl<'a> Context<'a> {
         counts.wavelength_rays += lanes as u64;
         out.radiance.iter_mut().chain(out.truncated.iter_mut()).for_each(|s| *s = 0.0);
         let hit = self.stage.geometry.nearest(eye, direction, None, |_| true)?;
-        let bundle = Bundle { lanes: (0..lanes as u16).collect(), weights: vec![1.0; lanes] };
+        let bundle = Bundle { lanes: (0..lanes as u16).collect(), weights: Weights::from_elem(1.0, lanes) };
         self.shade(&hit, direction, 0, bundle, out, counts);
         Some(hit.object)
     }
