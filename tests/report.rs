@@ -265,11 +265,12 @@ exact,3,2.5
     }
     fs::write(out.join("devices/phone-a/image_errors.csv"), "material,method,mean_rel_error\nx,exact,0\nx,schlick,0.02\ny,schlick,0.04\n")
         .unwrap();
-    // A spectral scene's comparison: a chart per material over depth, one line per index source.
+    // A spectral scene's comparison: a chart per material over depth, one line per index
+    // source; a material on two objects (a glass at two thicknesses) gets a chart for each.
     fs::create_dir_all(out.join("gold-in-gold")).unwrap();
     fs::write(
         out.join("gold-in-gold/spectral_errors.csv"),
-        "object,material,index_source,reflection_depth,refraction_depth,wavelengths,pixels,mean_delta_e2000\nsphere,3d/metals/gold,three-wavelength,1,0,96,100,2.5\nsphere,3d/metals/gold,three-wavelength,8,0,96,100,7.5\nsphere,3d/metals/gold,effective,1,0,96,100,0.5\nsphere,3d/metals/gold,effective,8,0,96,100,3.25\n",
+        "object,object_index,material,index_source,reflection_depth,refraction_depth,wavelengths,pixels,mean_delta_e2000\nsphere,0,3d/metals/gold,three-wavelength,1,0,96,100,2.5\nsphere,0,3d/metals/gold,three-wavelength,8,0,96,100,7.5\nsphere,0,3d/metals/gold,effective,1,0,96,100,0.5\nsphere,0,3d/metals/gold,effective,8,0,96,100,3.25\ncube,1,3d/glass/green,effective,1,0,96,50,0.125\ncube,2,3d/glass/green,effective,1,0,96,50,0.875\n",
     )
     .unwrap();
     let output = nklut(&out, &["report"]);
@@ -296,6 +297,10 @@ exact,3,2.5
         effects.contains("<h3>Three channels against the spectrum</h3>")
             && effects.contains("3d/metals/gold: ΔE2000, three channels vs spectrum"),
         "the spectral chart"
+    );
+    assert!(
+        effects.contains("3d/glass/green (object 1, cube): ΔE2000") && effects.contains("3d/glass/green (object 2, cube): ΔE2000"),
+        "one chart per object of a material on two objects"
     );
     assert!(effects.contains("src=\"../gold-in-gold/spectral_frames/depth8-0_effective_delta_e.png\""), "the deepest depth's ΔE map");
     // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).

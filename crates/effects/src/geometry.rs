@@ -42,13 +42,16 @@ pub const SELF_HIT_DISTANCE: f64 = 1e-7;
 /// (t = 1e-4), so no box around a crossing near the origin is skipped.
 const TRAVERSAL_BACKOFF: f64 = 2e-4;
 
-/// How far each triangle's box is widened for the BVH's f32 node test, relative to its
-/// largest coordinate (at least 1). The test's slab distances are rounded in f32 (and the
-/// traversal's ray is the f64 ray rounded to f32), so a ray through an edge where two flat
-/// boxes meet — a room's corner, seen along a diagonal plane — could enter neither box and
-/// escape a closed room; the watertight triangle test then never runs. 10⁻⁵ is ~80 f32
-/// steps: every rounding of the slab test and the ray fits inside it.
-const BOX_PADDING: f64 = 1e-5;
+/// How far each triangle's box is widened for the BVH's f32 node test, relative to the
+/// scene's size R (its largest corner coordinate, at least 1). The node test rounds: the
+/// traversal's ray is the f64 ray rounded to f32 (origin and direction, 2⁻²⁴ relative each)
+/// and each slab distance takes three roundings, so the ray the boxes see strays from the
+/// true one by about 4·2⁻²⁴·(|o| + t) ≈ 2.4·10⁻⁷(|o| + t), at most 1.3·10⁻⁶·R for a ray
+/// from inside the scene's box (|o| ≤ √3R) to a hit in it (t ≤ 2√3R). Unwidened, a ray
+/// through an edge where two flat boxes meet — a room's corner, seen along a diagonal
+/// plane — could enter neither and leave a closed room, the watertight triangle test never
+/// run. 4·10⁻⁶·R is three times the stray.
+const BOX_PADDING: f64 = 4e-6;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the
 /// triangle test).
@@ -89,11 +92,9 @@ impl Triangle {
         n.try_normalize().or_else(|| geometric.try_normalize()).unwrap_or(DVec3::Z)
     }
 
-    /// The triangle's box for obvhs's f32 node test, widened by [`BOX_PADDING`] of its
-    /// largest coordinate (at least 1).
-    fn padded_box(&self) -> Aabb {
+    /// The triangle's box for obvhs's f32 node test, widened by `pad` on every side.
+    fn padded_box(&self, pad: f64) -> Aabb {
         let (low, high) = self.corners.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
-        let pad = BOX_PADDING * (1.0 + low.abs().max(high.abs()).max_element());
         let narrow = |p: DVec3| Vec3A::new(p.x as f32, p.y as f32, p.z as f32);
         Aabb::new(narrow(low - DVec3::splat(pad)), narrow(high + DVec3::splat(pad)))
     }
@@ -264,7 +265,8 @@ impl Geometry {
         if triangles.is_empty() {
             return Err(GeometryError::Empty);
         }
-        let boxes: Vec<Aabb> = triangles.iter().map(Triangle::padded_box).collect();
+        let size = triangles.iter().flat_map(|t| t.corners).fold(1.0f64, |r, p| r.max(p.abs().max_element()));
+        let boxes: Vec<Aabb> = triangles.iter().map(|t| t.padded_box(BOX_PADDING * size)).collect();
         let bvh = build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
         Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new() })
     }

@@ -71,6 +71,9 @@ pub const DELTA_E_SCALE: f64 = 5.0;
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpectralErrorRow {
     pub object: String,
+    /// The object's position in the scene's `objects` list (two slabs of one mesh and
+    /// material at two thicknesses are two objects).
+    pub object_index: usize,
     pub material: String,
     pub source: IndexSource,
     pub depths: Depths,
@@ -209,6 +212,7 @@ pub fn spectral_errors(
                 let mean = if values.is_empty() { 0.0 } else { values.iter().sum::<f64>() / values.len() as f64 };
                 let row = SpectralErrorRow {
                     object: scene_object.mesh.label(),
+                    object_index: object,
                     material: specular.material.clone(),
                     source: *source,
                     depths,
@@ -253,6 +257,7 @@ pub fn spectral_error_table(rows: &[SpectralErrorRow]) -> Table {
     let mut table = Table::new();
     table
         .text("object", "mesh of the specular object: sphere, cube, prism, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
+        .integer("object_index", "the object's position in the scene's objects list, from 0", integer(&|r| r.object_index as i64))
         .text("material", "page id", text(&|r| r.material.clone()))
         .text(
             "index_source",

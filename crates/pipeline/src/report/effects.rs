@@ -491,7 +491,7 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
     let first = spectral.rows.first();
     let _ = writeln!(
         html,
-        "<p>The three-channel f64 reference against the spectral one ({} wavelengths): mean ΔE2000 over each material's pixels, per depth (reflections+refractions) and source of the channel indices (<code>{}</code>).</p>",
+        "<p>The three-channel f64 reference against the spectral one ({} wavelengths): mean ΔE2000 over each object's pixels, per depth (reflections+refractions) and source of the channel indices (<code>{}</code>).</p>",
         escape(first.map_or("", |row| spectral.text(row, "wavelengths"))),
         escape(path)
     );
@@ -500,14 +500,34 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
     html.push_str(&charts::legend(sources.iter().map(|s| (s.as_str(), color(s), false))));
     html.push_str("<div class=\"charts\">");
     let categories = depth_categories(spectral, &all);
-    for material in distinct(&all, |r| spectral.text(&spectral.rows[r], "material").to_string()) {
-        let series: Vec<Series> = sources
-            .iter()
-            .map(|source| {
-                depth_series((path, spectral), &all, &categories, &material, ("index_source", source), "mean_delta_e2000", color(source))
-            })
-            .collect();
-        depth_chart(html, &categories, ErrorAxis::DeltaE, &series, &format!("{material}: ΔE2000, three channels vs spectrum"))?;
+    let field = |r: usize, column: &str| spectral.text(&spectral.rows[r], column).to_string();
+    for material in distinct(&all, |r| field(r, "material")) {
+        let of_material: Vec<usize> = all.iter().copied().filter(|&r| field(r, "material") == material).collect();
+        // One chart per object: a material on several objects (two thicknesses of a glass)
+        // is charted for each, named by its place in the scene.
+        let objects = distinct(&of_material, |r| field(r, "object_index"));
+        for object in &objects {
+            let rows: Vec<usize> = of_material.iter().copied().filter(|&r| field(r, "object_index") == *object).collect();
+            let series: Vec<Series> = sources
+                .iter()
+                .map(|source| {
+                    depth_series(
+                        (path, spectral),
+                        &rows,
+                        &categories,
+                        &material,
+                        ("index_source", source),
+                        "mean_delta_e2000",
+                        color(source),
+                    )
+                })
+                .collect();
+            let subject = match objects.len() {
+                1 => material.clone(),
+                _ => format!("{material} (object {object}, {})", rows.first().map_or(String::new(), |&r| field(r, "object"))),
+            };
+            depth_chart(html, &categories, ErrorAxis::DeltaE, &series, &format!("{subject}: ΔE2000, three channels vs spectrum"))?;
+        }
     }
     html.push_str("</div>");
     if let Some(depth) = categories.last() {
