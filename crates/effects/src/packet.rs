@@ -122,13 +122,14 @@ impl Packet {
     /// (there are no NaNs to order: see [`reciprocal_of`]).
     #[cfg(test)]
     fn entering(&self, low: [f32; 3], high: [f32; 3], live: RayMask) -> RayMask {
-        self.entering_by(low, high, live, nonnegative_lanes)
+        self.entering_by::<false>(low, high, live, nonnegative_lanes)
     }
 
     /// [`Packet::entering`] with the lanes of a block gathered by `lanes` (one of the
-    /// equivalent [`nonnegative_lanes`] forms).
+    /// equivalent [`nonnegative_lanes`] forms); `LIMITED`: a ray leaves no farther than its
+    /// limit (the nearest-hit walk).
     #[inline(always)]
-    fn entering_by(&self, low: [f32; 3], high: [f32; 3], live: RayMask, lanes: impl Fn(&[f64; 8]) -> u8) -> RayMask {
+    fn entering_by<const LIMITED: bool>(&self, low: [f32; 3], high: [f32; 3], live: RayMask, lanes: impl Fn(&[f64; 8]) -> u8) -> RayMask {
         let (near, far) = (widen(low) - self.origin, widen(high) - self.origin);
         // A box around the origin holds every ray at t = 0 (so for the boxes down to the
         // origin's own leaf, which every packet of a vertex walks, no ray is tested).
@@ -142,7 +143,9 @@ impl Packet {
                 continue;
             }
             let mut enter = [0.0f64; 8];
-            let mut exit: [f64; 8] = std::array::from_fn(|lane| self.limits[base + lane]);
+            // Occlusion walks take no limits (a constant here: loading them costs the AO
+            // reference ~10 %).
+            let mut exit: [f64; 8] = if LIMITED { std::array::from_fn(|lane| self.limits[base + lane]) } else { [f64::INFINITY; 8] };
             for axis in 0..3 {
                 let reciprocal = &self.reciprocal[axis][base..base + 8];
                 for lane in 0..8 {
@@ -232,7 +235,7 @@ fn nearest<F: FnMut(u32, &[DVec3; 3], RayMask, &mut Nearest)>(tree: &PacketTree,
     };
     stack.push((root, packet.all()));
     while let Some((node, rays)) = stack.pop() {
-        let rays = packet.entering_by(node.low, node.high, rays, lanes);
+        let rays = packet.entering_by::<true>(node.low, node.high, rays, lanes);
         if rays == 0 {
             continue;
         }
@@ -281,7 +284,7 @@ fn open<F: Fn(&[DVec3; 3], RayMask) -> RayMask>(tree: &PacketTree, packet: &Pack
         "x86_64+avx2" => |margins: &[f64; 8]| nonnegative_lanes_avx2(margins),
         _ => nonnegative_lanes,
     };
-    let entering_root = packet.entering_by(root.low, root.high, open, lanes);
+    let entering_root = packet.entering_by::<false>(root.low, root.high, open, lanes);
     if entering_root != 0 {
         stack.push((root, entering_root));
     }
@@ -293,7 +296,7 @@ fn open<F: Fn(&[DVec3; 3], RayMask) -> RayMask>(tree: &PacketTree, packet: &Pack
         if node.count == 0 {
             let [first, second] = &tree.pairs[node.first as usize].0;
             for child in [second, first] {
-                let into = packet.entering_by(child.low, child.high, rays, lanes);
+                let into = packet.entering_by::<false>(child.low, child.high, rays, lanes);
                 if into != 0 {
                     if child.count == 0 {
                         prefetch(&tree.pairs[child.first as usize]);
