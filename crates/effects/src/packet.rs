@@ -10,6 +10,11 @@
 //! "Interactive Rendering with Coherent Ray Tracing", Eurographics 2001, traced packets of
 //! four).
 //!
+//! The same tree also finds nearest hits for a packet (`Geometry::nearest_rays`: the
+//! wavelengths one refraction bends apart in the spectral reference): each ray carries a
+//! limit, its nearest crossing so far, past which a box no longer counts, and of a node's
+//! two children the one nearer along the packet's heading is walked first.
+//!
 //! The slab test (Kay and Kajiya, SIGGRAPH 1986) in f64 on boxes widened from the
 //! builder's f32 boxes is conservative — reciprocal directions are held finite, so no
 //! product is NaN, and the exit is rounded outwards — so every triangle a ray may cross is
