@@ -7,14 +7,18 @@ use crate::scene::mesh::{smooth_normals, sphere, Mesh};
 /// A torus about the y axis: ring radius `major`, tube radius `minor`, exact outward
 /// normals; `segments` around the ring and `sides` around the tube (the sphere's grid with
 /// its seam vertices doubled, re-placed: grid column → angle around the ring, row → angle
-/// around the tube).
+/// around the tube; the doubled vertices at angle 0, not 2π, so both seams close, and each
+/// triangle turned to wind counter-clockwise seen from outside).
 pub fn torus(major: f32, minor: f32, segments: u32, sides: u32) -> Mesh {
     let mut mesh = sphere(segments, sides);
     let columns = segments + 1;
+    for triangle in mesh.indices.chunks_exact_mut(3) {
+        triangle.swap(1, 2);
+    }
     for (k, (p, n)) in mesh.positions.iter_mut().zip(mesh.normals.iter_mut()).enumerate() {
         let (row, column) = (k as u32 / columns, k as u32 % columns);
-        let u = std::f32::consts::TAU * column as f32 / segments as f32;
-        let v = std::f32::consts::TAU * row as f32 / sides as f32;
+        let u = std::f32::consts::TAU * (column % segments) as f32 / segments as f32;
+        let v = std::f32::consts::TAU * (row % sides) as f32 / sides as f32;
         *n = [v.cos() * u.cos(), v.sin(), v.cos() * u.sin()];
         *p = [(major + minor * v.cos()) * u.cos(), minor * v.sin(), (major + minor * v.cos()) * u.sin()];
     }

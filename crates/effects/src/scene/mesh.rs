@@ -168,13 +168,17 @@ pub fn prism() -> Mesh {
 }
 
 /// A UV sphere of radius 1 with exact normals: `segments` around, `rings` pole to pole.
+/// The seam's second column of vertices lies exactly on the first (its angle is 0, not 2π,
+/// whose f32 sine is 1.7e-7) and each pole's ring on the pole itself (sin π in f32 is not
+/// 0), so the surface is closed.
 pub fn sphere(segments: u32, rings: u32) -> Mesh {
     let mut mesh = Mesh::default();
     for ring in 0..=rings {
         let polar = std::f32::consts::PI * ring as f32 / rings as f32;
+        let (sin_polar, cos_polar) = if ring == rings { (0.0, -1.0) } else { polar.sin_cos() };
         for segment in 0..=segments {
-            let azimuth = std::f32::consts::TAU * segment as f32 / segments as f32;
-            let p = [polar.sin() * azimuth.cos(), polar.cos(), polar.sin() * azimuth.sin()];
+            let azimuth = std::f32::consts::TAU * (segment % segments) as f32 / segments as f32;
+            let p = [sin_polar * azimuth.cos(), cos_polar, sin_polar * azimuth.sin()];
             mesh.positions.push(p);
             mesh.normals.push(p);
         }
@@ -329,21 +333,28 @@ mod tests {
         assert!(wound_along_normals(&mesh), "counter-clockwise seen from outside");
     }
 
-    /// Every triangle's winding (b − a) × (c − a) points along its vertices' normal.
+    /// Every triangle's winding (b − a) × (c − a) points along its vertices' normal (a
+    /// triangle of no area, at a sphere's pole, has no winding).
     fn wound_along_normals(mesh: &Mesh) -> bool {
         mesh.indices.chunks_exact(3).all(|triangle| {
             let [a, b, c] = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize]);
             let face = cross(sub(b, a), sub(c, a));
-            face.iter().zip(mesh.normals[triangle[0] as usize]).map(|(f, n)| f * n).sum::<f32>() > 0.0
+            face == [0.0; 3] || face.iter().zip(mesh.normals[triangle[0] as usize]).map(|(f, n)| f * n).sum::<f32>() > 0.0
         })
     }
 
     /// Whether every edge of the mesh, by its corners' exact positions, is shared by exactly
     /// two triangles: the surface is closed, with no crack a ray could pass through.
+    /// Triangles with two corners in one place (a sphere's pole) have no area and are left
+    /// out, with their edges.
     fn closed(mesh: &Mesh) -> bool {
         let mut edges: std::collections::HashMap<[[u32; 3]; 2], usize> = std::collections::HashMap::new();
         for triangle in mesh.indices.chunks_exact(3) {
-            let corners = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize].map(f32::to_bits));
+            // −0 and 0 are one place.
+            let corners = [0, 1, 2].map(|i| mesh.positions[triangle[i] as usize].map(|x| (x + 0.0).to_bits()));
+            if corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0] {
+                continue;
+            }
             for (a, b) in [(0, 1), (1, 2), (2, 0)] {
                 let mut edge = [corners[a], corners[b]];
                 edge.sort();
@@ -360,6 +371,12 @@ mod tests {
         assert_eq!(prism.triangles(), 8);
         assert!(wound_along_normals(&prism));
         assert!(closed(&prism), "the seam at 0° must meet itself");
+        for (segments, rings) in [(16, 8), (64, 32), (7, 3)] {
+            let sphere = sphere(segments, rings);
+            assert!(wound_along_normals(&sphere) && closed(&sphere), "sphere {segments}×{rings}");
+        }
+        let torus = crate::ao::shapes::torus(1.0, 0.6, 24, 12);
+        assert!(wound_along_normals(&torus) && closed(&torus), "torus");
         assert!(!closed(&plane()));
     }
 
