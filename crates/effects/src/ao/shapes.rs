@@ -38,3 +38,18 @@ pub fn bumpy_sphere(segments: u32, amplitude: f32, lobes: f32) -> Mesh {
     mesh.normals = smooth_normals(&mesh.positions, &mesh.indices);
     mesh
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::mesh::checks::{closed, wound_along_normals};
+
+    #[test]
+    fn the_torus_is_closed_and_wound_counter_clockwise_from_outside() {
+        for (segments, sides) in [(24, 12), (8, 6), (5, 3)] {
+            let torus = torus(1.0, 0.6, segments, sides);
+            assert!(wound_along_normals(&torus), "{segments}×{sides}");
+            assert!(closed(&torus), "{segments}×{sides}: both seams meet themselves");
+        }
+    }
+}
