@@ -403,6 +403,8 @@ impl Geometry {
             let mut packet = Packet::new(origin, chunk);
             let shears: Vec<Shear> = chunk.iter().map(|d| Shear::of(*d)).collect();
             let headings = Headings::of(&shears);
+            // Each ray's nearest crossing as the walk found it, beside the distance it keeps.
+            let mut crossings: [Option<Crossing>; PACKET_RAYS] = [None; PACKET_RAYS];
             let nearest = tree.nearest(&mut packet, |index, relative, rays, nearest| {
                 if Some(index) == leaving {
                     return;
@@ -414,14 +416,13 @@ impl Geometry {
                     if let Some(c) = crossing_from(*relative, &shears[ray]) {
                         if c.t > SELF_HIT_DISTANCE && nearest[ray].is_none_or(|(t, _)| c.t < t) {
                             nearest[ray] = Some((c.t, index));
+                            crossings[ray] = Some(c);
                         }
                     }
                 }
             });
-            hits.extend(chunk.iter().zip(nearest).map(|(&direction, found)| {
-                let (t, index) = found?;
-                // The same test on the same corners as in the walk: the same crossing.
-                let crossing = self.triangles[index as usize].crossing(origin, direction)?;
+            hits.extend(chunk.iter().zip(nearest).zip(crossings).map(|((&direction, found), crossing)| {
+                let ((t, index), crossing) = (found?, crossing?);
                 Some(self.hit(t, crossing, index, origin, direction))
             }));
         }

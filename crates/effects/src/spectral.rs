@@ -330,9 +330,8 @@ impl Context<'_> {
             start = end;
         }
         let inside = (!from_inside).then_some(optics);
-        if let [(direction, _)] = refracted.as_slice() {
-            let direction = *direction;
-            let (_, bundle) = refracted.pop().expect("one refracted ray");
+        if refracted.len() == 1 {
+            let (direction, bundle) = refracted.pop().expect("one refracted ray");
             self.follow(hit, direction, inside, bounces, bundle, out, counts);
         } else if !refracted.is_empty() {
             let directions: Vec<DVec3> = refracted.iter().map(|(d, _)| *d).collect();
