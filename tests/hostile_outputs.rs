@@ -407,3 +407,14 @@ fn names_with_newlines_and_xml_forbidden_code_points_stay_text() {
     let forbidden: Vec<char> = mtlx.chars().filter(|&c| !nklut::escape::is_xml_char(c)).collect();
     assert!(forbidden.is_empty(), "XML 1.0 forbids {forbidden:?} in materials.mtlx");
 }
+
+/// A catalog that is a FIFO: named as such (and not blocked on), not taken for a missing
+/// database.
+#[test]
+fn a_catalog_that_is_a_fifo_is_named_not_taken_for_no_database() {
+    let root = tempfile::tempdir().unwrap();
+    mkfifo(&root.path().join("catalog-nk.yml"));
+    let stderr = failed(&nklut(root.path(), &root.path().join("out"), &["ingest"]));
+    assert!(stderr.contains("catalog-nk.yml") && stderr.contains("FIFO"), "{stderr}");
+    assert!(!stderr.contains("no refractiveindex.info database"), "{stderr}");
+}

@@ -180,3 +180,20 @@ fn thousands_of_spheres_are_refused_by_name_before_the_bvh_is_built() {
     assert!(stderr.contains("1028096 triangles"), "{stderr}");
     assert!(start.elapsed() < Duration::from_secs(60), "the refusals took {:?}", start.elapsed());
 }
+
+/// Bounds stated as they are checked: a GTAO radius of 0 is refused with the range
+/// `(0, 100]` (not `[0, 100]`), a position of 1e308 is written `1e308` (not 309 digits),
+/// and `--ao-max-brute 2⁶⁴ − 1` is refused instead of brute-forcing any scene.
+#[test]
+fn small_bounds_are_stated_as_they_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let gtao = "resolution: [16, 16]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: 0 } } }\nobjects:\n  - { mesh: sphere, diffuse: [0.5, 0.5, 0.5] }\n";
+    let stderr = refused(&effects(dir.path(), gtao, &[], None), "ambient_occlusion.gtao.radius");
+    assert!(stderr.contains("(0, 100]"), "{stderr}");
+    let far = ao_scene("{ mesh: sphere, position: [1e308, 0, 0], diffuse: [0.5, 0.5, 0.5] }");
+    let stderr = refused(&effects(dir.path(), &far, &[], None), "position");
+    assert!(stderr.contains("1e308") && !stderr.contains(&"0".repeat(100)), "{stderr}");
+    let sphere = ao_scene("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5] }");
+    let stderr = refused(&effects(dir.path(), &sphere, &["--ao-max-brute", "18446744073709551615"], None), "--ao-max-brute");
+    assert!(stderr.contains("must lie in 0..=131072"), "{stderr}");
+}
