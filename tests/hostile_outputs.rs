@@ -101,6 +101,9 @@ fn yaml_string(text: &str) -> String {
     out
 }
 
+/// Makes a special entry at a path.
+type Plant = dyn Fn(&Path);
+
 fn mkfifo(path: &Path) {
     let name = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
     // SAFETY: mkfifo reads a NUL-terminated path.
@@ -136,7 +139,7 @@ fn planted_set_link_is_refused_and_its_target_survives() {
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
     let link = out.join(".sets/ingest");
-    let relative = Path::new("../..").join(target.strip_prefix("/").unwrap().to_path_buf());
+    let relative = Path::new("../..").join(target.strip_prefix("/").unwrap());
     let climbing = Path::new("../".repeat(target.components().count() + 4).as_str()).join(target.strip_prefix("/").unwrap());
     for planted in [target.clone(), relative, climbing] {
         fs::remove_file(&link).unwrap();
@@ -256,7 +259,7 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
     }
     fs::remove_dir_all(&adapter).unwrap();
     let json = devices.join("browser.json");
-    let kinds: [(&str, &dyn Fn(&Path)); 4] = [
+    let kinds: [(&str, &Plant); 4] = [
         ("a FIFO", &|p| mkfifo(p)),
         ("a character device", &|p| std::os::unix::fs::symlink("/dev/zero", p).unwrap()),
         ("symbolic links", &|p| std::os::unix::fs::symlink(p, p).unwrap()),
