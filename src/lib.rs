@@ -14,4 +14,4 @@ pub use nklut_effects::scene;
 #[cfg(feature = "gpu")]
 pub use nklut_gpu as gpu;
 pub use nklut_optics::{appearance, atomic, color, db, encoding, fresnel, memo, minimise, spectrum};
-pub use nklut_pipeline::{bake, budget, colors, ingest, output, params, progress, report, validate};
+pub use nklut_pipeline::{bake, budget, colors, escape, ingest, output, params, progress, report, validate};

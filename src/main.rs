@@ -148,6 +148,8 @@ fn parse_resolution(text: &str) -> Result<[u32; 2], String> {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    // A memory budget that is set but is not a size stops every command before any work.
+    let budget = nklut::budget::MemoryBudget::from_environment()?;
     let command = match cli.command {
         #[cfg(feature = "gpu")]
         Command::Gpu { command } => return gpu_cli::run(command, &cli.paths),
@@ -165,7 +167,7 @@ fn run(cli: Cli) -> Result<()> {
                 ao_max_brute,
                 hero_size: Some(hero_size),
                 config: channels.config(),
-                budget: nklut::budget::MemoryBudget::of_machine(),
+                budget,
             };
             let outcome = nklut::effects::command::command(&request, &open_db, &cli.paths.out, &mut |line| eprintln!("{line}"))?;
             for path in &outcome.written {
@@ -196,7 +198,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!(
                     "  {} page ids are listed twice in the catalog with the same file (kept once): {}",
                     result.listed_twice.len(),
-                    result.listed_twice.join(", ")
+                    nklut::escape::terminal(&result.listed_twice.join(", "))
                 );
             }
             if !result.warnings.is_empty() {
@@ -289,7 +291,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) if error.is::<PipeClosed>() => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            // Ids and names from the database are shown as text, never as terminal controls.
+            let text = format!("{error:#}");
+            eprintln!("error: {}", text.lines().map(nklut::escape::terminal).collect::<Vec<_>>().join("\n"));
             ExitCode::FAILURE
         }
     }

@@ -489,3 +489,213 @@ fn the_corpus_of_past_attacks_holds() {
     }
     assert!(databases >= 5 && scenes >= 5, "{databases} databases, {scenes} scenes");
 }
+
+// ------------------------------------------------------------------ output folders
+
+/// What is planted under `.sets/` before a publish: at the set's link, at a generation's
+/// name, at the lock, or `.sets` itself; as a link to the outside folder (absolute, or
+/// climbing with `..`), a dangling link, a file, a folder or a FIFO.
+#[derive(Clone, Debug)]
+enum Planted {
+    OutsideAbsolute,
+    OutsideClimbing(usize),
+    Dangling,
+    File,
+    Folder,
+    Fifo,
+}
+
+fn planted() -> impl Strategy<Value = Planted> {
+    prop_oneof![
+        Just(Planted::OutsideAbsolute),
+        (1usize..8).prop_map(Planted::OutsideClimbing),
+        Just(Planted::Dangling),
+        Just(Planted::File),
+        Just(Planted::Folder),
+        Just(Planted::Fifo),
+    ]
+}
+
+/// Where under the output folder it is planted.
+fn planted_at() -> impl Strategy<Value = &'static str> {
+    prop_oneof![
+        Just(".sets/t"),
+        Just(".sets/t-1-x"),
+        Just(".sets/t-99"),
+        Just(".sets/.lock"),
+        Just(".sets"),
+        Just("a.csv"),
+        Just(".sets/.t.link-1")
+    ]
+}
+
+/// Plant `what` at `at` under `out` (`outside` is the folder an attacker aims at), where
+/// it can be planted: nothing is planted through a link or a file planted before.
+fn plant(out: &Path, at: &str, what: &Planted, outside: &Path) {
+    let path = out.join(at);
+    let parent = path.parent().unwrap();
+    let _ = fs::create_dir_all(out);
+    if parent != out && fs::symlink_metadata(parent).is_ok() && !fs::symlink_metadata(parent).unwrap().is_dir() {
+        return;
+    }
+    let _ = fs::create_dir(parent);
+    let _ = fs::remove_file(&path).or_else(|_| fs::remove_dir_all(&path));
+    let _ = match what {
+        Planted::OutsideAbsolute => std::os::unix::fs::symlink(outside, &path),
+        Planted::OutsideClimbing(ups) => {
+            std::os::unix::fs::symlink(Path::new(&"../".repeat(*ups)).join(outside.strip_prefix("/").unwrap()), &path)
+        }
+        Planted::Dangling => std::os::unix::fs::symlink("no/such/place", &path),
+        Planted::File => fs::write(&path, b"planted"),
+        Planted::Folder => fs::create_dir_all(path.join("inner")),
+        Planted::Fifo => {
+            let name = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+            // SAFETY: mkfifo reads a NUL-terminated path.
+            unsafe { libc::mkfifo(name.as_ptr(), 0o600) };
+            Ok(())
+        }
+    };
+}
+
+/// Every file under `dir` with its bytes (links not followed).
+fn snapshot(dir: &Path) -> std::collections::BTreeMap<std::path::PathBuf, Vec<u8>> {
+    let mut files = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        for entry in fs::read_dir(&folder).unwrap().flatten() {
+            let kind = entry.file_type().unwrap();
+            if kind.is_dir() {
+                stack.push(entry.path());
+            } else if kind.is_file() {
+                files.insert(entry.path(), fs::read(entry.path()).unwrap());
+            }
+        }
+    }
+    files
+}
+
+/// A publish into an output folder holding up to three planted entries (after none, one
+/// or two earlier publishes): it ends (no hang on a FIFO), the folder an attacker aimed at
+/// keeps every file it held, and a publish that succeeds is read back whole.
+#[test]
+fn fuzz_output_folder_links() {
+    let mut runner = TestRunner::new(config(300));
+    let strategy = (0usize..3, proptest::collection::vec((planted_at(), planted()), 0..4));
+    runner
+        .run(&strategy, |(earlier, plants)| {
+            let root = tempfile::tempdir().unwrap();
+            let (out, outside) = (root.path().join("out"), root.path().join("precious"));
+            fs::create_dir_all(outside.join("deep")).unwrap();
+            fs::write(outside.join("keep.txt"), b"keep").unwrap();
+            fs::write(outside.join("deep/keep.txt"), b"deep").unwrap();
+            let before = snapshot(&outside);
+            for round in 0..earlier {
+                nklut::output::publish_set(&out, "t", &[nklut::output::SetFile::new("a.csv", vec![b'0' + round as u8])]).unwrap();
+            }
+            for (at, what) in &plants {
+                plant(&out, at, what, &outside);
+            }
+            let published = nklut::output::publish_set(&out, "t", &[nklut::output::SetFile::new("a.csv", b"new".to_vec())]);
+            prop_assert_eq!(snapshot(&outside), before.clone(), "the outside folder changed: {:?}", plants);
+            if published.is_ok() {
+                prop_assert_eq!(fs::read(out.join("a.csv")).ok(), Some(b"new".to_vec()), "{:?}", plants);
+            }
+            // A second publish, whatever the first did, leaves it too.
+            let _ = nklut::output::publish_set(&out, "t", &[nklut::output::SetFile::new("a.csv", b"again".to_vec())]);
+            prop_assert_eq!(snapshot(&outside), before, "the outside folder changed: {:?}", plants);
+            Ok(())
+        })
+        .unwrap();
+}
+
+// ------------------------------------------------------------------ device results
+
+/// A time cell as a device result may state it: plain, or what an attacker writes.
+fn time_cell() -> impl Strategy<Value = String> {
+    prop_oneof![
+        4 => (0.0f64..1e4).prop_map(|x| x.to_string()),
+        1 => Just("NaN".to_string()),
+        1 => Just("inf".to_string()),
+        1 => Just("-inf".to_string()),
+        1 => (-1e6f64..0.0).prop_map(|x| x.to_string()),
+        1 => Just("1e308".to_string()),
+        1 => Just("1.7976931348623157e308".to_string()),
+        1 => Just(String::new()),
+        1 => "[ -~]{0,6}".prop_map(|s| s.replace([',', '"', '\n'], "")),
+    ]
+}
+
+/// `--devices` folders with generated `gpu_timing.csv` tables and `*.json` entries of every
+/// kind: reading them ends, and what is read holds only times the report can print
+/// (finite, 0 to a day).
+#[test]
+fn fuzz_device_results() {
+    let mut runner = TestRunner::new(config(300));
+    let strategy = (proptest::collection::vec(time_cell(), 1..6), proptest::option::of(planted()));
+    runner
+        .run(&strategy, |(times, json)| {
+            let root = tempfile::tempdir().unwrap();
+            let adapter = root.path().join("adapter");
+            fs::create_dir_all(&adapter).unwrap();
+            let mut table = String::from("material,method,median_ms\n");
+            for (i, time) in times.iter().enumerate() {
+                table.push_str(&format!("p{i},exact,{time}\n"));
+            }
+            fs::write(adapter.join("gpu_timing.csv"), table).unwrap();
+            if let Some(what) = &json {
+                plant(root.path(), "web.json", what, Path::new("/dev/zero"));
+            }
+            let read = std::panic::catch_unwind(|| nklut::report::inputs::read_devices(root.path()));
+            let Ok(read) = read else { return Err(TestCaseError::fail("read_devices panicked")) };
+            let valid =
+                |t: &String| t.trim().is_empty() && t.is_empty() || t.parse::<f64>().is_ok_and(|x| (0.0..=86_400_000.0).contains(&x));
+            if json.is_none() && times.iter().all(valid) {
+                prop_assert!(read.is_ok(), "good times refused: {times:?}: {:?}", read.err());
+            }
+            if let Ok(devices) = read {
+                for tables in devices.values() {
+                    for row in &tables.timing.rows {
+                        let text = tables.timing.text(row, "median_ms");
+                        if !text.is_empty() {
+                            let x: f64 = text.parse().unwrap();
+                            prop_assert!(x.is_finite() && (0.0..=nklut::report::inputs::MAX_DEVICE_MS).contains(&x), "{text}");
+                        }
+                    }
+                }
+                // No planted `*.json` entry (a file that is no result, a link, a folder, a
+                // FIFO) is read as a result: each is an error.
+                prop_assert!(json.is_none(), "{json:?} was read as a result");
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+// ------------------------------------------------------------------ ids at the length limit
+
+/// Ids around and past a file name's length, of any characters: every file name made
+/// from one is at most 160 bytes (the suffix's room left), the same on every call, and two
+/// different ids give two different names.
+#[test]
+fn fuzz_ids_at_the_length_limit() {
+    let mut runner = TestRunner::new(config(2_000));
+    let part = prop_oneof!["[a-z]{150,170}", "[a-z]{250,300}", "\\PC{40,120}", "[a-z]{155}[é😀]{1,8}"].prop_map(|s| s.replace('/', "_"));
+    runner
+        .run(&(part.clone(), part), |(a, b)| {
+            for id in [&a, &b] {
+                let stem = nklut::bake::strip_stem(id);
+                prop_assert!(stem.len() <= nklut::output::MAX_STEM_BYTES, "{} bytes", stem.len());
+                prop_assert_eq!(&stem, &nklut::bake::strip_stem(id));
+                let name = nklut::params::mtlx::valid_name(id);
+                prop_assert!(name.len() <= nklut::output::MAX_STEM_BYTES, "{} bytes", name.len());
+                let page = nklut::report::context::material_path(&format!("s/b/{id}")).unwrap();
+                prop_assert!(page.split('/').all(|part| part.len() <= nklut::output::MAX_STEM_BYTES + ".html".len()), "{page}");
+            }
+            if a != b {
+                prop_assert_ne!(nklut::bake::strip_stem(&a), nklut::bake::strip_stem(&b));
+                prop_assert_ne!(nklut::output::bounded_stem(&a, '~'), nklut::output::bounded_stem(&b, '~'));
+            }
+            Ok(())
+        })
+        .unwrap();
+}

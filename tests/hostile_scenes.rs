@@ -158,3 +158,42 @@ fn effects_tables_and_frames_are_one_set() {
     assert!(!killed.status.success());
     assert_eq!((fs::read(dir.join("out/effects_errors.csv")).unwrap(), frames(&dir)), before, "a killed run changed the set");
 }
+
+/// Built-in spheres by the thousand (a 500 kB scene of 20 M triangles) and 250 spheres
+/// under a 100 MB budget: refused naming `objects` and both sizes, at once, before a mesh
+/// is built or the BVH allocates (machine-independent: the budget is set).
+#[test]
+fn thousands_of_spheres_are_refused_by_name_before_the_bvh_is_built() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene_of = |spheres: usize| {
+        let mut text = String::from("resolution: [8, 8]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: {reflection: {max_depth: 1}, distance_maps: {size: 8, layers: 2}}\nobjects:\n  - {mesh: sphere, material: 3d/glass/BK7, methods: [exact]}\n");
+        text.push_str(&"  - {mesh: sphere, scale: 0.01, diffuse: [0.5, 0.5, 0.5]}\n".repeat(spheres));
+        text
+    };
+    let start = std::time::Instant::now();
+    let stderr = refused(&effects(dir.path(), &scene_of(5000), &[], Some("4G")), "objects");
+    assert!(
+        stderr.contains("20484096 triangles") && stderr.contains("more than the memory budget of 4.3 GB (NKLUT_MEMORY_BUDGET)"),
+        "{stderr}"
+    );
+    let stderr = refused(&effects(dir.path(), &scene_of(250), &[], Some("100M")), "objects");
+    assert!(stderr.contains("1028096 triangles"), "{stderr}");
+    assert!(start.elapsed() < Duration::from_secs(60), "the refusals took {:?}", start.elapsed());
+}
+
+/// Bounds stated as they are checked: a GTAO radius of 0 is refused with the range
+/// `(0, 100]` (not `[0, 100]`), a position of 1e308 is written `1e308` (not 309 digits),
+/// and `--ao-max-brute 2⁶⁴ − 1` is refused instead of brute-forcing any scene.
+#[test]
+fn small_bounds_are_stated_as_they_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let gtao = "resolution: [16, 16]\ncamera: { frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: 0 } } }\nobjects:\n  - { mesh: sphere, diffuse: [0.5, 0.5, 0.5] }\n";
+    let stderr = refused(&effects(dir.path(), gtao, &[], None), "ambient_occlusion.gtao.radius");
+    assert!(stderr.contains("(0, 100]"), "{stderr}");
+    let far = ao_scene("{ mesh: sphere, position: [1e308, 0, 0], diffuse: [0.5, 0.5, 0.5] }");
+    let stderr = refused(&effects(dir.path(), &far, &[], None), "position");
+    assert!(stderr.contains("1e308") && !stderr.contains(&"0".repeat(100)), "{stderr}");
+    let sphere = ao_scene("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5] }");
+    let stderr = refused(&effects(dir.path(), &sphere, &["--ao-max-brute", "18446744073709551615"], None), "--ao-max-brute");
+    assert!(stderr.contains("must lie in 0..=131072"), "{stderr}");
+}

@@ -25,7 +25,7 @@ const CRATES: [Layers; 3] = [
     Layers {
         krate: "pipeline",
         order: &["ingest", "colors", "validate", "bake", "params", "report"],
-        leaves: &["output", "progress", "budget", "stats"],
+        leaves: &["output", "progress", "budget", "stats", "escape"],
         siblings: &["validate", "bake", "params"],
     },
     // The effects crate's root is the effects themselves; `scene` is the data below them.

@@ -25,6 +25,10 @@ use nklut_pipeline::output::{SetContent, SetFile};
 /// The most reference rays per vertex (`--ao-rays`): 2²⁰, a standard error below 0.0005.
 pub const MAX_AO_RAYS: u32 = 1 << 20;
 
+/// The largest surfel count run by brute force (`--ao-max-brute`): 2¹⁷ surfels, 1.7·10¹⁰
+/// pairs a pass (hours on the CPU); the tree takes every scene above it.
+pub const MAX_AO_BRUTE: usize = 1 << 17;
+
 /// What `nklut effects` is asked to do.
 #[derive(Clone, Debug)]
 pub struct EffectsRequest {
@@ -79,6 +83,7 @@ pub struct MemoryNeed {
 pub fn memory_needs(scene: &Scene, ao_rays: u32, hero: Option<[u32; 2]>) -> Vec<MemoryNeed> {
     let families: Vec<EffectFamily> = EffectFamily::ALL.into_iter().filter(|&family| scene.names_effect(family)).collect();
     let mut needs: Vec<MemoryNeed> = families.iter().flat_map(|&family| family_needs(family, scene, ao_rays)).collect();
+    needs.extend(geometry_need(scene, &families));
     if let Some([width, height]) = hero {
         // Per family: the reference and up to one panel per method (or 4 AO variants), each
         // frame with its error map, encoded pictures and crops besides.
@@ -97,6 +102,40 @@ pub fn memory_needs(scene: &Scene, ao_rays: u32, hero: Option<[u32; 2]>) -> Vec<
         });
     }
     needs
+}
+
+/// The geometry of the scene's built-in meshes (their triangles are known before any is
+/// built; meshes from files are checked as they are read): per triangle, what the traced
+/// stage holds ([`super::geometry::BYTES_PER_TRACED_TRIANGLE`]) and, for surfels, what a
+/// subdivided surfel mesh holds
+/// ([`super::ao::experiment::BYTES_PER_SURFEL_TRIANGLE`]), for each family the scene names.
+fn geometry_need(scene: &Scene, families: &[EffectFamily]) -> Option<MemoryNeed> {
+    let mut kinds: Vec<(&crate::scene::MeshSource, usize)> = Vec::new();
+    let (mut traced, mut surfel) = (0u128, 0u128);
+    for object in &scene.objects {
+        let at = match kinds.iter().position(|(source, _)| **source == object.mesh) {
+            Some(at) => at,
+            None => {
+                kinds.push((&object.mesh, crate::scene::mesh::built_in_size(&object.mesh).map_or(0, |(triangles, _)| triangles)));
+                kinds.len() - 1
+            }
+        };
+        let triangles = kinds[at].1 as u128;
+        traced = traced.saturating_add(triangles);
+        surfel = surfel.saturating_add(triangles.saturating_mul(4u128.saturating_pow(object.subdivisions)));
+    }
+    let bytes = families
+        .iter()
+        .map(|family| match family {
+            EffectFamily::SpecularPaths => super::geometry::traced_bytes(traced),
+            EffectFamily::Surfels => times(surfel, super::ao::experiment::BYTES_PER_SURFEL_TRIANGLE),
+        })
+        .fold(0u128, u128::saturating_add);
+    (bytes > 0).then(|| MemoryNeed {
+        field: "objects".into(),
+        what: format!("the geometry of {} objects ({traced} triangles of built-in meshes, BVH included)", scene.objects.len()),
+        bytes,
+    })
 }
 
 /// The memory one family of effects holds: for specular paths the distance maps of every
@@ -262,6 +301,12 @@ pub fn command(
     if !(1..=MAX_AO_RAYS).contains(&request.ao_rays) {
         anyhow::bail!("--ao-rays {} must lie in 1..={MAX_AO_RAYS}", request.ao_rays);
     }
+    if request.ao_max_brute > MAX_AO_BRUTE {
+        anyhow::bail!(
+            "--ao-max-brute {} must lie in 0..={MAX_AO_BRUTE} (surfels run by brute force, n² pairs a pass)",
+            request.ao_max_brute
+        );
+    }
     if let Some(size) = request.hero_size.filter(|s| *s > MAX_HERO_SIZE) {
         anyhow::bail!("--hero-size {size} must lie in 0..={MAX_HERO_SIZE} (0: no hero frame)");
     }
@@ -313,6 +358,26 @@ mod tests {
         assert_eq!(needs[0].bytes, 2 * 6 * 64 * 3 * std::mem::size_of::<Option<Texel>>() as u128);
         // Two depths × (reference + 2 × two methods) + 3 in flight = 13 frames.
         assert_eq!(needs[1].bytes, 13 * one_frame);
+    }
+
+    /// The geometry is counted before any mesh is built: a 64 × 32 UV sphere is 64·32·2 =
+    /// 4 096 triangles, a room (a cube seen from inside) 6·2 = 12; each is
+    /// BYTES_PER_TRACED_TRIANGLE when traced, and a surfel scene's subdivided mesh 4ˢ times
+    /// its triangles at BYTES_PER_SURFEL_TRIANGLE.
+    #[test]
+    fn the_geometry_is_counted_before_it_is_built() {
+        let s = scene("resolution: [4, 2]\nmeasurements: [image_error]\neffects: {reflection: {max_depth: 1}, distance_maps: {size: 8, layers: 2}}\nobjects:\n  - {mesh: sphere, material: a/b/c, methods: [exact]}\n  - {mesh: sphere, diffuse: [0.5, 0.5, 0.5]}\n  - {mesh: room, diffuse: [0.5, 0.5, 0.5]}\n");
+        let geometry = memory_needs(&s, 1, None).into_iter().find(|n| n.field == "objects").unwrap();
+        assert_eq!(geometry.bytes, (2 * 4096 + 12) * 512);
+        assert_eq!(super::super::geometry::BYTES_PER_TRACED_TRIANGLE, 512);
+        // 5 000 spheres: 20.5 M triangles, refused by name under a 4 GiB budget.
+        let mut many = String::from("measurements: [image_error]\neffects: {reflection: {max_depth: 1}, distance_maps: {size: 8, layers: 2}}\nobjects:\n  - {mesh: sphere, material: a/b/c, methods: [exact]}\n");
+        many.push_str(&"  - {mesh: sphere, diffuse: [0.5, 0.5, 0.5]}\n".repeat(5000));
+        let error = check_memory(&scene(&many), 1, None, &MemoryBudget::given(4 << 30)).unwrap_err().to_string();
+        assert!(error.starts_with("objects: the geometry of 5001 objects (20484096 triangles"), "{error}");
+        let ao = scene("resolution: [16, 16]\nmeasurements: [image_error]\neffects: {ambient_occlusion: {passes: 1}}\nobjects:\n  - {mesh: room, subdivide: 2, diffuse: [0.5, 0.5, 0.5]}\n");
+        let geometry = memory_needs(&ao, 1, None).into_iter().find(|n| n.field == "objects").unwrap();
+        assert_eq!(geometry.bytes, 12 * 16 * super::super::ao::experiment::BYTES_PER_SURFEL_TRIANGLE as u128);
     }
 
     /// Sizes inside every field's range can still be too much together: the check names

@@ -86,9 +86,21 @@ impl Stage {
         let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
+        let budget = nklut_pipeline::budget::MemoryBudget::of_machine();
+        let mut triangles = 0u128;
         for (i, object) in scene.objects.iter().enumerate() {
             let loaded =
                 mesh::load(&object.mesh, |p| scene.mesh_path(p)).map_err(|error| named(SceneProblem::Mesh { object: i, error }))?;
+            // The geometry so far, this mesh's triangles included, before its copy, the
+            // triangles and the BVH are built.
+            triangles += loaded.triangles() as u128;
+            budget
+                .check(
+                    &format!("objects[{i}]"),
+                    format!("the geometry of objects 0–{i} ({triangles} triangles, {} the last)", object.mesh.label()),
+                    super::geometry::traced_bytes(triangles),
+                )
+                .map_err(|e| named(SceneProblem::Memory(e)))?;
             meshes.push(loaded.placed(&object.placement));
             objects.push(match &object.role {
                 Role::Specular(s) => ObjectOptics::Specular(

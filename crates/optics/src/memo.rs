@@ -24,6 +24,10 @@ use std::sync::{Mutex, MutexGuard};
 
 use anyhow::Result;
 
+/// The largest memo read back (a whole database's records are a few megabytes); a larger
+/// file is not this program's memo and is ignored.
+pub const MAX_MEMO_BYTES: u64 = 1 << 30;
+
 /// 128 bits of a sequence of words or f64 (two SipHash-1-3 sums with different prefixes,
 /// over the bit patterns): the key of a spectrum, a set of cosines, a family of methods.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -244,7 +248,9 @@ impl<K: Kind> Memo<K> {
         if identity.is_empty() {
             return Self::new("");
         }
-        match std::fs::read(out.join(K::PATH)) {
+        // A regular file of at most MAX_MEMO_BYTES (a FIFO or a device there is no memo,
+        // and reading it neither waits nor grows without end).
+        match crate::db::file::read_regular(&out.join(K::PATH), MAX_MEMO_BYTES) {
             Ok(bytes) => Self::decode(&bytes, &identity),
             Err(_) => Self::new(&identity),
         }

@@ -164,7 +164,7 @@ impl Ingest {
             .iter()
             .filter(|e| e.error.reason != Reason::NoVisibleCoverage)
             .chain(&self.warnings)
-            .map(|e| format!("{}: {}", e.page, e.error))
+            .map(|e| crate::escape::terminal(&format!("{}: {}", e.page, e.error)))
             .collect();
         if !fatal.is_empty() {
             bail!("--strict: {} data error(s) or warning(s):\n  {}", fatal.len(), fatal.join("\n  "));

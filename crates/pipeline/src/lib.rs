@@ -8,7 +8,8 @@
 //! `colors` → `validate` / `bake` / `params` → `report`. Leaves any module may use:
 //! `output` (tables as CSV, Parquet and JSON; files and folders published as one set),
 //! `progress` (bars on a terminal, quiet in CI), `budget` (the memory a run may take,
-//! checked before large allocations) and `stats` (medians and quantiles of samples). Stages take plain values; the command line lives in
+//! checked before large allocations), `escape` (text for a terminal, a CSV cell, Markdown
+//! or XML) and `stats` (medians and quantiles of samples). Stages take plain values; the command line lives in
 //! the `nklut` binary.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
@@ -20,6 +21,7 @@
 pub mod bake;
 pub mod budget;
 pub mod colors;
+pub mod escape;
 pub mod ingest;
 pub mod output;
 pub mod params;

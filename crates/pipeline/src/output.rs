@@ -13,8 +13,13 @@
 //! the failed run). Runs that publish into one output folder take turns: each holds an
 //! exclusive lock on `<out>/.sets/.lock` (released by the kernel when the process ends,
 //! however it ends) from before it tidies the folder until its set is switched in, so no
-//! run removes a generation another is still writing; a run that has to wait says so. For
-//! tests, the environment variable `NKLUT_CRASH_AT` (`staged`, `switched` or `linked`)
+//! run removes a generation another is still writing; a run that has to wait says so.
+//! Nothing under `.sets/` is followed out of it: the lock is opened without following a
+//! link (and must be a regular file), the link `.sets/<set>` must name a generation by a
+//! plain name (`<set>-<stamp>…`) that is a real folder inside `.sets/`, and what is removed
+//! is a real folder directly under `.sets/` (or a link, never its target); anything else —
+//! a link planted at `.sets/<set>`, `.sets/.lock` or a generation's name, or `.sets` itself
+//! a link — is an error naming it, and nothing is written or removed. For tests, the environment variable `NKLUT_CRASH_AT` (`staged`, `switched` or `linked`)
 //! aborts the process at that step.
 
 use std::fs;
@@ -85,6 +90,32 @@ impl SetContent for StreamedFile<'_> {
     }
 }
 
+/// The most bytes of a file or folder name made from an id (a page id's part, a strip's
+/// stem, a paste-in file's name), before the suffix its writer adds (`.json`,
+/// `_f0_srgb8.png`, …): file systems take 255 bytes a name, and a long id must not fail
+/// the run for every page.
+pub const MAX_STEM_BYTES: usize = 160;
+
+/// FNV-1a (64-bit) of a text: a fixed hash, the same on every machine and run.
+pub fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+/// `stem` itself when it is at most [`MAX_STEM_BYTES`] long; else its longest head (cut
+/// at a character boundary) that leaves room for `separator` and the 16 hex digits of the
+/// FNV-1a hash of the whole stem: at most `MAX_STEM_BYTES`, the same on every run, and
+/// different for stems that differ anywhere (up to a 64-bit hash's collisions).
+pub fn bounded_stem(stem: &str, separator: char) -> std::borrow::Cow<'_, str> {
+    if stem.len() <= MAX_STEM_BYTES {
+        return std::borrow::Cow::Borrowed(stem);
+    }
+    let mut cut = MAX_STEM_BYTES - 16 - separator.len_utf8();
+    while !stem.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    std::borrow::Cow::Owned(format!("{}{separator}{:016x}", &stem[..cut], fnv1a(stem)))
+}
+
 /// The folder under the output folder that holds the generations of every set.
 pub const SETS_DIR: &str = ".sets";
 
@@ -107,23 +138,41 @@ impl SetsLock {
     /// Take the lock of `sets`, waiting (and saying so once) while another run holds it.
     fn take(sets: &Path) -> Result<SetsLock> {
         let path = sets.join(LOCK_FILE);
-        let file = fs::OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .read(true)
-            .write(true)
-            .open(&path)
-            .with_context(|| format!("opening the lock {}", path.display()))?;
+        let mut options = fs::OpenOptions::new();
+        options.create(true).truncate(false).read(true).write(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            // A link planted at the lock's name is not followed (its target is neither
+            // truncated nor written), and a FIFO there does not block the open.
+            options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+        }
+        let file = match options.open(&path) {
+            Ok(file) => file,
+            Err(error) if fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink()) => {
+                anyhow::bail!(
+                    "{} is a symbolic link, not the lock file nklut creates; nothing was written (remove the link): {error}",
+                    path.display()
+                )
+            }
+            Err(error) => return Err(error).with_context(|| format!("opening the lock {}", path.display())),
+        };
+        let metadata = file.metadata().with_context(|| format!("opening the lock {}", path.display()))?;
+        if !metadata.is_file() {
+            anyhow::bail!("{} is not a regular file, not the lock file nklut creates; nothing was written (remove it)", path.display());
+        }
         #[cfg(unix)]
         {
             use std::os::fd::AsRawFd;
             // SAFETY: flock on a descriptor this function owns.
             let try_lock = || unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
             if try_lock() != 0 {
-                let holder = fs::read_to_string(&path).unwrap_or_default();
+                // Who holds it, read from the descriptor already open (a few bytes at most).
+                let mut holder = String::new();
+                let _ = std::io::Read::read_to_string(&mut std::io::Read::take(&file, 64), &mut holder);
                 eprintln!(
                     "waiting: another nklut run ({}) is publishing into {}; its outputs are switched in first",
-                    if holder.trim().is_empty() { "pid unknown".to_string() } else { holder.trim().to_string() },
+                    if holder.trim().is_empty() { "pid unknown".to_string() } else { crate::escape::terminal(holder.trim()) },
                     sets.parent().unwrap_or(sets).display()
                 );
                 loop {
@@ -140,14 +189,84 @@ impl SetsLock {
         }
         // Who holds it, for a run that has to wait (best effort: the lock is the flock).
         let _ = file.set_len(0);
+        let _ = std::io::Seek::seek(&mut (&file), std::io::SeekFrom::Start(0));
         let _ = (&file).write_all(format!("pid {}", std::process::id()).as_bytes());
         Ok(SetsLock { _file: file })
     }
 }
 
-/// Where the link `<out>/.sets/<set>` points, if it exists.
-fn current_generation(sets: &Path, set: &str) -> Option<String> {
-    fs::read_link(sets.join(set)).ok().map(|t| t.to_string_lossy().into_owned())
+/// `.sets` under `out`, created when absent: a real folder, not a link to one elsewhere.
+fn sets_folder(out: &Path) -> Result<PathBuf> {
+    let sets = out.join(SETS_DIR);
+    if fs::symlink_metadata(&sets).is_err() {
+        fs::create_dir_all(&sets).with_context(|| format!("creating folder {}", sets.display()))?;
+    }
+    let metadata = fs::symlink_metadata(&sets).with_context(|| format!("reading {}", sets.display()))?;
+    if metadata.file_type().is_symlink() {
+        anyhow::bail!(
+            "{} is a symbolic link; nklut keeps its generations in a real folder there and follows no link out of it (remove the link)",
+            sets.display()
+        );
+    }
+    if !metadata.is_dir() {
+        anyhow::bail!("{} is not a folder (remove it)", sets.display());
+    }
+    Ok(sets)
+}
+
+/// Whether `name` (an entry directly under `.sets/`) has the form of a generation of
+/// `set`: `<set>-` then a digit (`<set>-<stamp>-<pid>`, `<set>-0-adopted`, …).
+fn is_generation_name(set: &str, name: &str) -> bool {
+    name.strip_prefix(set).and_then(|rest| rest.strip_prefix('-')).is_some_and(|stamp| stamp.starts_with(|c: char| c.is_ascii_digit()))
+        && !name.contains(['/', '\\'])
+}
+
+/// `<sets>/<name>` when it is a generation folder of `set`: a plain name of a generation's
+/// form, and a real folder (not a link) directly under `.sets/`. Anything else is an
+/// error naming it.
+fn generation_folder(sets: &Path, set: &str, name: &str) -> Result<PathBuf> {
+    let path = sets.join(name);
+    if !is_generation_name(set, name) {
+        anyhow::bail!(
+            "{} names {name:?}, not a generation of the set {set} inside {}; nklut follows no link out of it (remove the link)",
+            sets.join(set).display(),
+            sets.display()
+        );
+    }
+    let metadata = fs::symlink_metadata(&path).with_context(|| format!("reading the generation {}", path.display()))?;
+    if metadata.file_type().is_symlink() {
+        anyhow::bail!("{} is a symbolic link, not a generation folder nklut wrote; nothing was removed (remove the link)", path.display());
+    }
+    if !metadata.is_dir() {
+        anyhow::bail!("{} is not a folder, not a generation nklut wrote (remove it)", path.display());
+    }
+    Ok(path)
+}
+
+/// The generation the link `<out>/.sets/<set>` names, if the link exists: checked to be a
+/// generation folder inside `.sets/` ([`generation_folder`]); a link to anything else, or
+/// a file or folder planted at the link's name, is an error naming it.
+fn current_generation(sets: &Path, set: &str) -> Result<Option<String>> {
+    let link = sets.join(set);
+    let Ok(metadata) = fs::symlink_metadata(&link) else { return Ok(None) };
+    if !metadata.file_type().is_symlink() {
+        anyhow::bail!("{} is not the link to a generation that nklut writes there (remove it)", link.display());
+    }
+    let target = fs::read_link(&link).with_context(|| format!("reading the link {}", link.display()))?;
+    let name = target.to_str().unwrap_or("").to_string();
+    if name.is_empty()
+        || Path::new(&name).components().count() != 1
+        || !matches!(Path::new(&name).components().next(), Some(std::path::Component::Normal(_)))
+    {
+        anyhow::bail!(
+            "{} is a link to {}, not to a generation of the set inside {}; nklut follows no link out of it, and nothing was removed (remove the link)",
+            link.display(),
+            target.display(),
+            sets.display()
+        );
+    }
+    generation_folder(sets, set, &name)?;
+    Ok(Some(name))
 }
 
 /// Make `link` a symbolic link to `target`, replacing what is there by one rename.
@@ -170,6 +289,31 @@ fn is_set_link(out: &Path, set: &str, name: &str) -> bool {
     fs::read_link(out.join(name)).is_ok_and(|t| t == Path::new(SETS_DIR).join(set).join(name))
 }
 
+/// Each name of a set belongs to that set alone: a `<out>/<name>` that is the link of
+/// another set (`effects_errors.csv` of `nklut effects`, then of `nklut gpu run` into the
+/// same folder) would mix two commands' outputs under one folder. Refused before anything
+/// is written, naming the file and both sets.
+fn check_owners(out: &Path, set: &str, names: &[&str]) -> Result<()> {
+    for name in names {
+        let Ok(target) = fs::read_link(out.join(name)) else { continue };
+        let mut parts = target.components();
+        let owner = match (parts.next(), parts.next(), parts.next(), parts.next()) {
+            (Some(dir), Some(owner), Some(file), None) if dir.as_os_str() == SETS_DIR && file.as_os_str() == *name => {
+                owner.as_os_str().to_string_lossy().into_owned()
+            }
+            _ => continue,
+        };
+        if owner != set {
+            anyhow::bail!(
+                "{} is written by another command (the set {owner:?}) and this one ({set:?}) writes a file of the same name: \
+                 the two would be mixed in one folder; give each command its own --out",
+                out.join(name).display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Make `<out>/<name>` the fixed link into the set. A real folder there (written before
 /// sets, or by hand) is moved under `.sets/` first, where the next run removes it.
 fn link_entry(out: &Path, sets: &Path, set: &str, name: &str) -> Result<()> {
@@ -184,16 +328,19 @@ fn link_entry(out: &Path, sets: &Path, set: &str, name: &str) -> Result<()> {
 /// Remove generations of `set` that the link does not name (left by a killed or failed
 /// run; called with the lock held, so none is being written).
 fn remove_stale_generations(sets: &Path, set: &str) -> Result<()> {
-    let current = current_generation(sets, set);
-    let prefix = format!("{set}-");
+    let current = current_generation(sets, set)?;
     for entry in fs::read_dir(sets).with_context(|| format!("listing {}", sets.display()))? {
         let name = entry?.file_name().to_string_lossy().into_owned();
-        let stale_generation = name.strip_prefix(&prefix).is_some_and(|stamp| stamp.starts_with(|c: char| c.is_ascii_digit()));
+        let stale_generation = is_generation_name(set, &name);
         let stale_link = name.starts_with(&format!(".{set}.link-"));
-        if (stale_generation && Some(&name) != current.as_ref()) || stale_link {
+        if stale_generation && Some(&name) != current.as_ref() {
+            // A real folder directly under `.sets/` (a link there is an error, not removed).
+            let path = generation_folder(sets, set, &name)?;
+            fs::remove_dir_all(&path).with_context(|| format!("removing the leftover {}", path.display()))?;
+        } else if stale_link {
+            // One of this module's temporary links: the link itself goes, never its target.
             let path = sets.join(&name);
-            let removed = if stale_link { fs::remove_file(&path) } else { fs::remove_dir_all(&path) };
-            removed.with_context(|| format!("removing the leftover {}", path.display()))?;
+            fs::remove_file(&path).with_context(|| format!("removing the leftover {}", path.display()))?;
         }
     }
     Ok(())
@@ -268,7 +415,7 @@ fn write_generation(dir: &Path, files: &[&dyn SetContent]) -> Result<()> {
 /// make the names links to it, so that the next switch replaces them all at once. (Plain
 /// folders are moved aside when their link is made: [`link_entry`].)
 fn adopt_plain_files(out: &Path, sets: &Path, set: &str, names: &[&str]) -> Result<()> {
-    if current_generation(sets, set).is_some() {
+    if current_generation(sets, set)?.is_some() {
         return Ok(());
     }
     let plain: Vec<&str> = names.iter().copied().filter(|n| fs::symlink_metadata(out.join(n)).is_ok_and(|m| m.is_file())).collect();
@@ -277,8 +424,10 @@ fn adopt_plain_files(out: &Path, sets: &Path, set: &str, names: &[&str]) -> Resu
     }
     let generation = format!("{set}-0-adopted");
     let dir = sets.join(&generation);
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir)?;
+    if fs::symlink_metadata(&dir).is_ok() {
+        fs::remove_dir_all(generation_folder(sets, set, &generation)?)?;
+    }
+    fs::create_dir(&dir).with_context(|| format!("creating {}", dir.display()))?;
     for name in &plain {
         fs::hard_link(out.join(name), dir.join(name)).or_else(|_| fs::copy(out.join(name), dir.join(name)).map(|_| ()))?;
     }
@@ -344,12 +493,13 @@ fn check_relative(path: &str) -> Result<()> {
 /// generation (removed again if it fails), link names new to the set, switch the set's link
 /// to the generation, relink the other names, and remove the previous generation.
 fn publish_generation(out: &Path, set: &str, names: &[&str], fill: &dyn Fn(&Path) -> Result<()>) -> Result<()> {
-    let sets = out.join(SETS_DIR);
-    fs::create_dir_all(&sets).with_context(|| format!("creating folder {}", sets.display()))?;
+    fs::create_dir_all(out).with_context(|| format!("creating folder {}", out.display()))?;
+    let sets = sets_folder(out)?;
     let _lock = SetsLock::take(&sets)?;
+    check_owners(out, set, names)?;
     adopt_plain_files(out, &sets, set, names)?;
     remove_stale_generations(&sets, set)?;
-    let previous = current_generation(&sets, set);
+    let previous = current_generation(&sets, set)?;
     let stamp = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_nanos()).unwrap_or(0);
     let generation = format!("{set}-{stamp}-{}", std::process::id());
     let dir = sets.join(&generation);
@@ -371,7 +521,10 @@ fn publish_generation(out: &Path, set: &str, names: &[&str], fill: &dyn Fn(&Path
     }
     crash_point("linked");
     if let Some(previous) = previous.filter(|p| *p != generation) {
-        let _ = fs::remove_dir_all(sets.join(previous));
+        // Checked again: a real generation folder directly under `.sets/`.
+        if let Ok(path) = generation_folder(&sets, set, &previous) {
+            let _ = fs::remove_dir_all(path);
+        }
     }
     Ok(())
 }
@@ -421,16 +574,18 @@ impl Values {
         }
     }
 
-    /// Append the CSV text of a cell (floats as [`format_float`]; empty for `None`).
+    /// Append the CSV text of a cell (text through [`crate::escape::csv`], floats as
+    /// [`format_float`]; empty for `None`).
     fn write_cell(&self, row: usize, out: &mut String) {
         use std::fmt::Write as _;
         let _ = match self {
+            // Text as a CSV cell shows it: controls written as `\u{…}` (crate::escape::csv).
             Values::Text(v) => {
-                out.push_str(&v[row]);
+                out.push_str(&crate::escape::csv(&v[row]));
                 Ok(())
             }
             Values::SharedText(v) => {
-                out.push_str(&v[row]);
+                out.push_str(&crate::escape::csv(&v[row]));
                 Ok(())
             }
             Values::Float(v) => v[row].map_or(Ok(()), |x| write!(out, "{x}")),

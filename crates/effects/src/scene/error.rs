@@ -185,10 +185,28 @@ impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Value::Integer(x) => write!(f, "{x}"),
-            Value::Number(x) => write!(f, "{x}"),
-            Value::Vector(v) => write!(f, "{v:?}"),
+            Value::Number(x) => write!(f, "{}", Shown(*x, false)),
+            Value::Vector(v) => write!(f, "[{}, {}, {}]", Shown(v[0], true), Shown(v[1], true), Shown(v[2], true)),
             Value::Integers(list) => write!(f, "{list:?}"),
             Value::Size([w, h]) => write!(f, "{w}x{h}"),
+        }
+    }
+}
+
+/// A number as a message shows a value: plainly within 1e-6..1e16 (and 0; as `{:?}` writes
+/// it when the flag says so, `1.0` for a vector's component), in exponent form beyond
+/// (1e308 as `1e308`, not 309 digits).
+struct Shown(f64, bool);
+
+impl fmt::Display for Shown {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Shown(x, debug) = *self;
+        if !(x == 0.0 || !x.is_finite() || (1e-6..1e16).contains(&x.abs())) {
+            write!(f, "{x:e}")
+        } else if debug {
+            write!(f, "{x:?}")
+        } else {
+            write!(f, "{x}")
         }
     }
 }
@@ -202,6 +220,8 @@ pub enum Range {
     Closed { low: f64, high: f64, each: Each },
     /// `(low, high)`.
     Open { low: f64, high: f64 },
+    /// `(low, high]`.
+    AboveUpTo { low: f64, high: f64 },
     /// Every component within ±`bound`.
     Within { bound: f64 },
     /// Above `low`, for the reason given.
@@ -253,6 +273,7 @@ impl fmt::Display for Range {
                 write!(f, "lie in [{}, {}]{each}", Bound(low), Bound(high))
             }
             Range::Open { low, high } => write!(f, "lie in ({}, {})", Bound(low), Bound(high)),
+            Range::AboveUpTo { low, high } => write!(f, "lie in ({}, {}]", Bound(low), Bound(high)),
             Range::Within { bound } => write!(f, "lie within ±{} on each axis", Bound(bound)),
             Range::Above { low, why } => write!(f, "be above {} ({why})", Bound(low)),
             Range::Positive => f.write_str("be positive"),

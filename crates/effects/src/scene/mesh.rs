@@ -74,6 +74,16 @@ pub fn widen(p: [f32; 3]) -> DVec3 {
     DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
 }
 
+/// The triangles and vertices of a built-in mesh (`None` for a file, known only once read),
+/// counted on the mesh itself (the largest, the sphere, is 4 096 triangles).
+pub fn built_in_size(source: &MeshSource) -> Option<(usize, usize)> {
+    let mesh = match source {
+        MeshSource::File(_) => return None,
+        built_in => load(built_in, Path::to_path_buf).ok()?,
+    };
+    Some((mesh.triangles(), mesh.positions.len()))
+}
+
 /// Load a scene mesh; `path` resolves file paths.
 pub fn load(source: &MeshSource, path: impl Fn(&Path) -> PathBuf) -> Result<Mesh, MeshError> {
     match source {

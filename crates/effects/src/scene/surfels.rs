@@ -145,7 +145,7 @@ impl RawGtao {
         }
         for &radius in &radii {
             if !(radius > 0.0 && radius <= MAX_GTAO_RADIUS) {
-                let range = Range::Closed { low: 0.0, high: MAX_GTAO_RADIUS, each: super::error::Each::Whole };
+                let range = Range::AboveUpTo { low: 0.0, high: MAX_GTAO_RADIUS };
                 let kind = FieldProblem::OutOfRange { value: Value::Number(radius), range };
                 return Err(SceneProblem::field("ambient_occlusion.gtao.radius", kind));
             }

@@ -29,10 +29,11 @@ pub enum Reason {
     FileTooLarge,
     NestingTooDeep,
     BadCatalogEntry,
+    WavelengthOutOfRange,
 }
 
 impl Reason {
-    pub const ALL: [Reason; 24] = [
+    pub const ALL: [Reason; 25] = [
         Reason::MissingFile,
         Reason::ParseError,
         Reason::UnknownBlockType,
@@ -57,6 +58,7 @@ impl Reason {
         Reason::FileTooLarge,
         Reason::NestingTooDeep,
         Reason::BadCatalogEntry,
+        Reason::WavelengthOutOfRange,
     ];
 
     pub fn code(self) -> &'static str {
@@ -85,6 +87,7 @@ impl Reason {
             Reason::FileTooLarge => "file-too-large",
             Reason::NestingTooDeep => "nesting-too-deep",
             Reason::BadCatalogEntry => "bad-catalog-entry",
+            Reason::WavelengthOutOfRange => "wavelength-out-of-range",
         }
     }
 
@@ -117,6 +120,7 @@ impl Reason {
             Reason::BadCatalogEntry => {
                 "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER"
             }
+            Reason::WavelengthOutOfRange => "a tabulated wavelength or a formula's wavelength_range outside 1e-6 to 1e8 µm (1 pm to 100 m)",
         }
     }
 }

@@ -45,7 +45,9 @@ impl Database {
             None => std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(DEFAULT_DB)),
         };
         for candidate in [dir.clone(), dir.join("database")] {
-            if candidate.join("catalog-nk.yml").is_file() {
+            // Anything named catalog-nk.yml marks the database (a FIFO or a folder there is
+            // then refused by name when the catalog is read, not taken for no database).
+            if candidate.join("catalog-nk.yml").exists() {
                 let resolved_data = std::fs::canonicalize(candidate.join("data")).ok();
                 return Ok(Self { root: candidate, resolved_data });
             }

@@ -22,6 +22,18 @@ pub const N_DOMAIN: (f64, f64) = (1e-3, 1e3);
 /// The largest extinction coefficient k of that domain (k ≥ 0).
 pub const K_MAX: f64 = 1e3;
 
+/// The wavelengths (µm) a table row or a formula's range may hold: 1 pm to 100 m, far
+/// past the database's X-ray and radio pages, and a range every table writes in a few
+/// digits (`lambda_min_nm` 0.001 to `lambda_max_nm` 100000000000). A wavelength outside
+/// it (1e300 µm, or 1.8e308, which is infinite in nm) excludes its page as
+/// `wavelength-out-of-range` with its line.
+pub const WAVELENGTH_DOMAIN_UM: (f64, f64) = (1e-6, 1e8);
+
+/// Whether `um` lies in [`WAVELENGTH_DOMAIN_UM`].
+pub fn wavelength_in_domain(um: f64) -> bool {
+    (WAVELENGTH_DOMAIN_UM.0..=WAVELENGTH_DOMAIN_UM.1).contains(&um)
+}
+
 /// n(λ) or k(λ) over a wavelength range, λ in µm.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
@@ -795,6 +807,14 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
         if values[0] <= 0.0 {
             return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
         }
+        if !wavelength_in_domain(values[0]) {
+            return Err(DataError::new(
+                Reason::WavelengthOutOfRange,
+                file,
+                line_no,
+                format!("wavelength {:e} µm is outside {:e}–{:e} µm", values[0], WAVELENGTH_DOMAIN_UM.0, WAVELENGTH_DOMAIN_UM.1),
+            ));
+        }
         rows.push(Row { values, line: line_no });
     }
     if rows.is_empty() {
@@ -959,6 +979,17 @@ fn parse_formula(file: &str, number: u8, block: &RawBlock) -> Result<Formula, Da
             file,
             None,
             format!("formula {number}: wavelength_range {range_text:?} is not two increasing positive finite numbers"),
+        ));
+    }
+    if !(wavelength_in_domain(range[0]) && wavelength_in_domain(range[1])) {
+        return Err(DataError::new(
+            Reason::WavelengthOutOfRange,
+            file,
+            None,
+            format!(
+                "formula {number}: wavelength_range {:e}–{:e} µm leaves {:e}–{:e} µm",
+                range[0], range[1], WAVELENGTH_DOMAIN_UM.0, WAVELENGTH_DOMAIN_UM.1
+            ),
         ));
     }
     Ok(Formula { number, coefficients, range_um: (range[0], range[1]) })
@@ -1351,6 +1382,9 @@ mod tests {
                 }
                 if values[0] <= 0.0 {
                     return Err(format!("bad-row {line_no:?} wavelength {} µm is not positive", values[0]));
+                }
+                if !(1e-6..=1e8).contains(&values[0]) {
+                    return Err(format!("wavelength-out-of-range {line_no:?} wavelength {:e} µm is outside 1e-6–1e8 µm", values[0]));
                 }
                 rows.push((values.map(f64::to_bits), line_no));
             }

@@ -28,6 +28,7 @@ use anyhow::{bail, ensure, Result};
 use rayon::prelude::*;
 
 use crate::ingest::{self, Ingest, KeptPage, Selection};
+use crate::output::fnv1a;
 use nklut_optics::color;
 use nklut_optics::db::Database;
 use nklut_optics::spectrum::{ChannelIndex, Channels, Kind};
@@ -237,8 +238,16 @@ impl Plan {
 }
 
 /// A file-name stem from a page id: '/' → '__'; characters that are not allowed in
-/// Windows or POSIX file names (\ : * ? " < > | and controls) and '%' are written %XX (UTF-8 bytes).
+/// Windows or POSIX file names (\ : * ? " < > | and controls) and '%' are written %XX (UTF-8 bytes);
+/// a stem longer than [`crate::output::MAX_STEM_BYTES`] is cut and ends in `~` and a hash
+/// of the whole ([`crate::output::bounded_stem`]).
 pub fn strip_stem(page: &str) -> String {
+    let stem = escaped_stem(page);
+    crate::output::bounded_stem(&stem, '~').into_owned()
+}
+
+/// [`strip_stem`] before its length is bounded.
+fn escaped_stem(page: &str) -> String {
     let mut stem = String::with_capacity(page.len() + 8);
     for ch in page.chars() {
         match ch {
@@ -308,11 +317,6 @@ pub fn strip_stems(rows: &[Row]) -> Vec<String> {
         .zip(rows)
         .map(|(stem, row)| if count[&stem.to_lowercase()] > 1 { format!("{stem}~{:08x}", fnv1a(&row.page) >> 32) } else { stem })
         .collect()
-}
-
-/// FNV-1a (64-bit) of a text: a fixed hash, the same on every machine and run.
-fn fnv1a(text: &str) -> u64 {
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 /// Quantise every row in every set and measure its error against `exact` of its

@@ -119,10 +119,12 @@ pub fn shortened(text: &str, chars: usize) -> String {
     out
 }
 
-/// `nk_` + the page id with every character outside [A-Za-z0-9_] replaced by `_`.
+/// `nk_` + the page id with every character outside [A-Za-z0-9_] replaced by `_`; a name
+/// longer than [`crate::output::MAX_STEM_BYTES`] is cut and ends in `_` and a hash of the
+/// whole ([`crate::output::bounded_stem`]), so that it still names a file.
 pub fn valid_name(page: &str) -> String {
     let body: String = page.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect();
-    format!("nk_{body}")
+    crate::output::bounded_stem(&format!("nk_{body}"), '_').into_owned()
 }
 
 /// One distinct name per page, in order (collisions get `_2`, `_3`, …).
@@ -143,21 +145,9 @@ pub fn unique_names<'p>(pages: impl IntoIterator<Item = &'p str>) -> Vec<String>
         .collect()
 }
 
-/// Text safe inside a double-quoted XML attribute.
+/// Text safe inside a double-quoted XML attribute ([`crate::escape::xml`]).
 pub fn escape_attribute(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
+    crate::escape::xml(text)
 }
 
 /// A MaterialX color3 value "r, g, b" (shortest round-trip decimals).

@@ -87,17 +87,24 @@ pub fn fitted_index(colors: &CsvTable, row: &[String]) -> ChannelIndex {
 }
 
 /// Where a material's page lives under `report/`: `materials/<id>.html`, the id's
-/// parts as folders. A part that is empty, `.` or `..` would leave the folder: refused.
+/// parts as folders, each bounded in length ([`bounded_parts`]). A part that is empty,
+/// `.` or `..` would leave the folder: refused.
 pub fn material_path(page: &str) -> Result<String> {
     if page.split('/').any(|part| part.is_empty() || part == "." || part == "..") {
         bail!("page id {page:?} cannot name a file under report/materials");
     }
-    Ok(format!("materials/{page}.html"))
+    Ok(format!("materials/{}.html", bounded_parts(page)))
 }
 
 /// Where a material's preview image lives under `report/`.
 pub fn preview_path(page: &str) -> String {
-    format!("previews/{page}.png")
+    format!("previews/{}.png", bounded_parts(page))
+}
+
+/// The page id with each '/'-separated part cut to a file name's length
+/// ([`crate::output::bounded_stem`]): one long id cannot fail the report.
+fn bounded_parts(page: &str) -> String {
+    page.split('/').map(|part| crate::output::bounded_stem(part, '~')).collect::<Vec<_>>().join("/")
 }
 
 /// The relative path from a material page back to `report/`.

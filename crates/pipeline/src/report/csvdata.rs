@@ -7,6 +7,10 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 
+/// The most bytes read from a table of the whole database (`errors.csv` of `validate
+/// --all` is ~0.2 GB): a larger file is refused by name before it is read.
+pub const MAX_TABLE_BYTES: u64 = 1 << 30;
+
 /// One record of a file being read, by column name (for `CsvTable::parse_selected`).
 pub struct Record<'a> {
     record: &'a csv::StringRecord,
@@ -81,20 +85,28 @@ impl CsvTable {
         Ok(Self { headers, rows, index })
     }
 
-    /// Read `path`; `Ok(None)` when the file does not exist (that stage has not run).
+    /// Read `path` (a regular file of at most [`MAX_TABLE_BYTES`]: a FIFO, a device or a
+    /// folder there is an error naming it, never a read that waits or grows without end);
+    /// `Ok(None)` when the file does not exist (that stage has not run).
     pub fn load(path: &Path) -> Result<Option<Self>> {
-        Self::load_with(path, &|bytes| Self::parse(bytes))
+        Self::load_bounded(path, MAX_TABLE_BYTES)
+    }
+
+    /// [`load`](Self::load) of a file of at most `limit` bytes.
+    pub fn load_bounded(path: &Path, limit: u64) -> Result<Option<Self>> {
+        Self::load_with(path, limit, &|bytes| Self::parse(bytes))
     }
 
     /// `load` through `parse_selected`.
-    pub fn load_selected(path: &Path, columns: &[&str], keep: &(dyn Fn(&Record) -> bool + Sync)) -> Result<Option<Self>> {
-        Self::load_with(path, &|bytes| Self::parse_selected(bytes, columns, keep))
+    pub fn load_selected(path: &Path, limit: u64, columns: &[&str], keep: &(dyn Fn(&Record) -> bool + Sync)) -> Result<Option<Self>> {
+        Self::load_with(path, limit, &|bytes| Self::parse_selected(bytes, columns, keep))
     }
 
-    fn load_with(path: &Path, parse: &dyn Fn(&[u8]) -> Result<Self>) -> Result<Option<Self>> {
-        match std::fs::read(path) {
+    fn load_with(path: &Path, limit: u64, parse: &dyn Fn(&[u8]) -> Result<Self>) -> Result<Option<Self>> {
+        use nklut_optics::db::file::{read_regular, FileProblem};
+        match read_regular(path, limit) {
             Ok(bytes) => Ok(Some(parse(&bytes).with_context(|| format!("reading {}", path.display()))?)),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(FileProblem::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(e).with_context(|| format!("reading {}", path.display())),
         }
     }

@@ -157,8 +157,9 @@ impl TableText {
 
     pub fn markdown(&self) -> String {
         let clean = |c: &str| match c.strip_prefix(MARKDOWN) {
-            Some(markdown) => markdown.replace('|', "\\|"),
-            None => markdown_text(&c.strip_prefix(RAW).map(strip_tags).unwrap_or_else(|| c.to_string())).replace('|', "\\|"),
+            // Made with `markdown_text` and `href` already: no `|` or line break is left raw.
+            Some(markdown) => markdown.to_string(),
+            None => markdown_text(&c.strip_prefix(RAW).map(strip_tags).unwrap_or_else(|| c.to_string())),
         };
         let mut out = format!("| {} |\n", self.headers.iter().map(|h| clean(h)).collect::<Vec<_>>().join(" | "));
         out.push_str(&format!("|{}\n", " --- |".repeat(self.headers.len())));
@@ -175,18 +176,10 @@ pub const RAW: &str = "\u{1}raw:";
 /// Marks a cell whose text is Markdown already (a link made with [`markdown_text`]).
 pub const MARKDOWN: &str = "\u{2}md:";
 
-/// Text as Markdown shows it and nothing more: `&`, `<` and `>` as HTML entities (a
-/// Markdown renderer passes raw HTML through, so a page id holding a tag would run), `[`
-/// and `]` escaped (no link can start in it).
+/// Text as Markdown shows it and nothing more ([`crate::escape::markdown`]: markup
+/// characters escaped, controls and line breaks as `\u{…}`).
 pub fn markdown_text(text: &str) -> String {
-    substituted(text, |ch| match ch {
-        '&' => Some("&amp;"),
-        '<' => Some("&lt;"),
-        '>' => Some("&gt;"),
-        '[' => Some("\\["),
-        ']' => Some("\\]"),
-        _ => None,
-    })
+    crate::escape::markdown(text)
 }
 
 pub fn raw(html: String) -> String {

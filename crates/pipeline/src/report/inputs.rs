@@ -8,7 +8,7 @@ use std::time::SystemTime;
 
 use anyhow::{bail, Result};
 
-use super::csvdata::CsvTable;
+use super::csvdata::{CsvTable, MAX_TABLE_BYTES};
 use crate::ingest::Selection;
 use nklut_optics::fresnel::FitMemo;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
@@ -60,6 +60,10 @@ const ERROR_COLUMNS: [&str; 10] = [
 pub fn shown_error_row(method: &str, variant: &str) -> bool {
     method != "lut" || variant.starts_with("N=256,")
 }
+
+/// The most bytes read from a table of one scene or one device (`effects_errors.csv`,
+/// a device's `gpu_timing.csv`: kilobytes to a few megabytes).
+pub const MAX_SCENE_TABLE_BYTES: u64 = 64 << 20;
 
 /// The tables the report reads.
 pub struct Inputs {
@@ -117,8 +121,9 @@ impl Inputs {
         };
         let materials = required("materials.csv")?;
         let channels = table_channels(&materials).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("materials.csv").display()))?;
-        let errors =
-            CsvTable::load_selected(&out.join("errors.csv"), &ERROR_COLUMNS, &|r| shown_error_row(r.text("method"), r.text("variant")))?;
+        let errors = CsvTable::load_selected(&out.join("errors.csv"), MAX_TABLE_BYTES, &ERROR_COLUMNS, &|r| {
+            shown_error_row(r.text("method"), r.text("variant"))
+        })?;
         if let Some(errors) = &errors {
             check_error_wavelengths(errors, &channels).map_err(|e| anyhow::anyhow!("{}: {e}", out.join("errors.csv").display()))?;
         }
@@ -132,7 +137,7 @@ impl Inputs {
         for folder in std::iter::once(String::new()).chain(scene_folders(out)) {
             for name in OPTIONAL_TABLES {
                 let relative = if folder.is_empty() { name.to_string() } else { format!("{folder}/{name}") };
-                if let Some(table) = CsvTable::load(&out.join(&relative))? {
+                if let Some(table) = CsvTable::load_bounded(&out.join(&relative), MAX_SCENE_TABLE_BYTES)? {
                     if let Ok(at) = std::fs::metadata(out.join(&relative)).and_then(|m| m.modified()) {
                         written.insert(relative.clone(), at);
                     }
@@ -172,7 +177,57 @@ pub struct DeviceTables {
     pub source: String,
 }
 
+/// The longest time a device result may state for one pass or frame (ms): a day. A
+/// larger figure is a broken or forged result, not a measurement.
+pub const MAX_DEVICE_MS: f64 = 86_400_000.0;
+
+/// The largest relative image error a device result may state (a method off by 10⁶ times
+/// the exact image is already meaningless).
+pub const MAX_IMAGE_ERROR: f64 = 1e6;
+
+/// A measured cell that is not a number in `0..=max` (empty cells are "not measured").
+fn check_measured(table: &CsvTable, table_name: &str, column: &str, max: f64) -> Result<()> {
+    for (row, cells) in table.rows.iter().enumerate() {
+        let text = table.text(cells, column);
+        if text.is_empty() {
+            continue;
+        }
+        let shown = crate::escape::terminal(&text.chars().take(24).collect::<String>());
+        match text.parse::<f64>() {
+            Ok(x) if x.is_finite() && (0.0..=max).contains(&x) => {}
+            Ok(x) if !x.is_finite() => bail!("{table_name} row {}: {column} is {shown}, not a finite number", row + 1),
+            Ok(x) if x < 0.0 => bail!("{table_name} row {}: {column} is {shown}, below 0", row + 1),
+            Ok(_) => bail!("{table_name} row {}: {column} is {shown}, above the largest accepted ({max:e})", row + 1),
+            Err(_) => bail!("{table_name} row {}: {column} is {shown:?}, not a number", row + 1),
+        }
+    }
+    Ok(())
+}
+
 impl DeviceTables {
+    /// Every time (`*_ms`) and image error (`*_error`) the device states is a finite number
+    /// from 0 to [`MAX_DEVICE_MS`] or [`MAX_IMAGE_ERROR`]; anything else is refused by its
+    /// table, row and column (a NaN, a negative or a 309-digit time would be printed as a
+    /// measurement).
+    pub fn check_measurements(&self) -> Result<()> {
+        let tables = [
+            ("gpu_timing", Some(&self.timing)),
+            ("image_errors", self.image_errors.as_ref()),
+            ("effects_timing", self.effects_timing.as_ref()),
+        ];
+        for (name, table) in tables {
+            let Some(table) = table else { continue };
+            for column in &table.headers {
+                if column.ends_with("_ms") {
+                    check_measured(table, name, column, MAX_DEVICE_MS)?;
+                } else if column.ends_with("_error") {
+                    check_measured(table, name, column, MAX_IMAGE_ERROR)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The median over the materials timed of `method`'s pass time (ms).
     pub fn median_ms(&self, method: &str) -> Option<f64> {
         let timing = &self.timing;
@@ -198,19 +253,26 @@ const MAX_DEVICE_JSON: u64 = 16 << 20;
 pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
     let mut devices = BTreeMap::new();
     for device in scene_folders(folder) {
-        if let Some(timing) = CsvTable::load(&folder.join(&device).join("gpu_timing.csv"))? {
-            let image_errors = CsvTable::load(&folder.join(&device).join("image_errors.csv"))?;
-            let effects_timing = CsvTable::load(&folder.join(&device).join("effects_timing.csv"))?;
-            devices.insert(device, DeviceTables { timing, image_errors, effects_timing, source: "native".into() });
+        let table = |name: &str| CsvTable::load_bounded(&folder.join(&device).join(name), MAX_SCENE_TABLE_BYTES);
+        if let Some(timing) = table("gpu_timing.csv")? {
+            let image_errors = table("image_errors.csv")?;
+            let effects_timing = table("effects_timing.csv")?;
+            let tables = DeviceTables { timing, image_errors, effects_timing, source: "native".into() };
+            tables.check_measurements().map_err(|e| anyhow::anyhow!("{}: {e}", folder.join(&device).display()))?;
+            devices.insert(device, tables);
         }
     }
+    // Every entry named `*.json`, whatever it is: one that is not a regular file (a FIFO, a
+    // device, a folder, a link that loops or dangles) is an error naming it, not skipped.
     let mut files: Vec<_> = std::fs::read_dir(folder)
-        .map(|entries| entries.flatten().map(|e| e.path()).filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "json")).collect())
+        .map(|entries| entries.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "json")).collect())
         .unwrap_or_default();
     files.sort();
     for file in files {
-        let bytes = nklut_optics::db::file::read_regular(&file, MAX_DEVICE_JSON)?;
+        let bytes = nklut_optics::db::file::read_regular(&file, MAX_DEVICE_JSON)
+            .map_err(|e| anyhow::anyhow!("{}: not a browser bench result: {e}", file.display()))?;
         let tables = browser_result(&bytes).map_err(|e| anyhow::anyhow!("{}: not a browser bench result: {e}", file.display()))?;
+        tables.check_measurements().map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
         let name = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         devices.insert(name, tables);
     }
