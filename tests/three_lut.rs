@@ -230,3 +230,25 @@ fn the_demo_page_runs() {
     assert_eq!(demo["spheres"], PAGES.len(), "{demo}");
     assert_eq!(demo["problems"], serde_json::json!([]), "{demo}");
 }
+
+/// clients/godot/nklut_lut.gdshaderinc, made GLSL ES 3.00 by removing Godot's uniform hints
+/// and initialisers (render_lut.html, godot()), compiles in the browser's WebGL2 and samples
+/// each row, cos θ from 0 to 1, within the manifest's maximum (grazing included).
+#[test]
+fn the_godot_include_samples_each_row_within_the_manifests_maximum() {
+    let Some(rendered) = results() else { return };
+    let runs = rendered.results["godot"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    for run in runs {
+        let encoding = run["encoding"].as_str().unwrap();
+        for page in PAGES {
+            let result = &run["results"][page];
+            assert_eq!(f(&result["min_cos"]), 0.0);
+            let row = manifest_row(rendered, encoding, page);
+            for c in 0..3 {
+                let (got, promised) = (f(&result["channels"][c]["lut_max"]), f(&row["error_vs_exact"]["max_absolute"][c]));
+                assert!(got <= promised + TOLERANCE, "{encoding} {page} channel {c}: {got:e} > {promised:e}");
+            }
+        }
+    }
+}

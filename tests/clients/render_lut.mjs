@@ -11,7 +11,10 @@
 // `unorm8 flipY` (TextureLoader's default flipY = true) and `f16 file-order` (v as if
 // EXRLoader kept the file's scanline order). Last, clients/three/demo.html is opened as a
 // user would (three.js requested from unpkg is answered from the local copy) and its state
-// and a screenshot (OUT_DIR/demo.png) kept. Writes OUT_DIR/results.json:
+// and a screenshot (OUT_DIR/demo.png) kept. Before it, clients/godot/nklut_lut.gdshaderinc
+// is compiled and run as GLSL ES 3.00 on the unorm8 and unorm8-srgb atlases (render_lut.html,
+// godot()). Writes OUT_DIR/results.json (godot: [{ encoding, results: { page: { row,
+// min_cos, channels: [{ lut_max }] } } }]):
 // { three, chromium, webgl, extensions, runs: [{ name, encoding, override, texture_type,
 // flip_y, rows, results: { page: { row, kind, v, pixels, min_cos, grazing_pixels,
 // max_cos_difference, channels: [{ lut_max, lut_mean, lut_max_at_cos, three_max, three_mean,
@@ -285,6 +288,13 @@ async function main() {
       .join(', ');
     console.error(`render_lut: ${run.name}: max |F_LUT - F_exact| ${worst} (${Date.now() - t0} ms)`);
   }
+  const godot = [];
+  for (const encoding of ['unorm8', 'unorm8-srgb']) {
+    const options = { baseUrl: '/luts/', source: 'three-channel', encoding };
+    const result = await bounded(page.evaluate((o, p) => window.harness.godot(o, p), options, pages), `running the Godot include (${encoding})`).catch(withProblems);
+    godot.push(result);
+    console.error(`render_lut: Godot include, ${encoding}: ${Object.entries(result.results).map(([id, r]) => `${id.split('/').pop()} ${Math.max(...r.channels.map((c) => c.lut_max)).toExponential(2)}`).join(', ')}`);
+  }
   if (problems.length) throw new Error(`the page reported: ${problems.join('; ')}`);
 
   // The demo page as a user opens it (three.js from the local copy, see above).
@@ -298,7 +308,7 @@ async function main() {
   await bounded(page.screenshot({ path: join(outDir, 'demo.png') }), 'taking the demo screenshot');
   console.error(`render_lut: demo: ${JSON.stringify(demo)}`);
 
-  const results = { three: threeVersion, chromium, webgl: setup.webgl, extensions: setup.extensions, pages, seconds: (Date.now() - started) / 1000, runs, demo };
+  const results = { three: threeVersion, chromium, webgl: setup.webgl, extensions: setup.extensions, pages, seconds: (Date.now() - started) / 1000, runs, godot, demo };
   writeFileSync(join(outDir, 'results.json'), JSON.stringify(results, null, 1) + '\n');
   await shutDown(true);
   clearTimeout(watchdog);
