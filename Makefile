@@ -74,7 +74,9 @@ test: db
 # shelf is exported afresh into $(OUT)/blender-check, then tests/validators/check_blender.py
 # imports it into an empty scene and checks, per page, what Blender's Principled BSDF and
 # Volume Absorption hold against engine_params.csv (its docstring lists every assertion),
-# and lists what the importer leaves out.
+# and lists what the importer leaves out. Then clients/blender/nklut_lut.py's LUT node group:
+# tests/clients/check_blender_lut.py renders spheres of four pages in five encodings with
+# Cycles and holds every pixel's F to the manifest's maximum.
 BPY_VERSION    ?= 5.0.1
 BLENDER_PYTHON ?= python3
 BLENDER_VENV   := .test-deps/blender-venv
@@ -87,6 +89,9 @@ test-blender: db build
 	$(NKLUT) --db $(DB) --out $(OUT)/blender-check ingest --shelf 3d
 	$(NKLUT) --db $(DB) --out $(OUT)/blender-check params --shelf 3d
 	$(BLENDER_VENV)/bin/python tests/validators/check_blender.py $(OUT)/blender-check
+	$(NKLUT) --db $(DB) --out $(OUT)/blender-check bake --size 256 --layout atlas --page 3d/metals/copper \
+	  --page 3d/metals/gold --page 3d/glass/soda-lime-green --page 3d/liquids/water
+	$(BLENDER_VENV)/bin/python tests/clients/check_blender_lut.py $(OUT)/blender-check/luts $(OUT)/blender-check/lut-renders
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the
 # plain file read, the Python peer of ingest), ingest (wall + peak RSS), Fresnel methods,

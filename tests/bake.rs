@@ -260,3 +260,208 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["tables"][0]["files"][0], "../materials.csv");
 }
+
+/// The manifest's per-row F0, maximum with θ = 90° and recommendation, recomputed from the
+/// written files alone: each texture read back without nklut's decoder (the `png` crate's
+/// reader, sRGB decoded by the IEC 61966-2-1 formula here; EXR as flat channels by name),
+/// exact Fresnel written out below from the amplitude coefficients, the LUT model and the
+/// midpoint rule with both ends as `manifest.json → error` defines them. The recommendation
+/// is recomputed from bakes at every width it tries.
+mod from_the_files {
+    use super::*;
+
+    /// Exact unpolarised reflectance of n + ik from vacuum at cos θ (Born & Wolf §1.5,
+    /// §14.2): w = √(ñ² − sin²θ), rs = (c − w)/(c + w), rp = (ñ²c − w)/(ñ²c + w).
+    fn fresnel(n: f64, k: f64, c: f64) -> f64 {
+        let (er, ei) = (n * n - k * k, 2.0 * n * k);
+        let (ar, ai) = (er - (1.0 - c * c), ei);
+        let modulus = ar.hypot(ai);
+        let wr = ((modulus + ar) / 2.0).max(0.0).sqrt();
+        let wi = ((modulus - ar) / 2.0).max(0.0).sqrt().copysign(ai);
+        let ratio = |pr: f64, pi: f64, qr: f64, qi: f64| (pr * pr + pi * pi) / (qr * qr + qi * qi);
+        if wr == 0.0 && wi == 0.0 && c == 0.0 {
+            return 1.0;
+        }
+        0.5 * (ratio(c - wr, -wi, c + wr, wi) + ratio(er * c - wr, ei * c - wi, er * c + wr, ei * c + wi))
+    }
+
+    fn srgb_to_linear(v: f64) -> f64 {
+        if v <= 0.04045 {
+            v / 12.92
+        } else {
+            ((v + 0.055) / 1.055).powf(2.4)
+        }
+    }
+
+    /// Width, height and linear F per texel (R, G, B), rows in file order.
+    fn read_texture(path: &Path, encoding: &str) -> (usize, usize, Vec<[f64; 3]>) {
+        if encoding.starts_with('f') {
+            let image = exr::prelude::read_first_flat_layer_from_file(path).unwrap();
+            let size = image.layer_data.size;
+            let channel = |name: &str| -> Vec<f64> {
+                let found = image.layer_data.channel_data.list.iter().find(|c| c.name.to_string() == name).unwrap();
+                match &found.sample_data {
+                    exr::prelude::FlatSamples::F16(v) => v.iter().map(|x| x.to_f64()).collect(),
+                    exr::prelude::FlatSamples::F32(v) => v.iter().map(|&x| x as f64).collect(),
+                    exr::prelude::FlatSamples::U32(_) => panic!("{}: integer samples", path.display()),
+                }
+            };
+            let (r, g, b) = (channel("R"), channel("G"), channel("B"));
+            (size.width(), size.height(), (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect())
+        } else {
+            let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
+            let mut reader = decoder.read_info().unwrap();
+            let mut bytes = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut bytes).unwrap();
+            assert_eq!(info.color_type, png::ColorType::Rgb);
+            let samples: Vec<f64> = match info.bit_depth {
+                png::BitDepth::Eight => bytes[..info.buffer_size()].iter().map(|&b| b as f64 / 255.0).collect(),
+                png::BitDepth::Sixteen => {
+                    bytes[..info.buffer_size()].chunks(2).map(|p| u16::from_be_bytes([p[0], p[1]]) as f64 / 65535.0).collect()
+                }
+                other => panic!("{}: bit depth {other:?}", path.display()),
+            };
+            let linear = |v: f64| if encoding == "unorm8-srgb" { srgb_to_linear(v) } else { v };
+            (info.width as usize, info.height as usize, samples.chunks(3).map(|p| [linear(p[0]), linear(p[1]), linear(p[2])]).collect())
+        }
+    }
+
+    /// Linear filtering with clamp-to-edge at u = c over texels at (i + 0.5)/N.
+    fn lut(texels: &[f64], c: f64) -> f64 {
+        let n = texels.len();
+        let x = c * n as f64 - 0.5;
+        let i = x.floor();
+        let t = x - i;
+        let at = |j: f64| texels[j.clamp(0.0, (n - 1) as f64) as usize];
+        at(i) * (1.0 - t) + at(i + 1.0) * t
+    }
+
+    /// (max |F_lut − F| over the midpoint rule and both ends, the value at θ = 90°, mean relative error).
+    fn figures(texels: &[f64], n: f64, k: f64) -> (f64, f64, f64) {
+        let m = (32 * texels.len()).clamp(4096, 262_144);
+        let (mut max, mut sum, mut counted) = (0.0f64, 0.0, 0usize);
+        for j in 0..m {
+            let c = ((j as f64 + 0.5) * std::f64::consts::FRAC_PI_2 / m as f64).cos();
+            let exact = fresnel(n, k, c);
+            let diff = (lut(texels, c) - exact).abs();
+            max = max.max(diff);
+            if exact > 0.0 {
+                sum += diff / exact;
+                counted += 1;
+            }
+        }
+        let grazing = (lut(texels, 0.0) - fresnel(n, k, 0.0)).abs();
+        let normal = (lut(texels, 1.0) - fresnel(n, k, 1.0)).abs();
+        (max.max(grazing).max(normal), grazing, sum / counted as f64)
+    }
+
+    fn bytes_per_channel(encoding: &str) -> usize {
+        match encoding {
+            "unorm8" | "unorm8-srgb" => 1,
+            "unorm16" | "f16" => 2,
+            _ => 4,
+        }
+    }
+
+    fn close(a: f64, b: f64, what: &str) {
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1e-3), "{what}: {a} from the files, {b} in the manifest");
+    }
+
+    #[test]
+    fn f0_grazing_maximum_and_recommendation_match_the_files() {
+        let pages = ["3d/metals/gold", "3d/glass/soda-lime-green", "3d/liquids/water"];
+        // The scratch folder (removed when dropped) and the manifest of a bake at `size`.
+        let bake_at = |size: usize| -> (common::Scratch, serde_json::Value) {
+            let out = scratch(&format!("files-{size}"));
+            let mut request = args(&pages, size);
+            request.layouts = vec![bake::Layout::Atlas];
+            bake::run(&database(), &out, &request).unwrap();
+            let manifest = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
+            (out, manifest)
+        };
+        let (own_dir, manifest) = bake_at(64);
+        let sizes: Vec<usize> =
+            manifest["recommendation"]["sizes"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
+        assert_eq!(sizes, [16, 32, 64, 128, 256, 512, 1024]);
+        let bound = &manifest["recommendation"]["bound"];
+        let (bound_max, bound_mean) = (bound["max_absolute"].as_f64().unwrap(), bound["mean_relative"].as_f64().unwrap());
+        // Figures of every (size, encoding, row) from the files of a bake at that size.
+        let mut found: BTreeMap<(usize, String, usize), (f64, f64, f64)> = BTreeMap::new();
+        for &size in &sizes {
+            let other = (size != 64).then(|| bake_at(size));
+            let dir = other.as_ref().map_or(own_dir.join("luts/three-channel"), |(out, _)| out.join("luts/three-channel"));
+            for set in manifest["textures"].as_array().unwrap() {
+                let encoding = set["encoding"].as_str().unwrap();
+                let ext = if encoding.starts_with('f') { "exr" } else { "png" };
+                let (width, height, texels) = read_texture(&dir.join(encoding).join(format!("atlas.{ext}")), encoding);
+                assert_eq!((width, height), (size, pages.len()));
+                for row in set["rows"].as_array().unwrap() {
+                    let r = row["row"].as_u64().unwrap() as usize;
+                    let index = &row["index_three_channel"];
+                    let mut worst = (0.0f64, 0.0f64, 0.0f64);
+                    for c in 0..3 {
+                        let (n, k) = (index[c]["n"].as_f64().unwrap(), index[c]["k"].as_f64().unwrap());
+                        let channel: Vec<f64> = texels[r * width..(r + 1) * width].iter().map(|t| t[c]).collect();
+                        let (max, grazing, mean) = figures(&channel, n, k);
+                        if size == 64 {
+                            let page = row["page"].as_str().unwrap();
+                            // F0 is exact F at cos θ = 1, not the last texel.
+                            close(row["f0"][c].as_f64().unwrap(), fresnel(n, k, 1.0), &format!("{page} f0[{c}]"));
+                            assert_ne!(row["f0"][c].as_f64().unwrap(), channel[width - 1]);
+                            let e = &row["error_vs_exact"];
+                            close(e["max_absolute"][c].as_f64().unwrap(), max, &format!("{page} {encoding} max[{c}]"));
+                            close(e["grazing_absolute"][c].as_f64().unwrap(), grazing, &format!("{page} {encoding} grazing[{c}]"));
+                        }
+                        worst = (worst.0.max(max), worst.1.max(grazing), worst.2 + mean / 3.0);
+                    }
+                    found.insert((size, encoding.to_string(), r), worst);
+                }
+            }
+        }
+        // The dielectrics' maximum sits at the silhouette.
+        for r in [1, 2] {
+            let (max, grazing, _) = found[&(64, "f32".to_string(), r)];
+            assert_eq!(max, grazing, "row {r}");
+        }
+        // The recommendation, chosen from the files' figures as the manifest defines it.
+        for set in manifest["textures"].as_array().unwrap() {
+            for row in set["rows"].as_array().unwrap() {
+                let r = row["row"].as_u64().unwrap() as usize;
+                let mut want: Vec<(usize, usize, f64, String)> = Vec::new();
+                for encoding in ["unorm8", "unorm8-srgb", "unorm16", "f16", "f32"] {
+                    let meets = sizes.iter().find(|&&n| {
+                        let (max, _, mean) = found[&(n, encoding.to_string(), r)];
+                        max <= bound_max && mean <= bound_mean
+                    });
+                    if let Some(&n) = meets {
+                        want.push((4 * bytes_per_channel(encoding) * n, n, found[&(n, encoding.to_string(), r)].0, encoding.into()));
+                    }
+                }
+                want.sort_by(|a, b| a.0.cmp(&b.0).then(a.2.total_cmp(&b.2)));
+                let got: Vec<(usize, usize, f64, String)> = row["recommended"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|c| {
+                        (
+                            c["gpu_bytes"].as_u64().unwrap() as usize,
+                            c["size"].as_u64().unwrap() as usize,
+                            c["max_absolute_rgb"].as_f64().unwrap(),
+                            c["encoding"].as_str().unwrap().to_string(),
+                        )
+                    })
+                    .collect();
+                assert_eq!(got.len(), want.len(), "{}: {got:?} vs {want:?}", row["page"]);
+                for (g, w) in got.iter().zip(&want) {
+                    assert_eq!((g.0, g.1, &g.3), (w.0, w.1, &w.3), "{}: {got:?} vs {want:?}", row["page"]);
+                    close(g.2, w.2, &format!("{} recommended {}", row["page"], g.3));
+                }
+            }
+        }
+        // Water needs more than the bake's 64 texels in any encoding; sRGB is its cheapest.
+        let water = &manifest["textures"][0]["rows"][2];
+        assert_eq!(water["page"], "3d/liquids/water");
+        assert_eq!(water["recommended"][0]["encoding"], "unorm8-srgb", "{}", water["recommended"]);
+        assert!(water["recommended"][0]["size"].as_u64().unwrap() > 64);
+    }
+}

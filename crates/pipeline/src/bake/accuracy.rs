@@ -2,12 +2,23 @@
 //! reference curve, over θ uniform in [0°, 90°] (SPEC §5.7, §6). Two rules: the dense
 //! midpoint rule of `error_samples` against `exact` (cheap to evaluate), and the colour
 //! module's angle quadrature against the spectral reference (each value a 471-wavelength sum).
+//! Both rules are extended by the two ends of the interval, θ = 90° (cos θ = 0) and θ = 0°
+//! (cos θ = 1), with weight 0 ([`with_ends`]): they enter the maximum, not the mean. At
+//! θ = 90° — the silhouette, where a shader's `clamp(dot(N, V), 0, 1)` gives 0 — exact F is
+//! 1 and linear filtering with clamp-to-edge returns texel 0, so the largest error of a
+//! steep row sits there, beyond every interior node.
+//!
+//! The recommended encodings ([`recommend`]): for each encoding, the smallest texture
+//! width among [`candidate_sizes`] whose error meets [`RecommendationBound`], cheapest
+//! first in GPU bytes (RGBA texels: 4 channels × bytes per channel × width).
 
 use serde::Serialize;
 
 use nklut_optics::color::AngleQuadrature;
 use nklut_optics::fresnel;
 use nklut_optics::spectrum::ChannelIndex;
+
+use super::texel::{quantise, Encoding};
 
 /// Error samples per texel of the LUT (at least `MIN_ERROR_SAMPLES`, at most `MAX_ERROR_SAMPLES`).
 pub const ERROR_SAMPLES_PER_TEXEL: usize = 32;
@@ -29,6 +40,38 @@ pub fn error_cosines(samples: usize) -> Vec<f64> {
 /// The midpoint rule of `error_cosines` as a quadrature (equal weights 1/M).
 pub fn midpoint_rule(samples: usize) -> AngleQuadrature {
     AngleQuadrature::of_nodes(error_cosines(samples), vec![1.0 / samples as f64; samples])
+}
+
+/// `rule` with the two ends of [0°, 90°] appended, θ = 90° (cos θ = 0) then θ = 0°
+/// (cos θ = 1), each of weight 0: the mean is the rule's, the maximum includes the ends.
+pub fn with_ends(rule: &AngleQuadrature) -> AngleQuadrature {
+    let mut cosines = rule.cosines.clone();
+    let mut weights = rule.weights.clone();
+    cosines.extend([0.0, 1.0]);
+    weights.extend([0.0, 0.0]);
+    AngleQuadrature::of_nodes(cosines, weights)
+}
+
+/// A reference's value per channel at the ends of [0°, 90°].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ends {
+    /// At θ = 90° (cos θ = 0).
+    pub grazing: [f64; 3],
+    /// At θ = 0° (cos θ = 1): F0.
+    pub normal: [f64; 3],
+}
+
+/// `exact` (SPEC §5.1) of each channel of `index` at the ends (F(0) = 1 for every index
+/// but vacuum, F(1) = F0 = ((n − 1)² + k²)/((n + 1)² + k²)).
+pub fn exact_ends(index: &ChannelIndex) -> Ends {
+    let at = |cos: f64| std::array::from_fn(|c| fresnel::ExactTerms::new(fresnel::sanitise(index[c])).reflectance(cos));
+    Ends { grazing: at(0.0), normal: at(1.0) }
+}
+
+/// A reference at the nodes of a rule followed by its values at the ends: the reference
+/// of [`with_ends`] of that rule.
+pub fn append_ends(at_nodes: &[Vec<f64>; 3], ends: &Ends) -> [Vec<f64>; 3] {
+    std::array::from_fn(|c| at_nodes[c].iter().copied().chain([ends.grazing[c], ends.normal[c]]).collect())
 }
 
 /// `exact` (SPEC §5.1) per channel at each cosine: the reference of the three-channel error.
@@ -59,6 +102,10 @@ pub struct LutError {
     pub max_absolute_rgb: f64,
     /// Per channel: samples left out of the mean because F_ref = 0 (relative error undefined).
     pub excluded_zero_reference: [usize; 3],
+    /// Per channel: |F_lut − F_ref| at θ = 90° (cos θ = 0), where the sampler returns texel
+    /// 0 — the silhouette's figure, part of `max_absolute`; null when the rule has no node
+    /// at cos θ = 0.
+    pub grazing_absolute: Option<[f64; 3]>,
 }
 
 /// The linear-filter taps of an N-texel LUT at each cosine of a rule
@@ -107,12 +154,16 @@ pub fn lut_error_with_taps(decoded: &[Vec<f64>; 3], taps: &Taps, rule: &AngleQua
         mean_relative[c] = (sums.counted > 0).then(|| sums.sum / sums.weight);
     }
     let present: Vec<f64> = mean_relative.iter().flatten().copied().collect();
+    let grazing = rule.cosines.iter().position(|&c| c == 0.0);
+    let grazing_absolute = grazing
+        .map(|j| std::array::from_fn(|c| (fresnel::sample_lut(&decoded[c], 0.0) - reference[c].get(j).copied().unwrap_or(0.0)).abs()));
     LutError {
         mean_relative,
         mean_relative_rgb: (!present.is_empty()).then(|| present.iter().sum::<f64>() / present.len() as f64),
         max_absolute,
         max_absolute_rgb: max_absolute.iter().copied().fold(0.0, f64::max),
         excluded_zero_reference: excluded,
+        grazing_absolute,
     }
 }
 
@@ -205,10 +256,130 @@ fn channel_sums_in_blocks<const C: usize>(
     sums
 }
 
+/// What a recommended size × encoding must meet, on the row's own exact curve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RecommendationBound {
+    /// `max_absolute_rgb` (θ = 90° included) at most this.
+    pub max_absolute: f64,
+    /// `mean_relative_rgb` at most this (a row whose reference is 0 everywhere has none
+    /// and meets it).
+    pub mean_relative: f64,
+}
+
+/// The default bound: 1 % of reflectance at worst (the silhouette included), 1 % relative
+/// on average.
+pub const RECOMMENDATION_BOUND: RecommendationBound = RecommendationBound { max_absolute: 0.01, mean_relative: 0.01 };
+
+/// Smallest and largest power-of-two width tried besides the bake's own.
+pub const MIN_CANDIDATE_SIZE: usize = 16;
+pub const MAX_CANDIDATE_SIZE: usize = 1024;
+
+/// The widths a recommendation tries: the powers of two from [`MIN_CANDIDATE_SIZE`] to
+/// [`MAX_CANDIDATE_SIZE`] and the bake's own `size`, ascending.
+pub fn candidate_sizes(size: usize) -> Vec<usize> {
+    let mut sizes: Vec<usize> = std::iter::successors(Some(MIN_CANDIDATE_SIZE), |s| (*s < MAX_CANDIDATE_SIZE).then_some(s * 2)).collect();
+    sizes.push(size.max(1));
+    sizes.sort_unstable();
+    sizes.dedup();
+    sizes
+}
+
+/// GPU bytes of one row of `size` texels in `encoding`: RGBA (WebGPU and Vulkan have no
+/// three-channel formats) × bytes per channel × width.
+pub fn gpu_bytes(encoding: Encoding, size: usize) -> usize {
+    4 * encoding.bytes_per_channel() * size
+}
+
+/// One size × encoding that meets the bound, with its figures.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Choice {
+    pub size: usize,
+    pub encoding: String,
+    /// [`gpu_bytes`]: the cost the list is sorted by.
+    pub gpu_bytes: usize,
+    /// `max_absolute_rgb` of that texture (θ = 90° included).
+    pub max_absolute_rgb: f64,
+    pub mean_relative_rgb: Option<f64>,
+}
+
+/// The rules and filter taps every row's candidates are measured with, made once per bake:
+/// for each candidate width N, the midpoint rule of `error_samples(N)` with the ends — the
+/// rule of a row's `error_vs_exact` at that width — and its taps.
+#[derive(Clone, Debug)]
+pub struct Candidates {
+    /// Distinct rules (widths up to 128 share one of 4096 samples).
+    rules: Vec<AngleQuadrature>,
+    /// Per candidate width: (width, index into `rules`, taps).
+    sizes: Vec<(usize, usize, Taps)>,
+}
+
+impl Candidates {
+    pub fn new(size: usize) -> Self {
+        let mut rules: Vec<(usize, AngleQuadrature)> = Vec::new();
+        let mut sizes = Vec::new();
+        for n in candidate_sizes(size) {
+            let samples = error_samples(n);
+            let r = match rules.iter().position(|(m, _)| *m == samples) {
+                Some(r) => r,
+                None => {
+                    rules.push((samples, with_ends(&midpoint_rule(samples))));
+                    rules.len() - 1
+                }
+            };
+            sizes.push((n, r, Taps::new(n, &rules[r].1.cosines)));
+        }
+        Candidates { rules: rules.into_iter().map(|(_, rule)| rule).collect(), sizes }
+    }
+
+    /// Every candidate (width, encoding) of a row whose exact curve is that of `index`,
+    /// with its error against that curve: widths ascending, encodings in [`Encoding::ALL`] order.
+    pub fn errors(&self, index: &ChannelIndex) -> Vec<(usize, Encoding, LutError)> {
+        let references: Vec<[Vec<f64>; 3]> = self.rules.iter().map(|rule| exact_reference(index, &rule.cosines)).collect();
+        let mut out = Vec::with_capacity(self.sizes.len() * Encoding::ALL.len());
+        for (n, r, taps) in &self.sizes {
+            let curve = exact_reference(index, &nklut_optics::encoding::texel_cosines(*n));
+            for encoding in Encoding::ALL {
+                let decoded = deinterleave(&quantise(encoding, &curve).texels.decode(encoding));
+                out.push((*n, encoding, lut_error_with_taps(&decoded, taps, &self.rules[*r], &references[*r])));
+            }
+        }
+        out
+    }
+}
+
+/// Whether `error` meets `bound`.
+pub fn meets(error: &LutError, bound: &RecommendationBound) -> bool {
+    error.max_absolute_rgb <= bound.max_absolute && error.mean_relative_rgb.is_none_or(|m| m <= bound.mean_relative)
+}
+
+/// From candidate errors (as [`Candidates::errors`] lists them): per encoding, the smallest
+/// width that meets `bound`; cheapest first ([`gpu_bytes`]), then the smaller maximum, then
+/// the encoding's order. Empty when no candidate meets it.
+pub fn recommend(errors: &[(usize, Encoding, LutError)], bound: &RecommendationBound) -> Vec<Choice> {
+    let mut choices: Vec<(Encoding, Choice)> = Vec::new();
+    for encoding in Encoding::ALL {
+        let smallest = errors.iter().filter(|(_, e, error)| *e == encoding && meets(error, bound)).min_by_key(|(n, _, _)| *n);
+        if let Some((n, _, error)) = smallest {
+            choices.push((
+                encoding,
+                Choice {
+                    size: *n,
+                    encoding: encoding.name().into(),
+                    gpu_bytes: gpu_bytes(encoding, *n),
+                    max_absolute_rgb: error.max_absolute_rgb,
+                    mean_relative_rgb: error.mean_relative_rgb,
+                },
+            ));
+        }
+    }
+    choices
+        .sort_by(|(ea, a), (eb, b)| a.gpu_bytes.cmp(&b.gpu_bytes).then(a.max_absolute_rgb.total_cmp(&b.max_absolute_rgb)).then(ea.cmp(eb)));
+    choices.into_iter().map(|(_, c)| c).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bake::texel::{quantise, Encoding};
     use nklut_optics::encoding::texel_cosines;
     use nklut_optics::spectrum::Index;
 
@@ -298,5 +469,101 @@ mod tests {
         assert_eq!(e.mean_relative, [None; 3]);
         assert_eq!(e.mean_relative_rgb, None);
         assert_eq!(e.excluded_zero_reference, [16; 3]);
+    }
+    /// Unpolarised Fresnel reflectance of a dielectric, written out from the amplitude
+    /// coefficients (Born & Wolf §1.5): rs = (c − w)/(c + w), rp = (n²c − w)/(n²c + w),
+    /// w = √(n² − 1 + c²).
+    fn dielectric(n: f64, c: f64) -> f64 {
+        let w = (n * n - 1.0 + c * c).sqrt();
+        let (rs, rp) = ((c - w) / (c + w), (n * n * c - w) / (n * n * c + w));
+        0.5 * (rs * rs + rp * rp)
+    }
+
+    /// At θ = 90° the sampler holds texel 0 = F(0.5/N) while exact F is 1: the silhouette's
+    /// error, larger than at any interior sample of a steep (dielectric) row.
+    #[test]
+    fn the_maximum_includes_the_silhouette() {
+        let glass = [Index::new(1.5, 0.0); 3];
+        let size = 64;
+        let curve = glass.map(|i| texel_cosines(size).iter().map(|&c| fresnel::exact(i.n, i.k, c)).collect::<Vec<_>>());
+        let decoded = deinterleave(&quantise(Encoding::F32, &curve).texels.decode(Encoding::F32));
+        let interior = midpoint_rule(error_samples(size));
+        let ends = with_ends(&interior);
+        assert_eq!(ends.cosines.len(), interior.cosines.len() + 2);
+        let with = lut_error(&decoded, &ends, &exact_reference(&glass, &ends.cosines));
+        let without = lut_error(&decoded, &interior, &exact_reference(&glass, &interior.cosines));
+        let by_hand = 1.0 - dielectric(1.5, 0.5 / size as f64);
+        for c in 0..3 {
+            let grazing = with.grazing_absolute.unwrap()[c];
+            assert!((grazing - by_hand).abs() < 1e-6, "{grazing} vs {by_hand}");
+            assert_eq!(with.max_absolute[c], grazing);
+            // The nearest interior sample, θ = 90°·(1 − 1/(2M)), falls 2.5 % short of it.
+            assert!(without.max_absolute[c] < 0.99 * grazing, "{} vs {grazing}", without.max_absolute[c]);
+        }
+        // Weight 0: the ends leave the mean alone.
+        assert_eq!(with.mean_relative, without.mean_relative);
+        assert_eq!(without.grazing_absolute, None);
+        // F0 of glass n = 1.5: ((n − 1)/(n + 1))² = 0.04; at grazing 1.
+        let e = exact_ends(&glass);
+        assert!((e.normal[0] - 0.04).abs() < 1e-15 && (e.grazing[0] - 1.0).abs() < 1e-15, "{e:?}");
+    }
+
+    #[test]
+    fn candidate_widths_are_powers_of_two_and_the_bakes_own() {
+        assert_eq!(candidate_sizes(256), vec![16, 32, 64, 128, 256, 512, 1024]);
+        assert_eq!(candidate_sizes(100), vec![16, 32, 64, 100, 128, 256, 512, 1024]);
+        assert_eq!(candidate_sizes(4096).last(), Some(&4096));
+        assert_eq!(gpu_bytes(Encoding::F32, 256), 4096);
+        assert_eq!(gpu_bytes(Encoding::Unorm8Srgb, 64), 256);
+    }
+
+    /// Per encoding the smallest width that meets the bound, cheapest first, ties to the
+    /// smaller maximum; encodings that never meet it are left out.
+    #[test]
+    fn recommend_picks_the_smallest_width_per_encoding_cheapest_first() {
+        let error = |max: f64, mean: f64| LutError {
+            mean_relative: [Some(mean); 3],
+            mean_relative_rgb: Some(mean),
+            max_absolute: [max; 3],
+            max_absolute_rgb: max,
+            excluded_zero_reference: [0; 3],
+            grazing_absolute: None,
+        };
+        let bound = RecommendationBound { max_absolute: 0.01, mean_relative: 0.01 };
+        let errors = vec![
+            (32, Encoding::Unorm8, error(0.02, 0.001)),
+            (64, Encoding::Unorm8, error(0.009, 0.005)),
+            (128, Encoding::Unorm8, error(0.004, 0.004)),
+            (32, Encoding::Unorm8Srgb, error(0.005, 0.02)),
+            (64, Encoding::Unorm8Srgb, error(0.008, 0.009)),
+            (32, Encoding::F16, error(0.009, 0.001)),
+            (32, Encoding::Unorm16, error(0.2, 0.5)),
+            (16, Encoding::F32, error(0.011, 0.001)),
+            (32, Encoding::F32, error(0.001, 0.0001)),
+        ];
+        let got: Vec<(usize, String, usize)> = recommend(&errors, &bound).into_iter().map(|c| (c.size, c.encoding, c.gpu_bytes)).collect();
+        // unorm8-srgb@64 (256 B, max 0.008) before unorm8@64 (256 B, 0.009); f16@32 256 B
+        // and 0.009 ties unorm8@64 on both: encoding order; f32@32 512 B last.
+        assert_eq!(
+            got,
+            vec![(64, "unorm8-srgb".into(), 256), (64, "unorm8".into(), 256), (32, "f16".into(), 256), (32, "f32".into(), 512)]
+        );
+        assert!(recommend(&errors, &RecommendationBound { max_absolute: 1e-6, mean_relative: 1e-6 }).is_empty());
+    }
+
+    /// The candidates' figures at the bake's width are `lut_error` on the rule with ends.
+    #[test]
+    fn candidates_at_a_width_are_that_widths_error() {
+        let gold = [Index::new(0.18, 3.4), Index::new(0.5, 2.2), Index::new(1.3, 1.9)];
+        let errors = Candidates::new(48).errors(&gold);
+        assert_eq!(errors.len(), candidate_sizes(48).len() * 5);
+        let rule = with_ends(&midpoint_rule(error_samples(48)));
+        let curve = exact_reference(&gold, &texel_cosines(48));
+        for encoding in Encoding::ALL {
+            let decoded = deinterleave(&quantise(encoding, &curve).texels.decode(encoding));
+            let want = lut_error(&decoded, &rule, &exact_reference(&gold, &rule.cosines));
+            let got = &errors.iter().find(|(n, e, _)| *n == 48 && *e == encoding).unwrap().2;
+            assert_eq!(got, &want, "{}", encoding.name());
+        }
     }
 }

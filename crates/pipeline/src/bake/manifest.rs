@@ -1,6 +1,9 @@
 //! `luts/manifest.json` and `luts/README.md`: everything an engine needs to use the
 //! textures without this code (SPEC §7). Plain serde structs; `Vec`s only, so the JSON
-//! has a stable order, and no timestamps.
+//! has a stable order, and no timestamps. Per row it carries F0 (exact Fresnel at
+//! normal incidence, SPEC §5.1: ((n − 1)² + k²)/((n + 1)² + k²) per channel), the error
+//! figures of `accuracy` (their maximum includes θ = 90°, the silhouette) and the
+//! recommended size × encoding (`accuracy::recommend`).
 
 use serde::Serialize;
 
@@ -9,13 +12,15 @@ use nklut_optics::color;
 use nklut_optics::db::Reason;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
 
-use super::accuracy::LutError;
+use super::accuracy::{Choice, LutError, RecommendationBound};
 use super::texel::Encoding;
 use super::{Layout, Source};
 
 /// Bumped when a field changes meaning or disappears (2: `channels` became
-/// `channel_wavelengths`, per-set `color_meaning`, per-row (n, k) and data file, `color`).
-pub const FORMAT_VERSION: u32 = 2;
+/// `channel_wavelengths`, per-set `color_meaning`, per-row (n, k) and data file, `color`;
+/// 3: `max_absolute` includes θ = 0° and 90°, per-row `f0`, `f0_source`, `recommended`,
+/// `grazing_absolute` and the top-level `recommendation`).
+pub const FORMAT_VERSION: u32 = 3;
 
 /// How to read the 16-bit PNGs without losing bits.
 pub const SIXTEEN_BIT_PNG_NOTE: &str = "unorm16 PNGs store 16 bits per channel, big-endian as PNG requires. Many loaders silently reduce them to 8 bits: Pillow (PIL) opens 16-bit RGB as 8-bit 'RGB', OpenCV's default cv2.imread flag converts to 8 bits. Read them with a 16-bit path, e.g. Python cv2.imread(path, cv2.IMREAD_UNCHANGED) (uint16, channels in B G R order: reverse them), pypng png.Reader(filename=path).asDirect(), or Rust image/png crates (Rgb16); check that the values you get go up to 65535 and divide by 65535.";
@@ -36,6 +41,8 @@ pub struct Manifest {
     pub sixteen_bit_png: String,
     pub row_order: String,
     pub error: ErrorDefinition,
+    /// How `rows[].recommended` is chosen.
+    pub recommendation: RecommendationDefinition,
     pub sources: Vec<Described>,
     pub encodings: Vec<EncodingInfo>,
     pub layouts: Vec<Described>,
@@ -146,6 +153,16 @@ pub struct ErrorDefinition {
     pub error_vs_spectral: String,
 }
 
+/// The rule behind `rows[].recommended`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RecommendationDefinition {
+    pub definition: String,
+    pub bound: RecommendationBound,
+    /// The texture widths tried.
+    pub sizes: Vec<usize>,
+    pub cost: String,
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Described {
     pub name: String,
@@ -212,6 +229,19 @@ pub struct RowEntry {
     /// The effective (n, k) per channel (the effective source); null only for rows baked
     /// through the library API without it.
     pub index_fitted: Option<Vec<ChannelIndexEntry>>,
+    /// F0 per channel: exact Fresnel (SPEC 5.1) of `index_three_channel` at normal
+    /// incidence (cos θ = 1), the reference of `error_vs_exact` there. Not the last texel,
+    /// which holds F at cos θ = 1 − 0.5/N.
+    pub f0: [f64; 3],
+    /// F of this set's source at normal incidence: `f0` for three-channel, exact Fresnel of
+    /// `index_fitted` for effective, the spectral reference colour at θ = 0 for spectral
+    /// (may exceed 1); null where the bake did not compute it.
+    pub f0_source: Option<[f64; 3]>,
+    /// Sizes × encodings that reproduce this source's exact curve within
+    /// `recommendation.bound`: per encoding the smallest width that does, cheapest first
+    /// (`recommendation.cost`); the first is the recommendation. Empty when none does;
+    /// null for the spectral source (see `recommendation.definition`).
+    pub recommended: Option<Vec<Choice>>,
     /// This page's strip, relative to the manifest; null without the strip layout.
     pub strip_file: Option<String>,
     /// Texels of this row with a channel clamped to [0, 1].
@@ -268,11 +298,17 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
     ErrorDefinition {
         definition: "Per channel, with F_lut the LUT model on the decoded texels (decode, linear filtering, clamp-to-edge): \
                      mean_relative = mean of |F_lut - F_ref| / F_ref over theta uniform in [0, 90] degrees (samples with \
-                     F_ref = 0 excluded and counted); max_absolute = max |F_lut - F_ref|. *_rgb: mean (relative) or max \
-                     (absolute) of the three channels (SPEC 6)."
+                     F_ref = 0 excluded and counted); max_absolute = max |F_lut - F_ref| over the samples and the two ends \
+                     theta = 0 and theta = 90 degrees; grazing_absolute = |F_lut - F_ref| at theta = 90 degrees (cos_theta = 0, \
+                     the silhouette, where clamp(dot(N, V), 0, 1) gives 0, the sampler returns texel 0 and exact F is 1): \
+                     for steep rows the largest error of all. *_rgb: mean (relative) or max (absolute) of the three channels \
+                     (SPEC 6)."
             .into(),
         samples,
-        quadrature: format!("midpoint rule: theta_j = (j + 0.5) * 90 deg / {samples}, j = 0..{samples}-1 (M = clamp(32 N, 4096, 262144))"),
+        quadrature: format!(
+            "midpoint rule: theta_j = (j + 0.5) * 90 deg / {samples}, j = 0..{samples}-1 (M = clamp(32 N, 4096, 262144)), \
+             plus theta = 90 and 0 degrees with weight 0 (in the maximum, not in the mean)"
+        ),
         error_vs_exact: "F_ref = exact Fresnel (SPEC 5.1) of the page's three-channel (n, k) at the channel wavelengths; for \
                          the three-channel source this is the sampling + quantisation error alone"
             .into(),
@@ -283,7 +319,7 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
              midpoint rule above but on the colour module's angle quadrature: composite Gauss-Legendre in theta, \
              {} equal panels of [0, 90] degrees x {} nodes = {spectral_samples} nodes, mean_relative weighted by the \
              Gauss-Legendre weights (renormalised over the nodes with F_ref > 0), max_absolute the largest difference at \
-             those nodes (a lower bound of the true maximum). The rule resolves errors that are smooth in theta, such as \
+             those nodes and at theta = 0 and 90 degrees (a lower bound of the true maximum between nodes). The rule resolves errors that are smooth in theta, such as \
              the three-channel index approximation (SPEC 4) and the effective fit residual (about 4 significant \
              digits, as tested in the colour module); it does not resolve the texel-scale sampling error between texel \
              centres, which error_vs_exact measures densely. For the spectral source in an integer encoding it \
@@ -291,6 +327,28 @@ pub fn error_definition(samples: usize, spectral_samples: usize) -> ErrorDefinit
             color::angle_average::PANELS,
             color::angle_average::NODES
         ),
+    }
+}
+
+/// The rule of `rows[].recommended` for a bake of `size` texels per row.
+pub fn recommendation_definition(size: usize) -> RecommendationDefinition {
+    let bound = super::accuracy::RECOMMENDATION_BOUND;
+    RecommendationDefinition {
+        definition: format!(
+            "For each encoding, the smallest width N among `sizes` whose texture reproduces the set's source curve with \
+             max_absolute_rgb <= {} (theta = 90 degrees included) and mean_relative_rgb <= {}, measured as error_vs_exact \
+             is (same rule and definitions, at that N) against the exact Fresnel curve of the source: index_three_channel \
+             for three-channel, index_fitted for effective (so at the bake's own N the figures equal error_vs_exact of \
+             the three-channel sets). Null for the spectral source, whose reference is a 471-wavelength sum per angle: \
+             use its page's effective row, whose curve is fitted to it. Bake again with --size N to get a recommended \
+             width other than this one.",
+            bound.max_absolute, bound.mean_relative
+        ),
+        bound,
+        sizes: super::accuracy::candidate_sizes(size),
+        cost: "gpu_bytes = 4 channels (RGBA: WebGPU and Vulkan have no 3-channel formats) x bytes per channel x N; \
+               cheapest first, then the smaller max_absolute_rgb"
+            .into(),
     }
 }
 
@@ -420,6 +478,13 @@ pub fn readme(manifest: &Manifest) -> String {
     line(&format!("Quadrature: {}.", manifest.error.quadrature));
     line(&format!("Reference: {}.", manifest.error.error_vs_exact));
     line(&format!("`error_vs_spectral`: {}.", manifest.error.error_vs_spectral));
+    line("");
+    line("Each row also names `f0` (exact F at normal incidence per channel; the last texel is F at cos_theta = 1 - 0.5/N, not F0) and `f0_source` (the set's source at normal incidence).");
+    line("");
+    line("## Recommended size and encoding (manifest `rows[].recommended`)");
+    line("");
+    line(&manifest.recommendation.definition);
+    line(&format!("Widths tried: {:?}. Cost: {}.", manifest.recommendation.sizes, manifest.recommendation.cost));
     line("");
     line("## Tables (paths relative to this folder)");
     if manifest.tables.is_empty() {

@@ -193,6 +193,10 @@ pub struct Row {
     /// Share of the spectral reference's luminance weight held outside the data (None
     /// without a spectral reference).
     pub extrapolated_share: Option<f64>,
+    /// The spectral reference at θ = 90° and θ = 0° (its F0): the ends of
+    /// `error_vs_spectral`'s rule and the spectral source's `f0_source` (None: not computed;
+    /// `error_vs_spectral` then stays on the quadrature's nodes alone).
+    pub spectral_ends: Option<accuracy::Ends>,
 }
 
 /// What to bake. Lists are kept in the given order; `normalise` sorts and dedups them.
@@ -278,6 +282,47 @@ struct Cell {
     error_vs_spectral: Option<LutError>,
 }
 
+/// One row's figures that do not depend on the encoding, per source in plan order: F0 of
+/// the source and the recommended encodings (None where the source has no exact curve).
+struct RowFigures {
+    f0_source: Vec<Option<[f64; 3]>>,
+    recommended: Vec<Option<Vec<accuracy::Choice>>>,
+}
+
+/// The exact (n, k) behind a source's curve, where it has one: the three-channel index,
+/// or the fitted one of the effective source; the spectral source is a 471-wavelength sum.
+fn exact_index(source: Source, row: &Row) -> Option<ChannelIndex> {
+    match source {
+        Source::ThreeChannel => Some(row.index),
+        Source::Effective => row.fitted,
+        Source::Spectral => None,
+    }
+}
+
+/// F0 of every source and the recommendations of those with an exact curve, per row.
+fn row_figures(rows: &[Row], plan: &Plan) -> Vec<RowFigures> {
+    let candidates = accuracy::Candidates::new(plan.size);
+    rows.par_iter()
+        .map(|row| RowFigures {
+            f0_source: plan
+                .sources
+                .iter()
+                .map(|&source| match source {
+                    Source::Spectral => row.spectral_ends.map(|e| e.normal),
+                    _ => exact_index(source, row).map(|index| accuracy::exact_ends(&index).normal),
+                })
+                .collect(),
+            recommended: plan
+                .sources
+                .iter()
+                .map(|&source| {
+                    exact_index(source, row).map(|index| accuracy::recommend(&candidates.errors(&index), &accuracy::RECOMMENDATION_BOUND))
+                })
+                .collect(),
+        })
+        .collect()
+}
+
 fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
     ensure!(!rows.is_empty(), "nothing to bake: no rows");
     let mut stems = BTreeMap::new();
@@ -291,6 +336,13 @@ fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
         for reference in row.spectral.iter().flatten() {
             ensure!(reference.len() == nodes, "{}: spectral reference of {} values for {nodes} nodes", row.page, reference.len());
             ensure!(reference.iter().all(|v| v.is_finite()), "{}: spectral reference has a non-finite value", row.page);
+        }
+        if let Some(ends) = &row.spectral_ends {
+            ensure!(
+                ends.grazing.iter().chain(&ends.normal).all(|v| v.is_finite()),
+                "{}: spectral reference has a non-finite value at an end",
+                row.page
+            );
         }
     }
     // Unique ignoring case, so that the strips also survive case-insensitive file systems.
@@ -323,22 +375,26 @@ pub fn strip_stems(rows: &[Row]) -> Vec<String> {
 /// three-channel index (reference computed once per row) and, where the row has it,
 /// against its spectral reference.
 fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
-    let midpoint = accuracy::midpoint_rule(accuracy::error_samples(plan.size));
-    let (midpoint_taps, node_taps) =
-        (accuracy::Taps::new(plan.size, &midpoint.cosines), accuracy::Taps::new(plan.size, &color::angle_quadrature().cosines));
+    let midpoint = accuracy::with_ends(&accuracy::midpoint_rule(accuracy::error_samples(plan.size)));
+    let nodes = color::angle_quadrature();
+    let nodes_with_ends = accuracy::with_ends(nodes);
+    let midpoint_taps = accuracy::Taps::new(plan.size, &midpoint.cosines);
+    let (node_taps, node_taps_with_ends) =
+        (accuracy::Taps::new(plan.size, &nodes.cosines), accuracy::Taps::new(plan.size, &nodes_with_ends.cosines));
     rows.par_iter()
         .map(|row| {
             let reference = accuracy::exact_reference(&row.index, &midpoint.cosines);
+            let spectral = row.spectral.as_ref().map(|s| match &row.spectral_ends {
+                Some(ends) => (accuracy::append_ends(s, ends), &node_taps_with_ends, &nodes_with_ends),
+                None => (s.clone(), &node_taps, nodes),
+            });
             sets.iter()
                 .map(|&(source, encoding)| {
                     let quantised = texel::quantise(encoding, &row.curves[source]);
                     let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
                     Cell {
                         error: accuracy::lut_error_with_taps(&decoded, &midpoint_taps, &midpoint, &reference),
-                        error_vs_spectral: row
-                            .spectral
-                            .as_ref()
-                            .map(|s| accuracy::lut_error_with_taps(&decoded, &node_taps, color::angle_quadrature(), s)),
+                        error_vs_spectral: spectral.as_ref().map(|(s, taps, rule)| accuracy::lut_error_with_taps(&decoded, taps, rule, s)),
                         quantised,
                     }
                 })
@@ -362,7 +418,7 @@ fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -
     plan.validate()?;
     check_rows(rows, plan)?;
     let sets = plan.sets();
-    let cells = cells(rows, plan, &sets);
+    let (cells, figures) = rayon::join(|| cells(rows, plan, &sets), || row_figures(rows, plan));
     let strips = plan.layouts.contains(&Layout::Strip);
     let atlas = plan.layouts.contains(&Layout::Atlas);
     let stems = strip_stems(rows);
@@ -389,7 +445,7 @@ fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -
             })
             .collect()
     };
-    let (files, finished) = rayon::join(encode, || finish(build_manifest(rows, &stems, plan, &sets, &cells, strips, atlas)));
+    let (files, finished) = rayon::join(encode, || finish(build_manifest(rows, &stems, plan, &sets, (&cells, &figures), strips, atlas)));
     Ok((files?, finished))
 }
 
@@ -402,7 +458,7 @@ fn build_manifest(
     stems: &[String],
     plan: &Plan,
     sets: &[(usize, Encoding)],
-    cells: &[Vec<Cell>],
+    (cells, figures): (&[Vec<Cell>], &[RowFigures]),
     strips: bool,
     atlas: bool,
 ) -> Manifest {
@@ -433,9 +489,9 @@ fn build_manifest(
                 }),
                 rows: rows
                     .iter()
-                    .zip(cells)
+                    .zip(cells.iter().zip(figures))
                     .enumerate()
-                    .map(|(r, (row, cell))| RowEntry {
+                    .map(|(r, (row, (cell, figures)))| RowEntry {
                         row: r,
                         page: row.page.clone(),
                         names: row.names.clone(),
@@ -443,6 +499,9 @@ fn build_manifest(
                         data_file: row.data_file.clone(),
                         index_three_channel: manifest::index_entries(&row.index, Some(&plan.channels)),
                         index_fitted: row.fitted.as_ref().map(|f| manifest::index_entries(f, None)),
+                        f0: accuracy::exact_ends(&row.index).normal,
+                        f0_source: figures.f0_source[source],
+                        recommended: figures.recommended[source].clone(),
                         strip_file: strips.then(|| strip_path(&folder, &stems[r], encoding)),
                         clamped_texels: cell[s].quantised.clamped,
                         error_vs_exact: cell[s].error.clone(),
@@ -465,6 +524,7 @@ fn build_manifest(
                     page is its rows[].row"
             .into(),
         error: manifest::error_definition(accuracy::error_samples(plan.size), color::angle_quadrature().cosines.len()),
+        recommendation: manifest::recommendation_definition(plan.size),
         sources: plan.sources.iter().map(|&s| manifest::source_info(s)).collect(),
         encodings: plan.encodings.iter().map(|&e| manifest::encoding_info(e)).collect(),
         layouts: plan.layouts.iter().map(|&l| manifest::layout_info(l)).collect(),
@@ -539,6 +599,7 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan, memo: &color::CurveMemo, fits: &co
                 Source::Effective => exact_curve(&fitted, plan.size),
                 _ => reference.curve(source, page, plan.size, memo),
             };
+            let ends = reference.spectrum.curve(&[0.0, 1.0]);
             Row {
                 page: page.id(),
                 names: page.names.clone(),
@@ -549,6 +610,7 @@ pub fn rows(pages: &[&KeptPage], plan: &Plan, memo: &color::CurveMemo, fits: &co
                 curves: plan.sources.iter().map(|&s| curve(s)).collect(),
                 extrapolated_share: Some(reference.extrapolated_share),
                 spectral: Some(reference.at_nodes),
+                spectral_ends: Some(accuracy::Ends { grazing: ends[0], normal: ends[1] }),
             }
         })
         .collect()
@@ -643,6 +705,7 @@ mod tests {
                 curves: vec![exact_curve(&glass, size)],
                 spectral: None,
                 extrapolated_share: None,
+                spectral_ends: None,
             },
             Row {
                 page: "main/Y/a:b".into(),
@@ -654,6 +717,7 @@ mod tests {
                 curves: vec![bright],
                 spectral: None,
                 extrapolated_share: None,
+                spectral_ends: None,
             },
         ]
     }
