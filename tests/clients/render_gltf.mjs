@@ -1,7 +1,7 @@
 // Renders every material of a glTF export in a real glTF client — three.js (npm `three`) in
 // headless Chromium through SwiftShader's WebGL2 — and measures what it shows.
 //
-// Usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--timeout SECONDS]
+// Usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--blocks DIR] [--timeout SECONDS]
 //
 // GLTF_FILE holds one sphere node per material, named by page id (`3d/glass/BK7`). The page
 // tests/clients/render.html renders each top-level node alone, centred at the origin, seen
@@ -49,6 +49,12 @@
 //                          (both see the same environment, and three.js's split-sum term
 //                          F0·A + B at normal incidence has B ≈ 0).
 //
+// With --blocks DIR (the `params/` folder of the same run), each node whose page has a
+// paste-in file there also has its three.js block (`engines.threejs`) evaluated literally in
+// the page and rendered the same way on a sphere of the node's size modelled at scale 1
+// (the block's thickness is in mesh units): results.json → blocks[node name] holds the same
+// measurements, and <node>__threejs_block.png the image.
+//
 // and what three.js loaded (MeshPhysicalMaterial's properties: transmission, roughness,
 // metalness, ior, thickness, attenuation_distance — the string "Infinity" when unset —,
 // attenuation_color, specular_*, dispersion, and the glTF material's name and extensions).
@@ -65,7 +71,7 @@
 
 import { createServer } from 'node:http';
 import { createRequire } from 'node:module';
-import { mkdtempSync, mkdirSync, readFileSync, rmSync, writeFileSync, statSync, createReadStream } from 'node:fs';
+import { mkdtempSync, mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync, statSync, createReadStream } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, extname, join, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -78,17 +84,19 @@ const chromiumPath = process.env.NKLUT_CHROMIUM || '/usr/bin/chromium';
 
 function usage(message) {
   console.error(`render_gltf: ${message}`);
-  console.error('usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--timeout SECONDS]');
+  console.error('usage: node tests/clients/render_gltf.mjs GLTF_FILE OUT_DIR [--only NAME,...] [--blocks DIR] [--timeout SECONDS]');
   process.exit(2);
 }
 
 const positional = [];
 let only = null;
 let timeoutSeconds = 180;
+let blocksDir = null;
 for (let i = 2; i < process.argv.length; i++) {
   const arg = process.argv[i];
   if (arg === '--only') only = (process.argv[++i] ?? usage('--only needs a list')).split(',').filter(Boolean);
   else if (arg === '--timeout') timeoutSeconds = Number(process.argv[++i]);
+  else if (arg === '--blocks') blocksDir = resolve(process.argv[++i] ?? usage('--blocks needs a folder'));
   else if (arg.startsWith('--')) usage(`unknown option ${arg}`);
   else positional.push(arg);
 }
@@ -291,7 +299,16 @@ async function main() {
   const wanted = only ?? setup.nodes;
   const missing = wanted.filter((name) => !setup.nodes.includes(name));
   if (missing.length) throw new Error(`no node named ${missing.join(', ')} in ${gltfFile}`);
+  // The three.js block of each page, by page id, from the paste-in files.
+  const threeBlocks = new Map();
+  if (blocksDir) {
+    for (const file of readdirSync(blocksDir).filter((f) => f.endsWith('.json')).sort()) {
+      const paste = JSON.parse(readFileSync(join(blocksDir, file), 'utf8'));
+      if (typeof paste?.engines?.threejs === 'string') threeBlocks.set(paste.page, paste.engines.threejs);
+    }
+  }
   const materials = {};
+  const blocks = {};
   for (const name of wanted) {
     const index = setup.nodes.indexOf(name);
     const t0 = Date.now();
@@ -303,6 +320,12 @@ async function main() {
       `render_gltf: ${name}: contrast ${r.contrast.toFixed(3)}, mean ${r.mean_linear_rgb.map((v) => v.toFixed(3)).join(' ')}, ` +
         `hue ${r.hue_degrees.toFixed(0)}° chroma ${r.chroma.toFixed(3)} (${Date.now() - t0} ms)`,
     );
+    const text = threeBlocks.get(name);
+    if (text !== undefined) {
+      const block = await bounded(page.evaluate((i, t) => window.harness.renderBlock(i, t), index, text), `rendering the three.js block of ${name}`);
+      writeFileSync(join(outDir, `${name.replaceAll('/', '__')}__threejs_block.png`), Buffer.from(block.png, 'base64'));
+      blocks[name] = block.result;
+    }
   }
   if (problems.length) throw new Error(`the page reported: ${problems.join('; ')}`);
 
@@ -313,6 +336,7 @@ async function main() {
     size: setup.size,
     seconds: (Date.now() - started) / 1000,
     materials,
+    blocks,
   };
   writeFileSync(join(outDir, 'results.json'), JSON.stringify(results, null, 1) + '\n');
   await shutDown(true);

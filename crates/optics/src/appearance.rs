@@ -3,7 +3,10 @@
 //! e^(−αx)) and its inverse, the absorption depth δ = λ/(4πk), the distance over which
 //! light falls to 1/e. By the depths at the channel wavelengths a material is
 //!
-//! - a **metal** (a conductor: k ≥ 1 somewhere in 390–700 nm, `spectrum::Kind`);
+//! - a **metal**: a conductor (k ≥ 1 somewhere in 390–700 nm, `spectrum::Kind`) whose
+//!   every channel is absorbed within the thin limit. A conductor by that rule whose some
+//!   channel passes (PbI2, a yellow crystal: k ≥ 1 in the violet, k = 0 in the red) is
+//!   classed by its depths like a dielectric instead — the depths come first;
 //! - **opaque**: every channel is absorbed within the thin limit ([`THIN_LIMIT_M`], 1 mm:
 //!   a 1 mm sheet passes less than 1/e, a 1 cm object less than e⁻¹⁰) — silicon (δ of
 //!   0.4–33 µm in the visible) and soot (about 0.1 µm) look like a mirror-dark solid, not
@@ -22,7 +25,7 @@
 
 use crate::color::spectral::reflectance_spectrum_rgb;
 use crate::db::PageData;
-use crate::spectrum::{index_held, spectral_wavelength_nm, ChannelIndex, Channels, Kind, SPECTRAL_SAMPLES};
+use crate::spectrum::{index_held, spectral_wavelength_nm, ChannelIndex, Channels, Kind, SPECTRAL_SAMPLES, VISIBLE_NM};
 
 /// The thin limit: absorbed within it in every channel, a material is opaque.
 pub const THIN_LIMIT_M: f64 = 1e-3;
@@ -75,15 +78,17 @@ pub fn absorption_depth_m(k: f64, nm: f64) -> f64 {
 }
 
 /// The class of a material from its kind and its absorption depths at the channel
-/// wavelengths.
+/// wavelengths: a conductor absorbed within the thin limit in every channel is a metal;
+/// anything else is classed by its depths.
 pub fn classify(kind: Kind, depths_m: [f64; 3]) -> Appearance {
-    if kind == Kind::Conductor {
-        return Appearance::Metal;
-    }
     let deepest = depths_m.iter().copied().fold(0.0, f64::max);
     let shallowest = depths_m.iter().copied().fold(f64::INFINITY, f64::min);
     if deepest < THIN_LIMIT_M {
-        Appearance::Opaque
+        if kind == Kind::Conductor {
+            Appearance::Metal
+        } else {
+            Appearance::Opaque
+        }
     } else if shallowest < SCENE_SCALE_M.1 {
         Appearance::Tinted
     } else {
@@ -101,6 +106,28 @@ pub struct Volume {
     /// For a tinted material: the distance D (m, the smallest channel depth) and the linear
     /// sRGB of the spectral transmittance e^(−α(λ)D).
     pub attenuation: Option<Attenuation>,
+    /// The largest k over 390–700 nm (every nanometre, k held beyond the data) and where.
+    pub k_peak: KPeak,
+}
+
+/// The largest extinction coefficient of a page over the visible range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KPeak {
+    pub k: f64,
+    pub nm: f64,
+}
+
+/// The largest k over 390–700 nm at every whole nanometre (the first where it ties).
+pub fn k_peak(data: &PageData) -> KPeak {
+    let (lo, hi) = (VISIBLE_NM.0 as usize, VISIBLE_NM.1 as usize);
+    (lo..=hi).map(|nm| nm as f64).fold(KPeak { k: 0.0, nm: VISIBLE_NM.0 }, |best, nm| {
+        let k = index_held(data, nm).k;
+        if k > best.k {
+            KPeak { k, nm }
+        } else {
+            best
+        }
+    })
 }
 
 /// The colour white light turns after `distance_m` in a medium.
@@ -108,6 +135,68 @@ pub struct Volume {
 pub struct Attenuation {
     pub distance_m: f64,
     pub colour: [f64; 3],
+}
+
+/// The least transmittance an exported attenuation colour channel takes: a channel the
+/// colour matrix sends to 0 or below (an out-of-gamut spectrum) would make −ln(c) infinite;
+/// at 10⁻⁶ the channel is black to any display and its coefficient finite (13.8/D).
+pub const MIN_TRANSMITTANCE: f64 = 1e-6;
+
+impl Attenuation {
+    /// The colour every export writes: each channel clamped to [[`MIN_TRANSMITTANCE`], 1]
+    /// (a transmittance is at most 1; the linear sRGB of a saturated spectrum can leave it).
+    pub fn exported_colour(&self) -> [f64; 3] {
+        self.colour.map(|c| if c.is_nan() { MIN_TRANSMITTANCE } else { c.clamp(MIN_TRANSMITTANCE, 1.0) })
+    }
+
+    /// The absorption coefficient per channel σ_c = −ln(c)/D (per metre) of the exported
+    /// colour c at the distance D: KHR_materials_volume's definition (and three.js',
+    /// Filament's `absorption`, Unity HDRP's), so that white light keeps e^(−σx) = c^(x/D)
+    /// after x metres. Finite and ≥ 0.
+    pub fn coefficients_per_m(&self) -> [f64; 3] {
+        self.exported_colour().map(|c| (-c.ln()).max(0.0) / self.distance_m)
+    }
+
+    /// What white light keeps per channel after `x_m` metres: e^(−σ_c x).
+    pub fn transmittance(&self, x_m: f64) -> [f64; 3] {
+        self.coefficients_per_m().map(|sigma| (-sigma * x_m).exp())
+    }
+
+    /// The same medium as Blender's Volume Absorption node.
+    pub fn volume_absorption(&self) -> VolumeAbsorption {
+        VolumeAbsorption::from_coefficients(self.coefficients_per_m())
+    }
+}
+
+/// Blender's Volume Absorption node (Cycles and EEVEE): a medium whose absorption
+/// coefficient per channel is (1 − Color_c)·Density per scene unit (Cycles'
+/// `svm_node_closure_volume`: the closure weight of an absorption volume is
+/// (1 − color)·density). Its colour is therefore *not* a transmittance: the colour whose
+/// coefficients are σ_c is Density = max_c σ_c, Color_c = 1 − σ_c/Density, which
+/// keeps every channel in [0, 1] and reproduces σ exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VolumeAbsorption {
+    pub colour: [f64; 3],
+    /// Per metre (a scene whose unit is the metre).
+    pub density: f64,
+}
+
+impl VolumeAbsorption {
+    /// Density = max σ, Color = 1 − σ/max σ; a medium that absorbs nothing is white at
+    /// density 0.
+    pub fn from_coefficients(sigma: [f64; 3]) -> Self {
+        let density = sigma.iter().copied().fold(0.0, f64::max);
+        if density > 0.0 {
+            Self { colour: sigma.map(|s| (1.0 - s / density).clamp(0.0, 1.0)), density }
+        } else {
+            Self { colour: [1.0; 3], density: 0.0 }
+        }
+    }
+
+    /// (1 − Color_c)·Density: what Blender absorbs per scene unit.
+    pub fn coefficients(&self) -> [f64; 3] {
+        self.colour.map(|c| (1.0 - c) * self.density)
+    }
 }
 
 /// The volume of a page whose channel indices at `channels` are `index`.
@@ -119,7 +208,7 @@ pub fn volume(data: &PageData, kind: Kind, index: &ChannelIndex, channels: &Chan
         let distance_m = depths_m.iter().copied().fold(f64::INFINITY, f64::min);
         Attenuation { distance_m, colour: transmittance_rgb(data, distance_m) }
     });
-    Volume { appearance, depths_m, attenuation }
+    Volume { appearance, depths_m, attenuation, k_peak: k_peak(data) }
 }
 
 /// Linear sRGB of the spectral transmittance e^(−4πk(λ)x/λ) over `distance_m`, the page's
@@ -169,11 +258,49 @@ mod tests {
         // A flat dielectric (k = 0) is transparent; a conductor is a metal whatever its depths.
         assert_eq!(classify(Kind::Dielectric, depths([0.0; 3])), Appearance::Transparent);
         assert_eq!(classify(Kind::Conductor, depths([3.7, 2.2, 1.8])), Appearance::Metal);
+        // A conductor by the k ≥ 1 rule whose red passes: PbI2 (k = 0 at 685 nm, 0.33 at
+        // 535 nm: δ = 0.13 µm, k ≥ 1 only in the violet) is classed by its depths.
+        assert_eq!(classify(Kind::Conductor, depths([0.0, 0.33, 0.6])), Appearance::Tinted);
+        assert_eq!(classify(Kind::Conductor, depths([1e-9, 1e-9, 1e-9])), Appearance::Transparent);
         // The boundaries: exactly the scene scale is transparent, just below it tinted.
         assert_eq!(classify(Kind::Dielectric, [1.0, 2.0, 3.0]), Appearance::Transparent);
         assert_eq!(classify(Kind::Dielectric, [0.999, 2.0, 3.0]), Appearance::Tinted);
         assert_eq!(classify(Kind::Dielectric, [0.999e-3, 0.5e-3, 1e-6]), Appearance::Opaque);
         assert_eq!(classify(Kind::Dielectric, [1e-3, 0.5e-3, 1e-6]), Appearance::Tinted);
+    }
+
+    /// Blender's Volume Absorption absorbs (1 − Color)·Density: with Density = max σ and
+    /// Color = 1 − σ/max σ a slab of x passes what glTF's pair (c, D) gives, c^(x/D);
+    /// by hand with c = (0.4, 0.75, 0.7) at D = 2 cm.
+    #[test]
+    fn volume_absorption_reproduces_the_gltf_transmittance() {
+        let a = Attenuation { distance_m: 0.02, colour: [0.4, 0.75, 0.7] };
+        // σ = −ln(c)/D: red −ln 0.4 / 0.02 = 45.814 537 /m.
+        let sigma = a.coefficients_per_m();
+        assert!((sigma[0] - 45.814_536_593_707_76).abs() < 1e-9, "{sigma:?}");
+        let blender = a.volume_absorption();
+        assert_eq!(blender.density, sigma[0]);
+        assert_eq!(blender.colour[0], 0.0);
+        // Green: 1 − ln 0.75 / ln 0.4 = 1 − 0.313 963 = 0.686 037.
+        assert!((blender.colour[1] - (1.0 - 0.75f64.ln() / 0.4f64.ln())).abs() < 1e-15);
+        for x in [0.0, 0.02, 0.05, 0.3] {
+            let expected = a.colour.map(|c| c.powf(x / 0.02));
+            let slab = blender.coefficients().map(|s| (-s * x).exp());
+            for c in 0..3 {
+                assert!((slab[c] - expected[c]).abs() < 1e-12, "{x}: {slab:?} vs {expected:?}");
+            }
+        }
+        // The old reading (Color = c, Density = 1/D) lets through far more: red at 5 cm
+        // e^(−0.6·50·0.05) = 0.223 against 0.4^2.5 = 0.101.
+        let old = VolumeAbsorption { colour: a.colour, density: 1.0 / a.distance_m };
+        assert!(((-old.coefficients()[0] * 0.05).exp() - (-1.5f64).exp()).abs() < 1e-12);
+        // Out-of-range colours are clamped before the logarithm: finite, non-negative.
+        let wild = Attenuation { distance_m: 0.01, colour: [-0.02, 1.03, f64::NAN] };
+        let sigma = wild.coefficients_per_m();
+        assert!(sigma.iter().all(|s| s.is_finite() && *s >= 0.0), "{sigma:?}");
+        assert_eq!(sigma[1], 0.0);
+        assert!((sigma[0] - (-MIN_TRANSMITTANCE.ln()) / 0.01).abs() < 1e-9);
+        assert_eq!(VolumeAbsorption::from_coefficients([0.0; 3]), VolumeAbsorption { colour: [1.0; 3], density: 0.0 });
     }
 
     /// A medium of constant k transmits e^(−x/δ) of every wavelength's light, so its colour

@@ -14,7 +14,8 @@
 //!   that refracts, not a thin shell), `KHR_materials_dispersion` 20/V_d where the page
 //!   has an Abbe number (the extension's definition);
 //! - tinted: as transparent, with the volume's attenuationColor and attenuationDistance
-//!   (the colour white light turns after that distance, spectrally);
+//!   (the colour white light turns after that distance, spectrally; each channel clamped
+//!   to [10⁻⁶, 1] so that the extension's −ln(c)/d stays finite);
 //! - opaque dielectrics: no transmission, no diffuse (base colour black), the spectral F0
 //!   as the specular colour (`KHR_materials_specular` specularColorFactor = F0 over the
 //!   F0 the ior gives, so the two make F0).
@@ -95,7 +96,7 @@ pub fn material(page: &ExportPage) -> (Value, Vec<&'static str>) {
             extensions.insert("KHR_materials_transmission".into(), json!({ "transmissionFactor": 1.0 }));
             let mut volume = json!({ "thicknessFactor": 2.0 });
             if let Some(attenuation) = p.volume.attenuation {
-                volume["attenuationColor"] = json!(attenuation.colour.map(|v| v.clamp(0.0, 1.0)));
+                volume["attenuationColor"] = json!(attenuation.exported_colour());
                 volume["attenuationDistance"] = json!(attenuation.distance_m);
             }
             extensions.insert("KHR_materials_volume".into(), volume);

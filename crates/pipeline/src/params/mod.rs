@@ -9,6 +9,7 @@
 //! write `engine_params.{csv,parquet,json}` (+ columns.json), `materials.mtlx` and
 //! `materials.gltf` + `materials.bin` atomically.
 
+pub mod caveats;
 pub mod gltf;
 pub mod models;
 pub mod mtlx;
@@ -124,13 +125,15 @@ pub fn command(
     let mut timings = ParamsTimings::default();
     let memo = CurveMemo::load(out);
     let params = compute(&ingested.kept, &config.channels, &mut timings, &memo)?;
-    let mut files = table::engine_params_table(&ingested.kept, &params, settings).files("engine_params", true)?;
+    let caveats = caveats::caveats(&ingested.kept, &params);
+    let mut files = table::engine_params_table(&ingested.kept, &params, &caveats, settings).files("engine_params", true)?;
     let pages: Vec<mtlx::ExportPage> = ingested
         .kept
         .iter()
         .zip(mtlx::display_names(&ingested.kept))
         .zip(&params)
-        .map(|((page, display), params)| mtlx::ExportPage::new(page, display, params, settings))
+        .zip(caveats)
+        .map(|(((page, display), params), caveats)| mtlx::ExportPage::new(page, display, params, caveats, settings))
         .collect();
     files.push(SetFile::new("materials.mtlx", mtlx::document(&pages).into_bytes()));
     let scene = gltf::scene(&pages, "materials.bin", settings)?;

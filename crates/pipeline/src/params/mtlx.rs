@@ -7,25 +7,32 @@
 //!   base_metalness = 1, specular_color = F82 tint; transparent: base_metalness = 0,
 //!   specular_ior = n_d, transmission_weight = 1, and the dispersion's Abbe number where the
 //!   page has one; tinted: also transmission_color at transmission_depth (the volume's
-//!   colour); opaque dielectrics: no diffuse (base_weight 0), specular_ior = n_d. Colours
-//!   are clamped to [0, 1], their UI range.
+//!   colour); opaque dielectrics as metals: an opaque absorber reflects like a conductor
+//!   (no light comes back out of its volume), and base_color = F0 keeps its F0 with k's
+//!   share ((n − 1)² + k²)/((n + 1)² + k²) in every channel, which specular_ior = n_d
+//!   alone loses. Colours are clamped to [0, 1], their UI range (an attenuation colour to
+//!   [10⁻⁶, 1], `appearance::MIN_TRANSMITTANCE`).
 //! - `<id>_standard_surface`: Autodesk `standard_surface` with `base` 1 (its default 0.8
 //!   would darken metals by a fifth): metals through Gulbrandsen's reflectivity and edge
-//!   tint (base_color, specular_color), which its metal Fresnel is; dielectrics as OpenPBR.
+//!   tint (base_color, specular_color), which its metal Fresnel is (opaque dielectrics too);
+//!   transmissive dielectrics as OpenPBR.
 //! - `<id>_conductor`: `conductor_bsdf` with the fitted per-channel (n, k) — the channel's
 //!   own (n, k) where the fit ended on its search box.
 //! - `<id>_artistic`: `artistic_ior` (Gulbrandsen r, g) feeding a `conductor_bsdf`.
 //! - `<id>_generalized_schlick`: `generalized_schlick_bsdf` (color0 = F0, color82,
-//!   color90 = 1, exponent), values unclamped so the model is the one of the table.
+//!   color90 = 1, exponent), color0 clamped to [0, 1] and color82 recomputed for the
+//!   clamped color0 so that the model still meets the spectral curve at μ̄ = 1/7.
 //!
 //! The BSDF nodes take roughness as GGX α = r² in both directions. Each BSDF becomes a
 //! surface shader through the `surface` node. Names are the page id with every character
 //! other than A–Z, a–z, 0–9 and _ replaced by _, prefixed `nk_` (a second page with the
 //! same name gets `_2`, `_3`, …); `doc` holds the page id and its display name.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
+use super::caveats::Caveat;
+use super::models::GeneralizedSchlick;
 use super::page::EngineParams;
 use crate::ingest::KeptPage;
 use nklut_optics::appearance::Appearance;
@@ -42,11 +49,13 @@ pub struct ExportPage<'a> {
     pub params: &'a EngineParams,
     /// The roughness every export gives this page ([`super::ExportSettings`]).
     pub roughness: f64,
+    /// Where the data mislead ([`super::caveats`]).
+    pub caveats: Vec<Caveat>,
 }
 
 impl<'a> ExportPage<'a> {
     /// `display` is the page's entry of [`display_names`] over the run's pages.
-    pub fn new(page: &KeptPage, display: String, params: &'a EngineParams, settings: &super::ExportSettings) -> Self {
+    pub fn new(page: &KeptPage, display: String, params: &'a EngineParams, caveats: Vec<Caveat>, settings: &super::ExportSettings) -> Self {
         Self {
             page: page.id(),
             display,
@@ -54,6 +63,7 @@ impl<'a> ExportPage<'a> {
             kind: page.material.kind,
             params,
             roughness: settings.roughness(params.volume.appearance),
+            caveats,
         }
     }
 
@@ -68,33 +78,149 @@ pub const DISPLAY_CHARS: usize = 48;
 
 /// A page's short name: on the `3d` shelf, whose pages are materials, the catalog's page
 /// name ("Soda-lime glass - Green", "Gold (Au)"); elsewhere the book's name and the page
-/// ("Au (Gold), Johnson"). Long synonym lists stay in the `synonyms` column; a name past
-/// [`DISPLAY_CHARS`] is cut at a word and ends in "…".
+/// ("Au (Gold), Johnson"), the catalog's HTML made plain text ([`plain_text`]: "Al₂O₃").
+/// Long synonym lists stay in the `synonyms` column; a name past [`DISPLAY_CHARS`] is cut
+/// at a word and ends in "…".
 pub fn display_name(page: &KeptPage) -> String {
-    let p = &page.page;
-    let full = if p.shelf == "3d" { p.page_name.clone() } else { format!("{}, {}", p.book_name, p.page) };
-    shortened(&full, DISPLAY_CHARS)
+    shortened(&full_name(page), DISPLAY_CHARS)
 }
 
-/// The display names of a run's pages, one distinct name per page: a name two pages share
-/// gains the book's name ("Mercury (Hg), METALS" beside "Mercury (Hg), LIQUIDS"), and one
-/// still shared after that the page id, so that an engine's material list tells them apart.
+/// The uncut display name, plain text.
+fn full_name(page: &KeptPage) -> String {
+    let p = &page.page;
+    plain_text(&if p.shelf == "3d" { p.page_name.clone() } else { format!("{}, {}", p.book_name, p.page) })
+}
+
+/// The catalog's names as plain text: `<sub>…</sub>` and `<sup>…</sup>` become Unicode
+/// subscripts and superscripts where Unicode has every character of the group (digits,
+/// the signs `+ − = ( )` and the letters it has: "Al<sub>2</sub>O<sub>3</sub>" → "Al₂O₃",
+/// "(C<sub>6</sub>H<sub>10</sub>O<sub>5</sub>)<sub>n</sub>" → "(C₆H₁₀O₅)ₙ"), else their
+/// plain characters; every other tag is dropped, the five XML entities decoded, control
+/// characters and runs of white space read as one space.
+pub fn plain_text(html: &str) -> String {
+    let mut out = String::with_capacity(html.len());
+    let mut rest = html;
+    while let Some(open) = rest.find('<') {
+        out.push_str(&rest[..open]);
+        let after = &rest[open..];
+        let Some(close) = after.find('>') else {
+            out.push_str(after);
+            rest = "";
+            break;
+        };
+        let tag = after[1..close].trim().to_ascii_lowercase();
+        rest = &after[close + 1..];
+        if tag == "sub" || tag == "sup" {
+            let end_tag = format!("</{tag}>");
+            let (inner, remainder) = match rest.to_ascii_lowercase().find(&end_tag) {
+                Some(end) => (&rest[..end], &rest[end + end_tag.len()..]),
+                None => (rest, ""),
+            };
+            let inner = plain_text(inner);
+            let map = if tag == "sub" { subscript } else { superscript };
+            let mapped: Option<String> = inner.chars().map(map).collect();
+            out.push_str(&mapped.unwrap_or(inner));
+            rest = remainder;
+        }
+    }
+    out.push_str(rest);
+    let decoded = out.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"").replace("&apos;", "'").replace("&amp;", "&");
+    decoded.split(|c: char| c.is_whitespace() || c.is_control()).filter(|w| !w.is_empty()).collect::<Vec<_>>().join(" ")
+}
+
+/// The Unicode subscript of `c`, where it has one.
+fn subscript(c: char) -> Option<char> {
+    Some(match c {
+        '0'..='9' => char::from_u32(0x2080 + (c as u32 - '0' as u32))?,
+        '+' => '₊',
+        '-' | '−' => '₋',
+        '=' => '₌',
+        '(' => '₍',
+        ')' => '₎',
+        'a' => 'ₐ',
+        'e' => 'ₑ',
+        'o' => 'ₒ',
+        'x' => 'ₓ',
+        'h' => 'ₕ',
+        'k' => 'ₖ',
+        'l' => 'ₗ',
+        'm' => 'ₘ',
+        'n' => 'ₙ',
+        'p' => 'ₚ',
+        's' => 'ₛ',
+        't' => 'ₜ',
+        'i' => 'ᵢ',
+        'r' => 'ᵣ',
+        'u' => 'ᵤ',
+        'v' => 'ᵥ',
+        'j' => 'ⱼ',
+        _ => return None,
+    })
+}
+
+/// The Unicode superscript of `c`, where it has one.
+fn superscript(c: char) -> Option<char> {
+    Some(match c {
+        '0' => '⁰',
+        '1' => '¹',
+        '2' => '²',
+        '3' => '³',
+        '4'..='9' => char::from_u32(0x2074 + (c as u32 - '4' as u32))?,
+        '+' => '⁺',
+        '-' | '−' => '⁻',
+        '=' => '⁼',
+        '(' => '⁽',
+        ')' => '⁾',
+        'n' => 'ⁿ',
+        'i' => 'ⁱ',
+        _ => return None,
+    })
+}
+
+/// The display names of a run's pages, one distinct name per page, each at most
+/// [`DISPLAY_CHARS`] characters: a name two pages share gains the book's name ("Mercury
+/// (Hg), METALS" beside "Mercury (Hg), LIQUIDS"), the name cut to leave it room; one still
+/// shared after that gains " #2", " #3", … in page order (the first keeps its name), so
+/// that an engine's material list tells them apart.
 pub fn display_names(pages: &[KeptPage]) -> Vec<String> {
-    let first: Vec<String> = pages.iter().map(display_name).collect();
+    let full: Vec<String> = pages.iter().map(full_name).collect();
+    let first: Vec<String> = full.iter().map(|name| shortened(name, DISPLAY_CHARS)).collect();
+    let mut shared: HashMap<&str, usize> = HashMap::new();
+    for name in &first {
+        *shared.entry(name.as_str()).or_default() += 1;
+    }
     let with_book: Vec<String> = pages
         .iter()
+        .zip(&full)
         .zip(&first)
-        .map(|(page, name)| if count(&first, name) > 1 { format!("{name}, {}", page.page.book_name) } else { name.clone() })
+        .map(|((page, full), name)| {
+            if shared[name.as_str()] > 1 {
+                with_suffix(full, &format!(", {}", shortened(&plain_text(&page.page.book_name), DISPLAY_CHARS / 2)))
+            } else {
+                name.clone()
+            }
+        })
         .collect();
-    pages
-        .iter()
-        .zip(&with_book)
-        .map(|(page, name)| if count(&with_book, name) > 1 { format!("{name} [{}]", page.id()) } else { name.clone() })
+    let mut taken: HashSet<String> = HashSet::new();
+    with_book
+        .into_iter()
+        .map(|name| {
+            let mut candidate = name.clone();
+            let mut counter = 1;
+            while !taken.insert(candidate.clone()) {
+                counter += 1;
+                candidate = with_suffix(&name, &format!(" #{counter}"));
+            }
+            candidate
+        })
         .collect()
 }
 
-fn count(names: &[String], name: &str) -> usize {
-    names.iter().filter(|n| *n == name).count()
+/// `stem` + `suffix` within [`DISPLAY_CHARS`], the stem cut ([`shortened`]) to leave the
+/// suffix its room.
+fn with_suffix(stem: &str, suffix: &str) -> String {
+    let room = DISPLAY_CHARS.saturating_sub(suffix.chars().count()).max(2);
+    format!("{}{suffix}", shortened(stem, room))
 }
 
 /// `text` cut to at most `chars` characters at a word boundary, "…" marking the cut.
@@ -113,7 +239,7 @@ pub fn shortened(text: &str, chars: usize) -> String {
         out.push_str(word);
     }
     if out.is_empty() {
-        out = text.chars().take(chars - 1).collect();
+        out = text.chars().take(chars.saturating_sub(1)).collect();
     }
     out.push('…');
     out
@@ -202,7 +328,9 @@ pub fn openpbr_inputs(page: &ExportPage) -> Vec<(&'static str, &'static str, Str
     let mut inputs: Vec<(&str, &str, String)> = vec![("specular_roughness", "float", page.roughness.to_string())];
     let ior = p.dielectric.map(|d| d.n_d.max(1.0));
     match p.volume.appearance {
-        Appearance::Metal => {
+        // An opaque absorber reflects like a conductor: the metal path keeps its F0 (k's
+        // share included) per channel, which specular_ior = n_d alone would lose.
+        Appearance::Metal | Appearance::Opaque => {
             inputs.push(("base_weight", "float", "1".into()));
             inputs.push(("base_color", "color3", color3(unit(p.f0))));
             inputs.push(("base_metalness", "float", "1".into()));
@@ -215,20 +343,12 @@ pub fn openpbr_inputs(page: &ExportPage) -> Vec<(&'static str, &'static str, Str
             }
             inputs.push(("transmission_weight", "float", "1".into()));
             if let Some(attenuation) = p.volume.attenuation {
-                inputs.push(("transmission_color", "color3", color3(unit(attenuation.colour))));
+                inputs.push(("transmission_color", "color3", color3(attenuation.exported_colour())));
                 inputs.push(("transmission_depth", "float", attenuation.distance_m.to_string()));
             }
             if let Some(abbe) = p.dielectric.and_then(|d| d.abbe) {
                 inputs.push(("transmission_dispersion_scale", "float", "1".into()));
                 inputs.push(("transmission_dispersion_abbe_number", "float", abbe.to_string()));
-            }
-        }
-        Appearance::Opaque => {
-            // No diffuse light leaves a bulk absorber: only the specular layer, at its ior.
-            inputs.push(("base_weight", "float", "0".into()));
-            inputs.push(("base_metalness", "float", "0".into()));
-            if let Some(ior) = ior {
-                inputs.push(("specular_ior", "float", ior.to_string()));
             }
         }
     }
@@ -256,24 +376,20 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
     let mut inputs: Vec<(&str, &str, String)> =
         vec![("base", "float", "1".into()), ("specular_roughness", "float", page.roughness.to_string())];
     match p.volume.appearance {
-        Appearance::Metal => {
+        Appearance::Metal | Appearance::Opaque => {
             inputs.push(("metalness", "float", "1".into()));
             inputs.push(("base_color", "color3", color3(p.gulbrandsen.map(|g| g.r))));
             inputs.push(("specular_color", "color3", color3(p.gulbrandsen.map(|g| g.g))));
         }
-        appearance => {
+        Appearance::Transparent | Appearance::Tinted => {
             inputs.push(("metalness", "float", "0".into()));
             if let Some(d) = p.dielectric {
                 inputs.push(("specular_IOR", "float", d.n_d.max(1.0).to_string()));
             }
-            if appearance.transmits() {
-                inputs.push(("transmission", "float", "1".into()));
-                if let Some(attenuation) = p.volume.attenuation {
-                    inputs.push(("transmission_color", "color3", color3(unit(attenuation.colour))));
-                    inputs.push(("transmission_depth", "float", attenuation.distance_m.to_string()));
-                }
-            } else {
-                inputs[0] = ("base", "float", "0".into());
+            inputs.push(("transmission", "float", "1".into()));
+            if let Some(attenuation) = p.volume.attenuation {
+                inputs.push(("transmission_color", "color3", color3(attenuation.exported_colour())));
+                inputs.push(("transmission_depth", "float", attenuation.distance_m.to_string()));
             }
         }
     }
@@ -323,7 +439,10 @@ fn page_materials(w: &mut Writer, name: &str, page: &ExportPage) {
     );
 
     let schlick = format!("{name}_generalized_schlick");
-    let g = &p.generalized_schlick;
+    // color0 clamped to [0, 1] like every exported colour; color82 follows it so that the
+    // model still meets the spectral curve at μ̄ (the table's color82 is for the unclamped F0).
+    let fitted = &p.generalized_schlick;
+    let g = &GeneralizedSchlick::through_edge(unit(fitted.color0), p.reference_at_edge, fitted.exponent);
     w.node(
         "generalized_schlick_bsdf",
         &format!("{schlick}_bsdf"),
@@ -364,6 +483,26 @@ mod tests {
     fn names_are_valid_and_distinct() {
         let names = unique_names(["3d/metals/gold", "main/Au/Johnson", "3d/metals:gold", "a b/é"]);
         assert_eq!(names, ["nk_3d_metals_gold", "nk_main_Au_Johnson", "nk_3d_metals_gold_2", "nk_a_b__"]);
+    }
+
+    #[test]
+    fn catalog_html_becomes_plain_text() {
+        assert_eq!(plain_text("Al<sub>2</sub>O<sub>3</sub> (Aluminium oxide)"), "Al₂O₃ (Aluminium oxide)");
+        assert_eq!(plain_text("(C<sub>6</sub>H<sub>10</sub>O<sub>5</sub>)<sub>n</sub>"), "(C₆H₁₀O₅)ₙ");
+        assert_eq!(plain_text("Ga<sub>1-x</sub>Al<sub>x</sub>As"), "Ga₁₋ₓAlₓAs");
+        // A group Unicode cannot write keeps its plain characters.
+        assert_eq!(plain_text("Si<sub>0.5</sub>Ge<sup>2+</sup> <i>bulk</i>"), "Si0.5Ge²⁺ bulk");
+        assert_eq!(plain_text("a &amp; b\n\t c <b"), "a & b c <b");
+        assert_eq!(plain_text("x<sub>12"), "x₁₂");
+    }
+
+    #[test]
+    fn shortened_names_fit_and_keep_their_suffix() {
+        let long = "Polyvinylpyrrolidone thin film, spin-coated on silicon, annealed at 120 C";
+        let cut = with_suffix(long, ", ORGANIC MATERIALS");
+        assert!(cut.chars().count() <= DISPLAY_CHARS && cut.ends_with("…, ORGANIC MATERIALS"), "{cut}");
+        assert_eq!(shortened("abc", 3), "abc");
+        assert_eq!(shortened("abcdef", 3), "ab…");
     }
 
     #[test]

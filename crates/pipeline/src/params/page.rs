@@ -13,10 +13,10 @@
 //!   channel the mean of |F − F_ref|/F_ref.
 
 use super::models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
-use nklut_optics::appearance::{self, Volume};
+use nklut_optics::appearance::{self, Appearance, Volume};
 use nklut_optics::color::{self, acescg, srgb, AngleQuadrature, EffectiveIndex, Lab, PreparedSpectrum};
 use nklut_optics::fresnel::{self, ExactTerms};
-use nklut_optics::spectrum::{self, Channels, Index, Kind, Material};
+use nklut_optics::spectrum::{self, Channels, Index, Material};
 
 /// Fraunhofer lines of the Abbe number (nm): d (helium), F (hydrogen), C (hydrogen).
 pub const D_LINE_NM: f64 = 587.56;
@@ -211,10 +211,11 @@ pub fn dielectric(material: &Material) -> Option<Dielectric> {
 pub fn engine_params(material: &Material, reference: &Reference, rule: &AngleQuadrature, channels: &Channels) -> EngineParams {
     let f0 = reference.f0;
     let volume = appearance::volume(&material.data, material.kind, &material.channels, channels);
-    let dielectric = match material.kind {
-        Kind::Dielectric => dielectric(material).map(|d| Dielectric { abbe: d.abbe.filter(|_| volume.appearance.transmits()), ..d }),
-        Kind::Conductor => None,
-    };
+    // Every page that is not a metal has the dielectric's figures: a conductor by the
+    // k ≥ 1 rule that some channel passes is classed by its depths (`appearance::classify`).
+    let dielectric = (volume.appearance != Appearance::Metal)
+        .then(|| dielectric(material).map(|d| Dielectric { abbe: d.abbe.filter(|_| volume.appearance.transmits()), ..d }))
+        .flatten();
     let f82 = [0, 1, 2].map(|c| F82Tint::new(f0[c], reference.at_edge[c]));
     let gulbrandsen = [0, 1, 2].map(|c| Gulbrandsen::fit(f0[c], &reference.at_nodes[c], rule));
     let generalized_schlick = GeneralizedSchlick::fit(f0, reference.at_edge, &reference.at_nodes, rule);
@@ -300,7 +301,7 @@ mod tests {
     use super::*;
     use nklut_optics::color::{angle_quadrature, sample_spectrum};
     use nklut_optics::db::parse_page;
-    use nklut_optics::spectrum::{evaluate, Channels};
+    use nklut_optics::spectrum::{evaluate, Channels, Kind};
 
     /// A page with a constant (n, k) over 300–900 nm.
     fn flat(n: f64, k: f64) -> Material {

@@ -13,6 +13,11 @@ use super::mtlx::{openpbr_inputs, ExportPage};
 use nklut_optics::appearance::Appearance;
 use nklut_optics::color::srgb::hex_swatch;
 
+/// ((n − 1)/(n + 1))², a dielectric's F0.
+fn fresnel_f0(n: f64) -> f64 {
+    ((n - 1.0) / (n + 1.0)).powi(2)
+}
+
 /// A linear colour as "(r, g, b)" with 4 decimals, clamped to [0, 1] where `unit`.
 fn triple(rgb: [f64; 3], unit: bool) -> String {
     let v = rgb.map(|x| if unit { x.clamp(0.0, 1.0) } else { x });
@@ -43,6 +48,7 @@ pub fn page_json(page: &ExportPage) -> Value {
         "ior": p.dielectric.map(|d| d.n_d),
         "abbe": p.dielectric.and_then(|d| d.abbe),
         "attenuation": attenuation,
+        "caveats": page.caveats.iter().map(|c| json!({ "code": c.code, "text": c.text })).collect::<Vec<_>>(),
         "absorption_depth_m": p.volume.depths_m.map(|d| if d.is_finite() { Value::from(d) } else { Value::Null }),
         "conductor_index": { "n": p.exported_index().map(|i| i.n), "k": p.exported_index().map(|i| i.k) },
         "engines": blocks,
@@ -66,16 +72,67 @@ pub fn blocks(page: &ExportPage) -> Vec<(&'static str, String)> {
     TOOLS.iter().map(|&(tool, _)| (tool, block(tool, page))).collect()
 }
 
-/// `F0/0.08`, the Specular of Unreal and Godot (their F0 = 0.08 · Specular), with a note
-/// where it leaves [0, 1].
-fn specular_008(f0: f64) -> String {
-    let s = f0 / 0.08;
-    if s > 1.0 {
-        format!("{s:.3} (above the field's 1: F0 {f0:.3} > 0.08; enter 1 or the value where the field takes it)")
+/// The most F0 a dielectric's Specular of Unreal and Godot gives (F0 = 0.08 · Specular,
+/// Specular in [0, 1]).
+pub const SPECULAR_008_MAX_F0: f64 = 0.08;
+/// three.js' documented `ior` range of `MeshPhysicalMaterial` (three r187,
+/// src/materials/MeshPhysicalMaterial.js: "from 1.0 to 2.333").
+pub const THREE_IOR_RANGE: (f64, f64) = (1.0, 2.333);
+/// The thickness the blocks give a refractive object (m): the 5 cm the exports' spheres
+/// measure and the tinted class is judged at.
+pub const OBJECT_THICKNESS_M: f64 = 0.05;
+/// Significant digits of the blocks' distances, densities and coefficients: a relative
+/// rounding error of at most 5·10⁻⁶ (half a unit in the sixth digit).
+pub const SIGNIFICANT_DIGITS: usize = 6;
+
+/// `x` with [`SIGNIFICANT_DIGITS`] significant digits, as plain decimals between 10⁻³ and
+/// 10⁶ and in exponent notation (`3.64123e-4`, valid JavaScript, GLSL, Python and C)
+/// outside; trailing zeros dropped. Never prints a non-zero number as 0.
+pub fn significant(x: f64) -> String {
+    if !x.is_finite() || x == 0.0 {
+        return format!("{x}");
+    }
+    let exponent = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&exponent) {
+        let decimals = (SIGNIFICANT_DIGITS as i32 - 1 - exponent).max(0) as usize;
+        let text = format!("{x:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        }
     } else {
-        format!("{s:.3}")
+        let text = format!("{x:.prec$e}", prec = SIGNIFICANT_DIGITS - 1);
+        let (mantissa, exp) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+        format!("{mantissa}e{exp}")
     }
 }
+
+/// Three numbers with [`significant`] digits, "(a, b, c)".
+fn triple_significant(v: [f64; 3]) -> String {
+    format!("({}, {}, {})", significant(v[0]), significant(v[1]), significant(v[2]))
+}
+
+/// `F0/0.08`, the Specular of Unreal and Godot (their F0 = 0.08 · Specular), clamped to the
+/// field's [0, 1] with a note where the page's F0 is above what the field gives.
+fn specular_008(f0: f64) -> String {
+    let s = f0 / SPECULAR_008_MAX_F0;
+    if s > 1.0 {
+        format!("1 (the field's largest, F0 0.08; this page's F0 {f0:.4} is above it: the reflection is weaker than the material's)")
+    } else {
+        format!("{:.4}", s.max(0.0))
+    }
+}
+
+/// What a transmissive page's volume passes through a piece [`OBJECT_THICKNESS_M`] thick:
+/// c^(x/D) of the exported attenuation colour, white without attenuation.
+fn through_object(page: &ExportPage) -> [f64; 3] {
+    page.params.volume.attenuation.map_or([1.0; 3], |a| a.transmittance(OBJECT_THICKNESS_M))
+}
+
+/// The line saying why an opaque dielectric takes the metal path.
+const OPAQUE_NOTE: &str = "an opaque absorber reflects like a conductor (no light comes back out of its volume): metallic 1 with F0 as the colour keeps its F0, k's share included, in every channel";
 
 fn block(tool: &str, page: &ExportPage) -> String {
     let p = page.params;
@@ -88,47 +145,57 @@ fn block(tool: &str, page: &ExportPage) -> String {
     let attenuation = p.volume.attenuation;
     let appearance = p.volume.appearance;
     let ior_line = |label: &str| ior.map_or(String::new(), |ior| format!("{label}: {ior:.4}\n"));
+    let seen = through_object(page);
     match tool {
         "blender" => match appearance {
-            Appearance::Metal => format!(
-                "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
-                hex_swatch(f0),
-                triple(f0, true),
-                hex_swatch(tint),
-                triple(tint, true)
-            ),
+            Appearance::Metal | Appearance::Opaque => {
+                let mut text = format!(
+                    "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
+                    hex_swatch(f0),
+                    triple(f0, true),
+                    hex_swatch(tint),
+                    triple(tint, true)
+                );
+                if appearance == Appearance::Opaque {
+                    text.push_str(&format!("Note: {OPAQUE_NOTE}\n"));
+                }
+                text
+            }
             Appearance::Transparent | Appearance::Tinted => {
                 let mut text = format!("Base Color: #ffffff\nMetallic: 0\nRoughness: {r}\n{}Transmission Weight: 1\n", ior_line("IOR"));
                 if let Some(a) = attenuation {
+                    let v = a.volume_absorption();
                     text.push_str(&format!(
-                        "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {:.4} (1/distance in scene units of metres; the colour white light takes after {:.4} m)\n",
-                        hex_swatch(a.colour),
-                        triple(a.colour, true),
-                        1.0 / a.distance_m,
-                        a.distance_m
+                        "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {} (per scene unit, metres: the node absorbs (1 − Color)·Density, so Density = the largest absorption coefficient −ln(attenuation colour)/{} m and Color = 1 − coefficient/Density; a {} m piece then passes linear {})\n",
+                        hex_swatch(v.colour),
+                        triple_significant(v.colour),
+                        significant(v.density),
+                        significant(a.distance_m),
+                        OBJECT_THICKNESS_M,
+                        triple(seen, true)
                     ));
                 }
                 text
             }
-            Appearance::Opaque => {
-                let over_ior = f0.map(|v| v / ior.map_or(0.04, |n| ((n - 1.0) / (n + 1.0)).powi(2)));
-                format!(
-                    "Base Color: #000000 (no diffuse: light entering is absorbed)\nMetallic: 0\nRoughness: {r}\n{}Specular IOR Level: 0.5\nSpecular Tint: {} (linear {}: F0 over the F0 the IOR gives)\n",
-                    ior_line("IOR"),
-                    hex_swatch(over_ior),
-                    triple(over_ior, false)
-                )
-            }
         },
         "unreal" => match appearance {
-            Appearance::Metal => format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0)),
+            Appearance::Metal | Appearance::Opaque => {
+                let mut text = format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0));
+                if appearance == Appearance::Opaque {
+                    text.push_str(&format!(
+                        "Note: {OPAQUE_NOTE} (Specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
+                        f0_mean / SPECULAR_008_MAX_F0
+                    ));
+                }
+                text
+            }
             Appearance::Transparent | Appearance::Tinted => format!(
-                "Blend Mode: Translucent; Lighting Mode: Surface TranslucencyVolume\nBase Color: linear {}\nMetallic: 0\nRoughness: {r}\nSpecular: {}\n{}",
-                triple(attenuation.map_or([1.0; 3], |a| a.colour), true),
+                "Blend Mode: Translucent; Shading Model: Thin Translucent; Lighting Mode: Surface ForwardShading\nBase Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\nOpacity: 1 (the surface coverage; what passes is the Transmittance Color)\nThin Translucent Material output, Transmittance Color: linear {} (what a {} m piece passes at normal view)\n{}",
                 specular_008(f0_mean),
-                ior_line("Refraction (Index of Refraction mode)")
+                triple(seen, true),
+                OBJECT_THICKNESS_M,
+                ior_line("Refraction (Refraction Method: Index of Refraction)")
             ),
-            Appearance::Opaque => format!("Base Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\n", specular_008(f0_mean)),
         },
         "unity_hdrp" => match appearance {
             Appearance::Metal => {
@@ -137,7 +204,13 @@ fn block(tool: &str, page: &ExportPage) -> String {
             Appearance::Transparent | Appearance::Tinted => {
                 let mut text = format!("Surface Type: Transparent; Refraction Model: Sphere\nMetallic: 0\nSmoothness: {:.3}\n{}", 1.0 - r, ior_line("Index Of Refraction"));
                 if let Some(a) = attenuation {
-                    text.push_str(&format!("Transmittance Color: {} (linear {})\nAbsorption Distance: {:.4} (m)\n", hex_swatch(a.colour), triple(a.colour, true), a.distance_m));
+                    let colour = a.exported_colour();
+                    text.push_str(&format!(
+                        "Transmittance Color: {} (linear {})\nAbsorption Distance: {} (m)\n",
+                        hex_swatch(colour),
+                        triple_significant(colour),
+                        significant(a.distance_m)
+                    ));
                 }
                 text
             }
@@ -155,57 +228,95 @@ fn block(tool: &str, page: &ExportPage) -> String {
             };
             let mut text = String::from("new THREE.MeshPhysicalMaterial({\n");
             match appearance {
-                Appearance::Metal => {
+                Appearance::Metal | Appearance::Opaque => {
                     text.push_str(&colour("color", f0));
                     text.push_str(&format!("  metalness: 1,\n  roughness: {r},\n"));
+                    if appearance == Appearance::Opaque {
+                        text.push_str(&format!("  // {OPAQUE_NOTE}\n"));
+                    }
                 }
                 Appearance::Transparent | Appearance::Tinted => {
-                    text.push_str(&format!("  metalness: 0,\n  roughness: {r},\n  transmission: 1,\n  thickness: 0.05, // the object's thickness (m)\n"));
-                    if let Some(ior) = ior {
-                        text.push_str(&format!("  ior: {ior:.4},\n"));
+                    text.push_str(&format!(
+                        "  metalness: 0,\n  roughness: {r},\n  transmission: 1,\n  thickness: {OBJECT_THICKNESS_M}, // in the mesh's own units, which three.js scales by the object's world scale: {OBJECT_THICKNESS_M} for a {} cm object modelled in metres at scale 1\n",
+                        OBJECT_THICKNESS_M * 100.0
+                    ));
+                    if let Some(n) = ior {
+                        let shown = n.min(THREE_IOR_RANGE.1);
+                        text.push_str(&format!("  ior: {shown:.4},\n"));
+                        if n > THREE_IOR_RANGE.1 {
+                            // F0 of n_d kept through specularColor: three.js takes
+                            // min(F0(ior) · specularColor, 1).
+                            let scale = fresnel_f0(n) / fresnel_f0(shown);
+                            text.push_str(&format!(
+                                "  specularColor: new THREE.Color().setRGB({scale:.4}, {scale:.4}, {scale:.4}, THREE.LinearSRGBColorSpace), // n_d {n:.4} is above three.js' ior range (1 to {}): its F0 {:.4} kept as F0({}) × specularColor\n",
+                                THREE_IOR_RANGE.1,
+                                fresnel_f0(n),
+                                THREE_IOR_RANGE.1
+                            ));
+                        }
                     }
                     if let Some(a) = attenuation {
-                        text.push_str(&colour("attenuationColor", a.colour));
-                        text.push_str(&format!("  attenuationDistance: {:.4},\n", a.distance_m));
+                        let [x, y, z] = a.exported_colour();
+                        text.push_str(&format!(
+                            "  attenuationColor: new THREE.Color().setRGB({}, {}, {}, THREE.LinearSRGBColorSpace),\n",
+                            significant(x),
+                            significant(y),
+                            significant(z)
+                        ));
+                        text.push_str(&format!(
+                            "  attenuationDistance: {}, // world units (metres), {SIGNIFICANT_DIGITS} significant digits\n",
+                            significant(a.distance_m)
+                        ));
                     }
                     if let Some(abbe) = abbe {
                         text.push_str(&format!("  dispersion: {:.4}, // 20 / Abbe number {abbe:.2}\n", 20.0 / abbe));
                     }
-                }
-                Appearance::Opaque => {
-                    text.push_str("  color: new THREE.Color(0, 0, 0),\n  metalness: 0,\n");
-                    text.push_str(&format!("  roughness: {r},\n"));
-                    if let Some(ior) = ior {
-                        text.push_str(&format!("  ior: {ior:.4},\n"));
-                    }
-                    let from_ior = ior.map_or(0.04, |n| ((n - 1.0) / (n + 1.0)).powi(2));
-                    let [a, b, c] = f0.map(|v| v / from_ior);
-                    text.push_str(&format!("  specularColor: new THREE.Color().setRGB({a:.4}, {b:.4}, {c:.4}, THREE.LinearSRGBColorSpace), // F0 over the IOR's\n"));
                 }
             }
             text.push_str("});\n");
             text
         }
         "filament" => match appearance {
-            Appearance::Metal => format!("baseColor: {}\nmetallic: 1.0\nroughness: {r}\n", triple(f0, true)),
-            Appearance::Transparent | Appearance::Tinted => {
-                let mut text = format!("blending: opaque; refractionMode: solid; refractionType: solid\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}", ior_line("ior"));
-                if let Some(a) = attenuation {
-                    let absorption = a.colour.map(|t| -t.max(1e-6).ln() / a.distance_m);
-                    text.push_str(&format!("absorption: {} (−ln(transmittance colour) / distance, per metre)\n", triple(absorption, false)));
+            Appearance::Metal | Appearance::Opaque => {
+                let mut text = format!("baseColor: {}\nmetallic: 1.0\nroughness: {r}\n", triple(f0, true));
+                if appearance == Appearance::Opaque {
+                    text.push_str(&format!("Note: {OPAQUE_NOTE} (reflectance = √(F0/0.16) = {:.4} would give one grey F0, and at most 0.16 with reflectance in its [0, 1])\n", (f0_mean.max(0.0) / 0.16).sqrt()));
                 }
                 text
             }
-            Appearance::Opaque => format!("baseColor: (0, 0, 0)\nmetallic: 0.0\nroughness: {r}\nreflectance: {:.4} (√(F0/0.16))\n", (f0_mean / 0.16).sqrt()),
+            Appearance::Transparent | Appearance::Tinted => {
+                let mut text = format!(
+                    "material {{ blending: opaque; refractionMode: screenspace; refractionType: solid }} (refractionMode cubemap refracts the environment only)\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}thickness: {OBJECT_THICKNESS_M} (world units, metres: the object's thickness along the normal)\n",
+                    ior_line("ior")
+                );
+                if let Some(a) = attenuation {
+                    text.push_str(&format!(
+                        "absorption: {} (per metre: −ln(attenuation colour)/{} m; e^(−absorption·thickness) passes linear {})\n",
+                        triple_significant(a.coefficients_per_m()),
+                        significant(a.distance_m),
+                        triple(seen, true)
+                    ));
+                }
+                text
+            }
         },
         "godot" => match appearance {
-            Appearance::Metal => format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0)),
+            Appearance::Metal | Appearance::Opaque => {
+                let mut text = format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0));
+                if appearance == Appearance::Opaque {
+                    text.push_str(&format!(
+                        "Note: {OPAQUE_NOTE} (metallic_specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
+                        f0_mean / SPECULAR_008_MAX_F0
+                    ));
+                }
+                text
+            }
             Appearance::Transparent | Appearance::Tinted => format!(
-                "transparency: alpha; albedo_color: Color(\"{}\", 0.1)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
-                hex_swatch(attenuation.map_or([1.0; 3], |a| a.colour)),
+                "transparency: alpha; albedo_color: Color(\"{}\", 0.1) (the colour a {} m piece passes)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
+                hex_swatch(seen),
+                OBJECT_THICKNESS_M,
                 specular_008(f0_mean)
             ),
-            Appearance::Opaque => format!("albedo_color: Color(\"#000000\")\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\n", specular_008(f0_mean)),
         },
         "openpbr" => openpbr_inputs(page).into_iter().map(|(input, _, value)| format!("{input}: {value}\n")).collect(),
         "gltf" => {
@@ -213,5 +324,26 @@ fn block(tool: &str, page: &ExportPage) -> String {
             serde_json::to_string_pretty(&material).unwrap_or_default() + "\n"
         }
         _ => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn significant_digits_never_print_a_small_number_as_zero() {
+        assert_eq!(significant(0.000364123456), "3.64123e-4");
+        assert_eq!(significant(0.0112457), "0.0112457");
+        assert_eq!(significant(1.0), "1");
+        assert_eq!(significant(2.5e-9), "2.5e-9");
+        assert_eq!(significant(123456.7), "123457");
+        assert_eq!(significant(2.0e7), "2e7");
+        assert_eq!(significant(0.0), "0");
+        // The relative error of 6 significant digits is at most 5e-6.
+        for x in [3.64123456e-4, 9.99999e-5, 1.23456789, 0.0100000049, 7.7777777e3] {
+            let back: f64 = significant(x).parse().unwrap();
+            assert!((back / x - 1.0).abs() <= 5e-6, "{x} → {}", significant(x));
+        }
     }
 }

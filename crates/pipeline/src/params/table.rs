@@ -2,6 +2,7 @@
 //! `engine_params.columns.json` with its unit, its formula and the engine fields it goes
 //! into (so a report or a script can build a "paste it in" panel from the table alone).
 
+use super::caveats::{transparent_depth_limit_m, Caveat, LARGE_OBJECT_KEEPS, LARGE_OBJECT_M, LOW_K};
 use super::models::{EXPONENT_RANGE, GULBRANDSEN_MAX_R};
 use super::mtlx::{display_names, DISPLAY_CHARS};
 use super::page::{EngineModel, EngineParams, C_LINE_NM, D_LINE_NM, F_LINE_NM};
@@ -31,7 +32,7 @@ fn optional(table: &mut Table, rows: &[EngineParams], name: &str, meaning: &str,
 }
 
 /// The table of `rows` (one per page of `kept`, same order), with the exports' `settings`.
-pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams], settings: &ExportSettings) -> Table {
+pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams], caveats: &[Vec<Caveat>], settings: &ExportSettings) -> Table {
     let mut table = Table::new();
     table
         .text("page", "page id shelf/book/page", kept.iter().map(|p| p.id()).collect())
@@ -44,6 +45,14 @@ pub fn engine_params_table(kept: &[KeptPage], rows: &[EngineParams], settings: &
         .text("data_file", "data file relative to database/data/", kept.iter().map(|p| p.page.data.clone()).collect())
         .text("kind", "conductor or dielectric (as in materials.csv)", kept.iter().map(|p| p.material.kind.as_str().into()).collect());
     appearance_columns(&mut table, rows, settings);
+    table.text(
+        "caveats",
+        &format!(
+            "where the data mislead, '; '-separated 'code: sentence with the numbers' (empty for most pages): conductor_passes_light (a conductor by the k >= 1 rule that some channel passes, classed by its depths), opaque_low_k (opaque, yet k < {LOW_K} everywhere in 390-700 nm: a thin-film model's k), shared_data_file (a main-shelf page whose data file is another book's and listed under several books), transparent_absorbs (transparent, but a {LARGE_OBJECT_M} m piece keeps less than {LARGE_OBJECT_KEEPS} of a channel: its absorption depth is under {:.2} m, and a large piece looks tinted)",
+            transparent_depth_limit_m()
+        ),
+        caveats.iter().map(|list| list.iter().map(Caveat::line).collect::<Vec<_>>().join("; ")).collect(),
+    );
     f0_columns(&mut table, rows);
     model_columns(&mut table, rows);
     dielectric_columns(&mut table, rows);
@@ -55,7 +64,7 @@ fn appearance_columns(table: &mut Table, rows: &[EngineParams], settings: &Expor
     table.text(
         "appearance",
         &format!(
-            "what light does inside the material at a scene's size, from the absorption depths: metal (a conductor); opaque (every channel absorbed within {} mm); tinted (some channel within {} m, the largest size of the {}-{} m scene scale); transparent (every channel's depth at least {} m). The exports follow it (docs/engine-integration.md)",
+            "what light does inside the material at a scene's size, from the absorption depths: metal (a conductor absorbed within the thin limit in every channel; a conductor that a channel passes is classed by its depths); opaque (every channel absorbed within {} mm); tinted (some channel within {} m, the largest size of the {}-{} m scene scale); transparent (every channel's depth at least {} m). The exports follow it (docs/engine-integration.md)",
             THIN_LIMIT_M * 1e3,
             SCENE_SCALE_M.1,
             SCENE_SCALE_M.0,
@@ -246,7 +255,7 @@ fn dielectric_columns(table: &mut Table, rows: &[EngineParams]) {
         table,
         rows,
         "n_d",
-        &format!("dielectrics: n at the d line {D_LINE_NM} nm (empty for conductors, and where the data do not reach the d line; then no gltf_ior model either). Paste into: glTF KHR_materials_ior ior, OpenPBR specular_ior, Blender IOR, Unreal refraction"),
+        &format!("dielectrics: n at the d line {D_LINE_NM} nm (empty for metals, and where the data do not reach the d line; then no gltf_ior model either). Paste into: glTF KHR_materials_ior ior, OpenPBR specular_ior, Blender IOR, Unreal refraction"),
         |p| d(p).map(|x| x.n_d),
     );
     optional(table, rows, "n_F", &format!("dielectrics: n at the F line {F_LINE_NM} nm (empty where the data do not reach it)"), |p| {
@@ -275,7 +284,7 @@ fn error_columns(table: &mut Table, rows: &[EngineParams]) {
     for model in EngineModel::ALL {
         let name = model.name();
         let error = |p: &EngineParams| p.error(model).copied();
-        let applies = if model == EngineModel::GltfIor { " (dielectrics only; empty for conductors)" } else { "" };
+        let applies = if model == EngineModel::GltfIor { " (every page but the metals; empty for metals)" } else { "" };
         optional(
             table,
             rows,

@@ -321,12 +321,14 @@ fn params_section(html: &mut String, ctx: &Context, page: &str) {
         let _ = writeln!(paste, "{column} = {value}");
         table.row(vec![column.clone(), value]);
     }
-    let _ = write!(
-        html,
-        "<h2 id=\"paste\">Paste it in (engine_params.csv)</h2>\n{}<textarea class=\"paste\" readonly rows=\"8\">{}</textarea>\n",
-        table.html("params"),
-        escape(&paste)
-    );
+    html.push_str("<h2 id=\"paste\">Paste it in (engine_params.csv)</h2>\n");
+    // Where the data mislead: the `caveats` column, one line each, above the values.
+    if let Some(cell) = t.headers.iter().position(|h| h == "caveats").map(|i| &row[i]).filter(|c| !c.is_empty()) {
+        for caveat in cell.split("; ") {
+            let _ = writeln!(html, "<p class=\"note caveat\">Caveat: {}</p>", escape(caveat));
+        }
+    }
+    let _ = writeln!(html, "{}<textarea class=\"paste\" readonly rows=\"8\">{}</textarea>", table.html("params"), escape(&paste));
     // One block per tool, from the page's paste-in file (params/<name>.json).
     if let Some(engines) = ctx.inputs.paste.get(page).and_then(|p| p["engines"].as_object()) {
         html.push_str("<h3 id=\"paste-per-tool\">Per tool (params/ paste-in file)</h3>\n");
