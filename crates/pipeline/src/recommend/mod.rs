@@ -40,14 +40,7 @@ pub const CPU: &str = "CPU";
 
 /// The engine models of `engine_params.csv`: (column prefix, shader method a device times,
 /// where the parameters come from).
-pub const ENGINE_MODELS: [(&str, &str, &str); 6] = [
-    ("schlick", "schlick", "spectral F0"),
-    ("f82_tint", "f82_tint", "spectral F0 + F82 tint"),
-    ("gulbrandsen", "exact", "Gulbrandsen reflectivity + edge tint"),
-    ("generalized_schlick", "generalized_schlick", "spectral F0 + F82 colour + exponent"),
-    ("fitted_nk", "exact", "fitted (n, k)"),
-    ("gltf_ior", "schlick", "glTF ior (n_d)"),
-];
+pub use crate::report::findings::ENGINE_MODELS;
 
 /// The method errors of one page against its spectral reference.
 #[derive(Clone, Debug)]

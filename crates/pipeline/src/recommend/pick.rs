@@ -157,19 +157,7 @@ pub fn fmt_unit(u: TimeUnit) -> &'static str {
     }
 }
 
-/// Three significant digits, no exponent for the figures of these tables.
-pub fn fmt(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let digits = (2 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    let s = format!("{x:.digits$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+pub use crate::report::findings::sig3 as fmt;
 
 /// Ranking order of two passing picks (see the module's rules).
 fn rank(a: &(usize, Pick), b: &(usize, Pick)) -> std::cmp::Ordering {
@@ -306,18 +294,4 @@ fn others(
         clauses.push(clause);
     }
     clauses.join("; ")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fmt_keeps_three_significant_digits() {
-        assert_eq!(fmt(0.123456), "0.123");
-        assert_eq!(fmt(12.345), "12.3");
-        assert_eq!(fmt(1.0), "1");
-        assert_eq!(fmt(2500.0), "2500");
-        assert_eq!(fmt(0.000_512_3), "0.000512");
-    }
 }
