@@ -363,3 +363,222 @@ fn the_3d_shelf_picks_are_stable_and_their_figures_are_the_tables_rows() {
     assert_eq!(recs.text(gold_cpu, "method"), "lut");
     assert!(lut_picks > 0);
 }
+
+/// The quantile of sorted `v` at `q`, linear between order statistics.
+fn quantile(v: &[f64], q: f64) -> f64 {
+    let position = q * (v.len() - 1) as f64;
+    let (lo, hi) = (position.floor() as usize, position.ceil() as usize);
+    v[lo] + (v[hi] - v[lo]) * (position - lo as f64)
+}
+
+/// What a figure of the index's first screen must be, recomputed from the CSVs by its key.
+fn recompute(key: &str, out: &Path, devices: &Path) -> f64 {
+    let recs = load(out, "recommendations.csv");
+    let me = load(out, "method_errors.csv");
+    let engine = load(out, "engine_params.csv");
+    let colors = load(out, "colors.csv");
+    let costs = costs(out, devices);
+    let bound = num(&recs, &recs.rows[0], "bound_de2000");
+    let group = |r: &[String]| format!("{} ({})", recs.text(r, "method"), recs.text(r, "parameters_from"));
+    let parts: Vec<&str> = key.split(':').collect();
+    let sorted = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    match parts.as_slice() {
+        ["bound"] => bound,
+        ["pages", kind] => {
+            let mut p: Vec<&str> = recs.rows.iter().filter(|r| recs.text(r, "kind") == *kind).map(|r| recs.text(r, "page")).collect();
+            p.sort();
+            p.dedup();
+            p.len() as f64
+        }
+        ["pick-count", kind, device, g] => {
+            let rows: Vec<&Vec<String>> =
+                recs.rows.iter().filter(|r| recs.text(r, "kind") == *kind && recs.text(r, "device") == *device).collect();
+            let n = rows.iter().filter(|r| group(r) == *g).count();
+            // It is the most frequent pick there.
+            assert!(rows.iter().all(|r| rows.iter().filter(|s| group(s) == group(r)).count() <= n), "{key} is not the most frequent pick");
+            n as f64
+        }
+        ["picks-worst-de", kind, device] => recs
+            .rows
+            .iter()
+            .filter(|r| recs.text(r, "kind") == *kind && recs.text(r, "device") == *device)
+            .map(|r| num(&recs, r, "de2000_max"))
+            .fold(f64::NAN, f64::max),
+        ["picks-median-x", kind, device] => median(
+            recs.rows
+                .iter()
+                .filter(|r| recs.text(r, "kind") == *kind && recs.text(r, "device") == *device)
+                .map(|r| num(&recs, r, "cost_x_exact"))
+                .collect(),
+        ),
+        ["schlick-within"] => engine.rows.iter().filter(|r| num(&engine, r, "schlick_de2000_max") <= bound).count() as f64,
+        ["schlick-pages"] => engine.rows.len() as f64,
+        ["schlick-median", kind] => {
+            median(engine.rows.iter().filter(|r| engine.text(r, "kind") == *kind).map(|r| num(&engine, r, "schlick_de2000_max")).collect())
+        }
+        ["schlick-worst"] => engine.rows.iter().map(|r| num(&engine, r, "schlick_de2000_max")).fold(0.0, f64::max),
+        ["index-f0-median", kind] => {
+            median(colors.rows.iter().filter(|r| colors.text(r, "kind") == *kind).map(|r| num(&colors, r, "delta_e2000_f0")).collect())
+        }
+        ["index-f0-worst"] => colors.rows.iter().map(|r| num(&colors, r, "delta_e2000_f0")).fold(0.0, f64::max),
+        ["exact-within"] => me.rows.iter().filter(|r| me.text(r, "method") == "exact" && num(&me, r, "de2000_max") <= bound).count() as f64,
+        ["exact-pages"] => me.rows.iter().filter(|r| me.text(r, "method") == "exact").count() as f64,
+        ["lut-within" | "lut-pages" | "lut-bytes-median" | "lut-bytes-max"] => {
+            let mut smallest: BTreeMap<&str, f64> = BTreeMap::new();
+            let mut pages: Vec<&str> = Vec::new();
+            for r in me.rows.iter().filter(|r| me.text(r, "method") == "lut") {
+                let page = me.text(r, "page");
+                pages.push(page);
+                if num(&me, r, "de2000_max") <= bound {
+                    let b = num(&me, r, "texture_bytes");
+                    let e = smallest.entry(page).or_insert(b);
+                    *e = e.min(b);
+                }
+            }
+            pages.sort();
+            pages.dedup();
+            match parts[0] {
+                "lut-within" => smallest.len() as f64,
+                "lut-pages" => pages.len() as f64,
+                "lut-bytes-median" => median(smallest.values().copied().collect()),
+                _ => smallest.values().copied().fold(0.0, f64::max),
+            }
+        }
+        ["x-exact", device, "lut"] | ["x-exact", device, "schlick"] => {
+            let method = parts[2];
+            let method_key = if *device == "CPU" && method == "lut" { "lut N=256,unorm8".to_string() } else { method.to_string() };
+            costs[&(device.to_string(), method_key)] / costs[&(device.to_string(), "exact".to_string())]
+        }
+        [what, rest @ ..] if rest.last().is_some_and(|id| id.contains('|')) => {
+            // A decision-table cell: id = method|parameters from|variant.
+            let id: Vec<&str> = rest.last().unwrap().split('|').collect();
+            let (method, from, variant) = (id[0], id[1], id[2]);
+            let values: Vec<(String, f64)> = if from == "three-channel (n, k)" || from == "spectral curve" {
+                me.rows
+                    .iter()
+                    .filter(|r| me.text(r, "method") == method && me.text(r, "variant") == variant)
+                    .map(|r| (me.text(r, "kind").to_string(), num(&me, r, "de2000_max")))
+                    .collect()
+            } else {
+                let (model, _, _) = ENGINE_MODELS.iter().find(|(_, s, f)| *s == method && *f == from).unwrap();
+                engine
+                    .rows
+                    .iter()
+                    .filter_map(|r| Some((engine.text(r, "kind").to_string(), engine.number(r, &format!("{model}_de2000_max"))?)))
+                    .collect()
+            };
+            let of = |kind: &str| sorted(values.iter().filter(|v| v.0 == kind).map(|v| v.1).collect());
+            match (*what, rest.len()) {
+                ("cpu-ns", 1) => {
+                    let k = if variant.is_empty() { method.to_string() } else { format!("{method} {variant}") };
+                    costs[&("CPU".to_string(), k)]
+                }
+                ("x-exact", 2) => costs[&(rest[0].to_string(), method.to_string())] / costs[&(rest[0].to_string(), "exact".to_string())],
+                ("de-median", 2) => median(of(rest[0])),
+                ("de-p95", 2) => quantile(&of(rest[0]), 0.95),
+                ("within", 1) => values.iter().filter(|v| v.1 <= bound).count() as f64,
+                _ => panic!("unknown figure {key}"),
+            }
+        }
+        _ => panic!("unknown figure {key}"),
+    }
+}
+
+/// Read off the index's DOM at 1400 × 900 in headless Chromium: every figure of the answer
+/// section with its box, the sections' boxes, the links and the page's scroll width.
+const FIRST_SCREEN_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const out={figures:[],boxes:{},links:[],scroll:document.documentElement.scrollWidth,width:window.innerWidth,findings:[]};
+for(const s of document.querySelectorAll('#answer span.figure')){const r=s.getBoundingClientRect();out.figures.push({key:s.dataset.key,value:parseFloat(s.dataset.value),raw:s.dataset.value,text:s.textContent,top:r.top,bottom:r.bottom,finding:!!s.closest('li.finding')});}
+for(const id of ['findings','answer-picks','answer-methods']){const r=document.getElementById(id).getBoundingClientRect();out.boxes[id]=[r.top,r.bottom];}
+for(const a of document.querySelectorAll('#answer a'))out.links.push(a.getAttribute('href'));
+for(const li of document.querySelectorAll('li.finding'))out.findings.push(li.textContent);
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+#[derive(serde::Deserialize, Debug)]
+struct ScreenFigure {
+    key: String,
+    value: f64,
+    raw: String,
+    text: String,
+    top: f64,
+    bottom: f64,
+    finding: bool,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct FirstScreen {
+    figures: Vec<ScreenFigure>,
+    boxes: BTreeMap<String, [f64; 2]>,
+    links: Vec<String>,
+    scroll: f64,
+    width: f64,
+    findings: Vec<String>,
+}
+
+#[test]
+fn the_index_first_screen_shows_the_answer_and_every_figure_is_its_tables() {
+    let out = scratch("recommend-index");
+    for stage in ["ingest", "colors", "params", "validate"] {
+        nklut(&out, &[stage, "--shelf", "3d"]);
+    }
+    let devices = Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices");
+    let dev = devices.to_str().unwrap();
+    nklut(&out, &["recommend", "--shelf", "3d", "--devices", dev]);
+    nklut(&out, &["report", "--shelf", "3d", "--devices", dev]);
+    let index = out.join("report/index.html");
+    let audited = out.join("report/audit-index.html");
+    fs::write(&audited, fs::read_to_string(&index).unwrap().replace("</body>", &format!("{FIRST_SCREEN_SCRIPT}</body>"))).unwrap();
+    let dom = Command::new("chromium")
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--hide-scrollbars", "--virtual-time-budget=5000"])
+        .arg(format!("--user-data-dir={}", out.join("profile").display()))
+        .args(["--window-size=1400,900", "--dump-dom"])
+        .arg(format!("file://{}", audited.display()))
+        .output()
+        .expect("chromium is not installed: scripts/test-deps installs it");
+    assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
+    let dom = String::from_utf8_lossy(&dom.stdout);
+    let start = dom.find("<pre id=\"nk-audit\">").expect("the audit ran") + "<pre id=\"nk-audit\">".len();
+    let json = dom[start..start + dom[start..].find("</pre>").unwrap()]
+        .replace("&quot;", "\"")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&amp;", "&");
+    let screen: FirstScreen = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{e}: {json}"));
+
+    // The findings and the recommendation per class and device are on the first screen,
+    // the decision table starts on it; nothing wider than the window.
+    assert!(screen.boxes["findings"][0] < 900.0 && screen.boxes["answer-picks"][1] <= 900.0, "{:?}", screen.boxes);
+    assert!(screen.boxes["answer-methods"][0] < 900.0, "{:?}", screen.boxes);
+    assert!(screen.scroll <= screen.width, "scroll width {} > {}", screen.scroll, screen.width);
+    for f in screen.figures.iter().filter(|f| f.finding) {
+        assert!(f.bottom <= 900.0, "finding figure {} at {}–{} px is below the first screen", f.key, f.top, f.bottom);
+    }
+    for link in ["#materials", "effects.html", "effects.html#devices"] {
+        assert!(screen.links.iter().any(|l| l == link), "no link to {link}: {:?}", screen.links);
+    }
+    assert!(screen.links.iter().any(|l| l.starts_with("materials/")), "findings link material pages: {:?}", screen.links);
+    assert!(screen.findings.len() >= 5, "{:?}", screen.findings);
+
+    // Every figure recomputed from the CSVs, and shown as the value it carries.
+    let findings_figures = screen.figures.iter().filter(|f| f.finding).count();
+    assert!(findings_figures >= 20 && screen.figures.len() > 100, "{findings_figures} / {}", screen.figures.len());
+    for f in &screen.figures {
+        let expected = recompute(&f.key, &out, &devices);
+        // The attribute's text, parsed by Rust (serde_json's float parsing may miss the last bit).
+        let value = f.raw.parse::<f64>().unwrap();
+        assert!((value - f.value).abs() <= 1e-15 * value.abs());
+        assert!((value - expected).abs() <= 1e-12 * expected.abs().max(1e-300), "{}: page {value} vs CSV {expected}", f.key);
+        let shown = if value.fract() == 0.0 { format!("{}", value as i64) } else { nklut::report::findings::sig3(value) };
+        assert_eq!(f.text, shown, "{}", f.key);
+    }
+    // report.md carries the same sentences.
+    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
+    for sentence in &screen.findings {
+        let text = sentence.rsplit_once(" (").map_or(sentence.as_str(), |(t, _)| t);
+        assert!(markdown.contains(text.split(": ").next().unwrap()), "report.md lacks {text}");
+    }
+    let first = screen.figures.iter().find(|f| f.key.starts_with("pick-count:dielectric")).unwrap();
+    println!("first screen: {} figures, {} in findings; {} = {}", screen.figures.len(), findings_figures, first.key, first.value);
+}
