@@ -41,13 +41,14 @@ build:
 $(NKLUT): build
 
 # The main job: tables, reference colours, engine parameters (+ MaterialX and glTF exports),
-# method errors, textures, then the report.
+# method errors, textures, what to ship per page and device (`recommend`), then the report.
 luts: db build
 	$(NKLUT) --db $(DB) --out $(OUT) ingest $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) colors $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) params $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) validate $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) bake $(SELECT) --size $(LUT_SIZE) $(LUT_SOURCES)
+	$(NKLUT) --db $(DB) --out $(OUT) recommend $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
 
 # The system packages the tests need (lavapipe for the GPU tests, Chromium for the report's
@@ -143,11 +144,13 @@ effects: db build
 
 # The whole picture in one command: the tables (`make luts`), the effects of every scene
 # (`make effects`), the GPU results committed under benchmarks/devices/ (one folder per
-# adapter, copied to $(OUT)/devices/), then the report again so it draws from all of them:
+# adapter, copied to $(OUT)/devices/), the recommendations again with those devices, then the
+# report again so it draws from all of them:
 # report/index.html and report/effects.html.
 report: luts effects
 	rm -rf $(OUT)/devices
 	if [ -d benchmarks/devices ]; then cp -r benchmarks/devices $(OUT)/devices; fi
+	$(NKLUT) --db $(DB) --out $(OUT) recommend $(SELECT)
 	$(NKLUT) --db $(DB) --out $(OUT) report $(SELECT)
 
 clean:

@@ -10,6 +10,7 @@ use clap::Args;
 use nklut::bake::{BakeRequest, Encoding, Layout, Source};
 use nklut::fresnel::Method;
 use nklut::ingest::{Config, Selection};
+use nklut::recommend::{Bound, RecommendRequest};
 use nklut::spectrum::{ChannelIndex, Channels, Coverage, Index};
 use nklut::validate::quadrature::BRUTE_FORCE_SAMPLES;
 use nklut::validate::{Strategy, ValidateRequest};
@@ -215,5 +216,36 @@ mod tests {
         assert!(parse_nk("0.23,3.94;0.57,2.18").is_err());
         assert!(parse_nk("0.23,3.94;0.57,x;1,1").is_err());
         assert!(parse_nk("-1,0;1,0;1,0").is_err());
+    }
+}
+
+/// Arguments of `nklut recommend`.
+#[derive(Args, Clone, Debug)]
+pub struct RecommendArgs {
+    #[command(flatten)]
+    pub pages: PageSelection,
+    #[command(flatten)]
+    pub channels: ChannelArgs,
+    /// A folder of device results (default: <out>/devices, where `make report` copies
+    /// benchmarks/devices); each device with timings gets a recommendation beside the CPU's.
+    #[arg(long, value_name = "DIR")]
+    pub devices: Option<PathBuf>,
+    /// The bound on the largest CIEDE2000 over the angle against the spectral reference curve.
+    #[arg(long = "bound-de", value_name = "DE", default_value_t = Bound::default().de2000)]
+    pub bound_de: f64,
+    /// A second bound: the worst channel's mean relative error over the angle (a fraction;
+    /// default: none).
+    #[arg(long = "bound-rel", value_name = "R")]
+    pub bound_rel: Option<f64>,
+}
+
+impl RecommendArgs {
+    pub fn request(&self) -> RecommendRequest {
+        RecommendRequest {
+            selection: self.pages.selection(),
+            reading: self.channels.config(),
+            devices: self.devices.clone(),
+            bound: Bound { de2000: self.bound_de, rel: self.bound_rel },
+        }
     }
 }

@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand};
 
 mod cli;
 
-use cli::{BakeArgs, ChannelArgs, PageSelection, Paths, ValidateArgs};
+use cli::{BakeArgs, ChannelArgs, PageSelection, Paths, RecommendArgs, ValidateArgs};
 use nklut::db::Database;
 use nklut::ingest;
 use nklut::spectrum;
@@ -109,6 +109,10 @@ enum Command {
         #[arg(long)]
         roughness: Option<f64>,
     },
+    /// Per kept page and device (CPU and each device with timings): the cheapest method
+    /// within an error bound against the spectral curve, its parameters, the runner-up and
+    /// why others lose → recommendations.{csv,parquet,json}, method_errors.{csv,parquet}.
+    Recommend(RecommendArgs),
 }
 
 fn parse_texels(text: &str) -> Result<usize, String> {
@@ -247,6 +251,11 @@ fn run(cli: Cli) -> Result<()> {
         Command::Params { pages, channels, roughness } => {
             let settings = nklut::params::ExportSettings { roughness };
             for path in nklut::params::command(&db, &pages.selection(), &channels.config(), &settings, &cli.paths.out)? {
+                eprintln!("  wrote {}", path.display());
+            }
+        }
+        Command::Recommend(args) => {
+            for path in nklut::recommend::command(&db, &cli.paths.out, &args.request())? {
                 eprintln!("  wrote {}", path.display());
             }
         }

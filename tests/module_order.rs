@@ -24,7 +24,7 @@ const CRATES: [Layers; 3] = [
     },
     Layers {
         krate: "pipeline",
-        order: &["ingest", "colors", "validate", "bake", "params", "report"],
+        order: &["ingest", "colors", "validate", "bake", "params", "report", "recommend"],
         leaves: &["output", "progress", "budget", "stats", "escape"],
         siblings: &["validate", "bake", "params"],
     },

@@ -1,11 +1,13 @@
 //! The nklut pipeline over the optics of `nklut_optics`: the selected pages of the
 //! database into tables ([`ingest`]), their reference colours ([`colors`]), every Fresnel
 //! method's error ([`validate`]), lookup textures ([`bake`]), engine parameters and their
-//! exports ([`params`]) and the report that draws them ([`report`]).
+//! exports ([`params`]), the report that draws them ([`report`]) and what to ship per page
+//! and device ([`recommend`]).
 //!
 //! Modules follow the data, and every import points one way — a module uses only modules
 //! before it in this order (the workspace's `tests/module_order.rs` checks it): `ingest` →
-//! `colors` → `validate` / `bake` / `params` → `report`. Leaves any module may use:
+//! `colors` → `validate` / `bake` / `params` → `report` → `recommend` (which reads the
+//! report's table readers). Leaves any module may use:
 //! `output` (tables as CSV, Parquet and JSON; files and folders published as one set),
 //! `progress` (bars on a terminal, quiet in CI), `budget` (the memory a run may take,
 //! checked before large allocations), `escape` (text for a terminal, a CSV cell, Markdown
@@ -26,6 +28,7 @@ pub mod ingest;
 pub mod output;
 pub mod params;
 pub mod progress;
+pub mod recommend;
 pub mod report;
 pub mod stats;
 pub mod validate;

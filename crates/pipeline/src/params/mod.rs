@@ -32,7 +32,7 @@ use nklut_optics::db::Database;
 use nklut_optics::spectrum::{Channels, Material};
 
 pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
-pub use page::{engine_params, EngineModel, EngineParams, ModelError, Reference};
+pub use page::{curve_error, engine_params, CurveError, EngineModel, EngineParams, ModelError, Reference};
 pub use table::engine_params_table;
 
 /// The folder of the per-page paste-in files (`params/<name>.json`).

@@ -268,11 +268,26 @@ pub fn model_curve(params: &EngineParams, model: EngineModel, cosines: &[f64]) -
 
 /// CIEDE2000 and relative errors of a model curve (at `rule.cosines`) against the reference.
 pub fn model_error(model: EngineModel, curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> ModelError {
+    let CurveError { delta_e_mean, delta_e_max, relative } = curve_error(curve, reference, rule);
+    ModelError { model, delta_e_mean, delta_e_max, relative }
+}
+
+/// The figures of [`ModelError`] for any colour curve over θ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveError {
+    pub delta_e_mean: f64,
+    pub delta_e_max: f64,
+    pub relative: [f64; 3],
+}
+
+/// CIEDE2000 (mean over θ, largest at a node) and per-channel mean relative error of any
+/// curve at `rule.cosines` against the reference: the one definition the engine models'
+/// and every other method's error against the spectral curve share.
+pub fn curve_error(curve: &[[f64; 3]], reference: &Reference, rule: &AngleQuadrature) -> CurveError {
     let weights = color::spectral_weights();
     let delta_e: Vec<f64> =
         curve.iter().zip(&reference.lab_at_nodes).map(|(rgb, lab)| color::delta_e2000(weights.lab(*rgb), *lab)).collect();
-    ModelError {
-        model,
+    CurveError {
         delta_e_mean: rule.mean(delta_e.iter().copied()),
         delta_e_max: delta_e.iter().copied().fold(0.0, f64::max),
         relative: [0, 1, 2].map(|c| mean_relative(curve.iter().map(|rgb| rgb[c]), &reference.at_nodes[c], rule)),

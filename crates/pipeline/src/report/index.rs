@@ -10,6 +10,7 @@ use anyhow::Result;
 use super::charts::{self, CostPoint};
 use super::context::{channel_flags, channel_triple, fitted_index, material_path, Context};
 use super::csvdata::CsvTable;
+use super::findings;
 use super::html::{code_spans, delta_e, escape, href, markdown_text, number, percent, raw, TableText, MARKDOWN};
 use super::inputs::{self, Count};
 use super::page::at_bound;
@@ -94,10 +95,11 @@ pub fn index_page(ctx: &Context, pages: &[String], gallery: (String, String)) ->
     let mut b = Builder { html: String::new(), markdown: String::new() };
     let _ = write!(
         b.html,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>nklut report</title><style>{}</style><script>{SORT_SCRIPT}</script></head><body>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>nklut report</title><style>{}{ANSWER_STYLE}</style><script>{SORT_SCRIPT}</script></head><body>\n",
         super::STYLE
     );
     b.heading(1, "top", "nklut report: Fresnel methods per material");
+    answer(&mut b, ctx);
     let nm = ctx.inputs.channels.nanometres();
     b.paragraph(&format!("Channel wavelengths (materials.csv): red {} nm, green {} nm, blue {} nm. Errors are relative, in percent; indices have 4 decimals.", nm[0], nm[1], nm[2]));
     overview(&mut b, ctx.inputs);
@@ -108,6 +110,118 @@ pub fn index_page(ctx: &Context, pages: &[String], gallery: (String, String)) ->
     b.markdown.push_str(&gallery.1);
     b.html.push_str("</body></html>\n");
     Ok(b)
+}
+
+/// The first screen's layout: findings beside the recommendation per class and device,
+/// the decision table under them; one column below 1000 px.
+const ANSWER_STYLE: &str = "#answer h2{margin:0.3em 0}.answer-links{margin:0.2em 0 0.5em;font-size:14px}\
+.answer-grid{display:grid;grid-template-columns:minmax(0,1.1fr) minmax(0,1fr);gap:0 20px}@media (max-width:1000px){.answer-grid{grid-template-columns:minmax(0,1fr)}}\
+ul.findings{margin:0;padding-left:1.1em;font-size:14px;line-height:1.3}ul.findings li{margin:0 0 4px}\
+#answer table{font-size:13px;margin:0.2em 0 0.6em}#answer td,#answer th{padding:1px 5px}#answer h3{font-size:15px;margin:0.2em 0}\
+.answer-scroll{overflow-x:auto;max-width:100%}";
+
+/// The decision, first: findings, what to ship per class and device (recommendations.csv),
+/// and the table per method. Every figure a `span.figure` with its full value.
+fn answer(b: &mut Builder, ctx: &Context) {
+    let inputs = ctx.inputs;
+    let Some(recs) = inputs.extra.get("recommendations.csv") else {
+        b.paragraph("recommendations.csv is absent: run `nklut recommend` for the decision (the cheapest method within a stated error bound, per material and device).");
+        return;
+    };
+    let bound = findings::bound(Some(recs));
+    let _ = writeln!(b.html, "<section id=\"answer\">");
+    b.heading(
+        2,
+        "answer-heading",
+        &format!("The answer: what to ship (ΔE2000 ≤ {} against the spectral curve at every angle)", findings::sig3(bound)),
+    );
+    let effects_link = if inputs.devices.is_empty() && !inputs.extra.keys().any(|k| k.contains('/')) {
+        String::new()
+    } else {
+        " · <a href=\"effects.html\">the effects page</a> · <a href=\"effects.html#devices\">across devices (#devices)</a>".into()
+    };
+    let _ = writeln!(
+        b.html,
+        "<p class=\"answer-links\">From recommendations.csv, method_errors.csv, engine_params.csv, cost.csv and the devices folder{effects_link} · <a href=\"#materials\">the material pages</a> · <a href=\"#cost\">what accuracy costs</a></p>"
+    );
+    let _ = writeln!(b.markdown, "From recommendations.csv, method_errors.csv, engine_params.csv, cost.csv and the devices folder.\n");
+    let _ = writeln!(b.html, "<div class=\"answer-grid\"><div>");
+    let found = findings::findings(inputs, &|page| material_path(page).map(|p| href(&p)).unwrap_or_default());
+    let _ = writeln!(b.html, "<h3 id=\"findings\">Findings</h3><ul class=\"findings\">");
+    for f in &found {
+        let _ = writeln!(b.html, "{}", f.html());
+        let _ = writeln!(b.markdown, "- {}", markdown_text(&f.text()));
+    }
+    let _ = writeln!(b.html, "</ul></div><div>");
+    b.markdown.push('\n');
+    // Per class and device: the most frequent pick, how many pages, the worst error and median cost of the picks.
+    let devices = findings::devices(recs);
+    let _ = writeln!(b.html, "<h3 id=\"answer-picks\">Per material class and device</h3>");
+    let mut table = TableText::new(&["class", "device", "pick (most pages)", "pages", "ΔE2000 max (worst pick)", "× exact (median)"]);
+    for kind in ["conductor", "dielectric"] {
+        for device in &devices {
+            let rows: Vec<&Vec<String>> =
+                recs.rows.iter().filter(|r| recs.text(r, "kind") == kind && recs.text(r, "device") == device).collect();
+            let Some((group, n)) = findings::most_frequent(recs, &rows) else { continue };
+            let worst = rows.iter().filter_map(|r| recs.number(r, "de2000_max")).fold(f64::NAN, f64::max);
+            let x: Vec<f64> = rows.iter().filter_map(|r| recs.number(r, "cost_x_exact")).collect();
+            let fig = |key: String, v: f64| raw(findings::figure_span(&key, v));
+            table.row(vec![
+                kind.to_string(),
+                findings::short_device(device),
+                group.clone(),
+                raw(format!(
+                    "<span class=\"figure\" data-key=\"pick-count:{kind}:{}:{}\" data-value=\"{n}\">{n}</span> of {}",
+                    escape(device),
+                    escape(&group),
+                    rows.len()
+                )),
+                fig(format!("picks-worst-de:{kind}:{device}"), worst),
+                crate::stats::median(&x).map(|m| fig(format!("picks-median-x:{kind}:{device}"), m)).unwrap_or_else(|| "–".into()),
+            ]);
+        }
+    }
+    b.table(&table, "answer-picks");
+    let _ = writeln!(b.html, "</div></div>");
+    // The decision table per method.
+    let rows = findings::method_rows(inputs, &devices.iter().filter(|d| *d != "CPU").cloned().collect::<Vec<_>>());
+    let gpu_devices: Vec<&String> = devices.iter().filter(|d| *d != "CPU").collect();
+    let _ = writeln!(
+        b.html,
+        "<h3 id=\"answer-methods\">Per method: cost and error against the spectral curve (ΔE2000 max over angle, over pages)</h3>"
+    );
+    let mut headers: Vec<String> = vec!["method".into(), "parameters from".into(), "CPU ns/eval".into()];
+    headers.extend(gpu_devices.iter().map(|d| format!("× exact on {}", findings::short_device(d))));
+    headers.extend([
+        "conductors: median / p95".to_string(),
+        "dielectrics: median / p95".to_string(),
+        format!("pages within {}", findings::sig3(bound)),
+    ]);
+    let header_refs: Vec<&str> = headers.iter().map(String::as_str).collect();
+    let mut table = TableText::new(&header_refs);
+    for r in &rows {
+        let id = format!("{}|{}|{}", r.method, r.parameters_from, r.variant);
+        let fig = |key: &str, v: f64| findings::figure_span(&format!("{key}:{id}"), v);
+        let mut cells = vec![
+            if r.variant.is_empty() { r.method.clone() } else { format!("{} {}", r.method, r.variant) },
+            r.parameters_from.clone(),
+            r.cpu_ns.map(|v| raw(fig("cpu-ns", v))).unwrap_or_else(|| "–".into()),
+        ];
+        for (d, x) in gpu_devices.iter().zip(&r.gpu_x_exact) {
+            cells.push(x.map(|v| raw(fig(&format!("x-exact:{d}"), v))).unwrap_or_else(|| "–".into()));
+        }
+        for (k, spread) in ["conductor", "dielectric"].iter().zip(&r.de_max) {
+            cells.push(match spread {
+                Some((m, p)) => raw(format!("{} / {}", fig(&format!("de-median:{k}"), *m), fig(&format!("de-p95:{k}"), *p))),
+                None => "–".into(),
+            });
+        }
+        cells.push(raw(format!("{} of {}", fig("within", r.within.0 as f64), r.within.1)));
+        table.row(cells);
+    }
+    let _ = writeln!(b.html, "<div class=\"answer-scroll\">");
+    b.table(&table, "answer-methods");
+    let _ = writeln!(b.html, "</div></section>");
 }
 
 fn overview(b: &mut Builder, inputs: &inputs::Inputs) {

@@ -13,9 +13,9 @@ use crate::ingest::Selection;
 use nklut_optics::fresnel::FitMemo;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
 
-/// Tables written by the effects, ambient-occlusion and engine-parameter stages: shown
+/// Tables written by the effects, ambient-occlusion, engine-parameter and recommend stages: shown
 /// when present, named as absent otherwise.
-pub const OPTIONAL_TABLES: [&str; 9] = [
+pub const OPTIONAL_TABLES: [&str; 11] = [
     "effects_errors.csv",
     "effects_cpu_timing.csv",
     "effects_hero.csv",
@@ -25,6 +25,8 @@ pub const OPTIONAL_TABLES: [&str; 9] = [
     "ao_histogram.csv",
     "spectral_errors.csv",
     "engine_params.csv",
+    "recommendations.csv",
+    "method_errors.csv",
 ];
 
 /// The stages' tables the index draws from and the command that writes each.

@@ -14,6 +14,7 @@ pub mod csvdata;
 pub mod curves;
 pub mod effects;
 pub mod extras;
+pub mod findings;
 pub mod html;
 pub mod index;
 pub mod inputs;
