@@ -505,6 +505,9 @@ mod gpu_cli {
         for path in gpu::runner::write_tables(&report, &paths.out)? {
             eprintln!("  wrote {}", path.display());
         }
+        if !report.stats.failures.is_empty() {
+            anyhow::bail!("the measurements above were written; these failed: {}", report.stats.failures.join("; "));
+        }
         Ok(())
     }
 }
