@@ -100,6 +100,10 @@ fn run_page(name: &str, text: &str, args: &[String]) -> Result<Option<Value>, St
 const TWIN_METHOD: [f32; 8] = [0.55, 0.25, 0.1, 1.0, 0.0, 0.0, 0.0, 0.0];
 const TWIN_REFERENCE: [f32; 8] = [0.5, 0.25, 0.0, 1.0, 9.0, 9.0, 9.0, 0.0];
 const TWIN_SAMPLES: [f64; 6] = [5.0, 1.0, 3.0, 2.0, 4.0, 9.5];
+/// A seed past 2^53 (the page reads it as a decimal string into a BigInt) and readings
+/// quantised to 100 µs from an offset.
+const TWIN_SEED: u64 = 18_446_744_073_709_551_557;
+const TWIN_READINGS: [u64; 4] = [17_000_300_000, 17_000_400_000, 17_000_900_000, 17_001_100_000];
 
 /// The page run of [`SCENE`] on SwiftShader with the ramp of `lut` and the twins, once.
 fn main_run() -> &'static Result<Option<Value>, String> {
@@ -107,7 +111,10 @@ fn main_run() -> &'static Result<Option<Value>, String> {
     RUN.get_or_init(|| {
         let dir = scratch("web-twin");
         let twin = dir.join("twin.json");
-        let input = serde_json::json!({"method": TWIN_METHOD, "reference": TWIN_REFERENCE, "samples": TWIN_SAMPLES});
+        let input = serde_json::json!({
+            "method": TWIN_METHOD, "reference": TWIN_REFERENCE, "samples": TWIN_SAMPLES,
+            "seed": TWIN_SEED.to_string(), "n": 23, "readings": TWIN_READINGS.map(|r| r.to_string()),
+        });
         std::fs::write(&twin, input.to_string()).map_err(|e| e.to_string())?;
         let ramp = format!("0,lut,{},{},{}", RAMP[0], RAMP[1], web::fullscreen_view(RAMP[0], RAMP[1]));
         run_page(
@@ -206,6 +213,12 @@ fn the_page_s_twins_equal_the_rust_functions() {
     let (median, iqr) = nklut::gpu::timing::median_and_iqr(&TWIN_SAMPLES);
     assert_eq!((median, iqr), (3.5, 2.5));
     assert_eq!((number(&twin["median"]), number(&twin["iqr"])), (median, iqr));
+    // The pairs' order and the timer's resolution: sampling's SplitMix64 and gcd rule.
+    let order = nklut::gpu::sampling::SplitMix64::new(TWIN_SEED).permutation(23);
+    let page: Vec<usize> = twin["permutation"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap() as usize).collect();
+    assert_eq!(page, order);
+    assert_eq!(nklut::gpu::sampling::resolution_ns(&TWIN_READINGS, 1.0), Some(100_000.0));
+    assert_eq!(number(&twin["resolution"]), 100_000.0);
 }
 
 /// The native runner's image errors and ramp on this machine's adapter, for comparison.

@@ -7,6 +7,8 @@
 //
 //   --webgpu on      (default) WebGPU on SwiftShader: --enable-unsafe-webgpu
 //                    --use-webgpu-adapter=swiftshader (it grants timestamp-query)
+//   --webgpu hardware  WebGPU on this machine's GPU where Chromium reaches it (Vulkan,
+//                    blocklist ignored); the result's adapter says whether it did
 //   --webgpu off     no WebGPU flags: Chromium on Linux then gives no adapter
 //   --webgpu absent  navigator.gpu removed before the page's script runs
 //   --ramp           after the run, the page's read-back cosθ ramp of METHOD for material
@@ -75,7 +77,8 @@ try {
 
 const profile = mkdtempSync(join(tmpdir(), 'nklut-web-bench-'));
 const flags = ['--no-sandbox', '--no-first-run', '--no-default-browser-check', `--user-data-dir=${profile}`];
-if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
+if (webgpu === 'hardware') flags.push('--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-angle=vulkan', '--ignore-gpu-blocklist', '--enable-gpu');
+else if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
 let server = null;
 if (insecure) {
   const html = readFileSync(resolve(pagePath));
@@ -157,7 +160,9 @@ try {
       summary.add(frame);
       summary.add(t.compare(input.reference, input.reference));
       const [median, iqr] = t.medianAndIqr(input.samples);
-      return { frame, summary_mean: summary.meanRelative(), median, iqr };
+      const permutation = t.permutation(input.seed, input.n);
+      const resolution = t.resolutionNs(input.readings.map((r) => BigInt(r)), 1);
+      return { frame, summary_mean: summary.meanRelative(), median, iqr, permutation, resolution };
     }, input);
   }
   out.console = console_;
