@@ -84,6 +84,30 @@ fn fresnel_exact(c: f32, p: MaterialParams) -> vec3<f32> {
     return vec3<f32>(exact_channel(n.r, k.r, c), exact_channel(n.g, k.g, c), exact_channel(n.b, k.b, c));
 }
 
+// exact for a dielectric (SPEC §5.1 with k = 0; the real-index form of Cook & Torrance
+// 1982 and Walter et al. 2007, the study's dielectric anchor): g² = n² − 1 + c²;
+// F = ½ ((g − c)/(g + c))² (1 + ((c (g + c) − 1)/(c (g − c) + 1))²), and 1 where g² < 0
+// (total internal reflection). The timing's anchor for dielectric materials; k is ignored.
+fn exact_dielectric_channel(n: f32, c_in: f32) -> f32 {
+    let c = clamp(c_in, 0.0, 1.0);
+    if (n == 1.0) {
+        return 0.0;
+    }
+    let g2 = n * n - 1.0 + c * c;
+    if (!(g2 > 0.0)) {
+        return 1.0;
+    }
+    let g = sqrt(g2);
+    let s = (g - c) / (g + c);
+    let t = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    return clamp(0.5 * s * s * (1.0 + t * t), 0.0, 1.0);
+}
+
+fn fresnel_exact_dielectric(c: f32, p: MaterialParams) -> vec3<f32> {
+    let n = p.n;
+    return vec3<f32>(exact_dielectric_channel(n.r, c), exact_dielectric_channel(n.g, c), exact_dielectric_channel(n.b, c));
+}
+
 // 2. schlick (SPEC §5.2; Schlick 1994): F0 + (1 − F0)(1 − c)⁵, F0 precomputed.
 fn fresnel_schlick(c: f32, p: MaterialParams) -> vec3<f32> {
     let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));

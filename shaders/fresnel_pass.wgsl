@@ -27,10 +27,19 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) @invariant
 }
 
 // The cosθ ramp: pixel column x shades c = (x + ½)/width (frag position x is x + ½).
+// The timing's amplification: F is evaluated viewport.z times (at least once) at c,
+// c + φ, c + 2φ … mod 1 (φ = 0.618034, so no two repeats share an argument and none can be
+// folded or hoisted) and the mean written, which keeps every repeat live; once, it is
+// shade(c) exactly (src/gpu/sampling.rs).
 @fragment
 fn fs_ramp(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let c = position.x / view.viewport.x;
-    return vec4<f32>(shade(c), 1.0);
+    let repeats = max(u32(view.viewport.z), 1u);
+    var sum = shade(c);
+    for (var i = 1u; i < repeats; i = i + 1u) {
+        sum = sum + shade(fract(c + f32(i) * 0.618034));
+    }
+    return vec4<f32>(sum / f32(repeats), 1.0);
 }
 
 struct MeshIn {

@@ -377,6 +377,13 @@ mod gpu_cli {
             /// The study's method: time an expensive pass alone and with the method on top.
             #[arg(long)]
             subtract: bool,
+            /// One F evaluation per pixel per pass (no amplification: the single-draw design,
+            /// for comparison).
+            #[arg(long)]
+            single_draw: bool,
+            /// Seed of the order of the (material, method) pairs in each round.
+            #[arg(long)]
+            seed: Option<u64>,
             /// Timed passes per (material, method).
             #[arg(long)]
             repeats: Option<u32>,
@@ -485,10 +492,12 @@ mod gpu_cli {
                 return Ok(());
             }
             GpuCommand::Run { scene, adapter, read } => (Scene::load(&scene)?, adapter, read),
-            GpuCommand::Bench { scene, subtract, repeats, warmup, resolution, adapter, read } => {
+            GpuCommand::Bench { scene, subtract, single_draw, seed, repeats, warmup, resolution, adapter, read } => {
                 let mut scene = Scene::load(&scene)?;
                 scene.experiments = vec![Experiment::Timing];
                 scene.timing.subtract |= subtract;
+                scene.timing.amplify &= !single_draw;
+                scene.timing.seed = seed.unwrap_or(scene.timing.seed);
                 scene.timing.repeats = repeats.unwrap_or(scene.timing.repeats).max(1);
                 scene.timing.warmup = warmup.unwrap_or(scene.timing.warmup);
                 scene.timing.resolution = resolution.unwrap_or(scene.timing.resolution);
@@ -517,6 +526,9 @@ mod gpu_cli {
         eprintln!("run: {}", report.stats);
         for path in gpu::runner::write_tables(&report, &paths.out)? {
             eprintln!("  wrote {}", path.display());
+        }
+        if !report.stats.failures.is_empty() {
+            anyhow::bail!("the measurements above were written; these failed: {}", report.stats.failures.join("; "));
         }
         Ok(())
     }

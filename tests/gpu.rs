@@ -251,7 +251,7 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     );
 
     let timing = scene(
-        "objects: [{mesh: cube, material: 3d/metals/gold, method: lut}]\nmeasurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3}\n",
+        "objects: [{mesh: cube, material: 3d/metals/gold, method: lut}]\nmeasurements: [timing]\ntiming: {resolution: [64, 64], warmup: 1, repeats: 3, amplify: false}\n",
     );
     let report = gpu::run(&timing, &db, &Default::default(), &gpu, log).unwrap();
     eprintln!("{}", report.stats);
@@ -261,8 +261,8 @@ fn runner_compiles_and_touches_only_what_the_scene_names() {
     assert_eq!(report.stats.frames_rendered, 0);
     assert_eq!(report.stats.timed_passes, 4);
     let row = &report.timing[0];
-    assert_eq!((row.method, row.repeats), (Shading::Fresnel(fresnel::Method::Lut), 3));
-    assert!(row.median_ms >= 0.0 && row.spread_ms >= 0.0);
+    assert_eq!((row.method, row.stats.n, row.evaluations), (Shading::Fresnel(fresnel::Method::Lut), 3, 1));
+    assert!(row.stats.median_ms >= 0.0 && row.stats.spread_ms >= 0.0);
     assert_eq!(row.relative_to_exact_dielectric, None, "no exact on a dielectric timed");
 }
 
@@ -277,12 +277,30 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
         [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric), SceneMaterial::new("3d/metals/gold", GOLDISH, Kind::Conductor)];
     let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
     assert_eq!(report.timing.len(), 3);
-    assert_eq!(report.stats.pipelines_compiled, 3, "exact, constant, burner");
-    assert_eq!(report.stats.timed_passes, 3 * 4 * 2, "burner alone + burner with the method, per repeat");
+    assert_eq!(report.stats.pipelines_compiled, 4, "exact by the dielectric formula (water) and the complex one (gold), constant, burner");
+    // Burner alone + burner with the method, per pair and round (1 warm-up and 3 timed): the
+    // study's method, one evaluation per pixel.
+    assert_eq!(report.stats.timed_passes, 3 * 4 * 2);
+    assert!(report.timing.iter().all(|r| r.evaluations == 1));
     let water_exact =
         report.timing.iter().find(|r| r.material == "3d/liquids/water" && r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap();
     assert_eq!(water_exact.relative_to_exact_dielectric, Some(1.0));
+    assert_eq!(water_exact.relative_to_exact, Some(1.0));
     assert!(report.timing.iter().all(|r| r.relative_to_exact_dielectric.is_some()));
+    // The study's anchors: exact on water by the dielectric formula, on gold by the complex one.
+    let formula = |material: &str| {
+        report.timing.iter().find(|r| r.material == material && r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap().formula
+    };
+    assert_eq!((formula("3d/liquids/water"), formula("3d/metals/gold")), ("dielectric (k = 0)", "complex"));
+    for row in &report.timing {
+        // Every sample kept; one amplification for all; the cost per evaluation per pixel is
+        // the median over evaluations × pixels.
+        assert_eq!(row.samples.len(), 3);
+        assert_eq!(row.evaluations, report.timing[0].evaluations);
+        let per = row.stats.median_ms * 1e6 / (row.evaluations as f64 * 64.0 * 64.0);
+        assert!((row.stats.ns_per_evaluation - per).abs() <= 1e-12 * per.abs().max(1.0), "{row:?}");
+        assert!(row.timer_resolution_ns >= 1.0);
+    }
     let table = gpu::runner::timing_table(&report);
     let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(
@@ -293,14 +311,94 @@ fn timing_normalises_by_exact_on_a_dielectric_and_subtracts() {
             "driver",
             "timer",
             "method",
+            "formula",
             "material",
             "resolution",
+            "evaluations",
+            "timer_resolution_ns",
+            "seed",
             "repeats",
+            "mean_ms",
             "median_ms",
             "spread_ms",
-            "relative_to_exact_dielectric"
+            "ns_per_evaluation",
+            "relative_to_exact",
+            "relative_to_fetch",
+            "relative_to_exact_dielectric",
+            "near_resolution",
+            "samples_ms"
         ]
     );
+}
+
+/// A pass far shorter than the sample target (64 × 16 pixels on lavapipe): the runner
+/// amplifies until the cheapest Fresnel method's pass spans the target, every row resolved.
+#[test]
+fn a_short_pass_is_amplified_until_it_spans_the_target() {
+    let Some(gpu) = device() else { return };
+    let scene = scene(
+        "objects:\n  - {mesh: cube, material: 3d/liquids/water, methods: [exact, schlick, constant]}\n\
+         measurements: [timing]\ntiming: {resolution: [64, 16], warmup: 1, repeats: 5}\n",
+    );
+    let materials = [SceneMaterial::new("3d/liquids/water", WATER, Kind::Dielectric)];
+    let report = gpu::run_with_materials(&scene, &materials, &gpu, RunStats::default(), &mut |line| eprintln!("{line}")).unwrap();
+    let schlick = report.timing.iter().find(|r| r.method == Shading::Fresnel(fresnel::Method::Schlick)).unwrap();
+    assert!(schlick.evaluations > 1, "{schlick:?}");
+    assert!(schlick.stats.median_ms >= 0.5 * nklut::gpu::sampling::MIN_SAMPLE_MS, "{schlick:?}");
+    assert!(report.timing.iter().all(|r| !r.stats.near_resolution && r.samples.len() == 5), "{:?}", report.timing);
+    // Exact costs more per evaluation than Schlick on any rasteriser.
+    let exact = report.timing.iter().find(|r| r.method == Shading::Fresnel(fresnel::Method::Exact)).unwrap();
+    assert!(exact.stats.ns_per_evaluation > schlick.stats.ns_per_evaluation, "{exact:?} {schlick:?}");
+}
+
+/// The dielectric anchor (`fresnel_exact_dielectric`) is exact F for k = 0: against the f64
+/// reference on water, diamond and their inside indices (TIR past the critical angle), to
+/// f32 precision; and the amplified pass writes the mean of F at c + iφ mod 1 (computed
+/// here in f64), so every repeat is evaluated.
+#[test]
+fn the_dielectric_anchor_is_exact_f_and_the_amplified_pass_averages_its_repeats() {
+    let Some(gpu) = device() else { return };
+    let mut renderer = Renderer::new(&gpu);
+    let inside = |channels: ChannelIndex| channels.map(nklut::effects::optics::inside_index);
+    let mut worst = 0.0f64;
+    for channels in [WATER, DIAMOND, inside(WATER), inside(DIAMOND)] {
+        let uniform = MaterialUniform::from_prepared(&params::prepare(&channels));
+        let binding = renderer.bind(&gpu, &uniform, None).unwrap();
+        let pixels = render::ramp_of(&gpu, &mut renderer, render::Shade::ExactDielectric, &binding, [RAMP_WIDTH, 1], 1).unwrap();
+        for x in 0..RAMP_WIDTH {
+            for (channel, index) in channels.iter().enumerate() {
+                let c = ramp_c(x) as f64;
+                let reference = fresnel::exact(index.n, index.k, c);
+                worst = worst.max((pixels[x as usize * 4 + channel] as f64 - reference).abs());
+            }
+        }
+    }
+    eprintln!("dielectric anchor: largest |shader − f64 exact| = {worst:.2e}");
+    assert!(worst <= 2e-5, "{worst}");
+
+    let uniform = MaterialUniform::from_prepared(&params::prepare(&GOLDISH));
+    let binding = renderer.bind(&gpu, &uniform, None).unwrap();
+    let repeats = 7u32;
+    let exact = Shading::Fresnel(fresnel::Method::Exact);
+    let pixels = render::ramp_of(&gpu, &mut renderer, render::Shade::Method(exact), &binding, [RAMP_WIDTH, 1], repeats).unwrap();
+    let mut worst = 0.0f64;
+    for x in 0..RAMP_WIDTH {
+        let c = ramp_c(x);
+        for (channel, index) in GOLDISH.iter().enumerate() {
+            let mean = (0..repeats)
+                .map(|i| {
+                    let ci = if i == 0 { c } else { (c + i as f32 * 0.618034).fract() };
+                    fresnel::exact(index.n, index.k, ci as f64)
+                })
+                .sum::<f64>()
+                / repeats as f64;
+            worst = worst.max((pixels[x as usize * 4 + channel] as f64 - mean).abs());
+        }
+    }
+    assert!(worst <= 2e-5, "amplified mean: {worst}");
+    // Once is the plain ramp, bit for bit.
+    let once = render::ramp_of(&gpu, &mut renderer, render::Shade::Method(exact), &binding, [RAMP_WIDTH, 1], 1).unwrap();
+    assert_eq!(once, render::ramp(&gpu, &mut renderer, exact, &binding, RAMP_WIDTH, 1).unwrap());
 }
 
 #[test]

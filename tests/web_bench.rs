@@ -100,6 +100,10 @@ fn run_page(name: &str, text: &str, args: &[String]) -> Result<Option<Value>, St
 const TWIN_METHOD: [f32; 8] = [0.55, 0.25, 0.1, 1.0, 0.0, 0.0, 0.0, 0.0];
 const TWIN_REFERENCE: [f32; 8] = [0.5, 0.25, 0.0, 1.0, 9.0, 9.0, 9.0, 0.0];
 const TWIN_SAMPLES: [f64; 6] = [5.0, 1.0, 3.0, 2.0, 4.0, 9.5];
+/// A seed past 2^53 (the page reads it as a decimal string into a BigInt) and readings
+/// quantised to 100 µs from an offset.
+const TWIN_SEED: u64 = 18_446_744_073_709_551_557;
+const TWIN_READINGS: [u64; 4] = [17_000_300_000, 17_000_400_000, 17_000_900_000, 17_001_100_000];
 
 /// The page run of [`SCENE`] on SwiftShader with the ramp of `lut` and the twins, once.
 fn main_run() -> &'static Result<Option<Value>, String> {
@@ -107,10 +111,17 @@ fn main_run() -> &'static Result<Option<Value>, String> {
     RUN.get_or_init(|| {
         let dir = scratch("web-twin");
         let twin = dir.join("twin.json");
-        let input = serde_json::json!({"method": TWIN_METHOD, "reference": TWIN_REFERENCE, "samples": TWIN_SAMPLES});
+        let input = serde_json::json!({
+            "method": TWIN_METHOD, "reference": TWIN_REFERENCE, "samples": TWIN_SAMPLES,
+            "seed": TWIN_SEED.to_string(), "n": 23, "readings": TWIN_READINGS.map(|r| r.to_string()),
+        });
         std::fs::write(&twin, input.to_string()).map_err(|e| e.to_string())?;
         let ramp = format!("0,lut,{},{},{}", RAMP[0], RAMP[1], web::fullscreen_view(RAMP[0], RAMP[1]));
-        run_page("web-bench", SCENE, &["--ramp".into(), ramp, "--twin".into(), twin.display().to_string()])
+        run_page(
+            "web-bench",
+            SCENE,
+            &["--ramp".into(), ramp, "--twin".into(), twin.display().to_string(), "--query".into(), "frames=all".into()],
+        )
     })
 }
 
@@ -148,6 +159,9 @@ fn every_module_compiles_and_every_pair_is_timed() {
         assert_eq!((row["material"].as_str(), row["method"].as_str()), (Some(material.as_str()), Some(method.name())));
         assert_eq!(row["timer"], "timestamp");
         assert_eq!(row["repeats"], 6);
+        assert!(row["evaluations"].as_u64().is_some_and(|n| n >= 1), "{row}");
+        assert_eq!(row["samples_ms"].as_str().unwrap().split(' ').count(), 6, "every sample kept: {row}");
+        assert!(number(&row["ns_per_evaluation"]) > 0.0, "{row}");
         assert!(number(&row["median_ms"]) > 0.0, "{row}");
         assert!(number(&row["spread_ms"]) >= 0.0, "{row}");
         // The keys are the native table's columns.
@@ -167,7 +181,17 @@ fn every_module_compiles_and_every_pair_is_timed() {
     // A bar per image-error row but exact's (10 rows, 2 of them exact).
     assert_eq!(out["error_bars"].as_u64(), Some(8));
     let download = out["download"].as_str().unwrap();
-    assert!(download.starts_with("device-google-swiftshader-") && download.ends_with(".json"), "{download}");
+    assert!(download.starts_with("device-google-swiftshader-web-test-") && download.ends_with(".json"), "{download}");
+    // What a result says of itself.
+    assert_eq!(result["nklut_version"], env!("CARGO_PKG_VERSION"));
+    let html = web::page(&plan).unwrap();
+    let hash = result["plan_hash"].as_str().unwrap();
+    assert_eq!(hash.len(), 16);
+    assert!(html.contains(&format!("data-hash=\"{hash}\"")), "the hash of this plan");
+    assert_eq!(result["adapter"]["is_fallback_adapter"].is_boolean(), true);
+    assert_eq!(result["adapter"]["adapter_type"], "cpu", "SwiftShader is a CPU rasteriser");
+    assert_eq!(result["image_error_frames"], "all");
+    assert_eq!(result["timing_sampling"]["seed"], scene(SCENE).timing.seed.to_string());
 }
 
 #[test]
@@ -189,6 +213,12 @@ fn the_page_s_twins_equal_the_rust_functions() {
     let (median, iqr) = nklut::gpu::timing::median_and_iqr(&TWIN_SAMPLES);
     assert_eq!((median, iqr), (3.5, 2.5));
     assert_eq!((number(&twin["median"]), number(&twin["iqr"])), (median, iqr));
+    // The pairs' order and the timer's resolution: sampling's SplitMix64 and gcd rule.
+    let order = nklut::gpu::sampling::SplitMix64::new(TWIN_SEED).permutation(23);
+    let page: Vec<usize> = twin["permutation"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap() as usize).collect();
+    assert_eq!(page, order);
+    assert_eq!(nklut::gpu::sampling::resolution_ns(&TWIN_READINGS, 1.0), Some(100_000.0));
+    assert_eq!(number(&twin["resolution"]), 100_000.0);
 }
 
 /// The native runner's image errors and ramp on this machine's adapter, for comparison.
@@ -519,4 +549,156 @@ fn distance_maps_over_the_adapter_s_storage_limit_name_the_limit() {
     assert!(problem.contains("maxStorageBufferBindingSize") && problem.contains(&asked.to_string()), "{problem}");
     assert!(problem.contains("lower effects.distance_maps.size or layers"), "{problem}");
     assert_eq!(out["result"]["effects_timing"].as_array().unwrap().len(), 0);
+}
+
+/// The phone-sized scene: one material, a cheap and an exact method, timing only unless
+/// asked.
+const SMALL_SCENE: &str = "resolution: [32, 32]
+camera: {axis: [1, 1, 1], distance: 2.0, frames: 3, degrees_per_frame: 20}
+objects:
+  - {mesh: cube, material: test/liquids/water, methods: [exact, schlick]}
+measurements: [timing, image_error]
+timing: {resolution: [64, 16], warmup: 1, repeats: 4}
+";
+
+#[test]
+fn at_390_px_the_page_fits_and_a_hidden_tab_is_noted() {
+    let args: Vec<String> = ["--viewport", "390", "--hide-at", "200"].iter().map(|s| s.to_string()).collect();
+    let Ok(Some(out)) = run_page("web-phone", SMALL_SCENE, &args).map_err(|e| panic!("{e}")) else { return };
+    let result = &out["result"];
+    assert_eq!(result["complete"], true, "{out}");
+    // Nothing wider than the screen: the document does not scroll sideways, every chart
+    // and table box ends inside it (a wide table scrolls inside its box).
+    let layout = &out["layout"];
+    assert_eq!(layout["viewport"], 390, "{layout}");
+    assert!(number(&layout["scroll_width"]) <= 390.0, "{layout}");
+    for b in layout["boxes"].as_array().unwrap() {
+        assert!(number(&b["right"]) <= 390.0 + 0.5, "{b} in {layout}");
+    }
+    // The hidden tab: noted in the result with its phase, and on the page.
+    let hidden = result["hidden"].as_array().unwrap();
+    assert_eq!(hidden.len(), 1, "{result}");
+    assert!(out["hidden_note"].as_str().unwrap().contains("hidden during"), "{out}");
+    // Phases with their times; the status line's last phase; one frame of image error by
+    // default, and the file name with the scene and the time.
+    let phases: Vec<&str> = result["phases"].as_array().unwrap().iter().map(|p| p["phase"].as_str().unwrap()).collect();
+    assert_eq!(phases, ["opening the GPU", "compiling", "timing", "image error", "done"]);
+    assert!(out["status"].as_str().unwrap().starts_with("done:") && out["status"].as_str().unwrap().contains("elapsed"), "{out}");
+    assert_eq!(result["image_error_frames"], "first");
+    assert!(result["image_errors"].as_array().unwrap().iter().all(|r| r["frames"] == 1), "{result}");
+    assert!(result["wake_lock"].is_string(), "{result}");
+    let download = out["download"].as_str().unwrap();
+    let stamp = &result["date"].as_str().unwrap()[..19].replace(['-', ':'], "").replace('T', "-");
+    assert_eq!(download, format!("device-google-swiftshader-web-test-{stamp}.json"));
+}
+
+#[test]
+fn a_lost_device_says_so_and_marks_the_page_incomplete() {
+    let args: Vec<String> = ["--query", "lose_after=2"].iter().map(|s| s.to_string()).collect();
+    let Ok(Some(out)) = run_page("web-lost", SMALL_SCENE, &args).map_err(|e| panic!("{e}")) else { return };
+    let result = &out["result"];
+    let problem = out["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {out}"));
+    assert!(problem.starts_with("The device was lost (destroyed"), "{problem}");
+    assert!(!problem.contains("Unexpected error"), "{problem}");
+    assert_eq!(result["complete"], false);
+    assert!(out["incomplete"].as_str().unwrap().starts_with("Incomplete: The device was lost"), "{out}");
+    assert!(out["title"].as_str().unwrap().starts_with("[incomplete]"), "{out}");
+    assert!(out["download"].as_str().unwrap().ends_with("-incomplete.json"), "{out}");
+    // The two rounds timed before are kept, with their true count.
+    let rows = result["gpu_timing"].as_array().unwrap();
+    assert_eq!(rows.len(), 2, "{result}");
+    assert!(rows.iter().all(|r| r["repeats"] == 2 && r["samples_ms"].as_str().unwrap().split(' ').count() == 2), "{rows:?}");
+}
+
+#[test]
+fn over_http_on_a_lan_name_the_page_names_the_secure_context_first() {
+    let Ok(Some(out)) = run_page("web-insecure", SMALL_SCENE, &["--insecure".into()]).map_err(|e| panic!("{e}")) else { return };
+    let problem = out["problem"].as_str().unwrap_or_else(|| panic!("no problem shown: {out}"));
+    assert!(problem.starts_with("This page is not in a secure context"), "{problem}");
+    assert!(problem.contains("open it from https:// or file://, not http on a LAN address"), "{problem}");
+    assert!(problem.contains("http://nklut.test"), "{problem}");
+    assert_eq!(out["result"]["secure_context"], false);
+}
+
+/// Work shrunk so one pass is far below the quantum: a 32 × 8 target (256 pixels).
+const QUANTISED_SCENE: &str = "resolution: [16, 16]
+camera: {axis: [1, 1, 1], distance: 2.0, frames: 1}
+objects:
+  - {mesh: cube, material: test/metals/goldish, methods: [exact, schlick, constant]}
+  - {mesh: sphere, material: test/liquids/water, methods: [exact, schlick, lazanyi]}
+measurements: [timing]
+timing: {resolution: [32, 8], warmup: 1, repeats: 7}
+";
+
+/// Each row's ratio to exact on its material, by (material, method).
+fn exact_ratios(result: &Value) -> Vec<(String, String, f64)> {
+    let rows = result["gpu_timing"].as_array().unwrap();
+    rows.iter()
+        .filter(|r| r["method"] != "exact")
+        .map(|r| {
+            let ratio = r["relative_to_exact"].as_f64().unwrap_or(f64::NAN);
+            (r["material"].as_str().unwrap().to_string(), r["method"].as_str().unwrap().to_string(), ratio)
+        })
+        .collect()
+}
+
+/// The largest |ratio − reference ratio| (infinite where a ratio is missing or not finite).
+fn worst_difference(ratios: &[(String, String, f64)], reference: &[(String, String, f64)]) -> f64 {
+    ratios
+        .iter()
+        .zip(reference)
+        .map(|((m, k, r), (m2, k2, r2))| {
+            assert_eq!((m, k), (m2, k2));
+            if r.is_finite() && r2.is_finite() {
+                (r - r2).abs()
+            } else {
+                f64::INFINITY
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The tolerance on a ratio to exact between a quantised and the unquantised run, both
+/// amplified (SwiftShader under load; see BENCHMARKS.md for the measured differences).
+const QUANTISED_TOLERANCE: f64 = 0.15;
+
+#[test]
+fn amplified_samples_survive_a_quantised_timer_and_single_draws_do_not() {
+    let run = |name: &str, query: &str| {
+        let args = vec!["--query".to_string(), query.to_string(), "--timeout".into(), "600".into()];
+        run_page(name, QUANTISED_SCENE, &args).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let Some(reference) = run("web-quantised-reference", "quantum_us=0") else { return };
+    let reference_ratios = exact_ratios(&reference["result"]);
+    let sampling = &reference["result"]["timing_sampling"];
+    eprintln!("unquantised: {sampling} {reference_ratios:?}");
+    let mut report = Vec::new();
+    for (name, query) in
+        [("web-quantised-timestamps", "quantum_us=100"), ("web-quantised-wall", "timer=wall&quantum_us=100&floor_ms=0.3125")]
+    {
+        let out = run(name, query).unwrap();
+        let result = &out["result"];
+        assert_eq!(result["complete"], true, "{out}");
+        let sampling = &result["timing_sampling"];
+        // The resolution found from the readings alone: the 100 µs quantum.
+        assert_eq!(number(&sampling["resolution_ns"]), 100_000.0, "{sampling}");
+        assert_eq!(sampling["capped"], false, "{sampling}");
+        let ratios = exact_ratios(result);
+        let worst = worst_difference(&ratios, &reference_ratios);
+        report.push(format!("{query}: evaluations {}, worst |Δ ratio| {worst:.3}, {ratios:?}", sampling["evaluations"]));
+        eprintln!("{}", report.last().unwrap());
+        // Every Fresnel method resolved (the baselines may fold their repeats: not a target).
+        let fresnel = |r: &&Value| !["constant", "texture"].contains(&r["method"].as_str().unwrap());
+        assert!(result["gpu_timing"].as_array().unwrap().iter().filter(fresnel).all(|r| r["near_resolution"] == "no"), "{result}");
+        assert!(worst <= QUANTISED_TOLERANCE, "{}", report.join("\n"));
+        // The single-draw design through the same timer.
+        let single = run(&format!("{name}-single"), &format!("{query}&amplify=0")).unwrap();
+        let ratios = exact_ratios(&single["result"]);
+        let worst = worst_difference(&ratios, &reference_ratios);
+        report.push(format!("{query} single draw: worst |Δ ratio| {worst:.3}, {ratios:?}"));
+        eprintln!("{}", report.last().unwrap());
+        assert!(worst > QUANTISED_TOLERANCE, "{}", report.join("\n"));
+        assert!(single["result"]["gpu_timing"].as_array().unwrap().iter().any(|r| r["near_resolution"] == "yes"), "{single}");
+    }
+    eprintln!("{}", report.join("\n"));
 }

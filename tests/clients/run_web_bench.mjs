@@ -3,10 +3,12 @@
 //
 // Usage: node tests/clients/run_web_bench.mjs PAGE OUT_JSON [--webgpu on|off|absent] [--query Q]
 //            [--ramp INDEX,METHOD,WIDTH,HEIGHT,VIEW_BASE64] [--effect-frame INDEX] [--twin INPUT_JSON]
-//            [--timeout SECONDS]
+//            [--timeout SECONDS] [--viewport WIDTH] [--hide-at MS] [--insecure]
 //
 //   --webgpu on      (default) WebGPU on SwiftShader: --enable-unsafe-webgpu
 //                    --use-webgpu-adapter=swiftshader (it grants timestamp-query)
+//   --webgpu hardware  WebGPU on this machine's GPU where Chromium reaches it (Vulkan,
+//                    blocklist ignored); the result's adapter says whether it did
 //   --webgpu off     no WebGPU flags: Chromium on Linux then gives no adapter
 //   --webgpu absent  navigator.gpu removed before the page's script runs
 //   --ramp           after the run, the page's read-back cosθ ramp of METHOD for material
@@ -16,6 +18,12 @@
 //   --effect-frame   after the run, the page's read-back frame of effects configuration INDEX
 //                    (window.nklut.effectFrame: maps updated, then the shading pass), as
 //                    `effect_frame` (RGBA f32 pixels, top row first)
+//   --viewport       the page's width in CSS pixels (a phone: 390); `layout` in the output
+//                    gives the document's scroll width and each table box's overflow
+//   --hide-at        MS after the page opens, it is told the tab went to the background (its
+//                    visibilityState reads `hidden` and a visibilitychange event fires)
+//   --insecure       the page served over http from a name that is not localhost
+//                    (nklut.test, mapped to 127.0.0.1): not a secure context
 //   --twin           a JSON file {"method": [...], "reference": [...], "samples": [...]}: the
 //                    page's twins of image_error::compare and stats::median_and_iqr on it,
 //                    as `twin` in the output
@@ -27,6 +35,7 @@
 // browser profile is a fresh temporary folder, removed at the end. Exits 1 with a message
 // on a browser or timeout failure (default --timeout 300 s).
 
+import { createServer } from 'node:http';
 import { createRequire } from 'node:module';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -54,6 +63,9 @@ const effectFrame = option('--effect-frame', null);
 const query = option('--query', null);
 const screenshot = option('--screenshot', null);
 const timeoutMs = Number(option('--timeout', '300')) * 1000;
+const viewport = option('--viewport', null);
+const hideAt = option('--hide-at', null);
+const insecure = args.includes('--insecure');
 
 const require = createRequire(join(deps, 'npm', 'node_modules', 'noop.js'));
 let puppeteer;
@@ -65,7 +77,15 @@ try {
 
 const profile = mkdtempSync(join(tmpdir(), 'nklut-web-bench-'));
 const flags = ['--no-sandbox', '--no-first-run', '--no-default-browser-check', `--user-data-dir=${profile}`];
-if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
+if (webgpu === 'hardware') flags.push('--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-angle=vulkan', '--ignore-gpu-blocklist', '--enable-gpu');
+else if (webgpu !== 'off') flags.push('--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader');
+let server = null;
+if (insecure) {
+  const html = readFileSync(resolve(pagePath));
+  server = createServer((_, response) => { response.writeHead(200, { 'content-type': 'text/html; charset=utf-8' }); response.end(html); });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  flags.push('--host-resolver-rules=MAP nklut.test 127.0.0.1');
+}
 const browser = await puppeteer.launch({ executablePath: chromiumPath, headless: true, args: flags, pipe: true, protocolTimeout: timeoutMs });
 const timer = setTimeout(async () => {
   await browser.close().catch(() => {});
@@ -80,7 +100,16 @@ try {
   if (webgpu === 'absent') {
     await page.evaluateOnNewDocument(() => { Object.defineProperty(Navigator.prototype, 'gpu', { get: () => undefined, configurable: true }); });
   }
-  await page.goto(pathToFileURL(resolve(pagePath)).href + (query ? `?${query}` : ''));
+  if (viewport) await page.setViewport({ width: Number(viewport), height: 844, isMobile: true, deviceScaleFactor: 1 });
+  const address = server ? `http://nklut.test:${server.address().port}/page.html` : pathToFileURL(resolve(pagePath)).href;
+  await page.goto(address + (query ? `?${query}` : ''));
+  if (hideAt !== null) {
+    setTimeout(() => page.evaluate(() => {
+      Object.defineProperty(document, 'visibilityState', { get: () => 'hidden', configurable: true });
+      document.dispatchEvent(new Event('visibilitychange'));
+      delete document.visibilityState;
+    }).catch(() => {}), Number(hideAt));
+  }
   // Poll (rather than one long waitForFunction, which a busy page can outlast the
   // protocol's timeout in); the page's status line goes to stderr every 30 s.
   let said = 0;
@@ -100,6 +129,14 @@ try {
       status: document.getElementById('status').textContent,
       tables: { timing: texts('timing'), errors: texts('errors'), effects: texts('effects'), modules: texts('modules') },
       chart_bars: document.querySelectorAll('#chart rect').length,
+      title: document.title,
+      incomplete: document.getElementById('incomplete').hidden ? null : document.getElementById('incomplete').textContent,
+      hidden_note: document.getElementById('hidden-note').hidden ? null : document.getElementById('hidden-note').textContent,
+      layout: {
+        viewport: window.innerWidth,
+        scroll_width: document.documentElement.scrollWidth,
+        boxes: [...document.querySelectorAll('.scroll, .chart')].map((b) => ({ id: b.firstElementChild ? b.firstElementChild.id || b.id : b.id, width: b.getBoundingClientRect().width, right: b.getBoundingClientRect().right })),
+      },
       error_bars: document.querySelectorAll('#error-chart rect').length,
     };
   });
@@ -123,7 +160,9 @@ try {
       summary.add(frame);
       summary.add(t.compare(input.reference, input.reference));
       const [median, iqr] = t.medianAndIqr(input.samples);
-      return { frame, summary_mean: summary.meanRelative(), median, iqr };
+      const permutation = t.permutation(input.seed, input.n);
+      const resolution = t.resolutionNs(input.readings.map((r) => BigInt(r)), 1);
+      return { frame, summary_mean: summary.meanRelative(), median, iqr, permutation, resolution };
     }, input);
   }
   out.console = console_;
@@ -132,6 +171,7 @@ try {
   fail(error.stack || error.message);
 } finally {
   clearTimeout(timer);
+  if (server) server.close();
   await browser.close().catch(() => {});
   rmSync(profile, { recursive: true, force: true });
 }

@@ -52,8 +52,50 @@ pub struct Gpu {
     uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
+/// Mesa's desktop GL renders to RGBA32F (float colour buffers are core since GL 3.0) but
+/// lists neither GL_ARB_color_buffer_float nor GL_EXT_color_buffer_float, the strings wgpu
+/// looks for before it allows the runner's float targets. Mesa reads
+/// `MESA_EXTENSION_OVERRIDE` when EGL starts a context: this adds the first to it, once,
+/// before any instance exists (the variable left as it is when it already names it, or
+/// disables it with `-`). Other drivers ignore the variable.
+pub const MESA_GL_OVERRIDE: &str = "+GL_ARB_color_buffer_float";
+
+/// The value `MESA_EXTENSION_OVERRIDE` should have given its current one.
+pub fn mesa_override(current: Option<&str>) -> Option<String> {
+    let name = &MESA_GL_OVERRIDE[1..];
+    match current {
+        None => Some(MESA_GL_OVERRIDE.to_string()),
+        Some(value) if value.split_whitespace().any(|w| w.trim_start_matches(['+', '-']) == name) => None,
+        Some(value) if value.trim().is_empty() => Some(MESA_GL_OVERRIDE.to_string()),
+        Some(value) => Some(format!("{value} {MESA_GL_OVERRIDE}")),
+    }
+}
+
 fn instance() -> wgpu::Instance {
+    static MESA: std::sync::Once = std::sync::Once::new();
+    if cfg!(any(target_os = "linux", target_os = "android")) {
+        MESA.call_once(|| {
+            let current = std::env::var("MESA_EXTENSION_OVERRIDE").ok();
+            if let Some(value) = mesa_override(current.as_deref()) {
+                std::env::set_var("MESA_EXTENSION_OVERRIDE", value);
+            }
+        });
+    }
     wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mesa_override_is_added_once_and_a_user_s_choice_kept() {
+        assert_eq!(mesa_override(None).as_deref(), Some("+GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("")).as_deref(), Some("+GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("+GL_EXT_foo")).as_deref(), Some("+GL_EXT_foo +GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("+GL_ARB_color_buffer_float")), None);
+        assert_eq!(mesa_override(Some("-GL_ARB_color_buffer_float")), None);
+    }
 }
 
 /// Every adapter the instance sees.

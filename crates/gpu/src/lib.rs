@@ -21,6 +21,7 @@ pub mod params;
 pub mod passes;
 pub mod render;
 pub mod runner;
+pub mod sampling;
 pub mod timing;
 pub mod web;
 

@@ -39,6 +39,9 @@ pub enum Shade {
     Method(Shading),
     /// The expensive shader of the `--subtract` timing.
     Burner,
+    /// `exact` by the dielectric formula (k = 0, `fresnel_exact_dielectric`): how the
+    /// timing anchors exact on a dielectric material, as the study did.
+    ExactDielectric,
 }
 
 impl Shade {
@@ -50,6 +53,7 @@ impl Shade {
             Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
             Shade::Method(method) => format!("{}(c, material)", super::params::wgsl_function(method)),
             Shade::Burner => "fresnel_burner(c)".into(),
+            Shade::ExactDielectric => "fresnel_exact_dielectric(c, material)".into(),
         }
     }
 
@@ -57,6 +61,7 @@ impl Shade {
         match self {
             Shade::Method(method) => method.name().into(),
             Shade::Burner => "burner".into(),
+            Shade::ExactDielectric => "exact_dielectric".into(),
         }
     }
 }
@@ -70,7 +75,8 @@ pub fn compose(shade: Shade) -> Result<String, super::compose::ComposeError> {
 /// Which entry points and target a pipeline draws with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Draw {
-    /// `vs_fullscreen` + `fs_ramp`: c = (x + ½)/width over the whole target.
+    /// `vs_fullscreen` + `fs_ramp`: c = (x + ½)/width over the whole target, F evaluated
+    /// `viewport.z` times per pixel ([`ViewUniform::fullscreen_amplified`]).
     Fullscreen(wgpu::TextureFormat),
     /// The same, blended additively over what is there: the measured draw of the
     /// `--subtract` timing. Without blending, a tiler that sees an opaque draw cover a whole
@@ -93,6 +99,12 @@ pub struct ViewUniform {
 impl ViewUniform {
     pub fn fullscreen(width: u32, height: u32) -> Self {
         ViewUniform { viewport: [width as f32, height as f32, 0.0, 0.0], ..Default::default() }
+    }
+
+    /// The fullscreen pass evaluating F `evaluations` times per pixel (`viewport.z`, read
+    /// by `fs_ramp`; 0 and 1 both mean once).
+    pub fn fullscreen_amplified(width: u32, height: u32, evaluations: u32) -> Self {
+        ViewUniform { viewport: [width as f32, height as f32, evaluations as f32, 0.0], ..Default::default() }
     }
 
     pub fn camera(frame: &super::camera::Frame, width: u32, height: u32) -> Self {
@@ -388,9 +400,22 @@ pub fn readback_buffer(gpu: &Gpu, size: u64) -> Result<wgpu::Buffer> {
 /// Render the cosθ ramp of `method` (c = (x + ½)/width in every row) for `material` into
 /// an RGBA32Float target and read it back: the shader's F as the tests compare it.
 pub fn ramp(gpu: &Gpu, renderer: &mut Renderer, method: Shading, binding: &MaterialBinding, width: u32, height: u32) -> Result<Vec<f32>> {
+    ramp_of(gpu, renderer, Shade::Method(method), binding, [width, height], 1)
+}
+
+/// [`ramp`] of any `shade` with F evaluated `evaluations` times per pixel (the timing's
+/// amplified pass: each pixel the mean of F at c, c + φ, c + 2φ … mod 1).
+pub fn ramp_of(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    shade: Shade,
+    binding: &MaterialBinding,
+    [width, height]: [u32; 2],
+    evaluations: u32,
+) -> Result<Vec<f32>> {
     let target = Target::new(gpu, width, height, FLOAT_TARGET, false)?;
-    gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
-    let pipeline = renderer.pipeline(gpu, Shade::Method(method), Draw::Fullscreen(FLOAT_TARGET))?.clone();
+    gpu.queue.write_buffer(&binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen_amplified(width, height, evaluations)));
+    let pipeline = renderer.pipeline(gpu, shade, Draw::Fullscreen(FLOAT_TARGET))?.clone();
     let buffer = readback_buffer(gpu, target.readback_bytes())?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {

@@ -29,7 +29,8 @@ use super::params::{self, MaterialUniform};
 use super::render::{
     padded_row_bytes, readback_buffer, Draw, MaterialBinding, Renderer, Shade, Target, ViewUniform, DISPLAY_TARGET, FLOAT_TARGET,
 };
-use super::timing::{median_and_iqr, Stopwatch, Timer};
+use super::sampling::{self, PairKind, Plan, SampleStats};
+use super::timing::{FresnelClock, Stopwatch, Timer};
 use nklut_effects::experiment::EffectsStats;
 use nklut_effects::scene::{read_materials, Experiment, MeshSource, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
 use nklut_optics::db::Database;
@@ -60,6 +61,8 @@ pub struct RunStats {
     /// Of those, the ones with the refraction branch (none unless the scene names refraction).
     pub refraction_pipelines: usize,
     pub skipped: Vec<String>,
+    /// Measurements that failed after others had finished (their rows are kept and written).
+    pub failures: Vec<String>,
 }
 
 impl fmt::Display for RunStats {
@@ -88,6 +91,9 @@ impl fmt::Display for RunStats {
         for skipped in &self.skipped {
             write!(f, "\n  skipped: {skipped}")?;
         }
+        for failure in &self.failures {
+            write!(f, "\n  failed: {failure}")?;
+        }
         Ok(())
     }
 }
@@ -96,12 +102,39 @@ impl fmt::Display for RunStats {
 pub struct TimingRow {
     pub material: String,
     pub method: Shading,
+    /// The formula timed for `exact`: the dielectric one (k = 0) on a dielectric material,
+    /// the complex one on a conductor (the study's anchors); empty for the other methods.
+    pub formula: &'static str,
     pub timer: Timer,
     pub resolution: [u32; 2],
-    pub repeats: u32,
-    pub median_ms: f64,
-    pub spread_ms: f64,
+    /// F evaluations per pixel in each timed pass (the amplification).
+    pub evaluations: u32,
+    /// The timer's resolution estimated from its readings (ns).
+    pub timer_resolution_ns: f64,
+    /// The seed of the pairs' order.
+    pub seed: u64,
+    /// Every timed sample (ms), in the order taken.
+    pub samples: Vec<f64>,
+    pub stats: SampleStats,
+    pub relative_to_exact: Option<f64>,
+    pub relative_to_fetch: Option<f64>,
     pub relative_to_exact_dielectric: Option<f64>,
+}
+
+/// The formula `exact` is timed by on a material of `kind` (the study's anchors).
+pub fn exact_formula(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Dielectric => "dielectric (k = 0)",
+        Kind::Conductor => "complex",
+    }
+}
+
+/// The shader a timed pair draws: `exact` on a dielectric by the dielectric formula.
+pub fn timed_shade(method: Shading, kind: Kind) -> Shade {
+    match (method, kind) {
+        (Shading::Fresnel(Method::Exact), Kind::Dielectric) => Shade::ExactDielectric,
+        _ => Shade::Method(method),
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -232,7 +265,12 @@ fn run_fresnel_only(
     }
     let mut image_errors = Vec::new();
     if scene.wants(Experiment::ImageError) {
-        image_errors = run_image_error(scene, &bound, gpu, &mut renderer, stats, log)?;
+        // A failure here keeps the timing measured before it.
+        match run_image_error(scene, &bound, gpu, &mut renderer, stats, log) {
+            Ok(rows) => image_errors = rows,
+            Err(error) if !timing.is_empty() => stats.failures.push(format!("image_error: {error:#}")),
+            Err(error) => return Err(error),
+        }
     } else {
         stats.skipped.push("image_error: not in the scene's measurements".into());
     }
@@ -256,7 +294,7 @@ fn run_timing(
     let burner =
         if settings.subtract { Some(renderer.pipeline(gpu, Shade::Burner, Draw::Fullscreen(DISPLAY_TARGET))?.clone()) } else { None };
     log(&format!(
-        "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method), interleaved, timer {}{}",
+        "timing: {width}x{height}, {} warm-up + {} timed rounds over every (material, method) in a seeded order, a throwaway pass leading each submit, timer {}{}",
         settings.warmup,
         settings.repeats,
         stopwatch.timer().name(),
@@ -266,37 +304,100 @@ fn run_timing(
     let measured_pass = if settings.subtract { Draw::FullscreenOver(DISPLAY_TARGET) } else { Draw::Fullscreen(DISPLAY_TARGET) };
     let mut pipelines = Vec::new();
     for (page, method) in &pairs {
-        gpu.queue.write_buffer(&bound[page].binding.view, 0, bytemuck::bytes_of(&ViewUniform::fullscreen(width, height)));
-        pipelines.push(renderer.pipeline(gpu, Shade::Method(*method), measured_pass)?.clone());
+        pipelines.push(renderer.pipeline(gpu, timed_shade(*method, bound[page].kind), measured_pass)?.clone());
     }
-    let draws: Vec<_> = pairs.iter().zip(&pipelines).map(|((page, _), pipeline)| (pipeline, &bound[page].binding.bind_group)).collect();
-    let samples = stopwatch.measure_interleaved(gpu, &target, &draws, burner.as_ref(), settings)?;
+    let draws: Vec<_> = pairs
+        .iter()
+        .zip(&pipelines)
+        .map(|((page, _), pipeline)| ((pipeline, &bound[page].binding.bind_group), &bound[page].binding.view))
+        .collect();
+    let kinds: Vec<PairKind> = pairs.iter().map(|(_, method)| PairKind { baseline: !matches!(method, Shading::Fresnel(_)) }).collect();
+    // The study's subtraction is timed as the study did, one evaluation per pixel: the
+    // burner shares the pass and would be amplified with the method.
+    let amplify = settings.amplify && !settings.subtract;
+    if settings.amplify && settings.subtract {
+        stats.skipped.push("amplification: not with subtract (the study's method, one evaluation per pixel)".into());
+    }
+    let plan = Plan { warmup: settings.warmup, repeats: settings.repeats, amplify, seed: settings.seed };
+    let mut clock = FresnelClock {
+        gpu,
+        target: &target,
+        stopwatch: &mut stopwatch,
+        draws,
+        burner: burner.as_ref(),
+        resolution: settings.resolution,
+        written: None,
+    };
+    let measurement = sampling::measure(&mut clock, &kinds, &plan)?;
+    clock.reset();
+    log(&format!(
+        "  {} F evaluations per pixel (calibration {}); timer resolution {:.0} ns{}; sample target {:.3} ms; order seed {}{}",
+        measurement.evaluations,
+        measurement.calibration.iter().map(|(n, ms)| format!("{n}: {ms:.4} ms")).collect::<Vec<_>>().join(", "),
+        measurement.resolution_ns,
+        if measurement.floor_ms > 0.0 { format!(", wall floor {:.4} ms", measurement.floor_ms) } else { String::new() },
+        measurement.target_ms,
+        measurement.seed,
+        if measurement.capped { " (amplification capped: the target was not reached)" } else { "" }
+    ));
+    let pixels = width as u64 * height as u64;
     let mut rows = Vec::new();
-    for ((page, method), samples) in pairs.into_iter().zip(samples) {
-        let (median_ms, spread_ms) = median_and_iqr(&samples);
-        log(&format!("  {page} {method}: median {median_ms:.4} ms, IQR {spread_ms:.4} ms"));
+    for ((page, method), samples) in pairs.into_iter().zip(measurement.samples.iter()) {
+        let stats = sampling::stats(samples, measurement.evaluations, pixels, &measurement);
+        log(&format!(
+            "  {page} {method}: median {:.4} ms, IQR {:.4} ms, n {}, {:.4} ns per evaluation per pixel{}",
+            stats.median_ms,
+            stats.spread_ms,
+            stats.n,
+            stats.ns_per_evaluation,
+            if stats.near_resolution { " (within 10 × the timer's resolution)" } else { "" }
+        ));
+        let kind = bound[&page].kind;
         rows.push(TimingRow {
+            formula: if method == Shading::Fresnel(Method::Exact) { exact_formula(kind) } else { "" },
             material: page,
             method,
             timer: stopwatch.timer(),
             resolution: settings.resolution,
-            repeats: settings.repeats,
-            median_ms,
-            spread_ms,
+            evaluations: measurement.evaluations,
+            timer_resolution_ns: measurement.resolution_ns,
+            seed: measurement.seed,
+            samples: samples.clone(),
+            stats,
+            relative_to_exact: None,
+            relative_to_fetch: None,
             relative_to_exact_dielectric: None,
         });
     }
     stats.timed_passes += stopwatch.passes;
-    // The study's normalisation: exact on a dielectric material.
-    let reference = rows
-        .iter()
-        .find(|r| r.method == Shading::Fresnel(Method::Exact) && bound[&r.material].kind == Kind::Dielectric)
-        .map(|r| r.median_ms);
-    match reference {
-        Some(reference) => rows.iter_mut().for_each(|r| r.relative_to_exact_dielectric = Some(r.median_ms / reference)),
-        None => stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into()),
+    relate(&mut rows, &|page| bound[page].kind);
+    if !rows.iter().any(|r| r.relative_to_exact_dielectric.is_some()) {
+        stats.skipped.push("relative_to_exact_dielectric: the scene does not time exact on a dielectric material".into());
     }
     Ok(rows)
+}
+
+/// Each row's median relative to exact's and to the bare fetch's (`texture`) on the same
+/// material, and to exact's on the first dielectric material timed (the study's
+/// normalisation).
+pub fn relate(rows: &mut [TimingRow], kind: &dyn Fn(&str) -> Kind) {
+    let median = |rows: &[TimingRow], material: &str, method: Shading| {
+        rows.iter().find(|r| r.material == material && r.method == method).map(|r| r.stats.median_ms).filter(|m| *m > 0.0)
+    };
+    let reference = rows
+        .iter()
+        .find(|r| r.method == Shading::Fresnel(Method::Exact) && kind(&r.material) == Kind::Dielectric)
+        .map(|r| r.stats.median_ms)
+        .filter(|m| *m > 0.0);
+    let related: Vec<(Option<f64>, Option<f64>)> = rows
+        .iter()
+        .map(|r| (median(rows, &r.material, Shading::Fresnel(Method::Exact)), median(rows, &r.material, Shading::Texture)))
+        .collect();
+    for (row, (exact, fetch)) in rows.iter_mut().zip(related) {
+        row.relative_to_exact = exact.map(|e| row.stats.median_ms / e);
+        row.relative_to_fetch = fetch.map(|f| row.stats.median_ms / f);
+        row.relative_to_exact_dielectric = reference.map(|e| row.stats.median_ms / e);
+    }
 }
 
 fn upload_mesh(gpu: &Gpu, mesh: &mesh::Mesh) -> GpuMesh {
@@ -415,6 +516,7 @@ pub fn timing_table(report: &RunReport) -> Table {
 /// bench's results follow).
 pub fn timing_rows_table(rows: &[TimingRow], a: &AdapterLine) -> Table {
     let text = |f: &dyn Fn(&TimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
+    let float = |f: &dyn Fn(&TimingRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
         .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
@@ -422,16 +524,30 @@ pub fn timing_rows_table(rows: &[TimingRow], a: &AdapterLine) -> Table {
         .text("driver", "driver name and version", text(&|_| a.driver.clone()))
         .text("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
         .text("method", "Fresnel method (SPEC §5) or baseline (constant, texture)", text(&|r| r.method.name().into()))
+        .text("formula", "for exact: dielectric (k = 0) on a dielectric material, complex on a conductor (the study's anchors); else empty", text(&|r| r.formula.into()))
         .text("material", "page id", text(&|r| r.material.clone()))
         .text("resolution", "fullscreen pass size WxH in pixels", text(&|r| resolution_text(r.resolution)))
-        .integer("repeats", "timed passes (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
-        .float("median_ms", "median pass time (ms)", rows.iter().map(|r| r.median_ms).collect())
-        .float("spread_ms", "interquartile range of the pass times (ms)", rows.iter().map(|r| r.spread_ms).collect())
+        .integer("evaluations", "F evaluations per pixel in each timed pass (chosen at warm-up so a sample spans >= 100 x the timer's resolution)", rows.iter().map(|r| r.evaluations as i64).collect())
+        .float("timer_resolution_ns", "the timer's resolution estimated from its readings (ns)", float(&|r| r.timer_resolution_ns))
+        .text("seed", "seed of the order of the (material, method) pairs in each round", text(&|r| r.seed.to_string()))
+        .integer("repeats", "timed samples kept (after warm-up)", rows.iter().map(|r| r.stats.n as i64).collect())
+        .float("mean_ms", "mean pass time (ms)", float(&|r| r.stats.mean_ms))
+        .float("median_ms", "median pass time (ms)", float(&|r| r.stats.median_ms))
+        .float("spread_ms", "interquartile range of the pass times (ms)", float(&|r| r.stats.spread_ms))
+        .float("ns_per_evaluation", "median pass time per F evaluation per pixel (ns)", float(&|r| r.stats.ns_per_evaluation))
+        .optional_float("relative_to_exact", "median_ms / median_ms of exact on the same material", rows.iter().map(|r| r.relative_to_exact).collect())
+        .optional_float(
+            "relative_to_fetch",
+            "median_ms / median_ms of the bare texture fetch (texture) on the same material",
+            rows.iter().map(|r| r.relative_to_fetch).collect(),
+        )
         .optional_float(
             "relative_to_exact_dielectric",
             "median_ms / median_ms of exact on the first dielectric material timed (the study's normalisation); empty when the scene times none",
             rows.iter().map(|r| r.relative_to_exact_dielectric).collect(),
-        );
+        )
+        .text("near_resolution", "yes when the median is within 10 x the timer's resolution (or wall floor): not resolved", text(&|r| if r.stats.near_resolution { "yes" } else { "no" }.into()))
+        .text("samples_ms", "every timed sample (ms), space-separated, in the order taken", text(&|r| r.samples.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(" ")));
     table
 }
 

@@ -1,15 +1,16 @@
 //! Timing of fullscreen passes: GPU timestamp queries at the start and end of the pass where
 //! the adapter has `Features::TIMESTAMP_QUERY`, else wall time around submit-and-wait.
 //! Optionally the study's subtraction: an expensive pass alone, then the same pass with the
-//! measured shader drawn on top; the difference is the measured shader's cost.
+//! measured shader drawn on top; the difference is the measured shader's cost. The F-only
+//! passes are sampled by the rules of [`super::sampling`] through [`FresnelClock`].
 
 use std::time::Instant;
 
 use anyhow::Result;
 
 use super::context::Gpu;
-use super::render::Target;
-use nklut_effects::scene::TimingSettings;
+use super::render::{Target, ViewUniform};
+use super::sampling::{PassClock, RawSample};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Timer {
@@ -37,6 +38,7 @@ pub type Draw<'a> = (&'a wgpu::RenderPipeline, &'a wgpu::BindGroup);
 pub struct Stopwatch {
     queries: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
     period_ns: f64,
+    epoch: Instant,
     pub passes: u64,
 }
 
@@ -56,7 +58,12 @@ impl Stopwatch {
             });
             Ok((set, resolve, super::render::readback_buffer(gpu, 16)?))
         });
-        Ok(Stopwatch { queries: queries.transpose()?, period_ns: gpu.queue.get_timestamp_period() as f64, passes: 0 })
+        Ok(Stopwatch {
+            queries: queries.transpose()?,
+            period_ns: gpu.queue.get_timestamp_period() as f64,
+            epoch: Instant::now(),
+            passes: 0,
+        })
     }
 
     pub fn timer(&self) -> Timer {
@@ -109,38 +116,136 @@ impl Stopwatch {
         }
     }
 
-    /// One sample of `measured`: its pass time, or with `burner` time(burner, then measured
-    /// on top) − time(burner alone).
-    pub fn sample(&mut self, gpu: &Gpu, target: &Target, measured: Draw<'_>, burner: Option<Draw<'_>>) -> Result<f64> {
-        Ok(match burner {
-            Some(burner) => {
-                let alone = self.time(gpu, target, &[burner])?;
-                self.time(gpu, target, &[burner, measured])? - alone
-            }
-            None => self.time(gpu, target, &[measured])?,
-        })
-    }
-
-    /// Samples of every configuration, interleaved: `settings.warmup` untimed rounds, then
-    /// `settings.repeats` rounds that each take one sample of every configuration in turn,
-    /// so a change in background load over the run affects all configurations alike.
-    pub fn measure_interleaved(
+    /// Time the one pass `record` encodes as raw readings (ns): its start and end
+    /// timestamps, or the wall clock around submit-and-wait. `lead` encodes passes before
+    /// it in the same submit, untimed (the throwaway pass).
+    pub fn raw_pass(
         &mut self,
         gpu: &Gpu,
-        target: &Target,
-        measured: &[Draw<'_>],
-        burner: Option<&wgpu::RenderPipeline>,
-        settings: &TimingSettings,
-    ) -> Result<Vec<Vec<f64>>> {
-        let mut samples = vec![Vec::with_capacity(settings.repeats as usize); measured.len()];
-        for round in 0..settings.warmup + settings.repeats {
-            for (draw, out) in measured.iter().zip(&mut samples) {
-                let sample = self.sample(gpu, target, *draw, burner.map(|b| (b, draw.1)))?;
-                if round >= settings.warmup {
-                    out.push(sample);
-                }
-            }
+        lead: impl FnOnce(&mut wgpu::CommandEncoder),
+        record: impl FnOnce(&mut wgpu::CommandEncoder, Option<&wgpu::QuerySet>),
+    ) -> Result<RawSample> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        lead(&mut encoder);
+        record(&mut encoder, self.queries.as_ref().map(|(set, _, _)| set));
+        if let Some((set, resolve, read)) = &self.queries {
+            encoder.resolve_query_set(set, 0..2, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
         }
-        Ok(samples)
+        let start = self.epoch.elapsed().as_nanos() as u64;
+        gpu.queue.submit([encoder.finish()]);
+        gpu.wait()?;
+        let end = self.epoch.elapsed().as_nanos() as u64;
+        self.passes += 1;
+        match &self.queries {
+            Some((_, _, read)) => {
+                let bytes = gpu.read_buffer(read)?;
+                let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+                let ns = |t: u64| (t as f64 * self.period_ns) as u64;
+                Ok(RawSample { start_ns: ns(ticks[0]), end_ns: ns(ticks[0]) + ns(ticks[1].wrapping_sub(ticks[0])) })
+            }
+            None => Ok(RawSample { start_ns: start, end_ns: end }),
+        }
+    }
+
+    /// The timer's nominal tick (ns): the timestamp period, or 1 for the wall clock.
+    pub fn tick_ns(&self) -> f64 {
+        if self.queries.is_some() {
+            self.period_ns.max(1.0)
+        } else {
+            1.0
+        }
+    }
+}
+
+/// The F-only passes as a [`PassClock`]: each sample one submit that clears `target` in an
+/// untimed throwaway pass, then draws the pair's pipeline (with `subtract`: the burner
+/// alone, then the burner and the pair on top, in two such submits; the sample the
+/// difference) into it with `evaluations` per pixel, written into each material's `View`
+/// (`viewport.z`) before the pass.
+pub struct FresnelClock<'a> {
+    pub gpu: &'a Gpu,
+    pub target: &'a Target,
+    pub stopwatch: &'a mut Stopwatch,
+    /// Per pair: its draw and its material's view buffer.
+    pub draws: Vec<(Draw<'a>, &'a wgpu::Buffer)>,
+    pub burner: Option<&'a wgpu::RenderPipeline>,
+    pub resolution: [u32; 2],
+    /// The amplification last written into every view.
+    pub written: Option<u32>,
+}
+
+impl FresnelClock<'_> {
+    fn write_evaluations(&mut self, evaluations: u32) {
+        if self.written == Some(evaluations) {
+            return;
+        }
+        let [width, height] = self.resolution;
+        let view = ViewUniform::fullscreen_amplified(width, height, evaluations);
+        for (_, buffer) in &self.draws {
+            self.gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&view));
+        }
+        self.written = Some(evaluations);
+    }
+
+    /// Back to one evaluation per pixel (what a ramp readback expects).
+    pub fn reset(&mut self) {
+        self.write_evaluations(1);
+    }
+
+    fn one(&mut self, draws: &[Draw<'_>]) -> Result<RawSample> {
+        let target = self.target;
+        self.stopwatch.raw_pass(
+            self.gpu,
+            |encoder| drop(target.begin(encoder, None)),
+            |encoder, timestamps| {
+                let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                });
+                let mut pass = target.begin(encoder, writes);
+                for (pipeline, bind_group) in draws {
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, *bind_group, &[]);
+                    pass.draw(0..3, 0..1);
+                }
+            },
+        )
+    }
+}
+
+impl PassClock for FresnelClock<'_> {
+    fn pass(&mut self, pair: usize, evaluations: u32) -> Result<RawSample> {
+        self.write_evaluations(evaluations);
+        let (measured, _) = self.draws[pair];
+        match self.burner {
+            Some(burner) => {
+                let alone = self.one(&[(burner, measured.1)])?;
+                let both = self.one(&[(burner, measured.1), measured])?;
+                let difference = both.end_ns.saturating_sub(both.start_ns).saturating_sub(alone.end_ns.saturating_sub(alone.start_ns));
+                Ok(RawSample { start_ns: both.start_ns, end_ns: both.start_ns + difference })
+            }
+            None => self.one(&[measured]),
+        }
+    }
+
+    fn tick_ns(&self) -> f64 {
+        self.stopwatch.tick_ns()
+    }
+
+    /// With the wall clock: the median round trip of five empty submits.
+    fn floor_ms(&mut self) -> Result<f64> {
+        if self.stopwatch.timer() == Timer::Timestamp {
+            return Ok(0.0);
+        }
+        let mut trips = Vec::new();
+        for _ in 0..5 {
+            let start = Instant::now();
+            self.gpu.queue.submit([self.gpu.device.create_command_encoder(&Default::default()).finish()]);
+            self.gpu.wait()?;
+            trips.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        Ok(median_and_iqr(&trips).0)
     }
 }

@@ -42,6 +42,8 @@ pub const FORMAT: &str = "nklut-web-bench/1";
 #[derive(Debug, Serialize)]
 pub struct Bench {
     pub format: &'static str,
+    /// The nklut version that wrote the page.
+    pub version: &'static str,
     /// The scene's file stem (`default` for scenes/default.yaml).
     pub scene: String,
     pub formats: Formats,
@@ -107,6 +109,12 @@ pub struct TimingPlan {
     pub warmup: u32,
     pub repeats: u32,
     pub subtract: bool,
+    /// Repeat F per pixel until a sample spans enough of the timer ([`crate::sampling`]).
+    pub amplify: bool,
+    /// The seed of the pairs' order, in decimal (it may pass 2^53).
+    pub seed: String,
+    /// The constants of [`crate::sampling`], which the page twins.
+    pub sampling: SamplingRules,
     /// `View` of the fullscreen pass (base64).
     pub view: String,
     /// The timed (material, shading) pairs, the units of `gpu_timing`.
@@ -114,9 +122,39 @@ pub struct TimingPlan {
 }
 
 #[derive(Debug, Serialize)]
+pub struct SamplingRules {
+    pub span_over_resolution: f64,
+    pub span_over_floor: f64,
+    pub min_sample_ms: f64,
+    pub near_resolution: f64,
+    pub max_evaluations: u32,
+    pub max_calibration_rounds: usize,
+}
+
+impl SamplingRules {
+    pub fn of_runner() -> Self {
+        use crate::sampling as s;
+        SamplingRules {
+            span_over_resolution: s::SPAN_OVER_RESOLUTION,
+            span_over_floor: s::SPAN_OVER_FLOOR,
+            min_sample_ms: s::MIN_SAMPLE_MS,
+            near_resolution: s::NEAR_RESOLUTION,
+            max_evaluations: s::MAX_EVALUATIONS,
+            max_calibration_rounds: s::MAX_CALIBRATION_ROUNDS,
+        }
+    }
+}
+
+#[derive(Debug, Serialize)]
 pub struct PairPlan {
     pub material: usize,
     pub method: &'static str,
+    /// The F-only module it draws (`exact_dielectric` for exact on a dielectric material).
+    pub shade: String,
+    /// [`crate::runner::exact_formula`] for exact, else empty.
+    pub formula: &'static str,
+    /// A baseline (constant, bare fetch), not a Fresnel method.
+    pub baseline: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -197,13 +235,26 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         let pairs = scene
             .material_shadings()
             .into_iter()
-            .map(|(page, method)| Ok(PairPlan { material: page_index(&page)?, method: method.name() }))
+            .map(|(page, method)| {
+                let material = page_index(&page)?;
+                let kind = materials[material].optics.kind;
+                Ok(PairPlan {
+                    material,
+                    method: method.name(),
+                    shade: super::runner::timed_shade(method, kind).name(),
+                    formula: if method == Shading::Fresnel(Method::Exact) { super::runner::exact_formula(kind) } else { "" },
+                    baseline: !matches!(method, Shading::Fresnel(_)),
+                })
+            })
             .collect::<Result<_>>()?;
         Ok(TimingPlan {
             resolution: scene.timing.resolution,
             warmup: scene.timing.warmup,
             repeats: scene.timing.repeats,
             subtract: scene.timing.subtract,
+            amplify: scene.timing.amplify,
+            seed: scene.timing.seed.to_string(),
+            sampling: SamplingRules::of_runner(),
             view: base64(bytemuck::bytes_of(&ViewUniform::fullscreen(width, height))),
             pairs,
         })
@@ -279,6 +330,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     let names = |table: nklut_pipeline::output::Table| table.columns.into_iter().map(|c| c.name).collect();
     Ok(Bench {
         format: FORMAT,
+        version: env!("CARGO_PKG_VERSION"),
         scene: scene.file.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned()),
         formats: Formats {
             display: format(render::DISPLAY_TARGET),
@@ -310,6 +362,7 @@ const SCRIPT: &str = include_str!("web/bench.js");
 /// the script, each filled in one pass so no filled text is read as a placeholder.
 pub fn page(bench: &Bench) -> Result<String> {
     let json = serde_json::to_string(bench)?.replace('<', "\\u003c");
+    let hash = format!("{:016x}", plan_hash(&json));
     let title = format!("nklut browser bench: {}", bench.scene).replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
     let mut out = String::with_capacity(TEMPLATE.len() + json.len() + SCRIPT.len());
     let mut rest = TEMPLATE;
@@ -319,6 +372,7 @@ pub fn page(bench: &Bench) -> Result<String> {
         out.push_str(match &rest[start + 2..end] {
             "TITLE" => &title,
             "PLAN" => &json,
+            "HASH" => &hash,
             "SCRIPT" => SCRIPT,
             other => return Err(anyhow!("unknown placeholder {other} in the page template")),
         });
@@ -326,6 +380,11 @@ pub fn page(bench: &Bench) -> Result<String> {
     }
     out.push_str(rest);
     Ok(out)
+}
+
+/// FNV-1a 64 (Fowler, Noll & Vo) of the plan's JSON as embedded: the result's `plan_hash`.
+pub fn plan_hash(json: &str) -> u64 {
+    json.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
 }
 
 /// `View` of a fullscreen pass of `width` × `height`, base64 (the page's `ramp`).
@@ -365,7 +424,8 @@ mod tests {
         }
         assert_eq!(shade("schlick").wgsl, render::compose(Shade::Method(Shading::Fresnel(Method::Schlick))).unwrap());
         assert_eq!(shade("burner").wgsl, render::compose(Shade::Burner).unwrap());
-        assert_eq!(shaded.len(), Shading::ALL.len() + 1);
+        assert_eq!(shade("exact_dielectric").wgsl, render::compose(Shade::ExactDielectric).unwrap());
+        assert_eq!(shaded.len(), Shading::ALL.len() + 2);
         // Bytes as the native runner uploads them.
         let decode = |s: &str| base64::engine::general_purpose::STANDARD.decode(s).unwrap();
         let uniform = MaterialUniform::from_prepared(&params::prepare(&material.optics.channels));
@@ -397,5 +457,8 @@ mod tests {
         assert_eq!(html.matches("</script>").count(), html.matches("<script").count());
         assert!(html.contains("a\\u003c!--\\u003cscript>"));
         assert!(!html.contains("{{"), "every placeholder filled");
+        // FNV-1a 64 of "" and "a" (the published test vectors).
+        assert_eq!(plan_hash(""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(plan_hash("a"), 0xaf63_dc4c_8601_ec8c);
     }
 }

@@ -12,7 +12,7 @@
 //!   - { mesh: cube, material: 3d/metals/gold, methods: [schlick, lazanyi] }
 //!   - { mesh: ../shared/meshes/nefertiti.obj, material: 3d/liquids/water, method: schlick }
 //! measurements: [timing, image_error]
-//! timing: { resolution: [1920, 1080], warmup: 5, repeats: 30, subtract: false }
+//! timing: { resolution: [1920, 1080], warmup: 5, repeats: 30, subtract: false, amplify: true, seed: 7956572418393243649 }
 //! lut: { size: 64 }
 //! ```
 //!
@@ -206,7 +206,9 @@ impl Default for CameraPath {
 
 /// Timing settings: a fullscreen pass of `resolution`, `warmup` untimed passes, `repeats`
 /// timed ones; `subtract` uses the study's method (expensive shader alone, then with the
-/// measured one drawn on top, difference).
+/// measured one drawn on top, difference); `amplify` (default true) lets the runner repeat
+/// the F evaluation per pixel until a sample spans enough of the timer's resolution (false:
+/// one evaluation, the single-draw design); `seed` seeds the order of the pairs per round.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimingSettings {
@@ -218,6 +220,19 @@ pub struct TimingSettings {
     pub repeats: u32,
     #[serde(default)]
     pub subtract: bool,
+    #[serde(default = "default_amplify")]
+    pub amplify: bool,
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+}
+
+fn default_amplify() -> bool {
+    true
+}
+/// The seed of the timed pairs' order when the scene gives none.
+pub const DEFAULT_TIMING_SEED: u64 = 0x6e6b_6c75_7400_0001;
+fn default_seed() -> u64 {
+    DEFAULT_TIMING_SEED
 }
 
 fn default_timing_resolution() -> [u32; 2] {
@@ -232,7 +247,14 @@ fn default_repeats() -> u32 {
 
 impl Default for TimingSettings {
     fn default() -> Self {
-        Self { resolution: default_timing_resolution(), warmup: default_warmup(), repeats: default_repeats(), subtract: false }
+        Self {
+            resolution: default_timing_resolution(),
+            warmup: default_warmup(),
+            repeats: default_repeats(),
+            subtract: false,
+            amplify: default_amplify(),
+            seed: default_seed(),
+        }
     }
 }
 

@@ -53,7 +53,11 @@ pub fn interfaces() -> Result<Vec<(Interface, Vec<Variant>)>, crate::compose::Co
         }
     }
     let burner = crate::render::Shade::Burner;
-    let mut fresnel = vec![Variant { name: burner.name(), wgsl: crate::render::compose(burner)? }];
+    let dielectric = crate::render::Shade::ExactDielectric;
+    let mut fresnel = vec![
+        Variant { name: burner.name(), wgsl: crate::render::compose(burner)? },
+        Variant { name: dielectric.name(), wgsl: crate::render::compose(dielectric)? },
+    ];
     for shading in Shading::ALL {
         let shade = crate::render::Shade::Method(shading);
         fresnel.push(Variant { name: shade.name(), wgsl: crate::render::compose(shade)? });

@@ -10,7 +10,8 @@
 // interquartile range of crates/pipeline/src/stats.rs — twins held to the Rust functions by
 // tests/web_bench.rs through `window.nklut.twins`.
 
-const plan = JSON.parse(document.getElementById('nklut-plan').textContent);
+const planElement = document.getElementById('nklut-plan');
+const plan = JSON.parse(planElement.textContent);
 const $ = (id) => document.getElementById(id);
 const WALL_BATCH = 8;
 // The `driver` column: the browser and its version (the whole `userAgent` is in the result).
@@ -19,7 +20,18 @@ const BROWSER = (navigator.userAgent.match(/(Edg|Firefox|Chrome|HeadlessChrome|V
 const result = {
   format: plan.format,
   scene: plan.scene,
+  nklut_version: plan.version,
+  // FNV-1a 64 of the plan's JSON as embedded (web::plan_hash): two results with the same hash
+  // ran the same shaders on the same bytes.
+  plan_hash: planElement.dataset.hash || '',
   date: new Date().toISOString(),
+  secure_context: window.isSecureContext,
+  // 'all' with `?frames=all`, else the first frame of the orbit only (the image error is
+  // device-independent to 1e-5; one frame checks it without reading back every frame).
+  image_error_frames: null,
+  wake_lock: null,
+  hidden: [],
+  phases: [],
   user_agent: navigator.userAgent,
   adapter: null,
   complete: false,
@@ -80,16 +92,58 @@ class ErrorSummary {
   meanRelative() { return this.frames_with_samples > 0 ? this.sum_of_frame_means / this.frames_with_samples : null; }
 }
 
-window.nklut = { plan, result, done: false, error: null, twins: { quantile, medianAndIqr, compare, ErrorSummary }, ramp: null, effectFrame: null };
+window.nklut = { plan, result, done: false, error: null, twins: { quantile, medianAndIqr, compare, ErrorSummary, permutation: (seed, n) => new SplitMix64(seed).permutation(n), resolutionNs }, ramp: null, effectFrame: null };
 
 // ---- page ---------------------------------------------------------------------------------
 
 // A problem the page explains to its reader (no WebGPU, a limit too small, a lost device).
 class Problem extends Error {}
 
-function status(text) { $('status').textContent = text; }
+const started = performance.now();
+const clock = (ms) => { const s = Math.round(ms / 1000); return `${Math.floor(s / 60)}:${String(s % 60).padStart(2, '0')}`; };
+let phase = { name: 'starting', since: started };
+// A new phase of the run (its start recorded in the result).
+function enter(name) {
+  phase = { name, since: performance.now() };
+  result.phases.push({ phase: name, at_s: Math.round((phase.since - started) / 100) / 10 });
+}
+// The status line: the phase, the text, the time elapsed and, with `fraction` of the run
+// done, an estimate of what is left.
+function status(text, fraction) {
+  const now = performance.now();
+  let line = `${phase.name}: ${text} — ${clock(now - started)} elapsed`;
+  if (fraction > 0.02 && fraction < 1) line += `, about ${clock(((now - started) * (1 - fraction)) / fraction)} left`;
+  $('status').textContent = line;
+}
 function progress(done, total) { $('progress').max = Math.max(total, 1); $('progress').value = done; }
 function problem(text) { const p = $('problem'); p.hidden = false; p.textContent = text; }
+// The page itself says a run did not finish: a banner and the title.
+function markIncomplete(text) {
+  const banner = $('incomplete');
+  banner.hidden = false;
+  banner.textContent = `Incomplete: ${text} The rows below are those measured before it stopped; the download is marked incomplete.`;
+  document.title = `[incomplete] ${document.title}`;
+}
+
+// A wake lock keeps a phone's screen (and its GPU) on while the run lasts, where granted;
+// a tab sent to the background is noted with the phase it interrupted.
+async function keepAwake() {
+  if (!('wakeLock' in navigator)) { result.wake_lock = 'unsupported'; return; }
+  try {
+    await navigator.wakeLock.request('screen');
+    result.wake_lock = 'granted';
+  } catch (error) {
+    result.wake_lock = `refused: ${error && error.message ? error.message : error}`;
+  }
+}
+document.addEventListener('visibilitychange', () => {
+  if (document.visibilityState !== 'hidden' || window.nklut.done) return;
+  result.hidden.push({ phase: phase.name, at_s: Math.round((performance.now() - started) / 100) / 10 });
+  const note = $('hidden-note');
+  note.hidden = false;
+  note.textContent = `The tab was hidden during ${result.hidden.map((h) => h.phase).join(', ')}: a browser slows a background tab, so samples taken then may be long. Keep the page in front until it is done.`;
+  if (result.wake_lock === 'granted') keepAwake();
+});
 
 function bytes(base64) {
   const text = atob(base64);
@@ -132,6 +186,12 @@ function requirements() {
 }
 
 async function openDevice() {
+  // An insecure context first: there navigator.gpu is absent whatever the browser.
+  if (window.isSecureContext === false) {
+    throw new Problem('This page is not in a secure context, and WebGPU exists only in one: open it from https:// or file://, '
+      + `not http on a LAN address (this address: ${location.protocol}//${location.host}). Copy the file to the device and open it `
+      + 'there, or serve it over https.');
+  }
   if (!('gpu' in navigator) || !navigator.gpu) {
     throw new Problem('This browser has no WebGPU: navigator.gpu is missing. Open the page in a browser with WebGPU '
       + '(Chrome or Edge 113+ on Windows, macOS, ChromeOS and Android 12+; Safari 26+; Firefox 141+ on Windows), '
@@ -156,8 +216,13 @@ async function openDevice() {
   const device = await adapter.requestDevice({ requiredFeatures: timestamps ? ['timestamp-query'] : [], requiredLimits });
   const info = adapter.info || {};
   const name = [info.vendor, info.architecture, info.device, info.description].filter(Boolean).join(' ') || 'unknown adapter';
+  const fallback = Boolean(info.isFallbackAdapter ?? adapter.isFallbackAdapter);
+  const software = /swiftshader|llvmpipe|lavapipe|warp|software/i.test(name);
   result.adapter = {
     name, vendor: info.vendor || '', architecture: info.architecture || '', device: info.device || '', description: info.description || '',
+    is_fallback_adapter: fallback,
+    // WebGPU names no device type: a fallback or a known software rasteriser is `cpu`.
+    adapter_type: info.type || (fallback || software ? 'cpu' : 'gpu'),
     backend: 'WebGPU', timestamp_query: timestamps, limits_used: requiredLimits,
     limits: Object.fromEntries(['maxTextureDimension2D', 'maxTextureArrayLayers', 'maxBufferSize', 'maxStorageBufferBindingSize'].map((l) => [l, adapter.limits[l]])),
   };
@@ -167,6 +232,7 @@ async function openDevice() {
 // ---- device work --------------------------------------------------------------------------
 
 let lost = null;
+let lostPromise = null;
 
 function checkLost() {
   if (lost) throw new Problem(`The device was lost (${lost}); the rows measured before are kept and marked incomplete.`);
@@ -183,7 +249,7 @@ async function scoped(device, what, body) {
   return value;
 }
 
-async function compileChecks(device) {
+async function compileChecks(device, progressOf) {
   // The F-only pass's modules by shading, for its pipelines; every module by name, for the
   // effects' pipelines.
   const modules = {};
@@ -191,6 +257,7 @@ async function compileChecks(device) {
   for (const m of plan.checks) {
     checkLost();
     const module = device.createShaderModule({ label: m.name, code: m.wgsl });
+    if (progressOf) progressOf(result.compile.length + 1);
     const info = await module.getCompilationInfo();
     const of = (type) => info.messages.filter((x) => x.type === type).map((x) => `${x.lineNum}:${x.linePos} ${x.message}`);
     result.compile.push({ module: m.name, errors: of('error'), warnings: of('warning') });
@@ -304,26 +371,98 @@ async function readBuffer(buffer) {
   return copy;
 }
 
-// timing::Stopwatch::measure_interleaved: warm-up rounds, then rounds that take one sample
-// of every pair in turn. A sample is one pass (with `subtract`, the burner and the method on
-// top minus the burner alone); timestamps bracket each pass, else wall time per pass over
-// a batch of WALL_BATCH passes closed by onSubmittedWorkDone.
+// ---- sampling: twins of crates/gpu/src/sampling.rs (its constants come in plan.timing.sampling)
+
+// sampling::SplitMix64 over BigInt (the seed is a decimal string: it may pass 2^53).
+class SplitMix64 {
+  constructor(seed) { this.state = BigInt.asUintN(64, BigInt(seed)); }
+  next() {
+    this.state = BigInt.asUintN(64, this.state + 0x9e3779b97f4a7c15n);
+    let z = this.state;
+    z = BigInt.asUintN(64, (z ^ (z >> 30n)) * 0xbf58476d1ce4e5b9n);
+    z = BigInt.asUintN(64, (z ^ (z >> 27n)) * 0x94d049bb133111ebn);
+    return z ^ (z >> 31n);
+  }
+  below(n) { return Number((this.next() * BigInt(n)) >> 64n); }
+  permutation(n) {
+    const order = Array.from({ length: n }, (_, i) => i);
+    for (let i = n - 1; i > 0; i--) { const j = this.below(i + 1); [order[i], order[j]] = [order[j], order[i]]; }
+    return order;
+  }
+}
+
+// sampling::resolution_ns: the greatest common divisor of the readings' differences from the
+// first (BigInt ns), at least the nominal tick; null while every reading is equal.
+function resolutionNs(readings, tickNs) {
+  if (readings.length === 0) return null;
+  const gcd = (a, b) => { while (b !== 0n) [a, b] = [b, a % b]; return a; };
+  const first = readings[0];
+  let divisor = 0n;
+  for (const r of readings) divisor = gcd(divisor, r > first ? r - first : first - r);
+  return divisor > 0n ? Math.max(Number(divisor), tickNs) : null;
+}
+
+function targetMs(resolution, floorMs) {
+  const s = plan.timing.sampling;
+  return Math.max((s.span_over_resolution * resolution) / 1e6, s.span_over_floor * floorMs, s.min_sample_ms);
+}
+
+function nextEvaluations(evaluations, cheapestMs, target) {
+  const factor = cheapestMs > 0 ? Math.min(Math.max(Math.ceil((1.2 * target) / cheapestMs), 2), 64) : 64;
+  return Math.min(Math.floor(evaluations * factor), plan.timing.sampling.max_evaluations);
+}
+
+// The page's test hooks: `?quantum_us=Q` floors every timer reading to Q µs, `?floor_ms=F`
+// makes no wall-timed pass read less than F ms (a browser's coarse timer and its
+// submit round trip, on an adapter whose own are fine); `?amplify=0` keeps one evaluation
+// per pixel (the single-draw design); `?lose_after=K` destroys the device right after the
+// submit of the timed round after K (a lost device with a map pending); `?frames=all`
+// reads back every frame of the image error's orbit.
+const HOOK = (() => {
+  const q = new URLSearchParams(location.search);
+  const quantumNs = BigInt(Math.max(1, Math.round(Number(q.get('quantum_us') || 0) * 1000)));
+  const loseAfter = q.get('lose_after');
+  return {
+    quantumNs, floorMs: Number(q.get('floor_ms') || 0), amplify: q.get('amplify') !== '0', allFrames: q.get('frames') === 'all',
+    loseAfter: loseAfter === null ? null : Number(loseAfter),
+  };
+})();
+const quantise = (ns) => ns - (ns % HOOK.quantumNs);
+const nowNs = () => quantise(BigInt(Math.round(performance.now() * 1e6)));
+
+// sampling::measure, one submit per round: a throwaway pass clears the target, then every
+// pair's pass in the round's seeded order (timestamps around each); without timestamps one
+// submit per pair (a throwaway and the pass), the wall clock around it, closed by
+// onSubmittedWorkDone. With `subtract`, the burner alone and the burner with the pair on
+// top, the sample their difference.
 async function runTiming(device, timestamps, gpu, step) {
   const t = plan.timing;
+  const rules = t.sampling;
   const display = target(device, t.resolution, plan.formats.display, false);
   const draws = t.pairs.map((pair) => ({
     pair,
+    material: gpu.materials[pair.material],
     group: gpu.materials[pair.material].group,
-    pipeline: gpu.pipeline(pair.method, t.subtract ? 'over' : 'full', plan.formats.display),
+    pipeline: gpu.pipeline(pair.shade, t.subtract ? 'over' : 'full', plan.formats.display),
   }));
+  const baseline = draws.map((d) => d.pair.baseline);
   const burner = t.subtract ? gpu.pipeline('burner', 'full', plan.formats.display) : null;
-  // One timed pass: the draws of `list` (pipeline, group) in order.
-  const passes = (sample) => (t.subtract ? [[[burner, sample.group]], [[burner, sample.group], [sample.pipeline, sample.group]]] : [[[sample.pipeline, sample.group]]]);
-  const perPair = passes(draws[0]).length;
+  const passes = (d) => (t.subtract ? [[[burner, d.group]], [[burner, d.group], [d.pipeline, d.group]]] : [[[d.pipeline, d.group]]]);
+  const perPair = t.subtract ? 2 : 1;
   const encode = (encoder, list, writes) => {
     const pass = begin(encoder, display, writes);
     for (const [pipeline, group] of list) { pass.setPipeline(pipeline); pass.setBindGroup(0, group); pass.draw(3); }
     pass.end();
+  };
+  const throwaway = (encoder) => begin(encoder, display, undefined).end();
+  const view = bytes(t.view);
+  let written = null;
+  const writeEvaluations = (n) => {
+    if (written === n) return;
+    const v = new Float32Array(view.buffer.slice(0));
+    v[22] = n; // View.viewport.z (mat4 16 + eye 4 + viewport.x, .y)
+    for (const m of gpu.materials) device.queue.writeBuffer(m.view, 0, v);
+    written = n;
   };
   const count = draws.length * perPair * 2;
   let query = null;
@@ -333,60 +472,137 @@ async function runTiming(device, timestamps, gpu, step) {
     const read = device.createBuffer({ size: count * 8, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
     query = { set, resolve, read };
   }
-  const samples = draws.map(() => []);
-  for (let round = 0; round < t.warmup + t.repeats; round++) {
+  const readings = [];
+  let loseNow = false;
+  // One round in `order` at `n` evaluations: the raw sample (ms) of every pair.
+  const round = async (order, n) => {
     checkLost();
-    let times;
+    writeEvaluations(n);
+    const times = new Array(draws.length);
     if (query) {
       const encoder = device.createCommandEncoder();
-      draws.forEach((d, i) => passes(d).forEach((list, j) => {
+      throwaway(encoder);
+      order.forEach((i) => passes(draws[i]).forEach((list, j) => {
         const index = 2 * (i * perPair + j);
         encode(encoder, list, { querySet: query.set, beginningOfPassWriteIndex: index, endOfPassWriteIndex: index + 1 });
       }));
       encoder.resolveQuerySet(query.set, 0, count, query.resolve, 0);
       encoder.copyBufferToBuffer(query.resolve, 0, query.read, 0, count * 8);
       device.queue.submit([encoder.finish()]);
+      if (loseNow) device.destroy();
       const ticks = new BigUint64Array(await readBuffer(query.read));
-      const ms = (k) => Number(ticks[2 * k + 1] - ticks[2 * k]) / 1e6;
-      times = draws.map((_, i) => (t.subtract ? ms(i * perPair + 1) - ms(i * perPair) : ms(i)));
+      const raw = Array.from(ticks, quantise);
+      readings.push(...raw);
+      const ms = (k) => Number(raw[2 * k + 1] - raw[2 * k]) / 1e6;
+      for (const i of order) times[i] = t.subtract ? ms(i * perPair + 1) - ms(i * perPair) : ms(i * perPair);
     } else {
-      times = [];
-      for (const d of draws) {
+      for (const i of order) {
         const wall = [];
-        for (const list of passes(d)) {
+        for (const list of passes(draws[i])) {
           const encoder = device.createCommandEncoder();
-          for (let b = 0; b < WALL_BATCH; b++) encode(encoder, list, undefined);
-          const start = performance.now();
+          throwaway(encoder);
+          encode(encoder, list, undefined);
+          const start = nowNs();
           device.queue.submit([encoder.finish()]);
+          if (loseNow) device.destroy();
           await device.queue.onSubmittedWorkDone();
-          wall.push((performance.now() - start) / WALL_BATCH);
+          checkLost();
+          const end = nowNs();
+          readings.push(start, end);
+          wall.push(Math.max(Number(end - start) / 1e6, HOOK.floorMs));
         }
-        times.push(t.subtract ? wall[1] - wall[0] : wall[0]);
+        times[i] = t.subtract ? wall[1] - wall[0] : wall[0];
       }
     }
-    if (round >= t.warmup) times.forEach((x, i) => samples[i].push(x));
-    step(draws.length, `timing: round ${round + 1} of ${t.warmup + t.repeats}`);
-    // Rows so far, so a lost device keeps them.
-    result.gpu_timing = timingRows(draws, samples, timestamps);
+    return times;
+  };
+  const cheapestOf = (times) => {
+    const fresnel = times.filter((_, i) => !baseline[i] || baseline.every(Boolean));
+    return Math.min(...fresnel);
+  };
+  // sampling::PassClock::floor_ms: the median round trip of five empty submits (wall only).
+  let floorMs = 0;
+  if (!query) {
+    const trips = [];
+    for (let k = 0; k < 5; k++) {
+      const start = nowNs();
+      device.queue.submit([device.createCommandEncoder().finish()]);
+      await device.queue.onSubmittedWorkDone();
+      trips.push(Math.max(Number(nowNs() - start) / 1e6, HOOK.floorMs));
+    }
+    floorMs = medianAndIqr(trips)[0];
   }
+  const tickNs = 1;
+  const rng = new SplitMix64(t.seed);
+  // As the native runner: the study's subtraction is timed with one evaluation per pixel.
+  const amplify = t.amplify && !t.subtract && HOOK.amplify;
+  let evaluations = 1;
+  let target_ = targetMs(tickNs, floorMs);
+  let capped = false;
+  const calibration = [];
+  status('timing: choosing the amplification (F evaluations per pixel)…');
+  if (amplify && draws.length > 0) {
+    // A cold round first: a pipeline's first use is no measure.
+    await round(rng.permutation(draws.length), evaluations);
+    for (let attempt = 0; ; attempt++) {
+      const cheapest = cheapestOf(await round(rng.permutation(draws.length), evaluations));
+      calibration.push([evaluations, cheapest]);
+      const resolution = resolutionNs(readings, tickNs);
+      target_ = targetMs(resolution === null ? Infinity : resolution, floorMs);
+      if (cheapest >= target_ && cheapest > 0) break;
+      if (evaluations >= rules.max_evaluations || attempt + 1 >= rules.max_calibration_rounds) { capped = true; break; }
+      evaluations = nextEvaluations(evaluations, cheapest, Number.isFinite(target_) ? target_ : rules.min_sample_ms);
+      step(0, `timing: calibration ${attempt + 1}, ${evaluations} evaluations per pixel next`);
+    }
+  }
+  const samples = draws.map(() => []);
+  const measurement = () => {
+    const resolution = resolutionNs(readings, tickNs);
+    return { evaluations, resolution_ns: resolution === null ? tickNs : resolution, floor_ms: floorMs, target_ms: target_, capped, calibration, seed: t.seed, amplified: amplify };
+  };
+  for (let r = 0; r < t.warmup + t.repeats; r++) {
+    loseNow = HOOK.loseAfter !== null && r === t.warmup + HOOK.loseAfter;
+    const times = await round(rng.permutation(draws.length), evaluations);
+    if (r >= t.warmup) times.forEach((x, i) => samples[i].push(x));
+    step(draws.length, `timing: round ${r + 1} of ${t.warmup + t.repeats} at ${evaluations} evaluations per pixel`);
+    // Rows so far, so a lost device keeps them.
+    result.timing_sampling = measurement();
+    result.gpu_timing = timingRows(draws, samples, timestamps, result.timing_sampling);
+  }
+  writeEvaluations(1);
 }
 
-function timingRows(draws, samples, timestamps) {
+// sampling::stats and runner::relate: per pair the mean, median, IQR and true count, ns per F
+// evaluation per pixel, the near-resolution flag and the ratios to exact and to the bare
+// fetch on the same material and to exact on the first dielectric material.
+function timingRows(draws, samples, timestamps, m) {
   const t = plan.timing;
   const a = result.adapter;
+  const pixels = t.resolution[0] * t.resolution[1];
+  const near = t.sampling.near_resolution * Math.max(m.resolution_ns / 1e6, m.floor_ms);
   const rows = draws.filter((_, i) => samples[i].length > 0).map((d) => {
-    const i = draws.indexOf(d);
-    const [median, spread] = medianAndIqr(samples[i]);
+    const s = samples[draws.indexOf(d)];
+    const [median, spread] = medianAndIqr(s);
     const material = plan.materials[d.pair.material];
     return {
       adapter: a.name, backend: a.backend, driver: BROWSER, timer: timestamps ? 'timestamp' : 'wall',
-      method: d.pair.method, material: material.page, resolution: resolutionText(t.resolution), repeats: samples[i].length,
-      median_ms: median, spread_ms: spread, relative_to_exact_dielectric: null, kind: material.kind,
+      method: d.pair.method, formula: d.pair.formula, material: material.page, resolution: resolutionText(t.resolution),
+      evaluations: m.evaluations, timer_resolution_ns: m.resolution_ns, seed: m.seed, repeats: s.length,
+      mean_ms: s.reduce((x, y) => x + y, 0) / s.length, median_ms: median, spread_ms: spread,
+      ns_per_evaluation: (median * 1e6) / (m.evaluations * pixels),
+      relative_to_exact: null, relative_to_fetch: null, relative_to_exact_dielectric: null,
+      near_resolution: median > near ? 'no' : 'yes', samples_ms: s.map((x) => x.toFixed(6)).join(' '), kind: material.kind,
     };
   });
-  // The study's normalisation: exact on the first dielectric material timed.
+  const medianOf = (material, method) => { const r = rows.find((x) => x.material === material && x.method === method); return r && r.median_ms > 0 ? r.median_ms : null; };
   const reference = rows.find((r) => r.method === 'exact' && r.kind === 'dielectric');
-  for (const r of rows) { if (reference) r.relative_to_exact_dielectric = r.median_ms / reference.median_ms; delete r.kind; }
+  for (const r of rows) {
+    const exact = medianOf(r.material, 'exact'), fetch = medianOf(r.material, 'texture');
+    if (exact) r.relative_to_exact = r.median_ms / exact;
+    if (fetch) r.relative_to_fetch = r.median_ms / fetch;
+    if (reference && reference.median_ms > 0) r.relative_to_exact_dielectric = r.median_ms / reference.median_ms;
+    delete r.kind;
+  }
   return rows;
 }
 
@@ -400,7 +616,7 @@ async function runImageError(device, gpu, step) {
     const make = (data, usage) => { const b = device.createBuffer({ size: Math.ceil(data.byteLength / 4) * 4, usage: usage | GPUBufferUsage.COPY_DST }); device.queue.writeBuffer(b, 0, data); return b; };
     return { ...m, vertexBuffer: make(bytes(m.vertices), GPUBufferUsage.VERTEX), indexBuffer: make(bytes(m.indices), GPUBufferUsage.INDEX) };
   });
-  const frames = plan_.frames.map(bytes);
+  const frames = (HOOK.allFrames ? plan_.frames : plan_.frames.slice(0, 1)).map(bytes);
   for (const object of plan_.objects) {
     const mesh = meshes[object.mesh];
     const material = gpu.materials[object.material];
@@ -722,6 +938,7 @@ function bars(id, items, aria, floor) {
   const largest = Math.max(...items.map((x) => x.value), floor ? floor * 10 : 1);
   const length = (v) => Math.max(1, floor ? (room * Math.log(Math.max(v, floor) / floor)) / Math.log(largest / floor) : (room * v) / largest);
   const svg = document.createElementNS(svgNs, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${width} ${items.length * barHeight + 8}`);
   svg.setAttribute('width', width); svg.setAttribute('height', items.length * barHeight + 8);
   svg.setAttribute('role', 'img'); svg.setAttribute('aria-label', aria);
   items.forEach((x, i) => {
@@ -753,13 +970,16 @@ function charts(rows) {
 
 function fileName() {
   const slug = (result.adapter ? result.adapter.name : 'no-adapter').toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '');
-  return `device-${slug || 'adapter'}-${result.date.slice(0, 10)}.json`;
+  const scene = plan.scene.toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'scene';
+  const time = result.date.slice(0, 19).replace(/[-:]/g, '').replace('T', '-');
+  return `device-${slug || 'adapter'}-${scene}-${time}${result.complete ? '' : '-incomplete'}.json`;
 }
 
 function publish() {
   const rows = ratios();
-  table('timing', ['material', 'method', 'timer', 'median ms', 'IQR ms', '× exact', '× exact (dielectric)'],
-    rows.map((r) => [r.material, r.method, r.timer, fixed(r.median_ms, 4), fixed(r.spread_ms, 4), fixed(r.ratio, 3), fixed(r.relative_to_exact_dielectric, 3)]));
+  table('timing', ['material', 'method', 'timer', 'F per pixel', 'n', 'median ms', 'IQR ms', 'ns per F', '× exact', '× bare fetch', '× exact (dielectric)', 'resolved'],
+    rows.map((r) => [r.material, r.method + (r.formula ? ` (${r.formula})` : ''), r.timer, String(r.evaluations), String(r.repeats), fixed(r.median_ms, 4), fixed(r.spread_ms, 4),
+      fixed(r.ns_per_evaluation, 4), fixed(r.ratio, 3), fixed(r.relative_to_fetch, 3), fixed(r.relative_to_exact_dielectric, 3), r.near_resolution === 'yes' ? 'no: within 10× the timer' : 'yes']));
   charts(rows);
   table('errors', ['material', 'method', 'object', 'frames', 'mean rel. error', 'max rel. error', 'pixels'],
     result.image_errors.map((r) => [r.material, r.method, r.object, String(r.frames), r.mean_rel_error === null ? '—' : r.mean_rel_error.toExponential(3), r.max_rel_error.toExponential(3), String(r.pixels)]));
@@ -777,12 +997,15 @@ function publish() {
 }
 
 async function main() {
-  status('Opening the GPU…');
+  enter('opening the GPU');
+  status('requesting an adapter…');
   const { device, timestamps } = await openDevice();
-  device.lost.then((info) => { lost = `${info.reason}: ${info.message}`; });
+  lostPromise = device.lost.then((info) => { lost = `${info.reason}: ${info.message}`; });
   device.addEventListener('uncapturederror', (event) => { lost = lost || `uncaptured error: ${event.error.message}`; });
-  status(`Compiling ${plan.checks.length} shader modules on ${result.adapter.name}…`);
-  const { modules, named } = await compileChecks(device);
+  keepAwake();
+  enter('compiling');
+  status(`${plan.checks.length} shader modules on ${result.adapter.name}…`);
+  const { modules, named } = await compileChecks(device, (k) => status(`module ${k} of ${plan.checks.length}`, 0));
   let fresnel = null;
   if (plan.timing || plan.image_error) {
     fresnel = await scoped(device, 'creating the buffers, textures and pipelines', () => setup(device, modules));
@@ -793,26 +1016,36 @@ async function main() {
     effects = await scoped(device, 'creating the effects\' buffers, textures and pipelines', () => setupEffects(device, named));
     window.nklut.effectFrame = effectFrame(device, effects);
   }
+  const frames = plan.image_error ? (HOOK.allFrames ? plan.image_error.frames.length : 1) : 0;
+  result.image_error_frames = plan.image_error ? (HOOK.allFrames ? 'all' : 'first') : null;
   const total = (plan.timing ? (plan.timing.warmup + plan.timing.repeats) * plan.timing.pairs.length : 0)
-    + (plan.image_error ? plan.image_error.frames.length * plan.image_error.objects.length : 0)
+    + (plan.image_error ? frames * plan.image_error.objects.length : 0)
     + (plan.effects ? (plan.effects.warmup + plan.effects.repeats) * (1 + plan.effects.configurations.length) : 0);
   let done = 0;
-  const step = (n, text) => { done += n; progress(done, total); status(`${text} (${done} of ${total} steps)`); };
-  if (plan.timing) await runTiming(device, timestamps, fresnel, step);
-  if (plan.image_error) await runImageError(device, fresnel, step);
-  if (effects) await runEffects(device, timestamps, effects, step);
+  const step = (n, text) => { done += n; progress(done, total); status(`${text} (${done} of ${total} steps)`, done / total); };
+  if (plan.timing) { enter('timing'); await runTiming(device, timestamps, fresnel, step); }
+  if (plan.image_error) { enter('image error'); await runImageError(device, fresnel, step); }
+  if (effects) { enter('effects timing'); await runEffects(device, timestamps, effects, step); }
   checkLost();
   result.complete = true;
-  status(`Done: ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows, ${result.effects_timing.length} effects-timing rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
+  enter('done');
+  status(` ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows, ${result.effects_timing.length} effects-timing rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
 }
 
 main()
-  .catch((error) => {
-    const text = error instanceof Problem ? error.message : `Unexpected error: ${error && error.message ? error.message : error}`;
+  .catch(async (error) => {
+    // A lost device rejects the pending mapAsync before device.lost resolves: give it a
+    // moment, so the reader gets the lost-device message and not the map's.
+    if (!(error instanceof Problem) && lostPromise && !lost) await Promise.race([lostPromise, new Promise((r) => setTimeout(r, 1500))]);
+    let text;
+    if (lost) text = `The device was lost (${lost}); the rows measured before are kept and marked incomplete.`;
+    else if (error instanceof Problem) text = error.message;
+    else text = `Unexpected error: ${error && error.message ? error.message : error}`;
     result.incomplete = text;
     window.nklut.error = text;
     problem(text);
-    status('Stopped.');
+    if (result.adapter) markIncomplete(text);
+    status('stopped.');
   })
   .finally(() => {
     if (result.adapter) publish();

@@ -1074,45 +1074,155 @@ const STUDY_COLUMNS: [(&str, &str, Option<&str>); 7] = [
     ("NVIDIA fit", "nvidia", None),
 ];
 
-/// The study's form: one row per device, the study's own five first, then each of ours with
-/// its medians over the materials of each kind (`materials.csv`'s `kind`) relative to the
-/// median of exact on the dielectric materials. Never averaged across devices.
+/// One device's timing rows as the study-form table reads them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyRow {
+    pub material: String,
+    /// `dielectric` or `conductor` (`materials.csv`'s `kind`).
+    pub kind: String,
+    pub method: String,
+    pub median_ms: f64,
+    pub spread_ms: f64,
+    /// Samples behind the median.
+    pub n: u64,
+}
+
+/// One cell of the study-form table: the ratio, the samples behind its numerator and the
+/// numerator's median interquartile range in the ratio's units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyCell {
+    pub ratio: f64,
+    pub n: u64,
+    pub iqr: f64,
+    /// Materials on each side.
+    pub materials: usize,
+}
+
+/// A study-form cell for `method` on materials of `kind` (`None`: any), against the
+/// study's anchor, exact on dielectric materials (timed by the dielectric formula):
+/// - a dielectric or any-kind column: the method and the anchor over the same materials —
+///   the dielectric ones the method was timed on (the anchor exists only on those);
+/// - a conductor column: the method over the conductors, the anchor over every dielectric
+///   material timed (the study's definition; the two sides cannot share materials).
+///
+/// Medians over materials of each row's median; `n` the samples summed, `iqr` the median of
+/// the rows' interquartile ranges over the anchor.
+pub fn study_cell(rows: &[StudyRow], method: &str, kind: Option<&str>) -> Option<StudyCell> {
+    let anchor_of = |material: &str| rows.iter().find(|r| r.method == "exact" && r.kind == "dielectric" && r.material == material);
+    let measured: Vec<&StudyRow> = rows.iter().filter(|r| r.method == method && kind.is_none_or(|k| r.kind == k)).collect();
+    let (numerator, anchors): (Vec<&StudyRow>, Vec<&StudyRow>) = if kind == Some("conductor") {
+        (measured, rows.iter().filter(|r| r.method == "exact" && r.kind == "dielectric").collect())
+    } else {
+        measured.into_iter().filter_map(|r| Some((r, anchor_of(&r.material)?))).unzip()
+    };
+    let medians = |rows: &[&StudyRow], f: &dyn Fn(&StudyRow) -> f64| median(&rows.iter().map(|r| f(r)).collect::<Vec<_>>());
+    let anchor = medians(&anchors, &|r| r.median_ms).filter(|a| *a > 0.0)?;
+    let top = medians(&numerator, &|r| r.median_ms)?;
+    Some(StudyCell {
+        ratio: top / anchor,
+        n: numerator.iter().map(|r| r.n).sum(),
+        iqr: medians(&numerator, &|r| r.spread_ms).unwrap_or(0.0) / anchor,
+        materials: numerator.len(),
+    })
+}
+
+/// The study's form: one row per device, the study's own five first, then each of ours
+/// ([`study_cell`] per column), each cell with its samples and spread, each device row with
+/// the formula its anchors were timed by. Never averaged across devices.
 fn study_form(html: &mut String, inputs: &Inputs) {
-    let headers: Vec<&str> = ["device", "GPU", "source"].into_iter().chain(STUDY_COLUMNS.iter().map(|c| c.0)).collect();
+    let headers: Vec<&str> =
+        ["device", "GPU", "source", "anchors: dielectric / conductor"].into_iter().chain(STUDY_COLUMNS.iter().map(|c| c.0)).collect();
     let mut table = TableText::new(&headers);
     for (device, gpu, ratios) in STUDY_TABLE_6 {
         let cells = ratios.iter().map(|r| format!("{r:.2}"));
-        table.row([device, gpu, "the study, Table 6"].into_iter().map(String::from).chain(cells).collect());
+        table.row(
+            [device, gpu, "the study, Table 6", "dielectric formula / complex formula"]
+                .into_iter()
+                .map(String::from)
+                .chain(cells)
+                .collect(),
+        );
     }
     let materials = super::context::ByPage::new(&inputs.materials);
     for (device, tables) in &inputs.devices {
         let timing = &tables.timing;
-        let median_of = |method: &str, kind: Option<&str>| -> Option<f64> {
-            let values: Vec<f64> = timing
+        let rows: Vec<StudyRow> = timing
+            .rows
+            .iter()
+            .filter_map(|r| {
+                let material = timing.text(r, "material");
+                Some(StudyRow {
+                    material: material.to_string(),
+                    kind: inputs.materials.text(materials.first(material)?, "kind").to_string(),
+                    method: timing.text(r, "method").to_string(),
+                    median_ms: timing.number(r, "median_ms")?,
+                    spread_ms: timing.number(r, "spread_ms").unwrap_or(0.0),
+                    n: timing.number(r, "repeats").unwrap_or(0.0) as u64,
+                })
+            })
+            .collect();
+        // Results written before the anchors were split timed exact by the complex formula
+        // on every material.
+        let formula = |kind: &str| {
+            timing
                 .rows
                 .iter()
-                .filter(|r| timing.text(r, "method") == method)
-                .filter(|r| {
-                    let page_kind = materials.first(timing.text(r, "material")).map(|m| inputs.materials.text(m, "kind"));
-                    kind.is_none_or(|k| page_kind == Some(k))
+                .find(|r| {
+                    timing.text(r, "method") == "exact" && rows.iter().any(|x| x.material == timing.text(r, "material") && x.kind == kind)
                 })
-                .filter_map(|r| timing.number(r, "median_ms"))
-                .collect();
-            median(&values)
+                .map(|r| if timing.has("formula") { timing.text(r, "formula").to_string() } else { "complex (older result)".to_string() })
+                .unwrap_or_else(|| "–".to_string())
         };
-        let anchor = median_of("exact", Some("dielectric"));
-        let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match (median_of(method, *kind), anchor) {
-            (Some(ms), Some(anchor)) if anchor > 0.0 => format!("{:.2}", ms / anchor),
-            _ => "–".to_string(),
+        let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match study_cell(&rows, method, *kind) {
+            Some(c) => format!("{:.2} (IQR {:.2}, n {})", c.ratio, c.iqr, c.n),
+            None => "–".to_string(),
         });
         let adapter = timing.rows.first().map(|r| timing.text(r, "adapter").to_string()).unwrap_or_default();
-        table.row([device.clone(), adapter, "measured here".to_string()].into_iter().chain(cells).collect());
+        let anchors = format!("{} / {}", formula("dielectric"), formula("conductor"));
+        table.row([device.clone(), adapter, "measured here".to_string(), anchors].into_iter().chain(cells).collect());
     }
     let _ = writeln!(
         html,
-        "<h3>In the study's form</h3><p>Time relative to exact Fresnel on a dielectric material, on the same device: the study's five devices (its Table 6: Unity, a full-screen quad, 2014 devices) and each device measured here (medians over the materials of each kind of <code>materials.csv</code>; – where the device timed none). One row per device, never averaged.</p>{}",
+        "<h3>In the study's form</h3><p>Time relative to exact Fresnel on a dielectric material, on the same device: the study's five devices (its Table 6: Unity, a full-screen quad, 2014 devices) and each device measured here. The anchors, as the study's: exact on a dielectric by the dielectric formula (k = 0: F = ½((g−c)/(g+c))²(1 + ((c(g+c)−1)/(c(g−c)+1))²), g² = n² − 1 + c²) and on a conductor by the complex formula (SPEC §5.1); a result whose anchors say “older result” timed the complex formula on both, which makes the dielectric anchor costlier and every ratio smaller. A dielectric or any-kind column divides the method by the anchor over the same materials (the dielectric ones the method was timed on); a conductor column divides the conductors' median by the dielectric anchor (the study's definition). Each cell: the ratio of medians over materials, the median interquartile range over the anchor, and n, the samples behind it. Caveats: a CPU rasteriser's ratios are not a GPU's; a row whose timing reports medians within 10 × the timer's resolution is not resolved; the study measured frame times in Unity on 2014 devices. – where the device timed none. One row per device, never averaged.</p>{}",
         table.html("study-form")
     );
+}
+
+#[cfg(test)]
+mod study_form_tests {
+    use super::*;
+
+    fn row(material: &str, kind: &str, method: &str, median_ms: f64, spread_ms: f64) -> StudyRow {
+        StudyRow { material: material.into(), kind: kind.into(), method: method.into(), median_ms, spread_ms, n: 10 }
+    }
+
+    /// Water and glass (dielectric), gold (conductor); compensated Schlick timed on water
+    /// and gold only. Hand-computed: dielectric anchor over water and glass = median(2, 4) = 3.
+    #[test]
+    fn every_ratio_divides_by_the_anchor_over_the_same_materials() {
+        let rows = [
+            row("w", "dielectric", "exact", 2.0, 0.2),
+            row("g", "dielectric", "exact", 4.0, 0.4),
+            row("au", "conductor", "exact", 9.0, 0.9),
+            row("w", "dielectric", "schlick", 1.0, 0.1),
+            row("g", "dielectric", "schlick", 1.0, 0.3),
+            row("au", "conductor", "schlick", 1.5, 0.3),
+            row("w", "dielectric", "schlick_compensated", 1.2, 0.1),
+            row("au", "conductor", "schlick_compensated", 3.0, 0.1),
+        ];
+        let cell = |method, kind| study_cell(&rows, method, kind).unwrap();
+        let anchor = cell("exact", Some("dielectric"));
+        assert_eq!((anchor.ratio, anchor.n, anchor.materials), (1.0, 20, 2));
+        assert!((anchor.iqr - 0.1).abs() < 1e-12, "median IQR 0.3 over 3: {}", anchor.iqr);
+        assert_eq!(cell("schlick", Some("dielectric")).ratio, 1.0 / 3.0);
+        // Conductors against the dielectric anchor (3): 9 / 3 and 1.5 / 3.
+        assert_eq!(cell("exact", Some("conductor")), StudyCell { ratio: 3.0, n: 10, iqr: 0.3, materials: 1 });
+        assert_eq!(cell("schlick", Some("conductor")).ratio, 0.5);
+        // Timed on water (and gold): over water on both sides, 1.2 / 2, not 1.2 / 3.
+        assert_eq!(cell("schlick_compensated", None), StudyCell { ratio: 0.6, n: 10, iqr: 0.05, materials: 1 });
+        assert_eq!(study_cell(&rows, "lut", None), None);
+        assert_eq!(study_cell(&rows[2..3], "exact", Some("conductor")), None, "no dielectric anchor");
+    }
 }
 
 #[cfg(test)]
