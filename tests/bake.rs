@@ -266,7 +266,8 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
 /// reader, sRGB decoded by the IEC 61966-2-1 formula here; EXR as flat channels by name),
 /// exact Fresnel written out below from the amplitude coefficients, the LUT model and the
 /// midpoint rule with both ends as `manifest.json → error` defines them. The recommendation
-/// is recomputed from bakes at every width it tries.
+/// is recomputed from bakes at every width it tries, each measured on the 64-texel bake's
+/// rule as `recommendation.definition` says.
 mod from_the_files {
     use super::*;
 
@@ -336,9 +337,9 @@ mod from_the_files {
         at(i) * (1.0 - t) + at(i + 1.0) * t
     }
 
-    /// (max |F_lut − F| over the midpoint rule and both ends, the value at θ = 90°, mean relative error).
-    fn figures(texels: &[f64], n: f64, k: f64) -> (f64, f64, f64) {
-        let m = (32 * texels.len()).clamp(4096, 262_144);
+    /// (max |F_lut − F| over the midpoint rule of `m` samples and both ends, the value at
+    /// θ = 90°, mean relative error).
+    fn figures(texels: &[f64], n: f64, k: f64, m: usize) -> (f64, f64, f64) {
         let (mut max, mut sum, mut counted) = (0.0f64, 0.0, 0usize);
         for j in 0..m {
             let c = ((j as f64 + 0.5) * std::f64::consts::FRAC_PI_2 / m as f64).cos();
@@ -384,6 +385,9 @@ mod from_the_files {
             manifest["recommendation"]["sizes"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap() as usize).collect();
         assert_eq!(sizes, [16, 32, 64, 128, 256, 512, 1024]);
         let bound = &manifest["recommendation"]["bound"];
+        // Every width is measured on the bake's own rule: M = clamp(32 · 64, 4096, 262144).
+        let samples = manifest["error"]["samples"].as_u64().unwrap() as usize;
+        assert_eq!(samples, 4096);
         let (bound_max, bound_mean) = (bound["max_absolute"].as_f64().unwrap(), bound["mean_relative"].as_f64().unwrap());
         // Figures of every (size, encoding, row) from the files of a bake at that size.
         let mut found: BTreeMap<(usize, String, usize), (f64, f64, f64)> = BTreeMap::new();
@@ -402,7 +406,7 @@ mod from_the_files {
                     for c in 0..3 {
                         let (n, k) = (index[c]["n"].as_f64().unwrap(), index[c]["k"].as_f64().unwrap());
                         let channel: Vec<f64> = texels[r * width..(r + 1) * width].iter().map(|t| t[c]).collect();
-                        let (max, grazing, mean) = figures(&channel, n, k);
+                        let (max, grazing, mean) = figures(&channel, n, k, samples);
                         if size == 64 {
                             let page = row["page"].as_str().unwrap();
                             // F0 is exact F at cos θ = 1, not the last texel.

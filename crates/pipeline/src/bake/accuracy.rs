@@ -302,45 +302,56 @@ pub struct Choice {
     pub mean_relative_rgb: Option<f64>,
 }
 
-/// The rules and filter taps every row's candidates are measured with, made once per bake:
-/// for each candidate width N, the midpoint rule of `error_samples(N)` with the ends — the
-/// rule of a row's `error_vs_exact` at that width — and its taps.
+/// The rule and filter taps every row's candidates are measured with, made once per bake:
+/// the bake's own rule — the midpoint rule of `error_samples(N)` for the bake's width N,
+/// with the ends, the rule of every row's `error_vs_exact` — and the taps of each candidate
+/// width on it. One rule for all widths keeps the reference to one evaluation per row
+/// (shared with `error_vs_exact`); wider candidates get fewer than 32 samples per texel,
+/// their maximum still taken at θ = 90° and θ = 0°.
 #[derive(Clone, Debug)]
 pub struct Candidates {
-    /// Distinct rules (widths up to 128 share one of 4096 samples).
-    rules: Vec<AngleQuadrature>,
-    /// Per candidate width: (width, index into `rules`, taps).
-    sizes: Vec<(usize, usize, Taps)>,
+    rule: AngleQuadrature,
+    /// Per candidate width, ascending: (width, taps on `rule`).
+    sizes: Vec<(usize, Taps)>,
 }
 
 impl Candidates {
     pub fn new(size: usize) -> Self {
-        let mut rules: Vec<(usize, AngleQuadrature)> = Vec::new();
-        let mut sizes = Vec::new();
-        for n in candidate_sizes(size) {
-            let samples = error_samples(n);
-            let r = match rules.iter().position(|(m, _)| *m == samples) {
-                Some(r) => r,
-                None => {
-                    rules.push((samples, with_ends(&midpoint_rule(samples))));
-                    rules.len() - 1
-                }
-            };
-            sizes.push((n, r, Taps::new(n, &rules[r].1.cosines)));
-        }
-        Candidates { rules: rules.into_iter().map(|(_, rule)| rule).collect(), sizes }
+        let rule = with_ends(&midpoint_rule(error_samples(size)));
+        let sizes = candidate_sizes(size).into_iter().map(|n| (n, Taps::new(n, &rule.cosines))).collect();
+        Candidates { rule, sizes }
     }
 
-    /// Every candidate (width, encoding) of a row whose exact curve is that of `index`,
-    /// with its error against that curve: widths ascending, encodings in [`Encoding::ALL`] order.
-    pub fn errors(&self, index: &ChannelIndex) -> Vec<(usize, Encoding, LutError)> {
-        let references: Vec<[Vec<f64>; 3]> = self.rules.iter().map(|rule| exact_reference(index, &rule.cosines)).collect();
-        let mut out = Vec::with_capacity(self.sizes.len() * Encoding::ALL.len());
-        for (n, r, taps) in &self.sizes {
+    /// The rule the candidates are measured on.
+    pub fn rule(&self) -> &AngleQuadrature {
+        &self.rule
+    }
+
+    /// The candidates (width, encoding) of a row whose exact curve is that of `index`, with
+    /// their error against `reference` (that curve on [`Candidates::rule`]); widths ascending.
+    /// With a bound, each encoding stops at the first width that meets it (all that
+    /// [`recommend`] needs); without, every candidate.
+    pub fn errors(
+        &self,
+        index: &ChannelIndex,
+        reference: &[Vec<f64>; 3],
+        bound: Option<&RecommendationBound>,
+    ) -> Vec<(usize, Encoding, LutError)> {
+        let mut out = Vec::new();
+        let mut done = [false; Encoding::ALL.len()];
+        for (n, taps) in &self.sizes {
+            if done.iter().all(|&d| d) {
+                break;
+            }
             let curve = exact_reference(index, &nklut_optics::encoding::texel_cosines(*n));
-            for encoding in Encoding::ALL {
+            for (e, encoding) in Encoding::ALL.into_iter().enumerate() {
+                if done[e] {
+                    continue;
+                }
                 let decoded = deinterleave(&quantise(encoding, &curve).texels.decode(encoding));
-                out.push((*n, encoding, lut_error_with_taps(&decoded, taps, &self.rules[*r], &references[*r])));
+                let error = lut_error_with_taps(&decoded, taps, &self.rule, reference);
+                done[e] = bound.is_some_and(|b| meets(&error, b));
+                out.push((*n, encoding, error));
             }
         }
         out
@@ -551,19 +562,33 @@ mod tests {
         assert!(recommend(&errors, &RecommendationBound { max_absolute: 1e-6, mean_relative: 1e-6 }).is_empty());
     }
 
-    /// The candidates' figures at the bake's width are `lut_error` on the rule with ends.
+    /// The candidates' figures are `lut_error` of each width on the bake's rule with ends;
+    /// with a bound, each encoding stops at its first width that meets it.
     #[test]
-    fn candidates_at_a_width_are_that_widths_error() {
+    fn candidates_are_each_widths_error_on_the_bakes_rule() {
         let gold = [Index::new(0.18, 3.4), Index::new(0.5, 2.2), Index::new(1.3, 1.9)];
-        let errors = Candidates::new(48).errors(&gold);
-        assert_eq!(errors.len(), candidate_sizes(48).len() * 5);
+        let candidates = Candidates::new(48);
         let rule = with_ends(&midpoint_rule(error_samples(48)));
-        let curve = exact_reference(&gold, &texel_cosines(48));
+        assert_eq!(candidates.rule().cosines, rule.cosines);
+        let reference = exact_reference(&gold, &rule.cosines);
+        let errors = candidates.errors(&gold, &reference, None);
+        assert_eq!(errors.len(), candidate_sizes(48).len() * 5);
+        for n in [16, 48, 1024] {
+            let curve = exact_reference(&gold, &texel_cosines(n));
+            for encoding in Encoding::ALL {
+                let decoded = deinterleave(&quantise(encoding, &curve).texels.decode(encoding));
+                let want = lut_error(&decoded, &rule, &reference);
+                let got = &errors.iter().find(|(m, e, _)| *m == n && *e == encoding).unwrap().2;
+                assert_eq!(got, &want, "{n} {}", encoding.name());
+            }
+        }
+        let bound = RECOMMENDATION_BOUND;
+        let stopped = candidates.errors(&gold, &reference, Some(&bound));
+        assert!(stopped.len() < errors.len());
+        assert_eq!(recommend(&stopped, &bound), recommend(&errors, &bound));
         for encoding in Encoding::ALL {
-            let decoded = deinterleave(&quantise(encoding, &curve).texels.decode(encoding));
-            let want = lut_error(&decoded, &rule, &exact_reference(&gold, &rule.cosines));
-            let got = &errors.iter().find(|(n, e, _)| *n == 48 && *e == encoding).unwrap().2;
-            assert_eq!(got, &want, "{}", encoding.name());
+            let tried: Vec<&LutError> = stopped.iter().filter(|(_, e, _)| *e == encoding).map(|(_, _, error)| error).collect();
+            assert!(tried[..tried.len() - 1].iter().all(|error| !meets(error, &bound)), "{}", encoding.name());
         }
     }
 }

@@ -337,9 +337,9 @@ pub fn recommendation_definition(size: usize) -> RecommendationDefinition {
         definition: format!(
             "For each encoding, the smallest width N among `sizes` whose texture reproduces the set's source curve with \
              max_absolute_rgb <= {} (theta = 90 degrees included) and mean_relative_rgb <= {}, measured as error_vs_exact \
-             is (same rule and definitions, at that N) against the exact Fresnel curve of the source: index_three_channel \
-             for three-channel, index_fitted for effective (so at the bake's own N the figures equal error_vs_exact of \
-             the three-channel sets). Null for the spectral source, whose reference is a 471-wavelength sum per angle: \
+             is, on the same rule (error.samples midpoint nodes and both ends, for every width), against the exact \
+             Fresnel curve of the source: index_three_channel for three-channel, index_fitted for effective (so at the \
+             bake's own N the figures equal error_vs_exact of the three-channel sets). Null for the spectral source, whose reference is a 471-wavelength sum per angle: \
              use its page's effective row, whose curve is fitted to it. Bake again with --size N to get a recommended \
              width other than this one.",
             bound.max_absolute, bound.mean_relative

@@ -299,28 +299,35 @@ fn exact_index(source: Source, row: &Row) -> Option<ChannelIndex> {
     }
 }
 
-/// F0 of every source and the recommendations of those with an exact curve, per row.
-fn row_figures(rows: &[Row], plan: &Plan) -> Vec<RowFigures> {
-    let candidates = accuracy::Candidates::new(plan.size);
-    rows.par_iter()
-        .map(|row| RowFigures {
-            f0_source: plan
-                .sources
-                .iter()
-                .map(|&source| match source {
-                    Source::Spectral => row.spectral_ends.map(|e| e.normal),
-                    _ => exact_index(source, row).map(|index| accuracy::exact_ends(&index).normal),
-                })
-                .collect(),
-            recommended: plan
-                .sources
-                .iter()
-                .map(|&source| {
-                    exact_index(source, row).map(|index| accuracy::recommend(&candidates.errors(&index), &accuracy::RECOMMENDATION_BOUND))
-                })
-                .collect(),
-        })
-        .collect()
+/// F0 of every source and the recommendations of those with an exact curve, for one row;
+/// `reference` is `exact` of the row's three-channel index on `candidates.rule()`.
+fn row_figures(row: &Row, plan: &Plan, candidates: &accuracy::Candidates, reference: &[Vec<f64>; 3]) -> RowFigures {
+    let bound = accuracy::RECOMMENDATION_BOUND;
+    RowFigures {
+        f0_source: plan
+            .sources
+            .iter()
+            .map(|&source| match source {
+                Source::Spectral => row.spectral_ends.map(|e| e.normal),
+                _ => exact_index(source, row).map(|index| accuracy::exact_ends(&index).normal),
+            })
+            .collect(),
+        recommended: plan
+            .sources
+            .iter()
+            .map(|&source| {
+                let index = exact_index(source, row)?;
+                let own;
+                let reference = if source == Source::ThreeChannel {
+                    reference
+                } else {
+                    own = accuracy::exact_reference(&index, &candidates.rule().cosines);
+                    &own
+                };
+                Some(accuracy::recommend(&candidates.errors(&index, reference, Some(&bound)), &bound))
+            })
+            .collect(),
+    }
 }
 
 fn check_rows(rows: &[Row], plan: &Plan) -> Result<()> {
@@ -373,12 +380,14 @@ pub fn strip_stems(rows: &[Row]) -> Vec<String> {
 
 /// Quantise every row in every set and measure its error against `exact` of its
 /// three-channel index (reference computed once per row) and, where the row has it,
-/// against its spectral reference.
-fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>> {
-    let midpoint = accuracy::with_ends(&accuracy::midpoint_rule(accuracy::error_samples(plan.size)));
+/// against its spectral reference; with each row's [`RowFigures`].
+fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<(Vec<Cell>, RowFigures)> {
+    let candidates = accuracy::Candidates::new(plan.size);
+    let midpoint = candidates.rule();
     let nodes = color::angle_quadrature();
     let nodes_with_ends = accuracy::with_ends(nodes);
     let midpoint_taps = accuracy::Taps::new(plan.size, &midpoint.cosines);
+    let midpoint = &midpoint;
     let (node_taps, node_taps_with_ends) =
         (accuracy::Taps::new(plan.size, &nodes.cosines), accuracy::Taps::new(plan.size, &nodes_with_ends.cosines));
     rows.par_iter()
@@ -388,17 +397,19 @@ fn cells(rows: &[Row], plan: &Plan, sets: &[(usize, Encoding)]) -> Vec<Vec<Cell>
                 Some(ends) => (accuracy::append_ends(s, ends), &node_taps_with_ends, &nodes_with_ends),
                 None => (s.clone(), &node_taps, nodes),
             });
-            sets.iter()
+            let row_cells = sets
+                .iter()
                 .map(|&(source, encoding)| {
                     let quantised = texel::quantise(encoding, &row.curves[source]);
                     let decoded = accuracy::deinterleave(&quantised.texels.decode(encoding));
                     Cell {
-                        error: accuracy::lut_error_with_taps(&decoded, &midpoint_taps, &midpoint, &reference),
+                        error: accuracy::lut_error_with_taps(&decoded, &midpoint_taps, midpoint, &reference),
                         error_vs_spectral: spectral.as_ref().map(|(s, taps, rule)| accuracy::lut_error_with_taps(&decoded, taps, rule, s)),
                         quantised,
                     }
                 })
-                .collect()
+                .collect();
+            (row_cells, row_figures(row, plan, &candidates, &reference))
         })
         .collect()
 }
@@ -418,7 +429,7 @@ fn bake_then<R: Send>(rows: &[Row], plan: &Plan, finish: impl FnOnce(Manifest) -
     plan.validate()?;
     check_rows(rows, plan)?;
     let sets = plan.sets();
-    let (cells, figures) = rayon::join(|| cells(rows, plan, &sets), || row_figures(rows, plan));
+    let (cells, figures): (Vec<Vec<Cell>>, Vec<RowFigures>) = cells(rows, plan, &sets).into_iter().unzip();
     let strips = plan.layouts.contains(&Layout::Strip);
     let atlas = plan.layouts.contains(&Layout::Atlas);
     let stems = strip_stems(rows);
