@@ -509,7 +509,7 @@ fn every_block_over_the_whole_database_keeps_its_tools_schema() {
 
 /// glTF, MaterialX and the table over the whole database: every number finite, glTF's
 /// volume and colours in the extensions' ranges (KHR_materials_volume: attenuationDistance
-/// > 0, attenuationColor in [0, 1]; KHR_materials_ior ior ≥ 1; baseColorFactor in [0, 1]),
+/// positive, attenuationColor in [0, 1]; KHR_materials_ior ior ≥ 1; baseColorFactor in [0, 1]),
 /// MaterialX colours in [0, 1] where the node takes a colour (`generalized_schlick_bsdf`
 /// color0 clamped as docs/engine-parameters.md says the exports clamp).
 #[test]
