@@ -199,6 +199,16 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
         let report = validate(Command::new(&python), "validate_usd.py", &out.join("materials.usda"));
         assert_eq!(report["valid"], true, "{report}");
         assert_eq!(report["previewSurfaces"], PAGES.len(), "{report}");
+        // BK7, green glass and water also carry a MaterialX OpenPBR network on
+        // outputs:mtlx:surface; the green glass's tint reaches MaterialX's GLSL.
+        assert_eq!(report["mtlxShaders"], 3, "{report}");
+        assert_eq!(report["mtlxSurfaceOutputs"], 3, "{report}");
+        assert_eq!(report["tintInGlsl"], serde_json::json!(["/Materials/nk_3d_glass_soda_lime_green/OpenPBR"]), "{report}");
+        let usda = fs::read_to_string(out.join("materials.usda")).unwrap();
+        let green = usda.split("def Material \"nk_3d_glass_soda_lime_green\"").nth(1).unwrap().split("def Material").next().unwrap();
+        let colour =
+            format!("({}, {}, {})", rows[4]["attenuation_colour_r"], rows[4]["attenuation_colour_g"], rows[4]["attenuation_colour_b"]);
+        assert!(green.contains(&format!("color3f inputs:transmission_color = {colour}")), "{colour}\n{green}");
     }
     let modules = deps.join("npm/node_modules");
     if installed(&modules.join("gltf-validator/package.json")) {
@@ -499,7 +509,7 @@ fn every_block_over_the_whole_database_keeps_its_tools_schema() {
 
 /// glTF, MaterialX and the table over the whole database: every number finite, glTF's
 /// volume and colours in the extensions' ranges (KHR_materials_volume: attenuationDistance
-/// > 0, attenuationColor in [0, 1]; KHR_materials_ior ior ≥ 1; baseColorFactor in [0, 1]),
+/// positive, attenuationColor in [0, 1]; KHR_materials_ior ior ≥ 1; baseColorFactor in [0, 1]),
 /// MaterialX colours in [0, 1] where the node takes a colour (`generalized_schlick_bsdf`
 /// color0 clamped as docs/engine-parameters.md says the exports clamp).
 #[test]
