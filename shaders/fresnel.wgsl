@@ -178,9 +178,12 @@ fn fresnel_constant(c: f32, p: MaterialParams) -> vec3<f32> {
     return p.constant_colour.rgb;
 }
 
-// Baseline: one plain texture fetch whose coordinate does not depend on c.
-fn fresnel_texture(curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
-    return textureSampleLevel(curve, curve_sampler, vec2<f32>(0.5, 0.5), 0.0).rgb;
+// Baseline: one plain texture fetch whose coordinate does not depend on c in value: u is
+// 0.5 + c·1e-30, which rounds to 0.5 in f32 for every c in [0, 1] (the term is below half an
+// ulp of 0.5), yet no compiler may fold it, so an amplified pass fetches once per repeat
+// instead of hoisting one fetch out of its loop.
+fn fresnel_texture(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
+    return textureSampleLevel(curve, curve_sampler, vec2<f32>(0.5 + c * 1e-30, 0.5), 0.0).rgb;
 }
 
 // The expensive shader of the `--subtract` timing (the study's method): a dependent chain

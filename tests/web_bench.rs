@@ -188,7 +188,7 @@ fn every_module_compiles_and_every_pair_is_timed() {
     let hash = result["plan_hash"].as_str().unwrap();
     assert_eq!(hash.len(), 16);
     assert!(html.contains(&format!("data-hash=\"{hash}\"")), "the hash of this plan");
-    assert_eq!(result["adapter"]["is_fallback_adapter"].is_boolean(), true);
+    assert!(result["adapter"]["is_fallback_adapter"].is_boolean());
     assert_eq!(result["adapter"]["adapter_type"], "cpu", "SwiftShader is a CPU rasteriser");
     assert_eq!(result["image_error_frames"], "all");
     assert_eq!(result["timing_sampling"]["seed"], scene(SCENE).timing.seed.to_string());
@@ -627,7 +627,7 @@ objects:
   - {mesh: cube, material: test/metals/goldish, methods: [exact, schlick, constant]}
   - {mesh: sphere, material: test/liquids/water, methods: [exact, schlick, lazanyi]}
 measurements: [timing]
-timing: {resolution: [32, 8], warmup: 1, repeats: 7}
+timing: {resolution: [32, 8], warmup: 1, repeats: 11}
 ";
 
 /// Each row's ratio to exact on its material, by (material, method).
@@ -668,7 +668,9 @@ fn amplified_samples_survive_a_quantised_timer_and_single_draws_do_not() {
         let args = vec!["--query".to_string(), query.to_string(), "--timeout".into(), "600".into()];
         run_page(name, QUANTISED_SCENE, &args).unwrap_or_else(|e| panic!("{e}"))
     };
-    let Some(reference) = run("web-quantised-reference", "quantum_us=0") else { return };
+    // The reference at the span the quantised runs reach (10 ms), so both carry the same
+    // share of the pass's fixed cost.
+    let Some(reference) = run("web-quantised-reference", "quantum_us=0&min_sample_ms=10") else { return };
     let reference_ratios = exact_ratios(&reference["result"]);
     let sampling = &reference["result"]["timing_sampling"];
     eprintln!("unquantised: {sampling} {reference_ratios:?}");

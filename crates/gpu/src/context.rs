@@ -84,20 +84,6 @@ fn instance() -> wgpu::Instance {
     wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_mesa_override_is_added_once_and_a_user_s_choice_kept() {
-        assert_eq!(mesa_override(None).as_deref(), Some("+GL_ARB_color_buffer_float"));
-        assert_eq!(mesa_override(Some("")).as_deref(), Some("+GL_ARB_color_buffer_float"));
-        assert_eq!(mesa_override(Some("+GL_EXT_foo")).as_deref(), Some("+GL_EXT_foo +GL_ARB_color_buffer_float"));
-        assert_eq!(mesa_override(Some("+GL_ARB_color_buffer_float")), None);
-        assert_eq!(mesa_override(Some("-GL_ARB_color_buffer_float")), None);
-    }
-}
-
 /// Every adapter the instance sees.
 pub fn adapters() -> Vec<AdapterLine> {
     let instance = instance();
@@ -221,5 +207,19 @@ impl Gpu {
         let bytes = buffer.get_mapped_range(..).map_err(|e| anyhow::anyhow!("reading a mapped buffer: {e:?}"))?.to_vec();
         buffer.unmap();
         Ok(bytes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mesa_override_is_added_once_and_a_user_s_choice_kept() {
+        assert_eq!(mesa_override(None).as_deref(), Some("+GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("")).as_deref(), Some("+GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("+GL_EXT_foo")).as_deref(), Some("+GL_EXT_foo +GL_ARB_color_buffer_float"));
+        assert_eq!(mesa_override(Some("+GL_ARB_color_buffer_float")), None);
+        assert_eq!(mesa_override(Some("-GL_ARB_color_buffer_float")), None);
     }
 }

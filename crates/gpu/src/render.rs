@@ -50,7 +50,7 @@ impl Shade {
     fn call(self) -> String {
         match self {
             Shade::Method(Shading::Fresnel(Method::Lut)) => "fresnel_lut(c, lut_texture, lut_sampler)".into(),
-            Shade::Method(Shading::Texture) => "fresnel_texture(lut_texture, lut_sampler)".into(),
+            Shade::Method(Shading::Texture) => "fresnel_texture(c, lut_texture, lut_sampler)".into(),
             Shade::Method(method) => format!("{}(c, material)", super::params::wgsl_function(method)),
             Shade::Burner => "fresnel_burner(c)".into(),
             Shade::ExactDielectric => "fresnel_exact_dielectric(c, material)".into(),

@@ -260,7 +260,8 @@ pub fn stats(samples: &[f64], evaluations: u32, pixels: u64, measurement: &Measu
         median_ms,
         spread_ms,
         ns_per_evaluation: median_ms * 1e6 / (evaluations as f64 * pixels.max(1) as f64),
-        near_resolution: !(median_ms > near),
+        // A NaN median (no samples) is not resolved either.
+        near_resolution: median_ms.is_nan() || median_ms <= near,
     }
 }
 

@@ -137,12 +137,13 @@ async function keepAwake() {
   }
 }
 document.addEventListener('visibilitychange', () => {
-  if (document.visibilityState !== 'hidden' || window.nklut.done) return;
+  if (window.nklut.done) return;
+  // A wake lock is released while the tab is hidden: ask again on return.
+  if (document.visibilityState === 'visible') { if (result.wake_lock === 'granted') keepAwake(); return; }
   result.hidden.push({ phase: phase.name, at_s: Math.round((performance.now() - started) / 100) / 10 });
   const note = $('hidden-note');
   note.hidden = false;
   note.textContent = `The tab was hidden during ${result.hidden.map((h) => h.phase).join(', ')}: a browser slows a background tab, so samples taken then may be long. Keep the page in front until it is done.`;
-  if (result.wake_lock === 'granted') keepAwake();
 });
 
 function bytes(base64) {
@@ -404,7 +405,7 @@ function resolutionNs(readings, tickNs) {
 
 function targetMs(resolution, floorMs) {
   const s = plan.timing.sampling;
-  return Math.max((s.span_over_resolution * resolution) / 1e6, s.span_over_floor * floorMs, s.min_sample_ms);
+  return Math.max((s.span_over_resolution * resolution) / 1e6, s.span_over_floor * floorMs, HOOK.minSampleMs ?? s.min_sample_ms);
 }
 
 function nextEvaluations(evaluations, cheapestMs, target) {
@@ -417,7 +418,8 @@ function nextEvaluations(evaluations, cheapestMs, target) {
 // submit round trip, on an adapter whose own are fine); `?amplify=0` keeps one evaluation
 // per pixel (the single-draw design); `?lose_after=K` destroys the device right after the
 // submit of the timed round after K (a lost device with a map pending); `?frames=all`
-// reads back every frame of the image error's orbit.
+// reads back every frame of the image error's orbit; `?min_sample_ms=M` raises the
+// shortest sample (a comparison at the span another timer needs).
 const HOOK = (() => {
   const q = new URLSearchParams(location.search);
   const quantumNs = BigInt(Math.max(1, Math.round(Number(q.get('quantum_us') || 0) * 1000)));
@@ -425,6 +427,7 @@ const HOOK = (() => {
   return {
     quantumNs, floorMs: Number(q.get('floor_ms') || 0), amplify: q.get('amplify') !== '0', allFrames: q.get('frames') === 'all',
     loseAfter: loseAfter === null ? null : Number(loseAfter),
+    minSampleMs: q.get('min_sample_ms') === null ? null : Number(q.get('min_sample_ms')),
   };
 })();
 const quantise = (ns) => ns - (ns % HOOK.quantumNs);
