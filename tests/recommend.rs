@@ -245,6 +245,8 @@ fn the_3d_shelf_picks_are_stable_and_their_figures_are_the_tables_rows() {
         assert!(fs::read(out.join(f)).unwrap() == first[i], "{f} differs on a rerun");
     }
 
+    let bad: Vec<_> = common::non_finite_tables(&out).into_iter().filter(|(_, cells)| !cells.is_empty()).collect();
+    assert!(bad.is_empty(), "non-finite cells: {bad:?}");
     let recs = load(&out, "recommendations.csv");
     let method_errors = load(&out, "method_errors.csv");
     let engine = load(&out, "engine_params.csv");
