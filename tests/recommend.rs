@@ -245,6 +245,8 @@ fn the_3d_shelf_picks_are_stable_and_their_figures_are_the_tables_rows() {
         assert!(fs::read(out.join(f)).unwrap() == first[i], "{f} differs on a rerun");
     }
 
+    let bad: Vec<_> = common::non_finite_tables(&out).into_iter().filter(|(_, cells)| !cells.is_empty()).collect();
+    assert!(bad.is_empty(), "non-finite cells: {bad:?}");
     let recs = load(&out, "recommendations.csv");
     let method_errors = load(&out, "method_errors.csv");
     let engine = load(&out, "engine_params.csv");
@@ -581,4 +583,63 @@ fn the_index_first_screen_shows_the_answer_and_every_figure_is_its_tables() {
     }
     let first = screen.figures.iter().find(|f| f.key.starts_with("pick-count:dielectric")).unwrap();
     println!("first screen: {} figures, {} in findings; {} = {}", screen.figures.len(), findings_figures, first.key, first.value);
+}
+
+/// Two spheres (BK7, diamond) in a room, both depths and search steps at two values each,
+/// small enough for a debug build.
+const SPECULAR_SCENE: &str = "resolution: [48, 48]
+camera: { axis: [0, 1, 0], distance: 2.2, frames: 1, fov_y_degrees: 50 }
+effects:
+  reflection: { max_depth: [1, 2] }
+  refraction: { max_depth: [1, 2] }
+  distance_maps: { size: 32, layers: 2, linear_steps: [4, 12], secant_steps: [1, 4] }
+light: { direction: [-0.3, -1, -0.5], colour: [0.75, 0.75, 0.75], ambient: [0.25, 0.25, 0.25] }
+objects:
+  - { mesh: sphere, scale: 0.5, position: [-0.6, 0, 0], material: 3d/glass/BK7, methods: [exact, schlick] }
+  - { mesh: sphere, scale: 0.5, position: [0.6, 0, 0], material: 3d/crystals/diamond, methods: [exact, schlick] }
+  - { mesh: room, scale: [3, 1.5, 3], diffuse: [0.85, 0.85, 0.8], pattern: { kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45] } }
+measurements: [image_error]
+";
+
+#[test]
+fn the_search_finding_states_the_effects_tables_figures() {
+    let out = scratch("recommend-effects");
+    let pages = ["--page", "3d/glass/BK7", "--page", "3d/crystals/diamond"];
+    for stage in ["ingest", "colors", "params", "validate", "recommend"] {
+        nklut(&out, &[&[stage][..], &pages].concat());
+    }
+    let scene = out.join("specular.yaml");
+    fs::write(&scene, SPECULAR_SCENE).unwrap();
+    nklut(&out.join("specular"), &["effects", "--hero-size", "0", scene.to_str().unwrap()]);
+    nklut(&out, &[&["report"][..], &pages].concat());
+    let html = fs::read_to_string(out.join("report/index.html")).unwrap();
+    let start = html.find("<li class=\"finding\" id=\"finding-search-specular\">").expect("the search finding for the scene");
+    let item = &html[start..start + html[start..].find("</li>").unwrap()];
+    assert!(item.contains("href=\"effects.html#scene-specular\""), "{item}");
+    // Its figures, from the attributes, against effects_errors.csv re-read here.
+    let errors = load(&out.join("specular"), "effects_errors.csv");
+    let column = |name: &str, skip_exact: bool| -> Vec<f64> {
+        errors.rows.iter().filter(|r| !skip_exact || errors.text(r, "method") != "exact").map(|r| num(&errors, r, name)).collect()
+    };
+    let max = |v: Vec<f64>| v.into_iter().fold(f64::NAN, f64::max);
+    let min = |v: Vec<f64>| v.into_iter().fold(f64::NAN, f64::min);
+    let expected = [
+        ("search:specular:fresnel-max", max(column("fresnel_mean_delta_e2000", true))),
+        ("search:specular:total-min", min(column("total_mean_delta_e2000", false))),
+        ("search:specular:total-max", max(column("total_mean_delta_e2000", false))),
+        ("search:specular:geometry-max", max(column("geometry_mean_delta_e2000", false))),
+    ];
+    let mut rest = item;
+    for (key, value) in expected {
+        let needle = format!("data-key=\"{key}\" data-value=\"");
+        let at = rest.find(&needle).unwrap_or_else(|| panic!("{key} missing in {item}"));
+        let tail = &rest[at + needle.len()..];
+        let shown: f64 = tail[..tail.find('"').unwrap()].parse().unwrap();
+        assert_eq!(shown, value, "{key}");
+        rest = tail;
+    }
+    // The clause that names the dominant error follows the figures.
+    let dominates = expected[3].1 > expected[0].1;
+    assert_eq!(item.contains("the search, not the Fresnel formula, dominates"), dominates, "{item}");
+    println!("{}", item);
 }

@@ -76,7 +76,7 @@ pub enum Piece {
 /// One finding: its sentence and the chart or table it comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Finding {
-    pub id: &'static str,
+    pub id: String,
     pub pieces: Vec<Piece>,
     /// Link target (relative to `report/index.html`) and its words.
     pub link: (String, String),
@@ -224,7 +224,7 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
                 }
             }
             out.push(Finding {
-                id: if kind == "conductor" { "ship-conductors" } else { "ship-dielectrics" },
+                id: format!("ship-{kind}s"),
                 pieces: s.t(".").0,
                 link: ("#answer-picks".into(), "recommendation table; recommendations.csv".into()),
             });
@@ -255,7 +255,11 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
                 }
             }
             s = s.t(format!(", largest {worst_page}: ")).f("schlick-worst", worst).t(".");
-            out.push(Finding { id: "schlick", pieces: s.0, link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")) });
+            out.push(Finding {
+                id: "schlick".into(),
+                pieces: s.0,
+                link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")),
+            });
         }
     }
     if let (Some(colors), Some(me)) = (&inputs.colors, method_errors) {
@@ -287,7 +291,7 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
                 .f("exact-pages", exact.len() as f64)
                 .t(" pages.");
             out.push(Finding {
-                id: "three-wavelengths",
+                id: "three-wavelengths".into(),
                 pieces: s.0,
                 link: (material_href(page), format!("{page}; colors.csv, method_errors.csv")),
             });
@@ -323,8 +327,42 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
                 .t(" bytes per page at the median, ")
                 .f("lut-bytes-max", *max)
                 .t(format!(" bytes at most ({variant}, {page})."));
-            out.push(Finding { id: "lut-size", pieces: s.0, link: ("#answer-methods".into(), "decision table; method_errors.csv".into()) });
+            out.push(Finding {
+                id: "lut-size".into(),
+                pieces: s.0,
+                link: ("#answer-methods".into(), "decision table; method_errors.csv".into()),
+            });
         }
+    }
+    for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/effects_errors.csv")) {
+        let scene = path.trim_end_matches("/effects_errors.csv");
+        let column = |name: &str, keep: &dyn Fn(&[String]) -> bool| -> Vec<f64> {
+            table.rows.iter().filter(|r| keep(r)).filter_map(|r| table.number(r, name)).collect()
+        };
+        let fresnel = column("fresnel_mean_delta_e2000", &|r| table.text(r, "method") != "exact");
+        let total = column("total_mean_delta_e2000", &|_| true);
+        let geometry = column("geometry_mean_delta_e2000", &|_| true);
+        let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
+        let min = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::min);
+        if fresnel.is_empty() || total.is_empty() || geometry.is_empty() {
+            continue;
+        }
+        let (f, g) = (max(&fresnel), max(&geometry));
+        let s = Sentence::new()
+            .t(format!("In {scene}, the Fresnel method's own error (against exact Fresnel on the same paths) stays at ΔE2000 ≤ "))
+            .f(format!("search:{scene}:fresnel-max"), f)
+            .t(" while the total against the ray-traced reference is ")
+            .f(format!("search:{scene}:total-min"), min(&total))
+            .t("–")
+            .f(format!("search:{scene}:total-max"), max(&total))
+            .t("; the distance-map search alone (exact Fresnel) gives up to ")
+            .f(format!("search:{scene}:geometry-max"), g)
+            .t(if g > f { ": the search, not the Fresnel formula, dominates." } else { "." });
+        out.push(Finding {
+            id: format!("search-{scene}"),
+            pieces: s.0,
+            link: (format!("effects.html#scene-{scene}"), format!("{scene}; {path}")),
+        });
     }
     if let Some(cost) = &inputs.cost {
         let ns = |method: &str, variant: &str| {
@@ -355,7 +393,7 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
             } else {
                 ("effects.html#devices".to_string(), "across devices; cost.csv".to_string())
             };
-            out.push(Finding { id: "cost", pieces: s.t(" (median pass time over materials).").0, link });
+            out.push(Finding { id: "cost".into(), pieces: s.t(" (median pass time over materials).").0, link });
         }
     }
     out
