@@ -421,3 +421,21 @@ fn a_catalog_that_is_a_fifo_is_named_not_taken_for_no_database() {
     assert!(stderr.contains("catalog-nk.yml") && stderr.contains("FIFO"), "{stderr}");
     assert!(!stderr.contains("no refractiveindex.info database"), "{stderr}");
 }
+
+/// A report input that fits its size bound but not the memory its rows would take parsed
+/// (16 bytes a byte): refused naming the file and the budget, before it is parsed.
+#[test]
+fn a_table_larger_than_the_budget_holds_is_refused_before_it_is_parsed() {
+    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    let colors = out.join("colors.csv");
+    let mut table = String::from("page,x\n");
+    while table.len() < 2 << 20 {
+        table.push_str("h/X/good,1\n");
+    }
+    fs::write(&colors, &table).unwrap();
+    // 2 MiB × 16 = 32 MiB parsed, over a 16 MiB budget.
+    let stderr = failed(&nklut_with(db.path(), &out, &["report"], &[("NKLUT_MEMORY_BUDGET", "16M")]));
+    assert!(stderr.contains(&colors.display().to_string()) && stderr.contains("more than the memory budget"), "{stderr}");
+}
