@@ -131,6 +131,16 @@ impl fmt::Display for Reason {
     }
 }
 
+/// A number as a detail shows it: plainly within 1e-6..1e16 in magnitude (and 0), in
+/// exponent form beyond (−1e308 as `-1e308`, not 309 digits).
+pub fn number_text(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-6..1e16).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// A data error: the reason, the data file (relative to `database/data/`), the line in
 /// that file where there is one, and a human-readable detail.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

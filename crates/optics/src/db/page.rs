@@ -805,7 +805,12 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
         };
         at = end + 1;
         if values[0] <= 0.0 {
-            return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
+            return Err(DataError::new(
+                Reason::BadRow,
+                file,
+                line_no,
+                format!("wavelength {} µm is not positive", super::error::number_text(values[0])),
+            ));
         }
         if !wavelength_in_domain(values[0]) {
             return Err(DataError::new(
@@ -1381,7 +1386,9 @@ mod tests {
                     }
                 }
                 if values[0] <= 0.0 {
-                    return Err(format!("bad-row {line_no:?} wavelength {} µm is not positive", values[0]));
+                    let x = values[0];
+                    let shown = if x == 0.0 || (1e-6..1e16).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") };
+                    return Err(format!("bad-row {line_no:?} wavelength {shown} µm is not positive"));
                 }
                 if !(1e-6..=1e8).contains(&values[0]) {
                     return Err(format!("wavelength-out-of-range {line_no:?} wavelength {:e} µm is outside 1e-6–1e8 µm", values[0]));
