@@ -120,7 +120,7 @@ impl Reason {
             Reason::BadCatalogEntry => {
                 "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER"
             }
-            Reason::WavelengthOutOfRange => "a tabulated wavelength or a formula's wavelength_range outside 1e-6 to 1e8 µm (1 pm to 100 m)",
+            Reason::WavelengthOutOfRange => "a tabulated wavelength or a formula's wavelength_range outside 1e-9 to 1e8 µm (1 fm to 100 m)",
         }
     }
 }
