@@ -421,3 +421,43 @@ fn a_catalog_that_is_a_fifo_is_named_not_taken_for_no_database() {
     assert!(stderr.contains("catalog-nk.yml") && stderr.contains("FIFO"), "{stderr}");
     assert!(!stderr.contains("no refractiveindex.info database"), "{stderr}");
 }
+
+/// A report input that fits its size bound but not the memory its rows would take parsed
+/// (16 bytes a byte): refused naming the file and the budget, before it is parsed.
+#[test]
+fn a_table_larger_than_the_budget_holds_is_refused_before_it_is_parsed() {
+    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    let colors = out.join("colors.csv");
+    let mut table = String::from("page,x\n");
+    while table.len() < 2 << 20 {
+        table.push_str("h/X/good,1\n");
+    }
+    fs::write(&colors, &table).unwrap();
+    // 2 MiB × 16 = 32 MiB parsed, over a 16 MiB budget.
+    let stderr = failed(&nklut_with(db.path(), &out, &["report"], &[("NKLUT_MEMORY_BUDGET", "16M")]));
+    assert!(stderr.contains(&colors.display().to_string()) && stderr.contains("more than the memory budget"), "{stderr}");
+}
+
+/// A wavelength of −1e308 µm and an n of −1e308: excluded with details that write the
+/// number in exponent form, never 309 digits.
+#[test]
+fn huge_numbers_in_details_are_written_in_exponent_form() {
+    let negative_wavelength = b"DATA:\n  - type: tabulated nk\n    data: |\n        -1e308 1.0 2.0\n        0.50 2.0 3.0\n".as_slice();
+    let negative_n =
+        b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 -1e308 2.0\n        0.50 -1e308 3.0\n        0.80 -1e308 4.0\n"
+            .as_slice();
+    let db = database(
+        "X",
+        &[("good", "h/X/good.yml"), ("wavelength", "h/X/w.yml"), ("n", "h/X/n.yml")],
+        &[("h/X/good.yml", GOOD), ("h/X/w.yml", negative_wavelength), ("h/X/n.yml", negative_n)],
+    );
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    let excluded = rows(&out.join("excluded.csv"));
+    let detail =
+        |page: &str| excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page}: {excluded:?}"))["detail"].clone();
+    assert_eq!(detail("h/X/wavelength"), "wavelength -1e308 µm is not positive");
+    assert!(detail("h/X/n").contains("-1e308") && !detail("h/X/n").contains(&"0".repeat(100)), "{}", detail("h/X/n"));
+}

@@ -184,12 +184,12 @@ pub fn index_at(data: &PageData, nm: f64) -> Result<Index, DataError> {
 
 fn check_index(data: &PageData, nm: f64, n: f64, k: f64) -> Result<Index, DataError> {
     if !(n > 0.0) {
-        return Err(DataError::new(Reason::NegativeN, &data.file, None, format!("n = {n} at {nm} nm")));
+        return Err(DataError::new(Reason::NegativeN, &data.file, None, format!("n = {} at {nm} nm", crate::db::error::number_text(n))));
     }
     // Rounding noise such as k = −5.9e−18 (main/CdS/Treharne) counts as k = 0.
     let k = if (-K_NOISE..0.0).contains(&k) { 0.0 } else { k };
     if !(k >= 0.0) {
-        return Err(DataError::new(Reason::NegativeK, &data.file, None, format!("k = {k} at {nm} nm")));
+        return Err(DataError::new(Reason::NegativeK, &data.file, None, format!("k = {} at {nm} nm", crate::db::error::number_text(k))));
     }
     let index = Index::new(n, k);
     index.check_domain().map_err(|detail| DataError::new(Reason::IndexOutOfDomain, &data.file, None, format!("{detail} at {nm} nm")))?;

@@ -331,7 +331,7 @@ mod tests {
             (
                 "{ ambient_occlusion: { gtao: { radius: -1 } } }",
                 "effects.ambient_occlusion.gtao.radius",
-                FieldProblem::OutOfRange { value: Value::Number(-1.0), range: Range::Closed { low: 0.0, high: 100.0, each: Each::Whole } },
+                FieldProblem::OutOfRange { value: Value::Number(-1.0), range: Range::AboveUpTo { low: 0.0, high: 100.0 } },
             ),
             ("{ }", "effects", FieldProblem::Empty(Listing::Effects)),
         ] {

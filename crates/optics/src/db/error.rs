@@ -120,7 +120,7 @@ impl Reason {
             Reason::BadCatalogEntry => {
                 "a catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER"
             }
-            Reason::WavelengthOutOfRange => "a tabulated wavelength or a formula's wavelength_range outside 1e-6 to 1e8 µm (1 pm to 100 m)",
+            Reason::WavelengthOutOfRange => "a tabulated wavelength or a formula's wavelength_range outside 1e-9 to 1e8 µm (1 fm to 100 m)",
         }
     }
 }
@@ -128,6 +128,16 @@ impl Reason {
 impl fmt::Display for Reason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.code())
+    }
+}
+
+/// A number as a detail shows it: plainly within 1e-6..1e16 in magnitude (and 0), in
+/// exponent form beyond (−1e308 as `-1e308`, not 309 digits).
+pub fn number_text(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-6..1e16).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }
 

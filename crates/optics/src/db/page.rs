@@ -22,12 +22,13 @@ pub const N_DOMAIN: (f64, f64) = (1e-3, 1e3);
 /// The largest extinction coefficient k of that domain (k ≥ 0).
 pub const K_MAX: f64 = 1e3;
 
-/// The wavelengths (µm) a table row or a formula's range may hold: 1 pm to 100 m, far
+/// The wavelengths (µm) a table row or a formula's range may hold: 1 fm to 100 m, far
 /// past the database's X-ray and radio pages, and a range every table writes in a few
-/// digits (`lambda_min_nm` 0.001 to `lambda_max_nm` 100000000000). A wavelength outside
+/// digits (`lambda_min_nm` 0.000001 to `lambda_max_nm` 100000000000; the database's shortest
+/// is 8.3e-8 µm). A wavelength outside
 /// it (1e300 µm, or 1.8e308, which is infinite in nm) excludes its page as
 /// `wavelength-out-of-range` with its line.
-pub const WAVELENGTH_DOMAIN_UM: (f64, f64) = (1e-6, 1e8);
+pub const WAVELENGTH_DOMAIN_UM: (f64, f64) = (1e-9, 1e8);
 
 /// Whether `um` lies in [`WAVELENGTH_DOMAIN_UM`].
 pub fn wavelength_in_domain(um: f64) -> bool {
@@ -805,7 +806,12 @@ fn parse_rows(file: &str, block: &str, columns: usize, first_line: Option<usize>
         };
         at = end + 1;
         if values[0] <= 0.0 {
-            return Err(DataError::new(Reason::BadRow, file, line_no, format!("wavelength {} µm is not positive", values[0])));
+            return Err(DataError::new(
+                Reason::BadRow,
+                file,
+                line_no,
+                format!("wavelength {} µm is not positive", super::error::number_text(values[0])),
+            ));
         }
         if !wavelength_in_domain(values[0]) {
             return Err(DataError::new(
@@ -1381,10 +1387,12 @@ mod tests {
                     }
                 }
                 if values[0] <= 0.0 {
-                    return Err(format!("bad-row {line_no:?} wavelength {} µm is not positive", values[0]));
+                    let x = values[0];
+                    let shown = if x == 0.0 || (1e-6..1e16).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") };
+                    return Err(format!("bad-row {line_no:?} wavelength {shown} µm is not positive"));
                 }
-                if !(1e-6..=1e8).contains(&values[0]) {
-                    return Err(format!("wavelength-out-of-range {line_no:?} wavelength {:e} µm is outside 1e-6–1e8 µm", values[0]));
+                if !(1e-9..=1e8).contains(&values[0]) {
+                    return Err(format!("wavelength-out-of-range {line_no:?} wavelength {:e} µm is outside 1e-9–1e8 µm", values[0]));
                 }
                 rows.push((values.map(f64::to_bits), line_no));
             }
