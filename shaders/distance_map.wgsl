@@ -1,5 +1,5 @@
 // nklut layered distance maps (Umenhoffer, Patow and Szirmay-Kalos, GPU Gems 3 ch. 17): the
-// search of a ray through one object's map, the WGSL twin of src/effects/distance_map.rs,
+// search of a ray through one object's map, the WGSL twin of crates/effects/src/distance_map.rs,
 // operation for operation in f32. See that file and docs/effects.md for the algorithm:
 // cube-map faces in the Vulkan/WebGPU convention, nearest texel; the ray x + R·d walked in
 // t ∈ [0, 1] with d = |x|·t/(1 − t); against a layer g = 1 − D/|p|; linear steps find

@@ -3,7 +3,7 @@
 // face's projection sends a point p (relative to the reference point) to NDC (sc/|ma|,
 // −tc/|ma|) with (sc, tc, ma) of the Vulkan/WebGPU cube-map face table, so pixel (column,
 // row) is the texel whose centre direction `face_direction` gives on the CPU
-// (src/effects/distance_map.rs): rasterising at pixel centres is casting the texel's ray.
+// (crates/effects/src/distance_map.rs): rasterising at pixel centres is casting the texel's ray.
 // Each fragment writes its distance from the reference point and its smooth normal, and
 // what it is: a specular object (its index) or a diffuse surface's lit colour. Layers
 // below the last peel specular surfaces: layer L keeps, per texel, the nearest fragment

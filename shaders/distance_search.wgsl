@@ -1,6 +1,6 @@
 // nklut distance-map search pass: runs `map_search` (shaders/distance_map.wgsl) for a batch
 // of rays against one map, so the WGSL can be held to its CPU twin ray by ray
-// (src/gpu/distance_search.rs).
+// (crates/gpu/src/distance_search.rs).
 
 #import distance_map
 

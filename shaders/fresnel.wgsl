@@ -1,12 +1,12 @@
 // nklut Fresnel shader library. One pure function per Fresnel method, each mapping
 // c = cosθ ∈ [0, 1] and the per-channel parameters of one index η = n + ik (a value of
-// `MaterialParams`, filled on the CPU by src/gpu/params.rs) to F per colour channel (vec3 =
+// `MaterialParams`, filled on the CPU by crates/gpu/src/params.rs) to F per colour channel (vec3 =
 // red, green, blue), f32 throughout; the `lut` method takes its texture and sampler. No
 // function reads a global, so the same function evaluates a ray arriving from outside
 // (the page's η) and from inside (the relative index conj(1/η), which has its own curve
 // with total internal reflection): the caller passes the parameters of that index.
 //
-// Passes import it (`#import fresnel`, resolved by src/gpu/compose.rs); nothing here is
+// Passes import it (`#import fresnel`, resolved by crates/gpu/src/compose.rs); nothing here is
 // copied per method.
 
 struct MaterialParams {
@@ -40,7 +40,7 @@ fn shader_pow(m: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
     return select(exp2(p * log2(max(m, vec3<f32>(1e-30)))), vec3<f32>(0.0), m <= vec3<f32>(0.0));
 }
 
-// SPEC §5.1 for one channel: fresnel::exact_f32 (see src/fresnel/exact.rs for the stable
+// SPEC §5.1 for one channel: fresnel::exact_f32 (see crates/optics/src/fresnel/exact.rs for the stable
 // forms). a0 = (n − 1)(n + 1) − k²; A = (n² − k²) − s² if c² > ½ else a0 + c²;
 // r = √(A² + 4(nk)²); the larger of a², b² is (r + |A|)/2, the other (nk)²/larger;
 // a − c = (a0 + b²)/(a + c) when A ≥ 0;

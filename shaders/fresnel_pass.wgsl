@@ -2,7 +2,7 @@
 // vs_fullscreen/fs_ramp for the cosθ ramp and timing, vs_mesh/fs_mesh for rendered objects.
 // A pipeline is this file (with the library it imports) + one generated line
 //     fn shade(c: f32) -> vec3<f32> { return fresnel_xxx(c, material); }
-// that picks the method (src/gpu/render.rs).
+// that picks the method (crates/gpu/src/render.rs).
 
 #import fresnel
 
@@ -30,7 +30,7 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) @invariant
 // The timing's amplification: F is evaluated viewport.z times (at least once) at c,
 // c + φ, c + 2φ … mod 1 (φ = 0.618034, so no two repeats share an argument and none can be
 // folded or hoisted) and the mean written, which keeps every repeat live; once, it is
-// shade(c) exactly (src/gpu/sampling.rs).
+// shade(c) exactly (crates/gpu/src/sampling.rs).
 @fragment
 fn fs_ramp(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let c = position.x / view.viewport.x;

@@ -1,5 +1,5 @@
 // nklut scene meshes as the effect passes draw them (`SceneMeshes` in
-// src/gpu/passes/distance_maps.rs): a position and a normal per vertex; each object is one
+// crates/gpu/src/passes/distance_maps.rs): a position and a normal per vertex; each object is one
 // draw whose instance index is the object's index in the scene, passed on flat.
 
 struct MeshVertexIn {

@@ -1,7 +1,7 @@
 // nklut specular effects: multiple reflections and refractions through layered distance
 // maps (Umenhoffer, Patow and Szirmay-Kalos, GPU Gems 3 ch. 17, listing 17-5), with F from
-// the scene's Fresnel method — the WGSL twin of the bounce loop of src/effects/trace.rs
-// and the bounce rule of src/effects/optics.rs, traced by the search of
+// the scene's Fresnel method — the WGSL twin of the bounce loop of crates/effects/src/trace.rs
+// and the bounce rule of crates/effects/src/optics.rs, traced by the search of
 // shaders/distance_map.wgsl.
 //
 // A fragment of a diffuse object shows its lit colour. A fragment of a specular object
@@ -14,7 +14,7 @@
 // finds nothing (black) or no bounce is left (black). Directions follow the n of the green
 // channel; weights are per channel.
 //
-// A pipeline is this file plus two generated lines (src/gpu/passes/specular.rs):
+// A pipeline is this file plus two generated lines (crates/gpu/src/passes/specular.rs):
 //     const REFRACTION: bool = …;     // the effect: reflection only, or with refraction
 //     fn reflectance(c: f32, curve: u32) -> vec3<f32> { return fresnel_xxx(…); }
 // where curve 2m is material m seen from outside and 2m + 1 from inside.

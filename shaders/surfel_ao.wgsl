@@ -1,6 +1,6 @@
 // Surfel accessibility and bent normals on the GPU (Bunnell, "Dynamic Ambient Occlusion and
 // Indirect Lighting", GPU Gems 2 ch. 14; the method and its f64 CPU twin in
-// src/effects/ao, docs/ao.md). One invocation per receiving surfel; a pass gathers the
+// crates/effects/src/ao, docs/ao.md). One invocation per receiving surfel; a pass gathers the
 // shadow of every emitter (brute force) or of a cut of the surfel tree (hierarchy), each
 // emitter weighted by its accessibility of the previous pass:
 //

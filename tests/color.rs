@@ -131,7 +131,7 @@ fn colours_are_finite_for_every_kept_page() {
     }
 }
 
-/// The issue-4 target: on the `3d` metals every channel whose reference stays in [0, 1]
+/// The accuracy target: on the `3d` metals every channel whose reference stays in [0, 1]
 /// is matched by its effective index to < 0.5 % mean relative error over angle, never
 /// worse than the three-wavelength index; gold's red (reference > 1) is the exception.
 #[test]

@@ -408,7 +408,7 @@ fn excluded_reason(out: &Path, page: &str) -> String {
     excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not in excluded.csv: {excluded:?}"))["reason"].clone()
 }
 
-/// Item 3: a `data: |` line inside a comment's block is not the page's table; the parser
+/// A `data: |` line inside a comment's block is not the page's table; the parser
 /// decides where the DATA block's table is.
 #[test]
 fn a_table_inside_a_comment_is_not_the_page_s_data() {
@@ -428,7 +428,7 @@ fn a_table_inside_a_comment_is_not_the_page_s_data() {
     assert_eq!(String::from_utf8_lossy(&printed.stdout).trim(), "500 1.5 0");
 }
 
-/// Item 4: FIFOs, devices and links that leave the database are refused without reading
+/// FIFOs, devices and links that leave the database are refused without reading
 /// (nothing blocks), each with its reason; the rest of the run goes on.
 #[cfg(unix)]
 #[test]
@@ -465,7 +465,7 @@ fn special_files_and_links_out_of_the_database_are_refused_without_blocking() {
     assert_eq!(kept, ["h/X/good"]);
 }
 
-/// Item 5: catalog entries whose levels are not single values are in excluded.csv, not
+/// Catalog entries whose levels are not single values are in excluded.csv, not
 /// dropped: every PAGE of the catalog is in exactly one of the two tables.
 #[test]
 fn catalog_entries_that_are_not_pages_are_excluded_not_dropped() {
@@ -480,7 +480,7 @@ fn catalog_entries_that_are_not_pages_are_excluded_not_dropped() {
     assert!(excluded.iter().all(|r| r["reason"] == "bad-catalog-entry"), "{excluded:?}");
 }
 
-/// Item 6: pages sharing one data file cost memory and table bytes linear in the pages.
+/// Pages sharing one data file cost memory and table bytes linear in the pages.
 #[test]
 fn pages_sharing_one_data_file_cost_linear_memory() {
     let pages: Vec<(String, &str)> = (0..5000).map(|i| (format!("p{i}"), "h/X/good.yml")).collect();
@@ -521,7 +521,7 @@ fn with_peak_memory(command: &mut Command) -> (Output, i64) {
     (Output { status: std::process::ExitStatus::from_raw(status), stdout: out_text, stderr: err_text }, usage.ru_maxrss)
 }
 
-/// Item 7: YAML nested past the readers' bound is refused at once, with its reason: the
+/// YAML nested past the readers' bound is refused at once, with its reason: the
 /// catalog (the run cannot go on, and says why) and a data file (the page is excluded).
 #[test]
 fn deep_nesting_is_refused_with_its_reason() {
@@ -540,7 +540,7 @@ fn deep_nesting_is_refused_with_its_reason() {
     assert!(stderr.contains("nesting-too-deep") && stderr.contains("catalog-nk.yml"), "{stderr}");
 }
 
-/// Item 10: a formula's range must be finite numbers (no `inf` reaches a table).
+/// A formula's range must be finite numbers (no `inf` reaches a table).
 #[test]
 fn a_formula_range_to_infinity_is_refused() {
     let page = b"DATA:\n  - type: formula 2\n    wavelength_range: 0.3 inf\n    coefficients: 0 1.0 0.01\n";
@@ -558,7 +558,7 @@ fn a_formula_range_to_infinity_is_refused() {
     assert!(common::non_finite_cells(&materials).is_empty(), "{materials}");
 }
 
-/// Item 11: no single catalog entry disables a command: `..` is a bad id, and ids that
+/// No single catalog entry disables a command: `..` is a bad id, and ids that
 /// differ in case or in `__` against `/` bake to strips of their own.
 #[test]
 fn odd_page_ids_disable_no_command() {
@@ -584,7 +584,7 @@ fn odd_page_ids_disable_no_command() {
     }
 }
 
-/// Item 13: report.md shows a page id holding HTML as text.
+/// `report.md` shows a page id holding HTML as text.
 #[test]
 fn report_markdown_shows_html_in_ids_as_text() {
     let id = "<img src=x onerror=alert(1)>";
@@ -598,7 +598,7 @@ fn report_markdown_shows_html_in_ids_as_text() {
     assert!(markdown.contains("&lt;img src=x onerror=alert(1)&gt;"));
 }
 
-/// Item 2: runs into one output folder take turns; each leaves one whole set, and the
+/// Runs into one output folder take turns; each leaves one whole set, and the
 /// tables are never lost.
 #[test]
 fn concurrent_ingests_into_one_folder_leave_one_whole_set() {
@@ -635,7 +635,7 @@ fn concurrent_ingests_into_one_folder_leave_one_whole_set() {
     }
 }
 
-/// Item 12: a write that fails (here: past a file-size limit, as on a full disk) removes
+/// A write that fails (here: past a file-size limit, as on a full disk) removes
 /// its generation and leaves the previous set.
 #[cfg(target_os = "linux")]
 #[test]
@@ -669,7 +669,7 @@ fn a_failed_write_leaves_no_generation_behind() {
     assert_eq!(generations.len(), 1, "{generations:?}");
 }
 
-/// Item 8: bake and report are published as sets: a kill at any step leaves the previous
+/// Bake and report are published as sets: a kill at any step leaves the previous
 /// folder or the new one whole, never none.
 #[test]
 fn killed_bakes_and_reports_leave_a_whole_folder() {

@@ -55,7 +55,7 @@ fn ao_scene(object: &str) -> String {
     format!("resolution: [16, 16]\ncamera: {{ frames: 1 }}\nmeasurements: [image_error]\neffects: {{ ambient_occlusion: {{ passes: 1 }} }}\nobjects:\n  - {object}\n  - {{ mesh: plane, diffuse: [0.5, 0.5, 0.5], position: [0, -1, 0] }}\n")
 }
 
-/// Item 1: finite but huge coordinates are scene errors naming the field, not a panic in
+/// Finite but huge coordinates are scene errors naming the field, not a panic in
 /// the BVH builder; an OBJ whose vertices lie near f32's end is fitted to the unit sphere.
 #[test]
 fn huge_coordinates_are_named_errors_not_panics() {
@@ -78,7 +78,7 @@ fn huge_coordinates_are_named_errors_not_panics() {
     }
 }
 
-/// Item 9: sizes that the fields' ranges allow but the machine does not hold, and counts
+/// Sizes that the fields' ranges allow but the machine does not hold, and counts
 /// that would run for ever, are refused before any work, naming the field.
 #[test]
 fn oversized_requests_are_refused_before_the_allocation() {
@@ -97,7 +97,7 @@ fn oversized_requests_are_refused_before_the_allocation() {
     assert!(!dir.join("out").join("ao_errors.csv").exists());
 }
 
-/// Item 10: a light of 1e308 would overflow the radiance sums: refused, naming it.
+/// A light of 1e308 would overflow the radiance sums: refused, naming it.
 #[test]
 fn lights_past_the_radiance_bound_are_refused() {
     let dir = common::scratch("light");
@@ -125,7 +125,7 @@ fn special_files_and_deep_nesting_in_scenes_are_refused_at_once() {
     refused(&effects(&dir, &deep, &[], None), "nests");
 }
 
-/// Item 8: the tables and frames of one effects run are one set: a run naming fewer
+/// The tables and frames of one effects run are one set: a run naming fewer
 /// methods leaves no frame of the others, and a killed run leaves the previous set whole.
 #[test]
 fn effects_tables_and_frames_are_one_set() {

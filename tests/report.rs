@@ -254,13 +254,13 @@ exact,3,2.5
     for (device, rows) in [
         (
             "phone-a",
-            "exact,3d/metals/gold,2\nexact,3d/metals/copper,4\nschlick,3d/metals/gold,1\nschlick,3d/metals/copper,2\nexact,3d/liquids/water,1.6\nschlick,3d/liquids/water,0.8\n",
+            "exact,3d/metals/gold,2,0.4,10,complex\nexact,3d/metals/copper,4,0.2,10,complex\nschlick,3d/metals/gold,1,0.1,10,\nschlick,3d/metals/copper,2,0.1,10,\nexact,3d/liquids/water,1.6,0.32,10,dielectric\nschlick,3d/liquids/water,0.8,0.16,10,\n",
         ),
-        ("laptop-b", "exact,3d/metals/gold,1\nschlick,3d/metals/gold,0.25\n"),
+        ("laptop-b", "exact,3d/metals/gold,1,0,5,complex\nschlick,3d/metals/gold,0.25,0,5,\n"),
     ] {
         fs::create_dir_all(out.join("devices").join(device)).unwrap();
         let rows: String = rows.lines().map(|r| format!("{device} GPU,timestamp,{r}\n")).collect();
-        fs::write(out.join("devices").join(device).join("gpu_timing.csv"), format!("adapter,timer,method,material,median_ms\n{rows}"))
+        fs::write(out.join("devices").join(device).join("gpu_timing.csv"), format!("adapter,timer,method,material,median_ms,spread_ms,repeats,formula\n{rows}"))
             .unwrap();
     }
     fs::write(out.join("devices/phone-a/image_errors.csv"), "material,method,mean_rel_error\nx,exact,0\nx,schlick,0.02\ny,schlick,0.04\n")
@@ -306,15 +306,17 @@ exact,3,2.5
     // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).
     assert!(effects.contains("<th>laptop-b (× exact)</th><th>phone-a (× exact)</th>"), "device columns");
     assert!(effects.contains("<td>schlick</td><td>0.250</td><td>0.500</td>"), "device ratios");
-    // The study's form: its Mali 400 row as published; phone-a against exact on water
-    // (1.6 ms): Schlick on water 0.8 → 0.50, exact on gold 2 → 1.25 (copper is not in
-    // materials.csv, so it has no kind), Schlick on gold 1 → 0.62 (0.625 to two decimals).
-    assert!(
-        effects.contains("<td>Samsung Galaxy S3</td><td>Mali 400</td><td>the study, Table 6</td><td>1.00</td><td>0.42</td><td>2.89</td>")
-    );
+    // The study's form: its Mali 400 row as published, with the study's anchors; phone-a
+    // against exact on water by the dielectric formula (1.6 ms, IQR 0.32, 10 samples):
+    // Schlick on water 0.8 → 0.50 (IQR 0.16/1.6 = 0.10), exact on gold by the complex
+    // formula 2 → 1.25 (IQR 0.4/1.6 = 0.25; copper is not in materials.csv, so it has no
+    // kind), Schlick on gold 1 → 0.62 (0.625 to two decimals; IQR 0.1/1.6 = 0.0625 → 0.06).
+    assert!(effects.contains(
+        "<td>Samsung Galaxy S3</td><td>Mali 400</td><td>the study, Table 6</td><td>dielectric formula / complex formula</td><td>1.00</td><td>0.42</td><td>2.89</td>"
+    ));
     assert!(
         effects.contains(
-            "<td>phone-a</td><td>phone-a GPU</td><td>measured here</td><td>1.00</td><td>0.50</td><td>1.25</td><td>0.62</td><td>–</td>"
+            "<td>phone-a</td><td>phone-a GPU</td><td>measured here</td><td>dielectric / complex</td><td>1.00 (IQR 0.20, n 10)</td><td>0.50 (IQR 0.10, n 10)</td><td>1.25 (IQR 0.25, n 10)</td><td>0.62 (IQR 0.06, n 10)</td><td>–</td>"
         ),
         "our device in the study's form"
     );
