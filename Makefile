@@ -77,7 +77,10 @@ test: db
 # Volume Absorption hold against engine_params.csv (its docstring lists every assertion),
 # and lists what the importer leaves out. Then clients/blender/nklut_lut.py's LUT node group:
 # tests/clients/check_blender_lut.py renders spheres of four pages in five encodings with
-# Cycles and holds every pixel's F to the manifest's maximum.
+# Cycles and holds every pixel's F to the manifest's maximum. Last, the paste-in blocks'
+# Blender volume: tests/clients/check_blender_paste.py renders a 5 cm slab of every tinted
+# page with the block's Volume Absorption Color and Density and holds what passes to the
+# glTF path's attenuation colour^(0.05 m / distance) within 1e-5.
 BPY_VERSION    ?= 5.0.1
 BLENDER_PYTHON ?= python3
 BLENDER_VENV   := .test-deps/blender-venv
@@ -93,6 +96,7 @@ test-blender: db build
 	$(NKLUT) --db $(DB) --out $(OUT)/blender-check bake --size 256 --layout atlas --page 3d/metals/copper \
 	  --page 3d/metals/gold --page 3d/glass/soda-lime-green --page 3d/liquids/water
 	$(BLENDER_VENV)/bin/python tests/clients/check_blender_lut.py $(OUT)/blender-check/luts $(OUT)/blender-check/lut-renders
+	$(BLENDER_VENV)/bin/python tests/clients/check_blender_paste.py $(OUT)/blender-check $(OUT)/blender-check/paste-renders
 
 # Every benchmark of BENCHMARKS.md: the whole-database jobs beside their anchors (the
 # plain file read, the Python peer of ingest), ingest (wall + peak RSS), Fresnel methods,
