@@ -16,12 +16,12 @@
 
 mod common;
 
-use std::fs;
-use std::path::{Path, PathBuf};
+use std::ffi::OsStr;
+use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
 
-use common::{database_dir, scratch};
+use common::{artefacts_dir, client_deps_installed, database_dir, read_json, run_client_script, scratch};
 use serde_json::Value;
 
 /// Clear dielectrics of the shelf.
@@ -31,10 +31,6 @@ const GREEN: &str = "3d/glass/soda-lime-green";
 /// Dielectrics that absorb within far less than the sphere: opaque.
 const OPAQUE: [&str; 2] = ["3d/crystals/silicon", "3d/misc/diesel_soot"];
 const GOLD: &str = "3d/metals/gold";
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// What the client run produced: results.json and the exported glTF document.
 struct Rendered {
@@ -53,17 +49,8 @@ fn rendered() -> &'static Result<Option<Rendered>, String> {
 }
 
 fn render() -> Result<Option<Rendered>, String> {
-    let deps = std::env::var_os("NKLUT_TEST_DEPS").map(PathBuf::from).unwrap_or_else(|| root().join(".test-deps"));
-    let modules = deps.join("npm/node_modules");
-    for needed in [modules.join("three/package.json"), modules.join("puppeteer-core/package.json")] {
-        if !needed.exists() {
-            let message = format!("{} is missing: run `bash scripts/test-deps` (make test does)", needed.display());
-            if std::env::var("NKLUT_SKIP_VALIDATOR_TESTS").as_deref() == Ok("1") {
-                eprintln!("glTF client test skipped (NKLUT_SKIP_VALIDATOR_TESTS=1): {message}");
-                return Ok(None);
-            }
-            return Err(message);
-        }
+    if !client_deps_installed("glTF client test")? {
+        return Ok(None);
     }
 
     let out = scratch("clients");
@@ -81,42 +68,16 @@ fn render() -> Result<Option<Rendered>, String> {
         }
     }
 
-    let artefacts = Path::new(env!("CARGO_TARGET_TMPDIR")).join("clients-artefacts");
-    let _ = fs::remove_dir_all(&artefacts);
-    fs::create_dir_all(&artefacts).map_err(|e| format!("{}: {e}", artefacts.display()))?;
-    // The browser's profile, caches and temporary files stay in the scratch folder.
-    let (home, tmp) = (out.join("home"), out.join("tmp"));
-    for dir in [&home, &tmp] {
-        fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    let output = Command::new("node")
-        .arg(root().join("tests/clients/render_gltf.mjs"))
-        .arg(out.join("materials.gltf"))
-        .arg(&artefacts)
-        .arg("--blocks")
-        .arg(out.join("params"))
-        .env("HOME", &home)
-        .env("TMPDIR", &tmp)
-        .env("XDG_CONFIG_HOME", home.join(".config"))
-        .env("XDG_CACHE_HOME", home.join(".cache"))
-        .output()
-        .map_err(|e| format!("node (scripts/test-deps installs it): {e}"))?;
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    eprintln!("{stderr}");
-    if !output.status.success() {
-        return Err(format!("render_gltf.mjs failed ({}): {stderr}", output.status));
-    }
-    let read = |path: PathBuf| -> Result<Value, String> {
-        let bytes = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))
-    };
+    let artefacts = artefacts_dir("clients-artefacts")?;
+    let (gltf, params) = (out.join("materials.gltf"), out.join("params"));
+    run_client_script("render_gltf.mjs", [gltf.as_os_str(), artefacts.as_os_str(), OsStr::new("--blocks"), params.as_os_str()], &out)?;
     let table = csv::Reader::from_path(out.join("engine_params.csv"))
         .and_then(|mut reader| {
             let header: Vec<String> = reader.headers()?.iter().map(String::from).collect();
             reader.records().map(|r| Ok(header.iter().cloned().zip(r?.iter().map(String::from)).collect())).collect()
         })
         .map_err(|e| format!("engine_params.csv: {e}"))?;
-    Ok(Some(Rendered { results: read(artefacts.join("results.json"))?, gltf: read(out.join("materials.gltf"))?, table, artefacts }))
+    Ok(Some(Rendered { results: read_json(&artefacts.join("results.json"))?, gltf: read_json(&gltf)?, table, artefacts }))
 }
 
 /// The run's results, or `None` when skipped; panics with the run's failure.

@@ -20,12 +20,11 @@
 
 mod common;
 
-use std::fs;
-use std::path::{Path, PathBuf};
+use std::ffi::OsStr;
 use std::process::Command;
 use std::sync::OnceLock;
 
-use common::{database_dir, scratch};
+use common::{artefacts_dir, client_deps_installed, database_dir, read_json, run_client_script, scratch};
 use serde_json::Value;
 
 const PAGES: [&str; 4] = ["3d/metals/copper", "3d/metals/gold", "3d/glass/soda-lime-green", "3d/liquids/water"];
@@ -35,10 +34,6 @@ const ENCODINGS: [&str; 5] = ["unorm8", "unorm8-srgb", "unorm16", "f16", "f32"];
 /// |t[i+1] − t[i]|/512 per docs/engine-integration.md; the steepest step of these 256-texel
 /// rows is ≈ 0.03 → 6·10⁻⁵) and f32 arithmetic (≈ 10⁻⁷), with a margin.
 const TOLERANCE: f64 = 1e-4;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 struct Rendered {
     results: Value,
@@ -51,17 +46,8 @@ fn rendered() -> &'static Result<Option<Rendered>, String> {
 }
 
 fn render() -> Result<Option<Rendered>, String> {
-    let deps = std::env::var_os("NKLUT_TEST_DEPS").map(PathBuf::from).unwrap_or_else(|| root().join(".test-deps"));
-    let modules = deps.join("npm/node_modules");
-    for needed in [modules.join("three/package.json"), modules.join("puppeteer-core/package.json")] {
-        if !needed.exists() {
-            let message = format!("{} is missing: run `bash scripts/test-deps` (make test does)", needed.display());
-            if std::env::var("NKLUT_SKIP_VALIDATOR_TESTS").as_deref() == Ok("1") {
-                eprintln!("three.js LUT test skipped (NKLUT_SKIP_VALIDATOR_TESTS=1): {message}");
-                return Ok(None);
-            }
-            return Err(message);
-        }
+    if !client_deps_installed("three.js LUT test")? {
+        return Ok(None);
     }
     let out = scratch("three-lut");
     let mut bake = Command::new(env!("CARGO_BIN_EXE_nklut"));
@@ -73,34 +59,10 @@ fn render() -> Result<Option<Rendered>, String> {
     if !output.status.success() {
         return Err(format!("nklut bake failed: {}", String::from_utf8_lossy(&output.stderr)));
     }
-    let artefacts = Path::new(env!("CARGO_TARGET_TMPDIR")).join("three-lut-artefacts");
-    let _ = fs::remove_dir_all(&artefacts);
-    fs::create_dir_all(&artefacts).map_err(|e| format!("{}: {e}", artefacts.display()))?;
-    let (home, tmp) = (out.join("home"), out.join("tmp"));
-    for dir in [&home, &tmp] {
-        fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    let output = Command::new("node")
-        .arg(root().join("tests/clients/render_lut.mjs"))
-        .arg(out.join("luts"))
-        .arg(&artefacts)
-        .args(["--pages", &PAGES.join(",")])
-        .env("HOME", &home)
-        .env("TMPDIR", &tmp)
-        .env("XDG_CONFIG_HOME", home.join(".config"))
-        .env("XDG_CACHE_HOME", home.join(".cache"))
-        .output()
-        .map_err(|e| format!("node (scripts/test-deps installs it): {e}"))?;
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    eprintln!("{stderr}");
-    if !output.status.success() {
-        return Err(format!("render_lut.mjs failed ({}): {stderr}", output.status));
-    }
-    let read = |path: PathBuf| -> Result<Value, String> {
-        let bytes = fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))
-    };
-    Ok(Some(Rendered { results: read(artefacts.join("results.json"))?, manifest: read(out.join("luts/manifest.json"))? }))
+    let artefacts = artefacts_dir("three-lut-artefacts")?;
+    let (luts, pages) = (out.join("luts"), PAGES.join(","));
+    run_client_script("render_lut.mjs", [luts.as_os_str(), artefacts.as_os_str(), OsStr::new("--pages"), OsStr::new(&pages)], &out)?;
+    Ok(Some(Rendered { results: read_json(&artefacts.join("results.json"))?, manifest: read_json(&luts.join("manifest.json"))? }))
 }
 
 fn results() -> Option<&'static Rendered> {

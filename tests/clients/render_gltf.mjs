@@ -67,20 +67,13 @@
 // Nothing leaves the machine: a static HTTP server on 127.0.0.1 (port chosen by the system)
 // serves the page, three.js and the glTF folder, the browser talks to this script over a
 // pipe, and the page may fetch nothing but that server. The browser's profile is a fresh
-// folder under the system's temporary directory ($TMPDIR), removed at the end.
+// folder under the system's temporary directory ($TMPDIR), removed at the end. The run's
+// deadline, the server and the browser are tests/clients/harness.mjs's.
 
-import { createServer } from 'node:http';
-import { createRequire } from 'node:module';
-import { mkdtempSync, mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync, statSync, createReadStream } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { dirname, extname, join, resolve, sep } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { mkdirSync, readdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { dirname, join, resolve, sep } from 'node:path';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const root = resolve(here, '..', '..');
-const deps = process.env.NKLUT_TEST_DEPS ? resolve(process.env.NKLUT_TEST_DEPS) : join(root, '.test-deps');
-const modules = join(deps, 'npm', 'node_modules');
-const chromiumPath = process.env.NKLUT_CHROMIUM || '/usr/bin/chromium';
+import { BrowserRun, here, loadDependencies, modules } from './harness.mjs';
 
 function usage(message) {
   console.error(`render_gltf: ${message}`);
@@ -104,194 +97,27 @@ if (positional.length !== 2) usage('needs GLTF_FILE and OUT_DIR');
 if (!(timeoutSeconds > 0)) usage('--timeout needs a positive number of seconds');
 const [gltfFile, outDir] = positional.map((p) => resolve(p));
 
-const started = Date.now();
-const deadline = started + timeoutSeconds * 1000;
-let browser = null;
-let server = null;
-let profile = null;
+const browser = new BrowserRun('render_gltf', timeoutSeconds);
+const bounded = (promise, what) => browser.bounded(promise, what);
 
-const sleep = (ms) => new Promise((resolveSleep) => setTimeout(resolveSleep, ms));
-
-/**
- * Closes Chromium — asking it to close when `graceful`, else (or when that takes over 5 s)
- * killing its process group (puppeteer starts it as a group leader) — then the server and the
- * profile.
- */
-async function shutDown(graceful) {
-  const child = browser?.process();
-  if (browser && graceful) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
-  browser = null;
-  if (child && child.exitCode === null && child.signalCode === null) {
-    const exited = new Promise((resolveExit) => child.once('exit', resolveExit));
-    try {
-      process.kill(-child.pid, 'SIGKILL');
-    } catch {
-      child.kill('SIGKILL');
-    }
-    await Promise.race([exited, sleep(5000)]);
-  }
-  server?.close();
-  server = null;
-  try {
-    if (profile) rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 200 });
-  } catch (error) {
-    console.error(`render_gltf: could not remove the browser profile ${profile}: ${error.message}`);
-  }
-  profile = null;
-}
-
-let dying = false;
-
-async function die(message) {
-  if (dying) return;
-  dying = true;
-  console.error(`render_gltf: ${message}`);
-  setTimeout(() => process.exit(1), 15000).unref();
-  await shutDown(false);
-  process.exit(1);
-}
-
-// A hard stop a little after the deadline, whatever is hanging.
-const watchdog = setTimeout(() => die(`timed out after ${timeoutSeconds} s (watchdog)`), timeoutSeconds * 1000 + 5000);
-
-/** `promise`, or a rejection naming `what` once the run's deadline has passed. */
-function bounded(promise, what) {
-  let timer;
-  const timeout = new Promise((_, reject) => {
-    timer = setTimeout(() => reject(new Error(`timed out after ${timeoutSeconds} s while ${what}`)), Math.max(deadline - Date.now(), 0));
-  });
-  return Promise.race([promise, timeout]).finally(() => clearTimeout(timer));
-}
-
-const TYPES = {
-  '.html': 'text/html; charset=utf-8',
-  '.js': 'text/javascript; charset=utf-8',
-  '.mjs': 'text/javascript; charset=utf-8',
-  '.json': 'application/json',
-  '.gltf': 'model/gltf+json',
-  '.bin': 'application/octet-stream',
-  '.png': 'image/png',
-  '.jpg': 'image/jpeg',
-  '.ktx2': 'image/ktx2',
-};
-
-/** The file a request path names under one of the served roots, or null. */
-function servedFile(urlPath) {
-  const mounts = [
-    ['/render.html', join(here, 'render.html')],
-    ['/three/', join(modules, 'three') + sep],
-    ['/model/', dirname(gltfFile) + sep],
-  ];
-  let path;
-  try {
-    path = decodeURIComponent(urlPath.split('?')[0]);
-  } catch {
-    return null;
-  }
-  for (const [prefix, target] of mounts) {
-    if (path === prefix) return target;
-    if (prefix.endsWith('/') && path.startsWith(prefix)) {
-      const file = resolve(target, '.' + sep + path.slice(prefix.length));
-      if (!file.startsWith(target)) return null; // no way out of the served folder
-      return file;
-    }
-  }
-  return null;
-}
-
-function serve() {
-  return new Promise((resolveServer, reject) => {
-    const s = createServer((request, response) => {
-      const file = servedFile(request.url);
-      let size = -1;
-      try {
-        if (file && statSync(file).isFile()) size = statSync(file).size;
-      } catch {
-        // missing: 404 below
-      }
-      if (request.method !== 'GET' || size < 0) {
-        response.writeHead(404, { 'content-type': 'text/plain' });
-        response.end(`not found: ${request.url}`);
-        return;
-      }
-      response.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'content-length': size, 'cache-control': 'no-store' });
-      createReadStream(file).pipe(response);
-    });
-    s.on('error', reject);
-    s.listen(0, '127.0.0.1', () => resolveServer(s));
-  });
-}
+/** What the server serves. */
+const MOUNTS = [
+  ['/render.html', join(here, 'render.html')],
+  ['/three/', join(modules, 'three') + sep],
+  ['/model/', dirname(gltfFile) + sep],
+];
 
 async function main() {
-  for (const [what, path] of [
-    ['the glTF file', gltfFile],
-    ['three.js', join(modules, 'three', 'package.json')],
-    ['puppeteer-core', join(modules, 'puppeteer-core', 'package.json')],
-    ['Chromium', chromiumPath],
-  ]) {
-    try {
-      statSync(path);
-    } catch {
-      throw new Error(`${what} is missing at ${path}${what === 'the glTF file' ? '' : ': run `bash scripts/test-deps`'}`);
-    }
-  }
-  const threeVersion = JSON.parse(readFileSync(join(modules, 'three', 'package.json'), 'utf8')).version;
-  const require = createRequire(join(modules, 'index.js'));
-  const puppeteer = require('puppeteer-core');
+  const { threeVersion, puppeteer } = loadDependencies(['the glTF file', gltfFile]);
   mkdirSync(outDir, { recursive: true });
 
-  server = await bounded(serve(), 'starting the HTTP server');
-  const origin = `http://127.0.0.1:${server.address().port}`;
-  profile = mkdtempSync(join(tmpdir(), 'render-gltf-chromium-'));
-  browser = await bounded(
-    puppeteer.launch({
-      executablePath: chromiumPath,
-      headless: true,
-      pipe: true,
-      protocolTimeout: Math.max(deadline - Date.now(), 1000),
-      timeout: Math.max(deadline - Date.now(), 1000),
-      args: [
-        '--headless=new',
-        '--no-sandbox',
-        '--disable-gpu-sandbox',
-        '--use-angle=swiftshader',
-        '--enable-unsafe-swiftshader',
-        '--disable-background-networking',
-        '--disable-component-update',
-        '--no-first-run',
-        '--disable-sync',
-        '--disable-quic',
-        `--user-data-dir=${profile}`,
-      ],
-    }),
-    'starting Chromium',
-  );
-  const chromium = await bounded(browser.version(), 'asking Chromium its version');
-  const page = await bounded(browser.newPage(), 'opening a page');
-  const problems = [];
-  page.on('console', (message) => {
-    if (message.type() === 'error') problems.push(`console: ${message.text()}`);
-  });
-  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
   // The page may reach this script's server and nothing else.
-  await bounded(page.setRequestInterception(true), 'setting up request filtering');
-  page.on('request', (request) => {
-    const url = request.url();
-    if (url.startsWith(origin + '/') || url.startsWith('data:') || url.startsWith('blob:')) request.continue();
-    else {
-      problems.push(`blocked request to ${url}`);
-      request.abort();
-    }
-  });
-  await bounded(page.goto(`${origin}/render.html`, { waitUntil: 'load', timeout: Math.max(deadline - Date.now(), 1000) }), 'loading the page');
-  await bounded(page.waitForFunction('window.harness && window.harness.ready', { timeout: Math.max(deadline - Date.now(), 1000) }), 'loading three.js').catch((error) => {
-    throw new Error(`${error.message}${problems.length ? `; ${problems.join('; ')}` : ''}`);
-  });
+  const chromium = await browser.open(puppeteer, MOUNTS);
+  const { page, problems, withProblems } = browser;
+  await browser.loadHarness('/render.html');
 
   const gltfUrl = `/model/${encodeURIComponent(gltfFile.slice(dirname(gltfFile).length + 1))}`;
-  const setup = await bounded(page.evaluate((url) => window.harness.setup(url), gltfUrl), 'loading the glTF file').catch((error) => {
-    throw new Error(`${error.message}${problems.length ? `; ${problems.join('; ')}` : ''}`);
-  });
+  const setup = await bounded(page.evaluate((url) => window.harness.setup(url), gltfUrl), 'loading the glTF file').catch(withProblems);
   writeFileSync(join(outDir, 'reference.png'), Buffer.from(setup.reference_png, 'base64'));
   console.error(`render_gltf: three ${threeVersion} (r${setup.three}), ${chromium}, WebGL: ${setup.webgl}; ${setup.nodes.length} nodes`);
   if (!/swiftshader/i.test(setup.webgl)) console.error(`render_gltf: note: the WebGL renderer is not SwiftShader (${setup.webgl})`);
@@ -334,14 +160,13 @@ async function main() {
     chromium,
     webgl: setup.webgl,
     size: setup.size,
-    seconds: (Date.now() - started) / 1000,
+    seconds: (Date.now() - browser.started) / 1000,
     materials,
     blocks,
   };
   writeFileSync(join(outDir, 'results.json'), JSON.stringify(results, null, 1) + '\n');
-  await shutDown(true);
-  clearTimeout(watchdog);
+  await browser.finish();
   console.error(`render_gltf: ${wanted.length} materials in ${results.seconds.toFixed(1)} s; ${join(outDir, 'results.json')}`);
 }
 
-main().catch((error) => die(error?.message ?? String(error)));
+main().catch((error) => browser.die(error?.message ?? String(error)));

@@ -24,20 +24,13 @@
 // Exits 0 when every run rendered, 1 with a message on stderr otherwise (the whole run is
 // bounded by --timeout, default 180 s). Nothing leaves the machine: a static HTTP server on
 // 127.0.0.1 serves the page, three.js, clients/ and LUTS_DIR; the browser may fetch nothing
-// else; its profile is a fresh folder under $TMPDIR, removed at the end.
+// else; its profile is a fresh folder under $TMPDIR, removed at the end. The run's deadline,
+// the server and the browser are tests/clients/harness.mjs's.
 
-import { createServer } from 'node:http';
-import { createRequire } from 'node:module';
-import { mkdtempSync, mkdirSync, readFileSync, realpathSync, rmSync, writeFileSync, statSync, createReadStream } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { dirname, extname, join, resolve, sep } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { mkdirSync, readFileSync, realpathSync, writeFileSync } from 'node:fs';
+import { extname, join, resolve, sep } from 'node:path';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const root = resolve(here, '..', '..');
-const deps = process.env.NKLUT_TEST_DEPS ? resolve(process.env.NKLUT_TEST_DEPS) : join(root, '.test-deps');
-const modules = join(deps, 'npm', 'node_modules');
-const chromiumPath = process.env.NKLUT_CHROMIUM || '/usr/bin/chromium';
+import { BrowserRun, TYPES, here, loadDependencies, modules, root, servedFile, sleep } from './harness.mjs';
 
 function usage(message) {
   console.error(`render_lut: ${message}`);
@@ -79,201 +72,36 @@ const RUNS = [
 /** The demo's import-map prefix for three.js, served from the local npm copy. */
 const DEMO_CDN = 'https://unpkg.com/three@0.187.0/';
 
-const started = Date.now();
-const deadline = started + timeoutSeconds * 1000;
-let browser = null;
-let server = null;
-let profile = null;
+const browser = new BrowserRun('render_lut', timeoutSeconds);
+const bounded = (promise, what) => browser.bounded(promise, what);
 
-const sleep = (ms) => new Promise((resolveSleep) => setTimeout(resolveSleep, ms));
-
-/**
- * Closes Chromium — asking it to close when `graceful`, else (or when that takes over 5 s)
- * killing its process group (puppeteer starts it as a group leader) — then the server and the
- * profile.
- */
-async function shutDown(graceful) {
-  const child = browser?.process();
-  if (browser && graceful) await Promise.race([browser.close().catch(() => {}), sleep(5000)]);
-  browser = null;
-  if (child && child.exitCode === null && child.signalCode === null) {
-    const exited = new Promise((resolveExit) => child.once('exit', resolveExit));
-    try {
-      process.kill(-child.pid, 'SIGKILL');
-    } catch {
-      child.kill('SIGKILL');
-    }
-    await Promise.race([exited, sleep(5000)]);
-  }
-  server?.close();
-  server = null;
-  try {
-    if (profile) rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 200 });
-  } catch (error) {
-    console.error(`render_lut: could not remove the browser profile ${profile}: ${error.message}`);
-  }
-  profile = null;
-}
-
-let dying = false;
-
-async function die(message) {
-  if (dying) return;
-  dying = true;
-  console.error(`render_lut: ${message}`);
-  setTimeout(() => process.exit(1), 15000).unref();
-  await shutDown(false);
-  process.exit(1);
-}
-
-// A hard stop a little after the deadline, whatever is hanging.
-const watchdog = setTimeout(() => die(`timed out after ${timeoutSeconds} s (watchdog)`), timeoutSeconds * 1000 + 5000);
-
-/** `promise`, or a rejection naming `what` once the run's deadline has passed. */
-function bounded(promise, what) {
-  let timer;
-  const timeout = new Promise((_, reject) => {
-    timer = setTimeout(() => reject(new Error(`timed out after ${timeoutSeconds} s while ${what}`)), Math.max(deadline - Date.now(), 0));
-  });
-  return Promise.race([promise, timeout]).finally(() => clearTimeout(timer));
-}
-
-const TYPES = {
-  '.html': 'text/html; charset=utf-8',
-  '.js': 'text/javascript; charset=utf-8',
-  '.mjs': 'text/javascript; charset=utf-8',
-  '.json': 'application/json',
-  '.gltf': 'model/gltf+json',
-  '.bin': 'application/octet-stream',
-  '.png': 'image/png',
-  '.exr': 'image/x-exr',
-  '.jpg': 'image/jpeg',
-  '.ktx2': 'image/ktx2',
-};
-
-/** The file a request path names under one of the served roots, or null. */
-function servedFile(urlPath) {
-  const mounts = [
-    ['/render_lut.html', join(here, 'render_lut.html')],
-    ['/three/', join(modules, 'three') + sep],
-    ['/clients/', join(root, 'clients') + sep],
-    ['/luts/', lutsDir + sep],
-  ];
-  let path;
-  try {
-    path = decodeURIComponent(urlPath.split('?')[0]);
-  } catch {
-    return null;
-  }
-  for (const [prefix, target] of mounts) {
-    if (path === prefix) return target;
-    if (prefix.endsWith('/') && path.startsWith(prefix)) {
-      const file = resolve(target, '.' + sep + path.slice(prefix.length));
-      if (!file.startsWith(target)) return null; // no way out of the served folder
-      return file;
-    }
-  }
-  return null;
-}
-
-function serve() {
-  return new Promise((resolveServer, reject) => {
-    const s = createServer((request, response) => {
-      const file = servedFile(request.url);
-      let size = -1;
-      try {
-        if (file && statSync(file).isFile()) size = statSync(file).size;
-      } catch {
-        // missing: 404 below
-      }
-      if (request.method !== 'GET' || size < 0) {
-        response.writeHead(404, { 'content-type': 'text/plain' });
-        response.end(`not found: ${request.url}`);
-        return;
-      }
-      response.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream', 'content-length': size, 'cache-control': 'no-store' });
-      createReadStream(file).pipe(response);
-    });
-    s.on('error', reject);
-    s.listen(0, '127.0.0.1', () => resolveServer(s));
-  });
-}
+/** What the server serves. */
+const MOUNTS = [
+  ['/render_lut.html', join(here, 'render_lut.html')],
+  ['/three/', join(modules, 'three') + sep],
+  ['/clients/', join(root, 'clients') + sep],
+  ['/luts/', lutsDir + sep],
+];
 
 async function main() {
-  for (const [what, path] of [
-    ['the manifest', join(lutsDir, 'manifest.json')],
-    ['three.js', join(modules, 'three', 'package.json')],
-    ['puppeteer-core', join(modules, 'puppeteer-core', 'package.json')],
-    ['Chromium', chromiumPath],
-  ]) {
-    try {
-      statSync(path);
-    } catch {
-      throw new Error(`${what} is missing at ${path}${what === 'the manifest' ? '' : ': run `bash scripts/test-deps`'}`);
-    }
-  }
-  const threeVersion = JSON.parse(readFileSync(join(modules, 'three', 'package.json'), 'utf8')).version;
-  const require = createRequire(join(modules, 'index.js'));
-  const puppeteer = require('puppeteer-core');
+  const { threeVersion, puppeteer } = loadDependencies(['the manifest', join(lutsDir, 'manifest.json')]);
   mkdirSync(outDir, { recursive: true });
 
-  server = await bounded(serve(), 'starting the HTTP server');
-  const origin = `http://127.0.0.1:${server.address().port}`;
-  profile = mkdtempSync(join(tmpdir(), 'render-lut-chromium-'));
-  browser = await bounded(
-    puppeteer.launch({
-      executablePath: chromiumPath,
-      headless: true,
-      pipe: true,
-      protocolTimeout: Math.max(deadline - Date.now(), 1000),
-      timeout: Math.max(deadline - Date.now(), 1000),
-      args: [
-        '--headless=new',
-        '--no-sandbox',
-        '--disable-gpu-sandbox',
-        '--use-angle=swiftshader',
-        '--enable-unsafe-swiftshader',
-        '--disable-background-networking',
-        '--disable-component-update',
-        '--no-first-run',
-        '--disable-sync',
-        '--disable-quic',
-        `--user-data-dir=${profile}`,
-      ],
-    }),
-    'starting Chromium',
-  );
-  const chromium = await bounded(browser.version(), 'asking Chromium its version');
-  const page = await bounded(browser.newPage(), 'opening a page');
-  const problems = [];
-  page.on('console', (message) => {
-    if (message.type() === 'error') problems.push(`console: ${message.text()}`);
+  const chromium = await browser.open(puppeteer, MOUNTS, (request, url) => {
+    if (!url.startsWith(DEMO_CDN)) return false;
+    // The demo's import map names three.js on unpkg: answered from the local copy.
+    const file = servedFile(MOUNTS, '/three/' + url.slice(DEMO_CDN.length));
+    if (file) request.respond({
+        status: 200,
+        contentType: TYPES[extname(file)] ?? 'text/javascript',
+        headers: { 'access-control-allow-origin': '*' },
+        body: readFileSync(file),
+      });
+    else request.abort();
+    return true;
   });
-  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
-  await bounded(page.setRequestInterception(true), 'setting up request filtering');
-  page.on('request', (request) => {
-    const url = request.url();
-    if (url.startsWith(DEMO_CDN)) {
-      // The demo's import map names three.js on unpkg: answered from the local copy.
-      const file = servedFile('/three/' + url.slice(DEMO_CDN.length));
-      if (file) request.respond({
-          status: 200,
-          contentType: TYPES[extname(file)] ?? 'text/javascript',
-          headers: { 'access-control-allow-origin': '*' },
-          body: readFileSync(file),
-        });
-      else request.abort();
-    } else if (url.startsWith(origin + '/') || url.startsWith('data:') || url.startsWith('blob:')) request.continue();
-    else {
-      problems.push(`blocked request to ${url}`);
-      request.abort();
-    }
-  });
-  const withProblems = (error) => {
-    throw new Error(`${error.message}${problems.length ? `; ${problems.join('; ')}` : ''}`);
-  };
-  await bounded(page.goto(`${origin}/render_lut.html`, { waitUntil: 'load', timeout: Math.max(deadline - Date.now(), 1000) }), 'loading the page');
-  await bounded(page.waitForFunction('window.harness && window.harness.ready', { timeout: Math.max(deadline - Date.now(), 1000) }), 'loading three.js').catch(withProblems);
+  const { page, problems, origin, withProblems } = browser;
+  await browser.loadHarness('/render_lut.html');
   const setup = await bounded(page.evaluate(() => window.harness.setup('/luts/manifest.json')), 'setting up').catch(withProblems);
   console.error(`render_lut: three ${threeVersion} (r${setup.three}), ${chromium}, WebGL: ${setup.webgl}; ${JSON.stringify(setup.extensions)}`);
 
@@ -299,20 +127,19 @@ async function main() {
 
   // The demo page as a user opens it (three.js from the local copy, see above).
   const demoUrl = `${origin}/clients/three/demo.html?luts=/luts/&encoding=unorm8-srgb&pages=${encodeURIComponent(pages.join(','))}`;
-  await bounded(page.goto(demoUrl, { waitUntil: 'load', timeout: Math.max(deadline - Date.now(), 1000) }), 'loading the demo');
+  await bounded(page.goto(demoUrl, { waitUntil: 'load', timeout: browser.left() }), 'loading the demo');
   // 30 s at most: a failed import never runs the page's script.
-  await bounded(page.waitForFunction('window.nklutDemo && window.nklutDemo.ready', { timeout: Math.min(Math.max(deadline - Date.now(), 1000), 30000) }), 'running the demo').catch(withProblems);
+  await bounded(page.waitForFunction('window.nklutDemo && window.nklutDemo.ready', { timeout: Math.min(browser.left(), 30000) }), 'running the demo').catch(withProblems);
   await sleep(500);
   const demo = await bounded(page.evaluate(() => window.nklutDemo), 'reading the demo state');
   demo.problems = problems.splice(0);
   await bounded(page.screenshot({ path: join(outDir, 'demo.png') }), 'taking the demo screenshot');
   console.error(`render_lut: demo: ${JSON.stringify(demo)}`);
 
-  const results = { three: threeVersion, chromium, webgl: setup.webgl, extensions: setup.extensions, pages, seconds: (Date.now() - started) / 1000, runs, godot, demo };
+  const results = { three: threeVersion, chromium, webgl: setup.webgl, extensions: setup.extensions, pages, seconds: (Date.now() - browser.started) / 1000, runs, godot, demo };
   writeFileSync(join(outDir, 'results.json'), JSON.stringify(results, null, 1) + '\n');
-  await shutDown(true);
-  clearTimeout(watchdog);
+  await browser.finish();
   console.error(`render_lut: ${runs.length} runs in ${results.seconds.toFixed(1)} s; ${join(outDir, 'results.json')}`);
 }
 
-main().catch((error) => die(error?.message ?? String(error)));
+main().catch((error) => browser.die(error?.message ?? String(error)));

@@ -1,14 +1,18 @@
 //! Helpers shared by the integration tests: the database they read, scratch folders that
-//! remove themselves, the scan for non-finite numbers in written tables, and the GPU tests'
-//! device (`gpu`).
+//! remove themselves, the scan for non-finite numbers in written tables, the runs of the
+//! browser client scripts under tests/clients/ (node, puppeteer-core, Chromium), and the GPU
+//! tests' device (`gpu`).
 
 #![allow(dead_code)] // each test binary uses a part
 
+use std::ffi::OsStr;
 use std::fs;
 use std::ops::Deref;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use nklut::db::Database;
+use serde_json::Value;
 
 #[cfg(feature = "gpu")]
 pub mod gpu;
@@ -89,4 +93,69 @@ pub fn non_finite_tables(dir: &Path) -> Vec<(String, Vec<String>)> {
             (name, bad)
         })
         .collect()
+}
+
+/// The repository's root.
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Whether the client scripts' npm packages (three, puppeteer-core under `$NKLUT_TEST_DEPS`,
+/// default `.test-deps/`; `scripts/test-deps` installs them) are there: `Ok(true)` when they
+/// are, else an `Err` saying what is missing — or `Ok(false)`, with a message naming `test` as
+/// skipped, when NKLUT_SKIP_VALIDATOR_TESTS=1.
+pub fn client_deps_installed(test: &str) -> Result<bool, String> {
+    let deps = std::env::var_os("NKLUT_TEST_DEPS").map(PathBuf::from).unwrap_or_else(|| root().join(".test-deps"));
+    let modules = deps.join("npm/node_modules");
+    for needed in [modules.join("three/package.json"), modules.join("puppeteer-core/package.json")] {
+        if !needed.exists() {
+            let message = format!("{} is missing: run `bash scripts/test-deps` (make test does)", needed.display());
+            if std::env::var("NKLUT_SKIP_VALIDATOR_TESTS").as_deref() == Ok("1") {
+                eprintln!("{test} skipped (NKLUT_SKIP_VALIDATOR_TESTS=1): {message}");
+                return Ok(false);
+            }
+            return Err(message);
+        }
+    }
+    Ok(true)
+}
+
+/// `name` under the target's temporary directory, emptied: where a client run leaves its
+/// screenshots and results for a look after a failure.
+pub fn artefacts_dir(name: &str) -> Result<PathBuf, String> {
+    let artefacts = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = fs::remove_dir_all(&artefacts);
+    fs::create_dir_all(&artefacts).map_err(|e| format!("{}: {e}", artefacts.display()))?;
+    Ok(artefacts)
+}
+
+/// Runs `node tests/clients/SCRIPT ARGS` (the script bounds its own run) with HOME, TMPDIR and
+/// the XDG folders under `scratch`, so that the browser's profile, caches and temporary files
+/// stay there; prints its stderr; `Err` with that stderr when it fails.
+pub fn run_client_script<'a>(script: &str, args: impl IntoIterator<Item = &'a OsStr>, scratch: &Path) -> Result<(), String> {
+    let (home, tmp) = (scratch.join("home"), scratch.join("tmp"));
+    for dir in [&home, &tmp] {
+        fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let output = Command::new("node")
+        .arg(root().join("tests/clients").join(script))
+        .args(args)
+        .env("HOME", &home)
+        .env("TMPDIR", &tmp)
+        .env("XDG_CONFIG_HOME", home.join(".config"))
+        .env("XDG_CACHE_HOME", home.join(".cache"))
+        .output()
+        .map_err(|e| format!("node (scripts/test-deps installs it): {e}"))?;
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    eprintln!("{stderr}");
+    if !output.status.success() {
+        return Err(format!("{script} failed ({}): {stderr}", output.status));
+    }
+    Ok(())
+}
+
+/// A JSON file, parsed; `Err` naming the file.
+pub fn read_json(path: &Path) -> Result<Value, String> {
+    let bytes = fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
