@@ -1153,3 +1153,35 @@ fn ao_histogram_bars_are_its_counts() {
         }
     }
 }
+
+/// Where the data mislead, the material page says so above the values, with the numbers
+/// behind it: water's red absorption depth is λ/(4πk) at 685 nm, computed here from
+/// `materials.csv`'s k (2.035 m on this snapshot), and PVP's largest k over 390–700 nm is
+/// under 0.01 although its depths make it opaque. A page without a caveat shows none.
+#[test]
+fn material_pages_show_the_caveats_of_pages_whose_data_mislead() {
+    let out = scratch("caveats");
+    let pages = ["3d/liquids/water", "3d/plastics/pvp", "3d/metals/gold"];
+    stages(&out, &pages, &[]);
+    let selection: Vec<&str> = pages.iter().flat_map(|p| ["--page", p]).collect();
+    for stage in ["params", "report"] {
+        let output = nklut(&out, &[&[stage], selection.as_slice()].concat());
+        assert!(output.status.success(), "nklut {stage}: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    let materials = CsvTable::load(&out.join("materials.csv")).unwrap().expect("materials.csv");
+    let water = materials.rows.iter().find(|r| materials.text(r, "page") == "3d/liquids/water").unwrap();
+    let k_red = materials.number(water, "k_red").unwrap();
+    let depth_m = 685e-9 / (4.0 * std::f64::consts::PI * k_red);
+    let water_html = material_html(&out, "3d/liquids/water");
+    assert!(
+        water_html.contains("<p class=\"note caveat\">Caveat: transparent_absorbs:")
+            && water_html.contains(&format!("red depth {depth_m:.3} m")),
+        "water's caveat with its red depth {depth_m:.3} m"
+    );
+    let pvp_html = material_html(&out, "3d/plastics/pvp");
+    assert!(
+        pvp_html.contains("<p class=\"note caveat\">Caveat: opaque_low_k:") && pvp_html.contains("k &lt; 0.01 everywhere"),
+        "PVP's caveat"
+    );
+    assert!(!material_html(&out, "3d/metals/gold").contains("Caveat:"), "gold's data do not mislead");
+}
