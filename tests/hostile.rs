@@ -374,26 +374,8 @@ fn catalog_of(pages: &[(&str, &str)]) -> String {
 
 const GOOD: &[u8] = b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 2.0 3.0\n        0.80 3.0 4.0\n";
 
-/// The output of a command given `limit` to finish: a run past it is killed and the test
-/// fails (a hang guard, generous for a debug build; not a speed target).
-fn bounded(command: &mut Command, limit: std::time::Duration) -> Output {
-    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-    let start = std::time::Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            return child.wait_with_output().unwrap();
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("still running after {limit:?}: a hang");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-}
-
 fn nklut_bounded(db: &Path, out: &Path, args: &[&str]) -> Output {
-    bounded(Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args), std::time::Duration::from_secs(60))
+    common::bounded(Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args), std::time::Duration::from_secs(60))
 }
 
 /// Exit status 0 or 1: never a panic (101) or a signal.

@@ -7,31 +7,15 @@
 //! ids and names. Each is refused by name or written safely; nothing is deleted,
 //! truncated, hung or mixed.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::time::Duration;
 
 fn binary() -> PathBuf {
     std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
-}
-
-/// The output of a command given `limit` to finish: a run past it is killed and the test
-/// fails (a hang guard, generous for a debug build; not a speed target).
-fn bounded(command: &mut Command, limit: Duration) -> Output {
-    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-    let start = std::time::Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            return child.wait_with_output().unwrap();
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("still running after {limit:?}: a hang");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
 }
 
 /// `nklut --db db --out out args…`, given two minutes.
@@ -45,7 +29,7 @@ fn nklut_with(db: &Path, out: &Path, args: &[&str], env: &[(&str, &str)]) -> Out
     for (key, value) in env {
         command.env(key, value);
     }
-    bounded(&mut command, Duration::from_secs(120))
+    common::bounded(&mut command, Duration::from_secs(120))
 }
 
 fn ok(output: &Output) -> String {

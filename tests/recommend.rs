@@ -9,7 +9,7 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::{database_dir, scratch};
+use common::{database_dir, scratch, SPECULAR_SCENE};
 use nklut::recommend::{recommend, Bound, Candidate, TimeUnit, Timing, ENGINE_MODELS};
 use nklut::report::csvdata::CsvTable;
 
@@ -584,22 +584,6 @@ fn the_index_first_screen_shows_the_answer_and_every_figure_is_its_tables() {
     let first = screen.figures.iter().find(|f| f.key.starts_with("pick-count:dielectric")).unwrap();
     println!("first screen: {} figures, {} in findings; {} = {}", screen.figures.len(), findings_figures, first.key, first.value);
 }
-
-/// Two spheres (BK7, diamond) in a room, both depths and search steps at two values each,
-/// small enough for a debug build.
-const SPECULAR_SCENE: &str = "resolution: [48, 48]
-camera: { axis: [0, 1, 0], distance: 2.2, frames: 1, fov_y_degrees: 50 }
-effects:
-  reflection: { max_depth: [1, 2] }
-  refraction: { max_depth: [1, 2] }
-  distance_maps: { size: 32, layers: 2, linear_steps: [4, 12], secant_steps: [1, 4] }
-light: { direction: [-0.3, -1, -0.5], colour: [0.75, 0.75, 0.75], ambient: [0.25, 0.25, 0.25] }
-objects:
-  - { mesh: sphere, scale: 0.5, position: [-0.6, 0, 0], material: 3d/glass/BK7, methods: [exact, schlick] }
-  - { mesh: sphere, scale: 0.5, position: [0.6, 0, 0], material: 3d/crystals/diamond, methods: [exact, schlick] }
-  - { mesh: room, scale: [3, 1.5, 3], diffuse: [0.85, 0.85, 0.8], pattern: { kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45] } }
-measurements: [image_error]
-";
 
 #[test]
 fn the_search_finding_states_the_effects_tables_figures() {

@@ -12,7 +12,7 @@ use std::fs;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::{database_dir, scratch, Scratch};
+use common::{database_dir, scratch, Scratch, SPECULAR_SCENE};
 use nklut::report::{self, csvdata::CsvTable};
 
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/liquids/water", "3d/crystals/diamond"];
@@ -542,23 +542,6 @@ fn material_pages_carry_a_block_per_tool() {
         assert!(html.contains(&format!("data-tool=\"{tool}\">{escaped}</textarea>")), "{tool} block missing or different");
     }
 }
-
-/// Two dielectric spheres with two methods, two depths of each kind and two counts of each
-/// search step (every chart axis has two values or more), small enough for a debug build;
-/// the hero frame at the 512 px the report shows.
-const SPECULAR_SCENE: &str = "resolution: [48, 48]
-camera: { axis: [0, 1, 0], distance: 2.2, frames: 1, fov_y_degrees: 50 }
-effects:
-  reflection: { max_depth: [1, 2] }
-  refraction: { max_depth: [1, 2] }
-  distance_maps: { size: 32, layers: 2, linear_steps: [4, 12], secant_steps: [1, 4] }
-light: { direction: [-0.3, -1, -0.5], colour: [0.75, 0.75, 0.75], ambient: [0.25, 0.25, 0.25] }
-objects:
-  - { mesh: sphere, scale: 0.5, position: [-0.6, 0, 0], material: 3d/glass/BK7, methods: [exact, schlick] }
-  - { mesh: sphere, scale: 0.5, position: [0.6, 0, 0], material: 3d/crystals/diamond, methods: [exact, schlick] }
-  - { mesh: room, scale: [3, 1.5, 3], diffuse: [0.85, 0.85, 0.8], pattern: { kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45] } }
-measurements: [image_error]
-";
 
 /// A sphere on a slab under surfel ambient occlusion (brute force and the tree, 1–3 passes)
 /// and screen-space GTAO.

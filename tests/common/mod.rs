@@ -159,3 +159,39 @@ pub fn read_json(path: &Path) -> Result<Value, String> {
     let bytes = fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
+
+/// The output of a command given `limit` to finish: a run past it is killed and the test
+/// fails (a hang guard, generous for a debug build; not a speed target).
+pub fn bounded(command: &mut Command, limit: std::time::Duration) -> std::process::Output {
+    use std::process::Stdio;
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let start = std::time::Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("still running after {limit:?}: a hang");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// Two dielectric spheres (BK7, diamond) in a checkered room with two methods, two depths
+/// of each kind and two counts of each search step (every chart axis has two values or
+/// more), small enough for a debug build.
+pub const SPECULAR_SCENE: &str = "resolution: [48, 48]
+camera: { axis: [0, 1, 0], distance: 2.2, frames: 1, fov_y_degrees: 50 }
+effects:
+  reflection: { max_depth: [1, 2] }
+  refraction: { max_depth: [1, 2] }
+  distance_maps: { size: 32, layers: 2, linear_steps: [4, 12], secant_steps: [1, 4] }
+light: { direction: [-0.3, -1, -0.5], colour: [0.75, 0.75, 0.75], ambient: [0.25, 0.25, 0.25] }
+objects:
+  - { mesh: sphere, scale: 0.5, position: [-0.6, 0, 0], material: 3d/glass/BK7, methods: [exact, schlick] }
+  - { mesh: sphere, scale: 0.5, position: [0.6, 0, 0], material: 3d/crystals/diamond, methods: [exact, schlick] }
+  - { mesh: room, scale: [3, 1.5, 3], diffuse: [0.85, 0.85, 0.8], pattern: { kind: checker, size: 0.5, albedo: [0.15, 0.2, 0.45] } }
+measurements: [image_error]
+";

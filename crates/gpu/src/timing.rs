@@ -76,19 +76,7 @@ impl Stopwatch {
 
     /// Draw `draws` (3-vertex fullscreen triangles) in one pass into `target`; milliseconds.
     pub fn time(&mut self, gpu: &Gpu, target: &Target, draws: &[Draw<'_>]) -> Result<f64> {
-        self.time_pass(gpu, |encoder, timestamps| {
-            let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: Some(1),
-            });
-            let mut pass = target.begin(encoder, writes);
-            for (pipeline, bind_group) in draws {
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, *bind_group, &[]);
-                pass.draw(0..3, 0..1);
-            }
-        })
+        self.time_pass(gpu, |encoder, timestamps| record_draws(encoder, target, timestamps, draws))
     }
 
     /// Time the one pass `record` encodes; it writes that pass's start and end into
@@ -198,19 +186,7 @@ impl FresnelClock<'_> {
         self.stopwatch.raw_pass(
             self.gpu,
             |encoder| drop(target.begin(encoder, None)),
-            |encoder, timestamps| {
-                let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: Some(0),
-                    end_of_pass_write_index: Some(1),
-                });
-                let mut pass = target.begin(encoder, writes);
-                for (pipeline, bind_group) in draws {
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, *bind_group, &[]);
-                    pass.draw(0..3, 0..1);
-                }
-            },
+            |encoder, timestamps| record_draws(encoder, target, timestamps, draws),
         )
     }
 }
@@ -247,5 +223,21 @@ impl PassClock for FresnelClock<'_> {
             trips.push(start.elapsed().as_secs_f64() * 1e3);
         }
         Ok(median_and_iqr(&trips).0)
+    }
+}
+
+/// Record `draws` (3-vertex fullscreen triangles) in one render pass into `target`, with
+/// the pass's beginning and end timestamps written to `timestamps` where the adapter has them.
+fn record_draws(encoder: &mut wgpu::CommandEncoder, target: &Target, timestamps: Option<&wgpu::QuerySet>, draws: &[Draw<'_>]) {
+    let writes = timestamps.map(|set| wgpu::RenderPassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: Some(0),
+        end_of_pass_write_index: Some(1),
+    });
+    let mut pass = target.begin(encoder, writes);
+    for (pipeline, bind_group) in draws {
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, *bind_group, &[]);
+        pass.draw(0..3, 0..1);
     }
 }
