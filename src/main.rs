@@ -327,8 +327,8 @@ mod gpu_cli {
         #[arg(long, value_name = "SUBSTRING")]
         adapter: Option<String>,
         /// Use this backend only: vulkan, and where the platform has them metal (macOS), dx12
-        /// (Windows) and gl (Linux, Android; on Mesa's desktop GL set
-        /// MESA_EXTENSION_OVERRIDE=+GL_ARB_color_buffer_float for the float targets).
+        /// (Windows) and gl (Linux, Android; on Mesa's desktop GL nklut enables
+        /// GL_ARB_color_buffer_float for the float targets itself).
         #[arg(long, value_name = "BACKEND")]
         backend: Option<String>,
     }

@@ -241,6 +241,13 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
         );
         assert!(!stderr.contains(&"0".repeat(300)), "a 309-digit number printed: {stderr}");
     }
+    // The runner's list of every sample (`samples_ms`, space-separated): each value checked.
+    let samples = |list: &str| format!("material,method,median_ms,samples_ms\nh/X/good,exact,2.5,{list}\n");
+    fs::write(adapter.join("gpu_timing.csv"), samples("1.5 2.5 NaN")).unwrap();
+    let stderr = failed(&report(&devices));
+    assert!(stderr.contains("samples_ms") && stderr.contains("not a finite number"), "{stderr}");
+    fs::write(adapter.join("gpu_timing.csv"), samples("1.5 2.5 3.5")).unwrap();
+    ok(&report(&devices));
     fs::remove_dir_all(&adapter).unwrap();
     let json = devices.join("browser.json");
     let kinds: [(&str, &Plant); 4] = [

@@ -977,7 +977,8 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
         let path = entry.path();
         if path.is_dir() {
             fs::create_dir_all(folder.join(entry.file_name())).unwrap();
-            for file in fs::read_dir(&path).unwrap().flatten() {
+            // The device's top-level tables (a folder may keep further runs in sub-folders).
+            for file in fs::read_dir(&path).unwrap().flatten().filter(|f| f.path().is_file()) {
                 fs::copy(file.path(), folder.join(entry.file_name()).join(file.file_name())).unwrap();
             }
         } else if path.extension().is_some_and(|x| x == "json") {

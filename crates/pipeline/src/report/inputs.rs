@@ -194,13 +194,16 @@ fn check_measured(table: &CsvTable, table_name: &str, column: &str, max: f64) ->
         if text.is_empty() {
             continue;
         }
-        let shown = crate::escape::terminal(&text.chars().take(24).collect::<String>());
-        match text.parse::<f64>() {
-            Ok(x) if x.is_finite() && (0.0..=max).contains(&x) => {}
-            Ok(x) if !x.is_finite() => bail!("{table_name} row {}: {column} is {shown}, not a finite number", row + 1),
-            Ok(x) if x < 0.0 => bail!("{table_name} row {}: {column} is {shown}, below 0", row + 1),
-            Ok(_) => bail!("{table_name} row {}: {column} is {shown}, above the largest accepted ({max:e})", row + 1),
-            Err(_) => bail!("{table_name} row {}: {column} is {shown:?}, not a number", row + 1),
+        // A cell holds one number, or a space-separated list of them (`samples_ms`).
+        for value in text.split_ascii_whitespace() {
+            let shown = crate::escape::terminal(&value.chars().take(24).collect::<String>());
+            match value.parse::<f64>() {
+                Ok(x) if x.is_finite() && (0.0..=max).contains(&x) => {}
+                Ok(x) if !x.is_finite() => bail!("{table_name} row {}: {column} holds {shown}, not a finite number", row + 1),
+                Ok(x) if x < 0.0 => bail!("{table_name} row {}: {column} holds {shown}, below 0", row + 1),
+                Ok(_) => bail!("{table_name} row {}: {column} holds {shown}, above the largest accepted ({max:e})", row + 1),
+                Err(_) => bail!("{table_name} row {}: {column} holds {shown:?}, not a number", row + 1),
+            }
         }
     }
     Ok(())
