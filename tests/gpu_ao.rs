@@ -259,6 +259,24 @@ fn the_runner_runs_surfel_effects_only_when_the_scene_names_them() {
     assert!(gtao.twin_difference <= 2e-4, "{}", gtao.twin_difference);
 }
 
+/// An AO scene timed (`gpu bench` asks for timing) names no (material, method) pair: no
+/// F-only pass runs, the run says why, and no empty `gpu_timing` table is published.
+#[test]
+fn an_ao_scene_asked_for_timing_publishes_no_empty_fresnel_timing() {
+    use nklut::gpu::{run_with_materials, RunStats};
+    use nklut::scene::Scene;
+    use std::path::Path;
+    let Some(gpu) = device() else { return };
+    let ao = "resolution: [8, 8]\ncamera: { frames: 1 }\nmeasurements: [timing]\neffects: { ambient_occlusion: { passes: 1 } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.2, 0.2], subdivide: 1 }\n";
+    let scene = Scene::parse(ao, Path::new("ao.yaml")).unwrap();
+    let report = run_with_materials(&scene, &[], &gpu, RunStats::default(), &mut |_| {}).unwrap();
+    assert!(report.timing.is_empty());
+    assert!(report.stats.skipped.iter().any(|s| s.contains("no (material, method) pair")), "{:?}", report.stats.skipped);
+    let out = tempfile::tempdir().unwrap();
+    let written = nklut::gpu::runner::write_tables(&report, out.path()).unwrap();
+    assert!(written.iter().all(|p| !p.to_string_lossy().contains("gpu_timing")), "{written:?}");
+}
+
 /// GTAO on the GPU against its f32 CPU twin (the body of the f64 figures) over a frame of a
 /// cube on a slab, 96×64: every covered pixel covered on both, and equal within f32
 /// rounding. Where they can part: the GPU's acos/cos/sin (a few ulp; acos near ±1

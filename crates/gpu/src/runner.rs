@@ -258,7 +258,10 @@ fn run_fresnel_only(
         stats.skipped.push(format!("methods not in the scene (no pipelines): {}", unnamed.join(", ")));
     }
     let mut timing = Vec::new();
-    if scene.wants(Experiment::Timing) {
+    if scene.wants(Experiment::Timing) && scene.material_shadings().is_empty() {
+        // An AO scene names no (material, method) pair: nothing for the F-only passes.
+        stats.skipped.push("timing: the scene names no (material, method) pair (AO passes: `nklut gpu ao-timing`)".into());
+    } else if scene.wants(Experiment::Timing) {
         timing = run_timing(scene, &bound, gpu, &mut renderer, stats, log)?;
     } else {
         stats.skipped.push("timing: not in the scene's measurements".into());
@@ -588,7 +591,7 @@ pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
     let mut tables: Vec<(Table, &str)> = Vec::new();
     if !effects.timing.is_empty() {
         tables.push((super::effects::timing_table(&effects.timing, &report.adapter), "effects_timing"));
-    } else if report.experiments.contains(&Experiment::Timing) {
+    } else if report.experiments.contains(&Experiment::Timing) && !report.timing.is_empty() {
         tables.push((timing_table(report), "gpu_timing"));
     }
     let mut frames = Vec::new();
