@@ -334,9 +334,10 @@ fn run_timing(
     let measurement = sampling::measure(&mut clock, &kinds, &plan)?;
     clock.reset();
     log(&format!(
-        "  {} F evaluations per pixel (calibration {}); timer resolution {:.0} ns{}; sample target {:.3} ms; order seed {}{}",
+        "  {} F evaluations per pixel (calibration {}); {} warm-up rounds; timer resolution {:.0} ns{}; sample target {:.3} ms; order seed {}{}",
         measurement.evaluations,
         measurement.calibration.iter().map(|(n, ms)| format!("{n}: {ms:.4} ms")).collect::<Vec<_>>().join(", "),
+        measurement.warmup_rounds,
         measurement.resolution_ns,
         if measurement.floor_ms > 0.0 { format!(", wall floor {:.4} ms", measurement.floor_ms) } else { String::new() },
         measurement.target_ms,

@@ -18,6 +18,12 @@
 //!   from a seeded generator (SplitMix64, Steele et al. 2014; Fisher–Yates shuffle), the
 //!   seed recorded; each submit opens with an untimed throwaway pass, so no pair is always
 //!   the first, slower, pass of a submit.
+//! - **Warm-up until settled.** After the scene's warm-up rounds, untimed rounds go on while
+//!   the last one is still clearly faster than the ones before it ([`settled`]: its total
+//!   below [`SETTLED`] × the median total of the [`SETTLE_WINDOW`] rounds before it), at most
+//!   [`MAX_EXTRA_WARMUP`] more: a CPU rasteriser (SwiftShader) still compiles and warms its
+//!   caches for several rounds after a short warm-up, and a median over rounds that are half
+//!   cold is no measure. On a GPU that is warm after the first round it adds none.
 //! - **Statistics.** Every sample is kept; per pair the mean, median, interquartile range
 //!   and count, the cost per F evaluation per pixel (ns), and a flag when the median is
 //!   within [`NEAR_RESOLUTION`] × the resolution.
@@ -36,6 +42,13 @@ pub const NEAR_RESOLUTION: f64 = 10.0;
 pub const MAX_EVALUATIONS: u32 = 1 << 16;
 /// Calibration rounds at most (each multiplies the amplification by 2 to 64).
 pub const MAX_CALIBRATION_ROUNDS: usize = 12;
+/// A warm-up round whose total is below this fraction of the recent rounds' median is
+/// still getting faster ([`settled`]).
+pub const SETTLED: f64 = 0.95;
+/// The rounds before the last that [`settled`] compares it with.
+pub const SETTLE_WINDOW: usize = 3;
+/// Untimed rounds added at most beyond the scene's warm-up.
+pub const MAX_EXTRA_WARMUP: u32 = 30;
 /// The seed of the pair order when none is given.
 pub const DEFAULT_SEED: u64 = nklut_effects::scene::DEFAULT_TIMING_SEED;
 
@@ -61,6 +74,21 @@ pub trait PassClock {
     /// The smallest time a pass can read (ms): an empty submit's round trip for a wall
     /// timer, 0 for timestamps.
     fn floor_ms(&mut self) -> Result<f64>;
+}
+
+/// Whether warm-up rounds whose totals (ms, in the order run) are `totals` have settled:
+/// fewer than two rounds, or the last not below [`SETTLED`] × the median of the (at most
+/// [`SETTLE_WINDOW`]) rounds before it.
+pub fn settled(totals: &[f64]) -> bool {
+    let Some((&last, before)) = totals.split_last() else { return true };
+    if before.is_empty() {
+        return true;
+    }
+    let mut recent: Vec<f64> = before[before.len().saturating_sub(SETTLE_WINDOW)..].to_vec();
+    recent.sort_by(f64::total_cmp);
+    let n = recent.len();
+    let median = if n % 2 == 1 { recent[n / 2] } else { 0.5 * (recent[n / 2 - 1] + recent[n / 2]) };
+    last >= SETTLED * median
 }
 
 /// Greatest common divisor.
@@ -158,13 +186,23 @@ pub struct Measurement {
     pub capped: bool,
     /// The amplifications tried at warm-up, with the cheapest Fresnel pass each read (ms).
     pub calibration: Vec<(u32, f64)>,
+    /// The untimed rounds run at the chosen amplification: the scene's warm-up and those
+    /// added until [`settled`].
+    pub warmup_rounds: u32,
     pub seed: u64,
     /// Per pair, the timed samples in ms (every one kept).
     pub samples: Vec<Vec<f64>>,
 }
 
+/// What one round read (ms): its cheapest Fresnel pass and the sum of all its passes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RoundTimes {
+    cheapest: f64,
+    total: f64,
+}
+
 /// One round: every pair once in `order`, its samples pushed when `keep`; the raw readings
-/// collected; the cheapest Fresnel pass of the round returned (ms).
+/// collected.
 fn round(
     clock: &mut dyn PassClock,
     order: &[usize],
@@ -172,19 +210,20 @@ fn round(
     kinds: &[PairKind],
     readings: &mut Vec<u64>,
     mut keep: Option<&mut Vec<Vec<f64>>>,
-) -> Result<f64> {
-    let mut cheapest = f64::INFINITY;
+) -> Result<RoundTimes> {
+    let mut times = RoundTimes { cheapest: f64::INFINITY, total: 0.0 };
     for &pair in order {
         let raw = clock.pass(pair, evaluations)?;
         readings.extend([raw.start_ns, raw.end_ns]);
         if !kinds[pair].baseline || kinds.iter().all(|k| k.baseline) {
-            cheapest = cheapest.min(raw.ms());
+            times.cheapest = times.cheapest.min(raw.ms());
         }
+        times.total += raw.ms();
         if let Some(samples) = keep.as_deref_mut() {
             samples[pair].push(raw.ms());
         }
     }
-    Ok(cheapest)
+    Ok(times)
 }
 
 /// Time every pair of `kinds` on `clock` by `plan`: calibration rounds choosing the
@@ -204,7 +243,7 @@ pub fn measure(clock: &mut dyn PassClock, kinds: &[PairKind], plan: &Plan) -> Re
         round(clock, &order, evaluations, kinds, &mut readings, None)?;
         for attempt in 0.. {
             let order = rng.permutation(kinds.len());
-            let cheapest = round(clock, &order, evaluations, kinds, &mut readings, None)?;
+            let cheapest = round(clock, &order, evaluations, kinds, &mut readings, None)?.cheapest;
             calibration.push((evaluations, cheapest));
             let resolution = resolution_ns(&readings, clock.tick_ns()).unwrap_or(f64::INFINITY);
             target = target_ms(resolution, floor_ms);
@@ -219,10 +258,12 @@ pub fn measure(clock: &mut dyn PassClock, kinds: &[PairKind], plan: &Plan) -> Re
             evaluations = next_evaluations(evaluations, cheapest, if target.is_finite() { target } else { MIN_SAMPLE_MS });
         }
     }
-    for _ in 0..plan.warmup {
+    let mut totals = Vec::new();
+    while (totals.len() as u32) < plan.warmup || (!settled(&totals) && (totals.len() as u32) < plan.warmup + MAX_EXTRA_WARMUP) {
         let order = rng.permutation(kinds.len());
-        round(clock, &order, evaluations, kinds, &mut readings, None)?;
+        totals.push(round(clock, &order, evaluations, kinds, &mut readings, None)?.total);
     }
+    let warmup_rounds = totals.len() as u32;
     let mut samples = vec![Vec::with_capacity(plan.repeats as usize); kinds.len()];
     for _ in 0..plan.repeats {
         let order = rng.permutation(kinds.len());
@@ -232,7 +273,17 @@ pub fn measure(clock: &mut dyn PassClock, kinds: &[PairKind], plan: &Plan) -> Re
     if !plan.amplify {
         target = target_ms(resolution_ns, floor_ms);
     }
-    Ok(Measurement { evaluations, resolution_ns, floor_ms, target_ms: target, capped, calibration, seed: plan.seed, samples })
+    Ok(Measurement {
+        evaluations,
+        resolution_ns,
+        floor_ms,
+        target_ms: target,
+        capped,
+        calibration,
+        warmup_rounds,
+        seed: plan.seed,
+        samples,
+    })
 }
 
 /// The statistics of one pair's samples.
@@ -284,6 +335,12 @@ pub struct SimulatedClock {
     pub rng: SplitMix64,
     /// With no throwaway pass (the old design) the timed pass is the first of its submit.
     pub throwaway: bool,
+    /// A device still warming up: the first `cold_passes` passes cost up to
+    /// (1 + `cold_factor`) × their work, the excess falling linearly to 0.
+    pub cold_passes: u64,
+    pub cold_factor: f64,
+    /// Passes timed so far.
+    pub passes: u64,
 }
 
 impl SimulatedClock {
@@ -299,6 +356,9 @@ impl SimulatedClock {
             now_ns: 1_000_003_917,
             rng: SplitMix64::new(7),
             throwaway: true,
+            cold_passes: 0,
+            cold_factor: 0.0,
+            passes: 0,
         }
     }
 
@@ -311,7 +371,9 @@ impl PassClock for SimulatedClock {
     fn pass(&mut self, pair: usize, evaluations: u32) -> Result<RawSample> {
         let noise = 1.0 + self.jitter * (self.rng.next_u64() as f64 / u64::MAX as f64 - 0.5);
         let first = if self.throwaway { 0.0 } else { self.first_pass_ns };
-        let work = (self.fixed_ns + first + self.cost_ns[pair] * evaluations as f64 * self.pixels as f64) * noise;
+        let cold = 1.0 + self.cold_factor * (1.0 - self.passes as f64 / self.cold_passes.max(1) as f64).max(0.0);
+        self.passes += 1;
+        let work = (self.fixed_ns + first + self.cost_ns[pair] * evaluations as f64 * self.pixels as f64) * noise * cold;
         // The throwaway pass (its first-pass penalty included) runs before the timed one.
         if self.throwaway {
             self.now_ns += (self.fixed_ns + self.first_pass_ns) as u64;
@@ -449,6 +511,42 @@ mod tests {
         let m = measure(&mut clock, &kinds, &plan).unwrap();
         let ratio = stats(&m.samples[0], 1, 1, &m).median_ms / stats(&m.samples[1], 1, 1, &m).median_ms;
         assert!((ratio - 1.0).abs() < 0.02, "{ratio}");
+    }
+
+    #[test]
+    fn settled_compares_the_last_round_with_the_median_of_the_three_before() {
+        assert!(settled(&[]) && settled(&[5.0]));
+        // Median of (10, 9, 8) is 9: 8.56 is 0.951 × 9, settled; 8.5 is 0.944 ×, not.
+        assert!(settled(&[12.0, 10.0, 9.0, 8.0, 8.56]));
+        assert!(!settled(&[12.0, 10.0, 9.0, 8.0, 8.5]));
+        // Two rounds: the one before is the median.
+        assert!(!settled(&[10.0, 9.4]) && settled(&[10.0, 9.6]));
+        // Slower is settled (a noisy round, not a warming one).
+        assert!(settled(&[10.0, 10.0, 10.0, 14.0]));
+    }
+
+    #[test]
+    fn warm_up_goes_on_until_a_warming_device_has_settled() {
+        // Six pairs of equal cost on a device whose passes cost up to 2× for its first
+        // 12 rounds (72 passes), the excess falling linearly: with the scene's 3 warm-up
+        // rounds alone, 9 of 15 timed rounds would be cold and every median ≈ 1.2× the warm
+        // cost. Settling adds rounds until a round is no longer 5 % faster than the median
+        // of the three before it.
+        let warm_ns = 1e6;
+        let mut clock = SimulatedClock::new(vec![warm_ns / 100.0; 6], 100, 1);
+        (clock.cold_passes, clock.cold_factor) = (72, 1.0);
+        let plan = Plan { warmup: 3, repeats: 15, amplify: false, seed: 5 };
+        let m = measure(&mut clock, &[PairKind { baseline: false }; 6], &plan).unwrap();
+        assert!((11..=3 + MAX_EXTRA_WARMUP).contains(&m.warmup_rounds), "{}", m.warmup_rounds);
+        for samples in &m.samples {
+            let median = stats(samples, 1, 100, &m).median_ms;
+            assert!((median / (warm_ns / 1e6) - 1.0).abs() < 0.03, "median {median} ms against 1 ms warm");
+        }
+        // A device warm from the start: the scene's warm-up and not one round more (2 %
+        // jitter never reads 5 % faster than the median of three).
+        let mut clock = SimulatedClock::new(vec![warm_ns / 100.0; 6], 100, 1);
+        let m = measure(&mut clock, &[PairKind { baseline: false }; 6], &plan).unwrap();
+        assert_eq!(m.warmup_rounds, 3);
     }
 
     #[test]

@@ -129,6 +129,9 @@ pub struct SamplingRules {
     pub near_resolution: f64,
     pub max_evaluations: u32,
     pub max_calibration_rounds: usize,
+    pub settled: f64,
+    pub settle_window: usize,
+    pub max_extra_warmup: u32,
 }
 
 impl SamplingRules {
@@ -141,6 +144,9 @@ impl SamplingRules {
             near_resolution: s::NEAR_RESOLUTION,
             max_evaluations: s::MAX_EVALUATIONS,
             max_calibration_rounds: s::MAX_CALIBRATION_ROUNDS,
+            settled: s::SETTLED,
+            settle_window: s::SETTLE_WINDOW,
+            max_extra_warmup: s::MAX_EXTRA_WARMUP,
         }
     }
 }

@@ -408,6 +408,15 @@ function targetMs(resolution, floorMs) {
   return Math.max((s.span_over_resolution * resolution) / 1e6, s.span_over_floor * floorMs, HOOK.minSampleMs ?? s.min_sample_ms);
 }
 
+// sampling::settled: fewer than two warm-up rounds, or the last round's total not below
+// `settled` × the median total of the (at most `settle_window`) rounds before it.
+function settled(totals) {
+  if (totals.length < 2) return true;
+  const s = plan.timing.sampling;
+  const before = totals.slice(Math.max(0, totals.length - 1 - s.settle_window), totals.length - 1);
+  return totals[totals.length - 1] >= s.settled * medianAndIqr(before)[0];
+}
+
 function nextEvaluations(evaluations, cheapestMs, target) {
   const factor = cheapestMs > 0 ? Math.min(Math.max(Math.ceil((1.2 * target) / cheapestMs), 2), 64) : 64;
   return Math.min(Math.floor(evaluations * factor), plan.timing.sampling.max_evaluations);
@@ -558,16 +567,23 @@ async function runTiming(device, timestamps, gpu, step) {
       step(0, `timing: calibration ${attempt + 1}, ${evaluations} evaluations per pixel next`);
     }
   }
+  // sampling::measure's warm-up: the scene's rounds, then more until `settled`.
+  const totals = [];
+  while (totals.length < t.warmup || (!settled(totals) && totals.length < t.warmup + rules.max_extra_warmup)) {
+    const times = await round(rng.permutation(draws.length), evaluations);
+    totals.push(times.reduce((x, y) => x + y, 0));
+    step(totals.length <= t.warmup ? draws.length : 0, `timing: warm-up round ${totals.length} at ${evaluations} evaluations per pixel`);
+  }
   const samples = draws.map(() => []);
   const measurement = () => {
     const resolution = resolutionNs(readings, tickNs);
-    return { evaluations, resolution_ns: resolution === null ? tickNs : resolution, floor_ms: floorMs, target_ms: target_, capped, calibration, seed: t.seed, amplified: amplify };
+    return { evaluations, resolution_ns: resolution === null ? tickNs : resolution, floor_ms: floorMs, target_ms: target_, capped, calibration, warmup_rounds: totals.length, seed: t.seed, amplified: amplify };
   };
-  for (let r = 0; r < t.warmup + t.repeats; r++) {
-    loseNow = HOOK.loseAfter !== null && r === t.warmup + HOOK.loseAfter;
+  for (let r = 0; r < t.repeats; r++) {
+    loseNow = HOOK.loseAfter !== null && r === HOOK.loseAfter;
     const times = await round(rng.permutation(draws.length), evaluations);
-    if (r >= t.warmup) times.forEach((x, i) => samples[i].push(x));
-    step(draws.length, `timing: round ${r + 1} of ${t.warmup + t.repeats} at ${evaluations} evaluations per pixel`);
+    times.forEach((x, i) => samples[i].push(x));
+    step(draws.length, `timing: round ${r + 1} of ${t.repeats} at ${evaluations} evaluations per pixel`);
     // Rows so far, so a lost device keeps them.
     result.timing_sampling = measurement();
     result.gpu_timing = timingRows(draws, samples, timestamps, result.timing_sampling);
