@@ -173,45 +173,99 @@ fn planted_lock_link_is_refused_and_its_target_is_untouched() {
     assert!(stderr.contains(&lock.display().to_string()) && stderr.contains("not a regular file"), "{stderr}");
 }
 
+/// An ingested output folder with a scene folder, beside a devices folder with one
+/// adapter: every place the report reads a table from.
+struct ReportInputs {
+    db: tempfile::TempDir,
+    out: PathBuf,
+    devices: PathBuf,
+    adapter: PathBuf,
+}
+
+impl ReportInputs {
+    fn new() -> ReportInputs {
+        let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
+        let out = db.path().join("out");
+        ok(&nklut(db.path(), &out, &["ingest"]));
+        let devices = db.path().join("devices");
+        let adapter = devices.join("adapter");
+        fs::create_dir_all(&adapter).unwrap();
+        fs::create_dir_all(out.join("scene")).unwrap();
+        ReportInputs { db, out, devices, adapter }
+    }
+
+    /// The tables: a device's `gpu_timing.csv` and `image_errors.csv` (read only beside a
+    /// good `gpu_timing.csv`, the second's flag), a scene's `effects_errors.csv`,
+    /// `colors.csv` and `materials.csv`.
+    fn tables(&self) -> [(PathBuf, bool); 5] {
+        [
+            (self.adapter.join("gpu_timing.csv"), false),
+            (self.adapter.join("image_errors.csv"), true),
+            (self.out.join("scene").join("effects_errors.csv"), false),
+            (self.out.join("colors.csv"), false),
+            (self.out.join("materials.csv"), false),
+        ]
+    }
+
+    /// `nklut report --devices …`.
+    fn report(&self) -> Output {
+        nklut(self.db.path(), &self.out, &["report", "--devices", self.devices.to_str().unwrap()])
+    }
+
+    /// The report run with `plant` made at table `input` (what was there put back after).
+    fn report_with(&self, (input, with_timing): &(PathBuf, bool), plant: &Plant) -> Output {
+        if *with_timing {
+            fs::write(self.adapter.join("gpu_timing.csv"), b"material,method,median_ms\nh/X/good,exact,0.5\n").unwrap();
+        }
+        // `materials.csv` is a link into the published set: the plant takes its place.
+        let kept = fs::read(input).ok();
+        let _ = fs::remove_file(input);
+        plant(input);
+        let output = self.report();
+        fs::remove_file(input).unwrap();
+        if let Some(bytes) = kept {
+            fs::write(input, bytes).unwrap();
+        }
+        let _ = fs::remove_file(self.adapter.join("gpu_timing.csv"));
+        output
+    }
+}
+
 /// A report input as an attacker leaves it: a FIFO with no writer, or a link to /dev/zero
 /// (endless); each named file kind of the report is refused by name at once, never read.
 #[test]
 fn report_inputs_that_are_fifos_or_endless_are_refused_by_name() {
-    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
-    let out = db.path().join("out");
-    ok(&nklut(db.path(), &out, &["ingest"]));
-    let devices = db.path().join("devices");
-    let adapter = devices.join("adapter");
-    fs::create_dir_all(&adapter).unwrap();
-    let scene = out.join("scene");
-    fs::create_dir_all(&scene).unwrap();
-    let timing = b"material,method,median_ms\nh/X/good,exact,0.5\n".as_slice();
-    // (the input, whether the device folder's gpu_timing.csv is a good file beside it)
-    let inputs = [
-        (adapter.join("gpu_timing.csv"), false),
-        (adapter.join("image_errors.csv"), true),
-        (scene.join("effects_errors.csv"), false),
-        (out.join("colors.csv"), false),
-    ];
-    for (input, with_timing) in &inputs {
-        for endless in [false, true] {
-            if *with_timing {
-                fs::write(adapter.join("gpu_timing.csv"), timing).unwrap();
-            }
-            if endless {
-                std::os::unix::fs::symlink("/dev/zero", input).unwrap();
-            } else {
-                mkfifo(input);
-            }
-            let stderr = failed(&nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]));
-            assert!(stderr.contains(&input.display().to_string()), "the error does not name {}: {stderr}", input.display());
-            let kind = if endless { "a character device" } else { "a FIFO" };
+    let inputs = ReportInputs::new();
+    for table in &inputs.tables() {
+        let kinds: [(&str, &Plant); 2] =
+            [("a FIFO", &|p| mkfifo(p)), ("a character device", &|p| std::os::unix::fs::symlink("/dev/zero", p).unwrap())];
+        for (kind, plant) in kinds {
+            let stderr = failed(&inputs.report_with(table, plant));
+            assert!(stderr.contains(&table.0.display().to_string()), "the error does not name {}: {stderr}", table.0.display());
             assert!(stderr.contains(kind), "{stderr}");
-            fs::remove_file(input).unwrap();
-            let _ = fs::remove_file(adapter.join("gpu_timing.csv"));
         }
     }
-    ok(&nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]));
+    ok(&inputs.report());
+}
+
+/// A 100 MB table wherever the report reads one: refused naming the file and its 64 MiB
+/// bound, from the size the file states, before a byte of it is read (each file is sparse:
+/// 100 MB stated, nothing stored). Whole, such a table took 1.47 GB and 46 s. The minute's
+/// bound only guards against a hang.
+#[test]
+fn report_tables_of_100_mb_are_refused_by_name_before_they_are_read() {
+    let inputs = ReportInputs::new();
+    for table in &inputs.tables() {
+        let start = std::time::Instant::now();
+        let stderr = failed(&inputs.report_with(table, &|p| fs::File::create(p).unwrap().set_len(100_000_000).unwrap()));
+        assert!(start.elapsed() < Duration::from_secs(60), "{}: {:?}", table.0.display(), start.elapsed());
+        assert!(
+            stderr.contains(&table.0.display().to_string()) && stderr.contains("more than 67108864 bytes"),
+            "{}: {stderr}",
+            table.0.display()
+        );
+    }
+    ok(&inputs.report());
 }
 
 /// Device results that state NaN, negative or 309-digit times, and `*.json` entries that
@@ -219,13 +273,8 @@ fn report_inputs_that_are_fifos_or_endless_are_refused_by_name() {
 /// larger than a result can be: each an error naming the file.
 #[test]
 fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name() {
-    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
-    let out = db.path().join("out");
-    ok(&nklut(db.path(), &out, &["ingest"]));
-    let devices = db.path().join("devices");
-    let adapter = devices.join("adapter");
-    fs::create_dir_all(&adapter).unwrap();
-    let report = |devices: &Path| nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]);
+    let inputs = ReportInputs::new();
+    let (devices, adapter) = (&inputs.devices, &inputs.adapter);
     for (time, why) in [
         ("NaN", "not a finite number"),
         ("-500", "below 0"),
@@ -234,7 +283,7 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
         ("abc", "not a number"),
     ] {
         fs::write(adapter.join("gpu_timing.csv"), format!("material,method,median_ms\nh/X/good,exact,{time}\n")).unwrap();
-        let stderr = failed(&report(&devices));
+        let stderr = failed(&inputs.report());
         assert!(
             stderr.contains(&adapter.display().to_string()) && stderr.contains("median_ms") && stderr.contains(why),
             "{time}: {stderr}"
@@ -251,12 +300,12 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
     ];
     for (kind, make) in kinds {
         make(&json);
-        let stderr = failed(&report(&devices));
+        let stderr = failed(&inputs.report());
         assert!(stderr.contains(&json.display().to_string()) && stderr.contains(kind), "{kind}: {stderr}");
         let _ = fs::remove_file(&json).or_else(|_| fs::remove_dir(&json));
     }
     fs::write(&json, vec![b' '; (16 << 20) + 1]).unwrap();
-    let stderr = failed(&report(&devices));
+    let stderr = failed(&inputs.report());
     assert!(stderr.contains(&json.display().to_string()) && stderr.contains("16777216 bytes"), "{stderr}");
 }
 
