@@ -14,17 +14,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
-fn binary() -> PathBuf {
-    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
-}
-
 /// `nklut --db db --out out args…`, given two minutes.
 fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
     nklut_with(db, out, args, &[])
 }
 
 fn nklut_with(db: &Path, out: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut command = Command::new(binary());
+    let mut command = Command::new(common::binary());
     command.arg("--db").arg(db).arg("--out").arg(out).args(args);
     for (key, value) in env {
         command.env(key, value);
@@ -92,13 +88,6 @@ fn mkfifo(path: &Path) {
     let name = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
     // SAFETY: mkfifo reads a NUL-terminated path.
     assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0, "mkfifo {}", path.display());
-}
-
-/// Rows of a CSV as maps from column name to cell.
-fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
-    let mut reader = csv::Reader::from_path(path).unwrap();
-    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
 }
 
 /// A folder outside the output folder, holding a file, and what it holds.
@@ -290,7 +279,7 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
         );
         assert!(!stderr.contains(&"0".repeat(300)), "a 309-digit number printed: {stderr}");
     }
-    fs::remove_dir_all(&adapter).unwrap();
+    fs::remove_dir_all(adapter).unwrap();
     let json = devices.join("browser.json");
     let kinds: [(&str, &Plant); 4] = [
         ("a FIFO", &|p| mkfifo(p)),
@@ -326,14 +315,14 @@ fn a_wavelength_that_overflows_excludes_its_page_with_a_reason() {
     );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     for page in ["h/X/max", "h/X/huge", "h/X/formula"] {
         let row = excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not excluded: {excluded:?}"));
         assert_eq!(row["reason"], "wavelength-out-of-range", "{row:?}");
     }
     let line = excluded.iter().find(|r| r["page"] == "h/X/max").unwrap()["line"].clone();
     assert_eq!(line, "6", "the row's line");
-    let materials = rows(&out.join("materials.csv"));
+    let materials = common::csv_rows(&out.join("materials.csv"));
     assert_eq!(materials.iter().map(|r| r["page"].as_str()).collect::<Vec<_>>(), ["h/X/good"]);
     assert_eq!(materials[0]["lambda_max_nm"], "800");
 }
@@ -488,9 +477,48 @@ fn huge_numbers_in_details_are_written_in_exponent_form() {
     );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     let detail =
         |page: &str| excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page}: {excluded:?}"))["detail"].clone();
     assert_eq!(detail("h/X/wavelength"), "wavelength -1e308 µm is not positive");
     assert!(detail("h/X/n").contains("-1e308") && !detail("h/X/n").contains(&"0".repeat(100)), "{}", detail("h/X/n"));
+}
+
+/// Text a spreadsheet would take for a formula — a book and page name `=HYPERLINK(…)`, a
+/// shelf `@h` that starts every page id, a page `-2+3`, a page name `+1+2` — is written to
+/// `materials.csv` and `excluded.csv` behind a single quote, and every other cell that
+/// starts with `=`, `+`, `-` or `@` is a finite number; the report reads the ids and names
+/// back without the quote (its page is found, its Markdown shows the name as written).
+#[test]
+fn formula_text_in_tables_is_quoted_and_read_back_without_the_quote() {
+    let name = "=HYPERLINK(\"http://example.invalid\",\"x\")";
+    let root = tempfile::tempdir().unwrap();
+    let catalog = format!(
+        "- SHELF: '@h'\n  content:\n    - BOOK: X\n      name: {name}\n      content:\n        - PAGE: good\n          name: {name}\n          data: h/X/good.yml\n        - PAGE: '-2+3'\n          name: '+1+2'\n          data: h/X/missing.yml\n",
+        name = yaml_string(name)
+    );
+    fs::write(root.path().join("catalog-nk.yml"), catalog).unwrap();
+    fs::create_dir_all(root.path().join("data/h/X")).unwrap();
+    fs::write(root.path().join("data/h/X/good.yml"), GOOD).unwrap();
+    let out = root.path().join("out");
+    ok(&nklut(root.path(), &out, &["ingest"]));
+    for table in ["materials.csv", "excluded.csv"] {
+        for row in common::csv_rows(&out.join(table)) {
+            for (column, cell) in &row {
+                if cell.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+                    assert!(cell.parse::<f64>().is_ok_and(f64::is_finite), "{table} {column}: {cell:?}");
+                }
+            }
+        }
+    }
+    let materials = common::csv_rows(&out.join("materials.csv"));
+    assert_eq!(materials.len(), 1);
+    assert_eq!(materials[0]["page"], "'@h/X/good");
+    assert_eq!(materials[0]["catalog_name"], format!("'{name}"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
+    assert_eq!(excluded.iter().map(|r| r["page"].as_str()).collect::<Vec<_>>(), ["'@h/X/-2+3"]);
+    ok(&nklut(root.path(), &out, &["report", "--page", "@h/X/good"]));
+    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
+    assert!(markdown.contains("@h/X/good") && !markdown.contains("'@h/X/good"), "{markdown}");
+    assert!(markdown.contains(&format!("| {name} |")), "{markdown}");
 }

@@ -6,15 +6,11 @@
 //! with an earlier run's tables.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
 mod common;
-
-fn binary() -> PathBuf {
-    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
-}
 
 /// `nklut effects` on `scene` text (written to `dir/scene.yaml`) with `flags`, given two
 /// minutes (a hang guard, not a speed target) and a small memory budget where asked.
@@ -26,7 +22,7 @@ fn effects(dir: &Path, scene: &str, flags: &[&str], budget: Option<&str>) -> Out
 fn run(dir: &Path, command_words: &[&str], scene: &str, flags: &[&str], budget: Option<&str>) -> Output {
     let file = dir.join("scene.yaml");
     fs::write(&file, scene).unwrap();
-    let mut command = Command::new(binary());
+    let mut command = Command::new(common::binary());
     command.arg("--db").arg(common::database_dir()).arg("--out").arg(dir.join("out")).args(command_words).arg(&file).args(flags);
     if let Some(budget) = budget {
         command.env("NKLUT_MEMORY_BUDGET", budget);
@@ -150,7 +146,7 @@ fn effects_tables_and_frames_are_one_set() {
     assert!(!frames(&dir).iter().any(|f| f.contains("schlick")), "frames of a method the scene no longer names: {:?}", frames(&dir));
     let before = (fs::read(dir.join("out/effects_errors.csv")).unwrap(), frames(&dir));
     fs::write(dir.join("scene.yaml"), scene("exact, lazanyi")).unwrap();
-    let killed = Command::new(binary())
+    let killed = Command::new(common::binary())
         .env("NKLUT_CRASH_AT", "staged")
         .arg("--db")
         .arg(common::database_dir())
