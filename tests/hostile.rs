@@ -73,14 +73,8 @@ fn hostile() -> tempfile::TempDir {
     root
 }
 
-/// The binary under test: this build's, or `NKLUT_TEST_BIN` (another build, e.g. the
-/// previous release, to see a test fail before its fix).
-fn binary() -> std::path::PathBuf {
-    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
-}
-
 fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
-    Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
+    Command::new(common::binary()).arg("--db").arg(db).arg("--out").arg(out).args(args).output().unwrap()
 }
 
 fn ok(output: &Output) -> String {
@@ -94,19 +88,12 @@ fn failed(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-/// Rows of a CSV as maps from column name to cell.
-fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
-    let mut reader = csv::Reader::from_path(path).unwrap();
-    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
-}
-
 #[test]
 fn every_bad_page_is_excluded_with_its_reason_and_line() {
     let db = hostile();
     let out = db.path().join("out");
     let stderr = ok(&nklut(db.path(), &out, &["ingest"]));
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     let reason = |page: &str| {
         let row = excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not in excluded.csv: {excluded:?}"));
         (row["reason"].clone(), row["line"].clone(), row["detail"].clone())
@@ -124,10 +111,10 @@ fn every_bad_page_is_excluded_with_its_reason_and_line() {
     assert_eq!(reason("h/X/").0, "bad-page-id");
     // Kept: the good page, the one with a byte-order mark, the one from 450 nm and the
     // one whose order defect lies far in the infrared; every page is in one table.
-    let kept: Vec<String> = rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
+    let kept: Vec<String> = common::csv_rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
     assert_eq!(kept, ["h/X/good", "h/X/bom", "h/X/from450", "h/X/restart"]);
     assert_eq!(kept.len() + excluded.len(), 12, "{kept:?} {excluded:?}");
-    let warnings = rows(&out.join("warnings.csv"));
+    let warnings = common::csv_rows(&out.join("warnings.csv"));
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert_eq!(
         (warnings[0]["page"].as_str(), warnings[0]["reason"].as_str(), warnings[0]["line"].as_str()),
@@ -138,7 +125,7 @@ fn every_bad_page_is_excluded_with_its_reason_and_line() {
     assert!(!fs::read_to_string(out.join("materials.csv")).unwrap().contains("etc/hostname,"));
     // The study's stricter rule drops the page that starts at 450 nm.
     ok(&nklut(db.path(), &out, &["ingest", "--visible", "full"]));
-    let full = rows(&out.join("excluded.csv"));
+    let full = common::csv_rows(&out.join("excluded.csv"));
     assert!(full.iter().any(|r| r["page"] == "h/X/from450" && r["reason"] == "no-visible-coverage"), "{full:?}");
 }
 
@@ -164,11 +151,11 @@ fn channel_wavelengths_reach_every_table() {
     }
     // good.yml at 650 nm: t = 0.5 between 0.50 and 0.80 µm → n 2.5, k 3.5; 450 nm: t = 0.75
     // between 0.30 and 0.50 µm → n 1.75, k 2.75.
-    let material = &rows(&out.join("materials.csv"))[0];
+    let material = &common::csv_rows(&out.join("materials.csv"))[0];
     assert_eq!((material["n_red"].as_str(), material["k_red"].as_str()), ("2.5", "3.5"));
     assert_eq!((material["n_blue"].as_str(), material["k_blue"].as_str()), ("1.75", "2.75"));
     let wavelengths: std::collections::BTreeSet<String> =
-        rows(&out.join("errors.csv")).into_iter().map(|r| r["wavelength_nm"].clone()).collect();
+        common::csv_rows(&out.join("errors.csv")).into_iter().map(|r| r["wavelength_nm"].clone()).collect();
     assert_eq!(wavelengths.into_iter().collect::<Vec<_>>(), ["450", "550", "650"]);
     let columns = fs::read_to_string(out.join("colors.columns.json")).unwrap();
     assert!(columns.contains("[650.0, 550.0, 450.0]"), "{columns}");
@@ -197,7 +184,7 @@ fn flags_are_checked_and_outputs_hold_no_nan() {
     assert!(!out.join("errors.csv").exists());
     failed(&nklut(db.path(), &out, &["validate", "--page", "h/X/good", "--nk", "1.5,0;1.5,0;1.5,0"]));
     ok(&nklut(db.path(), &out, &["validate", "--nk", "0.2,3.5;0.5,2.4;1.3,1.9", "--method", "schlick_nk", "--method", "schlick_nk"]));
-    assert_eq!(rows(&out.join("errors.csv")).len(), 6);
+    assert_eq!(common::csv_rows(&out.join("errors.csv")).len(), 6);
     // Every table of every command over the whole fixture is free of NaN and infinity.
     for command in ["ingest", "colors", "validate", "bake"] {
         ok(&nklut(db.path(), &out, &[command]));
@@ -211,7 +198,7 @@ fn flags_are_checked_and_outputs_hold_no_nan() {
 fn a_closed_pipe_ends_the_program_quietly() {
     let db = hostile();
     let out = db.path().join("out");
-    let mut child = Command::new(binary())
+    let mut child = Command::new(common::binary())
         .arg("--db")
         .arg(db.path())
         .arg("--out")
@@ -252,7 +239,7 @@ fn a_killed_ingest_leaves_one_complete_set() {
     assert!(a.iter().zip(&b).all(|(x, y)| x.1 != y.1), "the two runs must differ in every table");
     for step in ["staged", "switched", "linked"] {
         ok(&nklut(db.path(), &out, &a_args));
-        let killed = Command::new(binary())
+        let killed = Command::new(common::binary())
             .env("NKLUT_CRASH_AT", step)
             .arg("--db")
             .arg(db.path())
@@ -274,7 +261,7 @@ fn a_killed_ingest_leaves_one_complete_set() {
     // Kills at arbitrary moments: the folder always holds run A or run B whole.
     for delay_ms in [0u64, 2, 5, 10, 20, 40] {
         ok(&nklut(db.path(), &out, &a_args));
-        let mut child = Command::new(binary())
+        let mut child = Command::new(common::binary())
             .arg("--db")
             .arg(db.path())
             .arg("--out")
@@ -334,7 +321,7 @@ fn the_extrapolated_share_is_recorded_in_colors_and_the_manifest() {
     // from450.yml covers 450–750 nm: held below 450 nm and above 750 nm (D65's ȳ weight
     // beyond 750 nm is about 1e-4 of the total).
     let expected = luminance_share_below(450.0) + (1.0 - luminance_share_below(751.0));
-    let colors: f64 = rows(&out.join("colors.csv"))[0]["extrapolated_share"].parse().unwrap();
+    let colors: f64 = common::csv_rows(&out.join("colors.csv"))[0]["extrapolated_share"].parse().unwrap();
     assert!((colors - expected).abs() < 1e-9, "colors.csv {colors} vs {expected}");
     assert!(expected > 1e-3, "{expected}");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(out.join("luts/manifest.json")).unwrap()).unwrap();
@@ -375,7 +362,7 @@ fn catalog_of(pages: &[(&str, &str)]) -> String {
 const GOOD: &[u8] = b"DATA:\n  - type: tabulated nk\n    data: |\n        0.30 1.0 2.0\n        0.50 2.0 3.0\n        0.80 3.0 4.0\n";
 
 fn nklut_bounded(db: &Path, out: &Path, args: &[&str]) -> Output {
-    common::bounded(Command::new(binary()).arg("--db").arg(db).arg("--out").arg(out).args(args), std::time::Duration::from_secs(60))
+    common::bounded(Command::new(common::binary()).arg("--db").arg(db).arg("--out").arg(out).args(args), std::time::Duration::from_secs(60))
 }
 
 /// Exit status 0 or 1: never a panic (101) or a signal.
@@ -386,7 +373,7 @@ fn exit_0_or_1(output: &Output) -> i32 {
 }
 
 fn excluded_reason(out: &Path, page: &str) -> String {
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not in excluded.csv: {excluded:?}"))["reason"].clone()
 }
 
@@ -403,7 +390,7 @@ fn a_table_inside_a_comment_is_not_the_page_s_data() {
     );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    for row in rows(&out.join("materials.csv")) {
+    for row in common::csv_rows(&out.join("materials.csv")) {
         assert_eq!(row["n_green"], "1.5", "{}: the comment's 9.9 was read", row["page"]);
     }
     let printed = nklut(db.path(), &out, &["nk", "h/X/comment", "--nm", "500"]);
@@ -443,7 +430,7 @@ fn special_files_and_links_out_of_the_database_are_refused_without_blocking() {
     assert_eq!(excluded_reason(&out, "h/X/random"), "not-a-regular-file");
     assert_eq!(excluded_reason(&out, "h/X/outside"), "path-outside-database");
     assert_eq!(excluded_reason(&out, "h/X/kmsg"), "path-outside-database");
-    let kept: Vec<String> = rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
+    let kept: Vec<String> = common::csv_rows(&out.join("materials.csv")).into_iter().map(|r| r["page"].clone()).collect();
     assert_eq!(kept, ["h/X/good"]);
 }
 
@@ -455,8 +442,8 @@ fn catalog_entries_that_are_not_pages_are_excluded_not_dropped() {
     let db = fixture(catalog, &[("h/X/good.yml", GOOD)]);
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    let kept = rows(&out.join("materials.csv"));
-    let excluded = rows(&out.join("excluded.csv"));
+    let kept = common::csv_rows(&out.join("materials.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     assert_eq!(kept.len(), 1);
     assert_eq!(kept.len() + excluded.len(), catalog.matches("PAGE:").count(), "{excluded:?}");
     assert!(excluded.iter().all(|r| r["reason"] == "bad-catalog-entry"), "{excluded:?}");
@@ -469,13 +456,14 @@ fn pages_sharing_one_data_file_cost_linear_memory() {
     let listed: Vec<(&str, &str)> = pages.iter().map(|(id, data)| (id.as_str(), *data)).collect();
     let db = fixture(&catalog_of(&listed), &[("h/X/good.yml", GOOD)]);
     let out = db.path().join("out");
-    let (output, peak_kb) = with_peak_memory(Command::new(binary()).arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest"));
+    let (output, peak_kb) =
+        with_peak_memory(Command::new(common::binary()).arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest"));
     ok(&output);
     let materials = fs::metadata(out.join("materials.csv")).unwrap().len();
     // One row of a few hundred bytes per page (296 MB when each listed every other page).
     assert!(materials < 5000 * 1024, "materials.csv holds {materials} bytes");
     assert!(peak_kb < 400 * 1024, "peak resident memory {peak_kb} kB");
-    let first = &rows(&out.join("materials.csv"))[0];
+    let first = &common::csv_rows(&out.join("materials.csv"))[0];
     assert_eq!(first["shared_with"], "h/X/p1; h/X/p2; h/X/p3; h/X/p4; h/X/p5; h/X/p6; h/X/p7; h/X/p8; … and 4991 more");
 }
 
@@ -536,7 +524,7 @@ fn a_formula_range_to_infinity_is_refused() {
     assert_eq!(excluded_reason(&out, "h/X/inf"), "too-few-coefficients");
     assert_eq!(excluded_reason(&out, "h/X/words"), "too-few-coefficients");
     let materials = fs::read_to_string(out.join("materials.csv")).unwrap();
-    assert_eq!(rows(&out.join("materials.csv")).len(), 1);
+    assert_eq!(common::csv_rows(&out.join("materials.csv")).len(), 1);
     assert!(common::non_finite_cells(&materials).is_empty(), "{materials}");
 }
 
@@ -594,7 +582,7 @@ fn concurrent_ingests_into_one_folder_leave_one_whole_set() {
     let expected = ingest_set(&whole);
     for round in 0..10 {
         let spawn = || {
-            Command::new(binary())
+            Command::new(common::binary())
                 .arg("--db")
                 .arg(db.path())
                 .arg("--out")
@@ -627,7 +615,7 @@ fn a_failed_write_leaves_no_generation_behind() {
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest", "--page", "h/X/good"]));
     let before = ingest_set(&out);
-    let mut command = Command::new(binary());
+    let mut command = Command::new(common::binary());
     command.arg("--db").arg(db.path()).arg("--out").arg(&out).arg("ingest");
     // SAFETY: between fork and exec only async-signal-safe calls: setrlimit and signal.
     unsafe {
@@ -671,7 +659,7 @@ fn killed_bakes_and_reports_leave_a_whole_folder() {
         assert!(a != b && !a.is_empty(), "{command}: the two runs must differ");
         for step in ["staged", "switched", "linked"] {
             ok(&nklut(db.path(), &out, &small));
-            let killed = Command::new(binary())
+            let killed = Command::new(common::binary())
                 .env("NKLUT_CRASH_AT", step)
                 .arg("--db")
                 .arg(db.path())

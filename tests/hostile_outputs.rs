@@ -14,17 +14,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
-fn binary() -> PathBuf {
-    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
-}
-
 /// `nklut --db db --out out args…`, given two minutes.
 fn nklut(db: &Path, out: &Path, args: &[&str]) -> Output {
     nklut_with(db, out, args, &[])
 }
 
 fn nklut_with(db: &Path, out: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut command = Command::new(binary());
+    let mut command = Command::new(common::binary());
     command.arg("--db").arg(db).arg("--out").arg(out).args(args);
     for (key, value) in env {
         command.env(key, value);
@@ -92,13 +88,6 @@ fn mkfifo(path: &Path) {
     let name = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
     // SAFETY: mkfifo reads a NUL-terminated path.
     assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0, "mkfifo {}", path.display());
-}
-
-/// Rows of a CSV as maps from column name to cell.
-fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
-    let mut reader = csv::Reader::from_path(path).unwrap();
-    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
 }
 
 /// A folder outside the output folder, holding a file, and what it holds.
@@ -173,45 +162,99 @@ fn planted_lock_link_is_refused_and_its_target_is_untouched() {
     assert!(stderr.contains(&lock.display().to_string()) && stderr.contains("not a regular file"), "{stderr}");
 }
 
+/// An ingested output folder with a scene folder, beside a devices folder with one
+/// adapter: every place the report reads a table from.
+struct ReportInputs {
+    db: tempfile::TempDir,
+    out: PathBuf,
+    devices: PathBuf,
+    adapter: PathBuf,
+}
+
+impl ReportInputs {
+    fn new() -> ReportInputs {
+        let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
+        let out = db.path().join("out");
+        ok(&nklut(db.path(), &out, &["ingest"]));
+        let devices = db.path().join("devices");
+        let adapter = devices.join("adapter");
+        fs::create_dir_all(&adapter).unwrap();
+        fs::create_dir_all(out.join("scene")).unwrap();
+        ReportInputs { db, out, devices, adapter }
+    }
+
+    /// The tables: a device's `gpu_timing.csv` and `image_errors.csv` (read only beside a
+    /// good `gpu_timing.csv`, the second's flag), a scene's `effects_errors.csv`,
+    /// `colors.csv` and `materials.csv`.
+    fn tables(&self) -> [(PathBuf, bool); 5] {
+        [
+            (self.adapter.join("gpu_timing.csv"), false),
+            (self.adapter.join("image_errors.csv"), true),
+            (self.out.join("scene").join("effects_errors.csv"), false),
+            (self.out.join("colors.csv"), false),
+            (self.out.join("materials.csv"), false),
+        ]
+    }
+
+    /// `nklut report --devices …`.
+    fn report(&self) -> Output {
+        nklut(self.db.path(), &self.out, &["report", "--devices", self.devices.to_str().unwrap()])
+    }
+
+    /// The report run with `plant` made at table `input` (what was there put back after).
+    fn report_with(&self, (input, with_timing): &(PathBuf, bool), plant: &Plant) -> Output {
+        if *with_timing {
+            fs::write(self.adapter.join("gpu_timing.csv"), b"material,method,median_ms\nh/X/good,exact,0.5\n").unwrap();
+        }
+        // `materials.csv` is a link into the published set: the plant takes its place.
+        let kept = fs::read(input).ok();
+        let _ = fs::remove_file(input);
+        plant(input);
+        let output = self.report();
+        fs::remove_file(input).unwrap();
+        if let Some(bytes) = kept {
+            fs::write(input, bytes).unwrap();
+        }
+        let _ = fs::remove_file(self.adapter.join("gpu_timing.csv"));
+        output
+    }
+}
+
 /// A report input as an attacker leaves it: a FIFO with no writer, or a link to /dev/zero
 /// (endless); each named file kind of the report is refused by name at once, never read.
 #[test]
 fn report_inputs_that_are_fifos_or_endless_are_refused_by_name() {
-    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
-    let out = db.path().join("out");
-    ok(&nklut(db.path(), &out, &["ingest"]));
-    let devices = db.path().join("devices");
-    let adapter = devices.join("adapter");
-    fs::create_dir_all(&adapter).unwrap();
-    let scene = out.join("scene");
-    fs::create_dir_all(&scene).unwrap();
-    let timing = b"material,method,median_ms\nh/X/good,exact,0.5\n".as_slice();
-    // (the input, whether the device folder's gpu_timing.csv is a good file beside it)
-    let inputs = [
-        (adapter.join("gpu_timing.csv"), false),
-        (adapter.join("image_errors.csv"), true),
-        (scene.join("effects_errors.csv"), false),
-        (out.join("colors.csv"), false),
-    ];
-    for (input, with_timing) in &inputs {
-        for endless in [false, true] {
-            if *with_timing {
-                fs::write(adapter.join("gpu_timing.csv"), timing).unwrap();
-            }
-            if endless {
-                std::os::unix::fs::symlink("/dev/zero", input).unwrap();
-            } else {
-                mkfifo(input);
-            }
-            let stderr = failed(&nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]));
-            assert!(stderr.contains(&input.display().to_string()), "the error does not name {}: {stderr}", input.display());
-            let kind = if endless { "a character device" } else { "a FIFO" };
+    let inputs = ReportInputs::new();
+    for table in &inputs.tables() {
+        let kinds: [(&str, &Plant); 2] =
+            [("a FIFO", &|p| mkfifo(p)), ("a character device", &|p| std::os::unix::fs::symlink("/dev/zero", p).unwrap())];
+        for (kind, plant) in kinds {
+            let stderr = failed(&inputs.report_with(table, plant));
+            assert!(stderr.contains(&table.0.display().to_string()), "the error does not name {}: {stderr}", table.0.display());
             assert!(stderr.contains(kind), "{stderr}");
-            fs::remove_file(input).unwrap();
-            let _ = fs::remove_file(adapter.join("gpu_timing.csv"));
         }
     }
-    ok(&nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]));
+    ok(&inputs.report());
+}
+
+/// A 100 MB table wherever the report reads one: refused naming the file and its 64 MiB
+/// bound, from the size the file states, before a byte of it is read (each file is sparse:
+/// 100 MB stated, nothing stored). Whole, such a table took 1.47 GB and 46 s. The minute's
+/// bound only guards against a hang.
+#[test]
+fn report_tables_of_100_mb_are_refused_by_name_before_they_are_read() {
+    let inputs = ReportInputs::new();
+    for table in &inputs.tables() {
+        let start = std::time::Instant::now();
+        let stderr = failed(&inputs.report_with(table, &|p| fs::File::create(p).unwrap().set_len(100_000_000).unwrap()));
+        assert!(start.elapsed() < Duration::from_secs(60), "{}: {:?}", table.0.display(), start.elapsed());
+        assert!(
+            stderr.contains(&table.0.display().to_string()) && stderr.contains("more than 67108864 bytes"),
+            "{}: {stderr}",
+            table.0.display()
+        );
+    }
+    ok(&inputs.report());
 }
 
 /// Device results that state NaN, negative or 309-digit times, and `*.json` entries that
@@ -219,13 +262,8 @@ fn report_inputs_that_are_fifos_or_endless_are_refused_by_name() {
 /// larger than a result can be: each an error naming the file.
 #[test]
 fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name() {
-    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
-    let out = db.path().join("out");
-    ok(&nklut(db.path(), &out, &["ingest"]));
-    let devices = db.path().join("devices");
-    let adapter = devices.join("adapter");
-    fs::create_dir_all(&adapter).unwrap();
-    let report = |devices: &Path| nklut(db.path(), &out, &["report", "--devices", devices.to_str().unwrap()]);
+    let inputs = ReportInputs::new();
+    let (devices, adapter) = (&inputs.devices, &inputs.adapter);
     for (time, why) in [
         ("NaN", "not a finite number"),
         ("-500", "below 0"),
@@ -234,7 +272,7 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
         ("abc", "not a number"),
     ] {
         fs::write(adapter.join("gpu_timing.csv"), format!("material,method,median_ms\nh/X/good,exact,{time}\n")).unwrap();
-        let stderr = failed(&report(&devices));
+        let stderr = failed(&inputs.report());
         assert!(
             stderr.contains(&adapter.display().to_string()) && stderr.contains("median_ms") && stderr.contains(why),
             "{time}: {stderr}"
@@ -244,11 +282,11 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
     // The runner's list of every sample (`samples_ms`, space-separated): each value checked.
     let samples = |list: &str| format!("material,method,median_ms,samples_ms\nh/X/good,exact,2.5,{list}\n");
     fs::write(adapter.join("gpu_timing.csv"), samples("1.5 2.5 NaN")).unwrap();
-    let stderr = failed(&report(&devices));
+    let stderr = failed(&inputs.report());
     assert!(stderr.contains("samples_ms") && stderr.contains("not a finite number"), "{stderr}");
     fs::write(adapter.join("gpu_timing.csv"), samples("1.5 2.5 3.5")).unwrap();
-    ok(&report(&devices));
-    fs::remove_dir_all(&adapter).unwrap();
+    ok(&inputs.report());
+    fs::remove_dir_all(adapter).unwrap();
     let json = devices.join("browser.json");
     let kinds: [(&str, &Plant); 4] = [
         ("a FIFO", &|p| mkfifo(p)),
@@ -258,12 +296,12 @@ fn device_results_with_impossible_times_or_odd_json_entries_are_refused_by_name(
     ];
     for (kind, make) in kinds {
         make(&json);
-        let stderr = failed(&report(&devices));
+        let stderr = failed(&inputs.report());
         assert!(stderr.contains(&json.display().to_string()) && stderr.contains(kind), "{kind}: {stderr}");
         let _ = fs::remove_file(&json).or_else(|_| fs::remove_dir(&json));
     }
     fs::write(&json, vec![b' '; (16 << 20) + 1]).unwrap();
-    let stderr = failed(&report(&devices));
+    let stderr = failed(&inputs.report());
     assert!(stderr.contains(&json.display().to_string()) && stderr.contains("16777216 bytes"), "{stderr}");
 }
 
@@ -284,14 +322,14 @@ fn a_wavelength_that_overflows_excludes_its_page_with_a_reason() {
     );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     for page in ["h/X/max", "h/X/huge", "h/X/formula"] {
         let row = excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page} not excluded: {excluded:?}"));
         assert_eq!(row["reason"], "wavelength-out-of-range", "{row:?}");
     }
     let line = excluded.iter().find(|r| r["page"] == "h/X/max").unwrap()["line"].clone();
     assert_eq!(line, "6", "the row's line");
-    let materials = rows(&out.join("materials.csv"));
+    let materials = common::csv_rows(&out.join("materials.csv"));
     assert_eq!(materials.iter().map(|r| r["page"].as_str()).collect::<Vec<_>>(), ["h/X/good"]);
     assert_eq!(materials[0]["lambda_max_nm"], "800");
 }
@@ -446,9 +484,48 @@ fn huge_numbers_in_details_are_written_in_exponent_form() {
     );
     let out = db.path().join("out");
     ok(&nklut(db.path(), &out, &["ingest"]));
-    let excluded = rows(&out.join("excluded.csv"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
     let detail =
         |page: &str| excluded.iter().find(|r| r["page"] == page).unwrap_or_else(|| panic!("{page}: {excluded:?}"))["detail"].clone();
     assert_eq!(detail("h/X/wavelength"), "wavelength -1e308 µm is not positive");
     assert!(detail("h/X/n").contains("-1e308") && !detail("h/X/n").contains(&"0".repeat(100)), "{}", detail("h/X/n"));
+}
+
+/// Text a spreadsheet would take for a formula — a book and page name `=HYPERLINK(…)`, a
+/// shelf `@h` that starts every page id, a page `-2+3`, a page name `+1+2` — is written to
+/// `materials.csv` and `excluded.csv` behind a single quote, and every other cell that
+/// starts with `=`, `+`, `-` or `@` is a finite number; the report reads the ids and names
+/// back without the quote (its page is found, its Markdown shows the name as written).
+#[test]
+fn formula_text_in_tables_is_quoted_and_read_back_without_the_quote() {
+    let name = "=HYPERLINK(\"http://example.invalid\",\"x\")";
+    let root = tempfile::tempdir().unwrap();
+    let catalog = format!(
+        "- SHELF: '@h'\n  content:\n    - BOOK: X\n      name: {name}\n      content:\n        - PAGE: good\n          name: {name}\n          data: h/X/good.yml\n        - PAGE: '-2+3'\n          name: '+1+2'\n          data: h/X/missing.yml\n",
+        name = yaml_string(name)
+    );
+    fs::write(root.path().join("catalog-nk.yml"), catalog).unwrap();
+    fs::create_dir_all(root.path().join("data/h/X")).unwrap();
+    fs::write(root.path().join("data/h/X/good.yml"), GOOD).unwrap();
+    let out = root.path().join("out");
+    ok(&nklut(root.path(), &out, &["ingest"]));
+    for table in ["materials.csv", "excluded.csv"] {
+        for row in common::csv_rows(&out.join(table)) {
+            for (column, cell) in &row {
+                if cell.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+                    assert!(cell.parse::<f64>().is_ok_and(f64::is_finite), "{table} {column}: {cell:?}");
+                }
+            }
+        }
+    }
+    let materials = common::csv_rows(&out.join("materials.csv"));
+    assert_eq!(materials.len(), 1);
+    assert_eq!(materials[0]["page"], "'@h/X/good");
+    assert_eq!(materials[0]["catalog_name"], format!("'{name}"));
+    let excluded = common::csv_rows(&out.join("excluded.csv"));
+    assert_eq!(excluded.iter().map(|r| r["page"].as_str()).collect::<Vec<_>>(), ["'@h/X/-2+3"]);
+    ok(&nklut(root.path(), &out, &["report", "--page", "@h/X/good"]));
+    let markdown = fs::read_to_string(out.join("report/report.md")).unwrap();
+    assert!(markdown.contains("@h/X/good") && !markdown.contains("'@h/X/good"), "{markdown}");
+    assert!(markdown.contains(&format!("| {name} |")), "{markdown}");
 }

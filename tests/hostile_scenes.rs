@@ -6,23 +6,24 @@
 //! with an earlier run's tables.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
 mod common;
 
-fn binary() -> PathBuf {
-    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
+/// `nklut effects` on `scene` text (written to `dir/scene.yaml`) with `flags`, given two
+/// minutes (a hang guard, not a speed target) and a small memory budget where asked.
+fn effects(dir: &Path, scene: &str, flags: &[&str], budget: Option<&str>) -> Output {
+    run(dir, &["effects"], scene, flags, budget)
 }
 
-/// `nklut effects` on `scene` text (written to `dir/scene.yaml`) with `flags`, given a
-/// minute (a hang guard, not a speed target) and a small memory budget where asked.
-fn effects(dir: &Path, scene: &str, flags: &[&str], budget: Option<&str>) -> Output {
+/// `nklut <command…> dir/scene.yaml <flags…>` as [`effects`] runs it.
+fn run(dir: &Path, command_words: &[&str], scene: &str, flags: &[&str], budget: Option<&str>) -> Output {
     let file = dir.join("scene.yaml");
     fs::write(&file, scene).unwrap();
-    let mut command = Command::new(binary());
-    command.arg("--db").arg(common::database_dir()).arg("--out").arg(dir.join("out")).arg("effects").arg(&file).args(flags);
+    let mut command = Command::new(common::binary());
+    command.arg("--db").arg(common::database_dir()).arg("--out").arg(dir.join("out")).args(command_words).arg(&file).args(flags);
     if let Some(budget) = budget {
         command.env("NKLUT_MEMORY_BUDGET", budget);
     }
@@ -31,7 +32,7 @@ fn effects(dir: &Path, scene: &str, flags: &[&str], budget: Option<&str>) -> Out
     while child.try_wait().unwrap().is_none() {
         if start.elapsed() > Duration::from_secs(120) {
             let _ = child.kill();
-            panic!("effects still running after two minutes: {scene}");
+            panic!("{command_words:?} still running after two minutes: {scene}");
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -145,7 +146,7 @@ fn effects_tables_and_frames_are_one_set() {
     assert!(!frames(&dir).iter().any(|f| f.contains("schlick")), "frames of a method the scene no longer names: {:?}", frames(&dir));
     let before = (fs::read(dir.join("out/effects_errors.csv")).unwrap(), frames(&dir));
     fs::write(dir.join("scene.yaml"), scene("exact, lazanyi")).unwrap();
-    let killed = Command::new(binary())
+    let killed = Command::new(common::binary())
         .env("NKLUT_CRASH_AT", "staged")
         .arg("--db")
         .arg(common::database_dir())
@@ -196,4 +197,67 @@ fn small_bounds_are_stated_as_they_are_checked() {
     let sphere = ao_scene("{ mesh: sphere, diffuse: [0.5, 0.5, 0.5] }");
     let stderr = refused(&effects(dir.path(), &sphere, &["--ao-max-brute", "18446744073709551615"], None), "--ao-max-brute");
     assert!(stderr.contains("must lie in 0..=131072"), "{stderr}");
+}
+
+/// An OBJ grid of `cells` × `cells` squares, two triangles each, in the plane z = 0.
+fn grid_obj(cells: usize) -> String {
+    let mut text = String::new();
+    for j in 0..=cells {
+        for i in 0..=cells {
+            text.push_str(&format!("v {i} {j} 0\n"));
+        }
+    }
+    for j in 0..cells {
+        for i in 0..cells {
+            let a = j * (cells + 1) + i + 1;
+            let c = a + cells + 1;
+            text.push_str(&format!("f {a} {} {}\nf {a} {} {c}\n", a + 1, c + 1, c + 1));
+        }
+    }
+    text
+}
+
+/// Meshes read from OBJ files count as geometry in every command, the browser bench
+/// (`gpu web`, which needs no adapter) as `effects`: a 20 000-triangle grid (0.5 MB of
+/// text) is refused under an 8 MiB budget, naming the file and its triangles at 512 bytes
+/// each (10.24 MB), counted on the text before it is parsed; two 5 000-triangle grids that
+/// fit one at a time (2.56 MB each) are refused together under 4 MiB (5.12 MB), naming the
+/// object that passes it. Under the default budget both scenes are accepted.
+#[test]
+fn meshes_from_files_count_against_the_budget_in_every_command() {
+    let dir = common::scratch("obj-geometry");
+    fs::write(dir.join("big.obj"), grid_obj(100)).unwrap();
+    fs::write(dir.join("half.obj"), grid_obj(50)).unwrap();
+    fs::write(dir.join("other.obj"), grid_obj(50)).unwrap();
+    let one = "resolution: [8, 8]\ncamera: { frames: 1 }\nmeasurements: [image_error]\nobjects:\n  - { mesh: big.obj, material: 3d/metals/gold, methods: [exact] }\n";
+    let two = "resolution: [8, 8]\ncamera: { frames: 1 }\nmeasurements: [image_error]\nobjects:\n  - { mesh: half.obj, material: 3d/metals/gold, methods: [exact] }\n  - { mesh: other.obj, material: 3d/metals/gold, methods: [exact] }\n";
+    let traced = |scene: &str| {
+        scene.replace(
+            "measurements: [image_error]",
+            "measurements: [image_error]\neffects: { reflection: { max_depth: 1 }, distance_maps: { size: 8, layers: 2 } }",
+        )
+    };
+    let mut commands: Vec<&[&str]> = vec![&["effects"][..]];
+    if cfg!(feature = "gpu") {
+        commands.push(&["gpu", "web"][..]);
+    }
+    for command in commands {
+        let cpu = command[0] == "effects";
+        let scene = |text: &str| if cpu { traced(text) } else { text.to_string() };
+        let flags: &[&str] = if cpu { &["--hero-size", "0"] } else { &[] };
+        let stderr = refused(&run(&dir, command, &scene(one), flags, Some("8M")), "big.obj");
+        assert!(
+            stderr.contains("its 20000 triangles") && stderr.contains("would take about 10 MB, more than the memory budget of 8 MB"),
+            "{command:?}: {stderr}"
+        );
+        let stderr = refused(&run(&dir, command, &scene(two), flags, Some("4M")), "objects[1]");
+        assert!(
+            stderr.contains(
+                "the geometry of objects 0–1 (10000 triangles, other the last) would take about 5 MB, more than the memory budget of 4 MB"
+            ),
+            "{command:?}: {stderr}"
+        );
+        succeeded(&run(&dir, command, &scene(one), flags, None));
+        succeeded(&run(&dir, command, &scene(two), flags, None));
+    }
 }

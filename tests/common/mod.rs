@@ -1,7 +1,7 @@
-//! Helpers shared by the integration tests: the database they read, scratch folders that
-//! remove themselves, the scan for non-finite numbers in written tables, the runs of the
-//! browser client scripts under tests/clients/ (node, puppeteer-core, Chromium), and the GPU
-//! tests' device (`gpu`).
+//! Helpers shared by the integration tests: the binary under test, the database they read,
+//! scratch folders that remove themselves, a CSV's rows by column, the scan for non-finite
+//! numbers in written tables, the runs of the browser client scripts under tests/clients/
+//! (node, puppeteer-core, Chromium), and the GPU tests' device (`gpu`).
 
 #![allow(dead_code)] // each test binary uses a part
 
@@ -158,6 +158,19 @@ pub fn run_client_script<'a>(script: &str, args: impl IntoIterator<Item = &'a Os
 pub fn read_json(path: &Path) -> Result<Value, String> {
     let bytes = fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
     serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The binary under test: this build's, or `NKLUT_TEST_BIN` (another build, e.g. the
+/// previous release, to see a test fail before its fix).
+pub fn binary() -> PathBuf {
+    std::env::var_os("NKLUT_TEST_BIN").map(Into::into).unwrap_or_else(|| env!("CARGO_BIN_EXE_nklut").into())
+}
+
+/// Rows of a CSV file as maps from column name to cell, as the csv crate reads them.
+pub fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let mut reader = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    reader.records().map(|r| header.iter().cloned().zip(r.unwrap().iter().map(String::from)).collect()).collect()
 }
 
 /// The output of a command given `limit` to finish: a run past it is killed and the test

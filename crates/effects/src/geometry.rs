@@ -33,6 +33,7 @@ use obvhs::BvhBuildParams;
 use super::packet::{Corners, Packet, PacketTree, RayMask, PACKET_RAYS};
 use crate::scene::mesh::{widen, Mesh};
 pub use crate::scene::mesh::{GeometryError, MAX_CORNER};
+use nklut_pipeline::budget::{MemoryBudget, TooLarge};
 
 /// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
 /// metres) are the surface the ray leaves, not a new one.
@@ -259,6 +260,19 @@ pub const BYTES_PER_TRACED_TRIANGLE: usize = 512;
 /// ([`BYTES_PER_TRACED_TRIANGLE`] each), for the memory budget's check before it is built.
 pub fn traced_bytes(triangles: u128) -> u128 {
     triangles.saturating_mul(BYTES_PER_TRACED_TRIANGLE as u128)
+}
+
+/// Check that the meshes of a scene loaded so far, up to `objects[object]` (`triangles` in
+/// all, `label` the last one's mesh), fit `budget` at [`traced_bytes`]: the one geometry
+/// check of every path that loads a scene's meshes, before what it builds of them (the
+/// traced stage; the GPU runner's and the browser bench's raster meshes, which hold less:
+/// no f64 triangles and no BVH).
+pub fn check_loaded(budget: &MemoryBudget, object: usize, triangles: u128, label: &str) -> Result<(), TooLarge> {
+    budget.check(
+        &format!("objects[{object}]"),
+        format!("the geometry of objects 0–{object} ({triangles} triangles, {label} the last)"),
+        traced_bytes(triangles),
+    )
 }
 
 /// Triangles per leaf of the packets' binary BVH.

@@ -94,13 +94,7 @@ impl Stage {
             // The geometry so far, this mesh's triangles included, before its copy, the
             // triangles and the BVH are built.
             triangles += loaded.triangles() as u128;
-            budget
-                .check(
-                    &format!("objects[{i}]"),
-                    format!("the geometry of objects 0–{i} ({triangles} triangles, {} the last)", object.mesh.label()),
-                    super::geometry::traced_bytes(triangles),
-                )
-                .map_err(|e| named(SceneProblem::Memory(e)))?;
+            super::geometry::check_loaded(&budget, i, triangles, &object.mesh.label()).map_err(|e| named(SceneProblem::Memory(e)))?;
             meshes.push(loaded.placed(&object.placement));
             objects.push(match &object.role {
                 Role::Specular(s) => ObjectOptics::Specular(

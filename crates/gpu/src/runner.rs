@@ -434,11 +434,16 @@ fn run_image_error(
     ));
     let mut meshes: HashMap<MeshSource, GpuMesh> = HashMap::new();
     let mut rows = Vec::new();
+    let (budget, mut triangles) = (nklut_pipeline::budget::MemoryBudget::of_machine(), 0u128);
     for (i, object) in scene.objects.iter().enumerate() {
         let Some(specular) = object.specular() else { continue };
         if !meshes.contains_key(&object.mesh) {
             let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p))
                 .map_err(|error| SceneError::new(&scene.file, SceneProblem::Mesh { object: i, error }))?;
+            // The meshes held so far, this one included, before it is uploaded.
+            triangles += mesh.triangles() as u128;
+            nklut_effects::geometry::check_loaded(&budget, i, triangles, &object.mesh.label())
+                .map_err(|e| SceneError::new(&scene.file, SceneProblem::Memory(e)))?;
             log(&format!("  mesh {}: {} triangles", object.mesh.label(), mesh.triangles()));
             meshes.insert(object.mesh.clone(), upload_mesh(gpu, &mesh));
         }

@@ -273,6 +273,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
             .map(|i| base64(bytemuck::bytes_of(&ViewUniform::camera(&camera::frame(&scene.camera, i, width, height), width, height))))
             .collect();
         let mut objects = Vec::new();
+        let (budget, mut triangles) = (nklut_pipeline::budget::MemoryBudget::of_machine(), 0u128);
         for (i, object) in scene.objects.iter().enumerate() {
             let Some(specular) = object.specular() else { continue };
             let mesh_index = match meshes.iter().position(|(source, _)| *source == object.mesh) {
@@ -280,6 +281,10 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
                 None => {
                     let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p))
                         .map_err(|error| SceneError::new(&scene.file, SceneProblem::Mesh { object: i, error }))?;
+                    // The meshes embedded so far, this one included, before its copies.
+                    triangles += mesh.triangles() as u128;
+                    nklut_effects::geometry::check_loaded(&budget, i, triangles, &object.mesh.label())
+                        .map_err(|e| SceneError::new(&scene.file, SceneProblem::Memory(e)))?;
                     meshes.push((
                         object.mesh.clone(),
                         MeshPlan {

@@ -6,6 +6,14 @@
 //! start Markdown or HTML syntax, or make an XML file that a conforming parser rejects
 //! (XML 1.0 §2.2 `Char` excludes C0 controls other than tab, LF and CR, and U+FFFE/U+FFFF).
 //!
+//! A CSV cell of text that a spreadsheet would read as a formula — one that starts with
+//! `=`, `+`, `-`, `@`, a tab or a carriage return (OWASP, "CSV Injection") — is written with
+//! a single quote before it, which spreadsheets show as text; a cell that reads as a finite
+//! number (`-0.5`, `+3`, `-1e308`) is a number, not a formula, and is written as it is.
+//! A cell of text that starts with quotes followed by such a character gets one quote
+//! more, so the rule reverses exactly: [`csv_text`] takes the quote away again (the
+//! report reads nklut's own tables through it).
+//!
 //! A character that must not reach a terminal or a table is written as `\u{…}` (its
 //! code point in hex, as Rust writes it): a reader sees that something was there and what.
 //! The characters escaped that way are the Unicode controls (C0, DEL, C1) and the
@@ -39,14 +47,38 @@ pub fn terminal(text: &str) -> String {
     out
 }
 
+/// The first characters that make a spreadsheet read a cell as a formula (OWASP, "CSV
+/// Injection"). Tab and carriage return never start a cell [`csv`] writes (they are
+/// written as `\u{…}`); they are listed for the rule's sake.
+pub const FORMULA_STARTS: [char; 6] = ['=', '+', '-', '@', '\t', '\r'];
+
+/// Whether a spreadsheet would read `cell` as a formula, or `cell` is such a cell behind
+/// quotes: after its leading single quotes it starts with one of [`FORMULA_STARTS`], and it
+/// is not a finite number.
+fn formula_like(cell: &str) -> bool {
+    cell.trim_start_matches('\'').starts_with(FORMULA_STARTS) && !cell.parse::<f64>().is_ok_and(f64::is_finite)
+}
+
 /// Text for a CSV cell: the same characters replaced as for a terminal (so a record is one
-/// line and a table opened in a terminal is safe to show); the CSV writer then quotes the
-/// cell where commas or quotes need it. Borrowed when nothing is replaced (most cells).
+/// line and a table opened in a terminal is safe to show), then a single quote before text
+/// a spreadsheet would read as a formula (see the module's notes); the CSV writer then
+/// quotes the cell where commas or quotes need it. Borrowed when nothing is replaced (most
+/// cells).
 pub fn csv(text: &str) -> std::borrow::Cow<'_, str> {
-    if text.chars().any(hidden) {
-        std::borrow::Cow::Owned(terminal(text))
+    let shown = if text.chars().any(hidden) { std::borrow::Cow::Owned(terminal(text)) } else { std::borrow::Cow::Borrowed(text) };
+    if formula_like(&shown) {
+        std::borrow::Cow::Owned(format!("'{shown}"))
     } else {
-        std::borrow::Cow::Borrowed(text)
+        shown
+    }
+}
+
+/// The text of a CSV cell [`csv`] wrote, its formula quote taken away: the inverse of
+/// [`csv`] on every text without control or reordering characters. Borrowed always.
+pub fn csv_text(cell: &str) -> &str {
+    match cell.strip_prefix('\'') {
+        Some(rest) if formula_like(rest) => rest,
+        _ => cell,
     }
 }
 
@@ -115,6 +147,23 @@ mod tests {
         assert_eq!(terminal("r\u{202E}l\u{9b}"), "r\\u{202e}l\\u{9b}");
         assert_eq!(terminal("main/Au/Johnson é"), "main/Au/Johnson é");
         assert_eq!(csv("a\nb,c"), "a\\u{a}b,c");
+        // Formulas behind a quote, numbers as they are; `'=` gets one quote more.
+        assert_eq!(csv("=HYPERLINK(\"http://x\")"), "'=HYPERLINK(\"http://x\")");
+        assert_eq!(csv("+1+2"), "'+1+2");
+        assert_eq!(csv("@SUM(A1)"), "'@SUM(A1)");
+        assert_eq!(csv("-cmd|' /C calc'!A0"), "'-cmd|' /C calc'!A0");
+        assert_eq!(csv("\tx"), "\\u{9}x");
+        assert_eq!(csv("'=x"), "''=x");
+        assert_eq!(csv("''x"), "''x");
+        for number in ["-0.5", "+3", "-1e308", "-0", "1e-9"] {
+            assert_eq!(csv(number), number);
+        }
+        assert_eq!(csv("-inf"), "'-inf");
+        assert_eq!(csv("-"), "'-");
+        assert_eq!(csv_text("'=x"), "=x");
+        assert_eq!(csv_text("''=x"), "'=x");
+        assert_eq!(csv_text("'x"), "'x");
+        assert_eq!(csv_text("'-1"), "'-1");
         assert_eq!(markdown("x\n# h"), "x\\\\u{a}# h");
         assert_eq!(markdown("<b>|[a](b)`\\"), "&lt;b&gt;\\|\\[a\\](b)`\\\\");
         assert_eq!(xml("a<\"'&>\u{FFFE}\u{FFFF}\u{1}\u{85}z"), "a&lt;&quot;&apos;&amp;&gt;\u{FFFD}\u{FFFD}  z");
@@ -153,6 +202,26 @@ mod tests {
             let record = reader.records().next().unwrap().unwrap();
             prop_assert_eq!(&record[0], &*cell);
             prop_assert_eq!(&record[1], "end");
+        }
+
+        /// No CSV cell starts with a formula character unless it is a finite number; the
+        /// quote comes off again exactly ([`csv_text`]) for every text without hidden
+        /// characters; a number written as text stays the same text and still parses.
+        #[test]
+        fn csv_cells_start_no_formula_and_read_back(text in any::<String>(), start in proptest::sample::select(&FORMULA_STARTS[..]), quotes in 0usize..3, x in any::<f64>()) {
+            for text in [text.clone(), format!("{start}{text}"), format!("{}{start}{text}", "'".repeat(quotes))] {
+                let cell = csv(&text);
+                let starts_formula = cell.starts_with(FORMULA_STARTS);
+                prop_assert!(!starts_formula || cell.parse::<f64>().is_ok_and(f64::is_finite), "{cell:?}");
+                if !text.chars().any(hidden) {
+                    prop_assert_eq!(csv_text(&cell), text.as_str());
+                }
+            }
+            if x.is_finite() {
+                let number = x.to_string();
+                prop_assert_eq!(&*csv(&number), number.as_str());
+                prop_assert_eq!(csv(&number).parse::<f64>().unwrap(), x);
+            }
         }
 
         /// Markdown text holds no line break, no raw `<`, `>` and no unescaped `|`, `[` or

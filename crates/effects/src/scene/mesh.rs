@@ -221,6 +221,16 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     let mut bytes = Vec::new();
     let length = nklut_optics::db::file::read_opened(opened, MAX_OBJ_BYTES, &mut bytes).map_err(|e| error(MeshProblem::Unreadable(e)))?;
     bytes.truncate(length);
+    // The triangles its faces make, counted on the text before tobj parses it (its face
+    // list alone takes about 100 bytes a face): the scene geometry's estimate per triangle.
+    let triangles = obj_triangles(&bytes);
+    nklut_pipeline::budget::MemoryBudget::of_machine()
+        .check(
+            "mesh",
+            format!("its {triangles} triangles (the scene geometry's estimate, BVH included)"),
+            crate::geometry::traced_bytes(triangles),
+        )
+        .map_err(|e| error(MeshProblem::Memory(e)))?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials are not read (a scene names its own).
     let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
@@ -256,6 +266,43 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
         mesh.normals = smooth_normals(&mesh.positions, &mesh.indices);
     }
     Ok(mesh)
+}
+
+/// The triangles the faces of an OBJ text make as tobj reads them triangulated: each
+/// line whose first word is `f` or `l` (words split at Unicode white space, as tobj splits
+/// them) with k corners makes k − 2 triangles, a point or a line (1 or 2 corners) one
+/// degenerate triangle. Text past the first byte that is not UTF-8 is not counted (tobj stops there).
+pub fn obj_triangles(bytes: &[u8]) -> u128 {
+    let valid = match std::str::from_utf8(bytes) {
+        Ok(_) => bytes,
+        Err(e) => &bytes[..e.valid_up_to()],
+    };
+    valid.split(|&b| b == b'\n').map(face_triangles).sum()
+}
+
+/// The triangles of one OBJ line (see [`obj_triangles`]); ASCII lines, nearly all, without
+/// decoding them.
+fn face_triangles(line: &[u8]) -> u128 {
+    let corners = if line.is_ascii() {
+        // The ASCII characters Unicode calls white space (vertical tab included).
+        let space = |b: &u8| matches!(b, b' ' | b'\t' | b'\n' | b'\x0B' | b'\x0C' | b'\r');
+        let mut words = line.split(space).filter(|word| !word.is_empty());
+        if !matches!(words.next(), Some(b"f" | b"l")) {
+            return 0;
+        }
+        words.count()
+    } else {
+        let mut words = std::str::from_utf8(line).unwrap_or_default().split_whitespace();
+        if !matches!(words.next(), Some("f" | "l")) {
+            return 0;
+        }
+        words.count()
+    } as u128;
+    match corners {
+        0 => 0,
+        1 | 2 => 1,
+        k => k - 2,
+    }
 }
 
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
@@ -455,5 +502,38 @@ mod tests {
         let missing = load_obj(&dir.join("missing.obj")).unwrap_err();
         assert!(matches!(missing.problem, MeshProblem::Unreadable(FileProblem::Io(_))), "{missing}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The count before parsing is the count tobj's triangulation gives: a triangle 1, a
+    /// quad 2, a pentagon 3 (a fan), a point and a line one degenerate triangle each; a
+    /// face word after a tab, an ideographic space (U+3000, white space to tobj too) or at
+    /// a CRLF line; comments, `fo` words and other records none.
+    #[test]
+    fn faces_are_counted_as_tobj_triangulates_them() {
+        let vertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 2 1\n";
+        let cases = [
+            ("f 1 2 3\n", 1),
+            ("f 1 2 3 4\n", 2),
+            ("f 1 2 3 4 5\n", 3),
+            ("f 1 2 3\r\nf\t1 3 4\r\n", 2),
+            ("f\u{3000}1 2 3 4\n", 2),
+            ("f 1 2 3\nl 1 2\nf 1 2 3\n", 3),
+            ("# f 1 2 3\nfo 1 2 3\nvn 0 0 1\nf 1//1 2//1 3//1 4//1 5//1\n", 3),
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("faces.obj");
+        for (faces, triangles) in cases {
+            let text = format!("{vertices}{faces}");
+            assert_eq!(obj_triangles(text.as_bytes()), triangles, "{faces:?}");
+            // tobj's own count agrees wherever it reads the file.
+            std::fs::write(&file, &text).unwrap();
+            if let Ok(mesh) = load_obj(&file) {
+                assert_eq!(mesh.triangles() as u128, triangles, "{faces:?}");
+            }
+        }
+        // Past a byte that is not UTF-8 nothing is counted: tobj stops reading there.
+        let mut broken = b"f 1 2 3\nf 1 2 3\n".to_vec();
+        broken.extend_from_slice(b"\xff\nf 1 2 3\n");
+        assert_eq!(obj_triangles(&broken), 2);
     }
 }

@@ -1,5 +1,7 @@
 //! The report reads the tables the other stages wrote (CSV), so every number it shows
-//! is the number in a file a user can open.
+//! is the number in a file a user can open. A text cell's formula quote (the single quote
+//! before text a spreadsheet would take for a formula, `crate::escape::csv`) is taken away
+//! as the cell is read.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -22,9 +24,10 @@ pub struct Record<'a> {
 }
 
 impl<'a> Record<'a> {
-    /// The text of `column` ("" when the file has no such column).
+    /// The text of `column` ("" when the file has no such column), its formula quote taken
+    /// away ([`crate::escape::csv_text`]).
     pub fn text(&self, column: &str) -> &'a str {
-        self.index.get(column).and_then(|&i| self.record.get(i)).unwrap_or("")
+        self.index.get(column).and_then(|&i| self.record.get(i)).map_or("", crate::escape::csv_text)
     }
 }
 
@@ -47,7 +50,10 @@ impl CsvTable {
     pub fn parse(bytes: &[u8]) -> Result<Self> {
         let mut reader = csv::Reader::from_reader(bytes);
         let headers: Vec<String> = reader.headers()?.iter().map(str::to_string).collect();
-        let rows = reader.records().map(|r| r.map(|r| r.iter().map(str::to_string).collect())).collect::<Result<Vec<Vec<String>>, _>>()?;
+        let rows = reader
+            .records()
+            .map(|r| r.map(|r| r.iter().map(|cell| crate::escape::csv_text(cell).to_string()).collect()))
+            .collect::<Result<Vec<Vec<String>>, _>>()?;
         let index = headers.iter().enumerate().map(|(i, h)| (h.clone(), i)).collect();
         Ok(Self { headers, rows, index })
     }
@@ -75,7 +81,7 @@ impl CsvTable {
                     return Err(csv::Error::from(std::io::Error::other("a record of another length")));
                 }
                 if keep(&Record { record: &record, index: &all_index }) {
-                    rows.push(picked.iter().map(|&i| record.get(i).unwrap_or("").to_string()).collect());
+                    rows.push(picked.iter().map(|&i| record.get(i).map_or("", crate::escape::csv_text).to_string()).collect());
                 }
             }
             Ok(rows)
@@ -189,6 +195,15 @@ fn record_pieces(bytes: &[u8], start: usize, pieces: usize) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn formula_quotes_come_off_as_cells_are_read() {
+        let text = "page,x\n'=1+2,-0.5\n''@a,'-1\n";
+        let table = CsvTable::parse(text.as_bytes()).unwrap();
+        assert_eq!(table.rows, [["=1+2", "-0.5"], ["'@a", "'-1"]]);
+        let some = CsvTable::parse_selected(text.as_bytes(), &["page"], &|r| r.text("page") == "=1+2").unwrap();
+        assert_eq!(some.rows, [["=1+2"]]);
+    }
 
     #[test]
     fn reads_quoted_fields_and_numbers() {

@@ -67,6 +67,14 @@ pub fn shown_error_row(method: &str, variant: &str) -> bool {
 /// a device's `gpu_timing.csv`: kilobytes to a few megabytes).
 pub const MAX_SCENE_TABLE_BYTES: u64 = 64 << 20;
 
+/// The most bytes read from a stage's table other than `errors.csv` (`materials.csv`,
+/// `excluded.csv`, `colors.csv`, `cost.csv`, `gpu_timing.csv`, `warnings.csv`): each is held
+/// whole, and of the whole database the largest, `colors.csv`, is 1.8 MB (2 869 pages), so
+/// 64 MiB leaves room for a database 35 times larger. A larger file is refused by name
+/// from its stated size, before a byte is read. `errors.csv` (0.14 GB of the whole database)
+/// is read up to [`MAX_TABLE_BYTES`], keeping only the rows and columns shown.
+pub const MAX_STAGE_TABLE_BYTES: u64 = 64 << 20;
+
 /// The tables the report reads.
 pub struct Inputs {
     pub materials: CsvTable,
@@ -115,8 +123,9 @@ impl Inputs {
     /// Load from an output folder. `materials.csv` and `excluded.csv` are required, and the
     /// channel wavelengths of every table that records them must agree.
     pub fn load(out: &Path) -> Result<Self> {
+        let stage = |name: &str| CsvTable::load_bounded(&out.join(name), MAX_STAGE_TABLE_BYTES);
         let required = |name: &str| -> Result<CsvTable> {
-            match CsvTable::load(&out.join(name))? {
+            match stage(name)? {
                 Some(t) => Ok(t),
                 None => bail!("{} is missing: run `nklut ingest` first", out.join(name).display()),
             }
@@ -151,11 +160,11 @@ impl Inputs {
         Ok(Self {
             materials,
             excluded: required("excluded.csv")?,
-            colors: CsvTable::load(&out.join("colors.csv"))?,
+            colors: stage("colors.csv")?,
             errors,
-            cost: CsvTable::load(&out.join("cost.csv"))?,
-            gpu_timing: CsvTable::load(&out.join("gpu_timing.csv"))?,
-            warnings: CsvTable::load(&out.join("warnings.csv"))?,
+            cost: stage("cost.csv")?,
+            gpu_timing: stage("gpu_timing.csv")?,
+            warnings: stage("warnings.csv")?,
             extra,
             written,
             devices,
