@@ -134,7 +134,7 @@ pub fn fresnel_curves(theta_deg: &[f64], curves: &[PlotCurve], channels: &Channe
         for (c, panel) in root.split_evenly((1, 3)).iter().enumerate() {
             let top = curves.iter().flat_map(|s| s.rgb.iter().map(move |v| v[c])).fold(1.0f64, f64::max);
             let caption = format!("{} channel, {} nm", CHANNEL_NAMES[c], wavelengths[c]);
-            let mut chart = theta_chart(panel, Some(&caption), 6, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
+            let mut chart = theta_chart(panel, Some(&caption), 14, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
             for s in curves {
                 line(&mut chart, theta_deg.iter().copied().zip(s.channel(c)).collect(), s.color, s.dashed)?;
             }
