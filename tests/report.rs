@@ -1329,7 +1329,7 @@ fn effects_scenes_come_in_the_readers_order_and_time_on_each_device() {
             .sum::<f64>()
             / pixels;
         assert!(close(y.value, mean), "{}: {} against {mean}", mark.label, y.value);
-        assert!(mark.label.contains("\n") && mark.label.contains("GPU time of the shading pass"), "hover shows the values: {}", mark.label);
+        assert!(mark.label.contains('\n') && mark.label.contains("GPU time of the shading pass"), "hover shows the values: {}", mark.label);
     }
     // Colour by method, shape by depth: 2 fills, 4 marker forms.
     let markers: Vec<&str> = charts[0].split("class=\"marker\"").skip(1).collect();
@@ -1338,7 +1338,7 @@ fn effects_scenes_come_in_the_readers_order_and_time_on_each_device() {
         markers.iter().map(|m| m.split("fill=\"").nth(1).unwrap().split('"').next().unwrap()).collect();
     assert_eq!(fills.len(), 2, "{fills:?}");
     let forms: std::collections::BTreeSet<String> = charts[0]
-        .split("<")
+        .split('<')
         .filter(|e| e.contains("class=\"marker\""))
         .map(|e| {
             let tag = e.split_whitespace().next().unwrap().to_string();

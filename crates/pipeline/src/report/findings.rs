@@ -478,7 +478,11 @@ pub fn ao_finding(scene: &str, path: &str, t: &CsvTable) -> Option<Finding> {
                 total += w;
             }
         }
-        (total > 0.0).then(|| sum / total)
+        if total > 0.0 {
+            Some(sum / total)
+        } else {
+            None
+        }
     };
     let mut configurations: Vec<(&str, &str)> = Vec::new();
     for r in t.rows.iter().filter(|r| !gtao(r)) {
