@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use common::{database_dir, scratch, SPECULAR_SCENE};
-use nklut::recommend::{recommend, Bound, Candidate, TimeUnit, Timing, ENGINE_MODELS};
+use nklut::recommend::{recommend, Bound, Candidate, LutSize, TimeUnit, Timing, ENGINE_MODELS};
 use nklut::report::csvdata::CsvTable;
 
 fn candidate(page: &str, kind: &str, method: &str, from: &str, lut: Option<(usize, &str)>, de_max: f64, rel_max: f64) -> Candidate {
@@ -24,7 +24,7 @@ fn candidate(page: &str, kind: &str, method: &str, from: &str, lut: Option<(usiz
             Some((n, enc)) => format!("lut {n} × {enc}"),
             None => format!("{method} ({from})"),
         },
-        lut: lut.map(|(n, e)| (n, e.to_string())),
+        lut: lut.map(|(n, e)| LutSize::new(n, e)),
         texture_bytes: bytes,
         de2000_mean: de_max / 3.0,
         de2000_max: de_max,
@@ -39,7 +39,7 @@ fn timing(device: &str, method: &str, lut: Option<(usize, &str)>, value: f64) ->
     Timing {
         device: device.into(),
         method: method.into(),
-        lut: lut.map(|(n, e)| (n, e.to_string())),
+        lut: lut.map(|(n, e)| LutSize::new(n, e)),
         value,
         unit: if device == "CPU" { TimeUnit::NsPerEvaluation } else { TimeUnit::MsPerPass },
         ms_per_mpixel: None,
@@ -99,7 +99,7 @@ fn a_conductor_where_only_the_lut_passes_gets_the_lut() {
     let rows = recommend(&conductor(), &cpu(), Bound::default());
     let r = &rows[0];
     let pick = r.pick.as_ref().unwrap();
-    assert_eq!((pick.candidate.method.as_str(), pick.candidate.lut.clone()), ("lut", Some((64, "unorm8-srgb".to_string()))));
+    assert_eq!((pick.candidate.method.as_str(), pick.candidate.lut.clone()), ("lut", Some(LutSize::new(64, "unorm8-srgb"))));
     assert_eq!(pick.candidate.texture_bytes, 192, "64 texels × 3 channels × 1 byte");
     assert_eq!(r.passing, 1);
     assert!(r.runner_up.is_none(), "no other method passes");

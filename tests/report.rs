@@ -302,7 +302,16 @@ exact,3,2.5
         effects.contains("3d/glass/green (object 1, cube): ΔE2000") && effects.contains("3d/glass/green (object 2, cube): ΔE2000"),
         "one chart per object of a material on two objects"
     );
-    assert!(effects.contains("src=\"../gold-in-gold/spectral_frames/depth8-0_effective_delta_e.png\""), "the deepest depth's ΔE map");
+    assert!(
+        effects.contains("src=\"pictures/gold-in-gold/spectral_frames/depth8-0_effective_delta_e.png\""),
+        "the deepest depth's ΔE map, from the report's own copy"
+    );
+    // The spectral scene opens with its finding.
+    assert!(effects.contains("<p class=\"finding\" id=\"finding-spectral-gold-in-gold\">"), "the spectral scene's finding");
+    // Reader's order: the specular tables (top) before the spectral scene, the timing-only
+    // folder last.
+    let at = |id: &str| effects.find(&format!("<h2 id=\"{id}\">")).unwrap_or_else(|| panic!("{id}"));
+    assert!(at("scene-top") < at("scene-gold-in-gold") && at("scene-gold-in-gold") < at("scene-glass-sphere"));
     // laptop-b before phone-a (folder order); schlick: 0.25/1 and median(1, 2)/median(2, 4).
     assert!(effects.contains("<th>laptop-b (× exact)</th><th>phone-a (× exact)</th>"), "device columns");
     assert!(effects.contains("<td>schlick</td><td>0.250</td><td>0.500</td>"), "device ratios");
@@ -701,7 +710,9 @@ fn effects_charts_trace_to_their_rows() {
     let timing = &tables["specular/effects_cpu_timing.csv"];
     let cost = &by_column[&("effects_errors.csv".to_string(), "total_mean_delta_e2000".to_string())];
     for (mark, traced) in cost {
-        let (method, rest) = mark.label.split_once(' ').unwrap();
+        // The hover title: the configuration, then its values on their own lines.
+        let first_line = mark.label.lines().next().unwrap();
+        let (method, rest) = first_line.split_once(' ').unwrap();
         let (depths, steps) = rest.split_once(' ').unwrap();
         let (r, t) = depths.split_once('+').unwrap();
         let (l, s) = steps.split_once('/').unwrap();
@@ -826,7 +837,7 @@ for(const svg of document.querySelectorAll('svg')){const boxes=[];for(const t of
 for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)out.overlaps.push([a[0],b[0]]);}}
 for(const f of document.querySelectorAll('.panels figure')){const b=f.querySelector('figcaption b');out.panels.push({panel:f.dataset.panel||'',label:b?b.textContent.trim():''});}
 for(const i of document.querySelectorAll('img.hero'))out.heroes.push({src:i.getAttribute('src'),width:i.naturalWidth,height:i.naturalHeight});
-for(const s of document.querySelectorAll('span.figure'))out.figures.push({table:s.dataset.table,row:parseInt(s.dataset.row),column:s.dataset.column,text:s.textContent});
+for(const s of document.querySelectorAll('span.figure[data-table]'))out.figures.push({table:s.dataset.table,row:parseInt(s.dataset.row),column:s.dataset.column,text:s.textContent});
 for(const h of document.querySelectorAll('h2[id]'))out.sections.push({id:h.id,top:Math.round(h.getBoundingClientRect().top+window.scrollY)});
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
 
@@ -1168,4 +1179,540 @@ fn material_pages_show_the_caveats_of_pages_whose_data_mislead() {
         "PVP's caveat"
     );
     assert!(!material_html(&out, "3d/metals/gold").contains("Caveat:"), "gold's data do not mislead");
+}
+
+/// A device result for the specular scene of [`effects_report`]: `gpu_timing.csv` (copied
+/// from the committed lavapipe folder) and `effects_timing.csv` with one row per
+/// configuration of `effects_errors.csv` (method, depths, steps, map size, layers) whose
+/// shading time is `1 + the row's place` ms (distinct, hand-set), and a row of a map size
+/// the scene does not have.
+fn write_test_device(out: &Path, name: &str, errors: &CsvTable, map_size: Option<&str>) -> BTreeMap<Vec<String>, f64> {
+    let folder = out.join("devices").join(name);
+    fs::create_dir_all(&folder).unwrap();
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices/lavapipe-llvmpipe-llvm-15.0.6-vulkan/gpu_timing.csv");
+    fs::copy(committed, folder.join("gpu_timing.csv")).unwrap();
+    let mut csv = String::from("adapter,backend,timer,method,effect,reflection_depth,refraction_depth,linear_steps,secant_steps,map_size,layers,cube_maps,resolution,repeats,map_update_ms,shading_ms,shading_spread_ms,frame_ms\n");
+    let mut times = BTreeMap::new();
+    for row in &errors.rows {
+        let configuration: Vec<String> =
+            ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps", "map_size", "layers"]
+                .iter()
+                .map(|c| errors.text(row, c).to_string())
+                .collect();
+        if times.contains_key(&configuration) {
+            continue;
+        }
+        let ms = 1.0 + times.len() as f64;
+        let c = &configuration;
+        let size = map_size.unwrap_or(&c[5]);
+        csv.push_str(&format!(
+            "test GPU,Vulkan,timestamp,{},reflection,{},{},{},{},{size},{},2,64x64,5,2.0,{ms},0.1,{}\n",
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            c[6],
+            ms + 2.0
+        ));
+        times.insert(configuration, ms);
+    }
+    fs::write(folder.join("effects_timing.csv"), csv).unwrap();
+    times
+}
+
+/// The figures of a finding as the page carries them: `data-key` → `data-value`.
+fn finding_figures(html: &str, id: &str) -> BTreeMap<String, f64> {
+    let start = html.find(&format!("id=\"finding-{id}\"")).unwrap_or_else(|| panic!("no finding {id}"));
+    let item = &html[start..start + html[start..].find("</p>").unwrap()];
+    item.split("data-key=\"")
+        .skip(1)
+        .map(|rest| {
+            let key = &rest[..rest.find('"').unwrap()];
+            let value = rest.split("data-value=\"").nth(1).unwrap();
+            (unescape(key), value[..value.find('"').unwrap()].parse().unwrap())
+        })
+        .collect()
+}
+
+/// The effects page answers in the reader's order: the specular scene before the AO scene
+/// (whose name sorts first), each opening with its finding, whose figures are recomputed
+/// here from the CSVs; the total error against time is drawn against the GPU time of each
+/// device that timed the scene's configurations — one chart per device, every point's time
+/// the device's row and its error the pixel-weighted mean of its rows — and the CPU twin's
+/// chart is gone (it is only a fallback); a device that timed other maps gets no chart.
+/// Points are coloured by method (2 colours) and shaped by depth (4 shapes).
+#[test]
+fn effects_scenes_come_in_the_readers_order_and_time_on_each_device() {
+    let out = effects_report("effects-order");
+    let errors = CsvTable::load(&out.join("specular/effects_errors.csv")).unwrap().unwrap();
+    let times = write_test_device(&out, "test-gpu", &errors, None);
+    write_test_device(&out, "other-maps", &errors, Some("512"));
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let html = fs::read_to_string(out.join("report/effects.html")).unwrap();
+    check_well_formed(&html);
+    assert!(html.contains("<meta name=\"viewport\""));
+    let at = |needle: &str| html.find(needle).unwrap_or_else(|| panic!("{needle}"));
+    assert!(at("<h2 id=\"scene-specular\">") < at("<h2 id=\"scene-ao\">"), "specular effects first");
+    // Each scene opens with its finding, right under its heading.
+    for (scene, id) in [("specular", "search-specular"), ("ao", "ao-ao")] {
+        let heading = format!("<h2 id=\"scene-{scene}\">scene {scene}</h2>\n<p class=\"finding\" id=\"finding-{id}\">");
+        assert!(html.contains(&heading), "{heading}");
+    }
+    // The search finding, recomputed.
+    let figures = finding_figures(&html, "search-specular");
+    let column = |name: &str, skip_exact: bool| -> Vec<f64> {
+        errors.rows.iter().filter(|r| !skip_exact || errors.text(r, "method") != "exact").map(|r| errors.number(r, name).unwrap()).collect()
+    };
+    let max = |v: Vec<f64>| v.into_iter().fold(f64::NAN, f64::max);
+    assert_eq!(figures["search:specular:fresnel-max"], max(column("fresnel_mean_delta_e2000", true)));
+    assert_eq!(figures["search:specular:geometry-max"], max(column("geometry_mean_delta_e2000", false)));
+    // The AO finding, recomputed: the surfel-weighted mean error per (technique, passes),
+    // the smallest; its CPU time; GTAO's pixel-weighted per-pixel error beside the surfels'.
+    let ao = CsvTable::load(&out.join("ao/ao_errors.csv")).unwrap().unwrap();
+    let weighted = |rows: &[&Vec<String>], column: &str, weight: &str| {
+        let sum: f64 = rows.iter().map(|r| ao.number(r, column).unwrap() * ao.number(r, weight).unwrap()).sum();
+        sum / rows.iter().map(|r| ao.number(r, weight).unwrap()).sum::<f64>()
+    };
+    let mut groups: BTreeMap<(String, String), Vec<&Vec<String>>> = BTreeMap::new();
+    for row in ao.rows.iter().filter(|r| ao.text(r, "technique") != "gtao") {
+        groups.entry((ao.text(row, "hierarchy").to_string(), ao.text(row, "passes").to_string())).or_default().push(row);
+    }
+    let (best, rows) =
+        groups.iter().min_by(|a, b| weighted(a.1, "mean_error", "surfels").total_cmp(&weighted(b.1, "mean_error", "surfels"))).unwrap();
+    let figures = finding_figures(&html, "ao-ao");
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-12);
+    assert!(close(figures["ao:ao:best"], weighted(rows, "mean_error", "surfels")), "{best:?}: {figures:?}");
+    let cpu: Vec<f64> = rows.iter().map(|r| ao.number(r, "cpu_ms").unwrap()).collect();
+    assert!(close(figures["ao:ao:best-cpu-ms"], cpu.iter().sum::<f64>() / cpu.len() as f64));
+    let gtao: Vec<&Vec<String>> = ao.rows.iter().filter(|r| ao.text(r, "technique") == "gtao").collect();
+    assert!(close(figures["ao:ao:gtao-pixel"], weighted(&gtao, "pixel_mean_error", "pixels")));
+    assert!(close(figures["ao:ao:surfel-pixel"], weighted(rows, "pixel_mean_error", "pixels")));
+    let text = &html[at("id=\"finding-ao-ao\"")..];
+    let technique = if best.0 == "true" { "tree" } else { "brute force" };
+    assert!(text.starts_with(&format!(
+        "id=\"finding-ao-ao\">In ao, surfel ambient occlusion is closest to the ray-traced reference with the {technique} and {} pass(es)",
+        best.1
+    )));
+
+    // The error-against-time charts of the specular scene: one per matching device.
+    let section = &html[at("<h2 id=\"scene-specular\">")..at("<h2 id=\"scene-ao\">")];
+    let charts: Vec<&str> = section.split("<svg class=\"chart cost\"").skip(1).map(|c| &c[..c.find("</svg>").unwrap()]).collect();
+    assert_eq!(charts.len(), 1, "one device timed these configurations");
+    assert!(!section.contains("effects_cpu_timing.csv\" data-x-column"), "no CPU-twin chart where a device timed the scene");
+    assert!(section.contains("GPU time of the shading pass on test gpu (ms), log scale"), "the time axis names the device");
+    let chart_marks = marks(charts[0]);
+    assert_eq!(chart_marks.len(), times.len(), "a point per configuration");
+    for mark in &chart_marks {
+        let x = mark.axis("x").unwrap();
+        assert_eq!((x.table.as_str(), x.column.as_str()), ("devices/test-gpu/effects_timing.csv", "shading_ms"));
+        let y = mark.axis("y").unwrap();
+        let configuration: Vec<String> =
+            ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps", "map_size", "layers"]
+                .iter()
+                .map(|c| errors.text(&errors.rows[y.rows[0]], c).to_string())
+                .collect();
+        assert_eq!(x.value, times[&configuration], "{}", mark.label);
+        let rows: Vec<usize> = (0..errors.rows.len())
+            .filter(|&r| {
+                ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps"]
+                    .iter()
+                    .enumerate()
+                    .all(|(i, c)| errors.text(&errors.rows[r], c) == configuration[i])
+            })
+            .collect();
+        assert_eq!(y.rows, rows, "{}", mark.label);
+        let pixels: f64 = rows.iter().map(|&r| errors.number(&errors.rows[r], "pixels").unwrap()).sum();
+        let mean: f64 = rows
+            .iter()
+            .map(|&r| errors.number(&errors.rows[r], "total_mean_delta_e2000").unwrap() * errors.number(&errors.rows[r], "pixels").unwrap())
+            .sum::<f64>()
+            / pixels;
+        assert!(close(y.value, mean), "{}: {} against {mean}", mark.label, y.value);
+        assert!(mark.label.contains('\n') && mark.label.contains("GPU time of the shading pass"), "hover shows the values: {}", mark.label);
+    }
+    // Colour by method, shape by depth: 2 fills, 4 marker forms.
+    let markers: Vec<&str> = charts[0].split("class=\"marker\"").skip(1).collect();
+    assert_eq!(markers.len(), times.len());
+    let fills: std::collections::BTreeSet<&str> =
+        markers.iter().map(|m| m.split("fill=\"").nth(1).unwrap().split('"').next().unwrap()).collect();
+    assert_eq!(fills.len(), 2, "{fills:?}");
+    let forms: std::collections::BTreeSet<String> = charts[0]
+        .split('<')
+        .filter(|e| e.contains("class=\"marker\""))
+        .map(|e| {
+            let tag = e.split_whitespace().next().unwrap().to_string();
+            let points: Vec<(f64, f64)> = e.split("points=\"").nth(1).map_or(Vec::new(), |p| {
+                p.split('"')
+                    .next()
+                    .unwrap()
+                    .split(' ')
+                    .map(|xy| {
+                        let (x, y) = xy.split_once(',').unwrap();
+                        (x.parse().unwrap(), y.parse().unwrap())
+                    })
+                    .collect()
+            });
+            // A polygon's form: its vertices relative to the first, rounded.
+            let form: Vec<String> = points.iter().map(|(x, y)| format!("{:.0},{:.0}", x - points[0].0, y - points[0].1)).collect();
+            format!("{tag} {}", form.join(" "))
+        })
+        .collect();
+    assert_eq!(forms.len(), 4, "one form per depth: {forms:?}");
+    assert!(section.contains("Pareto front (joined and labelled): "), "the front named");
+}
+
+/// Reads every chart of a page: its texts' boxes (relative to the chart) and sizes, the
+/// texts that leave the chart (clipped) or overlap another, its scales and plotting area,
+/// its points' values, its curves and bars; and every legend's entries with their drawn
+/// style.
+const CRAFT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const out={charts:[],legends:[]};
+for(const svg of document.querySelectorAll('svg')){const sb=svg.getBoundingClientRect();if(sb.width<100||sb.height<60)continue;
+const c={classes:svg.getAttribute('class')||'',xlog:svg.dataset.xScale==='log',ylog:svg.dataset.yScale==='log',plot:(svg.dataset.plot||'').split(' ').filter(s=>s).map(Number),texts:[],clipped:[],overlaps:[],marks:[],curves:svg.querySelectorAll('polyline[stroke-width="2"]').length,bars:[]};
+const boxes=[];for(const t of svg.querySelectorAll('text')){const s=t.textContent.trim();if(!s)continue;const r=t.getBoundingClientRect();
+c.texts.push({text:s,left:r.left-sb.left,right:r.right-sb.left,top:r.top-sb.top,bottom:r.bottom-sb.top,size:parseFloat(getComputedStyle(t).fontSize)});
+if(r.left<sb.left-0.5||r.right>sb.right+0.5||r.top<sb.top-0.5||r.bottom>sb.bottom+0.5)c.clipped.push(s);boxes.push([s,r.left,r.right,r.top,r.bottom]);}
+for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)c.overlaps.push([a[0],b[0]]);}
+for(const m of svg.querySelectorAll('circle.trace'))c.marks.push(m.dataset.y===undefined?null:parseFloat(m.dataset.y));
+for(const b of svg.querySelectorAll('rect.bar'))c.bars.push(parseFloat(b.dataset.share));out.charts.push(c);}
+for(const ul of document.querySelectorAll('ul.legend')){const entries=[];for(const li of ul.querySelectorAll('li')){const s=li.querySelector('svg');if(!s)continue;const e=s.firstElementChild;
+entries.push({name:li.textContent.trim(),style:[e.tagName,e.getAttribute('points')||e.getAttribute('d')||'',e.getAttribute('stroke')||'',e.getAttribute('fill')||'',e.getAttribute('stroke-dasharray')||''].join('|')});}out.legends.push(entries);}
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+#[derive(serde::Deserialize, Debug)]
+struct Craft {
+    charts: Vec<CraftChart>,
+    legends: Vec<Vec<LegendEntry>>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct CraftChart {
+    classes: String,
+    xlog: bool,
+    ylog: bool,
+    plot: Vec<f64>,
+    texts: Vec<CraftText>,
+    clipped: Vec<String>,
+    overlaps: Vec<(String, String)>,
+    marks: Vec<Option<f64>>,
+    curves: usize,
+    bars: Vec<f64>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct CraftText {
+    text: String,
+    left: f64,
+    right: f64,
+    top: f64,
+    bottom: f64,
+    size: f64,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct LegendEntry {
+    name: String,
+    style: String,
+}
+
+/// Whether a tick label reads as a number (`0.05`, `2 %`).
+fn numeric(text: &str) -> bool {
+    text.trim_end_matches(" %").parse::<f64>().is_ok()
+}
+
+/// What is wrong with the charts of one page, in words (nothing: well made). Counts of log
+/// charts and of charts over unordered depths go to `seen`.
+fn chart_craft_problems(page: &str, craft: &Craft, seen: &mut BTreeMap<&'static str, usize>) -> Vec<String> {
+    let mut problems = Vec::new();
+    for (i, chart) in craft.charts.iter().enumerate() {
+        let name = format!("{page} chart {i} ({})", chart.texts.iter().map(|t| t.text.as_str()).take(3).collect::<Vec<_>>().join(" / "));
+        for t in chart.texts.iter().filter(|t| t.size < 12.0) {
+            problems.push(format!("{name}: text {:?} at {} px", t.text, t.size));
+        }
+        if !chart.clipped.is_empty() {
+            problems.push(format!("{name}: clipped text {:?}", chart.clipped));
+        }
+        if !chart.overlaps.is_empty() {
+            problems.push(format!("{name}: overlapping text {:?}", chart.overlaps));
+        }
+        // Log axes say so and carry three labelled ticks or more (numbers below the
+        // plotting area for x, left of it for y).
+        if chart.xlog || chart.ylog {
+            *seen.entry("log charts").or_default() += 1;
+            let [left, top, right, bottom] = chart.plot[..] else {
+                problems.push(format!("{name}: a log chart without its plotting area"));
+                continue;
+            };
+            let named = chart.texts.iter().filter(|t| t.text.contains("log scale")).count();
+            let wanted = usize::from(chart.xlog) + usize::from(chart.ylog);
+            if named < wanted {
+                problems.push(format!("{name}: {named} axis names say \"log scale\", {wanted} axes are log"));
+            }
+            let x_ticks = chart
+                .texts
+                .iter()
+                .filter(|t| numeric(&t.text) && t.top >= bottom - 1.0 && t.left >= left - 40.0 && t.right <= right + 40.0)
+                .count();
+            let y_ticks = chart
+                .texts
+                .iter()
+                .filter(|t| {
+                    numeric(&t.text)
+                        && t.right <= left + 1.0
+                        && (t.top + t.bottom) / 2.0 >= top - 1.0
+                        && (t.top + t.bottom) / 2.0 <= bottom + 1.0
+                })
+                .count();
+            if chart.xlog && x_ticks < 3 {
+                problems.push(format!("{name}: {x_ticks} x tick labels on a log axis"));
+            }
+            if chart.ylog && y_ticks < 3 {
+                problems.push(format!("{name}: {y_ticks} y tick labels on a log axis"));
+            }
+        }
+        // No chart of one point or of zeros only.
+        let values: Vec<f64> = chart.marks.iter().flatten().copied().filter(|v| v.is_finite()).collect();
+        if !chart.marks.is_empty() && chart.marks.len() < 2 {
+            problems.push(format!("{name}: a single point"));
+        }
+        if !values.is_empty() && values.iter().all(|v| *v == 0.0) {
+            problems.push(format!("{name}: every point is 0"));
+        }
+        if !chart.bars.is_empty() && (chart.bars.len() < 2 || chart.bars.iter().all(|b| *b == 0.0)) {
+            problems.push(format!("{name}: bars {:?}", chart.bars));
+        }
+        // No line across depth categories that are not ordered (1+2 beside 2+1).
+        let mut depths: Vec<(f64, (u32, u32))> = chart
+            .texts
+            .iter()
+            .filter_map(|t| {
+                let (r, x) = t.text.split_once('+')?;
+                Some((t.left, (r.parse().ok()?, x.parse().ok()?)))
+            })
+            .collect();
+        depths.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let ordered = depths.windows(2).all(|w| w[0].1 .0 <= w[1].1 .0 && w[0].1 .1 <= w[1].1 .1);
+        if depths.len() >= 2 && !ordered {
+            *seen.entry("unordered depth charts").or_default() += 1;
+            if chart.curves > 0 {
+                problems.push(format!(
+                    "{name}: {} lines join unordered depths {:?}",
+                    chart.curves,
+                    depths.iter().map(|d| d.1).collect::<Vec<_>>()
+                ));
+            }
+        }
+        if chart.classes.contains("chart") {
+            *seen.entry("tagged charts").or_default() += 1;
+        }
+    }
+    // Every legend entry drawn in its own style.
+    for legend in &craft.legends {
+        for (i, a) in legend.iter().enumerate() {
+            for b in &legend[i + 1..] {
+                if a.style == b.style {
+                    problems.push(format!("{page}: legend entries {:?} and {:?} share a style", a.name, b.name));
+                }
+            }
+        }
+    }
+    problems
+}
+
+/// Reads the page's layout: the window's width, the page's scroll width, the elements
+/// wider than the window outside a box that scrolls sideways, and text under 12 px.
+const LAYOUT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={width:W,scroll:document.documentElement.scrollWidth,wide:[],small:[]};
+const boxed=e=>{for(let p=e.parentElement;p&&p!==document.body;p=p.parentElement){const o=getComputedStyle(p).overflowX;if(o==='auto'||o==='scroll')return true;}return false;};
+for(const e of document.body.querySelectorAll('*')){if(e.closest('#nk-audit'))continue;const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!boxed(e)&&out.wide.length<20)out.wide.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right));
+const own=[...e.childNodes].some(n=>n.nodeType===3&&n.textContent.trim());if(own&&r.width>0){const f=parseFloat(getComputedStyle(e).fontSize);if(f<12&&out.small.length<20)out.small.push(e.tagName.toLowerCase()+' '+f+' '+e.textContent.trim().slice(0,40));}}
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+#[derive(serde::Deserialize, Debug)]
+struct Layout {
+    width: f64,
+    scroll: f64,
+    wide: Vec<String>,
+    small: Vec<String>,
+}
+
+/// The layout audit of `html` rendered `width` px wide: the page (with [`LAYOUT_SCRIPT`])
+/// in an iframe of that width — headless Chromium keeps its window at 500 px or more, an
+/// iframe is the width a phone gives — whose audit the framing page copies out.
+fn layout_json(html: &Path, profile: &Path, width: u32) -> String {
+    let name = html.file_name().unwrap().to_string_lossy().into_owned();
+    let audited = html.with_file_name(format!("audit-{name}"));
+    fs::write(&audited, fs::read_to_string(html).unwrap().replace("</body>", &format!("{LAYOUT_SCRIPT}</body>"))).unwrap();
+    let frame = html.with_file_name(format!("frame-{name}"));
+    fs::write(
+        &frame,
+        format!(
+            "<!DOCTYPE html><html><body style=\"margin:0\"><iframe id=\"f\" src=\"audit-{name}\" width=\"{width}\" height=\"900\" style=\"border:0;display:block\"></iframe><script>\
+const f=document.getElementById('f');f.addEventListener('load',()=>{{const tick=()=>{{const d=f.contentDocument;const p=d&&d.getElementById('nk-audit');\
+if(p){{const q=document.createElement('pre');q.id='nk-audit';q.textContent=p.textContent;document.body.appendChild(q);}}else setTimeout(tick,50);}};tick();}});</script></body></html>"
+        ),
+    )
+    .unwrap();
+    let dom = chromium(&[
+        format!("--user-data-dir={}", profile.display()),
+        "--allow-file-access-from-files".into(),
+        format!("--window-size={},900", width.max(500) + 40),
+        "--dump-dom".into(),
+        format!("file://{}", frame.display()),
+    ]);
+    assert!(dom.status.success(), "{}", String::from_utf8_lossy(&dom.stderr));
+    let dom = String::from_utf8_lossy(&dom.stdout);
+    let start = dom.find("<pre id=\"nk-audit\">").unwrap_or_else(|| panic!("the layout audit of {name} at {width} px ran"))
+        + "<pre id=\"nk-audit\">".len();
+    unescape(&dom[start..start + dom[start..].find("</pre>").unwrap()])
+}
+
+/// Forces every picture to load, then reads each `<img>`'s natural width and every link.
+const PICTURES_SCRIPT: &str = r#"<script>window.addEventListener('load',async()=>{const imgs=[...document.images];for(const i of imgs)i.loading='eager';
+await Promise.all(imgs.map(i=>i.complete&&i.naturalWidth>0?null:new Promise(r=>{i.addEventListener('load',r);i.addEventListener('error',r);setTimeout(r,4000);})));
+const out={images:imgs.map(i=>({src:i.getAttribute('src').slice(0,80),width:i.naturalWidth})),links:[...document.querySelectorAll('a[href]')].map(a=>a.getAttribute('href'))};
+const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
+
+#[derive(serde::Deserialize, Debug)]
+struct Pictures {
+    images: Vec<PictureSeen>,
+    links: Vec<String>,
+}
+
+#[derive(serde::Deserialize, Debug)]
+struct PictureSeen {
+    src: String,
+    width: u32,
+}
+
+/// `from` copied to `to` with every link resolved (the report's folder is a link into
+/// `.sets/`; a copy must hold files).
+fn copy_resolved(from: &Path, to: &Path) {
+    fs::create_dir_all(to).unwrap();
+    for entry in fs::read_dir(from).unwrap().flatten() {
+        let path = entry.path();
+        let target = to.join(entry.file_name());
+        if fs::metadata(&path).unwrap().is_dir() {
+            copy_resolved(&path, &target);
+        } else {
+            fs::copy(&path, &target).unwrap();
+        }
+    }
+}
+
+/// The HTML files under `dir`, relative to it, sorted.
+fn html_files(dir: &Path, under: &Path, out: &mut Vec<String>) {
+    for entry in fs::read_dir(dir).unwrap().flatten() {
+        let path = entry.path();
+        if fs::metadata(&path).unwrap().is_dir() {
+            html_files(&path, under, out);
+        } else if path.extension().is_some_and(|x| x == "html")
+            && !["audit-", "frame-", "shot-"].iter().any(|p| entry.file_name().to_string_lossy().starts_with(p))
+        {
+            out.push(path.strip_prefix(under).unwrap().display().to_string());
+        }
+    }
+    out.sort();
+}
+
+/// The 3d shelf's report as `make report` leaves it: the stages over the shelf, the two
+/// effects scenes of [`effects_report`] (one folder each), the committed device results in
+/// `devices/`, the recommendations with them, then the report.
+#[test]
+fn the_3d_shelf_report_is_well_made_self_contained_and_reads_on_a_phone() {
+    let out = scratch("shelf-report");
+    for stage in ["ingest", "colors", "params", "validate"] {
+        let output = nklut(&out, &[stage, "--shelf", "3d"]);
+        assert!(output.status.success(), "{stage}: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    for (scene, text, extra) in [("specular", SPECULAR_SCENE, &[][..]), ("ao", AO_SCENE, &["--ao-rays", "16"][..])] {
+        let file = out.join(format!("{scene}.yaml"));
+        fs::write(&file, text).unwrap();
+        let file = file.display().to_string();
+        let output = nklut(&out.join(scene), &[&["effects", "--hero-size", "512"], extra, &[file.as_str()]].concat());
+        assert!(output.status.success(), "effects {scene}: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    copy_resolved(&Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices"), &out.join("devices"));
+    for stage in ["recommend", "report"] {
+        let output = nklut(&out, &[stage, "--shelf", "3d"]);
+        assert!(output.status.success(), "{stage}: {}", String::from_utf8_lossy(&output.stderr));
+    }
+    let report = out.join("report");
+    let mut pages = Vec::new();
+    html_files(&report, &report, &mut pages);
+    assert!(pages.len() >= 40, "index, effects and the shelf's material pages: {pages:?}");
+    let profile = out.join("chromium-profile");
+
+    // Chart craft, every chart of every page.
+    let mut problems = Vec::new();
+    let mut seen = BTreeMap::new();
+    let mut charts = 0;
+    for page in &pages {
+        let json = audit_json(&report.join(page), &profile, CRAFT_SCRIPT, 1400);
+        let craft: Craft = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{page}: {e}: {json}"));
+        charts += craft.charts.len();
+        problems.extend(chart_craft_problems(page, &craft, &mut seen));
+    }
+    println!("{charts} charts on {} pages: {seen:?}", pages.len());
+    // Two per material page (F(θ) per channel, ΔE2000 over θ), the index's two cost charts,
+    // the effects page's; among them log charts and charts over the specular scene's
+    // unordered depths (1+1 … 2+2).
+    if charts < 2 * (pages.len() - 2) + 10 || seen.get("log charts").copied().unwrap_or(0) < 3 {
+        problems.push(format!("{charts} charts: fewer than the pages hold ({seen:?})"));
+    }
+    if seen.get("unordered depth charts").copied().unwrap_or(0) < 2 {
+        problems.push(format!("the specular scene's depths 1+1 … 2+2 are not drawn: {seen:?}"));
+    }
+
+    // Layout at 1400, 1000 and 390 px: no sideways scroll, nothing wider than the window
+    // outside a box that scrolls, text ≥ 12 px.
+    for page in ["index.html", "effects.html", "materials/3d/metals/gold.html", "materials/3d/glass/BK7.html"] {
+        assert!(pages.iter().any(|p| p == page), "{page}");
+        let html = fs::read_to_string(report.join(page)).unwrap();
+        if !html.contains("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">") {
+            problems.push(format!("{page}: no viewport meta tag"));
+        }
+        for width in [1400, 1000, 390] {
+            let json = layout_json(&report.join(page), &profile, width);
+            let layout: Layout = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{page}: {e}: {json}"));
+            assert!((layout.width - f64::from(width)).abs() <= 20.0, "{page} at {width}: the window is {} px", layout.width);
+            if layout.scroll > layout.width {
+                problems.push(format!("{page} at {width} px: scrolls sideways ({} > {})", layout.scroll, layout.width));
+            }
+            if !layout.wide.is_empty() {
+                problems.push(format!("{page} at {width} px: wider than the window: {:?}", layout.wide));
+            }
+            if !layout.small.is_empty() {
+                problems.push(format!("{page} at {width} px: text under 12 px: {:?}", layout.small));
+            }
+        }
+    }
+
+    // `report/` alone, copied elsewhere with its links resolved, shows every picture: each
+    // <img> loads (natural width > 0), each link to a picture is a file inside the copy.
+    let copy = out.join("elsewhere/report");
+    copy_resolved(&report, &copy);
+    let mut images = 0;
+    for page in ["index.html", "effects.html", "materials/3d/metals/gold.html"] {
+        let json = audit_json(&copy.join(page), &profile, PICTURES_SCRIPT, 1400);
+        let seen: Pictures = serde_json::from_str(&json).unwrap_or_else(|e| panic!("{page}: {e}: {json}"));
+        for image in &seen.images {
+            images += 1;
+            if image.width == 0 {
+                problems.push(format!("copied {page}: picture {} does not load", image.src));
+            }
+        }
+        let folder = copy.join(page).parent().unwrap().to_path_buf();
+        for link in seen.links.iter().filter(|l| [".png", ".jpg", ".exr"].iter().any(|x| l.ends_with(x))) {
+            let target = folder.join(link);
+            let inside = target.canonicalize().map(|t| t.starts_with(copy.canonicalize().unwrap())).unwrap_or(false);
+            if !inside {
+                problems.push(format!("copied {page}: link {link} is not a file inside the copy"));
+            }
+        }
+    }
+    if images < 20 {
+        problems.push(format!("{images} pictures: fewer than the hero frames, error images, crops and the colour bar"));
+    }
+    assert!(problems.is_empty(), "{} problems:\n{}", problems.len(), problems.join("\n"));
 }

@@ -32,7 +32,7 @@ use nklut_optics::db::Database;
 use nklut_optics::fresnel::{FitMemo, LutSpec, Method};
 use nklut_optics::spectrum::Kind;
 
-pub use pick::{recommend, Bound, Candidate, Pick, Recommendation, TimeUnit, Timing};
+pub use pick::{recommend, Bound, Candidate, LutSize, Pick, Recommendation, TimeUnit, Timing};
 pub use spectral::{method_errors, MethodError, THREE_CHANNEL_METHODS};
 
 /// The device name of `cost.csv`'s CPU figures.
@@ -125,7 +125,7 @@ pub fn candidates(page: &PageErrors, engine_params: Option<(&CsvTable, &[String]
                     format!("lut {} × {enc} (spectral)", spec.texels),
                     "spectral curve".to_string(),
                     format!("{file} ({} × 1, or this page's row of luts/spectral/{enc}/atlas.{}); baked by `nklut bake --source spectral --encoding {enc} --size {}`", spec.texels, spec.encoding.extension(), spec.texels),
-                    Some((spec.texels, enc.to_string())),
+                    Some(LutSize::new(spec.texels, enc)),
                 )
             }
             None => (format!("{} (three-channel)", e.method.name()), "three-channel (n, k)".to_string(), nk.clone(), None),
@@ -203,7 +203,7 @@ pub fn cpu_timings(cost: &CsvTable) -> Vec<Timing> {
         let lut = if method == Method::Lut.name() {
             let parts: Vec<&str> = variant.split(',').collect();
             match parts.as_slice() {
-                [n, enc, "f64"] => n.strip_prefix("N=").and_then(|n| n.parse().ok()).map(|n: usize| (n, enc.to_string())),
+                [n, enc, "f64"] => n.strip_prefix("N=").and_then(|n| n.parse().ok()).map(|n: usize| LutSize::new(n, *enc)),
                 _ => continue,
             }
         } else if variant == "f64" {
@@ -276,9 +276,9 @@ pub fn recommendations_table(rows: &[Recommendation]) -> Table {
     t.text(
         "lut_texels",
         "a LUT's texels per row N (empty for closed forms)",
-        c(&|p| p.candidate.lut.as_ref().map(|l| l.0.to_string()).unwrap_or_default()),
+        c(&|p| p.candidate.lut.as_ref().map(|l| l.texels.to_string()).unwrap_or_default()),
     );
-    t.text("lut_encoding", "a LUT's texel encoding", c(&|p| p.candidate.lut.as_ref().map(|l| l.1.clone()).unwrap_or_default()));
+    t.text("lut_encoding", "a LUT's texel encoding", c(&|p| p.candidate.lut.as_ref().map(|l| l.encoding.clone()).unwrap_or_default()));
     t.integer(
         "texture_bytes",
         "bytes of the texture one page needs (0: no texture)",

@@ -17,6 +17,21 @@
 
 use std::collections::BTreeMap;
 
+/// A LUT's size and encoding: what a timing or a candidate names when it is one LUT.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LutSize {
+    /// Texels per row (N).
+    pub texels: usize,
+    /// The texel encoding's name (`unorm8-srgb`, `f16`, …).
+    pub encoding: String,
+}
+
+impl LutSize {
+    pub fn new(texels: usize, encoding: impl Into<String>) -> Self {
+        Self { texels, encoding: encoding.into() }
+    }
+}
+
 /// One way of shading one page, with its error against the page's spectral reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Candidate {
@@ -29,8 +44,8 @@ pub struct Candidate {
     pub parameters_from: String,
     /// The candidate's name in the tables: method, its parameters' origin, a LUT's size and encoding.
     pub name: String,
-    /// A LUT's texels per row and encoding name; `None` for a closed form.
-    pub lut: Option<(usize, String)>,
+    /// A LUT's texels per row and encoding; `None` for a closed form.
+    pub lut: Option<LutSize>,
     pub texture_bytes: usize,
     pub de2000_mean: f64,
     pub de2000_max: f64,
@@ -51,7 +66,7 @@ pub struct Timing {
     pub device: String,
     pub method: String,
     /// A LUT's size and encoding where the time is that LUT's alone.
-    pub lut: Option<(usize, String)>,
+    pub lut: Option<LutSize>,
     pub value: f64,
     pub unit: TimeUnit,
     /// ms per 10⁶ pixels (GPU passes of a known resolution).
@@ -136,9 +151,7 @@ fn devices(timings: &[Timing]) -> Vec<&str> {
 
 /// The time of `candidate` on `device`: the exact (method, LUT) row, else the method's row without a LUT.
 pub fn timing_of<'a>(timings: &'a [Timing], device: &str, candidate: &Candidate) -> Option<&'a Timing> {
-    let on = |lut: Option<&(usize, String)>| {
-        timings.iter().find(|t| t.device == device && t.method == candidate.method && t.lut.as_ref() == lut)
-    };
+    let on = |lut: Option<&LutSize>| timings.iter().find(|t| t.device == device && t.method == candidate.method && t.lut.as_ref() == lut);
     candidate.lut.as_ref().and_then(|l| on(Some(l))).or_else(|| on(None))
 }
 

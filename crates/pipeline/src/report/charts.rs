@@ -134,7 +134,7 @@ pub fn fresnel_curves(theta_deg: &[f64], curves: &[PlotCurve], channels: &Channe
         for (c, panel) in root.split_evenly((1, 3)).iter().enumerate() {
             let top = curves.iter().flat_map(|s| s.rgb.iter().map(move |v| v[c])).fold(1.0f64, f64::max);
             let caption = format!("{} channel, {} nm", CHANNEL_NAMES[c], wavelengths[c]);
-            let mut chart = theta_chart(panel, Some(&caption), 6, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
+            let mut chart = theta_chart(panel, Some(&caption), 14, top * 1.02, "reflectance F (linear)", &|v| format!("{v:.1}"))?;
             for s in curves {
                 line(&mut chart, theta_deg.iter().copied().zip(s.channel(c)).collect(), s.color, s.dashed)?;
             }
@@ -194,6 +194,86 @@ pub struct CostPoint {
     /// Where its cost and error come from, written on its hover mark (`data-x-…`,
     /// `data-y-…`) so a reader (and a test) can find the rows.
     pub trace: Option<[Trace; 2]>,
+    /// Its colour and marker (e.g. by method and by depth); `None`: coloured by whether it
+    /// is on the Pareto front, a circle.
+    pub style: Option<PointStyle>,
+}
+
+/// The marker of a chart point: a shape per value of one variable (a depth, a pass count).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+    TriangleDown,
+    Cross,
+}
+
+impl Marker {
+    /// The markers in the order they are handed out.
+    pub const ALL: [Marker; 6] = [Marker::Circle, Marker::Square, Marker::Triangle, Marker::Diamond, Marker::TriangleDown, Marker::Cross];
+
+    /// The `i`-th marker (cycling).
+    pub fn nth(i: usize) -> Marker {
+        Marker::ALL[i % Marker::ALL.len()]
+    }
+
+    /// The marker as an SVG element centred at (`x`, `y`): filled with `color`, or only
+    /// outlined when `hollow` (a value drawn at the axis floor).
+    pub fn svg(self, x: f64, y: f64, color: RGBColor, hollow: bool) -> String {
+        let c = css(color);
+        let paint = if hollow {
+            format!("fill=\"white\" stroke=\"{c}\" stroke-width=\"2\"")
+        } else {
+            format!("fill=\"{c}\" stroke=\"{c}\" stroke-width=\"1\"")
+        };
+        let polygon = |points: &[(f64, f64)]| {
+            let p: Vec<String> = points.iter().map(|(dx, dy)| format!("{:.1},{:.1}", x + dx, y + dy)).collect();
+            format!("<polygon class=\"marker\" points=\"{}\" {paint}/>", p.join(" "))
+        };
+        match self {
+            Marker::Circle => format!("<circle class=\"marker\" cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"4.5\" {paint}/>"),
+            Marker::Square => format!("<rect class=\"marker\" x=\"{:.1}\" y=\"{:.1}\" width=\"8\" height=\"8\" {paint}/>", x - 4.0, y - 4.0),
+            Marker::Triangle => polygon(&[(0.0, -6.0), (5.5, 4.0), (-5.5, 4.0)]),
+            Marker::Diamond => polygon(&[(0.0, -6.0), (6.0, 0.0), (0.0, 6.0), (-6.0, 0.0)]),
+            Marker::TriangleDown => polygon(&[(0.0, 6.0), (5.5, -4.0), (-5.5, -4.0)]),
+            Marker::Cross => format!(
+                "<path class=\"marker\" d=\"M{:.1},{:.1}L{:.1},{:.1}M{:.1},{:.1}L{:.1},{:.1}\" stroke=\"{c}\" stroke-width=\"2.5\" fill=\"none\"/>",
+                x - 5.0,
+                y - 5.0,
+                x + 5.0,
+                y + 5.0,
+                x - 5.0,
+                y + 5.0,
+                x + 5.0,
+                y - 5.0
+            ),
+        }
+    }
+}
+
+/// A point's colour and marker.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PointStyle {
+    pub color: RGBColor,
+    pub marker: Marker,
+}
+
+/// An HTML legend of point styles: a marker sample and the name of each entry (a colour
+/// drawn as a circle, a marker drawn in grey).
+pub fn point_legend<'a>(title: &str, entries: impl Iterator<Item = (&'a str, RGBColor, Marker)>) -> String {
+    let mut out = format!("<ul class=\"legend\"><li><b>{}</b></li>", super::html::escape(title));
+    for (name, color, marker) in entries {
+        let _ = write!(
+            out,
+            "<li><svg width=\"16\" height=\"16\">{}</svg>{}</li>",
+            marker.svg(8.0, 8.0, color, false),
+            super::html::escape(name)
+        );
+    }
+    out.push_str("</ul>");
+    out
 }
 
 /// What a cost chart's error axis shows.
@@ -315,6 +395,9 @@ pub struct LineChart<'a> {
     pub y_axis: ErrorAxis,
     pub series: &'a [Series],
     pub caption: Option<&'a str>,
+    /// Whether the categories are ordered, so lines may join neighbours (depths 1+0, 2+0,
+    /// 3+0); unordered ones (1+3 beside 3+1) get markers only.
+    pub joined: bool,
 }
 
 /// A line chart: the categories evenly spaced on x with a tick each, y from 0, a line and a
@@ -330,6 +413,7 @@ pub fn line_chart(spec: &LineChart, size: (u32, u32)) -> Result<String> {
     let last = (spec.categories.len() - 1).max(1) as f64;
     let mut svg = String::new();
     let mut marks = String::new();
+    let plot;
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
@@ -358,9 +442,12 @@ pub fn line_chart(spec: &LineChart, size: (u32, u32)) -> Result<String> {
             .draw()
             .map_err(plot_error)?;
         x_ticks(&root, &chart, spec.categories.iter().enumerate().map(|(i, name)| (i as f64, name.clone())))?;
+        plot = plot_box(&chart.plotting_area().get_pixel_range());
         for s in spec.series {
             let points: Vec<(f64, f64)> = s.points.iter().filter(|p| p.y.value.is_finite()).map(|p| (p.x as f64, p.y.value)).collect();
-            line(&mut chart, points.clone(), s.color, false)?;
+            if spec.joined {
+                line(&mut chart, points.clone(), s.color, false)?;
+            }
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, ShapeStyle::from(&s.color).filled()))).map_err(plot_error)?;
             for p in s.points.iter().filter(|p| p.y.value.is_finite()) {
                 let (x, y) = chart.backend_coord(&(p.x as f64, p.y.value));
@@ -372,7 +459,22 @@ pub fn line_chart(spec: &LineChart, size: (u32, u32)) -> Result<String> {
     if let Some(end) = svg.rfind("</svg>") {
         svg.insert_str(end, &marks);
     }
+    tag_root(&mut svg, &format!("class=\"chart line\" data-plot=\"{plot}\""));
     Ok(svg)
+}
+
+/// `svg` with `attributes` added to its root element: what the chart is (`class="chart"`),
+/// its axes' scales and its plotting area (`data-plot="left top right bottom"`, px), so a
+/// reader of the page (and a test) can tell tick labels from other text.
+fn tag_root(svg: &mut String, attributes: &str) {
+    if let Some(at) = svg.find("<svg") {
+        svg.insert_str(at + 4, &format!(" {attributes}"));
+    }
+}
+
+/// The plotting area as `left top right bottom`.
+fn plot_box(area: &(std::ops::Range<i32>, std::ops::Range<i32>)) -> String {
+    format!("{} {} {} {}", area.0.start, area.1.start, area.0.end, area.1.end)
 }
 
 /// A drawn cost chart and the points it drew at the axis floor (error 0).
@@ -391,9 +493,72 @@ fn overlaps(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> bool {
     a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
 }
 
-/// Mean relative error (%) against cost, both log scales. Only the Pareto front is
-/// labelled (each label placed where it overlaps no earlier one); every point has a
-/// hover title. Points with error 0 are drawn at the axis floor as open triangles.
+/// What a chart of `values` would show when it would show too little to be a chart.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TooLittle {
+    /// No finite value.
+    Nothing,
+    /// Every value is 0.
+    AllZero,
+    /// One point (its value).
+    OnePoint(f64),
+}
+
+/// Whether the finite `values` of a chart's points make a chart: two or more points and
+/// not all 0; otherwise what a sentence should say instead.
+pub fn too_little(values: impl IntoIterator<Item = f64>) -> Option<TooLittle> {
+    let finite: Vec<f64> = values.into_iter().filter(|v| v.is_finite()).collect();
+    match finite.as_slice() {
+        [] => Some(TooLittle::Nothing),
+        _ if finite.iter().all(|v| *v == 0.0) => Some(TooLittle::AllZero),
+        [one] => Some(TooLittle::OnePoint(*one)),
+        _ => None,
+    }
+}
+
+/// The ticks of a log axis over [`lo`, `hi`]: 1, 2 and 5 times the powers of ten inside,
+/// or only the powers of ten where those are 3 or more and the 1-2-5 ticks would stand
+/// closer than `min_gap` of a decade (so labels never crowd).
+fn log_ticks(lo: f64, hi: f64, min_gap: f64) -> Vec<f64> {
+    let of = |mantissas: &[f64]| -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut decade = 10f64.powf(lo.log10().floor() - 1.0);
+        while decade <= hi {
+            for m in mantissas {
+                let v = decade * m;
+                if v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9) {
+                    out.push(v);
+                }
+            }
+            decade *= 10.0;
+        }
+        out
+    };
+    let decades = of(&[1.0]);
+    // 1 → 2 is the closest pair of the 1-2-5 ticks: log10(2) of a decade.
+    if decades.len() >= 3 && 2f64.log10() < min_gap {
+        decades
+    } else {
+        of(&[1.0, 2.0, 5.0])
+    }
+}
+
+/// Log-scale bounds around `values` with half a decade of margin, widened until they hold
+/// three 1-2-5 ticks.
+fn log_bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = bounds(values);
+    while log_ticks(lo, hi, 0.0).len() < 3 {
+        lo /= 1.5;
+        hi *= 1.5;
+    }
+    (lo, hi)
+}
+
+/// Error against cost, both log scales (each axis named "log scale", three or more
+/// labelled ticks at 1, 2 and 5 times the powers of ten). Only the Pareto front is
+/// labelled (each label placed where it overlaps no earlier one); every point has a hover
+/// title. Points with error 0 are drawn at the axis floor, hollow. A point's style is its
+/// own ([`PointStyle`]) or, without one, its place on or off the front.
 pub fn cost_chart(points: &[CostPoint], cost_label: &str, error_axis: ErrorAxis, size: (u32, u32)) -> Result<CostChart> {
     let drawn: Vec<&CostPoint> =
         points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error >= 0.0 && p.error.is_finite()).collect();
@@ -401,50 +566,82 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, error_axis: ErrorAxis,
     if positive.is_empty() {
         return Ok(CostChart { svg: String::new(), at_floor: Vec::new() });
     }
-    let (x_lo, x_hi) = bounds(drawn.iter().map(|p| p.cost));
-    let (y_lo, y_hi) = bounds(positive.iter().copied());
+    let (x_lo, x_hi) = log_bounds(drawn.iter().map(|p| p.cost));
+    let (y_lo, y_hi) = log_bounds(positive.iter().copied());
     let at_floor: Vec<String> = drawn.iter().filter(|p| p.error == 0.0).map(|p| p.label.clone()).collect();
     let mut svg = String::new();
     let mut titles = String::new();
+    let plot;
+    let (margin, x_area, y_area) = (12u32, 44u32, 84u32);
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         let mut chart = ChartBuilder::on(&root)
-            .margin(12)
+            .margin(margin)
             .margin_right(24)
-            .x_label_area_size(44)
-            .y_label_area_size(84)
+            .x_label_area_size(x_area)
+            .y_label_area_size(y_area)
             .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())
             .map_err(plot_error)?;
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc(cost_label)
-            .y_desc(error_axis.name())
-            .x_label_formatter(&|v| if one_two_five(*v) { super::html::significant(*v, 2) } else { String::new() })
-            .y_label_formatter(&|v| if one_two_five(*v) { error_axis.tick(*v) } else { String::new() })
+            .x_labels(0)
+            .y_labels(0)
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
+            .x_desc(format!("{cost_label}, log scale"))
+            .y_desc(format!("{}, log scale", error_axis.name()))
             .label_style(FONT)
             .axis_desc_style(FONT)
             .draw()
             .map_err(plot_error)?;
+        let area = chart.plotting_area().get_pixel_range();
+        plot = plot_box(&area);
+        let (width, height) = (f64::from(area.0.end - area.0.start), f64::from(area.1.end - area.1.start));
+        // Ticks at least a label apart: ~6 characters across, a line of text up.
+        let x_ticks = log_ticks(x_lo, x_hi, 60.0 / (width / (x_hi / x_lo).log10()));
+        let y_ticks = log_ticks(y_lo, y_hi, (FONT_PX as f64 + 6.0) / (height / (y_hi / y_lo).log10()));
+        let below = TextStyle::from(FONT).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Center,
+            plotters::style::text_anchor::VPos::Top,
+        ));
+        for tick in x_ticks {
+            let (x, y) = chart.backend_coord(&(tick, y_lo));
+            root.draw(&PathElement::new(vec![(x, y), (x, y + 5)], BLACK)).map_err(plot_error)?;
+            root.draw(&Text::new(super::html::significant(tick, 2), (x, y + 7), below.clone())).map_err(plot_error)?;
+        }
+        let left = TextStyle::from(FONT).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Right,
+            plotters::style::text_anchor::VPos::Center,
+        ));
+        for tick in y_ticks {
+            let (x, y) = chart.backend_coord(&(x_lo, tick));
+            root.draw(&PathElement::new(vec![(x - 5, y), (x, y)], BLACK)).map_err(plot_error)?;
+            root.draw(&Text::new(error_axis.tick(tick), (x - 7, y), left.clone())).map_err(plot_error)?;
+        }
         let at = |p: &CostPoint| (p.cost, if p.error > 0.0 { p.error } else { y_lo });
         let mut front: Vec<(f64, f64)> = drawn.iter().filter(|p| p.pareto).map(|p| at(p)).collect();
-        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
         chart.draw_series(LineSeries::new(front, ShapeStyle::from(&PALETTE[5]).stroke_width(2))).map_err(plot_error)?;
         for p in &drawn {
-            let color = if p.pareto { PALETTE[5] } else { PALETTE[6] };
-            if p.error > 0.0 {
-                chart.draw_series(std::iter::once(Circle::new(at(p), 4, ShapeStyle::from(&color).filled()))).map_err(plot_error)?;
-            } else {
-                chart
-                    .draw_series(std::iter::once(TriangleMarker::new(at(p), 6, ShapeStyle::from(&color).stroke_width(2))))
-                    .map_err(plot_error)?;
-            }
+            let style = p.style.unwrap_or(PointStyle { color: if p.pareto { PALETTE[5] } else { PALETTE[6] }, marker: Marker::Circle });
+            let (x, y) = chart.backend_coord(&at(p));
+            titles.push_str(&style.marker.svg(f64::from(x), f64::from(y), style.color, p.error == 0.0));
+        }
+        for p in &drawn {
             let (x, y) = chart.backend_coord(&at(p));
             let traces: Vec<(&str, &Trace)> = p.trace.iter().flat_map(|[x, y]| [("x", x), ("y", y)]).collect();
-            titles.push_str(&hover_mark(x, y, &p.label, &traces));
+            let title = format!(
+                "{}\n{}: {}\n{}: {}",
+                p.label,
+                cost_label,
+                super::html::significant(p.cost, 3),
+                error_axis.name(),
+                error_axis.tick(p.error)
+            );
+            titles.push_str(&hover_mark(x, y, &title, &traces));
         }
-        let area = chart.plotting_area().get_pixel_range();
         let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
         let mut front_points: Vec<&&CostPoint> = drawn.iter().filter(|p| p.pareto).collect();
         front_points.sort_by(|a, b| a.cost.total_cmp(&b.cost));
@@ -469,6 +666,7 @@ pub fn cost_chart(points: &[CostPoint], cost_label: &str, error_axis: ErrorAxis,
     if let Some(end) = svg.rfind("</svg>") {
         svg.insert_str(end, &titles);
     }
+    tag_root(&mut svg, &format!("class=\"chart cost\" data-x-scale=\"log\" data-y-scale=\"log\" data-plot=\"{plot}\""));
     Ok(CostChart { svg, at_floor })
 }
 
@@ -490,17 +688,6 @@ fn without_repeated_text(svg: &str) -> String {
     }
     out.push_str(rest);
     out
-}
-
-/// Whether a log axis labels its tick at `v`: 1, 2 and 5 times a power of ten (the other
-/// ticks stay unlabelled, so neighbours never overlap). Bounds span a factor of 9 or more,
-/// which always holds two of them.
-fn one_two_five(v: f64) -> bool {
-    if !(v > 0.0) {
-        return false;
-    }
-    let mantissa = v / 10f64.powf(v.log10().floor());
-    [1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-6 * m)
 }
 
 /// Log-scale bounds with half a decade of margin.
@@ -644,7 +831,23 @@ mod tests {
     fn a_text_drawn_twice_is_kept_once() {
         let svg = "<svg><text x=\"1\">\n10\n</text><line/><text x=\"1\">\n10\n</text><text x=\"2\">\n10\n</text></svg>";
         assert_eq!(without_repeated_text(svg), "<svg><text x=\"1\">\n10\n</text><line/><text x=\"2\">\n10\n</text></svg>");
-        assert!(one_two_five(0.02) && one_two_five(5000.0) && one_two_five(10.0) && !one_two_five(3.0) && !one_two_five(0.0));
+    }
+
+    /// 1-2-5 ticks inside the bounds; decades alone where those are three or more and the
+    /// 1-2-5 ticks would crowd; bounds widened until three ticks fit.
+    #[test]
+    fn log_axes_have_three_ticks_or_more() {
+        let close = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * y);
+        assert!(close(&log_ticks(0.15, 30.0, 0.0), &[0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0]), "{:?}", log_ticks(0.15, 30.0, 0.0));
+        assert_eq!(log_ticks(0.15, 30.0, 0.5).len(), 7, "two decades are too few: 1-2-5 kept");
+        assert!(close(&log_ticks(0.05, 300.0, 0.5), &[0.1, 1.0, 10.0, 100.0]), "{:?}", log_ticks(0.05, 300.0, 0.5));
+        // 1.1 … 9.9 holds 2 and 5 only: widened by 1.5 until 1 or 10 joins.
+        let (lo, hi) = log_bounds([3.3, 3.3].into_iter());
+        assert!(log_ticks(lo, hi, 0.0).len() >= 3 && lo < 3.3 / 3.0 && hi > 3.3 * 3.0, "{lo} {hi}");
+        assert_eq!(too_little([0.0, 0.0, f64::NAN]), Some(TooLittle::AllZero));
+        assert_eq!(too_little([f64::NAN, 0.5]), Some(TooLittle::OnePoint(0.5)));
+        assert_eq!(too_little([0.0, 0.5]), None);
+        assert_eq!(too_little(std::iter::empty()), Some(TooLittle::Nothing));
     }
 
     #[test]
@@ -674,14 +877,15 @@ mod tests {
     #[test]
     fn cost_charts_label_only_the_front_and_draw_zero_at_the_floor() {
         let points = [
-            CostPoint { label: "exact f64".into(), cost: 25.0, error: 0.0, pareto: true, trace: None },
-            CostPoint { label: "schlick".into(), cost: 2.0, error: 0.05, pareto: true, trace: None },
-            CostPoint { label: "lazanyi".into(), cost: 9.0, error: 0.08, pareto: false, trace: None },
+            CostPoint { label: "exact f64".into(), cost: 25.0, error: 0.0, pareto: true, trace: None, style: None },
+            CostPoint { label: "schlick".into(), cost: 2.0, error: 0.05, pareto: true, trace: None, style: None },
+            CostPoint { label: "lazanyi".into(), cost: 9.0, error: 0.08, pareto: false, trace: None, style: None },
         ];
         let chart = cost_chart(&points, "CPU time per evaluation (ns)", ErrorAxis::Relative, (600, 400)).unwrap();
         assert_eq!(chart.at_floor, vec!["exact f64"]);
         assert!(chart.svg.contains(">\nschlick\n</text>") && chart.svg.contains(">\nexact f64\n</text>"), "{}", chart.svg);
         assert!(!chart.svg.contains(">\nlazanyi\n</text>"), "off-front points are not labelled");
-        assert!(chart.svg.contains("<title>lazanyi</title>"), "but they have a hover title");
+        assert!(chart.svg.contains("<title>lazanyi\n"), "but they have a hover title");
+        assert!(chart.svg.contains("CPU time per evaluation (ns), log scale") && chart.svg.contains("mean relative error (%), log scale"));
     }
 }

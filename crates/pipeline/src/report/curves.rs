@@ -42,6 +42,11 @@ pub const REFERENCE: &str = "spectral reference";
 /// Name of exact Fresnel with the fitted indices.
 pub const FITTED: &str = "exact, fitted index";
 
+/// Colour of the fitted curve: one no method curve takes (the methods take the palette's
+/// first seven colours, the reference its grey), so every curve of a page has its own
+/// colour and dash (Tol's wine).
+pub const FITTED_COLOR: plotters::style::RGBColor = plotters::style::RGBColor(136, 34, 85);
+
 /// Exact and each approximation for `index` (per channel) on the θ grid `theta_deg`.
 /// `schlick_nk` equals `schlick` with F0 from (n, k) and is not drawn twice.
 /// The `nvidia` fits come from `fits` where it holds them.
@@ -78,7 +83,7 @@ pub fn material_curves(
     if let Some(fitted) = fitted {
         let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
-        curves.push(PlotCurve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
+        curves.push(PlotCurve { name: FITTED.into(), color: FITTED_COLOR, dashed: true, rgb });
     }
     curves.extend(method_curves(three_channel, theta_deg, fits));
     curves
@@ -115,5 +120,20 @@ mod tests {
         assert!((curves[1].rgb[0][0] - 0.04).abs() < 1e-12);
         let de = &delta_e_over_angle(&curves[0], &curves[1..2])[0];
         assert!(de.iter().all(|d| *d < 0.2), "{de:?}");
+    }
+
+    /// Every curve a page draws (the reference, the fitted index and each method) has its
+    /// own colour and dash: no two share a style.
+    #[test]
+    fn every_curve_has_its_own_style() {
+        let index = Index::new(0.2, 3.0);
+        let theta = theta_grid(4);
+        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], Some(&[index; 3]), &theta, &FitMemo::default());
+        assert!(curves.iter().any(|c| c.name == FITTED) && curves.iter().any(|c| c.name == "f82_tint"));
+        for (i, a) in curves.iter().enumerate() {
+            for b in &curves[i + 1..] {
+                assert!((a.color, a.dashed) != (b.color, b.dashed), "{} and {} share a style", a.name, b.name);
+            }
+        }
     }
 }

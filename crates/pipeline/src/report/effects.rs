@@ -17,7 +17,15 @@
 //! images' units, and the crops where the error is largest; the tables last, collapsed.
 //! Every chart point carries the table, column and rows it is the (pixel- or
 //! surfel-weighted) mean of, as data attributes of its hover mark. Pictures are linked
-//! as files (`../<scene>/effects_hero/…`), never inlined.
+//! as files, never inlined: copies under `report/pictures/<scene>/…` (the same path as
+//! under the output folder; [`pictures`] lists them), so `report/` alone shows everything.
+//!
+//! Scenes come in the order of the reader's question ([`scenes`]): reflections and
+//! refractions, then spectral, then ambient occlusion; each opens with its findings
+//! (`findings::search_finding`, `spectral_finding`, `ao_finding`). The error-against-time
+//! charts take the GPU time of each device that timed the scene's configurations (one chart
+//! per device) and the CPU twin's only as a labelled fallback; their points are coloured by
+//! method and shaped by depth, the Pareto front joined, labelled and named in the caption.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -27,6 +35,7 @@ use anyhow::Result;
 use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Trace, PALETTE};
 use super::csvdata::CsvTable;
 use super::extras::cell;
+use super::findings::{self, Finding};
 use super::html::{code_spans, delta_e, escape, href, number, percent, utc, TableText};
 use super::inputs::{DeviceTables, Inputs, DEVICES_DIR};
 use crate::stats::median;
@@ -88,13 +97,87 @@ fn folder_of(path: &str) -> &str {
 /// `../<folder>/<file>`: a file an effects table names, seen from the report folder.
 fn from_report(folder: &str, file: &str) -> String {
     if folder.is_empty() {
-        format!("../{}", href(file))
+        format!("{PICTURES_DIR}/{}", href(file))
     } else {
-        format!("../{}/{}", href(folder), href(file))
+        format!("{PICTURES_DIR}/{}/{}", href(folder), href(file))
     }
 }
 
-/// The effects tables of `inputs`, grouped by scene.
+/// The folder under `report/` that holds a copy of every picture the effects page shows,
+/// at its path under the output folder, so that `report/` alone shows everything.
+pub const PICTURES_DIR: &str = "pictures";
+
+/// The pictures `html` shows or links under [`PICTURES_DIR`]: their paths under the output
+/// folder (percent-decoded), each once, in order. A path that would leave the output
+/// folder (`..`, an absolute path, an empty part) is left out.
+pub fn pictures(html: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for attribute in ["src=\"", "href=\""] {
+        let prefix = format!("{attribute}{PICTURES_DIR}/");
+        for (at, _) in html.match_indices(&prefix) {
+            let rest = &html[at + prefix.len()..];
+            let Some(end) = rest.find('"') else { continue };
+            let Some(path) = percent_decoded(&rest[..end]) else { continue };
+            let inside = path.split('/').all(|part| !part.is_empty() && part != "." && part != "..");
+            if inside && !out.contains(&path) {
+                out.push(path);
+            }
+        }
+    }
+    out
+}
+
+/// `%XX` sequences of an `href` decoded (`None` when malformed or not UTF-8).
+fn percent_decoded(text: &str) -> Option<String> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// The kinds of scene in the order the page answers the reader's question: what the
+/// Fresnel method costs in reflections and refractions, then what three channels cost
+/// against the spectrum, then ambient occlusion.
+pub const SCENE_GROUPS: [&str; 4] = ["reflections and refractions", "spectral", "ambient occlusion", "other tables"];
+
+impl SceneTables<'_> {
+    /// The scene's group (an index into [`SCENE_GROUPS`]): spectral when it has
+    /// `spectral_errors.csv`, else specular with `effects_errors.csv`, else ambient
+    /// occlusion with `ao_errors.csv` or `ao_histogram.csv`.
+    pub fn group(&self) -> usize {
+        let has = |name: &str| self.table(name, false).or_else(|| self.table(name, true)).is_some();
+        if has("spectral_errors.csv") {
+            1
+        } else if has("effects_errors.csv") {
+            0
+        } else if has("ao_errors.csv") || has("ao_histogram.csv") {
+            2
+        } else {
+            3
+        }
+    }
+
+    /// Whether any path of its `effects_errors.csv` refracts (reflection-only scenes come
+    /// first in their group).
+    fn refracts(&self) -> bool {
+        self.table("effects_errors.csv", false)
+            .or_else(|| self.table("effects_errors.csv", true))
+            .is_some_and(|(_, t)| t.rows.iter().any(|r| t.number(r, "refraction_depth").is_some_and(|d| d > 0.0)))
+    }
+}
+
+/// The effects tables of `inputs`, grouped by scene, in the reader's order: by
+/// [`SceneTables::group`], reflection-only before refracting scenes, then by name.
 pub fn scenes(inputs: &Inputs) -> Vec<SceneTables<'_>> {
     let mut by_scene: BTreeMap<String, Vec<(&str, &CsvTable)>> = BTreeMap::new();
     for (path, table) in &inputs.extra {
@@ -104,7 +187,29 @@ pub fn scenes(inputs: &Inputs) -> Vec<SceneTables<'_>> {
             by_scene.entry(name).or_default().push((path.as_str(), table));
         }
     }
-    by_scene.into_iter().map(|(name, tables)| SceneTables { name, tables }).collect()
+    let mut scenes: Vec<SceneTables> = by_scene.into_iter().map(|(name, tables)| SceneTables { name, tables }).collect();
+    scenes.sort_by_cached_key(|s| (s.group(), s.refracts(), s.name.clone()));
+    scenes
+}
+
+/// The findings a scene opens with, its own kind's first: the Fresnel method against the
+/// distance-map search (`effects_errors.csv`), three channels against the spectrum
+/// (`spectral_errors.csv`), surfels against GTAO (`ao_errors.csv`).
+pub fn scene_findings(scene: &SceneTables, bound: f64) -> Vec<Finding> {
+    let name = if scene.name.is_empty() { "the top folder" } else { scene.name.as_str() };
+    let mut found: Vec<(usize, Finding)> = Vec::new();
+    if let Some((path, t)) = scene.table("effects_errors.csv", false).or_else(|| scene.table("effects_errors.csv", true)) {
+        found.extend(findings::search_finding(name, path, t).map(|f| (0, f)));
+    }
+    if let Some((path, t)) = scene.table("spectral_errors.csv", false) {
+        found.extend(findings::spectral_finding(name, path, t, bound).map(|f| (1, f)));
+    }
+    if let Some((path, t)) = scene.table("ao_errors.csv", false) {
+        found.extend(findings::ao_finding(name, path, t).map(|f| (2, f)));
+    }
+    let own = scene.group();
+    found.sort_by_key(|(kind, _)| (*kind != own, *kind));
+    found.into_iter().map(|(_, f)| f).collect()
 }
 
 /// The index's effects section: where the effects page is and what it holds, or each
@@ -136,11 +241,12 @@ pub fn summary(inputs: &Inputs) -> (String, String) {
 /// Style of the effects page beyond the report's own.
 const EFFECTS_STYLE: &str = ".wide{overflow-x:auto;max-width:100%}details{margin:0.5em 0}summary{cursor:pointer;font-size:14px}\
 .charts{display:flex;flex-wrap:wrap;gap:8px 24px;align-items:flex-start}.charts figure{margin:0}\
-.panels{display:grid;grid-template-columns:repeat(auto-fill,minmax(360px,1fr));gap:12px}.panels figure{margin:0}\
+.panels{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(360px,100%),1fr));gap:12px}.panels figure{margin:0}\
 .panels img{width:100%;height:auto;display:block;image-rendering:pixelated}.panels figcaption{font-size:14px;color:#222}\
 .crops{display:flex;flex-wrap:wrap;gap:10px}.crops figure{margin:0;width:200px}.crops img{width:196px;height:196px;image-rendering:pixelated;display:block}\
 .crops figcaption{font-size:13px;color:#222}.scale img{width:512px;height:16px;display:block}\
-.scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}";
+.scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}.scale{max-width:100%;overflow-x:auto}\
+.charts figure{max-width:100%}p.finding{font-size:16px;border-left:4px solid #d55e00;padding-left:8px}.no-chart{font-size:14px;color:#333}";
 
 /// The effects page, or `None` when the output folder holds no effects table.
 pub fn page(inputs: &Inputs) -> Result<Option<String>> {
@@ -149,20 +255,31 @@ pub fn page(inputs: &Inputs) -> Result<Option<String>> {
         return Ok(None);
     }
     let mut html = format!(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>nklut report: effects</title><style>{}{EFFECTS_STYLE}</style></head><body>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>nklut report: effects</title><style>{}{EFFECTS_STYLE}</style></head><body>\n",
         super::STYLE
     );
     html.push_str("<h1 id=\"top\">nklut report: effects</h1>\n<p><a href=\"index.html\">Back to the index</a>. ");
     html.push_str("Each section is drawn from the tables named under it (the command that wrote each and when). Every chart point names, on hover and in its data attributes, the rows of the table it is the mean of; errors are against the ray-traced f64 reference.</p>\n");
     let mut contents = Vec::new();
-    for scene in &scenes {
-        contents.push(format!("<a href=\"#{}\">{}</a>", escape(&scene.id()), escape(&scene.title())));
+    for (group, name) in SCENE_GROUPS.iter().enumerate() {
+        let links: Vec<String> = scenes
+            .iter()
+            .filter(|s| s.group() == group)
+            .map(|s| format!("<a href=\"#{}\">{}</a>", escape(&s.id()), escape(&s.title())))
+            .collect();
+        if !links.is_empty() {
+            contents.push(format!("{name}: {}", links.join(", ")));
+        }
+    }
+    if !inputs.devices.is_empty() {
+        contents.push("<a href=\"#devices\">across devices</a>".to_string());
     }
     if !contents.is_empty() {
-        let _ = writeln!(html, "<p>Scenes: {}.</p>", contents.join(" · "));
+        let _ = writeln!(html, "<p class=\"contents\">Scenes, in the order of the question (what the Fresnel method costs in reflections and refractions, what three channels cost against the spectrum, then ambient occlusion) — {}.</p>", contents.join("; "));
     }
+    let bound = findings::bound(inputs.extra.get("recommendations.csv"));
     for scene in &scenes {
-        scene_section(&mut html, inputs, scene)?;
+        scene_section(&mut html, inputs, scene, bound)?;
     }
     devices_section(&mut html, inputs);
     html.push_str("</body></html>\n");
@@ -177,8 +294,11 @@ fn provenance(inputs: &Inputs, path: &str) -> String {
     format!("<code>{}</code>: {}{when}", escape(path), code_spans(what))
 }
 
-fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Result<()> {
+fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables, bound: f64) -> Result<()> {
     let _ = writeln!(html, "<section><h2 id=\"{}\">{}</h2>", escape(&scene.id()), escape(&scene.title()));
+    for finding in scene_findings(scene, bound) {
+        let _ = writeln!(html, "<p class=\"finding\" id=\"finding-{}\">{}</p>", escape(&finding.id), finding.sentence_html());
+    }
     let command = if scene.name.is_empty() {
         "<code>nklut effects SCENE</code> into the output folder".to_string()
     } else {
@@ -187,8 +307,12 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Res
     };
     let provenance: Vec<String> = scene.tables.iter().map(|(path, _)| provenance(inputs, path)).collect();
     let _ = writeln!(html, "<p class=\"note\">From {command}. Tables: {}.</p>", provenance.join("; "));
+    let spectral = scene.table("spectral_errors.csv", false);
+    if let Some(spectral) = spectral.filter(|_| scene.group() == 1) {
+        spectral_section(html, spectral)?;
+    }
     if let Some(errors) = scene.table("effects_errors.csv", false).or_else(|| scene.table("effects_errors.csv", true)) {
-        specular_section(html, scene, errors)?;
+        specular_section(html, scene, errors, &inputs.devices)?;
     }
     if let Some(ao) = scene.table("ao_errors.csv", false) {
         ao_section(html, ao)?;
@@ -196,7 +320,7 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables) -> Res
     if let Some(histogram) = scene.table("ao_histogram.csv", false) {
         super::ao_histogram::section(html, histogram)?;
     }
-    if let Some(spectral) = scene.table("spectral_errors.csv", false) {
+    if let Some(spectral) = spectral.filter(|_| scene.group() != 1) {
         spectral_section(html, spectral)?;
     }
     if let Some(hero) = scene.table("effects_hero.csv", false) {
@@ -311,11 +435,51 @@ fn depth_series(
     })
 }
 
-/// A chart of `series` against depth (reflections+refractions), as a figure of `html`.
-fn depth_chart(html: &mut String, categories: &[String], y_axis: ErrorAxis, series: &[Series], caption: &str) -> Result<()> {
-    let chart = LineChart { categories, x_name: "depth (reflections+refractions)", y_axis, series, caption: Some(caption) };
-    figure(html, &charts::line_chart(&chart, (440, 300))?, "", "");
+/// Whether depth categories (`r+t`, shallowest first) are ordered: each has at least the
+/// reflections and the refractions of the one before (1+0, 2+0, 3+0; not 1+3 beside 3+1).
+pub fn depths_ordered(categories: &[String]) -> bool {
+    let parsed: Vec<Option<(u64, u64)>> =
+        categories.iter().map(|c| c.split_once('+').and_then(|(r, t)| Some((r.parse().ok()?, t.parse().ok()?)))).collect();
+    parsed.windows(2).all(|w| matches!((w[0], w[1]), (Some(a), Some(b)) if a.0 <= b.0 && a.1 <= b.1))
+}
+
+/// The sentence that stands for a chart of `series` that would show too little: every value
+/// 0, or one point.
+fn too_little_sentence(caption: &str, series: &[Series], y_axis: ErrorAxis) -> Option<String> {
+    let values: Vec<(f64, &str)> = series.iter().flat_map(|s| s.points.iter().map(|p| (p.y.value, p.label.as_str()))).collect();
+    let shown = |v: f64| match y_axis {
+        ErrorAxis::Relative => percent(v),
+        ErrorAxis::DeltaE => delta_e(v),
+        ErrorAxis::Absolute => number(v),
+    };
+    match charts::too_little(values.iter().map(|v| v.0))? {
+        charts::TooLittle::Nothing => Some(format!("{caption}: no value to draw.")),
+        charts::TooLittle::AllZero => Some(format!("{caption}: 0 at every point ({} points), so no chart is drawn.", values.len())),
+        charts::TooLittle::OnePoint(v) => {
+            let label = values.iter().find(|x| x.0.is_finite()).map_or("", |x| x.1);
+            Some(format!("{caption}: one point only ({label}): {}.", shown(v)))
+        }
+    }
+}
+
+/// A line chart as a figure of `html`, or the sentence that stands for it when it would
+/// show too little ([`charts::too_little`]).
+fn chart_or_sentence(html: &mut String, spec: &LineChart, size: (u32, u32), legend: &str, caption: &str) -> Result<()> {
+    match too_little_sentence(spec.caption.unwrap_or(caption), spec.series, spec.y_axis) {
+        Some(sentence) => {
+            let _ = write!(html, "<p class=\"no-chart\">{}</p>", escape(&sentence));
+        }
+        None => figure(html, &charts::line_chart(spec, size)?, legend, caption),
+    }
     Ok(())
+}
+
+/// A chart of `series` against depth (reflections+refractions), as a figure of `html`:
+/// lines join the depths only where they are ordered ([`depths_ordered`]).
+fn depth_chart(html: &mut String, categories: &[String], y_axis: ErrorAxis, series: &[Series], caption: &str) -> Result<()> {
+    let joined = depths_ordered(categories);
+    let chart = LineChart { categories, x_name: "depth (reflections+refractions)", y_axis, series, caption: Some(caption), joined };
+    chart_or_sentence(html, &chart, (440, 300), "", "")
 }
 
 /// Cost points traced to their rows, the Pareto front over (cost, error) marked.
@@ -324,7 +488,7 @@ fn cost_points(traced: Vec<(String, Trace, Trace)>) -> Vec<CostPoint> {
     traced
         .into_iter()
         .zip(front)
-        .map(|((label, x, y), pareto)| CostPoint { label, cost: x.value, error: y.value, pareto, trace: Some([x, y]) })
+        .map(|((label, x, y), pareto)| CostPoint { label, cost: x.value, error: y.value, pareto, trace: Some([x, y]), style: None })
         .collect()
 }
 
@@ -337,7 +501,124 @@ fn figure(html: &mut String, svg: &str, legend: &str, caption: &str) {
     }
 }
 
-fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&str, &CsvTable)) -> Result<()> {
+/// Where the times of an error-against-time chart come from.
+struct TimeSource<'a> {
+    /// The chart's subject ("GPU time on lavapipe…", "the CPU twin's frame time").
+    title: String,
+    /// The table's path as a trace names it.
+    path: String,
+    table: &'a CsvTable,
+    /// `shading_ms` (a GPU's) or `frame_ms` (the CPU twin's).
+    column: &'static str,
+    /// The x axis's name with its unit.
+    axis: String,
+    /// What the caption says of the source.
+    note: String,
+}
+
+impl TimeSource<'_> {
+    /// The columns a timing row and an error row must agree on: the configuration, and the
+    /// distance maps' size and layers where both tables have them (a device's timings of
+    /// another scene's maps do not count).
+    fn match_columns(&self, errors: &CsvTable) -> Vec<&'static str> {
+        let mut columns = CONFIGURATION.to_vec();
+        for extra in ["map_size", "layers"] {
+            if errors.has(extra) && self.table.has(extra) {
+                columns.push(extra);
+            }
+        }
+        columns
+    }
+}
+
+/// The resolutions of `table`'s rows, distinct, joined.
+fn resolutions(table: &CsvTable) -> String {
+    let mut seen: Vec<&str> = Vec::new();
+    for row in &table.rows {
+        let r = table.text(row, "resolution");
+        if !r.is_empty() && !seen.contains(&r) {
+            seen.push(r);
+        }
+    }
+    seen.join(", ")
+}
+
+/// The time sources of a scene's error-against-time charts: this machine's GPU
+/// (`gpu-<scene>/effects_timing.csv`, `make gpu`) and each device result whose
+/// `effects_timing` has a row of one of the scene's configurations (same method, depths,
+/// steps, map size and layers); the CPU twin (`effects_cpu_timing.csv`) only where no GPU
+/// timed the scene.
+fn time_sources<'a>(scene: &SceneTables<'a>, errors: &CsvTable, devices: &'a BTreeMap<String, DeviceTables>) -> Vec<TimeSource<'a>> {
+    let mut out = Vec::new();
+    if let Some((path, table)) = scene.table("effects_timing.csv", true) {
+        out.push(TimeSource {
+            title: "GPU time on this machine (make gpu)".into(),
+            path: path.to_string(),
+            table,
+            column: "shading_ms",
+            axis: "GPU time of the shading pass (ms)".into(),
+            note: format!("Times: median shading pass of effects_timing.csv at {}.", resolutions(table)),
+        });
+    }
+    for (device, tables) in devices {
+        let Some(table) = tables.effects_timing.as_ref() else { continue };
+        let path = if tables.source == "native" {
+            format!("{DEVICES_DIR}/{device}/effects_timing.csv")
+        } else {
+            format!("{DEVICES_DIR}/{device}.json")
+        };
+        let source = TimeSource {
+            title: format!("GPU time on {}", findings::short_device(device)),
+            path,
+            table,
+            column: "shading_ms",
+            axis: format!("GPU time of the shading pass on {} (ms)", findings::short_device(device)),
+            note: format!(
+                "Times: the median shading pass of {device} ({}, effects_timing at {}), matched to this scene's rows by method, depths, search steps, map size and layers.",
+                tables.source,
+                resolutions(table)
+            ),
+        };
+        let columns = source.match_columns(errors);
+        let wanted: Vec<Vec<String>> = errors.rows.iter().map(|r| key(errors, r, &columns)).collect();
+        if table.rows.iter().any(|r| wanted.contains(&key(table, r, &columns))) {
+            out.push(source);
+        }
+    }
+    if out.is_empty() {
+        if let Some((path, table)) = scene.table("effects_cpu_timing.csv", false) {
+            out.push(TimeSource {
+                title: "the CPU twin's frame time (fallback: no GPU timed this scene)".into(),
+                path: path.to_string(),
+                table,
+                column: "frame_ms",
+                axis: "CPU twin's frame time (ms, effects_cpu_timing.csv; fallback, not GPU time)".into(),
+                note: "Times: the CPU twin's frame (the fallback where no device result times this scene's configurations); CPU-twin times are ratios between configurations on this machine, not GPU cost.".into(),
+            });
+        }
+    }
+    out
+}
+
+/// The sentence that stands for a cost chart whose points would show too little.
+fn too_little_points(caption: &str, points: &[CostPoint]) -> Option<String> {
+    let drawn: Vec<&CostPoint> = points.iter().filter(|p| p.cost > 0.0 && p.cost.is_finite() && p.error.is_finite()).collect();
+    match charts::too_little(drawn.iter().map(|p| p.error))? {
+        charts::TooLittle::Nothing => Some(format!("{caption}: no point has both a time and an error.")),
+        charts::TooLittle::AllZero => Some(format!("{caption}: every error is 0 ({} points), so no chart is drawn.", drawn.len())),
+        charts::TooLittle::OnePoint(v) => {
+            let p = drawn.iter().find(|p| p.error.is_finite()).map_or(String::new(), |p| format!("{}: {} ms", p.label, number(p.cost)));
+            Some(format!("{caption}: one configuration only ({p}), mean ΔE2000 {}.", delta_e(v)))
+        }
+    }
+}
+
+fn specular_section(
+    html: &mut String,
+    scene: &SceneTables,
+    (path, errors): (&str, &CsvTable),
+    devices: &BTreeMap<String, DeviceTables>,
+) -> Result<()> {
     html.push_str("<h3>Multiple reflections and refractions</h3>\n");
     let all: Vec<usize> = (0..errors.rows.len()).collect();
     let (Some(&linear), Some(&secant)) = (integers(errors, &all, "linear_steps").last(), integers(errors, &all, "secant_steps").last())
@@ -380,43 +661,69 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
     }
     html.push_str("</div>");
 
-    // Total error against time.
-    let (timing, time_column, time_name) = match (scene.table("effects_timing.csv", true), scene.table("effects_cpu_timing.csv", false)) {
-        (Some(gpu), _) => (Some(gpu), "shading_ms", "GPU time of the shading pass (ms, effects_timing.csv)"),
-        (None, Some(cpu)) => (Some(cpu), "frame_ms", "CPU twin's frame time (ms, effects_cpu_timing.csv)"),
-        (None, None) => (None, "", ""),
-    };
-    if let Some((timing_path, timing)) = timing {
-        let configurations: Vec<Vec<String>> = distinct(&all, |r| key(errors, &errors.rows[r], &CONFIGURATION));
+    // Total error against time: per device that timed this scene's configurations, else
+    // the CPU twin (labelled as the fallback it is).
+    let configurations: Vec<Vec<String>> = distinct(&all, |r| key(errors, &errors.rows[r], &CONFIGURATION));
+    let all_depths = depth_categories(errors, &all);
+    let marker = |depth: &str| charts::Marker::nth(all_depths.iter().position(|d| d == depth).unwrap_or(0));
+    let sources = time_sources(scene, errors, devices);
+    let mut drawn_any = false;
+    let legends = format!(
+        "{}{}",
+        charts::point_legend("method", methods.iter().map(|m| (m.as_str(), color(m), charts::Marker::Circle))),
+        charts::point_legend("depth", all_depths.iter().map(|d| (d.as_str(), PALETTE[7], marker(d))))
+    );
+    for source in &sources {
+        let match_columns = source.match_columns(errors);
         let mut traced = Vec::new();
+        let mut styles = Vec::new();
         for configuration in &configurations {
             let rows: Vec<usize> =
                 all.iter().copied().filter(|&r| key(errors, &errors.rows[r], &CONFIGURATION) == *configuration).collect();
+            let Some(&first) = rows.first() else { continue };
+            let wanted = key(errors, &errors.rows[first], &match_columns);
             let timed: Vec<usize> =
-                (0..timing.rows.len()).filter(|&r| key(timing, &timing.rows[r], &CONFIGURATION) == *configuration).collect();
+                (0..source.table.rows.len()).filter(|&r| key(source.table, &source.table.rows[r], &match_columns) == wanted).collect();
             if timed.is_empty() {
                 continue;
             }
             let label = format!("{} {}+{} {}/{}", configuration[0], configuration[1], configuration[2], configuration[3], configuration[4]);
+            let depth = format!("{}+{}", configuration[1], configuration[2]);
+            styles.push(charts::PointStyle { color: color(&configuration[0]), marker: marker(&depth) });
             traced.push((
                 label,
-                Trace::mean(timing_path, timing, time_column, timed, None),
+                Trace::mean(&source.path, source.table, source.column, timed, None),
                 Trace::mean(path, errors, "total_mean_delta_e2000", rows, Some("pixels")),
             ));
         }
-        let points = cost_points(traced);
-        let chart = charts::cost_chart(&points, time_name, ErrorAxis::DeltaE, (900, 440))?;
+        if traced.is_empty() {
+            continue;
+        }
+        let mut points = cost_points(traced);
+        for (point, style) in points.iter_mut().zip(styles) {
+            point.style = Some(style);
+        }
+        let caption_head = format!("Total error against {}", source.title);
+        if let Some(sentence) = too_little_points(&caption_head, &points) {
+            let _ = write!(html, "<p class=\"no-chart\">{}</p>", escape(&sentence));
+            continue;
+        }
+        let chart = charts::cost_chart(&points, &source.axis, ErrorAxis::DeltaE, (900, 440))?;
+        let front: Vec<&str> = points.iter().filter(|p| p.pareto).map(|p| p.label.as_str()).collect();
         figure(
             html,
             &chart.svg,
-            "",
+            if drawn_any { "" } else { &legends },
             &format!(
-                "Total error (geometry and Fresnel against the ray-traced reference, mean ΔE2000 over the specular objects' pixels) against time, one point per configuration (method depth reflections+refractions linear/secant steps); the Pareto front is joined and labelled, every point is named on hover.{}",
-                if time_column == "frame_ms" { " CPU-twin times are ratios between configurations on this machine, not GPU cost." } else { "" }
+                "{caption_head}: total error (geometry and Fresnel against the ray-traced reference, mean ΔE2000 over the specular objects' pixels) of each configuration (method depth reflections+refractions linear/secant steps), coloured by method and shaped by depth. {} Pareto front (joined and labelled): {}. Every point shows its values on hover.",
+                source.note,
+                front.join(", ")
             ),
         );
-    } else {
-        html.push_str("<p class=\"absent\">No timing table: <code>effects_cpu_timing.csv</code> (make effects) or <code>effects_timing.csv</code> (make gpu).</p>");
+        drawn_any = true;
+    }
+    if sources.is_empty() {
+        html.push_str("<p class=\"absent\">No timing table: <code>effects_cpu_timing.csv</code> (make effects), <code>effects_timing.csv</code> (make gpu) or a device result timing this scene's configurations.</p>");
     }
 
     // Geometry error against the search's step counts.
@@ -459,25 +766,23 @@ fn specular_section(html: &mut String, scene: &SceneTables, (path, errors): (&st
                 )
             })
             .collect();
-        let svg = charts::line_chart(
+        let legend = charts::legend(series.iter().map(|s| (s.name.as_str(), s.color, false)));
+        chart_or_sentence(
+            html,
             &LineChart {
                 categories: &categories,
                 x_name: "linear search steps",
                 y_axis: ErrorAxis::DeltaE,
                 series: &series,
                 caption: Some("Geometry error against the search's steps"),
+                joined: true,
             },
             (640, 320),
-        )?;
-        let legend = charts::legend(series.iter().map(|s| (s.name.as_str(), s.color, false)));
-        figure(
-            html,
-            &svg,
             &legend,
             &format!(
                 "What the distance maps' search costs in accuracy: the error of where rays land (the twin with {reference_method} Fresnel against the reference with it), mean ΔE2000 over the specular objects' pixels at depth {depth}."
             ),
-        );
+        )?;
     }
     Ok(())
 }
@@ -583,31 +888,58 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
             })
             .collect();
         let caption = format!("{what}: error against passes");
-        let svg = charts::line_chart(
-            &LineChart { categories: &categories, x_name: "passes", y_axis: ErrorAxis::Absolute, series: &series, caption: Some(&caption) },
+        chart_or_sentence(
+            &mut charts_html,
+            &LineChart {
+                categories: &categories,
+                x_name: "passes",
+                y_axis: ErrorAxis::Absolute,
+                series: &series,
+                caption: Some(&caption),
+                joined: true,
+            },
             (440, 300),
+            if i == 0 { &legend } else { "" },
+            "",
         )?;
-        figure(&mut charts_html, &svg, if i == 0 { &legend } else { "" }, "");
     }
     if ao.has("cpu_ms") {
         let mut traced = Vec::new();
-        for t in &techniques {
-            for &p in &passes {
+        let mut styles = Vec::new();
+        for (t, color) in techniques.iter().zip(&colors) {
+            for (i, &p) in passes.iter().enumerate() {
                 let rows = rows_of(t, p);
                 if !rows.is_empty() {
                     let x = Trace::mean(path, ao, "cpu_ms", rows.clone(), None);
                     traced.push((format!("{t}, {p} pass(es)"), x, Trace::mean(path, ao, "mean_error", rows, Some("surfels"))));
+                    styles.push(charts::PointStyle { color: *color, marker: charts::Marker::nth(i) });
                 }
             }
         }
-        let points = cost_points(traced);
-        let chart = charts::cost_chart(&points, "CPU time of the passes (ms, whole scene)", ErrorAxis::Absolute, (600, 320))?;
-        figure(
-            &mut charts_html,
-            &chart.svg,
-            "",
-            "Accessibility error against CPU time; the Pareto front is joined and labelled (CPU times are ratios on this machine).",
-        );
+        let mut points = cost_points(traced);
+        for (point, style) in points.iter_mut().zip(styles) {
+            point.style = Some(style);
+        }
+        let caption = "Accessibility error against CPU time";
+        if let Some(sentence) = too_little_points(caption, &points) {
+            let _ = write!(charts_html, "<p class=\"no-chart\">{}</p>", escape(&sentence));
+        } else {
+            let chart = charts::cost_chart(&points, "CPU time of the passes (ms, whole scene)", ErrorAxis::Absolute, (600, 320))?;
+            let legends = format!(
+                "{}{}",
+                charts::point_legend("technique", techniques.iter().zip(&colors).map(|(t, c)| (t.as_str(), *c, charts::Marker::Circle))),
+                charts::point_legend(
+                    "passes",
+                    categories.iter().enumerate().map(|(i, p)| (p.as_str(), PALETTE[7], charts::Marker::nth(i)))
+                )
+            );
+            figure(
+                &mut charts_html,
+                &chart.svg,
+                &legends,
+                &format!("{caption}, coloured by technique and shaped by passes; the Pareto front is joined and labelled (CPU times are ratios on this machine)."),
+            );
+        }
     }
     charts_html.push_str("</div>");
     html.push_str(&charts_html);

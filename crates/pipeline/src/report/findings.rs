@@ -93,14 +93,21 @@ impl Finding {
             .collect()
     }
 
-    pub fn html(&self) -> String {
-        let mut html = format!("<li class=\"finding\" id=\"finding-{}\">", self.id);
+    /// The sentence as HTML, each figure a [`figure_span`].
+    pub fn sentence_html(&self) -> String {
+        let mut html = String::new();
         for piece in &self.pieces {
             match piece {
                 Piece::Text(t) => html.push_str(&escape(t)),
                 Piece::Figure(f) => html.push_str(&figure_span(&f.key, f.value)),
             }
         }
+        html
+    }
+
+    pub fn html(&self) -> String {
+        let mut html = format!("<li class=\"finding\" id=\"finding-{}\">", self.id);
+        html.push_str(&self.sentence_html());
         html.push_str(&format!(" <a href=\"{}\">({})</a></li>", escape(&self.link.0), escape(&self.link.1)));
         html
     }
@@ -335,34 +342,7 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
         }
     }
     for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/effects_errors.csv")) {
-        let scene = path.trim_end_matches("/effects_errors.csv");
-        let column = |name: &str, keep: &dyn Fn(&[String]) -> bool| -> Vec<f64> {
-            table.rows.iter().filter(|r| keep(r)).filter_map(|r| table.number(r, name)).collect()
-        };
-        let fresnel = column("fresnel_mean_delta_e2000", &|r| table.text(r, "method") != "exact");
-        let total = column("total_mean_delta_e2000", &|_| true);
-        let geometry = column("geometry_mean_delta_e2000", &|_| true);
-        let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
-        let min = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::min);
-        if fresnel.is_empty() || total.is_empty() || geometry.is_empty() {
-            continue;
-        }
-        let (f, g) = (max(&fresnel), max(&geometry));
-        let s = Sentence::new()
-            .t(format!("In {scene}, the Fresnel method's own error (against exact Fresnel on the same paths) stays at ΔE2000 ≤ "))
-            .f(format!("search:{scene}:fresnel-max"), f)
-            .t(" while the total against the ray-traced reference is ")
-            .f(format!("search:{scene}:total-min"), min(&total))
-            .t("–")
-            .f(format!("search:{scene}:total-max"), max(&total))
-            .t("; the distance-map search alone (exact Fresnel) gives up to ")
-            .f(format!("search:{scene}:geometry-max"), g)
-            .t(if g > f { ": the search, not the Fresnel formula, dominates." } else { "." });
-        out.push(Finding {
-            id: format!("search-{scene}"),
-            pieces: s.0,
-            link: (format!("effects.html#scene-{scene}"), format!("{scene}; {path}")),
-        });
+        out.extend(search_finding(path.trim_end_matches("/effects_errors.csv"), path, table));
     }
     if let Some(cost) = &inputs.cost {
         let ns = |method: &str, variant: &str| {
@@ -397,6 +377,155 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
         }
     }
     out
+}
+
+/// How much of an effects scene's total error the Fresnel method makes and how much the
+/// distance-map search (`effects_errors.csv` of the scene's folder `scene`, at `path`).
+pub fn search_finding(scene: &str, path: &str, table: &CsvTable) -> Option<Finding> {
+    let column = |name: &str, keep: &dyn Fn(&[String]) -> bool| -> Vec<f64> {
+        table.rows.iter().filter(|r| keep(r)).filter_map(|r| table.number(r, name)).collect()
+    };
+    let fresnel = column("fresnel_mean_delta_e2000", &|r| table.text(r, "method") != "exact");
+    let total = column("total_mean_delta_e2000", &|_| true);
+    let geometry = column("geometry_mean_delta_e2000", &|_| true);
+    let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
+    let min = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::min);
+    if fresnel.is_empty() || total.is_empty() || geometry.is_empty() {
+        return None;
+    }
+    let (f, g) = (max(&fresnel), max(&geometry));
+    let s = Sentence::new()
+        .t(format!("In {scene}, the Fresnel method's own error (against exact Fresnel on the same paths) stays at ΔE2000 ≤ "))
+        .f(format!("search:{scene}:fresnel-max"), f)
+        .t(" while the total against the ray-traced reference is ")
+        .f(format!("search:{scene}:total-min"), min(&total))
+        .t("–")
+        .f(format!("search:{scene}:total-max"), max(&total))
+        .t("; the distance-map search alone (exact Fresnel) gives up to ")
+        .f(format!("search:{scene}:geometry-max"), g)
+        .t(if g > f { ": the search, not the Fresnel formula, dominates." } else { "." });
+    Some(Finding { id: format!("search-{scene}"), pieces: s.0, link: (format!("effects.html#scene-{scene}"), format!("{scene}; {path}")) })
+}
+
+/// A depth (reflections, refractions) of an effects row, when both cells are counts.
+fn depth_of(t: &CsvTable, row: &[String]) -> Option<(u64, u64)> {
+    Some((t.text(row, "reflection_depth").parse().ok()?, t.text(row, "refraction_depth").parse().ok()?))
+}
+
+/// Where three channels stop being enough against the spectral truth in a scene
+/// (`spectral_errors.csv`): per index source, the worst object's mean ΔE2000 at the
+/// shallowest and the deepest depth (depths ordered by total bounces, then reflections)
+/// and the first depth where it exceeds `bound`.
+pub fn spectral_finding(scene: &str, path: &str, t: &CsvTable, bound: f64) -> Option<Finding> {
+    let mut depths: Vec<(u64, u64)> = Vec::new();
+    let mut sources: Vec<&str> = Vec::new();
+    for row in &t.rows {
+        if let Some(d) = depth_of(t, row) {
+            if !depths.contains(&d) {
+                depths.push(d);
+            }
+        }
+        let source = t.text(row, "index_source");
+        if !sources.contains(&source) {
+            sources.push(source);
+        }
+    }
+    depths.sort_by_key(|&(r, x)| (r + x, r));
+    let (&first, &last) = (depths.first()?, depths.last()?);
+    let mut s = Sentence::new()
+        .t(format!("In {scene}, three channels against the spectral reference (mean ΔE2000 over an object's pixels, the worst object): "));
+    for (i, source) in sources.iter().enumerate() {
+        let worst = |d: (u64, u64)| {
+            t.rows
+                .iter()
+                .filter(|r| t.text(r, "index_source") == *source && depth_of(t, r) == Some(d))
+                .filter_map(|r| t.number(r, "mean_delta_e2000"))
+                .fold(f64::NAN, f64::max)
+        };
+        let key = |d: (u64, u64)| format!("spectral:{scene}:{source}:{}+{}", d.0, d.1);
+        s = s
+            .t(format!("{}{source} ", if i == 0 { "" } else { "; " }))
+            .f(key(first), worst(first))
+            .t(format!(" at depth {}+{}", first.0, first.1));
+        if last != first {
+            s = s.t(" to ").f(key(last), worst(last)).t(format!(" at depth {}+{}", last.0, last.1));
+        }
+        s = match depths.iter().find(|&&d| worst(d) > bound) {
+            Some(&d) => s.t(", first above ΔE2000 ").f("bound", bound).t(format!(" at depth {}+{} (", d.0, d.1)).f(key(d), worst(d)).t(")"),
+            None => s.t(", within ΔE2000 ").f("bound", bound).t(" at every depth"),
+        };
+    }
+    Some(Finding {
+        id: format!("spectral-{scene}"),
+        pieces: s.t(".").0,
+        link: (format!("effects.html#scene-{scene}"), format!("{scene}; {path}")),
+    })
+}
+
+/// What surfel ambient occlusion and GTAO trade in a scene (`ao_errors.csv`): the surfel
+/// technique and pass count with the smallest accessibility error (the surfel-weighted mean
+/// of `mean_error` over the objects) with its CPU time (the mean of `cpu_ms` over its rows),
+/// one pass of the same technique, and GTAO's per-pixel mean error (pixel-weighted) beside
+/// those surfels' per-pixel mean.
+pub fn ao_finding(scene: &str, path: &str, t: &CsvTable) -> Option<Finding> {
+    let gtao = |r: &[String]| t.has("technique") && t.text(r, "technique") == "gtao";
+    let technique = |r: &[String]| if t.text(r, "hierarchy") == "true" { "tree" } else { "brute force" };
+    let weighted = |rows: &[&Vec<String>], column: &str, weight: &str| {
+        let (mut sum, mut total) = (0.0, 0.0);
+        for r in rows {
+            if let (Some(v), Some(w)) = (t.number(r, column), t.number(r, weight)) {
+                sum += v * w;
+                total += w;
+            }
+        }
+        if total > 0.0 {
+            Some(sum / total)
+        } else {
+            None
+        }
+    };
+    let mut configurations: Vec<(&str, &str)> = Vec::new();
+    for r in t.rows.iter().filter(|r| !gtao(r)) {
+        let c = (technique(r), t.text(r, "passes"));
+        if !configurations.contains(&c) {
+            configurations.push(c);
+        }
+    }
+    let rows_of = |(tech, passes): (&str, &str)| -> Vec<&Vec<String>> {
+        t.rows.iter().filter(|r| !gtao(r) && technique(r) == tech && t.text(r, "passes") == passes).collect()
+    };
+    let (best, error) = configurations
+        .iter()
+        .filter_map(|&c| Some((c, weighted(&rows_of(c), "mean_error", "surfels")?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let best_rows = rows_of(best);
+    let cpu: Vec<f64> = best_rows.iter().filter_map(|r| t.number(r, "cpu_ms")).collect();
+    let mut s = Sentence::new()
+        .t(format!("In {scene}, surfel ambient occlusion is closest to the ray-traced reference with the {} and {} pass(es): mean accessibility error ", best.0, best.1))
+        .f(format!("ao:{scene}:best"), error);
+    if !cpu.is_empty() {
+        s = s.t(" over surfels in ").f(format!("ao:{scene}:best-cpu-ms"), cpu.iter().sum::<f64>() / cpu.len() as f64).t(" ms of CPU");
+    }
+    if best.1 != "1" {
+        if let Some(one) = weighted(&rows_of((best.0, "1")), "mean_error", "surfels") {
+            s = s.t(" (one pass: ").f(format!("ao:{scene}:one-pass"), one).t(")");
+        }
+    }
+    let gtao_rows: Vec<&Vec<String>> = t.rows.iter().filter(|r| gtao(r)).collect();
+    if let (Some(g), Some(surfels)) =
+        (weighted(&gtao_rows, "pixel_mean_error", "pixels"), weighted(&best_rows, "pixel_mean_error", "pixels"))
+    {
+        s = s
+            .t("; per covered pixel, GTAO's mean error is ")
+            .f(format!("ao:{scene}:gtao-pixel"), g)
+            .t(" against those surfels' ")
+            .f(format!("ao:{scene}:surfel-pixel"), surfels);
+    }
+    Some(Finding {
+        id: format!("ao-{scene}"),
+        pieces: s.t(".").0,
+        link: (format!("effects.html#scene-{scene}"), format!("{scene}; {path}")),
+    })
 }
 
 /// One row of the decision table: a candidate group over the pages.
@@ -518,6 +647,46 @@ mod tests {
         assert_eq!(sig3(1.0), "1");
         assert_eq!(sig3(2500.0), "2500");
         assert_eq!(sig3(0.000_512_3), "0.000512");
+    }
+
+    /// Hand-derived: three-wavelength's worst object is 0.4 at 1+0, max(1.5, 0.9) = 1.5 at
+    /// 2+0 (above 1: the first such depth), 2.5 at 3+0; effective stays at or under 0.8.
+    #[test]
+    fn spectral_finding_names_the_first_depth_above_the_bound() {
+        let csv = "object,object_index,material,index_source,reflection_depth,refraction_depth,mean_delta_e2000\n\
+                   sphere,0,au,three-wavelength,3,0,2.5\nsphere,0,au,three-wavelength,1,0,0.4\nsphere,0,au,three-wavelength,2,0,1.5\n\
+                   cube,1,au,three-wavelength,2,0,0.9\nsphere,0,au,effective,1,0,0.2\nsphere,0,au,effective,2,0,0.5\nsphere,0,au,effective,3,0,0.8\n";
+        let t = CsvTable::parse(csv.as_bytes()).unwrap();
+        let f = spectral_finding("gig", "gig/spectral_errors.csv", &t, 1.0).unwrap();
+        assert_eq!(
+            f.text(),
+            "In gig, three channels against the spectral reference (mean ΔE2000 over an object's pixels, the worst object): three-wavelength 0.4 at depth 1+0 to 2.5 at depth 3+0, first above ΔE2000 1 at depth 2+0 (1.5); effective 0.2 at depth 1+0 to 0.8 at depth 3+0, within ΔE2000 1 at every depth."
+        );
+        assert!(f.figures().iter().any(|x| x.key == "spectral:gig:three-wavelength:2+0" && x.value == 1.5));
+        assert_eq!(f.link.0, "effects.html#scene-gig");
+    }
+
+    /// Hand-derived, surfel-weighted: tree 1 pass (0.2·100 + 0.1·300)/400 = 0.125, tree 2
+    /// passes (0.1·100 + 0.02·300)/400 = 0.04 (the smallest), brute force 0.3; its CPU
+    /// mean(20, 20) = 20 ms; per pixel, GTAO (0.1·50 + 0.02·150)/200 = 0.04 against the
+    /// tree's (0.2·50 + 0.04·150)/200 = 0.08.
+    #[test]
+    fn ao_finding_states_the_best_surfels_and_gtao_beside_them() {
+        let csv = "mesh,hierarchy,passes,technique,surfels,mean_error,cpu_ms,pixels,pixel_mean_error\n\
+                   bunny,true,1,surfels,100,0.2,10,50,0.25\nslab,true,1,surfels,300,0.1,10,150,0.05\n\
+                   bunny,true,2,surfels,100,0.1,20,50,0.2\nslab,true,2,surfels,300,0.02,20,150,0.04\n\
+                   bunny,false,2,surfels,100,0.3,40,50,0.3\nslab,false,2,surfels,300,0.3,40,150,0.3\n\
+                   bunny,,,gtao,,,,50,0.1\nslab,,,gtao,,,,150,0.02\n";
+        let t = CsvTable::parse(csv.as_bytes()).unwrap();
+        let f = ao_finding("ao", "ao/ao_errors.csv", &t).unwrap();
+        assert_eq!(
+            f.text(),
+            "In ao, surfel ambient occlusion is closest to the ray-traced reference with the tree and 2 pass(es): mean accessibility error 0.04 over surfels in 20 ms of CPU (one pass: 0.125); per covered pixel, GTAO's mean error is 0.04 against those surfels' 0.08."
+        );
+        let value = |key: &str| f.figures().iter().find(|x| x.key == key).unwrap().value;
+        for (key, expected) in [("ao:ao:best", 0.04), ("ao:ao:one-pass", 0.125), ("ao:ao:gtao-pixel", 0.04), ("ao:ao:surfel-pixel", 0.08)] {
+            assert!((value(key) - expected).abs() < 1e-15, "{key}: {}", value(key));
+        }
     }
 
     #[test]

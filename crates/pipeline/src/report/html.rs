@@ -130,9 +130,10 @@ impl TableText {
         self.rows.push(cells);
     }
 
-    /// HTML; cells are escaped except those already wrapped as raw HTML by `raw`.
+    /// HTML, in a box that scrolls sideways when the table is wider than the window
+    /// (`.wide`); cells are escaped except those already wrapped as raw HTML by `raw`.
     pub fn html(&self, class: &str) -> String {
-        let mut out = format!("<table class=\"{class}\"><thead><tr>");
+        let mut out = format!("<div class=\"wide\"><table class=\"{class}\"><thead><tr>");
         for h in &self.headers {
             let _ = write!(out, "<th>{}</th>", escape(h));
         }
@@ -151,7 +152,7 @@ impl TableText {
             }
             out.push_str("</tr>\n");
         }
-        out.push_str("</tbody></table>\n");
+        out.push_str("</tbody></table></div>\n");
         out
     }
 

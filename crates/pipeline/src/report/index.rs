@@ -322,6 +322,7 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
             error: r.mean,
             pareto,
             trace: None,
+            style: None,
         })
         .collect();
     if points.iter().any(|p| p.cost.is_finite()) {
@@ -368,6 +369,7 @@ fn lut_cost(b: &mut Builder, rows: &[CostRow]) -> Result<()> {
             error: r.mean,
             pareto,
             trace: None,
+            style: None,
         })
         .collect();
     let chart = charts::cost_chart(&points, "texture size (bytes: N texels × 3 channels)", charts::ErrorAxis::Relative, (900, 460))?;
@@ -504,7 +506,7 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
     let m = ctx.materials.table;
     let _ = writeln!(
         b.html,
-        "<table id=\"materials-table\" class=\"materials\"><thead><tr>{}</tr></thead><tbody>",
+        "<div class=\"wide\"><table id=\"materials-table\" class=\"materials\"><thead><tr>{}</tr></thead><tbody>",
         [
             "page",
             "names",
@@ -571,7 +573,7 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
         );
         markdown.row(vec![format!("{MARKDOWN}[{}]({link})", markdown_text(page)), names.to_string(), kind.to_string(), delta_e(de)]);
     }
-    b.html.push_str("</tbody></table>\n");
+    b.html.push_str("</tbody></table></div>\n");
     b.markdown.push_str(&markdown.markdown());
     b.markdown.push('\n');
     Ok(())

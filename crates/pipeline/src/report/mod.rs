@@ -36,6 +36,9 @@ use nklut_optics::db::Database;
 use nklut_optics::spectrum::Index;
 use page::MaterialPage;
 
+/// The report's style. Narrow windows (a phone's 390 px): the page never scrolls sideways —
+/// tables, charts, preview strips and colour bars wider than the window scroll inside their
+/// own box (`.wide`, `figure.plot`, …) and keep their text size; words break in prose.
 pub(crate) const STYLE: &str = "body{font-family:system-ui,sans-serif;font-size:15px;max-width:1240px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:14px}th,td{border:1px solid #ccc;padding:2px 6px;text-align:right}\
 th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}.swatch{display:inline-block;width:2.2em;height:1.2em;border:1px solid #888;vertical-align:middle}\
@@ -44,7 +47,9 @@ figure.plot{display:flex;align-items:flex-start;gap:12px;flex-wrap:wrap}.legend{
 .previews img{display:block;image-rendering:auto}.captions{display:grid;font-size:12px;text-align:center}.method{overflow-wrap:anywhere;padding:0 2px}\
 .strips{font-size:13px}.strip-row{display:flex;align-items:center;margin:2px 0}.strip-name{width:190px;flex:none}.strip{flex:none;width:540px;height:18px;border:1px solid #999}\
 .strip-axis{display:flex;justify-content:space-between;width:542px;font-size:13px}#search{width:22em;padding:4px;font-size:14px}\
-table.materials th{cursor:pointer}.paste{width:100%;font-family:monospace;font-size:13px}";
+table.materials th{cursor:pointer}.paste{width:100%;font-family:monospace;font-size:13px}\
+.wide{overflow-x:auto;max-width:100%}figure.plot,.previews,.strips{overflow-x:auto;max-width:100%}figure.plot>svg{flex:none}\
+p,li,figcaption,summary,h1,h2,h3{overflow-wrap:break-word}#search{max-width:100%;box-sizing:border-box}";
 
 /// A CSS swatch of a linear-sRGB colour (sRGB-encoded, clamped for display).
 pub(crate) fn swatch(rgb: [f64; 3]) -> String {
@@ -90,6 +95,14 @@ pub fn build_and_write(inputs: &Inputs, pages: &[String], spectra: &Spectra, out
         })?;
         let index = index::index_page(&ctx, pages, effects::summary(inputs))?;
         if let Some(page) = effects::page(inputs)? {
+            // Every picture the page shows, copied in (read through the output folder's
+            // links into `.sets/`); one that is absent stays a named gap (its alt text).
+            for picture in effects::pictures(&page) {
+                match std::fs::read(out.join(&picture)) {
+                    Ok(bytes) => put(staging, format!("{}/{picture}", effects::PICTURES_DIR), &bytes)?,
+                    Err(e) => eprintln!("report: picture {picture} not copied: {e}"),
+                }
+            }
             put(staging, effects::EFFECTS_PAGE.into(), page.as_bytes())?;
         }
         put(staging, "index.html".into(), index.html.as_bytes())?;

@@ -48,7 +48,7 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
     let title = format!("{page} — {}", m.text(row, "names"));
     let _ = write!(
         html,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{}</title><style>{}</style></head><body>\n<p class=\"nav\"><a href=\"{}index.html\">← all materials</a></p>\n<h1>{}</h1>\n<p>{} · data file <code>{}</code> · {}</p>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>{}</title><style>{}</style></head><body>\n<p class=\"nav\"><a href=\"{}index.html\">← all materials</a></p>\n<h1>{}</h1>\n<p>{} · data file <code>{}</code> · {}</p>\n",
         escape(&title),
         super::STYLE,
         href(&up),
