@@ -1021,6 +1021,7 @@ mod tests {
         // XeGTAO High with 8 frames of noise: the noise's f32 index × R2 step (up to ~5 000,
         // ulp 5e-4) turns a slice by up to 1.6e-3 rad, and a sample crossing a pixel edge
         // reads another texel, so single pixels may differ more; the mean may not.
+        // Measured: mean 1.3e-6, largest 7.9e-5 over 1681 pixels.
         let mut xe = Parameters { radius: 1.0, slices: 3, steps: 3, heuristics: Heuristics::XE };
         xe.heuristics.frames = 8;
         let wide = gtao(&g, xe);
@@ -1029,6 +1030,6 @@ mod tests {
         let mean = differences.iter().sum::<f64>() / differences.len() as f64;
         let largest = differences.iter().copied().fold(0.0, f64::max);
         eprintln!("xe-high, 8 frames: |f64 − f32| mean {mean:.2e}, largest {largest:.2e} over {} pixels", differences.len());
-        assert!(mean < 1e-3 && largest < 0.05, "{mean} {largest}");
+        assert!(mean < 1e-4 && largest < 1e-2, "{mean} {largest}");
     }
 }

@@ -499,7 +499,7 @@ mod tests {
         for preset in crate::ao::gtao::Preset::ALL {
             assert!(gtao.iter().any(|g| g.preset == preset), "{preset:?}");
         }
-        assert_eq!(gtao.len(), 14);
+        assert_eq!(gtao.len(), 9);
     }
 
     #[test]
