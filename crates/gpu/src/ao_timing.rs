@@ -245,7 +245,8 @@ pub fn scene_rows(
         let coverage = stage.coverage(&camera);
         let covered = coverage.iter().flatten().count();
         let gbuffer = GBuffer::from_coverage(&camera, &coverage, &stage.surfels).narrowed();
-        for &g in &configurations {
+        // The WGSL pass runs the bare preset only.
+        for &g in configurations.iter().filter(|g| g.heuristics.is_bare()) {
             let pass = GtaoPass::new(gpu, &gbuffer, Parameters::of(g).narrowed())?;
             let (median_ms, spread_ms) = timed(settings, || {
                 stopwatch.time_pass(gpu, |encoder, timestamps| {

@@ -429,6 +429,20 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                         .unwrap_or_default()
                 ));
             }
+            let all: Vec<f64> =
+                coverage.iter().flatten().map(|p| p.interpolate(&result.values) - p.interpolate(&reference.values)).collect();
+            if let Some(e) = ErrorSummary::of(&all) {
+                log(&format!(
+                    "  all objects {} passes {}: |a − ref| over every covered pixel mean {:.4} (signed {:+.4}), p90 {:.4}, p99 {:.4} over {} pixels",
+                    result.passes,
+                    technique(*hierarchy),
+                    e.mean,
+                    e.signed_mean,
+                    e.p90,
+                    e.p99,
+                    e.count
+                ));
+            }
         }
     }
 
@@ -437,15 +451,38 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
     // One row set per configuration (radius); the first named is the one pictured.
     let gtao_settings: Vec<crate::scene::surfels::Gtao> = wanted.map(|a| a.gtao.clone()).unwrap_or_default();
     let mut gtao_values = None;
+    // The range-limited references, one per search radius (radius × multiplier).
+    let mut within_references: Vec<(f64, super::reference::ReferenceAccessibility)> = Vec::new();
     for (configuration, &g) in gtao_settings.iter().enumerate() {
         let frame = gtao_frame(&stage, &camera, &coverage, g);
-        // The range-limited reference: rays one by one (no packets), at most 1024 per vertex.
-        let within = reference_accessibility_within(
-            &stage.geometry,
-            &stage.surfels,
-            RaySettings { rays: settings.rays.rays.min(1024), ..settings.rays },
-            g.radius,
-        );
+        let search_radius = g.radius * g.heuristics.radius_multiplier;
+        if !within_references.iter().any(|(r, _)| *r == search_radius) {
+            // Rays one by one (no packets), at most 1024 per vertex.
+            let rays = RaySettings { rays: settings.rays.rays.min(1024), ..settings.rays };
+            within_references.push((search_radius, reference_accessibility_within(&stage.geometry, &stage.surfels, rays, search_radius)));
+        }
+        let within = &within_references.iter().find(|(r, _)| *r == search_radius).expect("computed above").1;
+        let all_pixels = |truth: &[f64]| {
+            let errors: Vec<f64> =
+                coverage.iter().zip(&frame.values).filter_map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(truth))).collect();
+            ErrorSummary::of(&errors)
+        };
+        if let (Some(full), Some(limited)) = (all_pixels(&reference.values), all_pixels(&within.values)) {
+            log(&format!(
+                "  all objects gtao ({}): |a − ref| over every covered pixel mean {:.4} (signed {:+.4}), p90 {:.4}, p99 {:.4}; against occluders within {search_radius}: mean {:.4} (signed {:+.4}), p90 {:.4}, p99 {:.4}; {} pixels, {:.1} ms",
+                g.label(),
+                full.mean,
+                full.signed_mean,
+                full.p90,
+                full.p99,
+                limited.mean,
+                limited.signed_mean,
+                limited.p90,
+                limited.p99,
+                full.count,
+                frame.cpu_ms
+            ));
+        }
         for (index, object) in stage.objects.iter().enumerate() {
             let range = object.surfels.clone();
             let pixels: Vec<f64> = coverage
@@ -468,11 +505,9 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             };
             if let Some(p) = accessibility.per_pixel {
                 log(&format!(
-                    "  {} gtao (radius {}, {} slices, {} steps): |a − ref| per pixel mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4} over {} pixels; against occluders within the radius: {:.4} (signed {:+.4}); {:.1} ms",
+                    "  {} gtao ({}): |a − ref| per pixel mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4} over {} pixels; against occluders within the radius: {:.4} (signed {:+.4}, p90 {:.4}, p99 {:.4}); {:.1} ms",
                     object.name,
-                    g.radius,
-                    g.slices,
-                    g.steps,
+                    g.label(),
                     p.mean,
                     p.signed_mean,
                     p.median,
@@ -482,6 +517,8 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     p.count,
                     within_radius.map_or(0.0, |w| w.mean),
                     within_radius.map_or(0.0, |w| w.signed_mean),
+                    within_radius.map_or(0.0, |w| w.p90),
+                    within_radius.map_or(0.0, |w| w.p99),
                     frame.cpu_ms
                 ));
             }
@@ -585,7 +622,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             .zip(values)
             .filter_map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
             .collect();
-        let label = format!("GTAO, radius {}, {}×{}", g.radius, g.slices, g.steps);
+        let label = format!("GTAO {}", g.label());
         let label = match ErrorSummary::of(&errors) {
             Some(e) => format!("{label}\nmean |Δ| {:.3}/px", e.mean),
             None => label,
@@ -603,7 +640,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
             let frame = gtao_frame(&stage, &camera, &stage.coverage(&camera), g);
             HeroPanel {
                 stem: "gtao".into(),
-                label: format!("GTAO, radius {}, {} slices × {} steps", g.radius, g.slices, g.steps),
+                label: format!("GTAO {}", g.label()),
                 method: "gtao".into(),
                 configuration: None,
                 passes: None,
@@ -646,10 +683,11 @@ struct GtaoFrame {
 fn gtao_frame(stage: &SurfelScene, camera: &Camera, coverage: &[Option<PixelSample>], g: crate::scene::surfels::Gtao) -> GtaoFrame {
     let gbuffer = GBuffer::from_coverage(camera, coverage, &stage.surfels);
     let start = std::time::Instant::now();
-    let values = gtao(&gbuffer, Parameters::of(g));
+    let parameters = Parameters::of(g);
+    let values = gtao(&gbuffer, parameters);
     let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
     let covered = coverage.iter().flatten().count() as u64;
-    GtaoFrame { values, reads: covered * g.slices as u64 * 2 * g.steps as u64, cpu_ms }
+    GtaoFrame { values, reads: covered * parameters.reads_per_pixel(), cpu_ms }
 }
 
 /// The name of surfel AO's way of gathering emitters in tables and labels.

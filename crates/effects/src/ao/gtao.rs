@@ -141,22 +141,231 @@ pub fn slice_visibility<T: Real>(h_minus: T, h_plus: T, gamma: T, length: T) -> 
     length * T::of(0.25) * (side_minus + side_plus)
 }
 
-/// GTAO's parameters in a precision.
+/// The heuristics engines add to Algorithm 1, each a number with its source (XeGTAO's
+/// `XeGTAO.h` defaults and `vaGTAO.hlsl` quality levels, Intel 2021; HDRP's screen-radius
+/// clamp). [`Heuristics::BARE`] turns every one off: the paper's Algorithm 1 as
+/// [`pixel_visibility`] ran it before they existed, to the last bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Heuristics<T> {
+    /// The search radius is `radius` × this (XeGTAO `RadiusMultiplier`, 1.457: "to counter
+    /// inherent screen space biases").
+    pub radius_multiplier: T,
+    /// The fraction of the (multiplied) radius over which a sample's weight falls linearly
+    /// from 1 to 0 at the radius; 0 is the hard cut of §4.3 (XeGTAO `FalloffRange`, 0.615).
+    /// A sample's horizon cosine is lerped toward the tangent plane's by 1 − weight.
+    pub falloff_range: T,
+    /// Sample k of `steps` (k = 0 …) lies at ((k + ξ)/steps)^power of the screen radius
+    /// (XeGTAO `SampleDistributionPower`, 2: "small crevices more important").
+    pub distribution_power: T,
+    /// Pixels added to every sample's distance, so that none reads the centre pixel (XeGTAO
+    /// `pixelTooCloseThreshold`, 1.3).
+    pub start_pixels: T,
+    /// A sample's distance for the falloff and the cut takes its view-space depth offset ×
+    /// (1 + this): occluders far in front of or behind the pixel fall off sooner (XeGTAO
+    /// `ThinOccluderCompensation`, default 0, range 0–0.7).
+    pub thin_occluder: T,
+    /// The accessibility is raised to this power (XeGTAO `FinalValuePower`, 2.2).
+    pub final_power: T,
+    /// The projected normal's length is lerped toward 1 by this before weighting a slice
+    /// (XeGTAO's fudge against over-darkening on slopes, 0.05).
+    pub normal_lerp: T,
+    /// Below this screen radius (pixels) the pixel is taken as open, 1 (XeGTAO's early-out at
+    /// `pixelTooCloseThreshold`, disabled there: 0).
+    pub min_radius_pixels: T,
+    /// The screen radius (pixels) is clamped to this (HDRP's "Maximum Radius In Pixels";
+    /// XeGTAO has none: ∞).
+    pub max_radius_pixels: T,
+    /// Per-pixel slice rotation and step offsets from XeGTAO's Hilbert-curve-driven R2
+    /// sequence ([`noise`]), a new value each frame; off: slices at the midpoints of their
+    /// sectors and samples at the ends of their steps (Algorithm 1).
+    pub noise: bool,
+    /// Frames accumulated (their mean, what temporal accumulation converges to): XeGTAO's
+    /// noise repeats every 64 frames (`NoiseIndex = frameIndex % 64`).
+    pub frames: u32,
+}
+
+impl Heuristics<f64> {
+    /// Algorithm 1 of the paper: no heuristic.
+    pub const BARE: Heuristics<f64> = Heuristics {
+        radius_multiplier: 1.0,
+        falloff_range: 0.0,
+        distribution_power: 1.0,
+        start_pixels: 0.0,
+        thin_occluder: 0.0,
+        final_power: 1.0,
+        normal_lerp: 0.0,
+        min_radius_pixels: 0.0,
+        max_radius_pixels: f64::INFINITY,
+        noise: false,
+        frames: 1,
+    };
+
+    /// XeGTAO's defaults (`XeGTAO.h`, version 1.20): radius multiplier 1.457, falloff range
+    /// 0.615, sample distribution power 2, thin-occluder compensation 0, final power 2.2;
+    /// `XeGTAO.hlsli`: samples start 1.3 px out, |n_φ| lerped 5 % toward 1; `vaGTAO.hlsl`:
+    /// noise from the Hilbert-R2 sequence, its index advancing each frame (mod 64) under TAA.
+    pub const XE: Heuristics<f64> = Heuristics {
+        radius_multiplier: 1.457,
+        falloff_range: 0.615,
+        distribution_power: 2.0,
+        start_pixels: 1.3,
+        thin_occluder: 0.0,
+        final_power: 2.2,
+        normal_lerp: 0.05,
+        min_radius_pixels: 0.0,
+        max_radius_pixels: f64::INFINITY,
+        noise: true,
+        frames: 64,
+    };
+
+    pub fn narrowed(self) -> Heuristics<f32> {
+        Heuristics {
+            radius_multiplier: self.radius_multiplier as f32,
+            falloff_range: self.falloff_range as f32,
+            distribution_power: self.distribution_power as f32,
+            start_pixels: self.start_pixels as f32,
+            thin_occluder: self.thin_occluder as f32,
+            final_power: self.final_power as f32,
+            normal_lerp: self.normal_lerp as f32,
+            min_radius_pixels: self.min_radius_pixels as f32,
+            max_radius_pixels: self.max_radius_pixels as f32,
+            noise: self.noise,
+            frames: self.frames,
+        }
+    }
+
+    /// Whether this is Algorithm 1 with no heuristic (what `shaders/gtao.wgsl` runs).
+    pub fn is_bare(&self) -> bool {
+        *self == Heuristics::BARE
+    }
+}
+
+/// GTAO's parameters in a precision: the radius (scene units, before the multiplier), the
+/// slices per pixel, the steps per side of a slice and the heuristics.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Parameters<T> {
     pub radius: T,
     pub slices: u32,
     pub steps: u32,
+    pub heuristics: Heuristics<T>,
 }
 
 impl Parameters<f64> {
     pub fn of(gtao: Gtao) -> Parameters<f64> {
-        Parameters { radius: gtao.radius, slices: gtao.slices, steps: gtao.steps }
+        Parameters { radius: gtao.radius, slices: gtao.slices, steps: gtao.steps, heuristics: gtao.heuristics }
+    }
+
+    /// Algorithm 1 with `slices` × `steps` within `radius`.
+    pub fn bare(radius: f64, slices: u32, steps: u32) -> Parameters<f64> {
+        Parameters { radius, slices, steps, heuristics: Heuristics::BARE }
     }
 
     pub fn narrowed(self) -> Parameters<f32> {
-        Parameters { radius: self.radius as f32, slices: self.slices, steps: self.steps }
+        Parameters { radius: self.radius as f32, slices: self.slices, steps: self.steps, heuristics: self.heuristics.narrowed() }
     }
+
+    /// G-buffer reads per covered pixel: both sides of every step of every slice, every frame.
+    pub fn reads_per_pixel(&self) -> u64 {
+        let frames = if self.heuristics.noise { self.heuristics.frames.max(1) } else { 1 };
+        self.slices as u64 * 2 * self.steps as u64 * frames as u64
+    }
+}
+
+/// A named GTAO configuration: Algorithm 1 as the paper gives it, or XeGTAO's quality levels
+/// (`vaGTAO.hlsl`: Low 1 slice × 2 steps, Medium 2 × 2, High 3 × 3, Ultra 9 × 3 per side) with
+/// its default heuristics ([`Heuristics::XE`]). A scene names one and may override any number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    Bare,
+    XeLow,
+    XeMedium,
+    XeHigh,
+    XeUltra,
+}
+
+impl Preset {
+    pub const ALL: [Preset; 5] = [Preset::Bare, Preset::XeLow, Preset::XeMedium, Preset::XeHigh, Preset::XeUltra];
+
+    /// The name scenes and tables use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Bare => "bare",
+            Preset::XeLow => "xe-low",
+            Preset::XeMedium => "xe-medium",
+            Preset::XeHigh => "xe-high",
+            Preset::XeUltra => "xe-ultra",
+        }
+    }
+
+    pub fn named(name: &str) -> Option<Preset> {
+        Preset::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// Slices per pixel and steps per side of a slice (bare: the scenes' defaults, 4 × 8).
+    pub fn slices_steps(self) -> [u32; 2] {
+        match self {
+            Preset::Bare => [4, 8],
+            Preset::XeLow => [1, 2],
+            Preset::XeMedium => [2, 2],
+            Preset::XeHigh => [3, 3],
+            Preset::XeUltra => [9, 3],
+        }
+    }
+
+    pub fn heuristics(self) -> Heuristics<f64> {
+        match self {
+            Preset::Bare => Heuristics::BARE,
+            _ => Heuristics::XE,
+        }
+    }
+}
+
+/// The side of XeGTAO's Hilbert curve tile (level 6: 64 × 64 pixels).
+pub const HILBERT_WIDTH: u32 = 64;
+
+/// The position of pixel (`x`, `y`) mod [`HILBERT_WIDTH`] along the Hilbert curve that fills
+/// the tile (0 ≤ index < 64², neighbours along the curve are neighbours in the tile): the
+/// quadrant of each level, most significant first, numbered in the curve's order, the rest
+/// of the coordinates turned into that quadrant's frame.
+pub fn hilbert_index(x: u32, y: u32) -> u32 {
+    let (mut x, mut y) = (x % HILBERT_WIDTH, y % HILBERT_WIDTH);
+    let mut index = 0;
+    let mut level = HILBERT_WIDTH / 2;
+    while level > 0 {
+        let right = u32::from(x & level != 0);
+        let up = u32::from(y & level != 0);
+        index += level * level * ((3 * right) ^ up);
+        if up == 0 {
+            if right == 1 {
+                x = HILBERT_WIDTH - 1 - x;
+                y = HILBERT_WIDTH - 1 - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        level /= 2;
+    }
+    index
+}
+
+/// The frame-to-frame stride of the noise index (XeGTAO `vaGTAO.hlsl`: 288 × (frame mod 64),
+/// "the best so far" with a level-6 curve).
+pub const NOISE_FRAME_STRIDE: u32 = 288;
+/// The R2 sequence's steps, 1/g and 1/g² for g the plastic number (the real root of
+/// x³ = x + 1): Roberts 2018, "The unreasonable effectiveness of quasirandom sequences".
+pub const R2: [f64; 2] = [0.754_877_666_246_692_8, 0.569_840_290_998_053_3];
+/// The R1 sequence's step, 1/φ (the golden ratio): the steps' offsets within a slice.
+pub const R1: f64 = 0.618_033_988_749_894_9;
+
+fn fraction<T: Real>(x: T) -> T {
+    x - x.floor()
+}
+
+/// Pixel (`x`, `y`)'s noise in `frame`: (slice rotation, step offset), each in [0, 1): R2
+/// at the pixel's Hilbert index plus [`NOISE_FRAME_STRIDE`] × (frame mod 64), offset by ½.
+pub fn noise<T: Real>(x: u32, y: u32, frame: u32) -> [T; 2] {
+    let index = hilbert_index(x, y) + NOISE_FRAME_STRIDE * (frame % 64);
+    let i = T::count(index as usize);
+    R2.map(|a| fraction(T::of(0.5) + i * T::of(a)))
 }
 
 /// Where the ray through pixel coordinates (`x`, `y`) meets the plane of the texel sample
@@ -181,9 +390,29 @@ pub fn texel_plane_point<T: Real>(g: &GBuffer<T>, q: &ViewSample<T>, x: T, y: T)
     }
 }
 
-/// The accessibility GTAO gives pixel (`x`, `y`) of `g` (`None`: no surface there). The
-/// twin of `pixel_visibility` in `shaders/gtao.wgsl`.
+/// The accessibility GTAO gives pixel (`x`, `y`) of `g` (`None`: no surface there): the
+/// mean over the accumulated frames of each frame's value, each with its own noise (one
+/// frame without noise: Algorithm 1's fixed slices and steps). The twin of
+/// `pixel_visibility` in `shaders/gtao.wgsl` (bare heuristics).
 pub fn pixel_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T>) -> Option<T> {
+    let h = p.heuristics;
+    if !h.noise {
+        // Every frame is the same: one is their mean.
+        return frame_visibility(g, x, y, p, [T::of(0.5), T::ONE]);
+    }
+    let frames = h.frames.max(1);
+    let mut total = T::ZERO;
+    for frame in 0..frames {
+        total = total + frame_visibility(g, x, y, p, noise(x, y, frame))?;
+    }
+    Some(total / T::count(frames as usize))
+}
+
+/// One frame's accessibility at pixel (`x`, `y`) with slice rotation `offsets[0]` (slice i
+/// at φ = π(i + offsets[0])/slices) and step offset `offsets[1]` (per slice the steps'
+/// offsets follow R1 from it; with noise off every step's offset is `offsets[1]`).
+fn frame_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T>, offsets: [T; 2]) -> Option<T> {
+    let h = p.heuristics;
     let (px, py) = (T::count(x as usize), T::count(y as usize));
     let here = *g.at(px, py)?;
     let position = here.position;
@@ -197,8 +426,17 @@ pub fn pixel_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T
     let half = T::of(0.5);
     let half_pi = T::of(std::f64::consts::FRAC_PI_2);
     let pi = T::of(std::f64::consts::PI);
-    let radius_pixels = p.radius * g.focal / depth;
-    let radius2 = p.radius * p.radius;
+    let radius = p.radius * h.radius_multiplier;
+    let radius_pixels = radius * g.focal / depth;
+    if radius_pixels < h.min_radius_pixels {
+        return Some(T::ONE);
+    }
+    let radius_pixels = radius_pixels.min(h.max_radius_pixels);
+    let radius2 = radius * radius;
+    let hard_cut = !(h.falloff_range > T::ZERO);
+    let thickness = T::ONE + h.thin_occluder;
+    let uniform = h.distribution_power == T::ONE;
+    let steps = T::count(p.steps as usize);
     // The slices turn about v evenly: e₁ the image's x axis made perpendicular to v (never
     // parallel: P lies in front of the eye), e₂ = v × e₁.
     let x_axis = [T::ONE, T::ZERO, T::ZERO];
@@ -208,7 +446,7 @@ pub fn pixel_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T
     let e2 = cross(v, e1);
     let mut total = T::ZERO;
     for slice in 0..p.slices {
-        let phi = pi * (T::count(slice as usize) + half) / T::count(p.slices as usize);
+        let phi = pi * (T::count(slice as usize) + offsets[0]) / T::count(p.slices as usize);
         let ortho = along(e1.map(|e| e * phi.cos()), phi.sin(), e2);
         // The slice's direction in the image: where P + ε·ortho projects, per ε.
         let screen_x = ortho[0] * depth + position[0] * ortho[2];
@@ -228,10 +466,16 @@ pub fn pixel_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T
         let sign = if dot(projected, ortho) < T::ZERO { -T::ONE } else { T::ONE };
         let gamma = sign * cos_gamma.acos();
         // Horizon cosines, from the tangent plane: θ = γ + π/2 (plus side), γ − π/2 (minus).
-        let mut cos_plus = (gamma + half_pi).cos();
-        let mut cos_minus = (gamma - half_pi).cos();
-        for step in 1..=p.steps {
-            let t = radius_pixels * T::count(step as usize) / T::count(p.steps as usize);
+        let (low_plus, low_minus) = ((gamma + half_pi).cos(), (gamma - half_pi).cos());
+        let (mut cos_plus, mut cos_minus) = (low_plus, low_minus);
+        for step in 0..p.steps {
+            let offset = if h.noise { fraction(offsets[1] + T::count((slice + step * p.steps) as usize) * T::of(R1)) } else { offsets[1] };
+            let position_in_steps = T::count(step as usize) + offset;
+            let t = if uniform {
+                radius_pixels * position_in_steps / steps
+            } else {
+                radius_pixels * (position_in_steps / steps).power(h.distribution_power)
+            } + h.start_pixels;
             for side in [T::ONE, -T::ONE] {
                 let (sample_x, sample_y) = (px + half + side * t * c, py + half + side * t * s);
                 let (sx, sy) = (sample_x.floor(), sample_y.floor());
@@ -241,21 +485,37 @@ pub fn pixel_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T
                 let Some(q) = g.at(sx, sy) else { continue };
                 let delta = along(texel_plane_point(g, q, sample_x, sample_y), -T::ONE, position);
                 let d2 = dot(delta, delta);
-                if d2 > T::ZERO && d2 < radius2 {
-                    let cos_h = dot(delta, v) / d2.sqrt();
-                    if side > T::ZERO {
-                        cos_plus = cos_plus.max(cos_h);
-                    } else {
-                        cos_minus = cos_minus.max(cos_h);
+                if !(d2 > T::ZERO) {
+                    continue;
+                }
+                // The distance the cut and the falloff see: the depth offset stretched.
+                let thick = [delta[0], delta[1], delta[2] * thickness];
+                let thick2 = dot(thick, thick);
+                let cos_h = dot(delta, v) / d2.sqrt();
+                let low = if side > T::ZERO { low_plus } else { low_minus };
+                let cos_h = if hard_cut {
+                    if !(thick2 < radius2) {
+                        continue;
                     }
+                    cos_h
+                } else {
+                    let weight = ((radius - thick2.sqrt()) / (h.falloff_range * radius)).clamp(T::ZERO, T::ONE);
+                    low + weight * (cos_h - low)
+                };
+                if side > T::ZERO {
+                    cos_plus = cos_plus.max(cos_h);
+                } else {
+                    cos_minus = cos_minus.max(cos_h);
                 }
             }
         }
         let h_plus = gamma + (cos_plus.clamp(-T::ONE, T::ONE).acos() - gamma).min(half_pi);
         let h_minus = gamma + (-cos_minus.clamp(-T::ONE, T::ONE).acos() - gamma).max(-half_pi);
-        total = total + slice_visibility(h_minus, h_plus, gamma, length);
+        let weight = length + h.normal_lerp * (T::ONE - length);
+        total = total + slice_visibility(h_minus, h_plus, gamma, weight);
     }
-    Some((total / T::count(p.slices as usize)).clamp(T::ZERO, T::ONE))
+    let open = (total / T::count(p.slices as usize)).clamp(T::ZERO, T::ONE);
+    Some(if h.final_power == T::ONE { open } else { open.power(h.final_power) })
 }
 
 /// Every pixel's GTAO accessibility (row-major; `None` where no surface is).
@@ -331,10 +591,10 @@ mod tests {
             let camera = Pinhole::new(eye, DVec3::ZERO, 41);
             let g = camera.gbuffer(|o, d| floor(o, d, |_| true).map(|(_, p, n)| (p, n)));
             let (x, y) = camera.centre();
-            let open = pixel_visibility(&g, x, y, Parameters { radius: 1.0, slices: 64, steps: 16 }).unwrap();
+            let open = pixel_visibility(&g, x, y, Parameters::bare(1.0, 64, 16)).unwrap();
             assert!((open - 1.0).abs() < 1e-5, "{eye}: {open}");
             // With 2 slices the midpoint rule is coarse where the view is oblique.
-            let coarse = pixel_visibility(&g, x, y, Parameters { radius: 1.0, slices: 2, steps: 16 }).unwrap();
+            let coarse = pixel_visibility(&g, x, y, Parameters::bare(1.0, 2, 16)).unwrap();
             assert!((coarse - 1.0).abs() < 0.2, "{eye}: {coarse}");
         }
     }
@@ -361,7 +621,7 @@ mod tests {
         let g = camera.gbuffer(bowl);
         let (x, y) = camera.centre();
         let error = |steps: u32| {
-            let p = Parameters { radius: 2.5, slices: 16, steps };
+            let p = Parameters::bare(2.5, 16, steps);
             (pixel_visibility(&g, x, y, p).unwrap() - 0.5).abs()
         };
         // From the bottom (5 below the eye) the rim is 45° up and A = cos² e at horizon
@@ -377,7 +637,7 @@ mod tests {
         assert!(error(256) < error(16));
         // Every bowl point more than 0.5 below the rim (its search still reaches the far
         // rim, at most 2 away).
-        let p = Parameters { radius: 2.5, slices: 16, steps: 256 };
+        let p = Parameters::bare(2.5, 16, 256);
         let (mut checked, mut largest) = (0, 0.0f64);
         for (i, sample) in g.samples.iter().enumerate() {
             let Some(s) = sample else { continue };
@@ -421,7 +681,7 @@ mod tests {
                 let camera = Pinhole::new(eye, DVec3::ZERO, 201);
                 let g = camera.gbuffer(scene);
                 let (x, y) = camera.centre();
-                let got = pixel_visibility(&g, x, y, Parameters { radius, slices: 32, steps: 128 }).unwrap();
+                let got = pixel_visibility(&g, x, y, Parameters::bare(radius, 32, 128)).unwrap();
                 // The sampled wall point nearest the sphere of radius R lies within one step
                 // of it, so the horizon can only fall short (A too high); the slices'
                 // midpoint rule adds a little either way. Measured +0.0008 … +0.0099.
@@ -429,6 +689,309 @@ mod tests {
                 assert!(got > expected - 1e-3, "d {d}, eye {eye}: {got} below {expected}");
             }
         }
+    }
+
+    /// XeGTAO's heuristics one at a time: Algorithm 1 with `change` applied.
+    fn with(change: impl Fn(&mut Heuristics<f64>), radius: f64, slices: u32, steps: u32) -> Parameters<f64> {
+        let mut p = Parameters::bare(radius, slices, steps);
+        change(&mut p.heuristics);
+        p
+    }
+
+    /// The mean over φ ∈ [0, π) of `f` by the midpoint rule on `n` points.
+    fn mean_over_half_turn(n: usize, f: impl Fn(f64) -> f64) -> f64 {
+        (0..n).map(|i| f(std::f64::consts::PI * (i as f64 + 0.5) / n as f64)).sum::<f64>() / n as f64
+    }
+
+    /// The Hilbert index runs through every pixel of the 64² tile once, each step to a
+    /// pixel beside the last (what makes neighbouring indices neighbouring pixels).
+    #[test]
+    fn the_hilbert_index_walks_the_tile_one_neighbour_at_a_time() {
+        let mut at = vec![None; 64 * 64];
+        for y in 0..64 {
+            for x in 0..64 {
+                let i = hilbert_index(x, y) as usize;
+                assert!(at[i].is_none(), "index {i} twice");
+                at[i] = Some((x as i32, y as i32));
+            }
+        }
+        let at: Vec<(i32, i32)> = at.into_iter().map(Option::unwrap).collect();
+        assert_eq!(at[0], (0, 0));
+        for pair in at.windows(2) {
+            let ((x0, y0), (x1, y1)) = (pair[0], pair[1]);
+            assert_eq!((x0 - x1).abs() + (y0 - y1).abs(), 1, "{pair:?}");
+        }
+        // The tile repeats.
+        assert_eq!(hilbert_index(64 + 5, 128 + 7), hilbert_index(5, 7));
+        // Noise: R2 at the index, offset ½; frame f adds 288 f to the index (mod 64 frames).
+        let [a, b] = noise::<f64>(0, 0, 1);
+        let expected = |k: usize| (0.5 + 288.0 * R2[k]).fract();
+        assert!((a - expected(0)).abs() < 1e-12 && (b - expected(1)).abs() < 1e-12, "{a} {b}");
+        assert_eq!(noise::<f64>(3, 9, 2), noise::<f64>(3, 9, 66));
+    }
+
+    /// A floor point straight below the eye, a wall at distance d (taller than the search
+    /// radius R = radius × 1.457): n = v, so γ = 0, |n_φ| = 1 and the tangent plane's horizon
+    /// cosine is 0. In the slice at angle φ from the wall's normal the wall lies at D = d/cos φ;
+    /// its point at distance r ≥ D has horizon cosine √(1 − D²/r²) and, with the falloff,
+    /// counts as w(r)·√(1 − D²/r²), w = clamp((R − r)/(fR), 0, 1) (the lerp toward the
+    /// tangent plane's 0). On [D, R(1 − f)] this grows; beyond, its derivative vanishes where
+    /// r³ = R D². So the slice's horizon cosine is c = that at clamp(max(R(1 − f), (RD²)^⅓), D,
+    /// R) (0 where D ≥ R), its open part 1 − c²/2 (eq. 10, h₋ = −π/2), and A = 1 − (1/2π)
+    /// ∫ c² dφ over |φ| < π/2. A wall at 1.5 × radius lies beyond R = 1.457 × radius: A = 1.
+    #[test]
+    fn the_falloff_matches_its_closed_form_beside_a_wall() {
+        let radius = 0.5;
+        let xe = |h: &mut Heuristics<f64>| {
+            h.radius_multiplier = Heuristics::XE.radius_multiplier;
+            h.falloff_range = Heuristics::XE.falloff_range;
+        };
+        let big_r = radius * Heuristics::XE.radius_multiplier;
+        let f = Heuristics::XE.falloff_range;
+        let horizon = |d: f64, phi: f64| {
+            let dd = d / phi.cos();
+            if dd >= big_r {
+                return 0.0;
+            }
+            let r = (big_r * (1.0 - f)).max((big_r * dd * dd).cbrt()).clamp(dd, big_r);
+            ((big_r - r) / (f * big_r)).clamp(0.0, 1.0) * (1.0 - dd * dd / (r * r)).sqrt()
+        };
+        let closed = |d: f64| 1.0 - 0.5 * mean_over_half_turn(100_000, |phi| horizon(d, phi - std::f64::consts::FRAC_PI_2).powi(2));
+        // The same wall with the hard cut at R: the form of the test above.
+        let hard = |d: f64| {
+            let phi0 = (d / big_r).acos();
+            1.0 - phi0 / std::f64::consts::PI + d * (big_r * big_r - d * d).sqrt() / (std::f64::consts::PI * big_r * big_r)
+        };
+        let camera = Pinhole::new(DVec3::new(0.0, 1.6, 0.01), DVec3::ZERO, 401);
+        let (x, y) = camera.centre();
+        for (multiple, d) in [(0.5, 0.5 * radius), (1.5, 1.5 * radius)] {
+            let scene = |o: DVec3, dir: DVec3| {
+                let floor_hit = floor(o, dir, |p| p.x < d);
+                let t = (d - o.x) / dir.x;
+                let p = o + t * dir;
+                let wall_hit = (t > 0.0 && p.y >= 0.0 && p.y <= 1.0 && p.z.abs() <= 3.0).then_some((t, p, -DVec3::X));
+                [floor_hit, wall_hit].into_iter().flatten().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, p, n)| (p, n))
+            };
+            let g = camera.gbuffer(scene);
+            let got = pixel_visibility(&g, x, y, with(xe, radius, 64, 512)).unwrap();
+            let expected = closed(d);
+            if multiple > 1.0 {
+                assert_eq!(expected, 1.0);
+                assert!((got - 1.0).abs() < 1e-5, "wall at {multiple} × radius: {got}");
+            } else {
+                // The falloff lets go of most of the occlusion the hard cut at the same search
+                // radius counts (0.922 against 0.714).
+                assert!(expected - hard(d) > 0.1, "{expected} against {}", hard(d));
+                // Sampled horizons fall short of the true maximum (A too high) by what a step
+                // of 1/512 of the radius misses, at a maximum where the slope is 0; the eye
+                // 0.01 off the vertical tilts v by 0.006 rad. Measured 5e-6.
+                eprintln!("falloff, wall at {multiple} × radius: {got} against {expected} (hard cut {})", hard(d));
+                assert!((got - expected).abs() < 1e-3, "wall at {multiple} × radius: {got} against {expected}");
+            }
+        }
+    }
+
+    /// A thin strip (a pillar of no depth, |y| ≤ 10, a ≤ x ≤ a + w) at height h in front of a
+    /// wall facing the eye, seen from the pixel straight behind it on the wall (n = v, γ = 0),
+    /// hard cut at R. The strip's nearest point in the slice at angle φ is its edge, at
+    /// ρ = a/cos φ beside the pixel and h in front: horizon cosine h/√(ρ² + h²), open part
+    /// 1 − ½ h²/(ρ² + h²). With thin-occluder compensation c the cut sees the depth offset
+    /// × (1 + c): the edge counts while ρ² + (1 + c)²h² < R², i.e. |φ| < φ₀, cos φ₀ = a/ρ_max.
+    /// Integrating, A = 1 − (1/π)[φ₀ − (a/√(a² + h²)) atan(a tan φ₀/√(a² + h²))]; where
+    /// (1 + c)h ≥ R the strip never counts and the wall is open, A = 1.
+    #[test]
+    fn thin_occluder_compensation_lets_a_thin_pillar_in_front_of_a_wall_go() {
+        let (a, w, h, big_r) = (0.2f64, 0.3, 0.6f64, 1.0f64);
+        let camera = Pinhole::new(DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO, 201);
+        let g = camera.gbuffer(|o, d| {
+            let wall = (-o.z / d.z, DVec3::Z);
+            let t = (h - o.z) / d.z;
+            let p = o + t * d;
+            let strip = (p.x >= a && p.x <= a + w && p.y.abs() <= 10.0).then_some((t, DVec3::Z));
+            let (t, n) = strip.unwrap_or(wall);
+            (t > 0.0).then(|| (o + t * d, n))
+        });
+        let (x, y) = camera.centre();
+        let closed = |c: f64| {
+            let reach2 = big_r * big_r - ((1.0 + c) * h).powi(2);
+            if reach2 <= a * a {
+                return 1.0;
+            }
+            let phi0 = (a / reach2.sqrt()).acos();
+            let k = (a * a + h * h).sqrt();
+            1.0 - (phi0 - a / k * (a * phi0.tan() / k).atan()) / std::f64::consts::PI
+        };
+        let mut previous = 0.0;
+        for c in [0.0, 0.5, 0.7] {
+            let expected = closed(c);
+            assert!(expected > previous + 0.03, "{c}: {expected}");
+            previous = expected;
+            let got = pixel_visibility(&g, x, y, with(|k| k.thin_occluder = c, big_r, 64, 256)).unwrap();
+            // The strip's edge is sampled within a pixel (0.014 at its depth): a sample in a
+            // wall texel short of the edge misses it, one in a strip texel past the edge is
+            // projected onto the strip's plane; each moves ρ by at most a pixel, the horizon
+            // cosine by at most 0.47 × 0.014 (|∂/∂ρ| of h/√(ρ² + h²) ≤ 0.47 there). Measured:
+            // −4e-4 (c = 0), +3.4e-3 (c = 0.5).
+            eprintln!("thin occluder {c}: {got} against {expected}");
+            assert!((got - expected).abs() < 0.006, "c {c}: {got} against {expected}");
+        }
+        assert_eq!(closed(0.7), 1.0);
+    }
+
+    /// The final power raises the accessibility: the wall's closed form A becomes A^p,
+    /// within p·A^(p−1) times the bare form's own bound (|x^p − y^p| ≤ p max(x, y)^(p−1)
+    /// |x − y| for p ≥ 1). And the samples' distribution power 2 puts sample k at
+    /// ((k + 1)/steps)² of the radius: at the rim of the bowl (the test above) a step is
+    /// 2/steps of the radius instead of 1/steps, so the bowl's bound doubles to 8/steps.
+    #[test]
+    fn the_final_and_distribution_powers_meet_their_closed_forms() {
+        let (radius, d, p) = (1.0f64, 0.5f64, Heuristics::XE.final_power);
+        let scene = |o: DVec3, dir: DVec3| {
+            let floor_hit = floor(o, dir, |q| q.x < d);
+            let t = (d - o.x) / dir.x;
+            let q = o + t * dir;
+            let wall_hit = (t > 0.0 && q.y >= 0.0 && q.y <= 10.0 && q.z.abs() <= 10.0).then_some((t, q, -DVec3::X));
+            [floor_hit, wall_hit].into_iter().flatten().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, q, n)| (q, n))
+        };
+        let phi0 = (d / radius).acos();
+        let closed = 1.0 - phi0 / std::f64::consts::PI + d * (radius * radius - d * d).sqrt() / (std::f64::consts::PI * radius * radius);
+        let camera = Pinhole::new(DVec3::new(-2.0, 2.5, 0.3), DVec3::ZERO, 201);
+        let g = camera.gbuffer(scene);
+        let (x, y) = camera.centre();
+        let plain = pixel_visibility(&g, x, y, Parameters::bare(radius, 32, 128)).unwrap();
+        let powered = pixel_visibility(&g, x, y, with(|h| h.final_power = p, radius, 32, 128)).unwrap();
+        assert!((powered - plain.powf(p)).abs() < 1e-12, "{powered} against {plain}^{p}");
+        let bound = p * closed.max(plain).powf(p - 1.0) * 0.015;
+        assert!((powered - closed.powf(p)).abs() < bound, "{powered} against {} ± {bound}", closed.powf(p));
+        assert!(closed - closed.powf(p) > 5.0 * bound, "the power must show: {closed} → {}", closed.powf(p));
+
+        let (centre, r) = (DVec3::ZERO, 1.0);
+        let bowl = |o: DVec3, dir: DVec3| {
+            let oc = o - centre;
+            let b = oc.dot(dir);
+            let disc = b * b - (oc.length_squared() - r * r);
+            if disc < 0.0 {
+                return None;
+            }
+            let q = o + (-b + disc.sqrt()) * dir;
+            (q.y <= centre.y).then(|| (q, (centre - q) / r))
+        };
+        let camera = Pinhole::new(DVec3::new(0.0, 4.0, 0.001), DVec3::new(0.0, -1.0, 0.0), 101);
+        let g = camera.gbuffer(bowl);
+        let (x, y) = camera.centre();
+        for steps in [16, 64, 256] {
+            let a = pixel_visibility(&g, x, y, with(|h| h.distribution_power = 2.0, 2.5, 16, steps)).unwrap();
+            assert!((a - 0.5).abs() <= 8.0 / steps as f64, "{steps} steps: {a}");
+        }
+    }
+
+    /// A plane facing the eye whose centre pixel carries a normal tilted by θ (a normal map):
+    /// every sample lies in the plane, horizon cosine 0 on both sides, so with n_φ at angle
+    /// γ > 0 the plus side is open to π/2 and the minus side clamped to the tangent plane,
+    /// γ − π/2; eq. 10 gives â(φ) = L(φ)(cos γ + ½ γ sin γ) (the same for γ < 0 by symmetry),
+    /// L = |n_φ|. XeGTAO's lerp weights each slice by L + 0.05 (1 − L) instead of L.
+    fn tilted_pixel(theta: f64) -> (GBuffer<f64>, (u32, u32), impl Fn(f64, f64) -> f64) {
+        let camera = Pinhole::new(DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO, 41);
+        let mut g = camera.gbuffer(|o, d| {
+            let t = -o.z / d.z;
+            (t > 0.0).then(|| (o + t * d, DVec3::Z))
+        });
+        let (x, y) = camera.centre();
+        let n = [0.0, theta.sin(), theta.cos()];
+        g.samples[(y * g.width + x) as usize].as_mut().unwrap().normal = n;
+        // The slice at φ turns about v = z from the image's x axis: axis = v × (cos φ, sin φ, 0).
+        let slice = move |phi: f64, lerp: f64| {
+            let axis = [-phi.sin(), phi.cos(), 0.0];
+            let along_axis = n[0] * axis[0] + n[1] * axis[1];
+            let projected = [n[0] - along_axis * axis[0], n[1] - along_axis * axis[1], n[2]];
+            let l = dot(projected, projected).sqrt();
+            let gamma = (projected[2] / l).acos();
+            (l + lerp * (1.0 - l)) * (gamma.cos() + 0.5 * gamma * gamma.sin())
+        };
+        (g, (x, y), slice)
+    }
+
+    #[test]
+    fn the_normal_lerp_matches_its_closed_form_on_a_tilted_normal() {
+        let theta = 60f64.to_radians();
+        let (g, (x, y), slice) = tilted_pixel(theta);
+        for lerp in [0.0, Heuristics::XE.normal_lerp] {
+            let expected = mean_over_half_turn(100_000, |phi| slice(phi, lerp));
+            let got = pixel_visibility(&g, x, y, with(|h| h.normal_lerp = lerp, 1.0, 64, 8)).unwrap();
+            // 64 midpoint slices of a smooth periodic integrand; measured 1e-6.
+            assert!((got - expected).abs() < 1e-4, "lerp {lerp}: {got} against {expected}");
+            assert!(expected < 0.95, "{expected}");
+        }
+        let gap = mean_over_half_turn(10_000, |phi| slice(phi, 0.05) - slice(phi, 0.0));
+        assert!(gap > 0.005, "the lerp must show: {gap}");
+    }
+
+    /// N frames of one noisy slice each against the converged integral: frame f turns the
+    /// slice to φ_f = π ξ_f (ξ_f the pixel's R2 slice offset in frame f), so the accumulated
+    /// value is the mean of â(π ξ_f), and Koksma's inequality bounds its distance from
+    /// (1/π) ∫ â by V(â) · D*_N, the total variation of â over the half turn times the star
+    /// discrepancy of ξ₁ … ξ_N (for sorted ξ: 1/2N + max |ξ₍ᵢ₎ − (2i − 1)/2N|). On the tilted
+    /// pixel every slice's value is exact whatever the steps, so the bound is all there is.
+    #[test]
+    fn accumulated_noise_meets_the_converged_integral_within_koksmas_bound() {
+        let (g, (x, y), slice) = tilted_pixel(50f64.to_radians());
+        let converged = mean_over_half_turn(100_000, |phi| slice(phi, 0.0));
+        let fine: Vec<f64> = (0..=100_000).map(|i| slice(std::f64::consts::PI * i as f64 / 100_000.0, 0.0)).collect();
+        let variation: f64 = fine.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
+        let mut bounds = Vec::new();
+        for frames in [1, 4, 16, 64] {
+            let mut offsets: Vec<f64> = (0..frames).map(|f| noise::<f64>(x, y, f)[0]).collect();
+            offsets.sort_by(f64::total_cmp);
+            let n = frames as f64;
+            let discrepancy = 1.0 / (2.0 * n)
+                + offsets.iter().enumerate().map(|(i, &o)| (o - (2.0 * i as f64 + 1.0) / (2.0 * n)).abs()).fold(0.0, f64::max);
+            let p = with(
+                |h| {
+                    h.noise = true;
+                    h.frames = frames;
+                },
+                1.0,
+                1,
+                4,
+            );
+            let got = pixel_visibility(&g, x, y, p).unwrap();
+            let bound = variation * discrepancy + 1e-9;
+            eprintln!("{frames} frames: {got} against {converged} ± {bound}");
+            assert!((got - converged).abs() <= bound, "{frames} frames: {got} against {converged} ± {bound}");
+            bounds.push(bound);
+        }
+        // One frame's bound is at least V/2 (D*₁ ≥ ½); 64 frames' a tenth of it or less.
+        assert!(bounds[3] < 0.1 * bounds[0] && bounds[3] < 0.03, "{bounds:?}");
+    }
+
+    /// Outside [min, max] pixels of screen radius: below the minimum the pixel is open; the
+    /// maximum shortens the search (a wall beyond it in the image goes unseen).
+    #[test]
+    fn the_screen_radius_clamp_opens_small_radii_and_shortens_large_ones() {
+        let d = 0.5;
+        let scene = |o: DVec3, dir: DVec3| {
+            let floor_hit = floor(o, dir, |q| q.x < d);
+            let t = (d - o.x) / dir.x;
+            let q = o + t * dir;
+            let wall_hit = (t > 0.0 && q.y >= 0.0 && q.y <= 10.0 && q.z.abs() <= 10.0).then_some((t, q, -DVec3::X));
+            [floor_hit, wall_hit].into_iter().flatten().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, q, n)| (q, n))
+        };
+        let camera = Pinhole::new(DVec3::new(-2.0, 2.5, 0.3), DVec3::ZERO, 101);
+        let g = camera.gbuffer(scene);
+        let (x, y) = camera.centre();
+        let depth = -g.samples[(y * g.width + x) as usize].unwrap().position[2];
+        let radius_pixels = g.focal / depth;
+        let plain = pixel_visibility(&g, x, y, Parameters::bare(1.0, 16, 64)).unwrap();
+        assert!(plain < 0.9, "{plain}");
+        let small = pixel_visibility(&g, x, y, with(|h| h.min_radius_pixels = radius_pixels * 1.01, 1.0, 16, 64)).unwrap();
+        assert_eq!(small, 1.0);
+        let kept = pixel_visibility(&g, x, y, with(|h| h.min_radius_pixels = radius_pixels * 0.99, 1.0, 16, 64)).unwrap();
+        assert_eq!(kept, plain);
+        // The wall's image lies farther than 2 px from the pixel in every direction.
+        let short = pixel_visibility(&g, x, y, with(|h| h.max_radius_pixels = 2.0, 1.0, 16, 64)).unwrap();
+        assert!((short - 1.0).abs() < 1e-3, "{short}");
+        let unclamped = pixel_visibility(&g, x, y, with(|h| h.max_radius_pixels = radius_pixels * 1.5, 1.0, 16, 64)).unwrap();
+        assert_eq!(unclamped, plain);
     }
 
     #[test]
@@ -442,7 +1005,7 @@ mod tests {
             };
             [floor(o, d, |p| p.x < 0.4), wall].into_iter().flatten().min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, p, n)| (p, n))
         });
-        let p = Parameters { radius: 1.0, slices: 4, steps: 8 };
+        let p = Parameters::bare(1.0, 4, 8);
         let wide = gtao(&g, p);
         let narrow = gtao(&g.narrowed(), p.narrowed());
         let mut largest = 0.0f64;
@@ -455,5 +1018,18 @@ mod tests {
         // f32 rounding moves a sample to the neighbouring pixel only on a pixel boundary;
         // none does here. Measured 1.3e-6.
         assert!(largest < 1e-4, "{largest}");
+        // XeGTAO High with 8 frames of noise: the noise's f32 index × R2 step (up to ~5 000,
+        // ulp 5e-4) turns a slice by up to 1.6e-3 rad, and a sample crossing a pixel edge
+        // reads another texel, so single pixels may differ more; the mean may not.
+        // Measured: mean 1.3e-6, largest 7.9e-5 over 1681 pixels.
+        let mut xe = Parameters { radius: 1.0, slices: 3, steps: 3, heuristics: Heuristics::XE };
+        xe.heuristics.frames = 8;
+        let wide = gtao(&g, xe);
+        let narrow = gtao(&g.narrowed(), xe.narrowed());
+        let differences: Vec<f64> = wide.iter().zip(&narrow).filter_map(|(a, b)| Some((a.as_ref()? - *b.as_ref()? as f64).abs())).collect();
+        let mean = differences.iter().sum::<f64>() / differences.len() as f64;
+        let largest = differences.iter().copied().fold(0.0, f64::max);
+        eprintln!("xe-high, 8 frames: |f64 − f32| mean {mean:.2e}, largest {largest:.2e} over {} pixels", differences.len());
+        assert!(mean < 1e-4 && largest < 1e-2, "{mean} {largest}");
     }
 }

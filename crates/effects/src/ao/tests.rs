@@ -505,7 +505,7 @@ fn gtao_rows_sit_beside_the_surfel_rows_on_the_same_pixels() {
     let report = run(&scene, &settings, &mut EffectsStats::default(), &mut |_| {}).unwrap();
     let all_gtao: Vec<_> = report.rows.iter().filter(|r| r.technique != Technique::Surfels).collect();
     assert_eq!(report.rows.len(), 2 * 3 * 2 + 2 * 2, "two objects × (3 passes × 2 gatherings + 2 radii)");
-    let g = Gtao { radius: 0.5, slices: 2, steps: 3 };
+    let g = Gtao::bare(0.5, 2, 3);
     let gtao: Vec<_> = all_gtao.iter().filter(|r| r.technique == Technique::Gtao(g)).collect();
     assert_eq!(gtao.len(), 2);
     // The wider radius sees more of the cube over the plane: the plane's mean error falls.

@@ -435,7 +435,8 @@ pub fn run_scene(
         }
         None => None,
     };
-    let gtao = match effects.ambient_occlusion.as_ref().and_then(|a| a.gtao.first().copied()) {
+    // The WGSL pass runs the bare preset only: the first bare configuration.
+    let gtao = match effects.ambient_occlusion.as_ref().and_then(|a| a.gtao.iter().find(|g| g.heuristics.is_bare()).copied()) {
         Some(g) => {
             use nklut_effects::ao::gtao::{gtao, GBuffer, Parameters};
             let [width, height] = scene.resolution;

@@ -6,7 +6,9 @@
 //! the focal length in pixels, and GTAO's parameters (radius, slices, steps). Output: per
 //! pixel the accessibility, `None` where no surface is ([`GtaoPass::run`]). One dispatch
 //! of 8×8 workgroups; sizes are checked against the device's limits before any
-//! allocation; wgpu errors come back as `Result`s.
+//! allocation; wgpu errors come back as `Result`s. The kernel runs Algorithm 1 without the
+//! heuristics of `effects::ao::gtao::Heuristics` (the bare preset); other parameters are
+//! refused with an error.
 
 use anyhow::{bail, Result};
 use bytemuck::{Pod, Zeroable};
@@ -68,6 +70,11 @@ impl Pass for GtaoPass {
 impl GtaoPass {
     /// Upload `gbuffer` and compile the kernel for `parameters`.
     pub fn new(gpu: &Gpu, gbuffer: &GBuffer<f32>, parameters: Parameters<f32>) -> Result<GtaoPass> {
+        if parameters.heuristics != nklut_effects::ao::gtao::Heuristics::BARE.narrowed() {
+            bail!(
+                "the WGSL GTAO pass runs Algorithm 1 without heuristics (preset bare); these parameters carry heuristics: {parameters:?}"
+            );
+        }
         let (width, height) = (gbuffer.width, gbuffer.height);
         let pixels = width as usize * height as usize;
         if pixels == 0 || gbuffer.samples.len() != pixels {
