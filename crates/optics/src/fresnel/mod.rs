@@ -51,6 +51,8 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in the order of the spec and of every table. [`Method::index`] holds
+    /// the list complete: a method left out of it fails the build.
     pub const ALL: [Method; 8] = [
         Method::Exact,
         Method::Schlick,
@@ -61,6 +63,36 @@ impl Method {
         Method::Lut,
         Method::F82Tint,
     ];
+
+    /// The method's position in [`Method::ALL`]. One arm per method, no wildcard, each a
+    /// constant evaluated when the crate is built: a method added to the enum does not
+    /// compile until it has an arm here, and its arm does not compile until the method is
+    /// in `ALL` (write the new arm as the others: `const { Method::position(Method::New) }`).
+    pub const fn index(self) -> usize {
+        match self {
+            Method::Exact => const { Method::position(Method::Exact) },
+            Method::Schlick => const { Method::position(Method::Schlick) },
+            Method::SchlickNk => const { Method::position(Method::SchlickNk) },
+            Method::SchlickCompensated => const { Method::position(Method::SchlickCompensated) },
+            Method::Lazanyi => const { Method::position(Method::Lazanyi) },
+            Method::Nvidia => const { Method::position(Method::Nvidia) },
+            Method::Lut => const { Method::position(Method::Lut) },
+            Method::F82Tint => const { Method::position(Method::F82Tint) },
+        }
+    }
+
+    /// Where `method` is in [`Method::ALL`]; evaluated at build time by [`Method::index`],
+    /// where a method missing from the list is a compile error.
+    const fn position(method: Method) -> usize {
+        let mut i = 0;
+        while i < Method::ALL.len() {
+            if Method::ALL[i] as u8 == method as u8 {
+                return i;
+            }
+            i += 1;
+        }
+        panic!("a Method is missing from Method::ALL")
+    }
 
     /// The name used on the command line and in every table.
     pub fn name(self) -> &'static str {
@@ -80,6 +112,15 @@ impl Method {
         Method::ALL.into_iter().find(|m| m.name() == name)
     }
 }
+
+// Each method is in `Method::ALL` once: its entry is at its own index.
+const _: () = {
+    let mut i = 0;
+    while i < Method::ALL.len() {
+        assert!(Method::ALL[i].index() == i, "Method::ALL lists a method twice");
+        i += 1;
+    }
+};
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -4,7 +4,7 @@
 //! three-channel index (the same `fresnel::Model` the validator measures); and the
 //! CIEDE2000 of each against the reference at every angle.
 
-use super::charts::PALETTE;
+use super::charts::{method_color, FITTED_COLOR, REFERENCE_COLOR};
 use nklut_optics::color::{self, PreparedSpectrum};
 use nklut_optics::fresnel::{self, Encoding, ExactTerms, FitMemo, LutSpec, Method, Model};
 use nklut_optics::spectrum::{ChannelIndex, Index};
@@ -50,16 +50,21 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64], fits: &FitMemo) ->
     // Each channel's fits (compensation, Lazányi, Nvidia) once, shared by every method.
     let prepared = index.map(|index| fits.prepared(index));
     Method::ALL
-        .iter()
-        .filter(|m| **m != Method::SchlickNk)
-        .enumerate()
-        .map(|(i, &method)| {
+        .into_iter()
+        .filter(|&m| drawn(m))
+        .map(|method| {
             let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c], method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
-            PlotCurve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }
+            PlotCurve { name, color: method_color(method), dashed: method != Method::Exact, rgb }
         })
         .collect()
+}
+
+/// Whether a method has its own curve: all but `schlick_nk`, which is `schlick` with F0
+/// from (n, k), the same curve.
+pub fn drawn(method: Method) -> bool {
+    method != Method::SchlickNk
 }
 
 /// The curves of a material: the spectral reference (from the page's spectrum on the
@@ -73,12 +78,16 @@ pub fn material_curves(
     fits: &FitMemo,
 ) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
-    let mut curves =
-        vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
+    let mut curves = vec![PlotCurve {
+        name: REFERENCE.into(),
+        color: REFERENCE_COLOR,
+        dashed: false,
+        rgb: PreparedSpectrum::new(spectrum).curve(&cosines),
+    }];
     if let Some(fitted) = fitted {
         let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
-        curves.push(PlotCurve { name: FITTED.into(), color: PALETTE[6], dashed: true, rgb });
+        curves.push(PlotCurve { name: FITTED.into(), color: FITTED_COLOR, dashed: true, rgb });
     }
     curves.extend(method_curves(three_channel, theta_deg, fits));
     curves
@@ -115,5 +124,22 @@ mod tests {
         assert!((curves[1].rgb[0][0] - 0.04).abs() < 1e-12);
         let de = &delta_e_over_angle(&curves[0], &curves[1..2])[0];
         assert!(de.iter().all(|d| *d < 0.2), "{de:?}");
+    }
+
+    /// Every curve of a material page has its own colour: each drawn method of
+    /// `Method::ALL`, the spectral reference and the fitted exact curve (a method added
+    /// with a colour already taken, e.g. the reference's grey, fails here).
+    #[test]
+    fn every_drawn_curve_has_its_own_colour() {
+        let index = Index::new(0.5, 2.3);
+        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], Some(&[index; 3]), &theta_grid(4), &FitMemo::default());
+        let drawn_methods = Method::ALL.into_iter().filter(|&m| drawn(m)).count();
+        assert_eq!(curves.len(), 2 + drawn_methods, "the reference, the fitted curve and every drawn method");
+        for (i, a) in curves.iter().enumerate() {
+            for b in &curves[..i] {
+                assert_ne!(a.color, b.color, "{} and {} share a colour", a.name, b.name);
+            }
+        }
+        assert_eq!(method_color(Method::SchlickNk), method_color(Method::Schlick), "schlick_nk is schlick's curve, not drawn");
     }
 }
