@@ -831,7 +831,7 @@ mod tests {
         let dir = std::env::var_os("NKLUT_DB")
             .map(std::path::PathBuf::from)
             .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../refractiveindex/database"));
-        Database::open(Some(&dir)).expect("no database: run `make db` (or set NKLUT_DB)")
+        Database::open(&dir).expect("no database: run `make db` (or set NKLUT_DB)")
     }
 
     /// 20 real pages: metals (gold, platinum, silver, aluminium, copper, sodium, mercury),
