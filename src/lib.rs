@@ -31,5 +31,5 @@ pub fn database_dir(db: Option<&Path>) -> PathBuf {
 /// [`db::Database::open`] of [`database_dir`], its error with what to do on this command line.
 pub fn open_database(db: Option<&Path>) -> anyhow::Result<db::Database> {
     use anyhow::Context;
-    db::Database::open(&database_dir(db)).context("run `make db`, pass --db DIR or set NKLUT_DB")
+    db::Database::open(database_dir(db)).context("run `make db`, pass --db DIR or set NKLUT_DB")
 }

@@ -114,12 +114,10 @@ mod tests {
     /// each once, into `found`.
     fn structs_in(module: &naga::Module, ty: naga::Handle<naga::Type>, found: &mut Vec<naga::Handle<naga::Type>>) {
         match &module.types[ty].inner {
-            naga::TypeInner::Struct { members, .. } => {
-                if !found.contains(&ty) {
-                    found.push(ty);
-                    for member in members {
-                        structs_in(module, member.ty, found);
-                    }
+            naga::TypeInner::Struct { members, .. } if !found.contains(&ty) => {
+                found.push(ty);
+                for member in members {
+                    structs_in(module, member.ty, found);
                 }
             }
             naga::TypeInner::Array { base, .. } | naga::TypeInner::BindingArray { base, .. } => structs_in(module, *base, found),
