@@ -7,7 +7,10 @@
 // with total internal reflection): the caller passes the parameters of that index.
 //
 // Passes import it (`#import fresnel`, resolved by crates/gpu/src/compose.rs); nothing here is
-// copied per method.
+// copied per method. The numbers it shares with Rust (μ̄ = LAZANYI_COS) come from the generated
+// module `contracts` (crates/gpu/src/contracts.rs).
+
+#import contracts
 
 struct MaterialParams {
     n: vec4<f32>,                     // rgb = n per channel
@@ -158,14 +161,14 @@ fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f
 
 // 8. f82_tint (SPEC §5.8; OpenPBR's, Adobe's and Blender's metal Fresnel): from the
 // authored colours F0 and tint, F_S(c) − b c (1 − c)⁶ with F_S(c) = F0 + (1 − F0)(1 − c)⁵,
-// b = F_S(μ̄)(1 − tint)/(μ̄ (1 − μ̄)⁶), μ̄ = 1/7, b formed here as an engine's shader does.
+// b = F_S(μ̄)(1 − tint)/(μ̄ (1 − μ̄)⁶), μ̄ = 1/7 (LAZANYI_COS), b formed here as an engine's shader does.
 fn fresnel_f82_tint(c: f32, p: MaterialParams) -> vec3<f32> {
     let unit_c = clamp(c, 0.0, 1.0);
     let m = vec3<f32>(1.0 - unit_c);
     let m5 = pow5(m);
     let f0 = p.f82_f0.rgb;
     let one = vec3<f32>(1.0);
-    let mu = 1.0 / 7.0;
+    let mu = LAZANYI_COS;
     let mu_m = vec3<f32>(1.0 - mu);
     let mu_m5 = pow5(mu_m);
     let at_mu = f0 + (one - f0) * mu_m5;

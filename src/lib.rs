@@ -15,3 +15,21 @@ pub use nklut_effects::scene;
 pub use nklut_gpu as gpu;
 pub use nklut_optics::{appearance, atomic, color, db, encoding, fresnel, memo, minimise, spectrum};
 pub use nklut_pipeline::{bake, budget, colors, escape, ingest, output, params, progress, recommend, report, validate};
+
+use std::path::{Path, PathBuf};
+
+/// The database folder of the command line: `--db DIR`, else `$NKLUT_DB`, else
+/// [`db::DEFAULT_DB`] (the library reads no environment variable; the binary, the tests and
+/// the benchmarks decide here).
+pub fn database_dir(db: Option<&Path>) -> PathBuf {
+    match db {
+        Some(dir) => dir.to_path_buf(),
+        None => std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(db::DEFAULT_DB)),
+    }
+}
+
+/// [`db::Database::open`] of [`database_dir`], its error with what to do on this command line.
+pub fn open_database(db: Option<&Path>) -> anyhow::Result<db::Database> {
+    use anyhow::Context;
+    db::Database::open(database_dir(db)).context("run `make db`, pass --db DIR or set NKLUT_DB")
+}

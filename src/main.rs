@@ -8,7 +8,6 @@ use clap::{Parser, Subcommand};
 mod cli;
 
 use cli::{BakeArgs, ChannelArgs, PageSelection, Paths, RecommendArgs, ValidateArgs};
-use nklut::db::Database;
 use nklut::ingest;
 use nklut::spectrum;
 
@@ -159,7 +158,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Gpu { command } => return gpu_cli::run(command, &cli.paths),
         other => other,
     };
-    let open_db = || Database::open(cli.paths.db.as_deref());
+    let open_db = || nklut::open_database(cli.paths.db.as_deref());
     // The effects open the database only when their scene needs materials.
     let command = match command {
         Command::Effects { scene, frames, resolution, ao_rays, ao_max_brute, hero_size, channels } => {
@@ -317,7 +316,6 @@ mod gpu_cli {
     use clap::{Args, Subcommand};
 
     use crate::cli::{ChannelArgs, Paths};
-    use nklut::db::Database;
     use nklut::gpu;
     use nklut::scene::{Experiment, Scene};
 
@@ -476,7 +474,7 @@ mod gpu_cli {
             }
             GpuCommand::Web { scenes, read } => {
                 let mut pages = Vec::new();
-                let db = Database::open(paths.db.as_deref())?;
+                let db = nklut::open_database(paths.db.as_deref())?;
                 for file in scenes {
                     let scene = Scene::load(&file)?;
                     let (materials, _) = nklut::scene::read_materials(&scene, &db, &read.config())?;
@@ -521,7 +519,7 @@ mod gpu_cli {
             if device.timestamps { ", timestamp queries" } else { ", no timestamp queries (wall time)" }
         );
         // The database is opened only when the scene names materials.
-        let open_db = || Database::open(paths.db.as_deref());
+        let open_db = || nklut::open_database(paths.db.as_deref());
         let report = gpu::run_opening(&scene, &open_db, &read.config(), &device, &mut |line| eprintln!("{line}"))?;
         eprintln!("run: {}", report.stats);
         for path in gpu::runner::write_tables(&report, &paths.out)? {

@@ -317,7 +317,7 @@ fn database_case(catalog: &str, pages: &[Vec<u8>], publish: bool) -> Result<(), 
     for (i, page) in pages.iter().enumerate() {
         fs::write(root.path().join(format!("data/f/p{i}.yml")), page).unwrap();
     }
-    let db = Database::open(Some(root.path())).unwrap();
+    let db = Database::open(root.path()).unwrap();
     let result = std::panic::catch_unwind(|| ingest::ingest(&db, &Selection::default(), &Config::default()));
     let Ok(result) = result else { return Err(TestCaseError::fail(format!("ingest panicked on\n{catalog}"))) };
     let Ok(result) = result else { return Ok(()) }; // a named error: status 1

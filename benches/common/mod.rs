@@ -2,13 +2,12 @@
 
 use std::sync::Arc;
 
-use nklut::db::Database;
 use nklut::ingest::{distinct_materials, ingest, Selection};
 use nklut::spectrum::Material;
 
 /// Every distinct material of the database (pages sharing a data file counted once).
 pub fn materials() -> Vec<Arc<Material>> {
-    let db = Database::open(None).expect("the database must be linked: run `make db`");
+    let db = nklut::open_database(None).expect("the database must be linked: run `make db`");
     let all = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).expect("ingest");
     distinct_materials(&all.kept).0
 }

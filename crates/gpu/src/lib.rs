@@ -16,6 +16,7 @@ pub mod contracts;
 pub mod distance_search;
 pub mod effects;
 pub mod image_error;
+pub mod layout;
 pub mod lut;
 pub mod params;
 pub mod passes;

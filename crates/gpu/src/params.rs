@@ -16,7 +16,8 @@ pub fn prepare(channels: &ChannelIndex) -> [Prepared; 3] {
 }
 
 /// The uniform block `MaterialParams` of `shaders/fresnel.wgsl`: one vec4 per
-/// [`ShaderParams`] field, rgb = red, green, blue, w unused (0).
+/// [`ShaderParams`] field, rgb = red, green, blue, w unused (0). Its layout is held to the
+/// shader's by `crate::layout`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct MaterialUniform {
@@ -114,24 +115,6 @@ pub fn wgsl_function(shading: Shading) -> &'static str {
     }
 }
 
-/// The fields of [`MaterialUniform`] in memory order with their byte offsets: the layout
-/// `shaders/fresnel.wgsl`'s `MaterialParams` must have (`tests` reflect the WGSL with naga
-/// and compare; the size check catches a field missing from this list).
-pub const MATERIAL_FIELDS: [(&str, usize); 12] = [
-    ("n", std::mem::offset_of!(MaterialUniform, n)),
-    ("k", std::mem::offset_of!(MaterialUniform, k)),
-    ("f0", std::mem::offset_of!(MaterialUniform, f0)),
-    ("compensation_weight", std::mem::offset_of!(MaterialUniform, compensation_weight)),
-    ("compensation_lambda", std::mem::offset_of!(MaterialUniform, compensation_lambda)),
-    ("lazanyi_a", std::mem::offset_of!(MaterialUniform, lazanyi_a)),
-    ("nvidia_bias", std::mem::offset_of!(MaterialUniform, nvidia_bias)),
-    ("nvidia_scale", std::mem::offset_of!(MaterialUniform, nvidia_scale)),
-    ("nvidia_power", std::mem::offset_of!(MaterialUniform, nvidia_power)),
-    ("f82_f0", std::mem::offset_of!(MaterialUniform, f82_f0)),
-    ("f82_tint", std::mem::offset_of!(MaterialUniform, f82_tint)),
-    ("constant_colour", std::mem::offset_of!(MaterialUniform, constant_colour)),
-];
-
 /// Methods that read the material's texture.
 pub fn needs_texture(method: Shading) -> bool {
     matches!(method, Shading::Fresnel(Method::Lut) | Shading::Texture)
@@ -172,19 +155,6 @@ mod tests {
     fn library() -> naga::Module {
         let source = crate::compose::compose("#import fresnel").unwrap();
         naga::front::wgsl::parse_str(&source).unwrap()
-    }
-
-    /// Rust's `MaterialUniform` and WGSL's `MaterialParams` have the same members, in the
-    /// same order, at the same offsets, and the same size.
-    #[test]
-    fn the_material_layout_is_the_shader_s() {
-        let module = library();
-        let (_, params) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("MaterialParams")).expect("struct MaterialParams");
-        let naga::TypeInner::Struct { members, span } = &params.inner else { panic!("MaterialParams is not a struct") };
-        let wgsl: Vec<(String, usize)> = members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect();
-        let rust: Vec<(String, usize)> = MATERIAL_FIELDS.iter().map(|(name, offset)| (name.to_string(), *offset)).collect();
-        assert_eq!(rust, wgsl, "MaterialUniform against MaterialParams");
-        assert_eq!(*span as usize, std::mem::size_of::<MaterialUniform>(), "a field is missing from MATERIAL_FIELDS or the shader");
     }
 
     /// Every shading's function is a function of the library.

@@ -32,7 +32,7 @@ use super::render::{
 use super::sampling::{self, PairKind, Plan, SampleStats};
 use super::timing::{FresnelClock, Stopwatch, Timer};
 use nklut_effects::experiment::EffectsStats;
-use nklut_effects::scene::{read_materials, Experiment, MeshSource, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
+use nklut_effects::scene::{read_materials, EffectFamily, Experiment, MeshSource, Scene, SceneError, SceneMaterial, SceneProblem, Shading};
 use nklut_optics::db::Database;
 use nklut_optics::fresnel::Method;
 use nklut_optics::spectrum::Kind;
@@ -209,14 +209,23 @@ pub fn run_with_materials(
     mut stats: RunStats,
     log: &mut dyn FnMut(&str),
 ) -> Result<RunReport> {
-    let specular_effects = scene.names_effect(nklut_effects::scene::EffectFamily::SpecularPaths);
-    let effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?;
+    let specular_effects = scene.names_effect(EffectFamily::SpecularPaths);
+    let mut effects = EffectsRun::default();
+    // One arm per family, no wildcard: a family added to the scene does not compile until
+    // the GPU runs it here.
+    for family in EffectFamily::ALL.into_iter().filter(|&family| scene.names_effect(family)) {
+        match family {
+            EffectFamily::SpecularPaths => effects = super::effects::run_scene(scene, materials, gpu, &mut stats, log)?,
+            EffectFamily::Surfels => {
+                super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;
+            }
+        }
+    }
     if !specular_effects {
         stats.skipped.push("reflection, refraction: not in the scene's effects (no cube map, no effect pipeline)".into());
     } else if scene.effects.as_ref().is_none_or(|e| e.refraction.is_none()) {
         stats.skipped.push("refraction: not in the scene's effects (reflection-only pipelines)".into());
     }
-    super::passes::ao::run_scene(scene, gpu, &mut stats.effects, log)?;
     let (timing, image_errors) = if specular_effects {
         stats.skipped.push("F-only passes: the scene's effects take its measurements (effects_timing, effects_errors)".into());
         (Vec::new(), Vec::new())

@@ -1,14 +1,17 @@
 //! Per-channel Fresnel reflectance of one page of the refractiveindex.info database:
-//! `cargo run -p nklut-optics --example channel_fresnel -- 3d/metals/gold`.
+//! `cargo run -p nklut-optics --example channel_fresnel -- 3d/metals/gold`, with the database
+//! at `refractiveindex/database` or where `$NKLUT_DB` says.
 use nklut_optics::{
-    db::Database,
+    db::{Database, DEFAULT_DB},
     fresnel::exact,
     spectrum::{index_at, Channels},
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let page = std::env::args().nth(1).unwrap_or_else(|| "3d/metals/gold".into());
-    let db = Database::open(None)?; // refractiveindex/database, or $NKLUT_DB
+    // The library reads no environment variable: the program decides where the database is.
+    let dir = std::env::var_os("NKLUT_DB").map(std::path::PathBuf::from).unwrap_or_else(|| DEFAULT_DB.into());
+    let db = Database::open(&dir)?;
     let data = db.read_page(&db.catalog()?.find(&page).ok_or("no such page")?.data)?;
     for nm in Channels::default().nanometres() {
         let at = index_at(&data, nm)?;

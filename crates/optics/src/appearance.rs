@@ -35,13 +35,18 @@ pub const SCENE_SCALE_M: (f64, f64) = (1e-2, 1.0);
 /// How a material looks at the size of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Appearance {
+    /// A conductor: its surface reflects, its volume is never seen.
     Metal,
+    /// Every channel's absorption depth is at least the scene scale's largest size.
     Transparent,
+    /// Not opaque, and some channel is absorbed within the scene scale: its volume has a colour.
     Tinted,
+    /// Every channel is absorbed within [`THIN_LIMIT_M`].
     Opaque,
 }
 
 impl Appearance {
+    /// Every class, in the order of the tables.
     pub const ALL: [Appearance; 4] = [Appearance::Metal, Appearance::Transparent, Appearance::Tinted, Appearance::Opaque];
 
     /// The name in tables and exports.
@@ -100,6 +105,7 @@ pub fn classify(kind: Kind, depths_m: [f64; 3]) -> Appearance {
 /// and for a tinted one the colour white light turns after the attenuation distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Volume {
+    /// The class at the scene scale.
     pub appearance: Appearance,
     /// δ per channel (m); infinite where k = 0.
     pub depths_m: [f64; 3],
@@ -113,7 +119,9 @@ pub struct Volume {
 /// The largest extinction coefficient of a page over the visible range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KPeak {
+    /// The largest k.
     pub k: f64,
+    /// Where it is (nm; the first wavelength where it ties).
     pub nm: f64,
 }
 
@@ -133,7 +141,9 @@ pub fn k_peak(data: &PageData) -> KPeak {
 /// The colour white light turns after `distance_m` in a medium.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Attenuation {
+    /// The distance travelled (m).
     pub distance_m: f64,
+    /// Linear sRGB of white light after that distance.
     pub colour: [f64; 3],
 }
 
@@ -176,6 +186,7 @@ impl Attenuation {
 /// keeps every channel in [0, 1] and reproduces σ exactly.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VolumeAbsorption {
+    /// Color_c = 1 − σ_c/Density, linear, in [0, 1].
     pub colour: [f64; 3],
     /// Per metre (a scene whose unit is the metre).
     pub density: f64,

@@ -50,6 +50,7 @@ pub enum Encoding {
 }
 
 impl Encoding {
+    /// Every encoding, in the order of the tables.
     pub const ALL: [Encoding; 5] = [Encoding::Unorm8, Encoding::Unorm8Srgb, Encoding::Unorm16, Encoding::F16, Encoding::F32];
 
     /// The name used on the command line, in tables and in the manifest.
@@ -63,6 +64,7 @@ impl Encoding {
         }
     }
 
+    /// The encoding of [`Encoding::name`] `name`.
     pub fn from_name(name: &str) -> Option<Encoding> {
         Encoding::ALL.into_iter().find(|e| e.name() == name)
     }

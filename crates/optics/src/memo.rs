@@ -34,10 +34,12 @@ pub const MAX_MEMO_BYTES: u64 = 1 << 30;
 pub struct Fingerprint(pub [u64; 2]);
 
 impl Fingerprint {
+    /// Of a sequence of f64, by their bit patterns.
     pub fn of(values: impl Iterator<Item = f64> + Clone) -> Self {
         Self::of_words(values.map(f64::to_bits))
     }
 
+    /// Of a sequence of words.
     pub fn of_words(words: impl Iterator<Item = u64> + Clone) -> Self {
         Self([0u8, 1u8].map(|prefix| {
             let mut hasher = std::hash::DefaultHasher::new();
@@ -57,15 +59,20 @@ pub type Key = [u64; 4];
 /// triple is a unit of three), its place under an output folder, what a warning calls
 /// its records, and what a record holds with its words.
 pub trait Kind {
+    /// The first line of the file, which names the kind and its layout.
     const MAGIC: &'static [u8];
+    /// Words per unit of a value.
     const UNIT: usize;
+    /// The file, relative to an output folder.
     const PATH: &'static str;
+    /// What a warning calls the records.
     const RECORDS: &'static str;
     /// What a record holds.
     type Value;
     /// The value's words: a whole number of units, which [`Kind::decode`] reads back with
     /// every bit.
     fn encode(value: &Self::Value) -> Vec<u64>;
+    /// The value of `words` that [`Kind::encode`] wrote.
     fn decode(words: &[u64]) -> Self::Value;
 }
 
@@ -178,6 +185,7 @@ impl<K: Kind> Memo<K> {
         self.lookup.len()
     }
 
+    /// Whether no record is held.
     pub fn is_empty(&self) -> bool {
         self.lookup.is_empty()
     }

@@ -8,11 +8,14 @@ use serde::{Deserialize, Serialize};
 /// Complex refractive index η = n + i k at one wavelength (k is the extinction coefficient).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Index {
+    /// Refractive index n (the real part).
     pub n: f64,
+    /// Extinction coefficient k (the imaginary part, ≥ 0 in absorbing media).
     pub k: f64,
 }
 
 impl Index {
+    /// η = n + i k.
     pub const fn new(n: f64, k: f64) -> Self {
         Self { n, k }
     }
@@ -41,8 +44,11 @@ pub const CHANNEL_NAMES: [&str; 3] = ["red", "green", "blue"];
 /// a `Channels` value; `Channels::default()` is the study's 685/535/475 nm.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Channels {
+    /// The red channel's wavelength (nm).
     pub red_nm: f64,
+    /// The green channel's wavelength (nm).
     pub green_nm: f64,
+    /// The blue channel's wavelength (nm).
     pub blue_nm: f64,
 }
 
@@ -94,7 +100,9 @@ pub const VISIBLE_NM: (f64, f64) = (390.0, 700.0);
 /// The spectral grid of the reference colours (SPEC §4): 360..=830 nm in 1 nm steps, the
 /// widest window any stage evaluates.
 pub const SPECTRAL_START_NM: f64 = EVALUATED_NM.0;
+/// The last wavelength of the spectral grid (nm).
 pub const SPECTRAL_END_NM: f64 = EVALUATED_NM.1;
+/// The samples of the spectral grid: one per nanometre from 360 to 830 nm.
 pub const SPECTRAL_SAMPLES: usize = 471;
 
 /// The wavelength (nm) of spectral sample `i`.
@@ -111,11 +119,14 @@ use crate::db::{Curve, DataError, PageData, Reason};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
+    /// k reaches [`CONDUCTOR_K`] somewhere in 390–700 nm.
     Conductor,
+    /// k stays below [`CONDUCTOR_K`] over 390–700 nm (or the page has no k).
     Dielectric,
 }
 
 impl Kind {
+    /// The name in tables: `conductor` or `dielectric`.
     pub fn as_str(self) -> &'static str {
         match self {
             Kind::Conductor => "conductor",
@@ -134,8 +145,11 @@ pub const SPARSE_GAP_NM: f64 = 50.0;
 /// A page that passed the visible-range filter, with its channel indices.
 #[derive(Clone, Debug)]
 pub struct Material {
+    /// The parsed page.
     pub data: PageData,
+    /// (n, k) at the channel wavelengths, red, green, blue.
     pub channels: ChannelIndex,
+    /// Conductor or dielectric.
     pub kind: Kind,
     /// The wavelength range (nm) covered by both n and k.
     pub range_nm: (f64, f64),

@@ -497,27 +497,26 @@ fn text_column<'a, K: PartialEq>(
         .collect()
 }
 
-/// Measured CPU cost of one evaluation (ns), f64 then f32, from `cargo bench --bench
-/// fresnel` (criterion, batch of 10⁶ cosines, one core; BENCHMARKS.md records the runs).
-/// `lut` is the same for every N and encoding on the CPU. `f82_tint` was measured beside
-/// `lazanyi` in one run (3.06 against 3.31 ns in f64, 2.94 against 2.89 in f32) and is
-/// entered as the recorded `lazanyi` figure times that ratio. One entry per method, no
-/// wildcard: a method added to `Method` does not compile until its cost is entered.
+/// The measured CPU cost of one evaluation per method and precision, as committed in
+/// `benchmarks/fresnel_cpu.csv` (columns `method,precision,ns_per_evaluation,source`): the
+/// figures of `cargo bench --bench fresnel` (criterion, batch of 10⁶ cosines, one core;
+/// BENCHMARKS.md records the runs), each row naming how it was measured. `lut` is the same
+/// for every N and encoding on the CPU. `tests` hold the file to one row per method of
+/// `Method::ALL` and precision.
+pub const CPU_COST_CSV: &str = include_str!("../../../benchmarks/fresnel_cpu.csv");
+
+/// The CPU cost of one evaluation (ns) of `method` in `precision` from [`CPU_COST_CSV`];
+/// `None` where the file has no figure for it.
 pub fn cpu_cost_ns(method: Method, precision: Precision) -> Option<f64> {
-    let [f64_ns, f32_ns] = match method {
-        Method::Exact => [25.6, 21.4],
-        Method::Schlick => [2.36, 2.9],
-        Method::SchlickNk => [3.05, 3.22],
-        Method::SchlickCompensated => [16.7, 15.2],
-        Method::Lazanyi => [2.16, 2.04],
-        Method::Nvidia => [17.0, 8.95],
-        Method::Lut => [11.9, 12.9],
-        Method::F82Tint => [2.0, 2.08],
-    };
-    Some(match precision {
-        Precision::F64 => f64_ns,
-        Precision::F32 => f32_ns,
-    })
+    CPU_COST_CSV
+        .lines()
+        .skip(1)
+        .filter_map(|line| {
+            let mut fields = line.split(',');
+            Some((fields.next()?, fields.next()?, fields.next()?))
+        })
+        .find(|&(m, p, _)| m == method.name() && p == precision.name())
+        .and_then(|(_, _, ns)| ns.trim().parse().ok())
 }
 
 /// Material figure (SPEC §6): mean over the three channels of
@@ -799,13 +798,40 @@ mod tests {
     use super::quadrature::{Figures, BRUTE_FORCE_SAMPLES};
     use super::*;
 
+    /// `benchmarks/fresnel_cpu.csv` has one figure per method of `Method::ALL` and
+    /// precision, a positive number of ns, and no row for anything else (a method added
+    /// without its measured cost fails here).
+    #[test]
+    fn the_committed_cpu_costs_cover_every_method_once() {
+        let mut rows: Vec<(String, String)> = Vec::new();
+        for line in CPU_COST_CSV.lines().skip(1) {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), 4, "{line:?}: method,precision,ns_per_evaluation,source");
+            let ns: f64 = fields[2].parse().unwrap_or_else(|_| panic!("{line:?}: ns is not a number"));
+            assert!(ns.is_finite() && ns > 0.0, "{line:?}");
+            assert!(!fields[3].trim().is_empty(), "{line:?} names no source");
+            rows.push((fields[0].to_string(), fields[1].to_string()));
+        }
+        let mut expected: Vec<(String, String)> = Vec::new();
+        for method in Method::ALL {
+            for precision in Precision::ALL {
+                assert!(cpu_cost_ns(method, precision).is_some(), "no CPU cost for {method} in {}", precision.name());
+                expected.push((method.name().to_string(), precision.name().to_string()));
+            }
+        }
+        rows.sort();
+        expected.sort();
+        assert_eq!(rows, expected);
+        assert_eq!(cpu_cost_ns(Method::Exact, Precision::F64), Some(25.6));
+    }
+
     /// The database the tests read: `NKLUT_DB`, else the repository's
     /// `refractiveindex/database` (`make db`).
     fn test_database() -> Database {
         let dir = std::env::var_os("NKLUT_DB")
             .map(std::path::PathBuf::from)
             .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../refractiveindex/database"));
-        Database::open(Some(&dir)).expect("no database: run `make db` (or set NKLUT_DB)")
+        Database::open(&dir).expect("no database: run `make db` (or set NKLUT_DB)")
     }
 
     /// 20 real pages: metals (gold, platinum, silver, aluminium, copper, sodium, mercury),

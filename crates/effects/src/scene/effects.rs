@@ -185,7 +185,32 @@ pub enum EffectFamily {
 }
 
 impl EffectFamily {
+    /// Every family, in the order the stages run them. [`EffectFamily::index`] holds the
+    /// list complete: a family left out of it fails the build.
     pub const ALL: [EffectFamily; 2] = [EffectFamily::SpecularPaths, EffectFamily::Surfels];
+
+    /// The family's position in [`EffectFamily::ALL`]: one arm per family, each a constant
+    /// evaluated when the crate is built, which does not compile until the family is in
+    /// `ALL` (write a new arm as the others).
+    pub const fn index(self) -> usize {
+        match self {
+            EffectFamily::SpecularPaths => const { EffectFamily::position(EffectFamily::SpecularPaths) },
+            EffectFamily::Surfels => const { EffectFamily::position(EffectFamily::Surfels) },
+        }
+    }
+
+    /// Where `family` is in [`EffectFamily::ALL`]; evaluated at build time by
+    /// [`EffectFamily::index`].
+    const fn position(family: EffectFamily) -> usize {
+        let mut i = 0;
+        while i < EffectFamily::ALL.len() {
+            if EffectFamily::ALL[i] as u8 == family as u8 {
+                return i;
+            }
+            i += 1;
+        }
+        panic!("an EffectFamily is missing from EffectFamily::ALL")
+    }
 
     /// The keys of a scene's `effects` section that name the family.
     pub fn keys(self) -> &'static [&'static str] {
@@ -203,6 +228,15 @@ impl EffectFamily {
         }
     }
 }
+
+// Each family is in `EffectFamily::ALL` once: its entry is at its own index.
+const _: () = {
+    let mut i = 0;
+    while i < EffectFamily::ALL.len() {
+        assert!(EffectFamily::ALL[i].index() == i, "EffectFamily::ALL lists a family twice");
+        i += 1;
+    }
+};
 
 impl Effects {
     /// Whether the scene names any effect of `family`.

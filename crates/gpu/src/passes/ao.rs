@@ -457,3 +457,12 @@ pub fn run_scene(
     };
     Ok(Some(SceneSurfels { accessibility: output, indirect, twin_difference, gtao }))
 }
+
+/// This module's structs shared with `shaders/surfel_ao.wgsl` (`crate::layout`).
+pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
+    use crate::layout::shared_struct;
+    vec![
+        shared_struct!(Params as "Params" { count, nodes, gain, closeness, previous, next, weights, pad }),
+        shared_struct!(GpuLinks as "Links" { node, leaf }),
+    ]
+}

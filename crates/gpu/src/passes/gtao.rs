@@ -166,3 +166,12 @@ impl GtaoPass {
         Ok(bytemuck::cast_slice::<u8, f32>(&data).iter().map(|&a| (a >= 0.0).then_some(a)).collect())
     }
 }
+
+/// This module's structs shared with `shaders/gtao.wgsl` (`crate::layout`).
+pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
+    use crate::layout::shared_struct;
+    vec![
+        shared_struct!(GtaoParams as "GtaoParams" { width, height, slices, steps, focal, radius, pad }),
+        shared_struct!(GSample as "GSample" { position, normal }),
+    ]
+}

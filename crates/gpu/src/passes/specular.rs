@@ -412,26 +412,3 @@ impl EffectImage {
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The size naga gives the struct `name` of the composed module `source`.
-    fn wgsl_size(source: &str, name: &str) -> usize {
-        let module = naga::front::wgsl::parse_str(source).unwrap();
-        let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("struct {name}"));
-        let naga::TypeInner::Struct { span, .. } = &ty.inner else { panic!("{name} is not a struct") };
-        *span as usize
-    }
-
-    /// The uniforms Rust writes have the sizes of the structs the shaders read: the lights,
-    /// one light, and the frame that holds them.
-    #[test]
-    fn the_frame_and_its_lights_are_the_shader_s_size() {
-        let source = compose_effect(Effect::Refraction, Method::Exact).unwrap();
-        assert_eq!(wgsl_size(&source, "LightItem"), std::mem::size_of::<super::super::distance_maps::LightItem>());
-        assert_eq!(wgsl_size(&source, "Lights"), std::mem::size_of::<LightsUniform>());
-        assert_eq!(wgsl_size(&source, "EffectFrame"), std::mem::size_of::<FrameUniform>());
-    }
-}

@@ -16,12 +16,15 @@ use crate::memo::Fingerprint;
 
 /// Panels and nodes per panel of the default rule.
 pub const PANELS: usize = 24;
+/// Gauss–Legendre nodes per panel of the default rule.
 pub const NODES: usize = 8;
 
 /// Nodes (as cosθ) and weights (summing to 1) of a mean over θ ∈ [0, π/2].
 #[derive(Clone, Debug)]
 pub struct AngleQuadrature {
+    /// The nodes, as cosθ.
     pub cosines: Vec<f64>,
+    /// Their weights, summing to 1.
     pub weights: Vec<f64>,
     /// The nodes' and weights' fingerprint, made when first asked for.
     fingerprint: OnceLock<Fingerprint>,

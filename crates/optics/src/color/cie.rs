@@ -13,7 +13,7 @@ const D65_CSV: &str = include_str!("../../data/cie/cie_d65_spd.csv");
 /// The CIE tables on the spectral grid of SPEC §4 (λ_i = 360 + i nm, i < 471).
 #[derive(Clone, Debug)]
 pub struct CieTables {
-    /// [x̄, ȳ, z̄](λ_i), CIE 1931 2° standard observer.
+    /// \[x̄, ȳ, z̄\](λ_i), CIE 1931 2° standard observer.
     pub cmf: Vec<[f64; 3]>,
     /// S(λ_i), illuminant D65 (relative power, 100 at 560 nm), linear between the 5 nm
     /// rows of the table and **zero beyond 780 nm**, where the table stops: the integrals

@@ -20,6 +20,7 @@ const U_RANGE: (f64, f64) = (-6.907_755_278_982_137, 4.605_170_185_988_092);
 const V_RANGE: (f64, f64) = (-13.815_510_557_964_274, 4.605_170_185_988_092);
 /// The search box in (n, k): a fit ending on one of these bounds did not converge inside it.
 pub const N_BOUNDS: (f64, f64) = (1e-3, 100.0);
+/// The largest k of the search box.
 pub const K_MAX: f64 = 100.0;
 const MAX_ITERATIONS: usize = 100;
 const JACOBIAN_STEP: f64 = 1e-6;
@@ -27,6 +28,7 @@ const JACOBIAN_STEP: f64 = 1e-6;
 /// A fitted index and its mean relative error over θ against the reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EffectiveIndex {
+    /// The fitted (n, k).
     pub index: Index,
     /// Mean over θ of |F_exact(n, k, θ) − F_ref(θ)| / |F_ref(θ)| (a fraction).
     pub error: f64,

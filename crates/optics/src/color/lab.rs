@@ -6,8 +6,11 @@ use std::f64::consts::PI;
 /// CIE L*a*b* coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lab {
+    /// Lightness L*, 0 (black) to 100 (white).
     pub l: f64,
+    /// a*: green (−) to red (+).
     pub a: f64,
+    /// b*: blue (−) to yellow (+).
     pub b: f64,
 }
 

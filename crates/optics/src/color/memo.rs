@@ -33,6 +33,7 @@ impl Fingerprint {
         Self::of(spectrum.iter().flat_map(|i| [i.n, i.k]))
     }
 
+    /// Of a set of cosines (a quadrature's nodes).
     pub fn of_cosines(cosines: &[f64]) -> Self {
         Self::of(cosines.iter().copied())
     }

@@ -58,6 +58,7 @@ pub struct PageColors {
     /// Whether the reference stays inside [0, 1] at normal incidence and at every
     /// quadrature node — the channels an exact Fresnel curve (≤ 1) can match.
     pub reference_in_unit_range: [bool; 3],
+    /// Share of Σ S ȳ outside the data's wavelength range (a fraction).
     pub extrapolated_share: f64,
     /// Spectral F0 outside [0, 1] (kept as is).
     pub out_of_gamut_f0: [bool; 3],

@@ -1,11 +1,11 @@
 //! The spectral reference colour of SPEC §4:
 //!
-//!   RGB(θ) = M · ∫ R(θ, λ) S(λ) [x̄ ȳ z̄](λ) dλ / ∫ S(λ) ȳ(λ) dλ,
+//!   RGB(θ) = M · ∫ R(θ, λ) S(λ) \[x̄ ȳ z̄\](λ) dλ / ∫ S(λ) ȳ(λ) dλ,
 //!
 //! λ = 360…830 nm in 1 nm steps, the integrals as sums over that grid (CIE 15:2004 §7.1:
 //! summation at 1 nm), S = D65, x̄ȳz̄ = CIE 1931 2°, M = XYZ → linear sRGB normalised so
 //! that a perfect reflector (R ≡ 1) gives (1, 1, 1). Everything that does not depend on
-//! the material is folded once into per-wavelength weights w(λ) = M·[x̄ ȳ z̄](λ) S(λ) / Σ S ȳ,
+//! the material is folded once into per-wavelength weights w(λ) = M·\[x̄ ȳ z̄\](λ) S(λ) / Σ S ȳ,
 //! so a colour is one dot product Σ_λ R(θ, λ) w(λ) per channel.
 
 use std::sync::OnceLock;
@@ -20,7 +20,7 @@ use crate::spectrum::{self, Index, SPECTRAL_SAMPLES};
 /// The material-independent part of SPEC §4, computed once (see [`spectral_weights`]).
 #[derive(Clone, Debug)]
 pub struct SpectralWeights {
-    /// w(λ_i) = M·[x̄ ȳ z̄](λ_i) S(λ_i) / Σ S ȳ for λ_i = 360 + i nm: linear-sRGB
+    /// w(λ_i) = M·\[x̄ ȳ z̄\](λ_i) S(λ_i) / Σ S ȳ for λ_i = 360 + i nm: linear-sRGB
     /// weights, Σ_i w(λ_i) = (1, 1, 1).
     pub rgb: Vec<[f64; 3]>,
     /// S(λ_i) ȳ(λ_i) / Σ S ȳ: the share of the luminance weight at each sample.
@@ -89,6 +89,7 @@ pub struct PreparedSpectrum {
 }
 
 impl PreparedSpectrum {
+    /// The curve's terms of `spectrum` (one index per sample of the 1 nm grid).
     pub fn new(spectrum: &[Index]) -> Self {
         let weights = spectral_weights();
         debug_assert_eq!(spectrum.len(), SPECTRAL_SAMPLES);

@@ -23,6 +23,7 @@ pub const D65_WHITE_XYZ: [f64; 3] =
 /// used, and this only checks it to within 5·10⁻⁴.
 pub const IEC_XYZ_TO_SRGB: Matrix3 = [[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]];
 
+/// m · v.
 pub fn multiply(m: &Matrix3, v: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
 }

@@ -48,7 +48,9 @@ pub const MAX_NESTING: usize = 64;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("line {line}: the YAML nests {depth} levels deep, deeper than the {max} read", max = MAX_NESTING)]
 pub struct TooDeep {
+    /// The first line that nests too deep (1-based).
     pub line: usize,
+    /// How deep it nests.
     pub depth: usize,
 }
 

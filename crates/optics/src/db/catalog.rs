@@ -13,12 +13,17 @@ use super::error::{DataError, Reason};
 /// One page of the catalog, identified as `shelf/book/page`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CatalogPage {
+    /// The shelf id (`3d`, `main`, …).
     pub shelf: String,
+    /// The book id.
     pub book: String,
+    /// The page id.
     pub page: String,
     /// The catalog's display names.
     pub shelf_name: String,
+    /// The book's display name.
     pub book_name: String,
+    /// The page's display name.
     pub page_name: String,
     /// The data file, relative to `database/data/`.
     pub data: String,
@@ -27,6 +32,7 @@ pub struct CatalogPage {
 }
 
 impl CatalogPage {
+    /// `shelf/book/page`.
     pub fn id(&self) -> String {
         format!("{}/{}/{}", self.shelf, self.book, self.page)
     }
@@ -60,6 +66,7 @@ pub fn guess_data_paths(text: &str) -> Vec<&str> {
 /// The whole catalog, pages in file order, each id once.
 #[derive(Clone, Debug, Default)]
 pub struct Catalog {
+    /// Every usable page, in file order, each id once.
     pub pages: Vec<CatalogPage>,
     /// Later entries whose id was already listed (the real catalog lists some glass pages
     /// under two dividers). Same data file: the same page, listed once in `pages`.
@@ -73,8 +80,11 @@ pub struct Catalog {
 /// A catalog entry that cannot become a page: the id as written and the error.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RejectedEntry {
+    /// The shelf the entry sits on.
     pub shelf: String,
+    /// The entry's id as written.
     pub id: String,
+    /// Why it cannot be a page.
     pub error: DataError,
 }
 
@@ -137,10 +147,13 @@ fn items(map: &Value) -> &[Value] {
 /// Why a catalog could not be read at all.
 #[derive(Debug, thiserror::Error)]
 pub enum CatalogError {
+    /// The text is not YAML.
     #[error(transparent)]
     Yaml(#[from] serde_yaml::Error),
+    /// The YAML nests too deep.
     #[error("{0} (nesting-too-deep)")]
     TooDeep(#[from] super::block_yaml::TooDeep),
+    /// The top level is not a list of shelves.
     #[error("the catalog's top level is not a list of shelves")]
     NotAList,
 }
@@ -244,10 +257,12 @@ impl Catalog {
         Ok(Catalog { pages, duplicates, rejected })
     }
 
+    /// The page of id `shelf/book/page`.
     pub fn find(&self, id: &str) -> Option<&CatalogPage> {
         self.pages.iter().find(|p| p.has_id(id))
     }
 
+    /// The shelf ids, in file order, each once.
     pub fn shelves(&self) -> Vec<String> {
         let mut shelves: Vec<String> = Vec::new();
         for page in &self.pages {

@@ -5,34 +5,60 @@ use std::fmt;
 /// Why a page was excluded. `code()` is the stable string written to `excluded.csv`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Reason {
+    /// The catalog names a data file that does not exist or cannot be read.
     MissingFile,
+    /// The file is not valid YAML or its DATA section has the wrong shape.
     ParseError,
+    /// A DATA block type other than tabulated nk/n/k or formula 1-9.
     UnknownBlockType,
+    /// A tabulated row is short, long or not numeric.
     BadRow,
+    /// Tabulated wavelengths do not strictly increase.
     NonMonotonicWavelengths,
+    /// A formula has no coefficients or no valid wavelength_range.
     TooFewCoefficients,
+    /// A formula has more coefficients than its definition uses.
     TooManyCoefficients,
+    /// A wavelength outside the data's range was asked for.
     FormulaOutOfRange,
+    /// N <= 0 (or n² < 0 from a formula) where it is evaluated.
     NegativeN,
+    /// K < 0 where it is evaluated.
     NegativeK,
+    /// The page has no n data.
     NoData,
+    /// The n (or k) data do not cover the channel wavelengths (or 390-700 nm with --visible full).
     NoVisibleCoverage,
+    /// The catalog lists this page id again with a different data file.
     DuplicatePageId,
+    /// The catalog entry names no data file (no data key, or an empty one).
     NoDataFile,
+    /// The data path is absolute or leaves the database's data folder.
     PathOutsideDatabase,
+    /// The data file is not UTF-8 text (e.g. Latin-1).
     NotUtf8,
+    /// A formula's coefficients end in half of a term (a weight without its pole or exponent).
     IncompleteTerm,
+    /// A wavelength outside the tabulated data's range was asked for.
     OutsideTableRange,
+    /// N or k outside the domain the Fresnel methods are tested on (n in [1e-3, 1e3], k in [0, 1e3]).
     IndexOutOfDomain,
+    /// A shelf, book or page id in the catalog is empty, '.' or '..', or contains '/' or a control character.
     BadPageId,
+    /// The data path names a FIFO, a device, a socket or a folder, not a regular file.
     NotAFile,
+    /// The data file is larger than the most read from one (64 MiB).
     FileTooLarge,
+    /// The file's YAML nests deeper than 64 levels.
     NestingTooDeep,
+    /// A catalog entry whose SHELF, BOOK or PAGE is not a single value, or a book's entry that is neither PAGE nor DIVIDER.
     BadCatalogEntry,
+    /// A tabulated wavelength or a formula's wavelength_range outside 1e-9 to 1e8 µm (1 fm to 100 m).
     WavelengthOutOfRange,
 }
 
 impl Reason {
+    /// Every reason, in the order of SPEC §2.
     pub const ALL: [Reason; 25] = [
         Reason::MissingFile,
         Reason::ParseError,
@@ -61,6 +87,7 @@ impl Reason {
         Reason::WavelengthOutOfRange,
     ];
 
+    /// The stable code written to `excluded.csv` (`missing-file`, …).
     pub fn code(self) -> &'static str {
         match self {
             Reason::MissingFile => "missing-file",
@@ -146,13 +173,18 @@ pub fn number_text(x: f64) -> String {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{reason} in {file}{}: {detail}", line.map(|l| format!(" line {l}")).unwrap_or_default())]
 pub struct DataError {
+    /// What is wrong.
     pub reason: Reason,
+    /// The data file, relative to `database/data/`.
     pub file: String,
+    /// The line of the file, where there is one.
     pub line: Option<usize>,
+    /// What is wrong, in words.
     pub detail: String,
 }
 
 impl DataError {
+    /// An error of `reason` in `file` (at `line`), with `detail`.
     pub fn new(reason: Reason, file: &str, line: Option<usize>, detail: impl Into<String>) -> Self {
         Self { reason, file: file.to_string(), line, detail: detail.into() }
     }

@@ -23,7 +23,10 @@ pub enum FileProblem {
     NotRegular(&'static str),
     /// Larger than the caller's bound.
     #[error("the file holds more than {limit} bytes, the most read from such a file")]
-    TooLarge { limit: u64 },
+    TooLarge {
+        /// The bound (bytes).
+        limit: u64,
+    },
 }
 
 /// What kind of file the metadata describe, in words.

@@ -5,8 +5,11 @@
 /// and the wavelength range (µm) where it is valid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Formula {
+    /// The formula's number, 1–9.
     pub number: u8,
+    /// C1, C2, …: `coefficients[0]` is C1.
     pub coefficients: Vec<f64>,
+    /// The wavelengths (µm) where the formula is valid.
     pub range_um: (f64, f64),
 }
 
@@ -27,6 +30,7 @@ impl Formula {
         self.coefficients.get(i - 1).copied().unwrap_or(0.0)
     }
 
+    /// Whether `um` (µm) lies in the formula's range.
     pub fn contains(&self, um: f64) -> bool {
         um >= self.range_um.0 && um <= self.range_um.1
     }

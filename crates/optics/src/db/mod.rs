@@ -10,7 +10,7 @@ pub mod page;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use serde::Deserialize;
 
 pub use catalog::{Catalog, CatalogPage, RejectedEntry};
@@ -18,7 +18,9 @@ pub use error::{DataError, Reason};
 pub use formula::Formula;
 pub use page::{parse_page, Curve, PageData, Printed};
 
-/// Where the database is looked for when neither `--db` nor `NKLUT_DB` says.
+/// The database's folder in a checkout of nklut (`make db` links it there): where a program
+/// may look when told nowhere else. The library reads no environment variable; the
+/// program chooses the folder.
 pub const DEFAULT_DB: &str = "refractiveindex/database";
 
 /// The most bytes read from one data file or `about.yml` (the database's largest data
@@ -30,21 +32,30 @@ pub const MAX_CATALOG_BYTES: u64 = 256 << 20;
 /// A database folder: the one holding `catalog-nk.yml` and `data/`.
 #[derive(Clone, Debug)]
 pub struct Database {
+    /// The `database` folder.
     pub root: PathBuf,
     /// `data/` with every symbolic link resolved: a data file whose resolved path leaves it
     /// is `path-outside-database`. `None` when `data/` cannot be resolved.
     resolved_data: Option<PathBuf>,
 }
 
+/// Why [`Database::open`] found no database.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// Neither the folder nor its `database/` holds `catalog-nk.yml`.
+    #[error("no refractiveindex.info database at {} (expected catalog-nk.yml there or in database/)", dir.display())]
+    NotFound {
+        /// The folder looked in.
+        dir: PathBuf,
+    },
+}
+
 impl Database {
-    /// Resolve `--db DIR` (or `NKLUT_DB`, or the default) and check it looks right. DIR
-    /// may be the `database` folder itself or the repository folder above it.
-    pub fn open(dir: Option<&Path>) -> Result<Self> {
-        let dir = match dir {
-            Some(d) => d.to_path_buf(),
-            None => std::env::var_os("NKLUT_DB").map(PathBuf::from).unwrap_or_else(|| PathBuf::from(DEFAULT_DB)),
-        };
-        for candidate in [dir.clone(), dir.join("database")] {
+    /// The database at `dir`: the `database` folder itself or the repository folder above
+    /// it, whichever holds `catalog-nk.yml`.
+    pub fn open(dir: impl AsRef<Path>) -> Result<Self, OpenError> {
+        let dir = dir.as_ref();
+        for candidate in [dir.to_path_buf(), dir.join("database")] {
             // Anything named catalog-nk.yml marks the database (a FIFO or a folder there is
             // then refused by name when the catalog is read, not taken for no database).
             if candidate.join("catalog-nk.yml").exists() {
@@ -52,12 +63,10 @@ impl Database {
                 return Ok(Self { root: candidate, resolved_data });
             }
         }
-        bail!(
-            "no refractiveindex.info database at {} (expected catalog-nk.yml there or in database/); run `make db` or pass --db DIR",
-            dir.display()
-        )
+        Err(OpenError::NotFound { dir: dir.to_path_buf() })
     }
 
+    /// Read and parse `catalog-nk.yml`.
     pub fn catalog(&self) -> Result<Catalog> {
         self.parse_catalog(&self.catalog_text()?)
     }
@@ -77,6 +86,7 @@ impl Database {
         Catalog::parse(text).with_context(|| format!("parsing {}", self.catalog_path().display()))
     }
 
+    /// The path of data file `data` (relative to `data/`); not checked.
     pub fn data_path(&self, data: &str) -> PathBuf {
         self.root.join("data").join(data)
     }

@@ -39,7 +39,12 @@ pub fn wavelength_in_domain(um: f64) -> bool {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
     /// Rows of (λ, value), λ strictly increasing; linear interpolation between rows.
-    Tabulated { wavelengths_um: Vec<f64>, values: Vec<f64> },
+    Tabulated {
+        /// λ of each row (µm).
+        wavelengths_um: Vec<f64>,
+        /// n or k of each row.
+        values: Vec<f64>,
+    },
     /// A dispersion formula (n only).
     Formula(Formula),
 }
@@ -130,7 +135,9 @@ fn rows_not_above(x: &[f64], um: f64, from: usize) -> usize {
 /// A printed property value and its number of decimals (e.g. `nd: 1.523` → 3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Printed {
+    /// The number.
     pub value: f64,
+    /// Decimals as printed.
     pub decimals: usize,
 }
 
@@ -139,7 +146,9 @@ pub struct Printed {
 pub struct PageData {
     /// Path relative to `database/data/`.
     pub file: String,
+    /// The refractive index n over wavelength.
     pub n: Curve,
+    /// The extinction coefficient k over wavelength, where the page has it.
     pub k: Option<Curve>,
     /// First line of REFERENCES, HTML tags removed.
     pub reference: String,

@@ -79,6 +79,7 @@ pub enum CompensationFallback {
 }
 
 impl CompensationFallback {
+    /// The name in tables.
     pub fn name(self) -> &'static str {
         match self {
             CompensationFallback::WrongSign => "wrong-sign",
@@ -162,7 +163,9 @@ pub fn lazanyi<T: Real>(f0: T, a: T, cos_theta: T) -> T {
 /// materials' F0 and tint so), read back as the linear values a shader sees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct F82Colours {
+    /// F0, linear, in [0, 1].
     pub f0: f64,
+    /// The tint F(μ̄)/F_S(μ̄), linear, in [0, 1].
     pub tint: f64,
 }
 

@@ -3,7 +3,7 @@
 //!
 //! Texel convention (OpenGL/Vulkan/D3D/WebGPU): texel i of N holds F at the texel centre
 //! c_i = (i + ½)/N. Sampling at u = c: x = u·N − ½, i₀ = ⌊x⌋, i₁ = i₀ + 1, each clamped to
-//! [0, N − 1] (clamp-to-edge), t = x − ⌊x⌋, F = T[i₀](1 − t) + T[i₁]t (WGSL `mix`).
+//! [0, N − 1] (clamp-to-edge), t = x − ⌊x⌋, F = T\[i₀\](1 − t) + T\[i₁\]t (WGSL `mix`).
 //! Below the first centre and above the last, both indices clamp to the edge texel.
 //! Not modelled: the reduced precision of hardware filter weights (e.g. 8 fractional
 //! bits of t on current NVIDIA and AMD GPUs).
@@ -20,7 +20,9 @@ pub const LUT_SIZES: [usize; 6] = [16, 32, 64, 128, 256, 1024];
 /// weight of the second.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Filter<T> {
+    /// The texel below u.
     pub lower: usize,
+    /// The texel above u (the same at the edges).
     pub upper: usize,
     /// The weight t of `upper`; `lower` has 1 − t.
     pub weight: T,
@@ -48,7 +50,7 @@ pub fn sample_lut<T: Real>(texels: &[T], cos_theta: T) -> T {
     filter(texels, filter_weights(texels.len(), cos_theta))
 }
 
-/// The filtered value T[i₀](1 − t) + T[i₁]t (WGSL `mix`) for weights from
+/// The filtered value T\[i₀\](1 − t) + T\[i₁\]t (WGSL `mix`) for weights from
 /// [`filter_weights`].
 #[inline]
 pub fn filter<T: Real>(texels: &[T], weights: Filter<T>) -> T {
@@ -64,11 +66,14 @@ pub fn texel_values(texels: usize, curve: impl Fn(f64) -> f64) -> Vec<f64> {
 /// Texel count and encoding of a LUT.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LutSpec {
+    /// Texels N.
     pub texels: usize,
+    /// How each texel is stored.
     pub encoding: Encoding,
 }
 
 impl LutSpec {
+    /// N texels stored as `encoding`.
     pub const fn new(texels: usize, encoding: Encoding) -> Self {
         Self { texels, encoding }
     }
@@ -98,6 +103,7 @@ impl Default for LutSpec {
 /// One channel of a LUT: texel values after encode + decode (what the shader reads).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lut {
+    /// Texel count and encoding.
     pub spec: LutSpec,
     /// Decoded linear texel values, f64.
     pub texels: Vec<f64>,
@@ -111,7 +117,7 @@ impl Lut {
         Self::from_values(spec, &texel_values(spec.texels, curve))
     }
 
-    /// Texel i = quantise(values[i]): `values` are the curve at the texel centres
+    /// Texel i = quantise(values\[i\]): `values` are the curve at the texel centres
     /// c_i = (i + ½)/N, so that one evaluation of the curve serves every encoding.
     pub fn from_values(spec: LutSpec, values: &[f64]) -> Self {
         let texels: Vec<f64> = values.iter().map(|&v| spec.encoding.quantise(v)).collect();
@@ -119,11 +125,13 @@ impl Lut {
         Self { spec, texels, texels_f32 }
     }
 
+    /// F at `cos_theta`, filtered as a GPU sampler does, in f64.
     #[inline]
     pub fn sample(&self, cos_theta: f64) -> f64 {
         sample_lut(&self.texels, cos_theta)
     }
 
+    /// F at `cos_theta`, filtered as a GPU sampler does, in f32.
     #[inline]
     pub fn sample_f32(&self, cos_theta: f32) -> f32 {
         sample_lut(&self.texels_f32, cos_theta)
@@ -144,6 +152,7 @@ impl Encoding {
         }
     }
 
+    /// The file's extension: `exr` for the floats, `png` otherwise.
     pub fn extension(self) -> &'static str {
         if self.is_float() {
             "exr"
@@ -152,10 +161,12 @@ impl Encoding {
         }
     }
 
+    /// Whether texels are floats (f16, f32).
     pub fn is_float(self) -> bool {
         matches!(self, Encoding::F16 | Encoding::F32)
     }
 
+    /// Bits one channel of one texel takes.
     pub fn bits_per_channel(self) -> u32 {
         8 * self.bytes_per_channel() as u32
     }

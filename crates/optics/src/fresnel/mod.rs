@@ -40,17 +40,27 @@ use crate::spectrum::Index;
 /// The Fresnel methods of SPEC §5, in the order of the spec.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Method {
+    /// The exact Fresnel reflectance of unpolarised light (SPEC §5.1).
     Exact,
+    /// Schlick's F0 + (1 − F0)(1 − c)⁵ with F0 from (n, k) (SPEC §5.2).
     Schlick,
+    /// Schlick's form written with n and k instead of F0 (SPEC §5.3).
     SchlickNk,
+    /// `schlick_nk` less 2n (1 − c)^λ, λ fitted per channel (SPEC §5.4).
     SchlickCompensated,
+    /// Lazányi and Szirmay-Kalos' F82 form, exact at c = 1/7 (SPEC §5.5).
     Lazanyi,
+    /// bias + scale (1 − c)^power, fitted per channel (SPEC §5.6).
     Nvidia,
+    /// A lookup texture of `exact`, sampled with linear filtering (SPEC §5.7).
     Lut,
+    /// The F82-tint metal Fresnel of OpenPBR, Adobe and Blender (SPEC §5.8).
     F82Tint,
 }
 
 impl Method {
+    /// Every method, in the order of the spec and of every table. [`Method::index`] holds
+    /// the list complete: a method left out of it fails the build.
     pub const ALL: [Method; 8] = [
         Method::Exact,
         Method::Schlick,
@@ -61,6 +71,36 @@ impl Method {
         Method::Lut,
         Method::F82Tint,
     ];
+
+    /// The method's position in [`Method::ALL`]. One arm per method, no wildcard, each a
+    /// constant evaluated when the crate is built: a method added to the enum does not
+    /// compile until it has an arm here, and its arm does not compile until the method is
+    /// in `ALL` (write the new arm as the others: `const { Method::position(Method::New) }`).
+    pub const fn index(self) -> usize {
+        match self {
+            Method::Exact => const { Method::position(Method::Exact) },
+            Method::Schlick => const { Method::position(Method::Schlick) },
+            Method::SchlickNk => const { Method::position(Method::SchlickNk) },
+            Method::SchlickCompensated => const { Method::position(Method::SchlickCompensated) },
+            Method::Lazanyi => const { Method::position(Method::Lazanyi) },
+            Method::Nvidia => const { Method::position(Method::Nvidia) },
+            Method::Lut => const { Method::position(Method::Lut) },
+            Method::F82Tint => const { Method::position(Method::F82Tint) },
+        }
+    }
+
+    /// Where `method` is in [`Method::ALL`]; evaluated at build time by [`Method::index`],
+    /// where a method missing from the list is a compile error.
+    const fn position(method: Method) -> usize {
+        let mut i = 0;
+        while i < Method::ALL.len() {
+            if Method::ALL[i] as u8 == method as u8 {
+                return i;
+            }
+            i += 1;
+        }
+        panic!("a Method is missing from Method::ALL")
+    }
 
     /// The name used on the command line and in every table.
     pub fn name(self) -> &'static str {
@@ -76,10 +116,20 @@ impl Method {
         }
     }
 
+    /// The method of [`Method::name`] `name`.
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
     }
 }
+
+// Each method is in `Method::ALL` once: its entry is at its own index.
+const _: () = {
+    let mut i = 0;
+    while i < Method::ALL.len() {
+        assert!(Method::ALL[i].index() == i, "Method::ALL lists a method twice");
+        i += 1;
+    }
+};
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -97,8 +147,10 @@ pub enum Precision {
 }
 
 impl Precision {
+    /// Both precisions, f64 first.
     pub const ALL: [Precision; 2] = [Precision::F64, Precision::F32];
 
+    /// The name in tables: `f64` or `f32`.
     pub fn name(self) -> &'static str {
         match self {
             Precision::F64 => "f64",
@@ -110,7 +162,9 @@ impl Precision {
 /// One value per [`Precision`]: a method's figure in f64 and in its f32 shader twin.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PerPrecision<T> {
+    /// The f64 figure.
     pub f64: T,
+    /// The f32 figure.
     pub f32: T,
 }
 
@@ -120,6 +174,7 @@ impl<T: Copy> PerPrecision<T> {
         Self { f64: value, f32: value }
     }
 
+    /// `value` of each precision.
     pub fn from_fn(mut value: impl FnMut(Precision) -> T) -> Self {
         Self { f64: value(Precision::F64), f32: value(Precision::F32) }
     }
@@ -186,6 +241,7 @@ pub struct Prepared {
 }
 
 impl Prepared {
+    /// The parameters of `index` (sanitised first), the `nvidia` fit made here.
     pub fn new(index: Index) -> Self {
         Self::with_nvidia_fit(index, fit_nvidia)
     }
@@ -244,17 +300,27 @@ impl Prepared {
 /// rounded once). A compensated fallback is encoded as weight 0 (no correction term).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShaderParams {
+    /// n.
     pub n: f32,
+    /// k.
     pub k: f32,
+    /// F0 = ((n − 1)² + k²)/((n + 1)² + k²).
     pub f0: f32,
+    /// 2n in front of (1 − c)^λ of `schlick_compensated`; 0 on its fallback.
     pub compensation_weight: f32,
+    /// λ of `schlick_compensated`.
     pub compensation_lambda: f32,
+    /// a of `lazanyi`.
     pub lazanyi_a: f32,
+    /// bias of `nvidia`.
     pub nvidia_bias: f32,
+    /// scale of `nvidia`.
     pub nvidia_scale: f32,
+    /// power of `nvidia`.
     pub nvidia_power: f32,
     /// The authored F0 and tint of `f82_tint` (linear).
     pub f82_f0: f32,
+    /// The tint of `f82_tint` (linear).
     pub f82_tint: f32,
 }
 
@@ -281,9 +347,13 @@ impl ShaderParams {
 /// `lut`, the texture baked from `exact` with the given [`LutSpec`].
 #[derive(Clone, Debug)]
 pub struct Model {
+    /// The method evaluated.
     pub method: Method,
+    /// Its channel's parameters in f64.
     pub prepared: Prepared,
+    /// The same rounded to f32, as a shader receives them.
     pub shader: ShaderParams,
+    /// The texture, for `lut` only.
     pub lut: Option<Lut>,
 }
 
@@ -293,6 +363,7 @@ impl Model {
         Self::from_prepared(Prepared::new(index), method, lut)
     }
 
+    /// [`Model::new`] from parameters prepared before (`lut` baked only for [`Method::Lut`]).
     pub fn from_prepared(prepared: Prepared, method: Method, lut: LutSpec) -> Self {
         let lut = (method == Method::Lut).then(|| Lut::bake(lut, |c| prepared.exact.reflectance(c)));
         Self { method, shader: prepared.shader_params(), prepared, lut }

@@ -20,8 +20,11 @@ const GOLDEN_STEPS: usize = 32;
 /// The fitted parameters of `nvidia` for one channel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NvidiaFit {
+    /// The bias of bias + scale (1 − c)^power.
     pub bias: f64,
+    /// The scale.
     pub scale: f64,
+    /// The power.
     pub power: f64,
     /// RMS residual of the (unclamped) fit over the fit samples.
     pub rms_residual: f64,

@@ -11,16 +11,23 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 pub trait Real:
     Copy + PartialOrd + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
+    /// 0.
     const ZERO: Self;
+    /// 1.
     const ONE: Self;
     /// A constant of the formulas (exact in both precisions where the formulas use it).
     fn of(value: f64) -> Self;
     /// A texel count.
     fn count(count: usize) -> Self;
+    /// The smaller of the two.
     fn min(self, other: Self) -> Self;
+    /// The larger of the two.
     fn max(self, other: Self) -> Self;
+    /// `self` within [lo, hi].
     fn clamp(self, lo: Self, hi: Self) -> Self;
+    /// √x.
     fn sqrt(self) -> Self;
+    /// |x|.
     fn abs(self) -> Self;
     /// √(x² + y²) without overflow.
     fn hypot(self, other: Self) -> Self;
@@ -32,7 +39,9 @@ pub trait Real:
     fn index(self) -> usize;
     /// The trigonometry of the horizon-based AO integral (`acos` of a value in [−1, 1]).
     fn acos(self) -> Self;
+    /// cos x.
     fn cos(self) -> Self;
+    /// sin x.
     fn sin(self) -> Self;
     /// ⌊x⌋ for any sign (a pixel coordinate).
     fn floor(self) -> Self;

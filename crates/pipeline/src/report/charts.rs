@@ -9,6 +9,7 @@ use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
 use super::curves::PlotCurve;
+use nklut_optics::fresnel::Method;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
 
 /// Font size (px) of tick labels and axis names; captions are one larger.
@@ -31,6 +32,27 @@ pub const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 114, 178),
     RGBColor(120, 120, 120),
 ];
+
+/// The colour of a method's curves. One arm per method, no wildcard: a method added to
+/// `Method` does not compile until it has a colour, and `curves`' tests hold every drawn
+/// method's colour apart from the others' and from [`REFERENCE_COLOR`] and
+/// [`FITTED_COLOR`]. `schlick_nk` is not drawn (it is `schlick` with F0 from (n, k)).
+pub const fn method_color(method: Method) -> RGBColor {
+    match method {
+        Method::Exact => PALETTE[0],
+        Method::Schlick | Method::SchlickNk => PALETTE[1],
+        Method::SchlickCompensated => PALETTE[2],
+        Method::Lazanyi => PALETTE[3],
+        Method::Nvidia => PALETTE[4],
+        Method::Lut => PALETTE[5],
+        Method::F82Tint => PALETTE[6],
+    }
+}
+
+/// The spectral reference's curve (and the F = 1 line of the reflectance plots).
+pub const REFERENCE_COLOR: RGBColor = PALETTE[7];
+/// Exact Fresnel with the fitted indices (Tol's wine: apart from every method's colour).
+pub const FITTED_COLOR: RGBColor = RGBColor(136, 34, 85);
 
 /// CSS `#rrggbb` of a palette colour (for the HTML legends).
 pub fn css(color: RGBColor) -> String {

@@ -4,7 +4,7 @@
 //! three-channel index (the same `fresnel::Model` the validator measures); and the
 //! CIEDE2000 of each against the reference at every angle.
 
-use super::charts::PALETTE;
+use super::charts::{method_color, FITTED_COLOR, REFERENCE_COLOR};
 use nklut_optics::color::{self, PreparedSpectrum};
 use nklut_optics::fresnel::{self, Encoding, ExactTerms, FitMemo, LutSpec, Method, Model};
 use nklut_optics::spectrum::{ChannelIndex, Index};
@@ -42,11 +42,6 @@ pub const REFERENCE: &str = "spectral reference";
 /// Name of exact Fresnel with the fitted indices.
 pub const FITTED: &str = "exact, fitted index";
 
-/// Colour of the fitted curve: one no method curve takes (the methods take the palette's
-/// first seven colours, the reference its grey), so every curve of a page has its own
-/// colour and dash (Tol's wine).
-pub const FITTED_COLOR: plotters::style::RGBColor = plotters::style::RGBColor(136, 34, 85);
-
 /// Exact and each approximation for `index` (per channel) on the θ grid `theta_deg`.
 /// `schlick_nk` equals `schlick` with F0 from (n, k) and is not drawn twice.
 /// The `nvidia` fits come from `fits` where it holds them.
@@ -55,16 +50,21 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64], fits: &FitMemo) ->
     // Each channel's fits (compensation, Lazányi, Nvidia) once, shared by every method.
     let prepared = index.map(|index| fits.prepared(index));
     Method::ALL
-        .iter()
-        .filter(|m| **m != Method::SchlickNk)
-        .enumerate()
-        .map(|(i, &method)| {
+        .into_iter()
+        .filter(|&m| drawn(m))
+        .map(|method| {
             let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c], method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
-            PlotCurve { name, color: PALETTE[i % PALETTE.len()], dashed: i > 0, rgb }
+            PlotCurve { name, color: method_color(method), dashed: method != Method::Exact, rgb }
         })
         .collect()
+}
+
+/// Whether a method has its own curve: all but `schlick_nk`, which is `schlick` with F0
+/// from (n, k), the same curve.
+pub fn drawn(method: Method) -> bool {
+    method != Method::SchlickNk
 }
 
 /// The curves of a material: the spectral reference (from the page's spectrum on the
@@ -78,8 +78,12 @@ pub fn material_curves(
     fits: &FitMemo,
 ) -> Vec<PlotCurve> {
     let cosines: Vec<f64> = theta_deg.iter().map(|t| t.to_radians().cos()).collect();
-    let mut curves =
-        vec![PlotCurve { name: REFERENCE.into(), color: PALETTE[7], dashed: false, rgb: PreparedSpectrum::new(spectrum).curve(&cosines) }];
+    let mut curves = vec![PlotCurve {
+        name: REFERENCE.into(),
+        color: REFERENCE_COLOR,
+        dashed: false,
+        rgb: PreparedSpectrum::new(spectrum).curve(&cosines),
+    }];
     if let Some(fitted) = fitted {
         let terms = fitted.map(|i| ExactTerms::new(fresnel::sanitise(i)));
         let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| terms[c].reflectance(cos))).collect();
@@ -122,18 +126,20 @@ mod tests {
         assert!(de.iter().all(|d| *d < 0.2), "{de:?}");
     }
 
-    /// Every curve a page draws (the reference, the fitted index and each method) has its
-    /// own colour and dash: no two share a style.
+    /// Every curve of a material page has its own colour: each drawn method of
+    /// `Method::ALL`, the spectral reference and the fitted exact curve (a method added
+    /// with a colour already taken, e.g. the reference's grey, fails here).
     #[test]
-    fn every_curve_has_its_own_style() {
-        let index = Index::new(0.2, 3.0);
-        let theta = theta_grid(4);
-        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], Some(&[index; 3]), &theta, &FitMemo::default());
-        assert!(curves.iter().any(|c| c.name == FITTED) && curves.iter().any(|c| c.name == "f82_tint"));
+    fn every_drawn_curve_has_its_own_colour() {
+        let index = Index::new(0.5, 2.3);
+        let curves = material_curves(&vec![index; SPECTRAL_SAMPLES], &[index; 3], Some(&[index; 3]), &theta_grid(4), &FitMemo::default());
+        let drawn_methods = Method::ALL.into_iter().filter(|&m| drawn(m)).count();
+        assert_eq!(curves.len(), 2 + drawn_methods, "the reference, the fitted curve and every drawn method");
         for (i, a) in curves.iter().enumerate() {
-            for b in &curves[i + 1..] {
-                assert!((a.color, a.dashed) != (b.color, b.dashed), "{} and {} share a style", a.name, b.name);
+            for b in &curves[..i] {
+                assert_ne!(a.color, b.color, "{} and {} share a colour", a.name, b.name);
             }
         }
+        assert_eq!(method_color(Method::SchlickNk), method_color(Method::Schlick), "schlick_nk is schlick's curve, not drawn");
     }
 }

@@ -329,7 +329,7 @@ fn cost_section(b: &mut Builder, inputs: &inputs::Inputs) -> Result<()> {
         let chart = charts::cost_chart(&points, "CPU time per evaluation (ns)", charts::ErrorAxis::Relative, (900, 460))?;
         b.figure(&chart.svg, &format!("Mean relative error over materials against CPU time per evaluation; the Pareto front is joined and labelled, every point is in the table below and named on hover.{}", floor_note(&chart.at_floor)));
     } else {
-        b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and record the figures in validate::cpu_cost_ns).");
+        b.paragraph("CPU cost per evaluation is not recorded yet (run `make bench` and record the figures in benchmarks/fresnel_cpu.csv).");
     }
     b.table(&table, "cost");
     match &inputs.gpu_timing {
