@@ -246,21 +246,7 @@ pub struct Geometry {
     packet_tree: OnceLock<PacketTree>,
 }
 
-/// The bytes a traced scene holds per triangle, everything that scales with its geometry:
-/// the loaded and the placed mesh (vertices, normals and indices, twice), the f64
-/// triangles (corners and normals, 152 bytes), their padded boxes, the compressed-wide
-/// BVH and its build's sort keys and temporaries, and the packets' binary BVH. Measured:
-/// peak resident memory grows by 319, 417 and 436 bytes per triangle from one sphere to 51,
-/// 251 and 1 001 (4 096 triangles each; `nklut effects`, reflections, 8×8 pixels; BENCHMARKS.md,
-/// "Memory budget: scene geometry"); counted as 512, above every measured figure (the
-/// estimate is 1.17–1.61 times what the geometry took).
-pub const BYTES_PER_TRACED_TRIANGLE: usize = 512;
-
-/// The bytes a traced scene of `triangles` triangles holds in its geometry
-/// ([`BYTES_PER_TRACED_TRIANGLE`] each), for the memory budget's check before it is built.
-pub fn traced_bytes(triangles: u128) -> u128 {
-    triangles.saturating_mul(BYTES_PER_TRACED_TRIANGLE as u128)
-}
+pub use crate::scene::mesh::{traced_bytes, BYTES_PER_TRACED_TRIANGLE};
 
 /// Check that the meshes of a scene loaded so far, up to `objects[object]` (`triangles` in
 /// all, `label` the last one's mesh), fit `budget` at [`traced_bytes`]: the one geometry

@@ -42,6 +42,7 @@
 //! One body over [`Real`]: f64 for the figures, and f32 in the operation order of
 //! `shaders/gtao.wgsl`, its twin.
 
+pub use crate::scene::gtao::{Heuristics, Preset};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -141,105 +142,6 @@ pub fn slice_visibility<T: Real>(h_minus: T, h_plus: T, gamma: T, length: T) -> 
     length * T::of(0.25) * (side_minus + side_plus)
 }
 
-/// The heuristics engines add to Algorithm 1, each a number with its source (XeGTAO's
-/// `XeGTAO.h` defaults and `vaGTAO.hlsl` quality levels, Intel 2021; HDRP's screen-radius
-/// clamp). [`Heuristics::BARE`] turns every one off: the paper's Algorithm 1 as
-/// [`pixel_visibility`] ran it before they existed, to the last bit.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Heuristics<T> {
-    /// The search radius is `radius` × this (XeGTAO `RadiusMultiplier`, 1.457: "to counter
-    /// inherent screen space biases").
-    pub radius_multiplier: T,
-    /// The fraction of the (multiplied) radius over which a sample's weight falls linearly
-    /// from 1 to 0 at the radius; 0 is the hard cut of §4.3 (XeGTAO `FalloffRange`, 0.615).
-    /// A sample's horizon cosine is lerped toward the tangent plane's by 1 − weight.
-    pub falloff_range: T,
-    /// Sample k of `steps` (k = 0 …) lies at ((k + ξ)/steps)^power of the screen radius
-    /// (XeGTAO `SampleDistributionPower`, 2: "small crevices more important").
-    pub distribution_power: T,
-    /// Pixels added to every sample's distance, so that none reads the centre pixel (XeGTAO
-    /// `pixelTooCloseThreshold`, 1.3).
-    pub start_pixels: T,
-    /// A sample's distance for the falloff and the cut takes its view-space depth offset ×
-    /// (1 + this): occluders far in front of or behind the pixel fall off sooner (XeGTAO
-    /// `ThinOccluderCompensation`, default 0, range 0–0.7).
-    pub thin_occluder: T,
-    /// The accessibility is raised to this power (XeGTAO `FinalValuePower`, 2.2).
-    pub final_power: T,
-    /// The projected normal's length is lerped toward 1 by this before weighting a slice
-    /// (XeGTAO's fudge against over-darkening on slopes, 0.05).
-    pub normal_lerp: T,
-    /// Below this screen radius (pixels) the pixel is taken as open, 1 (XeGTAO's early-out at
-    /// `pixelTooCloseThreshold`, disabled there: 0).
-    pub min_radius_pixels: T,
-    /// The screen radius (pixels) is clamped to this (HDRP's "Maximum Radius In Pixels";
-    /// XeGTAO has none: ∞).
-    pub max_radius_pixels: T,
-    /// Per-pixel slice rotation and step offsets from XeGTAO's Hilbert-curve-driven R2
-    /// sequence ([`noise`]), a new value each frame; off: slices at the midpoints of their
-    /// sectors and samples at the ends of their steps (Algorithm 1).
-    pub noise: bool,
-    /// Frames accumulated (their mean, what temporal accumulation converges to): XeGTAO's
-    /// noise repeats every 64 frames (`NoiseIndex = frameIndex % 64`).
-    pub frames: u32,
-}
-
-impl Heuristics<f64> {
-    /// Algorithm 1 of the paper: no heuristic.
-    pub const BARE: Heuristics<f64> = Heuristics {
-        radius_multiplier: 1.0,
-        falloff_range: 0.0,
-        distribution_power: 1.0,
-        start_pixels: 0.0,
-        thin_occluder: 0.0,
-        final_power: 1.0,
-        normal_lerp: 0.0,
-        min_radius_pixels: 0.0,
-        max_radius_pixels: f64::INFINITY,
-        noise: false,
-        frames: 1,
-    };
-
-    /// XeGTAO's defaults (`XeGTAO.h`, version 1.20): radius multiplier 1.457, falloff range
-    /// 0.615, sample distribution power 2, thin-occluder compensation 0, final power 2.2;
-    /// `XeGTAO.hlsli`: samples start 1.3 px out, |n_φ| lerped 5 % toward 1; `vaGTAO.hlsl`:
-    /// noise from the Hilbert-R2 sequence, its index advancing each frame (mod 64) under TAA.
-    pub const XE: Heuristics<f64> = Heuristics {
-        radius_multiplier: 1.457,
-        falloff_range: 0.615,
-        distribution_power: 2.0,
-        start_pixels: 1.3,
-        thin_occluder: 0.0,
-        final_power: 2.2,
-        normal_lerp: 0.05,
-        min_radius_pixels: 0.0,
-        max_radius_pixels: f64::INFINITY,
-        noise: true,
-        frames: 64,
-    };
-
-    pub fn narrowed(self) -> Heuristics<f32> {
-        Heuristics {
-            radius_multiplier: self.radius_multiplier as f32,
-            falloff_range: self.falloff_range as f32,
-            distribution_power: self.distribution_power as f32,
-            start_pixels: self.start_pixels as f32,
-            thin_occluder: self.thin_occluder as f32,
-            final_power: self.final_power as f32,
-            normal_lerp: self.normal_lerp as f32,
-            min_radius_pixels: self.min_radius_pixels as f32,
-            max_radius_pixels: self.max_radius_pixels as f32,
-            noise: self.noise,
-            frames: self.frames,
-        }
-    }
-
-    /// Whether this is Algorithm 1 with no heuristic (what `shaders/gtao.wgsl` runs).
-    pub fn is_bare(&self) -> bool {
-        *self == Heuristics::BARE
-    }
-}
-
 /// GTAO's parameters in a precision: the radius (scene units, before the multiplier), the
 /// slices per pixel, the steps per side of a slice and the heuristics.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -268,55 +170,6 @@ impl Parameters<f64> {
     pub fn reads_per_pixel(&self) -> u64 {
         let frames = if self.heuristics.noise { self.heuristics.frames.max(1) } else { 1 };
         self.slices as u64 * 2 * self.steps as u64 * frames as u64
-    }
-}
-
-/// A named GTAO configuration: Algorithm 1 as the paper gives it, or XeGTAO's quality levels
-/// (`vaGTAO.hlsl`: Low 1 slice × 2 steps, Medium 2 × 2, High 3 × 3, Ultra 9 × 3 per side) with
-/// its default heuristics ([`Heuristics::XE`]). A scene names one and may override any number.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Preset {
-    Bare,
-    XeLow,
-    XeMedium,
-    XeHigh,
-    XeUltra,
-}
-
-impl Preset {
-    pub const ALL: [Preset; 5] = [Preset::Bare, Preset::XeLow, Preset::XeMedium, Preset::XeHigh, Preset::XeUltra];
-
-    /// The name scenes and tables use.
-    pub fn name(self) -> &'static str {
-        match self {
-            Preset::Bare => "bare",
-            Preset::XeLow => "xe-low",
-            Preset::XeMedium => "xe-medium",
-            Preset::XeHigh => "xe-high",
-            Preset::XeUltra => "xe-ultra",
-        }
-    }
-
-    pub fn named(name: &str) -> Option<Preset> {
-        Preset::ALL.into_iter().find(|p| p.name() == name)
-    }
-
-    /// Slices per pixel and steps per side of a slice (bare: the scenes' defaults, 4 × 8).
-    pub fn slices_steps(self) -> [u32; 2] {
-        match self {
-            Preset::Bare => [4, 8],
-            Preset::XeLow => [1, 2],
-            Preset::XeMedium => [2, 2],
-            Preset::XeHigh => [3, 3],
-            Preset::XeUltra => [9, 3],
-        }
-    }
-
-    pub fn heuristics(self) -> Heuristics<f64> {
-        match self {
-            Preset::Bare => Heuristics::BARE,
-            _ => Heuristics::XE,
-        }
     }
 }
 

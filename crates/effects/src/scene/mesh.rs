@@ -11,6 +11,22 @@ use nklut_pipeline::budget::TooLarge;
 
 use crate::scene::{MeshSource, Placement};
 
+/// The bytes a traced scene holds per triangle, everything that scales with its geometry:
+/// the loaded and the placed mesh (vertices, normals and indices, twice), the f64
+/// triangles (corners and normals, 152 bytes), their padded boxes, the compressed-wide
+/// BVH and its build's sort keys and temporaries, and the packets' binary BVH. Measured:
+/// peak resident memory grows by 319, 417 and 436 bytes per triangle from one sphere to 51,
+/// 251 and 1 001 (4 096 triangles each; `nklut effects`, reflections, 8×8 pixels; BENCHMARKS.md,
+/// "Memory budget: scene geometry"); counted as 512, above every measured figure (the
+/// estimate is 1.17–1.61 times what the geometry took).
+pub const BYTES_PER_TRACED_TRIANGLE: usize = 512;
+
+/// The bytes a traced scene of `triangles` triangles holds in its geometry
+/// ([`BYTES_PER_TRACED_TRIANGLE`] each), for the memory budget's check before it is built.
+pub fn traced_bytes(triangles: u128) -> u128 {
+    triangles.saturating_mul(BYTES_PER_TRACED_TRIANGLE as u128)
+}
+
 /// Indexed triangles with one normal per vertex.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -225,11 +241,7 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     // list alone takes about 100 bytes a face): the scene geometry's estimate per triangle.
     let triangles = obj_triangles(&bytes);
     nklut_pipeline::budget::MemoryBudget::of_machine()
-        .check(
-            "mesh",
-            format!("its {triangles} triangles (the scene geometry's estimate, BVH included)"),
-            crate::geometry::traced_bytes(triangles),
-        )
+        .check("mesh", format!("its {triangles} triangles (the scene geometry's estimate, BVH included)"), traced_bytes(triangles))
         .map_err(|e| error(MeshProblem::Memory(e)))?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials are not read (a scene names its own).

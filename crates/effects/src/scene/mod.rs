@@ -24,6 +24,7 @@
 pub mod camera;
 pub mod effects;
 pub mod error;
+pub mod gtao;
 pub mod lights;
 pub mod materials;
 pub mod mesh;

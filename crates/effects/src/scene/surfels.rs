@@ -8,9 +8,9 @@
 //! darkens, directional and point light cast ray-traced shadows and feed the indirect
 //! light). Pure data and checks.
 //!
-//! GTAO names a preset (`crate::ao::gtao::Preset`: `bare`, Algorithm 1, the default; or
+//! GTAO names a preset (`crate::scene::gtao::Preset`: `bare`, Algorithm 1, the default; or
 //! XeGTAO's `xe-low`, `xe-medium`, `xe-high`, `xe-ultra`) and may override its slices,
-//! steps, frames, noise and any heuristic (`crate::ao::gtao::Heuristics`), each checked
+//! steps, frames, noise and any heuristic (`crate::scene::gtao::Heuristics`), each checked
 //! against its range with a named error; `gtao` may be one block or a list of blocks, each
 //! with its radii (every block × radius is one configuration, repeats dropped).
 //!
@@ -29,7 +29,7 @@
 use serde::Deserialize;
 
 use super::error::{Each, FieldProblem, Range, SceneProblem, Value};
-use crate::ao::gtao::{Heuristics, Preset};
+use crate::scene::gtao::{Heuristics, Preset};
 
 /// The most passes a scene may ask for (each is a full gather; they converge by 3 or 4).
 pub const MAX_PASSES: u32 = 8;
@@ -460,7 +460,7 @@ mod tests {
 
     #[test]
     fn gtao_presets_parse_with_their_numbers_and_overrides() {
-        use crate::ao::gtao::{Heuristics, Preset};
+        use crate::scene::gtao::{Heuristics, Preset};
         let configurations = |effects: &str| parse(effects).unwrap().effects.unwrap().ambient_occlusion.unwrap().gtao;
         // XeGTAO High: 3 slices × 3 steps, its defaults, 64 frames of noise.
         let high = configurations("{ ambient_occlusion: { gtao: { preset: xe-high, radius: [0.5, 1] } } }");
@@ -496,7 +496,7 @@ mod tests {
         let scene = Scene::parse(&text, &path).unwrap();
         let gtao = scene.effects.unwrap().ambient_occlusion.unwrap().gtao;
         assert_eq!(gtao[0], Gtao::bare(1.0, 4, 8));
-        for preset in crate::ao::gtao::Preset::ALL {
+        for preset in crate::scene::gtao::Preset::ALL {
             assert!(gtao.iter().any(|g| g.preset == preset), "{preset:?}");
         }
         assert_eq!(gtao.len(), 9);
