@@ -469,6 +469,22 @@ fn a_table_larger_than_the_budget_holds_is_refused_before_it_is_parsed() {
     assert!(stderr.contains(&colors.display().to_string()) && stderr.contains("more than the memory budget"), "{stderr}");
 }
 
+/// `errors.csv`, read whole up to 1 GiB and filtered to the rows shown: a 200 MB one under a
+/// 100 MB budget is refused naming the file and the budget before a byte is read.
+#[test]
+fn an_errors_table_larger_than_the_budget_is_refused_before_it_is_read() {
+    let db = database("X", &[("good", "h/X/good.yml")], &[("h/X/good.yml", GOOD)]);
+    let out = db.path().join("out");
+    ok(&nklut(db.path(), &out, &["ingest"]));
+    let errors = out.join("errors.csv");
+    let _ = fs::remove_file(&errors);
+    fs::File::create(&errors).unwrap().set_len(200_000_000).unwrap();
+    let start = std::time::Instant::now();
+    let stderr = failed(&nklut_with(db.path(), &out, &["report"], &[("NKLUT_MEMORY_BUDGET", "100M")]));
+    assert!(start.elapsed() < Duration::from_secs(60), "{:?}", start.elapsed());
+    assert!(stderr.contains(&errors.display().to_string()) && stderr.contains("more than the memory budget"), "{stderr}");
+}
+
 /// A wavelength of −1e308 µm and an n of −1e308: excluded with details that write the
 /// number in exponent form, never 309 digits.
 #[test]

@@ -123,6 +123,17 @@ impl CsvTable {
 
     fn load_with(path: &Path, limit: u64, parse: &dyn Fn(&[u8]) -> Result<Self>) -> Result<Option<Self>> {
         use nklut_optics::db::file::{read_regular, FileProblem};
+        // A table is read whole: its stated size must fit the memory budget too (a 1 GiB
+        // `errors.csv` under a 100 MB budget is refused before a byte is read).
+        if let Ok(meta) = std::fs::metadata(path) {
+            if meta.is_file() && meta.len() <= limit {
+                crate::budget::MemoryBudget::of_machine().check(
+                    &path.display().to_string(),
+                    format!("the {}-byte table read", meta.len()),
+                    u128::from(meta.len()),
+                )?;
+            }
+        }
         match read_regular(path, limit) {
             Ok(bytes) => Ok(Some(parse(&bytes).with_context(|| format!("reading {}", path.display()))?)),
             Err(FileProblem::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
