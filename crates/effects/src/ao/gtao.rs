@@ -426,6 +426,24 @@ mod tests {
         }
     }
 
+    /// A hemispherical bowl (the lower half of the unit sphere, seen from inside through its
+    /// opening) under an eye 4 above its centre: the camera and its G-buffer.
+    fn bowl() -> (Pinhole, GBuffer<f64>) {
+        let hit = |o: DVec3, d: DVec3| {
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 1.0);
+            if disc < 0.0 {
+                return None;
+            }
+            // The far intersection: the inside of the sphere seen through the opening.
+            let p = o + (-b + disc.sqrt()) * d;
+            (p.y <= 0.0).then_some((p, -p))
+        };
+        let camera = Pinhole::new(DVec3::new(0.0, 4.0, 0.001), DVec3::new(0.0, -1.0, 0.0), 101);
+        let g = camera.gbuffer(hit);
+        (camera, g)
+    }
+
     /// The nearest of the plane y = 0 (normal +y) where `keep` holds.
     fn floor(o: DVec3, d: DVec3, keep: impl Fn(DVec3) -> bool) -> Option<(f64, DVec3, DVec3)> {
         let t = -o.y / d.y;
@@ -458,20 +476,7 @@ mod tests {
     /// hemisphere (area 2πR²): every point of the bowl sees open sky 1/2.
     #[test]
     fn every_point_of_a_hemispherical_bowl_sees_half_the_sky() {
-        let (centre, r) = (DVec3::ZERO, 1.0);
-        let bowl = |o: DVec3, d: DVec3| {
-            let oc = o - centre;
-            let b = oc.dot(d);
-            let disc = b * b - (oc.length_squared() - r * r);
-            if disc < 0.0 {
-                return None;
-            }
-            // The far intersection: the inside of the sphere seen through the opening.
-            let p = o + (-b + disc.sqrt()) * d;
-            (p.y <= centre.y).then(|| (p, (centre - p) / r))
-        };
-        let camera = Pinhole::new(DVec3::new(0.0, 4.0, 0.001), DVec3::new(0.0, -1.0, 0.0), 101);
-        let g = camera.gbuffer(bowl);
+        let (camera, g) = bowl();
         let (x, y) = camera.centre();
         let error = |steps: u32| {
             let p = Parameters::bare(2.5, 16, steps);
@@ -718,19 +723,7 @@ mod tests {
         assert!((powered - closed.powf(p)).abs() < bound, "{powered} against {} ± {bound}", closed.powf(p));
         assert!(closed - closed.powf(p) > 5.0 * bound, "the power must show: {closed} → {}", closed.powf(p));
 
-        let (centre, r) = (DVec3::ZERO, 1.0);
-        let bowl = |o: DVec3, dir: DVec3| {
-            let oc = o - centre;
-            let b = oc.dot(dir);
-            let disc = b * b - (oc.length_squared() - r * r);
-            if disc < 0.0 {
-                return None;
-            }
-            let q = o + (-b + disc.sqrt()) * dir;
-            (q.y <= centre.y).then(|| (q, (centre - q) / r))
-        };
-        let camera = Pinhole::new(DVec3::new(0.0, 4.0, 0.001), DVec3::new(0.0, -1.0, 0.0), 101);
-        let g = camera.gbuffer(bowl);
+        let (camera, g) = bowl();
         let (x, y) = camera.centre();
         for steps in [16, 64, 256] {
             let a = pixel_visibility(&g, x, y, with(|h| h.distribution_power = 2.0, 2.5, 16, steps)).unwrap();
