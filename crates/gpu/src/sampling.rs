@@ -26,7 +26,11 @@
 //!   cold is no measure. On a GPU that is warm after the first round it adds none.
 //! - **Statistics.** Every sample is kept; per pair the mean, median, interquartile range
 //!   and count, the cost per F evaluation per pixel (ns), and a flag when the median is
-//!   within [`NEAR_RESOLUTION`] × the resolution.
+//!   within [`NEAR_RESOLUTION`] × the resolution or [`NEAR_FLOOR`] × a wall timer's floor
+//!   (the floor is a fixed overhead in every reading, not a quantum: within twice the floor
+//!   at least half the reading is the round trip; an amplified sample spans
+//!   [`SPAN_OVER_FLOOR`] × the floor, so a floor measured under load that differs between
+//!   calibration and timing does not flag it).
 
 use anyhow::Result;
 
@@ -38,6 +42,8 @@ pub const SPAN_OVER_FLOOR: f64 = 10.0;
 pub const MIN_SAMPLE_MS: f64 = 2.0;
 /// A median within this many resolutions is flagged.
 pub const NEAR_RESOLUTION: f64 = 10.0;
+/// A wall-timed median within this many floors (empty round trips) is flagged.
+pub const NEAR_FLOOR: f64 = 2.0;
 /// The largest amplification tried.
 pub const MAX_EVALUATIONS: u32 = 1 << 16;
 /// Calibration rounds at most (each multiplies the amplification by 2 to 64).
@@ -295,8 +301,14 @@ pub struct SampleStats {
     pub spread_ms: f64,
     /// Median pass time per F evaluation per pixel (ns).
     pub ns_per_evaluation: f64,
-    /// The median is within [`NEAR_RESOLUTION`] × the resolution (or the wall floor).
+    /// The median is within [`NEAR_RESOLUTION`] × the resolution or [`NEAR_FLOOR`] × the wall
+    /// floor.
     pub near_resolution: bool,
+}
+
+/// The median (ms) at or below which a pair is flagged as not resolved.
+pub fn near_ms(resolution_ns: f64, floor_ms: f64) -> f64 {
+    (NEAR_RESOLUTION * resolution_ns / 1e6).max(NEAR_FLOOR * floor_ms)
 }
 
 /// Statistics of `samples` taken at `evaluations` per pixel over `pixels` pixels.
@@ -304,7 +316,7 @@ pub fn stats(samples: &[f64], evaluations: u32, pixels: u64, measurement: &Measu
     let (median_ms, spread_ms) = nklut_pipeline::stats::median_and_iqr(samples);
     let n = samples.len();
     let mean_ms = if n == 0 { f64::NAN } else { samples.iter().sum::<f64>() / n as f64 };
-    let near = NEAR_RESOLUTION * (measurement.resolution_ns / 1e6).max(measurement.floor_ms);
+    let near = near_ms(measurement.resolution_ns, measurement.floor_ms);
     SampleStats {
         n,
         mean_ms,
@@ -555,5 +567,22 @@ mod tests {
         let m = measure(&mut clock, &[PairKind { baseline: false }; 2], &Plan { warmup: 0, repeats: 2, amplify: true, seed: 1 }).unwrap();
         assert!(m.capped);
         assert!(stats(&m.samples[0], m.evaluations, 1, &m).near_resolution);
+    }
+
+    #[test]
+    fn the_flag_keeps_a_margin_below_the_span_an_amplified_sample_reaches() {
+        // 100 µs timestamps: flagged at or below 1 ms (10 quanta), the target 10 ms.
+        assert_eq!(near_ms(100_000.0, 0.0), 1.0);
+        assert_eq!(target_ms(100_000.0, 0.0), 10.0);
+        // A wall timer with a 0.3125 ms floor and a 100 µs quantum: flagged at or below
+        // 2 floors (0.625 ms) — a single draw that reads the floor is flagged — while the
+        // target is 10 floors (3.125 ms); a floor that read 3× longer during calibration
+        // than during timing (a loaded machine) still leaves the samples 1.67× above it.
+        assert_eq!(near_ms(100_000.0, 0.3125), 1.0);
+        assert_eq!(near_ms(1.0, 0.3125), 0.625);
+        assert_eq!(target_ms(1.0, 0.3125), 3.125);
+        assert!(target_ms(1.0, 0.3125) / 3.0 > near_ms(1.0, 0.3125));
+        // Before the margin, the flag sat at 10 floors, the target itself.
+        assert!(near_ms(1.0, 0.3125) < SPAN_OVER_FLOOR * 0.3125);
     }
 }
