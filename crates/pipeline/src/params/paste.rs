@@ -10,7 +10,7 @@
 use serde_json::{json, Value};
 
 use super::mtlx::{openpbr_inputs, ExportPage};
-use nklut_optics::appearance::Appearance;
+use nklut_optics::appearance::{Appearance, Attenuation};
 use nklut_optics::color::srgb::hex_swatch;
 
 /// ((n − 1)/(n + 1))², a dielectric's F0.
@@ -134,190 +134,54 @@ fn through_object(page: &ExportPage) -> [f64; 3] {
 /// The line saying why an opaque dielectric takes the metal path.
 const OPAQUE_NOTE: &str = "an opaque absorber reflects like a conductor (no light comes back out of its volume): metallic 1 with F0 as the colour keeps its F0, k's share included, in every channel";
 
-fn block(tool: &str, page: &ExportPage) -> String {
-    let p = page.params;
-    let r = page.roughness;
-    let f0 = p.f0;
-    let f0_mean = (f0[0] + f0[1] + f0[2]) / 3.0;
-    let tint = p.f82.map(|f| f.tint);
-    let ior = p.dielectric.map(|d| d.n_d.max(1.0));
-    let abbe = p.dielectric.and_then(|d| d.abbe);
-    let attenuation = p.volume.attenuation;
-    let appearance = p.volume.appearance;
-    let ior_line = |label: &str| ior.map_or(String::new(), |ior| format!("{label}: {ior:.4}\n"));
-    let seen = through_object(page);
-    match tool {
-        "blender" => match appearance {
-            Appearance::Metal | Appearance::Opaque => {
-                let mut text = format!(
-                    "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
-                    hex_swatch(f0),
-                    triple(f0, true),
-                    hex_swatch(tint),
-                    triple(tint, true)
-                );
-                if appearance == Appearance::Opaque {
-                    text.push_str(&format!("Note: {OPAQUE_NOTE}\n"));
-                }
-                text
-            }
-            Appearance::Transparent | Appearance::Tinted => {
-                let mut text = format!("Base Color: #ffffff\nMetallic: 0\nRoughness: {r}\n{}Transmission Weight: 1\n", ior_line("IOR"));
-                if let Some(a) = attenuation {
-                    let v = a.volume_absorption();
-                    text.push_str(&format!(
-                        "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {} (per scene unit, metres: the node absorbs (1 − Color)·Density, so Density = the largest absorption coefficient −ln(attenuation colour)/{} m and Color = 1 − coefficient/Density; a {} m piece then passes linear {})\n",
-                        hex_swatch(v.colour),
-                        triple_significant(v.colour),
-                        significant(v.density),
-                        significant(a.distance_m),
-                        OBJECT_THICKNESS_M,
-                        triple(seen, true)
-                    ));
-                }
-                text
-            }
-        },
-        "unreal" => match appearance {
-            Appearance::Metal | Appearance::Opaque => {
-                let mut text = format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0));
-                if appearance == Appearance::Opaque {
-                    text.push_str(&format!(
-                        "Note: {OPAQUE_NOTE} (Specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
-                        f0_mean / SPECULAR_008_MAX_F0
-                    ));
-                }
-                text
-            }
-            Appearance::Transparent | Appearance::Tinted => format!(
-                "Blend Mode: Translucent; Shading Model: Thin Translucent; Lighting Mode: Surface ForwardShading\nBase Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\nOpacity: 1 (the surface coverage; what passes is the Transmittance Color)\nThin Translucent Material output, Transmittance Color: linear {} (what a {} m piece passes at normal view)\n{}",
-                specular_008(f0_mean),
-                triple(seen, true),
-                OBJECT_THICKNESS_M,
-                ior_line("Refraction (Refraction Method: Index of Refraction)")
-            ),
-        },
-        "unity_hdrp" => match appearance {
-            Appearance::Metal => {
-                format!("Material Type: Standard\nBase Map colour: {} (linear {})\nMetallic: 1\nSmoothness: {:.3}\n", hex_swatch(f0), triple(f0, true), 1.0 - r)
-            }
-            Appearance::Transparent | Appearance::Tinted => {
-                let mut text = format!("Surface Type: Transparent; Refraction Model: Sphere\nMetallic: 0\nSmoothness: {:.3}\n{}", 1.0 - r, ior_line("Index Of Refraction"));
-                if let Some(a) = attenuation {
-                    let colour = a.exported_colour();
-                    text.push_str(&format!(
-                        "Transmittance Color: {} (linear {})\nAbsorption Distance: {} (m)\n",
-                        hex_swatch(colour),
-                        triple_significant(colour),
-                        significant(a.distance_m)
-                    ));
-                }
-                text
-            }
-            Appearance::Opaque => format!(
-                "Material Type: Specular Color\nBase Map colour: #000000\nSpecular Color: {} (linear {})\nSmoothness: {:.3}\n",
-                hex_swatch(f0),
-                triple(f0, true),
-                1.0 - r
-            ),
-        },
-        "threejs" => {
-            let colour = |name: &str, rgb: [f64; 3]| {
-                let [a, b, c] = rgb.map(|v| v.clamp(0.0, 1.0));
-                format!("  {name}: new THREE.Color().setRGB({a:.4}, {b:.4}, {c:.4}, THREE.LinearSRGBColorSpace),\n")
-            };
-            let mut text = String::from("new THREE.MeshPhysicalMaterial({\n");
-            match appearance {
-                Appearance::Metal | Appearance::Opaque => {
-                    text.push_str(&colour("color", f0));
-                    text.push_str(&format!("  metalness: 1,\n  roughness: {r},\n"));
-                    if appearance == Appearance::Opaque {
-                        text.push_str(&format!("  // {OPAQUE_NOTE}\n"));
-                    }
-                }
-                Appearance::Transparent | Appearance::Tinted => {
-                    text.push_str(&format!(
-                        "  metalness: 0,\n  roughness: {r},\n  transmission: 1,\n  thickness: {OBJECT_THICKNESS_M}, // in the mesh's own units, which three.js scales by the object's world scale: {OBJECT_THICKNESS_M} for a {} cm object modelled in metres at scale 1\n",
-                        OBJECT_THICKNESS_M * 100.0
-                    ));
-                    if let Some(n) = ior {
-                        let shown = n.min(THREE_IOR_RANGE.1);
-                        text.push_str(&format!("  ior: {shown:.4},\n"));
-                        if n > THREE_IOR_RANGE.1 {
-                            // F0 of n_d kept through specularColor: three.js takes
-                            // min(F0(ior) · specularColor, 1).
-                            let scale = fresnel_f0(n) / fresnel_f0(shown);
-                            text.push_str(&format!(
-                                "  specularColor: new THREE.Color().setRGB({scale:.4}, {scale:.4}, {scale:.4}, THREE.LinearSRGBColorSpace), // n_d {n:.4} is above three.js' ior range (1 to {}): its F0 {:.4} kept as F0({}) × specularColor\n",
-                                THREE_IOR_RANGE.1,
-                                fresnel_f0(n),
-                                THREE_IOR_RANGE.1
-                            ));
-                        }
-                    }
-                    if let Some(a) = attenuation {
-                        let [x, y, z] = a.exported_colour();
-                        text.push_str(&format!(
-                            "  attenuationColor: new THREE.Color().setRGB({}, {}, {}, THREE.LinearSRGBColorSpace),\n",
-                            significant(x),
-                            significant(y),
-                            significant(z)
-                        ));
-                        text.push_str(&format!(
-                            "  attenuationDistance: {}, // world units (metres), {SIGNIFICANT_DIGITS} significant digits\n",
-                            significant(a.distance_m)
-                        ));
-                    }
-                    if let Some(abbe) = abbe {
-                        text.push_str(&format!("  dispersion: {:.4}, // 20 / Abbe number {abbe:.2}\n", 20.0 / abbe));
-                    }
-                }
-            }
-            text.push_str("});\n");
-            text
+/// What every tool's block reads of a page, derived once.
+#[derive(Clone, Copy)]
+struct Facts {
+    r: f64,
+    f0: [f64; 3],
+    f0_mean: f64,
+    tint: [f64; 3],
+    ior: Option<f64>,
+    abbe: Option<f64>,
+    attenuation: Option<Attenuation>,
+    appearance: Appearance,
+    /// What a piece [`OBJECT_THICKNESS_M`] thick passes.
+    seen: [f64; 3],
+}
+
+impl Facts {
+    fn of(page: &ExportPage) -> Self {
+        let p = page.params;
+        let f0 = p.f0;
+        Facts {
+            r: page.roughness,
+            f0,
+            f0_mean: (f0[0] + f0[1] + f0[2]) / 3.0,
+            tint: p.f82.map(|f| f.tint),
+            ior: p.dielectric.map(|d| d.n_d.max(1.0)),
+            abbe: p.dielectric.and_then(|d| d.abbe),
+            attenuation: p.volume.attenuation,
+            appearance: p.volume.appearance,
+            seen: through_object(page),
         }
-        "filament" => match appearance {
-            Appearance::Metal | Appearance::Opaque => {
-                let mut text = format!("baseColor: {}\nmetallic: 1.0\nroughness: {r}\n", triple(f0, true));
-                if appearance == Appearance::Opaque {
-                    text.push_str(&format!("Note: {OPAQUE_NOTE} (reflectance = √(F0/0.16) = {:.4} would give one grey F0, and at most 0.16 with reflectance in its [0, 1])\n", (f0_mean.max(0.0) / 0.16).sqrt()));
-                }
-                text
-            }
-            Appearance::Transparent | Appearance::Tinted => {
-                let mut text = format!(
-                    "material {{ blending: opaque; refractionMode: screenspace; refractionType: solid }} (refractionMode cubemap refracts the environment only)\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}thickness: {OBJECT_THICKNESS_M} (world units, metres: the object's thickness along the normal)\n",
-                    ior_line("ior")
-                );
-                if let Some(a) = attenuation {
-                    text.push_str(&format!(
-                        "absorption: {} (per metre: −ln(attenuation colour)/{} m; e^(−absorption·thickness) passes linear {})\n",
-                        triple_significant(a.coefficients_per_m()),
-                        significant(a.distance_m),
-                        triple(seen, true)
-                    ));
-                }
-                text
-            }
-        },
-        "godot" => match appearance {
-            Appearance::Metal | Appearance::Opaque => {
-                let mut text = format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0));
-                if appearance == Appearance::Opaque {
-                    text.push_str(&format!(
-                        "Note: {OPAQUE_NOTE} (metallic_specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
-                        f0_mean / SPECULAR_008_MAX_F0
-                    ));
-                }
-                text
-            }
-            Appearance::Transparent | Appearance::Tinted => format!(
-                "transparency: alpha; albedo_color: Color(\"{}\", 0.1) (the colour a {} m piece passes)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
-                hex_swatch(seen),
-                OBJECT_THICKNESS_M,
-                specular_008(f0_mean)
-            ),
-        },
+    }
+}
+
+/// "label: n_d" and a line break, empty for a page without a refractive index.
+fn ior_line(ior: Option<f64>, label: &str) -> String {
+    ior.map_or(String::new(), |ior| format!("{label}: {ior:.4}\n"))
+}
+
+/// One tool's block of the page ([`TOOLS`] names the tools).
+fn block(tool: &str, page: &ExportPage) -> String {
+    let facts = Facts::of(page);
+    match tool {
+        "blender" => blender(facts),
+        "unreal" => unreal(facts),
+        "unity_hdrp" => unity_hdrp(facts),
+        "threejs" => threejs(facts),
+        "filament" => filament(facts),
+        "godot" => godot(facts),
         "openpbr" => openpbr_inputs(page).into_iter().map(|(input, _, value)| format!("{input}: {value}\n")).collect(),
         "gltf" => {
             let (material, _) = super::gltf::material(page);
@@ -325,6 +189,214 @@ fn block(tool: &str, page: &ExportPage) -> String {
         }
         _ => String::new(),
     }
+}
+
+/// Blender's Principled BSDF fields.
+fn blender(facts: Facts) -> String {
+    let Facts { r, f0, tint, ior, attenuation, appearance, seen, .. } = facts;
+    match appearance {
+        Appearance::Metal | Appearance::Opaque => {
+            let mut text = format!(
+            "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
+            hex_swatch(f0),
+            triple(f0, true),
+            hex_swatch(tint),
+            triple(tint, true)
+        );
+            if appearance == Appearance::Opaque {
+                text.push_str(&format!("Note: {OPAQUE_NOTE}\n"));
+            }
+            text
+        }
+        Appearance::Transparent | Appearance::Tinted => {
+            let mut text = format!("Base Color: #ffffff\nMetallic: 0\nRoughness: {r}\n{}Transmission Weight: 1\n", ior_line(ior, "IOR"));
+            if let Some(a) = attenuation {
+                let v = a.volume_absorption();
+                text.push_str(&format!(
+                "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {} (per scene unit, metres: the node absorbs (1 − Color)·Density, so Density = the largest absorption coefficient −ln(attenuation colour)/{} m and Color = 1 − coefficient/Density; a {} m piece then passes linear {})\n",
+                hex_swatch(v.colour),
+                triple_significant(v.colour),
+                significant(v.density),
+                significant(a.distance_m),
+                OBJECT_THICKNESS_M,
+                triple(seen, true)
+            ));
+            }
+            text
+        }
+    }
+}
+
+/// Unreal's Default Lit (and Thin Translucent) fields.
+fn unreal(facts: Facts) -> String {
+    let Facts { r, f0, f0_mean, ior, appearance, seen, .. } = facts;
+    match appearance {
+    Appearance::Metal | Appearance::Opaque => {
+        let mut text = format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0));
+        if appearance == Appearance::Opaque {
+            text.push_str(&format!(
+                "Note: {OPAQUE_NOTE} (Specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
+                f0_mean / SPECULAR_008_MAX_F0
+            ));
+        }
+        text
+    }
+    Appearance::Transparent | Appearance::Tinted => format!(
+        "Blend Mode: Translucent; Shading Model: Thin Translucent; Lighting Mode: Surface ForwardShading\nBase Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\nOpacity: 1 (the surface coverage; what passes is the Transmittance Color)\nThin Translucent Material output, Transmittance Color: linear {} (what a {} m piece passes at normal view)\n{}",
+        specular_008(f0_mean),
+        triple(seen, true),
+        OBJECT_THICKNESS_M,
+        ior_line(ior, "Refraction (Refraction Method: Index of Refraction)")
+    ),
+}
+}
+
+/// Unity HDRP Lit's fields.
+fn unity_hdrp(facts: Facts) -> String {
+    let Facts { r, f0, ior, attenuation, appearance, .. } = facts;
+    match appearance {
+        Appearance::Metal => {
+            format!(
+                "Material Type: Standard\nBase Map colour: {} (linear {})\nMetallic: 1\nSmoothness: {:.3}\n",
+                hex_swatch(f0),
+                triple(f0, true),
+                1.0 - r
+            )
+        }
+        Appearance::Transparent | Appearance::Tinted => {
+            let mut text = format!(
+                "Surface Type: Transparent; Refraction Model: Sphere\nMetallic: 0\nSmoothness: {:.3}\n{}",
+                1.0 - r,
+                ior_line(ior, "Index Of Refraction")
+            );
+            if let Some(a) = attenuation {
+                let colour = a.exported_colour();
+                text.push_str(&format!(
+                    "Transmittance Color: {} (linear {})\nAbsorption Distance: {} (m)\n",
+                    hex_swatch(colour),
+                    triple_significant(colour),
+                    significant(a.distance_m)
+                ));
+            }
+            text
+        }
+        Appearance::Opaque => format!(
+            "Material Type: Specular Color\nBase Map colour: #000000\nSpecular Color: {} (linear {})\nSmoothness: {:.3}\n",
+            hex_swatch(f0),
+            triple(f0, true),
+            1.0 - r
+        ),
+    }
+}
+
+/// A three.js `MeshPhysicalMaterial` constructor.
+fn threejs(facts: Facts) -> String {
+    let Facts { r, f0, ior, abbe, attenuation, appearance, .. } = facts;
+    let colour = |name: &str, rgb: [f64; 3]| {
+        let [a, b, c] = rgb.map(|v| v.clamp(0.0, 1.0));
+        format!("  {name}: new THREE.Color().setRGB({a:.4}, {b:.4}, {c:.4}, THREE.LinearSRGBColorSpace),\n")
+    };
+    let mut text = String::from("new THREE.MeshPhysicalMaterial({\n");
+    match appearance {
+        Appearance::Metal | Appearance::Opaque => {
+            text.push_str(&colour("color", f0));
+            text.push_str(&format!("  metalness: 1,\n  roughness: {r},\n"));
+            if appearance == Appearance::Opaque {
+                text.push_str(&format!("  // {OPAQUE_NOTE}\n"));
+            }
+        }
+        Appearance::Transparent | Appearance::Tinted => {
+            text.push_str(&format!(
+                "  metalness: 0,\n  roughness: {r},\n  transmission: 1,\n  thickness: {OBJECT_THICKNESS_M}, // in the mesh's own units, which three.js scales by the object's world scale: {OBJECT_THICKNESS_M} for a {} cm object modelled in metres at scale 1\n",
+                OBJECT_THICKNESS_M * 100.0
+            ));
+            if let Some(n) = ior {
+                let shown = n.min(THREE_IOR_RANGE.1);
+                text.push_str(&format!("  ior: {shown:.4},\n"));
+                if n > THREE_IOR_RANGE.1 {
+                    // F0 of n_d kept through specularColor: three.js takes
+                    // min(F0(ior) · specularColor, 1).
+                    let scale = fresnel_f0(n) / fresnel_f0(shown);
+                    text.push_str(&format!(
+                        "  specularColor: new THREE.Color().setRGB({scale:.4}, {scale:.4}, {scale:.4}, THREE.LinearSRGBColorSpace), // n_d {n:.4} is above three.js' ior range (1 to {}): its F0 {:.4} kept as F0({}) × specularColor\n",
+                        THREE_IOR_RANGE.1,
+                        fresnel_f0(n),
+                        THREE_IOR_RANGE.1
+                    ));
+                }
+            }
+            if let Some(a) = attenuation {
+                let [x, y, z] = a.exported_colour();
+                text.push_str(&format!(
+                    "  attenuationColor: new THREE.Color().setRGB({}, {}, {}, THREE.LinearSRGBColorSpace),\n",
+                    significant(x),
+                    significant(y),
+                    significant(z)
+                ));
+                text.push_str(&format!(
+                    "  attenuationDistance: {}, // world units (metres), {SIGNIFICANT_DIGITS} significant digits\n",
+                    significant(a.distance_m)
+                ));
+            }
+            if let Some(abbe) = abbe {
+                text.push_str(&format!("  dispersion: {:.4}, // 20 / Abbe number {abbe:.2}\n", 20.0 / abbe));
+            }
+        }
+    }
+    text.push_str("});\n");
+    text
+}
+
+/// Filament's lit material properties.
+fn filament(facts: Facts) -> String {
+    let Facts { r, f0, f0_mean, ior, attenuation, appearance, seen, .. } = facts;
+    match appearance {
+        Appearance::Metal | Appearance::Opaque => {
+            let mut text = format!("baseColor: {}\nmetallic: 1.0\nroughness: {r}\n", triple(f0, true));
+            if appearance == Appearance::Opaque {
+                text.push_str(&format!("Note: {OPAQUE_NOTE} (reflectance = √(F0/0.16) = {:.4} would give one grey F0, and at most 0.16 with reflectance in its [0, 1])\n", (f0_mean.max(0.0) / 0.16).sqrt()));
+            }
+            text
+        }
+        Appearance::Transparent | Appearance::Tinted => {
+            let mut text = format!(
+            "material {{ blending: opaque; refractionMode: screenspace; refractionType: solid }} (refractionMode cubemap refracts the environment only)\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}thickness: {OBJECT_THICKNESS_M} (world units, metres: the object's thickness along the normal)\n",
+            ior_line(ior, "ior")
+        );
+            if let Some(a) = attenuation {
+                text.push_str(&format!(
+                    "absorption: {} (per metre: −ln(attenuation colour)/{} m; e^(−absorption·thickness) passes linear {})\n",
+                    triple_significant(a.coefficients_per_m()),
+                    significant(a.distance_m),
+                    triple(seen, true)
+                ));
+            }
+            text
+        }
+    }
+}
+
+/// Godot's `StandardMaterial3D` properties.
+fn godot(facts: Facts) -> String {
+    let Facts { r, f0, f0_mean, appearance, seen, .. } = facts;
+    match appearance {
+    Appearance::Metal | Appearance::Opaque => {
+        let mut text = format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0));
+        if appearance == Appearance::Opaque {
+            text.push_str(&format!(
+                "Note: {OPAQUE_NOTE} (metallic_specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
+                f0_mean / SPECULAR_008_MAX_F0
+            ));
+        }
+        text
+    }
+    Appearance::Transparent | Appearance::Tinted => format!(
+        "transparency: alpha; albedo_color: Color(\"{}\", 0.1) (the colour a {} m piece passes)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
+        hex_swatch(seen),
+        OBJECT_THICKNESS_M,
+        specular_008(f0_mean)
+    ),
+}
 }
 
 #[cfg(test)]
