@@ -167,6 +167,12 @@ impl Facts {
     }
 }
 
+/// The opaque note of a tool whose dielectric Specular field is F0/0.08 (Unreal's
+/// `Specular`, Godot's `metallic_specular`): what the field would give instead.
+fn opaque_specular_note(field: &str, f0_mean: f64) -> String {
+    format!("Note: {OPAQUE_NOTE} ({field} = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n", f0_mean / SPECULAR_008_MAX_F0)
+}
+
 /// "label: n_d" and a line break, empty for a page without a refractive index.
 fn ior_line(ior: Option<f64>, label: &str) -> String {
     ior.map_or(String::new(), |ior| format!("{label}: {ior:.4}\n"))
@@ -197,12 +203,12 @@ fn blender(facts: Facts) -> String {
     match appearance {
         Appearance::Metal | Appearance::Opaque => {
             let mut text = format!(
-            "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
-            hex_swatch(f0),
-            triple(f0, true),
-            hex_swatch(tint),
-            triple(tint, true)
-        );
+                "Base Color: {} (linear {})\nMetallic: 1\nRoughness: {r}\nSpecular Tint: {} (linear {}; Blender 4's F82 edge tint of metals)\n",
+                hex_swatch(f0),
+                triple(f0, true),
+                hex_swatch(tint),
+                triple(tint, true)
+            );
             if appearance == Appearance::Opaque {
                 text.push_str(&format!("Note: {OPAQUE_NOTE}\n"));
             }
@@ -213,14 +219,14 @@ fn blender(facts: Facts) -> String {
             if let Some(a) = attenuation {
                 let v = a.volume_absorption();
                 text.push_str(&format!(
-                "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {} (per scene unit, metres: the node absorbs (1 − Color)·Density, so Density = the largest absorption coefficient −ln(attenuation colour)/{} m and Color = 1 − coefficient/Density; a {} m piece then passes linear {})\n",
-                hex_swatch(v.colour),
-                triple_significant(v.colour),
-                significant(v.density),
-                significant(a.distance_m),
-                OBJECT_THICKNESS_M,
-                triple(seen, true)
-            ));
+                    "Volume: Volume Absorption node into the Material Output's Volume, Color {} (linear {}), Density {} (per scene unit, metres: the node absorbs (1 − Color)·Density, so Density = the largest absorption coefficient −ln(attenuation colour)/{} m and Color = 1 − coefficient/Density; a {} m piece then passes linear {})\n",
+                    hex_swatch(v.colour),
+                    triple_significant(v.colour),
+                    significant(v.density),
+                    significant(a.distance_m),
+                    OBJECT_THICKNESS_M,
+                    triple(seen, true)
+                ));
             }
             text
         }
@@ -231,24 +237,21 @@ fn blender(facts: Facts) -> String {
 fn unreal(facts: Facts) -> String {
     let Facts { r, f0, f0_mean, ior, appearance, seen, .. } = facts;
     match appearance {
-    Appearance::Metal | Appearance::Opaque => {
-        let mut text = format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0));
-        if appearance == Appearance::Opaque {
-            text.push_str(&format!(
-                "Note: {OPAQUE_NOTE} (Specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
-                f0_mean / SPECULAR_008_MAX_F0
-            ));
+        Appearance::Metal | Appearance::Opaque => {
+            let mut text = format!("Base Color: linear {} (hex field {})\nMetallic: 1\nRoughness: {r}\n", triple(f0, true), hex_swatch(f0));
+            if appearance == Appearance::Opaque {
+                text.push_str(&opaque_specular_note("Specular", f0_mean));
+            }
+            text
         }
-        text
+        Appearance::Transparent | Appearance::Tinted => format!(
+            "Blend Mode: Translucent; Shading Model: Thin Translucent; Lighting Mode: Surface ForwardShading\nBase Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\nOpacity: 1 (the surface coverage; what passes is the Transmittance Color)\nThin Translucent Material output, Transmittance Color: linear {} (what a {} m piece passes at normal view)\n{}",
+            specular_008(f0_mean),
+            triple(seen, true),
+            OBJECT_THICKNESS_M,
+            ior_line(ior, "Refraction (Refraction Method: Index of Refraction)")
+        ),
     }
-    Appearance::Transparent | Appearance::Tinted => format!(
-        "Blend Mode: Translucent; Shading Model: Thin Translucent; Lighting Mode: Surface ForwardShading\nBase Color: (0, 0, 0)\nMetallic: 0\nRoughness: {r}\nSpecular: {}\nOpacity: 1 (the surface coverage; what passes is the Transmittance Color)\nThin Translucent Material output, Transmittance Color: linear {} (what a {} m piece passes at normal view)\n{}",
-        specular_008(f0_mean),
-        triple(seen, true),
-        OBJECT_THICKNESS_M,
-        ior_line(ior, "Refraction (Refraction Method: Index of Refraction)")
-    ),
-}
 }
 
 /// Unity HDRP Lit's fields.
@@ -360,9 +363,9 @@ fn filament(facts: Facts) -> String {
         }
         Appearance::Transparent | Appearance::Tinted => {
             let mut text = format!(
-            "material {{ blending: opaque; refractionMode: screenspace; refractionType: solid }} (refractionMode cubemap refracts the environment only)\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}thickness: {OBJECT_THICKNESS_M} (world units, metres: the object's thickness along the normal)\n",
-            ior_line(ior, "ior")
-        );
+                "material {{ blending: opaque; refractionMode: screenspace; refractionType: solid }} (refractionMode cubemap refracts the environment only)\nbaseColor: (1, 1, 1)\nmetallic: 0.0\nroughness: {r}\ntransmission: 1.0\n{}thickness: {OBJECT_THICKNESS_M} (world units, metres: the object's thickness along the normal)\n",
+                ior_line(ior, "ior")
+            );
             if let Some(a) = attenuation {
                 text.push_str(&format!(
                     "absorption: {} (per metre: −ln(attenuation colour)/{} m; e^(−absorption·thickness) passes linear {})\n",
@@ -380,23 +383,20 @@ fn filament(facts: Facts) -> String {
 fn godot(facts: Facts) -> String {
     let Facts { r, f0, f0_mean, appearance, seen, .. } = facts;
     match appearance {
-    Appearance::Metal | Appearance::Opaque => {
-        let mut text = format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0));
-        if appearance == Appearance::Opaque {
-            text.push_str(&format!(
-                "Note: {OPAQUE_NOTE} (metallic_specular = F0/0.08 = {:.4} would give one grey F0, and at most 0.08)\n",
-                f0_mean / SPECULAR_008_MAX_F0
-            ));
+        Appearance::Metal | Appearance::Opaque => {
+            let mut text = format!("albedo_color: Color(\"{}\")\nmetallic: 1.0\nroughness: {r}\n", hex_swatch(f0));
+            if appearance == Appearance::Opaque {
+                text.push_str(&opaque_specular_note("metallic_specular", f0_mean));
+            }
+            text
         }
-        text
+        Appearance::Transparent | Appearance::Tinted => format!(
+            "transparency: alpha; albedo_color: Color(\"{}\", 0.1) (the colour a {} m piece passes)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
+            hex_swatch(seen),
+            OBJECT_THICKNESS_M,
+            specular_008(f0_mean)
+        ),
     }
-    Appearance::Transparent | Appearance::Tinted => format!(
-        "transparency: alpha; albedo_color: Color(\"{}\", 0.1) (the colour a {} m piece passes)\nmetallic: 0.0\nroughness: {r}\nmetallic_specular: {}\nrefraction_enabled: true (Godot's refraction is a screen-space offset, not an IOR)\n",
-        hex_swatch(seen),
-        OBJECT_THICKNESS_M,
-        specular_008(f0_mean)
-    ),
-}
 }
 
 #[cfg(test)]
