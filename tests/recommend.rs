@@ -595,6 +595,39 @@ fn the_search_finding_states_the_effects_tables_figures() {
     let scene = out.join("specular.yaml");
     fs::write(&scene, SPECULAR_SCENE).unwrap();
     nklut(&out.join("specular"), &["effects", "--hero-size", "0", scene.to_str().unwrap()]);
+    // With the scene measured, recommend carries each pick's error growth with depth:
+    // recomputed here from effects_errors.csv (pixel-weighted fresnel ΔE2000 per total
+    // depth, the shallowest and the deepest, and their slope).
+    nklut(&out, &[&["recommend"][..], &pages].concat());
+    let recs = load(&out, "recommendations.csv");
+    let errors = load(&out.join("specular"), "effects_errors.csv");
+    let mut measured = 0;
+    for row in &recs.rows {
+        let (page, method) = (recs.text(row, "page"), recs.text(row, "method"));
+        let mut depths: BTreeMap<u64, (f64, f64)> = BTreeMap::new();
+        for r in errors.rows.iter().filter(|r| errors.text(r, "material") == page && errors.text(r, "method") == method) {
+            let bounces: u64 =
+                errors.text(r, "reflection_depth").parse::<u64>().unwrap() + errors.text(r, "refraction_depth").parse::<u64>().unwrap();
+            let pixels = num(&errors, r, "pixels");
+            let entry = depths.entry(bounces).or_default();
+            entry.0 += pixels * num(&errors, r, "fresnel_mean_delta_e2000");
+            entry.1 += pixels;
+        }
+        let depths: Vec<(u64, f64)> = depths.into_iter().filter(|(_, (_, w))| *w > 0.0).map(|(d, (s, w))| (d, s / w)).collect();
+        let Some((&(d0, e0), &(d1, e1))) = depths.first().zip(depths.last()) else {
+            assert_eq!(recs.text(row, "depth_bounces"), "", "{page} {method}: no scene measured it");
+            continue;
+        };
+        measured += 1;
+        assert_eq!(recs.text(row, "depth_bounces"), format!("{d0}-{d1}"), "{page} {method}");
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-12);
+        assert!(close(num(&recs, row, "depth_de2000_shallow"), e0) && close(num(&recs, row, "depth_de2000_deep"), e1), "{page} {method}");
+        if d1 > d0 {
+            assert!(close(num(&recs, row, "depth_growth_per_bounce"), (e1 - e0) / (d1 - d0) as f64), "{page} {method}");
+        }
+        assert!(recs.text(row, "depth_source").starts_with("specular/effects_errors.csv ("), "{}", recs.text(row, "depth_source"));
+    }
+    assert!(measured >= 1, "the scene measured a pick's method: {measured}");
     nklut(&out, &[&["report"][..], &pages].concat());
     let html = fs::read_to_string(out.join("report/index.html")).unwrap();
     let start = html.find("<li class=\"finding\" id=\"finding-search-specular\">").expect("the search finding for the scene");
@@ -626,4 +659,105 @@ fn the_search_finding_states_the_effects_tables_figures() {
     let dominates = expected[3].1 > expected[0].1;
     assert_eq!(item.contains("the search, not the Fresnel formula, dominates"), dominates, "{item}");
     println!("{}", item);
+}
+
+/// The `data-key` → `data-value` figures of the index's finding `id`, in order, and its text.
+fn index_finding(html: &str, id: &str) -> (Vec<(String, f64)>, String) {
+    let start = html.find(&format!("<li class=\"finding\" id=\"finding-{id}\">")).unwrap_or_else(|| panic!("no finding {id} on the index"));
+    let item = &html[start..start + html[start..].find("</li>").unwrap()];
+    let figures = item
+        .split("data-key=\"")
+        .skip(1)
+        .map(|rest| {
+            let key = &rest[..rest.find('"').unwrap()];
+            let value = rest.split("data-value=\"").nth(1).unwrap();
+            (key.to_string(), value[..value.find('"').unwrap()].parse().unwrap())
+        })
+        .collect();
+    (figures, item.to_string())
+}
+
+/// The index's first screen says at which depth three wavelengths stop being enough
+/// against the spectral truth, and what GTAO and surfels trade, from hand-made tables
+/// whose answers are derived here by hand.
+///
+/// Spectral (gold in gold, bound ΔE2000 1 of `nklut recommend`): per depth the worst
+/// object's mean ΔE2000 — three-wavelength: max(0.4, 0.5) = 0.5 at 1+0, 0.8 at 2+0,
+/// max(1.3, 1.1) = 1.3 at 3+0 (the first above 1), 6 at 8+0; effective 0.2 at 1+0 and 0.95
+/// at 8+0, within 1 at every depth.
+///
+/// AO: brute force, 1 pass: (100 × 0.10 + 300 × 0.06) / 400 = 0.07; 2 passes:
+/// (100 × 0.05 + 300 × 0.03) / 400 = 0.035, the best; tree, 1 pass: 0.2. The best's CPU
+/// time (20 + 22) / 2 = 21 ms; per pixel (1000 × 0.04 + 3000 × 0.02) / 4000 = 0.025;
+/// GTAO (1000 × 0.09 + 3000 × 0.03) / 4000 = 0.045.
+#[test]
+fn the_index_states_where_three_wavelengths_stop_and_what_gtao_and_surfels_trade() {
+    let out = scratch("index-effects-findings");
+    let pages = ["--page", "3d/metals/gold"];
+    for stage in ["ingest", "colors", "params", "validate", "recommend"] {
+        nklut(&out, &[&[stage][..], &pages].concat());
+    }
+    fs::create_dir_all(out.join("gold-in-gold")).unwrap();
+    let mut spectral =
+        String::from("object,object_index,material,index_source,reflection_depth,refraction_depth,wavelengths,pixels,mean_delta_e2000\n");
+    for (source, object, index, values) in [
+        ("three-wavelength", "sphere", 0, [0.4, 0.8, 1.3, 5.0]),
+        ("three-wavelength", "plane", 2, [0.5, 0.7, 1.1, 6.0]),
+        ("effective", "sphere", 0, [0.1, 0.2, 0.4, 0.9]),
+        ("effective", "plane", 2, [0.2, 0.3, 0.5, 0.95]),
+    ] {
+        for (depth, value) in [1, 2, 3, 8].iter().zip(values) {
+            spectral.push_str(&format!("{object},{index},3d/metals/gold,{source},{depth},0,96,100,{value}\n"));
+        }
+    }
+    fs::write(out.join("gold-in-gold/spectral_errors.csv"), spectral).unwrap();
+    fs::create_dir_all(out.join("bunny")).unwrap();
+    fs::write(
+        out.join("bunny/ao_errors.csv"),
+        "object,technique,hierarchy,passes,surfels,mean_error,cpu_ms,pixels,pixel_mean_error
+a,surfels,false,1,100,0.10,10,1000,0.08
+b,surfels,false,1,300,0.06,10,3000,0.05
+a,surfels,false,2,100,0.05,20,1000,0.04
+b,surfels,false,2,300,0.03,22,3000,0.02
+a,surfels,true,1,100,0.2,5,1000,0.2
+b,surfels,true,1,300,0.2,5,3000,0.2
+a,gtao,,,,,,1000,0.09
+b,gtao,,,,,,3000,0.03
+",
+    )
+    .unwrap();
+    nklut(&out, &[&["report"][..], &pages].concat());
+    let html = fs::read_to_string(out.join("report/index.html")).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+
+    let (figures, item) = index_finding(&html, "spectral-gold-in-gold");
+    let expected = [
+        ("spectral:gold-in-gold:three-wavelength:1+0", 0.5),
+        ("spectral:gold-in-gold:three-wavelength:8+0", 6.0),
+        ("bound", 1.0),
+        ("spectral:gold-in-gold:three-wavelength:3+0", 1.3),
+        ("spectral:gold-in-gold:effective:1+0", 0.2),
+        ("spectral:gold-in-gold:effective:8+0", 0.95),
+        ("bound", 1.0),
+    ];
+    assert_eq!(figures.len(), expected.len(), "{item}");
+    for ((key, value), (want_key, want)) in figures.iter().zip(expected) {
+        assert!(key == want_key && close(*value, want), "{key} {value} vs {want_key} {want}: {item}");
+    }
+    assert!(item.contains(" at depth 3+0 ("), "the first depth above the bound is named: {item}");
+    assert!(item.contains("href=\"effects.html#scene-gold-in-gold\""), "{item}");
+
+    let (figures, item) = index_finding(&html, "ao-bunny");
+    let expected = [
+        ("ao:bunny:best", 0.035),
+        ("ao:bunny:best-cpu-ms", 21.0),
+        ("ao:bunny:one-pass", 0.07),
+        ("ao:bunny:gtao-pixel", 0.045),
+        ("ao:bunny:surfel-pixel", 0.025),
+    ];
+    assert_eq!(figures.len(), expected.len(), "{item}");
+    for ((key, value), (want_key, want)) in figures.iter().zip(expected) {
+        assert!(key == want_key && close(*value, want), "{key} {value} vs {want_key} {want}: {item}");
+    }
+    assert!(item.contains("with the brute force and 2 pass(es)"), "{item}");
 }

@@ -117,7 +117,7 @@ fn report_is_well_formed_complete_and_traceable() {
         {
             assert!(html.contains(section), "{page}: missing {section}");
         }
-        assert!(html.contains("src=\"data:image/png;base64,"), "{page}: no embedded preview");
+        assert!(html.contains("--sheet:url(data:image/png;base64,"), "{page}: no embedded preview");
         let png = fs::read(out.join(format!("report/previews/{page}.png"))).unwrap();
         assert!(html.contains(&nklut::report::preview::data_uri(&png)), "{page}: the written preview is the embedded one");
     }
@@ -387,9 +387,9 @@ const AUDIT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const 
 for(const svg of document.querySelectorAll('svg')){const boxes=[];for(const t of svg.querySelectorAll('text')){const s=t.textContent.trim();if(!s)continue;const r=t.getBoundingClientRect();out.texts.push({text:s,size:parseFloat(getComputedStyle(t).fontSize)});boxes.push([s,r.left,r.right,r.top,r.bottom]);}
 for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)out.overlaps.push([a[0],b[0]]);}}
 for(const c of document.querySelectorAll('.count'))out.counts.push({table:c.dataset.table,key:c.dataset.key,value:parseInt(c.textContent)});
-for(const i of document.querySelectorAll('img.preview'))out.previews.push({width:i.naturalWidth,height:i.naturalHeight});
-out.captions=document.querySelectorAll('.captions .method').length;
-for(const e of document.querySelectorAll('.legend li, .captions .method, .strip-axis span'))out.legend_sizes.push(parseFloat(getComputedStyle(e).fontSize));
+for(const i of document.querySelectorAll('.sphere')){const r=i.getBoundingClientRect();out.previews.push({width:Math.round(r.width),height:Math.round(r.height)});}
+out.captions=document.querySelectorAll('.sphere-cell .method').length;
+for(const e of document.querySelectorAll('.legend li, .sphere-cell .method, .strip-axis span'))out.legend_sizes.push(parseFloat(getComputedStyle(e).fontSize));
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
 
 fn chromium(args: &[String]) -> Output {
@@ -505,10 +505,13 @@ fn rendered_report_is_readable_and_its_counts_are_its_tables() {
 
     let gold = audit(&out.join("report/materials/3d/metals/gold.html"), &profile, &artefacts.join("gold.png"));
     check_readable("gold", &gold);
-    assert_eq!(gold.previews.len(), 1, "one preview sheet");
     let spheres = gold.captions as u32;
     assert!(spheres >= 7, "reference, fitted, exact and the approximations: {spheres}");
-    assert_eq!((gold.previews[0].width, gold.previews[0].height), (spheres * report::preview::PREVIEW_PX, report::preview::PREVIEW_PX));
+    // One sphere box per curve, each shown at 256 px from the one sheet of spheres.
+    assert_eq!(gold.previews.len(), spheres as usize, "a sphere per caption");
+    assert!(gold.previews.iter().all(|p| (p.width, p.height) == (256, 256)), "{:?}", gold.previews);
+    let sheet = image::open(out.join("report/previews/3d/metals/gold.png")).unwrap();
+    assert_eq!((sheet.width(), sheet.height()), (spheres * 256, 256));
     for tick in ["0", "30", "60", "90"] {
         assert!(gold.texts.iter().filter(|t| t.text == tick).count() >= 4, "θ tick {tick} on every θ axis");
     }
@@ -803,6 +806,14 @@ struct EffectsAudit {
     heroes: Vec<Hero>,
     figures: Vec<Figure>,
     sections: Vec<Section>,
+    legends: Vec<Legend>,
+}
+
+/// A colour bar of the error images: the scale its figure states and its picture's width.
+#[derive(serde::Deserialize, Debug)]
+struct Legend {
+    scale: String,
+    width: u32,
 }
 
 #[derive(serde::Deserialize, Debug)]
@@ -816,6 +827,8 @@ struct Hero {
     src: String,
     width: u32,
     height: u32,
+    /// The width it is shown at, in CSS pixels.
+    shown: f64,
 }
 
 #[derive(serde::Deserialize, Debug)]
@@ -832,13 +845,14 @@ struct Section {
     top: u32,
 }
 
-const EFFECTS_AUDIT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={viewport:W,wide:[],texts:[],overlaps:[],panels:[],heroes:[],figures:[],sections:[]};
+const EFFECTS_AUDIT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={viewport:W,wide:[],texts:[],overlaps:[],panels:[],heroes:[],figures:[],sections:[],legends:[]};
+for(const f of document.querySelectorAll('figure[data-scale]')){const i=f.querySelector('img');out.legends.push({scale:f.dataset.scale,width:i?i.naturalWidth:0});}
 for(const e of document.body.querySelectorAll('*')){const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!(e.parentElement&&e.parentElement.closest('.wide')))out.wide.push(e.tagName+'.'+e.className+' right '+Math.round(r.right));}
 if(document.documentElement.scrollWidth>W)out.wide.push('page scrolls sideways: '+document.documentElement.scrollWidth);
 for(const svg of document.querySelectorAll('svg')){const boxes=[];for(const t of svg.querySelectorAll('text')){const s=t.textContent.trim();if(!s)continue;const r=t.getBoundingClientRect();out.texts.push({text:s,size:parseFloat(getComputedStyle(t).fontSize)});boxes.push([s,r.left,r.right,r.top,r.bottom]);}
 for(let i=0;i<boxes.length;i++)for(let j=i+1;j<boxes.length;j++){const a=boxes[i],b=boxes[j];if(a[1]<b[2]-0.5&&b[1]<a[2]-0.5&&a[3]<b[4]-0.5&&b[3]<a[4]-0.5)out.overlaps.push([a[0],b[0]]);}}
 for(const f of document.querySelectorAll('.panels figure')){const b=f.querySelector('figcaption b');out.panels.push({panel:f.dataset.panel||'',label:b?b.textContent.trim():''});}
-for(const i of document.querySelectorAll('img.hero'))out.heroes.push({src:i.getAttribute('src'),width:i.naturalWidth,height:i.naturalHeight});
+for(const i of document.querySelectorAll('img.hero'))out.heroes.push({src:i.getAttribute('src'),width:i.naturalWidth,height:i.naturalHeight,shown:i.getBoundingClientRect().width});
 for(const s of document.querySelectorAll('span.figure[data-table]'))out.figures.push({table:s.dataset.table,row:parseInt(s.dataset.row),column:s.dataset.column,text:s.textContent});
 for(const h of document.querySelectorAll('h2[id]'))out.sections.push({id:h.id,top:Math.round(h.getBoundingClientRect().top+window.scrollY)});
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
@@ -861,9 +875,14 @@ fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
     assert!(small.is_empty(), "chart text under 12 px: {small:?}");
     assert!(audit.overlaps.is_empty(), "overlapping chart text: {:?}", audit.overlaps);
     let mut hero_rows = 0;
+    let (mut hero_images, mut hero_figures, mut against_exact) = (0, 0, 0);
     for scene in ["specular", "ao"] {
         let hero = CsvTable::load(&out.join(scene).join("effects_hero.csv")).unwrap().unwrap();
         hero_rows += hero.rows.len();
+        let filled = |column: &str| hero.rows.iter().filter(|r| !hero.text(r, column).is_empty()).count();
+        hero_images += filled("file") + filled("error_file") + filled("exact_error_file");
+        hero_figures += 5 * filled("error_file") + 3 * filled("exact_error_file");
+        against_exact += filled("exact_error_file");
         for row in &hero.rows {
             let panel = hero.text(row, "panel");
             assert!(
@@ -875,19 +894,45 @@ fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
     }
     assert_eq!(audit.panels.len(), hero_rows, "one panel per row of effects_hero.csv");
     assert!(audit.panels.iter().all(|p| !p.label.is_empty()));
-    // Reference, exact and schlick; no AO, 1–3 passes: each frame, and the error image of
-    // each but the references.
-    assert_eq!(audit.heroes.len(), 2 * hero_rows - 2, "{:?}", audit.heroes);
+    // Reference, exact and schlick; no AO, 1–3 passes: each frame, the error image against
+    // the reference of each but the references, and against exact of schlick alone.
+    assert_eq!(against_exact, 1, "schlick against exact");
+    assert_eq!(
+        (audit.heroes.len(), hero_images),
+        (2 * hero_rows - 2 + against_exact, 2 * hero_rows - 2 + against_exact),
+        "{:?}",
+        audit.heroes
+    );
     for hero in &audit.heroes {
         assert!(hero.width.max(hero.height) >= 512, "{} is {}×{}", hero.src, hero.width, hero.height);
+        // At 1400 px a picture of 512 px or more shows at its natural size.
+        assert!((hero.shown - f64::from(hero.width)).abs() < 0.5, "{} shown {} px wide, natural {}", hero.src, hero.shown, hero.width);
     }
-    assert_eq!(audit.figures.len(), (hero_rows - 2) * 5, "five figures per panel but the references");
+    assert_eq!(audit.figures.len(), hero_figures, "five figures per panel but the references, three more against exact");
+    // One legend per kind of error image, each stating its table's scale: against exact and
+    // against the reference for the specular scene, the plain bar at 0.1 for AO; every scale
+    // of the rule a 1-2-5 step.
+    let specular = CsvTable::load(&out.join("specular/effects_hero.csv")).unwrap().unwrap();
+    let schlick = specular.rows.iter().find(|r| specular.text(r, "panel") == "schlick").unwrap();
+    let mut expected: Vec<String> =
+        ["exact_error_scale", "error_scale"].iter().map(|c| format!("{}", specular.number(schlick, c).unwrap())).collect();
+    expected.push(report::html::number(0.1));
+    let mut stated: Vec<String> = audit.legends.iter().map(|l| l.scale.clone()).collect();
+    stated.sort();
+    expected.sort();
+    assert_eq!(stated, expected, "{:?}", audit.legends);
+    assert!(audit.legends.iter().all(|l| l.width == 512), "{:?}", audit.legends);
+    for column in ["exact_error_scale", "error_scale"] {
+        let scale = specular.number(schlick, column).unwrap();
+        let mantissa = scale / 10f64.powf(scale.log10().floor());
+        assert!([1.0, 2.0, 5.0].iter().any(|k| (mantissa - k).abs() < 1e-9), "{column} {scale} is not a 1-2-5 step");
+    }
     for figure in &audit.figures {
         let table = CsvTable::load(&out.join(&figure.table)).unwrap().unwrap();
         let raw = table.text(&table.rows[figure.row], &figure.column);
         let value: f64 = raw.parse().unwrap();
         let expected = match figure.column.as_str() {
-            "mean_delta_e2000" => report::html::delta_e(value),
+            "mean_delta_e2000" | "exact_mean_delta_e2000" => report::html::delta_e(value),
             "mean_rel_error" => report::html::percent(value),
             "pixels" => raw.to_string(),
             _ => report::html::number(value),
@@ -1033,14 +1078,11 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
             let cells: Vec<&str> = shown_rows.next().unwrap().as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
             let [effect, reflection, refraction, linear, secant, resolution] = configuration.clone();
             assert_eq!(
-                (cells[0], cells[3], cells[4], cells[5], cells[6], cells[7]),
+                (cells[0], cells[2], cells[3]),
                 (
                     device.as_str(),
                     method.as_str(),
-                    effect.as_str(),
-                    format!("{reflection}/{refraction}").as_str(),
-                    format!("{linear}/{secant}").as_str(),
-                    resolution.as_str()
+                    format!("{effect} · {reflection}/{refraction} · {linear}/{secant} · {resolution}").as_str()
                 )
             );
             let exact = rows.iter().find(|(m, c, _)| m == "exact" && c == configuration).map(|(_, _, ms)| *ms).unwrap();
@@ -1051,8 +1093,8 @@ fn cross_device_section_shows_native_and_browser_results_as_their_files_say() {
                     "{device} {method} {configuration:?}: shown {value}, files give {want}"
                 );
             };
-            close(cells[9], *ms);
-            close(cells[10], ms / exact);
+            close(cells[5], *ms);
+            close(cells[6], ms / exact);
         }
     }
     // The study's form: its five devices, then one row per device measured here.
@@ -1524,9 +1566,10 @@ fn chart_craft_problems(page: &str, craft: &Craft, seen: &mut BTreeMap<&'static 
 
 /// Reads the page's layout: the window's width, the page's scroll width, the elements
 /// wider than the window outside a box that scrolls sideways, and text under 12 px.
-const LAYOUT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={width:W,scroll:document.documentElement.scrollWidth,wide:[],small:[]};
+const LAYOUT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={width:W,scroll:document.documentElement.scrollWidth,wide:[],small:[],scrolled:[]};
 const boxed=e=>{for(let p=e.parentElement;p&&p!==document.body;p=p.parentElement){const o=getComputedStyle(p).overflowX;if(o==='auto'||o==='scroll')return true;}return false;};
 for(const e of document.body.querySelectorAll('*')){if(e.closest('#nk-audit'))continue;const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!boxed(e)&&out.wide.length<20)out.wide.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right));
+if(r.width>0&&(r.right>W+0.5||e.scrollWidth>e.clientWidth+1&&['auto','scroll'].includes(getComputedStyle(e).overflowX))&&out.scrolled.length<20)out.scrolled.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right)+' content '+e.scrollWidth);
 const own=[...e.childNodes].some(n=>n.nodeType===3&&n.textContent.trim());if(own&&r.width>0){const f=parseFloat(getComputedStyle(e).fontSize);if(f<12&&out.small.length<20)out.small.push(e.tagName.toLowerCase()+' '+f+' '+e.textContent.trim().slice(0,40));}}
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;
 
@@ -1536,6 +1579,9 @@ struct Layout {
     scroll: f64,
     wide: Vec<String>,
     small: Vec<String>,
+    /// Elements past the window's right edge or scrolling inside their own box, boxed or
+    /// not: none at 1000 px and more.
+    scrolled: Vec<String>,
 }
 
 /// The layout audit of `html` rendered `width` px wide: the page (with [`LAYOUT_SCRIPT`])
@@ -1667,7 +1713,8 @@ fn the_3d_shelf_report_is_well_made_self_contained_and_reads_on_a_phone() {
     }
 
     // Layout at 1400, 1000 and 390 px: no sideways scroll, nothing wider than the window
-    // outside a box that scrolls, text ≥ 12 px.
+    // outside a box that scrolls (at 1000 px and more nothing wider at all, and no box that
+    // scrolls), text ≥ 12 px.
     for page in ["index.html", "effects.html", "materials/3d/metals/gold.html", "materials/3d/glass/BK7.html"] {
         assert!(pages.iter().any(|p| p == page), "{page}");
         let html = fs::read_to_string(report.join(page)).unwrap();
@@ -1686,6 +1733,9 @@ fn the_3d_shelf_report_is_well_made_self_contained_and_reads_on_a_phone() {
             }
             if !layout.small.is_empty() {
                 problems.push(format!("{page} at {width} px: text under 12 px: {:?}", layout.small));
+            }
+            if width >= 1000 && !layout.scrolled.is_empty() {
+                problems.push(format!("{page} at {width} px: wider than the window, in a box or not: {:?}", layout.scrolled));
             }
         }
     }

@@ -7,6 +7,15 @@
 //! report lays out; the figures are [`crate::image_error`]'s, the false colour
 //! [`crate::pictures::false_colour`]'s.
 //!
+//! Reflections and refractions carry two error images per method: against the exact
+//! method's panel through the same distance maps (what the Fresnel method itself costs) and
+//! against the ray-traced reference (the total, the maps' search included). Each kind is
+//! drawn on one scale for all the set's panels, chosen by [`crate::colour_bar`]'s rule (the
+//! 1-2-5 step at or above the 99th percentile of the values over the pixels the figures
+//! count), with its legend ([`crate::colour_bar::legend_png`]) beside the pictures; the
+//! ambient-occlusion set keeps the fixed [`ERROR_SCALE`] and its plain bar
+//! ([`ERROR_SCALE_FILE`]).
+//!
 //! The crop window is the square of a quarter of the frame's long side whose summed error
 //! (|Δ| over R, G and B) is largest in the panel with the largest mean error, searched on a
 //! grid of an eighth of the window through a summed-area table; every panel is cropped at
@@ -14,6 +23,7 @@
 
 use anyhow::Result;
 
+use super::colour_bar::{self, p99_scale};
 use super::distance_map::Configuration;
 use super::image_error::{compare, compare_all, FrameError};
 use super::pictures::{error_map, error_png, false_colour, srgb_png, ERROR_SCALE};
@@ -25,9 +35,14 @@ use nklut_pipeline::output::{SetFile, Table};
 pub const HERO_DIR: &str = "effects_hero";
 /// The long side of a hero frame in pixels unless asked otherwise (`--hero-size`).
 pub const DEFAULT_HERO_SIZE: u32 = 512;
-/// The colour bar of the error images: [`ERROR_SCALE_WIDTH`] × 16 pixels, 0 at the left.
+/// The colour bar of the ambient-occlusion error images: [`ERROR_SCALE_WIDTH`] × 16
+/// pixels, 0 at the left.
 pub const ERROR_SCALE_FILE: &str = "error_scale.png";
 const ERROR_SCALE_WIDTH: u32 = 512;
+/// The width of a legend of a scaled set (colour bar, values, meaning).
+pub const LEGEND_WIDTH: u32 = 512;
+/// The method whose panel the others are compared with for the Fresnel method's own error.
+pub const EXACT_METHOD: &str = "exact";
 
 /// The hero frame's size: the scene's aspect ratio with its long side `long_side` pixels
 /// (the short side rounded, at least 1).
@@ -115,6 +130,23 @@ pub struct HeroRow {
     pub crop_file: String,
     pub crop_error_file: Option<String>,
     pub error: FrameError,
+    /// |Δ| summed over R, G, B at which the error image is white.
+    pub error_scale: f64,
+    /// The legend of the error image (colour bar with its values).
+    pub error_scale_file: String,
+    /// Against the exact method's panel (reflections and refractions, every method but
+    /// exact): the error image, its crop, the figures and the scale of its legend.
+    pub exact: Option<ExactComparison>,
+}
+
+/// A panel against the exact method's panel at the same depths and search.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactComparison {
+    pub error_file: String,
+    pub crop_error_file: String,
+    pub error: FrameError,
+    pub scale: f64,
+    pub scale_file: String,
 }
 
 /// The `size`-pixel square with the largest sum of `values` (row-major, `width` × `height`),
@@ -163,22 +195,32 @@ pub fn error_scale_png() -> Result<Vec<u8>> {
     error_png(ERROR_SCALE_WIDTH, height, (0..height).flat_map(|_| row.iter().copied()))
 }
 
-/// The files of every hero set under [`HERO_DIR`] (with the colour bar once) and the rows
-/// of `effects_hero`.
+/// The values a set's error images show over the pixels its figures count: where the
+/// reference shows a specular object, or every pixel.
+fn counted<'a>(set: &'a HeroSet, values: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+    values.iter().zip(&set.reference.seen).filter(|(_, seen)| set.mask == ErrorMask::Whole || seen.is_some()).map(|(v, _)| *v)
+}
+
+/// `frame`'s figures against `against`, over the pixels of the set's mask (the reference's
+/// specular objects, or all).
+fn figures_against(set: &HeroSet, frame: &TracedFrame, against: &TracedFrame) -> FrameError {
+    let masked = TracedFrame { seen: set.reference.seen.clone(), ..against.clone() };
+    match set.mask {
+        ErrorMask::SpecularObjects => compare(frame, &masked),
+        ErrorMask::Whole => compare_all(frame, &masked),
+    }
+}
+
+/// The files of every hero set under [`HERO_DIR`] (with the legends) and the rows of
+/// `effects_hero`.
 pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
     let mut written = Vec::new();
     let mut rows = Vec::new();
+    let mut plain_bar = false;
     for set in sets {
         let (width, height) = (set.reference.width, set.reference.height);
         let errors: Vec<Vec<f64>> = set.panels.iter().map(|p| error_map(&p.frame, &set.reference)).collect();
-        let figures: Vec<FrameError> = set
-            .panels
-            .iter()
-            .map(|p| match set.mask {
-                ErrorMask::SpecularObjects => compare(&p.frame, &set.reference),
-                ErrorMask::Whole => compare_all(&p.frame, &set.reference),
-            })
-            .collect();
+        let figures: Vec<FrameError> = set.panels.iter().map(|p| figures_against(set, &p.frame, &set.reference)).collect();
         let worst = figures.iter().enumerate().max_by(|a, b| a.1.mean_absolute.total_cmp(&b.1.mean_absolute)).map(|(i, _)| i);
         let window_size = (width.max(height) / 4).max(1);
         let window = match worst {
@@ -191,6 +233,30 @@ pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
             written.push(SetFile::new(path.clone(), bytes));
             path
         };
+        // The scales: the fixed one for ambient occlusion; the rule's for reflections and
+        // refractions, one over every panel against the reference, one over every panel
+        // against exact.
+        let scaled = set.mask == ErrorMask::SpecularObjects;
+        let exact = set.panels.iter().find(|p| p.method == EXACT_METHOD).filter(|_| scaled);
+        let exact_errors: Vec<Option<Vec<f64>>> =
+            set.panels.iter().map(|p| exact.filter(|_| p.method != EXACT_METHOD).map(|e| error_map(&p.frame, &e.frame))).collect();
+        let (scale, scale_file) = if scaled {
+            let scale = p99_scale(errors.iter().flat_map(|e| counted(set, e)));
+            let legend = colour_bar::legend_png(LEGEND_WIDTH, scale, "|panel - reference| summed over R, G, B")?;
+            (scale, put(format!("{prefix}_error_scale.png"), legend))
+        } else {
+            plain_bar = true;
+            (ERROR_SCALE, format!("{HERO_DIR}/{ERROR_SCALE_FILE}"))
+        };
+        let exact_scale = match exact_errors.iter().flatten().next() {
+            Some(_) => {
+                let scale = p99_scale(exact_errors.iter().flatten().flat_map(|e| counted(set, e)));
+                let legend = colour_bar::legend_png(LEGEND_WIDTH, scale, "|panel - exact panel| summed over R, G, B")?;
+                Some((scale, put(format!("{prefix}_exact_error_scale.png"), legend)))
+            }
+            None => None,
+        };
+        let colours = |values: &[f64], scale: f64| values.iter().map(|&v| colour_bar::colour(v, scale)).collect::<Vec<_>>();
         let reference_rgb = srgb_png(width, height, set.reference.radiance.iter().copied())?;
         let reference_crop = srgb_png(window.size, window.size, crop(&set.reference.radiance, width, window).into_iter())?;
         rows.push(HeroRow {
@@ -207,14 +273,29 @@ pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
             crop_file: put(format!("{prefix}_reference_crop.png"), reference_crop),
             crop_error_file: None,
             error: compare_all(&set.reference, &set.reference),
+            error_scale: scale,
+            error_scale_file: scale_file.clone(),
+            exact: None,
         });
-        for ((panel, error), figure) in set.panels.iter().zip(&errors).zip(figures) {
+        for ((panel, error), (figure, exact_error)) in set.panels.iter().zip(&errors).zip(figures.into_iter().zip(&exact_errors)) {
             let stem = format!("{prefix}_{}", panel.stem);
-            let colours = |values: Vec<f64>| values.into_iter().map(false_colour);
             let picture = srgb_png(width, height, panel.frame.radiance.iter().copied())?;
-            let error_picture = error_png(width, height, colours(error.clone()))?;
+            let error_picture = error_png(width, height, colours(error, scale).into_iter())?;
             let picture_crop = srgb_png(window.size, window.size, crop(&panel.frame.radiance, width, window).into_iter())?;
-            let error_crop = error_png(window.size, window.size, colours(crop(error, width, window)))?;
+            let error_crop = error_png(window.size, window.size, colours(&crop(error, width, window), scale).into_iter())?;
+            let against_exact = match (exact_error, exact, &exact_scale) {
+                (Some(values), Some(exact), Some((scale, scale_file))) => Some(ExactComparison {
+                    error_file: put(format!("{stem}_exact_error.png"), error_png(width, height, colours(values, *scale).into_iter())?),
+                    crop_error_file: put(
+                        format!("{stem}_crop_exact_error.png"),
+                        error_png(window.size, window.size, colours(&crop(values, width, window), *scale).into_iter())?,
+                    ),
+                    error: figures_against(set, &panel.frame, &exact.frame),
+                    scale: *scale,
+                    scale_file: scale_file.clone(),
+                }),
+                _ => None,
+            };
             rows.push(HeroRow {
                 effect: set.effect,
                 panel: panel.stem.clone(),
@@ -229,10 +310,13 @@ pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
                 crop_file: put(format!("{stem}_crop.png"), picture_crop),
                 crop_error_file: Some(put(format!("{stem}_crop_error.png"), error_crop)),
                 error: figure,
+                error_scale: scale,
+                error_scale_file: scale_file.clone(),
+                exact: against_exact,
             });
         }
     }
-    if !sets.is_empty() {
+    if plain_bar {
         written.push(SetFile::new(format!("{HERO_DIR}/{ERROR_SCALE_FILE}"), error_scale_png()?));
     }
     Ok((written, rows))
@@ -304,8 +388,44 @@ pub fn hero_table(rows: &[HeroRow]) -> Table {
         )
         .float(
             "error_scale",
-            "|Δ| summed over R, G, B at which the error images turn white (the colour bar's right end; error_scale.png)",
-            rows.iter().map(|_| ERROR_SCALE).collect(),
+            "|Δ| summed over R, G, B at which the error image turns white (the colour bar's right end): reflections and refractions the 1-2-5 step at or above the 99th percentile over the set's panels and counted pixels, ambient occlusion fixed",
+            rows.iter().map(|r| r.error_scale).collect(),
+        )
+        .text("error_scale_file", "the error image's legend: colour bar with its values", text(&|r| r.error_scale_file.clone()))
+        .text(
+            "exact_error_file",
+            "false colour of |panel - exact method's panel| summed over R, G, B: the Fresnel method's own error through the same maps (empty where none)",
+            optional_text(&|r| r.exact.as_ref().map(|e| e.error_file.clone())),
+        )
+        .text(
+            "crop_exact_error_file",
+            "that error image inside the crop window",
+            optional_text(&|r| r.exact.as_ref().map(|e| e.crop_error_file.clone())),
+        )
+        .optional_float(
+            "exact_mean_delta_e2000",
+            "mean CIEDE2000 of panel against the exact method's panel over the same pixels",
+            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_delta_e2000)).collect(),
+        )
+        .optional_float(
+            "exact_mean_abs_error",
+            "mean |panel - exact method's panel| over those pixels and channels",
+            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_absolute)).collect(),
+        )
+        .optional_float(
+            "exact_max_abs_error",
+            "largest |panel - exact method's panel| over those pixels and channels",
+            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.max_absolute)).collect(),
+        )
+        .optional_float(
+            "exact_error_scale",
+            "|Δ| at which the against-exact image turns white (the same rule over the set's against-exact images)",
+            rows.iter().map(|r| r.exact.as_ref().map(|e| e.scale)).collect(),
+        )
+        .text(
+            "exact_error_scale_file",
+            "the against-exact image's legend",
+            optional_text(&|r| r.exact.as_ref().map(|e| e.scale_file.clone())),
         );
     table
 }
@@ -393,9 +513,76 @@ mod tests {
         assert_eq!(rows[1].error.mean_absolute, 0.0);
         let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
         assert!(
-            names.contains(&"effects_hero/specular_schlick_crop_error.png") && names.contains(&"effects_hero/error_scale.png"),
+            names.contains(&"effects_hero/specular_schlick_crop_error.png") && names.contains(&"effects_hero/specular_error_scale.png"),
             "{names:?}"
         );
+        assert!(!names.contains(&"effects_hero/error_scale.png"), "the plain bar is the AO set's: {names:?}");
         assert_eq!(hero_table(&rows).rows(), 3);
+    }
+
+    /// Two methods and the reference on 10 × 10 frames, every pixel specular: exact is off
+    /// the reference by 0.01 in red everywhere; schlick by 0.01 in red and a further 0.03
+    /// in green on 50 pixels, and 0.9 in blue on one. Against the reference the 200 values
+    /// sorted are 100 × 0.01, 50 × 0.01 (schlick's plain pixels), 49 × 0.04, one 0.91: the
+    /// 99th percentile at position 0.99 × 199 = 197.01 lies among the 0.04s → scale 0.05.
+    /// Against exact (schlick only): 50 zeros, 49 × 0.03, one 0.9: position 0.99 × 99 =
+    /// 98.01 between the last 0.03 and the 0.9 → 0.0387 → 0.05. The pictures are coloured on those scales: a 0.04 pixel at 0.8 of the way
+    /// (between yellow and white), the outlier white; exact has no against-exact image.
+    #[test]
+    fn error_images_take_the_step_above_their_99th_percentile() {
+        let frame =
+            |value: [f64; 3]| TracedFrame { width: 10, height: 10, radiance: vec![value; 100], seen: vec![Some(0); 100], rays: 100 };
+        let reference = frame([0.5; 3]);
+        let exact = frame([0.51, 0.5, 0.5]);
+        let mut schlick = exact.clone();
+        for i in 0..49 {
+            schlick.radiance[i][1] = 0.53;
+        }
+        schlick.radiance[99][2] = 1.4;
+        let panel = |method: &str, frame: TracedFrame| HeroPanel {
+            stem: method.into(),
+            label: method.into(),
+            method: method.into(),
+            configuration: None,
+            passes: None,
+            frame,
+        };
+        let set = HeroSet {
+            effect: EffectFamily::SpecularPaths,
+            reference_label: "reference".into(),
+            reference,
+            panels: vec![panel("exact", exact), panel("schlick", schlick)],
+            mask: ErrorMask::SpecularObjects,
+        };
+        let (written, rows) = files(&[set]).unwrap();
+        assert!(rows.iter().all(|r| r.error_scale == 0.05), "{:?}", rows.iter().map(|r| r.error_scale).collect::<Vec<_>>());
+        assert!(rows[1].exact.is_none(), "exact against itself");
+        let against = rows[2].exact.as_ref().expect("schlick against exact");
+        assert_eq!((against.scale, against.error_file.as_str()), (0.05, "effects_hero/specular_schlick_exact_error.png"));
+        // Figures against exact: mean |Δ| = (49 × 0.03 + 0.9) / 300 pixel-channels.
+        assert!((against.error.mean_absolute - (49.0 * 0.03 + 0.9) / 300.0).abs() < 1e-12, "{:?}", against.error);
+        assert!((against.error.max_absolute - 0.9).abs() < 1e-12);
+        let decoded = |name: &str| {
+            let file = written.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("{name}"));
+            let image = nklut_pipeline::bake::files::decode(nklut_pipeline::bake::texel::Encoding::Unorm8, &file.bytes).unwrap();
+            let nklut_pipeline::bake::texel::Texels::U8(bytes) = image.texels else { panic!("8-bit") };
+            bytes
+        };
+        let total = decoded("effects_hero/specular_schlick_error.png");
+        // 0.04 of 0.05: 0.8 × 4 stops = 3.2, a fifth of the way from yellow (1, 0.9, 0.1) to
+        // white: (1, 0.92, 0.28) → 255, 235, 71.
+        assert_eq!(&total[..3], &[255, 235, 71]);
+        assert_eq!(&total[99 * 3..], &[255, 255, 255]);
+        // 0.01 of 0.05: 0.8 of the way from black to blue (0.1, 0.1, 0.8) → 20, 20, 163.
+        assert_eq!(&total[50 * 3..51 * 3], &[20, 20, 163]);
+        let own = decoded("effects_hero/specular_schlick_exact_error.png");
+        // 0.03 of 0.05: 2.4 stops, 0.4 from red (0.9, 0.1, 0.1) to yellow (1, 0.9, 0.1).
+        assert_eq!(&own[..3], &[240, 107, 26]);
+        assert_eq!(&own[60 * 3..61 * 3], &[0, 0, 0]);
+        for name in ["effects_hero/specular_error_scale.png", "effects_hero/specular_exact_error_scale.png"] {
+            assert!(written.iter().any(|f| f.name == name), "{name}");
+        }
+        let table = hero_table(&rows);
+        assert_eq!(table.rows(), 3);
     }
 }

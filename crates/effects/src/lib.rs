@@ -19,6 +19,8 @@
 //! - [`labels`]: text burned into pictures (8 × 8 bitmap font): labelled panels side by
 //!   side, the signed maps' legends.
 //! - [`pictures`]: frames as linear EXR and sRGB PNG, and false-colour error images.
+//! - [`colour_bar`]: the scale rule of a false-colour picture (the 1-2-5 step above the
+//!   99th percentile) and its legend with the values burned in.
 //! - [`ao`]: surfel ambient occlusion, bent normals and their ray-traced reference.
 //! - [`experiment`]: the scene's image-error experiment (geometry, Fresnel and total error
 //!   per object, method, depth and search steps) and its `effects_errors` table.
@@ -36,6 +38,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod ao;
+pub mod colour_bar;
 pub mod command;
 pub mod distance_map;
 pub mod experiment;

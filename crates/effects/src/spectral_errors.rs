@@ -3,7 +3,8 @@
 //! frame, per specular object, source of the channel indices and depth — the mean, 95th
 //! percentile and largest CIEDE2000 over the object's pixels — and the price: each
 //! reference's wall time and rays per second for that frame. Written as `spectral_errors`
-//! with pictures of both frames and the ΔE map.
+//! with pictures of both frames and the ΔE map (false colour, white at [`DELTA_E_SCALE`]) with
+//! its legend ([`DELTA_E_LEGEND_FILE`], `crate::colour_bar`).
 //!
 //! Index sources: `three-wavelength` (n, k at the channel wavelengths, SPEC §3) and
 //! `effective` (the fit over angle of `colors`, docs/colors.md: per channel the (n, k) whose
@@ -19,9 +20,10 @@ use std::time::Instant;
 
 use anyhow::Result;
 
+use super::colour_bar;
 use super::image_error::delta_e_map;
 use super::optics::{attenuation_per_unit, inside_index, SpecularOptics, GEOMETRIC_CHANNEL};
-use super::pictures::{error_png, false_colour, Picture, ERROR_SCALE};
+use super::pictures::{error_png, Picture};
 use super::spectral::{spectral_reference, WavelengthGrid};
 use super::trace::{reference_with, Camera, ObjectOptics, Stage};
 use crate::scene::{Depths, Scene};
@@ -64,8 +66,12 @@ impl IndexSource {
 /// The folder of the spectral comparison's pictures in the effects' set.
 pub const SPECTRAL_DIR: &str = "spectral_frames";
 
-/// ΔE2000 at which the ΔE map's false colour is white.
+/// ΔE2000 at which the ΔE map's false colour is white (fixed, so maps of every depth and
+/// scene compare; ΔE 5 is a difference anyone sees).
 pub const DELTA_E_SCALE: f64 = 5.0;
+/// The ΔE maps' legend (colour bar with its values), beside them in [`SPECTRAL_DIR`].
+pub const DELTA_E_LEGEND_FILE: &str = "delta_e_scale.png";
+const DELTA_E_LEGEND_WIDTH: u32 = 384;
 
 /// One row of `spectral_errors`.
 #[derive(Clone, Debug, PartialEq)]
@@ -201,7 +207,7 @@ pub fn spectral_errors(
             let three_ms = start.elapsed().as_secs_f64() * 1e3;
             let delta_e = delta_e_map(&three, &spectral.frame);
             let (w, h) = (three.width, three.height);
-            let map = error_png(w, h, delta_e.iter().map(|e| false_colour(e / DELTA_E_SCALE * ERROR_SCALE)))?;
+            let map = error_png(w, h, delta_e.iter().map(|&e| colour_bar::colour(e, DELTA_E_SCALE)))?;
             report.delta_e_maps.push(SetFile::new(format!("{}_delta_e.png", stem(source.name())), map));
             report.pictures.push(Picture { stem: stem(source.name()), frame: three.clone(), reference: Some(spectral.frame.clone()) });
             for (object, scene_object) in scene.objects.iter().enumerate() {
@@ -245,6 +251,10 @@ pub fn spectral_errors(
                 report.rows.push(row);
             }
         }
+    }
+    if !report.delta_e_maps.is_empty() {
+        let legend = colour_bar::legend_png(DELTA_E_LEGEND_WIDTH, DELTA_E_SCALE, "CIEDE2000, three channels vs spectral")?;
+        report.delta_e_maps.push(SetFile::new(DELTA_E_LEGEND_FILE, legend));
     }
     Ok(report)
 }
@@ -348,7 +358,9 @@ mod tests {
         let gulbrandsen = row("sphere", "t/metals/flat", IndexSource::Gulbrandsen, 1);
         assert!(gulbrandsen.mean_delta_e2000 < 0.01 && gulbrandsen.mean_delta_e2000 < engine.mean_delta_e2000, "{gulbrandsen:?}");
         // Pictures: per depth the spectral frame and each source's frame; a ΔE map per source.
-        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (10, 8));
+        // Two depths × four sources: a ΔE map each, and the legend once.
+        assert_eq!((report.pictures.len(), report.delta_e_maps.len()), (10, 9));
+        assert_eq!(report.delta_e_maps.last().map(|f| f.name.as_str()), Some(DELTA_E_LEGEND_FILE));
         let table = spectral_error_table(&report.rows);
         assert_eq!(table.rows(), 24);
         eprintln!(

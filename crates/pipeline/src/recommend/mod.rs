@@ -8,6 +8,9 @@
 //!   (Schlick on the spectral F0, F82 tint, Gulbrandsen, generalized Schlick, fitted (n, k),
 //!   glTF ior); for the closed forms of SPEC §5 on the three-channel index and the LUTs of
 //!   the spectral curve, computed here ([`spectral`]) and published as `method_errors.csv`;
+//! - the error growth with depth, where an effects scene measured the page and method
+//!   (`<out>/<scene>/effects_errors.csv`, [`depth`]): the Fresnel method's own error at the
+//!   shallowest and deepest depth and the growth per bounce, carried in the row;
 //! - the cost: `cost.csv` (CPU ns per evaluation, f64) as the device `CPU`, and each device
 //!   of the devices folder (`read_devices`: a native folder's `gpu_timing.csv`, a browser
 //!   bench's JSON) as the median pass time over the materials it timed, × exact and ms per
@@ -16,6 +19,7 @@
 //! `command` is the edge: ingest, spectral references, the tables above, then
 //! `recommendations.{csv,parquet,json}` and `method_errors.{csv,parquet}` published as one set.
 
+pub mod depth;
 pub mod pick;
 pub mod spectral;
 
@@ -32,6 +36,7 @@ use nklut_optics::db::Database;
 use nklut_optics::fresnel::{FitMemo, LutSpec, Method};
 use nklut_optics::spectrum::Kind;
 
+pub use depth::{depth_growth, effects_tables, DepthGrowth};
 pub use pick::{recommend, Bound, Candidate, LutSize, Pick, Recommendation, TimeUnit, Timing};
 pub use spectral::{method_errors, MethodError, THREE_CHANNEL_METHODS};
 
@@ -255,8 +260,9 @@ pub fn device_timings(device: &str, tables: &crate::report::inputs::DeviceTables
     out
 }
 
-/// `recommendations.*`: one row per page × device.
-pub fn recommendations_table(rows: &[Recommendation]) -> Table {
+/// `recommendations.*`: one row per page × device; `growth` the pick's depth growth per
+/// row ([`depth_growth`]; `None` where no scene measured it).
+pub fn recommendations_table(rows: &[Recommendation], growth: &[Option<DepthGrowth>]) -> Table {
     let pick = |r: &Recommendation| r.pick.clone();
     let picks: Vec<Option<Pick>> = rows.iter().map(pick).collect();
     let c = |f: &dyn Fn(&Pick) -> String| picks.iter().map(|p| p.as_ref().map(f).unwrap_or_default()).collect::<Vec<String>>();
@@ -325,6 +331,32 @@ pub fn recommendations_table(rows: &[Recommendation]) -> Table {
         "its largest CIEDE2000",
         rows.iter().map(|r| r.runner_up.as_ref().map(|p| p.candidate.de2000_max)).collect(),
     );
+    let grown = |f: &dyn Fn(&DepthGrowth) -> Option<f64>| -> Vec<Option<f64>> {
+        (0..rows.len()).map(|i| growth.get(i).and_then(Option::as_ref).and_then(f)).collect()
+    };
+    t.text(
+        "depth_bounces",
+        "the shallowest and deepest depth (reflections + refractions) an effects scene measured the pick's method on this page at, `1-4` (empty: not measured)",
+        (0..rows.len())
+            .map(|i| growth.get(i).and_then(Option::as_ref).map(|g| format!("{}-{}", g.bounces.0, g.bounces.1)).unwrap_or_default())
+            .collect(),
+    );
+    t.optional_float(
+        "depth_de2000_shallow",
+        "the pick's method against exact Fresnel on the same paths at the shallowest depth: pixel-weighted mean ΔE2000 (effects_errors.csv)",
+        grown(&|g| Some(g.de2000.0)),
+    );
+    t.optional_float("depth_de2000_deep", "the same at the deepest depth", grown(&|g| Some(g.de2000.1)));
+    t.optional_float(
+        "depth_growth_per_bounce",
+        "(deep - shallow) / bounces apart: how the method's own error grows per bounce (empty: one depth or none)",
+        grown(&|g| g.per_bounce),
+    );
+    t.text(
+        "depth_source",
+        "the effects tables and rows the depth figures come from",
+        (0..rows.len()).map(|i| growth.get(i).and_then(Option::as_ref).map(|g| g.source.clone()).unwrap_or_default()).collect(),
+    );
     t.text("reason", "why the pick wins", rows.iter().map(|r| r.reason.clone()).collect());
     t.text("others", "why each other method loses (its best candidate)", rows.iter().map(|r| r.others.clone()).collect());
     t
@@ -392,7 +424,10 @@ pub fn command(db: &Database, out: &Path, request: &RecommendRequest) -> Result<
         timings.extend(t);
     }
     let rows = recommend(&candidate_rows, &timings, bound);
-    let mut files = recommendations_table(&rows).files("recommendations", true)?;
+    let effects = effects_tables(out)?;
+    let growth: Vec<Option<DepthGrowth>> =
+        rows.iter().map(|r| r.pick.as_ref().and_then(|p| depth_growth(&effects, &r.page, &p.candidate.method))).collect();
+    let mut files = recommendations_table(&rows, &growth).files("recommendations", true)?;
     files.extend(method_errors_table(&pages).files("method_errors", false)?);
     let written = crate::output::publish_set(out, "recommend", &files)?;
     eprintln!(

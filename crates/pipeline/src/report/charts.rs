@@ -175,15 +175,71 @@ pub struct DeltaE<'a> {
     pub values: Vec<f64>,
 }
 
+/// The angle up to which a curve's values set the ΔE chart's range ([`delta_e_range`]).
+pub const CLIP_BELOW_DEG: f64 = 80.0;
+
+/// A curve the ΔE chart cuts at its top: its name, its largest value and where.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clipped {
+    pub name: String,
+    pub peak: f64,
+    pub theta_deg: f64,
+}
+
+/// The ΔE chart's top and the curves cut by it. The rule: the largest value of any curve at
+/// θ ≤ [`CLIP_BELOW_DEG`] (at least 4), unless no curve goes above 1.5 times that over the
+/// whole range (then the largest value of all); times 1.05 for room. So one method's
+/// spike near grazing (Schlick on a metal reaching ΔE 40 at 89°) does not flatten every
+/// other curve; the curves above are drawn along the top edge and named in the chart's
+/// caption.
+pub fn delta_e_range(theta_deg: &[f64], series: &[DeltaE]) -> (f64, Vec<Clipped>) {
+    let finite = |s: &DeltaE| -> Vec<(f64, f64)> {
+        theta_deg.iter().copied().zip(s.values.iter().copied()).filter(|(_, v)| v.is_finite()).collect()
+    };
+    let below =
+        series.iter().flat_map(|s| finite(s).into_iter().filter(|(t, _)| *t <= CLIP_BELOW_DEG).map(|(_, v)| v)).fold(4.0f64, f64::max);
+    let all = series.iter().flat_map(|s| finite(s).into_iter().map(|(_, v)| v)).fold(4.0f64, f64::max);
+    if all <= 1.5 * below {
+        return (all * 1.05, Vec::new());
+    }
+    let top = below * 1.05;
+    let clipped = series
+        .iter()
+        .filter_map(|s| {
+            let (theta_deg, peak) = finite(s).into_iter().max_by(|a, b| a.1.total_cmp(&b.1))?;
+            (peak > top).then(|| Clipped { name: s.curve.name.clone(), peak, theta_deg })
+        })
+        .collect();
+    (top, clipped)
+}
+
+/// The caption that says a ΔE chart is cut: `ΔE axis cut at 6.3 (the largest value below
+/// 80°): schlick reaches 41 at 89°`; the two highest peaks named, the others counted.
+pub fn clipped_caption(top: f64, clipped: &[Clipped]) -> Option<String> {
+    if clipped.is_empty() {
+        return None;
+    }
+    let mut highest: Vec<&Clipped> = clipped.iter().collect();
+    highest.sort_by(|a, b| b.peak.total_cmp(&a.peak));
+    let mut named: Vec<String> =
+        highest.iter().take(2).map(|c| format!("{} reaches {:.0} at {:.0}°", c.name, c.peak, c.theta_deg)).collect();
+    if highest.len() > 2 {
+        named.push(format!("{} more", highest.len() - 2));
+    }
+    Some(format!("ΔE axis cut at {top:.1} (the largest value below {CLIP_BELOW_DEG:.0}°): {}", named.join(", ")))
+}
+
 /// CIEDE2000 against the reference over θ, with the "just noticeable" level (1) as a
-/// line and the "clearly visible" band (2–3) shaded, named in the right margin.
+/// line and the "clearly visible" band (2–3) shaded, named in the right margin; the range
+/// by [`delta_e_range`], a cut said in the caption.
 pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> Result<String> {
-    let top = series.iter().flat_map(|s| s.values.iter().copied()).filter(|v| v.is_finite()).fold(4.0f64, f64::max) * 1.05;
+    let (top, clipped) = delta_e_range(theta_deg, series);
+    let caption = clipped_caption(top, &clipped);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
-        let mut chart = theta_chart(&root, None, 190, top, "colour difference ΔE2000", &|v| format!("{v:.0}"))?;
+        let mut chart = theta_chart(&root, caption.as_deref(), 190, top, "colour difference ΔE2000", &|v| format!("{v:.0}"))?;
         chart
             .draw_series(std::iter::once(Rectangle::new([(0.0, 2.0), (90.0, 3.0)], RGBColor(255, 220, 200).mix(0.6).filled())))
             .map_err(plot_error)?;
@@ -191,7 +247,8 @@ pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> 
             .draw_series(LineSeries::new(vec![(0.0, 1.0), (90.0, 1.0)], ShapeStyle::from(&PALETTE[7]).stroke_width(CURVE_WIDTH)))
             .map_err(plot_error)?;
         for s in series {
-            line(&mut chart, theta_deg.iter().copied().zip(s.values.iter().copied()).collect(), s.curve.color, s.curve.dashed)?;
+            let points = theta_deg.iter().copied().zip(s.values.iter().map(|v| v.min(top))).collect();
+            line(&mut chart, points, s.curve.color, s.curve.dashed)?;
         }
         let (x, y1) = chart.backend_coord(&(90.0, 1.0));
         let (_, y25) = chart.backend_coord(&(90.0, 2.5));
@@ -392,6 +449,54 @@ pub fn legend<'a>(entries: impl Iterator<Item = (&'a str, RGBColor, bool)>) -> S
     }
     out.push_str("</ul>");
     out
+}
+
+/// One curve as a legend sees it: its name, style and the values it draws (any layout, the
+/// same for every curve of a chart: points in order, channels flattened).
+pub struct Drawn<'a> {
+    pub name: &'a str,
+    pub color: RGBColor,
+    pub dashed: bool,
+    pub values: Vec<f64>,
+}
+
+/// How close two curves must run to hide one under the other: within this fraction of the
+/// chart's range (the largest |value| of any curve) at every point; 0.2 %, under a pixel
+/// of a 300-px plot.
+pub const HIDDEN_FRACTION: f64 = 0.002;
+
+/// Legend entries of `curves` with the ones hidden under another merged: curves whose
+/// values stay within [`HIDDEN_FRACTION`] of the chart's range of an earlier curve's at
+/// every point (same count, NaN where the other is NaN) share its entry, named
+/// `a = b = …` in drawing order and drawn in the style of the last of them (the one on
+/// top).
+pub fn merged_legend<'a>(curves: &[Drawn<'a>]) -> Vec<(String, RGBColor, bool)> {
+    let range = curves.iter().flat_map(|c| c.values.iter()).filter(|v| v.is_finite()).fold(0.0f64, |m, v| m.max(v.abs()));
+    let tolerance = HIDDEN_FRACTION * range;
+    let same =
+        |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() <= tolerance);
+    // Groups: the first member's values and the members' indices.
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, curve) in curves.iter().enumerate() {
+        match groups.iter_mut().find(|g| same(&curves[g[0]].values, &curve.values)) {
+            Some(group) => group.push(i),
+            None => groups.push(vec![i]),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|group| {
+            let top = &curves[*group.last().expect("a group has a member")];
+            let name = group.iter().map(|&i| curves[i].name).collect::<Vec<_>>().join(" = ");
+            (name, top.color, top.dashed)
+        })
+        .collect()
+}
+
+/// [`legend`] of [`merged_legend`]'s entries.
+pub fn merged_legend_html(curves: &[Drawn]) -> String {
+    let entries = merged_legend(curves);
+    legend(entries.iter().map(|(name, color, dashed)| (name.as_str(), *color, *dashed)))
 }
 
 /// A point of a line chart: at category `x` (an index into the chart's categories), its
@@ -847,6 +952,58 @@ pub fn histogram_chart(spec: &HistogramChart, size: (u32, u32)) -> Result<String
 
 #[cfg(test)]
 mod tests {
+
+    /// θ 0°, 40°, 80°, 85°, 89°: a at 1, 2, 6, 7, 8; b at 0.5, 1, 3, 10, 41 (a spike). The
+    /// largest at or below 80° is 6; b's 41 > 1.5 × 6, so the top is 6 × 1.05 = 6.3 and b
+    /// (peak 41 at 89°) is cut, a (8 > 6.3) as well. Without b nothing exceeds 1.5 × 6:
+    /// the top is 8 × 1.05 = 8.4, nothing cut. All under 4: the top stays 4 × 1.05.
+    #[test]
+    fn one_spike_near_grazing_does_not_set_the_delta_e_range() {
+        let theta = [0.0, 40.0, 80.0, 85.0, 89.0];
+        let curve = |name: &str| super::super::curves::PlotCurve { name: name.into(), color: PALETTE[1], dashed: false, rgb: vec![] };
+        let (a, b) = (curve("a"), curve("b"));
+        let series =
+            [DeltaE { curve: &a, values: vec![1.0, 2.0, 6.0, 7.0, 8.0] }, DeltaE { curve: &b, values: vec![0.5, 1.0, 3.0, 10.0, 41.0] }];
+        let (top, clipped) = delta_e_range(&theta, &series);
+        assert!((top - 6.3).abs() < 1e-12, "{top}");
+        assert_eq!(
+            clipped,
+            [Clipped { name: "a".into(), peak: 8.0, theta_deg: 89.0 }, Clipped { name: "b".into(), peak: 41.0, theta_deg: 89.0 }]
+        );
+        assert_eq!(
+            clipped_caption(top, &clipped).unwrap(),
+            "ΔE axis cut at 6.3 (the largest value below 80°): b reaches 41 at 89°, a reaches 8 at 89°"
+        );
+        let (top, clipped) = delta_e_range(&theta, &series[..1]);
+        assert!((top - 8.4).abs() < 1e-12 && clipped.is_empty(), "{top} {clipped:?}");
+        let small = [DeltaE { curve: &a, values: vec![0.1, 0.2, 0.3, 0.2, 3.0] }];
+        assert_eq!(delta_e_range(&theta, &small), (4.0 * 1.05, vec![]));
+        let svg = delta_e_chart(&theta, &series, (760, 320)).unwrap();
+        assert!(svg.contains("ΔE axis cut at 6.3"), "the cut is said on the chart");
+    }
+
+    /// Three curves on a range of 1: b equals a, c differs from a by 0.01 at one point (5 ×
+    /// the 0.002 tolerance), d runs 0.001 under c everywhere (half the tolerance): a and b
+    /// share one entry named "a = b" in b's style (drawn last, on top), c and d one in d's.
+    #[test]
+    fn curves_hidden_under_another_share_one_legend_entry() {
+        let curve = |name, color, values: Vec<f64>| Drawn { name, color, dashed: name != "a", values };
+        let a = vec![0.0, 0.5, 1.0];
+        let mut c = a.clone();
+        c[1] = 0.51;
+        let d: Vec<f64> = c.iter().map(|v| v - 0.001).collect();
+        let curves =
+            [curve("a", PALETTE[0], a.clone()), curve("b", PALETTE[1], a.clone()), curve("c", PALETTE[2], c), curve("d", PALETTE[3], d)];
+        let entries = merged_legend(&curves);
+        assert_eq!(entries, vec![("a = b".to_string(), PALETTE[1], true), ("c = d".to_string(), PALETTE[3], true)]);
+        let html = merged_legend_html(&curves);
+        assert_eq!(html.matches("<li>").count(), 2, "{html}");
+        assert!(html.contains("a = b") && html.contains("c = d"), "{html}");
+        // Apart by more than the tolerance: their own entries.
+        let apart = [curve("a", PALETTE[0], vec![0.0, 1.0]), curve("b", PALETTE[1], vec![0.0, 0.99])];
+        assert_eq!(merged_legend(&apart).len(), 2);
+    }
+
     use super::*;
 
     #[test]

@@ -111,3 +111,49 @@ fn bounded_parts(page: &str) -> String {
 pub fn up_from_material(page: &str) -> String {
     "../".repeat(1 + page.matches('/').count())
 }
+
+/// The data shelf of manufacturers' data sheets, whose books' `about.yml` NAMES the maker
+/// (`SCHOTT AG`), not the material.
+pub const MAKERS_SHELF: &str = "specs/";
+
+/// What a material is called on its page and in the index: the `names` of
+/// `materials.csv` (the data's `about.yml`), except where the data file lies on the makers'
+/// shelf ([`MAKERS_SHELF`]): there the page's own catalog name (`catalog_name`, `BK7
+/// optical glass (crown)`), its page id where that is empty, followed by "by" and the maker
+/// (`BK7 optical glass (crown), by SCHOTT AG`).
+pub fn display_name(materials: &CsvTable, row: &[String]) -> String {
+    let names = materials.text(row, "names");
+    if !materials.text(row, "data_file").starts_with(MAKERS_SHELF) {
+        return names.to_string();
+    }
+    let own = match materials.text(row, "catalog_name") {
+        "" => materials.text(row, "page_name"),
+        name => name,
+    };
+    if names.is_empty() {
+        own.to_string()
+    } else {
+        format!("{own}, by {names}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3d-shelf glass on a maker's data sheet, a metal on the main shelf, a data sheet page
+    /// without a catalog name.
+    #[test]
+    fn materials_are_named_by_their_page_where_the_data_names_the_maker() {
+        let table = CsvTable::parse(
+            "page,page_name,names,catalog_name,data_file\n\
+3d/glass/BK7,BK7,SCHOTT AG,BK7 optical glass (crown),specs/schott/optical/N-BK7.yml\n\
+3d/metals/gold,gold,Gold; Au,Gold (Au),main/Au/nk/Rakic-BB.yml\n\
+specs/ohara/X,X,OHARA,,specs/ohara/optical/X.yml\n"
+                .as_bytes(),
+        )
+        .unwrap();
+        let names: Vec<String> = table.rows.iter().map(|r| display_name(&table, r)).collect();
+        assert_eq!(names, ["BK7 optical glass (crown), by SCHOTT AG", "Gold; Au", "X, by OHARA"]);
+    }
+}

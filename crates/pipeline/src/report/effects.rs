@@ -245,6 +245,11 @@ const EFFECTS_STYLE: &str = ".wide{overflow-x:auto;max-width:100%}details{margin
 .panels img{width:100%;height:auto;display:block;image-rendering:pixelated}.panels figcaption{font-size:14px;color:#222}\
 .crops{display:flex;flex-wrap:wrap;gap:10px}.crops figure{margin:0;width:200px}.crops img{width:196px;height:196px;image-rendering:pixelated;display:block}\
 .crops figcaption{font-size:13px;color:#222}.scale img{width:512px;height:16px;display:block}\
+.hero-panels{display:block}.hero-panels figure.panel{margin:0 0 20px}\
+.hero-grid{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(512px,100%),512px));gap:6px 12px;margin-top:6px}\
+.hero-grid img{max-width:100%;height:auto;display:block}.hero-grid .hero-cell:first-child{grid-column:1/-1}.cell-note{font-size:13px;margin:2px 0}\
+.legends{display:flex;flex-wrap:wrap;gap:8px 24px}.colour-legend{margin:0;max-width:512px}.colour-legend img{max-width:100%;height:auto;display:block}.colour-legend figcaption{font-size:13px}\
+.spectral-panels{display:flex;flex-wrap:wrap;gap:12px}.spectral-panels figure{margin:0;max-width:100%}.spectral-panels img{display:block;max-width:100%;height:auto;image-rendering:pixelated}\
 .scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}.scale{max-width:100%;overflow-x:auto}\
 .charts figure{max-width:100%}p.finding{font-size:16px;border-left:4px solid #d55e00;padding-left:8px}.no-chart{font-size:14px;color:#333}";
 
@@ -490,6 +495,22 @@ fn cost_points(traced: Vec<(String, Trace, Trace)>) -> Vec<CostPoint> {
         .zip(front)
         .map(|((label, x, y), pareto)| CostPoint { label, cost: x.value, error: y.value, pareto, trace: Some([x, y]), style: None })
         .collect()
+}
+
+/// The legend of a line chart's series, series hidden under another sharing its entry
+/// (values compared category by category, NaN where a series has no point).
+fn series_legend(series: &[Series]) -> String {
+    let categories = series.iter().flat_map(|s| s.points.iter().map(|p| p.x + 1)).max().unwrap_or(0);
+    let values = |s: &Series| {
+        let mut values = vec![f64::NAN; categories];
+        for p in &s.points {
+            values[p.x] = p.y.value;
+        }
+        values
+    };
+    let drawn: Vec<charts::Drawn> =
+        series.iter().map(|s| charts::Drawn { name: &s.name, color: s.color, dashed: false, values: values(s) }).collect();
+    charts::merged_legend_html(&drawn)
 }
 
 /// A chart in a figure, its legend beside it and its caption (none where the chart
@@ -766,7 +787,7 @@ fn specular_section(
                 )
             })
             .collect();
-        let legend = charts::legend(series.iter().map(|s| (s.name.as_str(), s.color, false)));
+        let legend = series_legend(&series);
         chart_or_sentence(
             html,
             &LineChart {
@@ -841,14 +862,29 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
         let mut files = vec![(format!("{stem}_spectral.png"), "spectral".to_string())];
         for source in &sources {
             files.push((format!("{stem}_{source}.png"), source.clone()));
-            files.push((format!("{stem}_{source}_delta_e.png"), format!("ΔE2000 of {source} (white at 5)")));
+            files.push((format!("{stem}_{source}_delta_e.png"), format!("ΔE2000 of {source} against the spectral frame")));
         }
-        let _ = writeln!(html, "<p class=\"note\">Depth {}: the spectral frame, each source's three-channel frame and its ΔE2000 map (EXR beside each PNG).</p><div class=\"panels\">", escape(depth));
+        let resolution = first.map_or("", |row| spectral.text(row, "resolution"));
+        let (width, height) =
+            resolution.split_once('x').and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?))).unwrap_or((0, 0));
+        let factor = spectral_zoom(width.max(height));
+        let _ = writeln!(
+            html,
+            "<p class=\"note\">Depth {}: the spectral frame, each source's three-channel frame and its ΔE2000 map (EXR beside each PNG), traced at {} px and shown {factor}× (each pixel a square).</p>",
+            escape(depth),
+            escape(resolution),
+        );
+        let legend = from_report(folder, &format!("spectral_frames/{SPECTRAL_LEGEND_FILE}"));
+        let _ = writeln!(
+            html,
+            "<div class=\"legends\"><figure class=\"colour-legend\"><img src=\"{legend}\" width=\"384\" alt=\"colour bar of the ΔE2000 maps, 0 to 5\"><figcaption>ΔE2000 maps: black at 0 through blue, red and yellow to white at 5 and beyond (fixed, so depths and scenes compare; 1 is about the smallest difference a person sees).</figcaption></figure></div><div class=\"spectral-panels\">"
+        );
         for (file, label) in files {
             let src = from_report(folder, &file);
+            let size = if factor > 0 { format!(" width=\"{}\" height=\"{}\"", width * factor, height * factor) } else { String::new() };
             let _ = write!(
                 html,
-                "<figure><a href=\"{src}\"><img loading=\"lazy\" src=\"{src}\" alt=\"{}\"></a><figcaption>{}</figcaption></figure>",
+                "<figure><a href=\"{src}\"><img class=\"spectral\" loading=\"lazy\" src=\"{src}\"{size} alt=\"{}\"></a><figcaption>{}</figcaption></figure>",
                 escape(&label),
                 escape(&label)
             );
@@ -856,6 +892,22 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
         html.push_str("</div>");
     }
     Ok(())
+}
+
+/// The legend of the spectral comparison's ΔE2000 maps in its folder (the effects crate's
+/// `spectral_errors::DELTA_E_LEGEND_FILE`).
+const SPECTRAL_LEGEND_FILE: &str = "delta_e_scale.png";
+/// The least size a spectral frame is shown at, in CSS pixels on its long side.
+pub const SPECTRAL_SHOWN: u32 = 384;
+
+/// The whole factor a spectral frame of long side `long` pixels is enlarged by so that it
+/// shows at least [`SPECTRAL_SHOWN`] px (1 for a frame that large already; 0 for no size).
+pub fn spectral_zoom(long: u32) -> u32 {
+    if long == 0 {
+        0
+    } else {
+        SPECTRAL_SHOWN.div_ceil(long).max(1)
+    }
 }
 
 fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
@@ -1098,25 +1150,36 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
     Some(table.html("ao-statistics"))
 }
 
-/// The hero frame: one figure per panel (the frame above its error image, the label and
-/// the figures of `effects_hero.csv` below), the colour bar, the crops.
+/// The hero frame: one figure per panel, its label and the figures of `effects_hero.csv`
+/// over a grid of pictures at their natural size (two 512-px columns where the page is wide
+/// enough, one where not): the frame, then its error against the exact method's panel
+/// beside its error against the reference; each kind of error image under its legend (the
+/// colour bar with its values, the scale and the rule that chose it); then the crops where
+/// the error is largest, labelled in words.
 fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
     let folder = folder_of(path);
     let effects: Vec<String> = distinct(&(0..hero.rows.len()).collect::<Vec<_>>(), |r| hero.text(&hero.rows[r], "effect").to_string());
     for effect in effects {
         let rows: Vec<(usize, &Vec<String>)> = hero.rows.iter().enumerate().filter(|(_, r)| hero.text(r, "effect") == effect).collect();
         let Some((_, first)) = rows.first() else { continue };
+        let has_exact = rows.iter().any(|(_, r)| !hero.text(r, "exact_error_file").is_empty());
         let _ = writeln!(
             html,
-            "<h3>Hero frame: {} ({})</h3>\n<p class=\"note\">Frame 0 at {} with every variant, each beside its error against the reference (<code>{}</code>). Click a picture for the full-size file.</p>",
+            "<h3>Hero frame: {} ({})</h3>\n<p class=\"note\">Frame 0 at {} with every variant{} (<code>{}</code>). Pictures at their natural size; click one for the file.</p>",
             escape(&effect),
             escape(hero.text(first, "resolution")),
             escape(hero.text(first, "resolution")),
+            if has_exact {
+                ", each beside its error against the exact method's panel (what the Fresnel method itself costs, through the same distance maps) and against the ray-traced reference (the total, the maps' search included)"
+            } else {
+                ", each beside its error against the reference"
+            },
             escape(path)
         );
-        html.push_str("<div class=\"panels\">");
+        hero_legends(html, (path, hero), &rows);
+        html.push_str("<div class=\"panels hero-panels\">");
         for (index, row) in &rows {
-            let image = |column: &str| -> String {
+            let image = |column: &str, what: &str| -> String {
                 let file = hero.text(row, column);
                 if file.is_empty() {
                     return String::new();
@@ -1124,49 +1187,52 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
                 let src = from_report(folder, file);
                 let (w, h) = hero.text(row, "resolution").split_once('x').unwrap_or(("", ""));
                 format!(
-                    "<a href=\"{src}\"><img class=\"hero\" loading=\"lazy\" src=\"{src}\" width=\"{}\" height=\"{}\" alt=\"{}\"></a>",
+                    "<div class=\"hero-cell\"><a href=\"{src}\"><img class=\"hero\" loading=\"lazy\" src=\"{src}\" width=\"{}\" height=\"{}\" alt=\"{}\"></a><p class=\"cell-note\">{}</p></div>",
                     escape(w),
                     escape(h),
-                    escape(&format!("{} ({column})", hero.text(row, "label")))
+                    escape(&format!("{}: {what}", hero.text(row, "label"))),
+                    escape(what)
                 )
             };
-            let figures = if hero.text(row, "error_file").is_empty() {
+            let span = |column: &str, text: String| {
+                format!(
+                    "<span class=\"figure\" data-table=\"{}\" data-row=\"{index}\" data-column=\"{column}\">{text}</span>",
+                    escape(path)
+                )
+            };
+            let value = |column: &str| hero.number(row, column).unwrap_or(f64::NAN);
+            let mut figures = if hero.text(row, "error_file").is_empty() {
                 "the reference the others are measured against".to_string()
             } else {
-                let span = |column: &str, text: String| {
-                    format!(
-                        "<span class=\"figure\" data-table=\"{}\" data-row=\"{index}\" data-column=\"{column}\">{text}</span>",
-                        escape(path)
-                    )
-                };
                 format!(
-                    "mean ΔE2000 {}, mean relative error {}, mean |Δ| {}, largest |Δ| {} over {} pixels",
-                    span("mean_delta_e2000", delta_e(hero.number(row, "mean_delta_e2000").unwrap_or(f64::NAN))),
-                    span("mean_rel_error", percent(hero.number(row, "mean_rel_error").unwrap_or(f64::NAN))),
-                    span("mean_abs_error", number(hero.number(row, "mean_abs_error").unwrap_or(f64::NAN))),
-                    span("max_abs_error", number(hero.number(row, "max_abs_error").unwrap_or(f64::NAN))),
+                    "against the reference: mean ΔE2000 {}, mean relative error {}, mean |Δ| {}, largest |Δ| {} over {} pixels",
+                    span("mean_delta_e2000", delta_e(value("mean_delta_e2000"))),
+                    span("mean_rel_error", percent(value("mean_rel_error"))),
+                    span("mean_abs_error", number(value("mean_abs_error"))),
+                    span("max_abs_error", number(value("max_abs_error"))),
                     span("pixels", hero.text(row, "pixels").to_string()),
                 )
             };
+            if !hero.text(row, "exact_error_file").is_empty() {
+                let _ = write!(
+                    figures,
+                    "; against the exact method: mean ΔE2000 {}, mean |Δ| {}, largest |Δ| {}",
+                    span("exact_mean_delta_e2000", delta_e(value("exact_mean_delta_e2000"))),
+                    span("exact_mean_abs_error", number(value("exact_mean_abs_error"))),
+                    span("exact_max_abs_error", number(value("exact_max_abs_error"))),
+                );
+            }
             let _ = write!(
                 html,
-                "<figure class=\"panel\" data-panel=\"{}\">{}{}<figcaption><b>{}</b><br>{figures}</figcaption></figure>",
+                "<figure class=\"panel\" data-panel=\"{}\"><figcaption><b>{}</b><br>{figures}</figcaption><div class=\"hero-grid\">{}{}{}</div></figure>",
                 escape(hero.text(row, "panel")),
-                image("file"),
-                image("error_file"),
                 escape(hero.text(row, "label")),
+                image("file", "the frame"),
+                image("exact_error_file", "error against the exact method"),
+                image("error_file", "error against the reference"),
             );
         }
         html.push_str("</div>\n");
-        let scale = hero.number(first, "error_scale").unwrap_or(f64::NAN);
-        let scale_file = format!("{}/error_scale.png", folder_of(hero.text(first, "file")));
-        let ticks: String = (0..=4).map(|i| format!("<span>{}</span>", number(scale * f64::from(i) / 4.0))).collect();
-        let _ = writeln!(
-            html,
-            "<figure class=\"scale\"><img src=\"{}\" width=\"512\" height=\"16\" alt=\"error colour bar\"><div class=\"scale-axis\">{ticks}</div><figcaption>Error images: |Δ| summed over R, G and B of linear radiance (white light = 1 per channel), black at 0 through blue, red and yellow to white at {} and beyond.</figcaption></figure>",
-            from_report(folder, &scale_file),
-            number(scale)
-        );
         let (x, y, size) = (hero.text(first, "crop_x"), hero.text(first, "crop_y"), hero.text(first, "crop_size"));
         let _ = write!(
             html,
@@ -1176,7 +1242,11 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
             y = escape(y)
         );
         for (_, row) in &rows {
-            for (column, what) in [("crop_file", ""), ("crop_error_file", ", error")] {
+            for (column, what) in [
+                ("crop_file", ""),
+                ("crop_exact_error_file", ", error against exact"),
+                ("crop_error_file", ", error against the reference"),
+            ] {
                 let file = hero.text(row, column);
                 if file.is_empty() {
                     continue;
@@ -1185,12 +1255,75 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
                 let _ = write!(
                     html,
                     "<figure><img loading=\"lazy\" src=\"{src}\" alt=\"{0}{what} (crop)\"><figcaption>{0}{what}</figcaption></figure>",
-                    escape(hero.text(row, "panel"))
+                    escape(&crop_words(hero, row))
                 );
             }
         }
         html.push_str("</div>\n");
     }
+}
+
+/// What a crop shows, in words: the panel's label up to its first comma (`schlick`, `no AO`,
+/// `surfel AO`, `reference: ray-traced`), with the passes and gather of an AO panel.
+fn crop_words(hero: &CsvTable, row: &[String]) -> String {
+    let label = hero.text(row, "label");
+    let mut parts = label.split(", ");
+    let head = parts.next().unwrap_or(label);
+    match hero.text(row, "passes") {
+        "" | "0" => head.to_string(),
+        _ => std::iter::once(head).chain(parts.take(2)).collect::<Vec<_>>().join(", "),
+    }
+}
+
+/// A 1-2-5 step as the legends print it: the shortest decimal that reads back as it
+/// (`0.05`, `2`), as burned into the legend picture.
+pub fn step_text(step: f64) -> String {
+    if step.is_finite() {
+        format!("{step}")
+    } else {
+        "–".into()
+    }
+}
+
+/// The legends of a hero frame's error images: per kind (against exact, against the
+/// reference) its colour bar with the values burned in and what chose the scale; the plain
+/// bar of tables without a legend file, with its values under it.
+fn hero_legends(html: &mut String, (path, hero): (&str, &CsvTable), rows: &[(usize, &Vec<String>)]) {
+    let folder = folder_of(path);
+    let Some((_, first)) = rows.iter().find(|(_, r)| !hero.text(r, "error_file").is_empty()) else { return };
+    let rule = "the smallest 1-2-5 step at or above the 99th percentile of the values over every panel's counted pixels, so at most about one pixel in a hundred is white";
+    html.push_str("<div class=\"legends\">");
+    let exact = rows.iter().find(|(_, r)| !hero.text(r, "exact_error_scale_file").is_empty());
+    if let Some((_, row)) = exact {
+        let _ = write!(
+            html,
+            "<figure class=\"colour-legend\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" alt=\"colour bar of the errors against exact, 0 to {0}\"><figcaption>Error against the exact method: |Δ| summed over R, G and B of linear radiance, black at 0 through blue, red and yellow to white at {0} ({rule}).</figcaption></figure>",
+            step_text(hero.number(row, "exact_error_scale").unwrap_or(f64::NAN)),
+            from_report(folder, hero.text(row, "exact_error_scale_file")),
+        );
+    }
+    let scale = hero.number(first, "error_scale").unwrap_or(f64::NAN);
+    let file = hero.text(first, "error_scale_file");
+    let plain = file.is_empty() || file.ends_with("/error_scale.png");
+    if plain {
+        let scale_file =
+            if file.is_empty() { format!("{}/error_scale.png", folder_of(hero.text(first, "file"))) } else { file.to_string() };
+        let ticks: String = (0..=4).map(|i| format!("<span>{}</span>", number(scale * f64::from(i) / 4.0))).collect();
+        let _ = write!(
+            html,
+            "<figure class=\"scale\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" height=\"16\" alt=\"error colour bar\"><div class=\"scale-axis\">{ticks}</div><figcaption>Error images: |Δ| summed over R, G and B of linear radiance (white light = 1 per channel), black at 0 through blue, red and yellow to white at {0} and beyond.</figcaption></figure>",
+            number(scale),
+            from_report(folder, &scale_file),
+        );
+    } else {
+        let _ = write!(
+            html,
+            "<figure class=\"colour-legend\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" alt=\"colour bar of the errors against the reference, 0 to {0}\"><figcaption>Error against the reference: |Δ| summed over R, G and B of linear radiance, black at 0 through blue, red and yellow to white at {0} ({rule}).</figcaption></figure>",
+            step_text(scale),
+            from_report(folder, file),
+        );
+    }
+    html.push_str("</div>\n");
 }
 
 /// The cross-device table: per method, the median over materials of its pass time
@@ -1328,15 +1461,13 @@ fn effects_across(html: &mut String, devices: &BTreeMap<String, DeviceTables>) {
     if with_effects.is_empty() {
         return;
     }
+    // Seven columns that fit a 1000-px window: source and timer in one cell, the
+    // configuration (effect, depths, search steps, resolution) in one.
     let headers = [
         "device",
-        "source",
-        "timer",
+        "source, timer",
         "method",
-        "effect",
-        "depths (reflection/refraction)",
-        "steps (linear/secant)",
-        "resolution",
+        "effect · depths refl./refr. · steps lin./sec. · size",
         "map update ms",
         "shading ms",
         "shading × exact",
@@ -1363,13 +1494,14 @@ fn effects_across(html: &mut String, devices: &BTreeMap<String, DeviceTables>) {
             let ms = |column: &str| rows.number(row, column).map_or("–".to_string(), |x| format!("{x:.4}"));
             table.row(vec![
                 device.clone(),
-                tables.source.clone(),
-                rows.text(row, "timer").to_string(),
+                format!("{}, {}", tables.source, rows.text(row, "timer")),
                 rows.text(row, "method").to_string(),
-                rows.text(row, "effect").to_string(),
-                format!("{}/{}", rows.text(row, "reflection_depth"), rows.text(row, "refraction_depth")),
-                format!("{}/{}", rows.text(row, "linear_steps"), rows.text(row, "secant_steps")),
-                rows.text(row, "resolution").to_string(),
+                effects_configuration(
+                    rows.text(row, "effect"),
+                    [rows.text(row, "reflection_depth"), rows.text(row, "refraction_depth")],
+                    [rows.text(row, "linear_steps"), rows.text(row, "secant_steps")],
+                    rows.text(row, "resolution"),
+                ),
                 ms("map_update_ms"),
                 ms("shading_ms"),
                 ratio,
@@ -1381,6 +1513,11 @@ fn effects_across(html: &mut String, devices: &BTreeMap<String, DeviceTables>) {
         "<h3>Reflections and refractions</h3><p>Per device and configuration (<code>effects_timing</code>, native or from the browser bench's page): the median time of one update of every distance map and of the shading pass, and the shading pass relative to <code>exact</code>'s in the same configuration on the same device. One row per device and configuration, never averaged.</p>{}",
         table.html("device-effects")
     );
+}
+
+/// One effects configuration in a cell: `reflection · 1/0 · 15/1 · 320x180`.
+pub fn effects_configuration(effect: &str, [reflection, refraction]: [&str; 2], [linear, secant]: [&str; 2], resolution: &str) -> String {
+    format!("{effect} · {reflection}/{refraction} · {linear}/{secant} · {resolution}")
 }
 
 /// The study's Table 6: render time of each method relative to the exact dielectric formula
@@ -1530,6 +1667,23 @@ mod study_form_tests {
 
     /// Water and glass (dielectric), gold (conductor); compensated Schlick timed on water
     /// and gold only. Hand-computed: dielectric anchor over water and glass = median(2, 4) = 3.
+    /// 96 px frames shown at 4 × 96 = 384, 100 px at 4 × 100 = 400 (3 × 100 falls short),
+    /// 128 at 3 × 128 = 384; a frame of 384 or more at its size.
+    #[test]
+    fn spectral_frames_show_at_384_px_or_more_in_whole_steps() {
+        assert_eq!([96, 100, 128, 384, 500, 1, 0].map(spectral_zoom), [4, 4, 3, 1, 1, 384, 0]);
+    }
+
+    #[test]
+    fn crops_are_named_in_words() {
+        let hero = CsvTable::parse(
+            b"label,passes\n\"schlick, 3 reflection(s), 1 refraction(s), 30+4 search steps\",\nno AO,0\n\"surfel AO, 2 pass(es), tree, mean 0.03\",2\n",
+        )
+        .unwrap();
+        let words: Vec<String> = hero.rows.iter().map(|r| crop_words(&hero, r)).collect();
+        assert_eq!(words, ["schlick", "no AO", "surfel AO, 2 pass(es), tree"]);
+    }
+
     #[test]
     fn every_ratio_divides_by_the_anchor_over_the_same_materials() {
         let rows = [
@@ -1595,13 +1749,22 @@ mod device_effects_tests {
             .map(|row| row.split("<td>").skip(1).map(|cell| cell.split("</td>").next().unwrap().to_string()).collect())
             .collect();
         assert_eq!(rows.len(), 5, "{html}");
-        let pick = |row: &Vec<String>| (row[0].clone(), row[3].clone(), row[5].clone(), row[8].clone(), row[9].clone(), row[10].clone());
+        // Seven columns: device, source and timer, method, the configuration in one cell,
+        // map update, shading, shading × exact.
+        assert!(rows.iter().all(|r| r.len() == 7), "{rows:?}");
+        let pick = |row: &Vec<String>| (row[0].clone(), row[2].clone(), row[3].clone(), row[4].clone(), row[5].clone(), row[6].clone());
         let s = |x: &str| x.to_string();
-        assert_eq!(pick(&rows[0]), (s("lavapipe"), s("exact"), s("1/0"), s("4.0000"), s("2.0000"), number(1.0)));
-        assert_eq!(pick(&rows[1]), (s("lavapipe"), s("lut"), s("1/0"), s("4.0000"), s("3.0000"), number(1.5)));
-        assert_eq!(pick(&rows[2]), (s("lavapipe"), s("lut"), s("2/0"), s("4.0000"), s("5.0000"), s("–")));
-        assert_eq!(pick(&rows[4]), (s("swiftshader"), s("schlick"), s("1/1"), s("1.5000"), s("0.5000"), number(2.0)));
-        assert_eq!((rows[4][1].as_str(), rows[4][6].as_str(), rows[4][7].as_str()), ("browser: HeadlessChrome/156", "8/1", "48x48"));
+        assert_eq!(
+            pick(&rows[0]),
+            (s("lavapipe"), s("exact"), s("reflection · 1/0 · 15/1 · 64x64"), s("4.0000"), s("2.0000"), number(1.0))
+        );
+        assert_eq!(pick(&rows[1]), (s("lavapipe"), s("lut"), s("reflection · 1/0 · 15/1 · 64x64"), s("4.0000"), s("3.0000"), number(1.5)));
+        assert_eq!(pick(&rows[2]), (s("lavapipe"), s("lut"), s("reflection · 2/0 · 15/1 · 64x64"), s("4.0000"), s("5.0000"), s("–")));
+        assert_eq!(
+            pick(&rows[4]),
+            (s("swiftshader"), s("schlick"), s("refraction · 1/1 · 8/1 · 48x48"), s("1.5000"), s("0.5000"), number(2.0))
+        );
+        assert_eq!(rows[4][1].as_str(), "browser: HeadlessChrome/156, timestamp");
         let mut none = String::new();
         devices.retain(|name, _| name == "other");
         effects_across(&mut none, &devices);

@@ -344,6 +344,14 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
     for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/effects_errors.csv")) {
         out.extend(search_finding(path.trim_end_matches("/effects_errors.csv"), path, table));
     }
+    // Where three wavelengths stop being enough against the spectral truth, and what GTAO
+    // and surfels trade: the effects page's scene findings, on the first screen too.
+    for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/spectral_errors.csv")) {
+        out.extend(spectral_finding(path.trim_end_matches("/spectral_errors.csv"), path, table, bound));
+    }
+    for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/ao_errors.csv")) {
+        out.extend(ao_finding(path.trim_end_matches("/ao_errors.csv"), path, table));
+    }
     if let Some(cost) = &inputs.cost {
         let ns = |method: &str, variant: &str| {
             cost.rows

@@ -8,7 +8,7 @@ use std::fmt::Write;
 use anyhow::Result;
 
 use super::charts::{self, CostPoint};
-use super::context::{channel_flags, channel_triple, fitted_index, material_path, Context};
+use super::context::{channel_flags, channel_triple, display_name, fitted_index, material_path, Context};
 use super::csvdata::CsvTable;
 use super::findings;
 use super::html::{code_spans, delta_e, escape, href, markdown_text, number, percent, raw, TableText, MARKDOWN};
@@ -525,7 +525,8 @@ fn materials_list(b: &mut Builder, ctx: &Context, pages: &[String]) -> Result<()
     for page in pages {
         let row = ctx.materials.first(page).expect("selected from materials.csv");
         let link = href(&material_path(page)?);
-        let names = m.text(row, "names");
+        let names = display_name(m, row);
+        let names = names.as_str();
         let kind = m.text(row, "kind");
         let key = escape(&format!("{page} {names} {kind}").to_lowercase());
         let color = ctx.colors.as_ref().and_then(|c| c.first(page).map(|r| (c.table, r)));

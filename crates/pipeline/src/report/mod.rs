@@ -44,7 +44,7 @@ table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:14px}th,td{border:
 th{background:#f2f2f2}td:first-child,th:first-child{text-align:left}.swatch{display:inline-block;width:2.2em;height:1.2em;border:1px solid #888;vertical-align:middle}\
 figure{margin:0 0 1em}figcaption,.note{font-size:14px;color:#555}.notes{font-size:14px;color:#533}.absent{color:#666;font-size:14px}\
 figure.plot{display:flex;align-items:flex-start;gap:12px;flex-wrap:wrap}.legend{list-style:none;padding:0;margin:8px 0;font-size:14px}.legend li{white-space:nowrap;margin:3px 0}.legend svg{margin-right:6px;vertical-align:middle}\
-.previews img{display:block;image-rendering:auto}.captions{display:grid;font-size:12px;text-align:center}.method{overflow-wrap:anywhere;padding:0 2px}\
+.spheres{display:flex;flex-wrap:wrap;gap:6px 8px}.sphere-cell{flex:none;max-width:100%;font-size:13px;text-align:center}.sphere{background-image:var(--sheet);background-repeat:no-repeat;max-width:100%}.method{overflow-wrap:anywhere;padding:0 2px}\
 .strips{font-size:13px}.strip-row{display:flex;align-items:center;margin:2px 0}.strip-name{width:190px;flex:none}.strip{flex:none;width:540px;height:18px;border:1px solid #999}\
 .strip-axis{display:flex;justify-content:space-between;width:542px;font-size:13px}#search{width:22em;padding:4px;font-size:14px}\
 table.materials th{cursor:pointer}.paste{width:100%;font-family:monospace;font-size:13px}\

@@ -7,8 +7,10 @@ use std::fmt::Write;
 
 use anyhow::Result;
 
-use super::charts::{self, DeltaE};
-use super::context::{channel_flags, channel_triple, fitted_index, preview_path, three_channel_index, up_from_material, Context};
+use super::charts::{self, DeltaE, Drawn};
+use super::context::{
+    channel_flags, channel_triple, display_name, fitted_index, preview_path, three_channel_index, up_from_material, Context,
+};
 use super::curves::{delta_e_over_angle, material_curves, PlotCurve};
 use super::html::{delta_e, escape, href, index, percent, reflectance, TableText};
 use super::preview;
@@ -45,7 +47,7 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
     let row = ctx.materials.first(page).expect("selected pages are rows of materials.csv");
     let up = up_from_material(page);
     let mut html = String::new();
-    let title = format!("{page} — {}", m.text(row, "names"));
+    let title = format!("{page} — {}", display_name(m, row));
     let _ = write!(
         html,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><title>{}</title><style>{}</style></head><body>\n<p class=\"nav\"><a href=\"{}index.html\">← all materials</a></p>\n<h1>{}</h1>\n<p>{} · data file <code>{}</code> · {}</p>\n",
@@ -64,7 +66,11 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
     match spectrum {
         Ok(spectrum) => {
             let curves = material_curves(spectrum, &three, fitted.as_ref(), &ctx.theta, &ctx.inputs.fits);
-            let png = preview::png(&preview::sheet(&ctx.layout, &curves.iter().map(|c| c.rgb.as_slice()).collect::<Vec<_>>()))?;
+            // A dielectric is seen through: the light through the sphere added to the reflection.
+            let through =
+                (m.text(row, "kind") == "dielectric").then(|| preview::transmitted(&ctx.layout, &three, ctx.inputs.channels.nanometres()));
+            let spheres: Vec<&[[f64; 3]]> = curves.iter().map(|c| c.rgb.as_slice()).collect();
+            let png = preview::png(&preview::sheet_through(&ctx.layout, &spheres, through.as_deref()))?;
             figures(&mut html, ctx, page, &curves, &png)?;
             preview_png = Some(png);
         }
@@ -89,22 +95,31 @@ pub fn material_page(ctx: &Context, page: &str, spectrum: Result<&[Index], &str>
 fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], png: &[u8]) -> Result<()> {
     let reference = &curves[0];
     let size = ctx.layout.size();
+    // One sheet of spheres (the file written beside the page, embedded once as a data URI),
+    // each sphere shown from it at its natural size in a box of its own, so the boxes wrap
+    // on a narrow page.
     let _ = write!(
         html,
-        "<h2 id=\"previews\">Previews</h2>\n<p class=\"note\">Spheres under a studio light (a soft box behind the camera, a bright strip, a rim light), shaded with each curve (schlick_nk draws the same curve as schlick and is not repeated); colours clamped to sRGB. Also written as <code>{}</code>.</p>\n<figure class=\"previews\"><img class=\"preview\" alt=\"{} previews\" width=\"{}\" height=\"{size}\" src=\"{}\"><div class=\"captions\" style=\"grid-template-columns:repeat({},{size}px)\">",
+        "<h2 id=\"previews\">Previews</h2>\n<p class=\"note\">Spheres under a studio light (a soft box behind the camera, a bright strip, a rim light), shaded with each curve (schlick_nk draws the same curve as schlick and is not repeated); a dielectric seen through, the light refracted through a sphere 2 cm across (Snell at each channel's n, absorption exp(−4πk/λ·path), internal reflections left out); colours clamped to sRGB. Also written as <code>{}</code>, the spheres side by side.</p>\n<figure class=\"previews\"><div class=\"spheres\" data-sheet-width=\"{}\" style=\"--sheet:url({})\">",
         escape(&preview_path(page)),
-        escape(page),
         size as usize * curves.len(),
         preview::data_uri(png),
-        curves.len()
     );
     // Every curve after the reference, against it.
     let series: Vec<DeltaE> =
         curves[1..].iter().zip(delta_e_over_angle(reference, &curves[1..])).map(|(curve, values)| DeltaE { curve, values }).collect();
     let mean_de = std::iter::once(None).chain(series.iter().map(|s| Some(mean(&s.values))));
-    for (c, de) in curves.iter().zip(mean_de) {
+    for (i, (c, de)) in curves.iter().zip(mean_de).enumerate() {
         let detail = de.map_or_else(|| "reference".to_string(), |de| format!("mean ΔE {}", delta_e(de)));
-        let _ = write!(html, "<span class=\"method\">{}<br>{}</span>", escape(&c.name), detail);
+        let _ = write!(
+            html,
+            "<div class=\"sphere-cell\" style=\"width:{size}px\"><div class=\"sphere\" role=\"img\" aria-label=\"{} shaded with {}\" style=\"width:{size}px;height:{size}px;background-position:-{}px 0\"></div><span class=\"method\">{}<br>{}</span></div>",
+            escape(page),
+            escape(&c.name),
+            i as u32 * size,
+            escape(&c.name),
+            detail
+        );
     }
     html.push_str("</div></figure>\n<h2 id=\"angle\">Colour over angle</h2>\n<div class=\"strips\">");
     for c in curves {
@@ -121,7 +136,12 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
         html,
         "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{}{}</figure>\n",
         charts::delta_e_chart(&ctx.theta, &series, (760, 320))?,
-        legend(&curves[1..])
+        charts::merged_legend_html(
+            &series
+                .iter()
+                .map(|s| Drawn { name: &s.curve.name, color: s.curve.color, dashed: s.curve.dashed, values: s.values.clone() })
+                .collect::<Vec<_>>()
+        )
     );
     let _ = write!(
         html,
@@ -136,9 +156,14 @@ fn mean(values: &[f64]) -> f64 {
     values.iter().sum::<f64>() / values.len().max(1) as f64
 }
 
-/// An HTML legend (outside the plot): a line sample and the curve's name each.
+/// An HTML legend (outside the plot): a line sample and the curve's name each, curves
+/// hidden under another sharing its entry (`charts::merged_legend`).
 fn legend(curves: &[PlotCurve]) -> String {
-    charts::legend(curves.iter().map(|c| (c.name.as_str(), c.color, c.dashed)))
+    let drawn: Vec<Drawn> = curves
+        .iter()
+        .map(|c| Drawn { name: &c.name, color: c.color, dashed: c.dashed, values: c.rgb.iter().flatten().copied().collect() })
+        .collect();
+    charts::merged_legend_html(&drawn)
 }
 
 fn indices_section(html: &mut String, ctx: &Context, page: &str, row: &[String]) {

@@ -4,6 +4,13 @@
 //! environment's radiance in the mirror direction r = 2(n·v)n − v (the ideal specular
 //! reflection) — then sRGB-encoded to 8 bits (IEC 61966-2-1). Deterministic: no random
 //! sampling, no GPU. Also the colour-over-angle strips (F(θ) as a colour, 0° to 90°).
+//!
+//! A dielectric is seen through ([`transmitted`]): to the reflection each pixel adds what
+//! passes through the sphere — (1 − F(θ))² (in, and out at the same angle by symmetry)
+//! times the environment's radiance along the ray refracted in and out by Snell's law at
+//! the channel's n (an exact sphere, analytic; internal reflections left out), times
+//! Beer–Lambert's exp(−4πk/λ · chord) over a sphere [`SPHERE_DIAMETER_M`] across (the
+//! volume's tint).
 
 use std::io::Cursor;
 
@@ -13,8 +20,8 @@ use image::{ImageFormat, RgbImage};
 
 use nklut_optics::encoding::srgb_decode;
 
-/// Side of one preview sphere in pixels.
-pub const PREVIEW_PX: u32 = 81;
+/// Side of one preview sphere in pixels (shown at this size on the material pages).
+pub const PREVIEW_PX: u32 = 256;
 
 /// Linear radiance of the background around the spheres (mid grey once encoded).
 const BACKGROUND: f64 = 0.18;
@@ -65,6 +72,51 @@ struct Texel {
 pub struct SphereLayout {
     size: u32,
     texels: Vec<Option<Texel>>,
+    environment: Environment,
+}
+
+/// The diameter of the preview sphere for the volume's absorption: 2 cm.
+pub const SPHERE_DIAMETER_M: f64 = 0.02;
+
+/// The direction `incident` (unit) refracted through a surface of unit `normal` (facing
+/// against it) from index 1 into relative index `eta` = n_from / n_to; `None` at total
+/// internal reflection.
+fn refract(incident: [f64; 3], normal: [f64; 3], eta: f64) -> Option<[f64; 3]> {
+    let cos_i = -(incident[0] * normal[0] + incident[1] * normal[1] + incident[2] * normal[2]);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    (k >= 0.0).then(|| std::array::from_fn(|c| eta * incident[c] + (eta * cos_i - k.sqrt()) * normal[c]))
+}
+
+/// Per pixel of the layout's sphere (`None` outside it), per channel: the radiance that
+/// comes through a dielectric of `index` (n, k per channel at `nanometres`) before the
+/// (1 − F)² of the two surfaces — the environment along the ray refracted in at the pixel
+/// and out where it leaves (unit sphere, view along −z), times exp(−4πk/λ · chord) with the
+/// chord 2·cos θₜ of the sphere [`SPHERE_DIAMETER_M`] across. A channel without a finite
+/// n ≥ 1 passes nothing.
+pub fn transmitted(layout: &SphereLayout, index: &nklut_optics::spectrum::ChannelIndex, nanometres: [f64; 3]) -> Vec<Option<[f64; 3]>> {
+    let size = layout.size;
+    (0..size * size)
+        .map(|i| {
+            let normal = pixel_normal(i % size, i / size, size)?;
+            Some(std::array::from_fn(|c| {
+                let (n, k) = (index[c].n, index[c].k);
+                if !(n >= 1.0) || !n.is_finite() {
+                    return 0.0;
+                }
+                let inside = match refract([0.0, 0.0, -1.0], normal, 1.0 / n) {
+                    Some(t) => t,
+                    None => return 0.0,
+                };
+                // The chord from the entry point (= the normal on a unit sphere) along t.
+                let cos_t = -(inside[0] * normal[0] + inside[1] * normal[1] + inside[2] * normal[2]);
+                let chord = 2.0 * cos_t;
+                let exit: [f64; 3] = std::array::from_fn(|a| normal[a] + chord * inside[a]);
+                let out = refract(inside, exit.map(|v| -v), n).unwrap_or(inside);
+                let alpha = 4.0 * std::f64::consts::PI * k.max(0.0) / (nanometres[c] * 1e-9);
+                layout.environment.radiance(out) * (-alpha * chord * SPHERE_DIAMETER_M / 2.0).exp()
+            }))
+        })
+        .collect()
 }
 
 /// cos θ at the centre of pixel (`px`, `py`) of a sphere `size` pixels wide, `None`
@@ -90,7 +142,7 @@ impl SphereLayout {
                 Some(Texel { lower, weight: position - lower as f64, radiance: environment.radiance(reflected) })
             })
             .collect();
-        Self { size, texels }
+        Self { size, texels, environment }
     }
 
     pub fn size(&self) -> u32 {
@@ -103,9 +155,14 @@ impl Texel {
     /// samples, times the environment's radiance.
     #[inline(always)]
     fn shade(&self, curve: &[[f64; 3]]) -> [f64; 3] {
+        self.reflectance(curve).map(|f| f * self.radiance)
+    }
+
+    /// F(θ) of this pixel, interpolated on the curve.
+    #[inline(always)]
+    fn reflectance(&self, curve: &[[f64; 3]]) -> [f64; 3] {
         let (a, b) = (curve[self.lower], curve[self.lower + 1]);
-        let channel = |c: usize| (a[c] + (b[c] - a[c]) * self.weight) * self.radiance;
-        [channel(0), channel(1), channel(2)]
+        std::array::from_fn(|c| a[c] + (b[c] - a[c]) * self.weight)
     }
 }
 
@@ -161,6 +218,12 @@ fn code_table() -> &'static CodeTable {
 
 /// Spheres side by side, one per curve, in one image `size · curves` pixels wide.
 pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
+    sheet_through(layout, curves, None)
+}
+
+/// [`sheet`] with, where `through` is given ([`transmitted`] of the material), the light
+/// that passes through each sphere added: (1 − F(θ))² times it, per channel.
+pub fn sheet_through(layout: &SphereLayout, curves: &[&[[f64; 3]]], through: Option<&[Option<[f64; 3]>]>) -> RgbImage {
     let size = layout.size() as usize;
     let width = size * curves.len();
     let mut image = RgbImage::new(width as u32, size as u32);
@@ -171,9 +234,16 @@ pub fn sheet(layout: &SphereLayout, curves: &[&[[f64; 3]]]) -> RgbImage {
     for (i, curve) in curves.iter().enumerate() {
         for (y, row) in layout.texels.chunks(size).enumerate() {
             let start = 3 * (y * width + i * size);
-            for (pixel, texel) in bytes[start..start + 3 * size].chunks_exact_mut(3).zip(row) {
+            for (x, (pixel, texel)) in bytes[start..start + 3 * size].chunks_exact_mut(3).zip(row).enumerate() {
                 let rgb = texel.map_or(background, |t| {
-                    let [r, g, b] = t.shade(curve);
+                    let mut rgb = t.shade(curve);
+                    if let Some(Some(passed)) = through.map(|p| p[y * size + x]) {
+                        let f = t.reflectance(curve);
+                        for c in 0..3 {
+                            rgb[c] += (1.0 - f[c]).powi(2) * passed[c];
+                        }
+                    }
+                    let [r, g, b] = rgb;
                     [table.encode(r), table.encode(g), table.encode(b)]
                 });
                 pixel.copy_from_slice(&rgb);
@@ -257,6 +327,39 @@ mod tests {
         let png = png(&image).unwrap();
         assert_eq!(&png[1..4], b"PNG");
         assert!(data_uri(&png).starts_with("data:image/png;base64,iVBOR"));
+    }
+
+    /// A glass sphere (n 1.5, k 0) under a uniform sky of 1: the centre shows
+    /// F0 + (1 − F0)² = 0.04 + 0.9216 = 0.9616, not a black ball. With k = 1e-6 at 550 nm the
+    /// centre ray crosses the whole 2 cm: exp(−4π · 1e-6 / 550e-9 · 0.02) = 0.6333 of it
+    /// passes. In the studio the centre sees straight through to the rim light behind
+    /// (0.7) and reflects the soft box (0.9): 0.9 · 0.04 + 0.9216 · 0.7.
+    #[test]
+    fn a_dielectric_is_seen_through() {
+        let theta = theta_grid(91);
+        let curve: Vec<[f64; 3]> = theta.iter().map(|t| [exact(1.5, 0.0, t.to_radians().cos()); 3]).collect();
+        let size = 95;
+        let clear = [nklut_optics::spectrum::Index::new(1.5, 0.0); 3];
+        let nm = [550.0; 3];
+        let layout = SphereLayout::new(size, theta.len(), Environment::Uniform(1.0));
+        let through = transmitted(&layout, &clear, nm);
+        assert!(through[0].is_none(), "outside the disc");
+        let centre = (size / 2 * size + size / 2) as usize;
+        assert!((through[centre].unwrap()[0] - 1.0).abs() < 1e-12);
+        let image = sheet_through(&layout, &[&curve], Some(&through));
+        assert_eq!(image.get_pixel(size / 2, size / 2).0[0], encode8(0.04 + 0.96 * 0.96));
+        let tinted = [nklut_optics::spectrum::Index::new(1.5, 1e-6); 3];
+        let passed = transmitted(&layout, &tinted, nm)[centre].unwrap()[1];
+        // The centre pixel of an odd size looks along the axis: the chord is the diameter.
+        assert_eq!(pixel_normal(size / 2, size / 2, size).unwrap(), [0.0, 0.0, 1.0]);
+        let expected = (-4.0 * std::f64::consts::PI * 1e-6 / 550e-9 * 0.02).exp();
+        assert!((passed - expected).abs() < 1e-12 && (expected - 0.6333).abs() < 1e-3, "{passed} vs {expected}");
+        let studio = SphereLayout::new(size, theta.len(), Environment::Studio);
+        let image = sheet_through(&studio, &[&curve], Some(&transmitted(&studio, &clear, nm)));
+        assert_eq!(image.get_pixel(size / 2, size / 2).0[1], encode8(0.9 * 0.04 + 0.96 * 0.96 * 0.7));
+        // A conductor-like index (n < 1) passes nothing: the plain reflection.
+        let metal = [nklut_optics::spectrum::Index::new(0.2, 3.0); 3];
+        assert!(transmitted(&layout, &metal, nm)[centre].unwrap().iter().all(|&v| v == 0.0));
     }
 
     #[test]
