@@ -1,25 +1,50 @@
 // Screen-space ground-truth ambient occlusion (GTAO; Jimenez, Wu, Pesce and Jarabo,
 // "Practical Real-Time Strategies for Accurate Indirect Occlusion", SIGGRAPH 2016 course,
-// §3–4, Algorithm 1). The derivation and the f64/f32 CPU twin, one body for both, are in
-// crates/effects/src/ao/gtao.rs (`pixel_visibility`, `slice_visibility`,
-// `texel_plane_point`); this file performs the same operations in the same order.
+// §3–4, Algorithm 1) with the heuristics engines add (XeGTAO, Intel 2021: radius
+// multiplier, falloff, sample distribution power and start offset, thin-occluder
+// compensation, final power, the 5 % lerp of |n_φ|, Hilbert-R2 noise per pixel and frame;
+// HDRP's screen-radius clamp). The derivation and the f64/f32 CPU twin, one body for both,
+// are in crates/effects/src/ao/gtao.rs (`pixel_visibility`, `frame_visibility`,
+// `slice_visibility`, `texel_plane_point`, `hilbert_index`, `noise`); this file performs
+// the same operations in the same order, function for function, line for line.
 //
 // Per pixel of a G-buffer of view-space points and unit normals (x right, y up, the camera
 // looking down −z): `slices` slice planes turning evenly about the view vector v; in each,
 // `steps` samples per side along the slice's image direction out to the projected radius,
 // each taking the point where the ray through its own position meets its texel's plane;
-// the horizons they raise (within `radius`) give the slice's open part by the paper's
-// eq. 10, weighted by the projected normal's length; the result is the mean over slices.
-// One invocation per pixel; the output is the accessibility, or −1 where no surface is.
+// the horizons they raise (within the radius, or weighted by the falloff) give the slice's
+// open part by the paper's eq. 10, weighted by the projected normal's length; one frame's
+// value is the mean over slices raised to the final power.
+//
+// Accumulation: one dispatch per frame (`params.frame` of `params.frames`). Frame 0 writes
+// its value, each later frame adds its own to the running sum in `accessibility`, and the
+// last divides by the frame count: the CPU body's `total = total + frame_visibility(…)`
+// over frames 0, 1, …, then `total / frames`, the same additions in the same order. Without
+// noise there is one frame at the fixed offsets (½, 1). The output is the accessibility, or
+// −1 where no surface is.
+
+#import contracts
 
 struct GtaoParams {
     width: u32,
     height: u32,
     slices: u32,
     steps: u32,
-    focal: f32,   // focal length in pixels
-    radius: f32,  // occluders within this distance count (view-space units)
-    pad0: f32,
+    frame: u32,     // this dispatch's frame, 0 … frames − 1
+    frames: u32,    // frames accumulated (1 without noise)
+    noise: u32,     // 1: per-pixel Hilbert-R2 noise; 0: Algorithm 1's fixed offsets
+    pad0: u32,
+    focal: f32,     // focal length in pixels
+    radius: f32,    // search radius (view-space units), before the multiplier
+    radius_multiplier: f32,
+    falloff_range: f32,       // 0: the hard cut
+    distribution_power: f32,  // 1: samples evenly spaced
+    start_pixels: f32,
+    thin_occluder: f32,
+    final_power: f32,
+    normal_lerp: f32,
+    min_radius_pixels: f32,
+    max_radius_pixels: f32,   // the largest f32 where unclamped
     pad1: f32,
 }
 
@@ -34,9 +59,6 @@ struct GSample {
 @group(0) @binding(1) var<storage, read> gbuffer: array<GSample>;
 @group(0) @binding(2) var<storage, read_write> accessibility: array<f32>;
 
-const GTAO_PI: f32 = 3.141592653589793;
-const GTAO_HALF_PI: f32 = 1.5707963267948966;
-
 // Eq. 10: a slice's open fraction weighted by the projected normal's length, between the
 // horizons h_minus ≤ 0 ≤ h_plus (angles from v), the normal at angle gamma.
 fn slice_visibility(h_minus: f32, h_plus: f32, gamma: f32, projected_length: f32) -> f32 {
@@ -45,6 +67,47 @@ fn slice_visibility(h_minus: f32, h_plus: f32, gamma: f32, projected_length: f32
     let side_minus = -cos(2.0 * h_minus - gamma) + cos_g + 2.0 * h_minus * sin_g;
     let side_plus = -cos(2.0 * h_plus - gamma) + cos_g + 2.0 * h_plus * sin_g;
     return projected_length * 0.25 * (side_minus + side_plus);
+}
+
+// The position of pixel (x, y) mod GTAO_HILBERT_WIDTH along the Hilbert curve that fills the
+// tile.
+fn hilbert_index(px: u32, py: u32) -> u32 {
+    var x = px % GTAO_HILBERT_WIDTH;
+    var y = py % GTAO_HILBERT_WIDTH;
+    var index = 0u;
+    var level = GTAO_HILBERT_WIDTH / 2u;
+    while level > 0u {
+        let right = select(0u, 1u, (x & level) != 0u);
+        let up = select(0u, 1u, (y & level) != 0u);
+        index += level * level * ((3u * right) ^ up);
+        if up == 0u {
+            if right == 1u {
+                x = GTAO_HILBERT_WIDTH - 1u - x;
+                y = GTAO_HILBERT_WIDTH - 1u - y;
+            }
+            let swap = x;
+            x = y;
+            y = swap;
+        }
+        level /= 2u;
+    }
+    return index;
+}
+
+fn fraction(x: f32) -> f32 {
+    return x - floor(x);
+}
+
+// Pixel (x, y)'s noise in `frame`: (slice rotation, step offset), each in [0, 1).
+fn noise(x: u32, y: u32, frame: u32) -> vec2<f32> {
+    let index = hilbert_index(x, y) + GTAO_NOISE_FRAME_STRIDE * (frame % GTAO_NOISE_PERIOD);
+    let i = f32(index);
+    return vec2<f32>(fraction(0.5 + i * GTAO_R2.x), fraction(0.5 + i * GTAO_R2.y));
+}
+
+// WGSL's pow written out, as the f32 twin's `power`: exp2(p·log2 m).
+fn power(m: f32, p: f32) -> f32 {
+    return exp2(p * log2(m));
 }
 
 // Where the ray through pixel coordinates (x, y) meets the plane of the texel sample q;
@@ -76,13 +139,11 @@ fn gtao_texel(x: f32, y: f32) -> i32 {
     return i32(index);
 }
 
-fn pixel_visibility(x: u32, y: u32) -> f32 {
+// One frame's accessibility at the covered pixel `here_index` = (x, y) with slice rotation
+// offsets.x and step offset offsets.y.
+fn frame_visibility(here_index: i32, x: u32, y: u32, offsets: vec2<f32>) -> f32 {
     let px = f32(x);
     let py = f32(y);
-    let here_index = gtao_texel(px, py);
-    if here_index < 0 {
-        return -1.0;
-    }
     let here = gbuffer[here_index];
     let position = here.position.xyz;
     let distance = sqrt(dot(position, position));
@@ -92,14 +153,23 @@ fn pixel_visibility(x: u32, y: u32) -> f32 {
     }
     let v = -position / distance;
     let n = here.normal.xyz;
-    let radius_pixels = params.radius * params.focal / depth;
-    let radius2 = params.radius * params.radius;
+    let radius = params.radius * params.radius_multiplier;
+    let radius_pixels_unclamped = radius * params.focal / depth;
+    if radius_pixels_unclamped < params.min_radius_pixels {
+        return 1.0;
+    }
+    let radius_pixels = min(radius_pixels_unclamped, params.max_radius_pixels);
+    let radius2 = radius * radius;
+    let hard_cut = !(params.falloff_range > 0.0);
+    let thickness = 1.0 + params.thin_occluder;
+    let uniform_steps = params.distribution_power == 1.0;
+    let steps = f32(params.steps);
     let e1_raw = vec3<f32>(1.0, 0.0, 0.0) - v.x * v;
     let e1 = e1_raw / sqrt(dot(e1_raw, e1_raw));
     let e2 = cross(v, e1);
     var total = 0.0;
     for (var slice = 0u; slice < params.slices; slice++) {
-        let phi = GTAO_PI * (f32(slice) + 0.5) / f32(params.slices);
+        let phi = GTAO_PI * (f32(slice) + offsets.x) / f32(params.slices);
         let ortho = e1 * cos(phi) + sin(phi) * e2;
         let screen_x = ortho.x * depth + position.x * ortho.z;
         let screen_y = -(ortho.y * depth + position.y * ortho.z);
@@ -121,10 +191,24 @@ fn pixel_visibility(x: u32, y: u32) -> f32 {
             sign = -1.0;
         }
         let gamma = sign * acos(cos_gamma);
-        var cos_plus = cos(gamma + GTAO_HALF_PI);
-        var cos_minus = cos(gamma - GTAO_HALF_PI);
-        for (var step = 1u; step <= params.steps; step++) {
-            let t = radius_pixels * f32(step) / f32(params.steps);
+        // Horizon cosines, from the tangent plane: θ = γ + π/2 (plus side), γ − π/2 (minus).
+        let low_plus = cos(gamma + GTAO_HALF_PI);
+        let low_minus = cos(gamma - GTAO_HALF_PI);
+        var cos_plus = low_plus;
+        var cos_minus = low_minus;
+        for (var step = 0u; step < params.steps; step++) {
+            var offset = offsets.y;
+            if params.noise != 0u {
+                offset = fraction(offsets.y + f32(slice + step * params.steps) * GTAO_R1);
+            }
+            let position_in_steps = f32(step) + offset;
+            var t: f32;
+            if uniform_steps {
+                t = radius_pixels * position_in_steps / steps;
+            } else {
+                t = radius_pixels * power(position_in_steps / steps, params.distribution_power);
+            }
+            t = t + params.start_pixels;
             for (var k = 0u; k < 2u; k++) {
                 let side = select(-1.0, 1.0, k == 0u);
                 let sample_x = px + 0.5 + side * t * c;
@@ -141,21 +225,39 @@ fn pixel_visibility(x: u32, y: u32) -> f32 {
                 let q = gbuffer[q_index];
                 let delta = texel_plane_point(q, sample_x, sample_y, params.width, params.height, params.focal) - position;
                 let d2 = dot(delta, delta);
-                if d2 > 0.0 && d2 < radius2 {
-                    let cos_h = dot(delta, v) / sqrt(d2);
-                    if side > 0.0 {
-                        cos_plus = max(cos_plus, cos_h);
-                    } else {
-                        cos_minus = max(cos_minus, cos_h);
+                if !(d2 > 0.0) {
+                    continue;
+                }
+                // The distance the cut and the falloff see: the depth offset stretched.
+                let thick = vec3<f32>(delta.x, delta.y, delta.z * thickness);
+                let thick2 = dot(thick, thick);
+                var cos_h = dot(delta, v) / sqrt(d2);
+                let low = select(low_minus, low_plus, side > 0.0);
+                if hard_cut {
+                    if !(thick2 < radius2) {
+                        continue;
                     }
+                } else {
+                    let weight = clamp((radius - sqrt(thick2)) / (params.falloff_range * radius), 0.0, 1.0);
+                    cos_h = low + weight * (cos_h - low);
+                }
+                if side > 0.0 {
+                    cos_plus = max(cos_plus, cos_h);
+                } else {
+                    cos_minus = max(cos_minus, cos_h);
                 }
             }
         }
         let h_plus = gamma + min(acos(clamp(cos_plus, -1.0, 1.0)) - gamma, GTAO_HALF_PI);
         let h_minus = gamma + max(-acos(clamp(cos_minus, -1.0, 1.0)) - gamma, -GTAO_HALF_PI);
-        total = total + slice_visibility(h_minus, h_plus, gamma, projected_length);
+        let weight = projected_length + params.normal_lerp * (1.0 - projected_length);
+        total = total + slice_visibility(h_minus, h_plus, gamma, weight);
     }
-    return clamp(total / f32(params.slices), 0.0, 1.0);
+    let open = clamp(total / f32(params.slices), 0.0, 1.0);
+    if params.final_power == 1.0 {
+        return open;
+    }
+    return power(open, params.final_power);
 }
 
 @compute @workgroup_size(8, 8)
@@ -163,5 +265,22 @@ fn cs_gtao(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    accessibility[id.y * params.width + id.x] = pixel_visibility(id.x, id.y);
+    let pixel = id.y * params.width + id.x;
+    let here_index = gtao_texel(f32(id.x), f32(id.y));
+    if here_index < 0 {
+        accessibility[pixel] = -1.0;
+        return;
+    }
+    var offsets = vec2<f32>(0.5, 1.0);
+    if params.noise != 0u {
+        offsets = noise(id.x, id.y, params.frame);
+    }
+    var total = frame_visibility(here_index, id.x, id.y, offsets);
+    if params.frame > 0u {
+        total = accessibility[pixel] + total;
+    }
+    if params.frame + 1u == params.frames {
+        total = total / f32(params.frames);
+    }
+    accessibility[pixel] = total;
 }

@@ -352,11 +352,11 @@ mod gpu_cli {
             only: Option<String>,
             /// AO scenes timed as they are (their surfel pass, 1–3 passes, and GTAO where
             /// they name it), on the same run.
-            #[arg(long, num_args = 0.., default_values = ["scenes/ao-bunny.yaml", "scenes/ao-sculpture.yaml"])]
+            #[arg(long, num_args = 0.., default_values = ["scenes/ao-bunny.yaml", "scenes/ao-sculpture.yaml", "scenes/ao-bunny-gtao.yaml"])]
             scenes: Vec<PathBuf>,
-            /// Square frame sizes GTAO is timed at.
-            #[arg(long, value_delimiter = ',', default_values_t = [256u32, 1024])]
-            gtao_resolutions: Vec<u32>,
+            /// Frame sizes GTAO is timed at: N (N × N) or WxH, comma-separated.
+            #[arg(long, value_delimiter = ',', value_parser = nklut::gpu::ao_timing::frame_size, default_values = ["256", "1024", "1920x1080"])]
+            gtao_resolutions: Vec<[u32; 2]>,
             #[command(flatten)]
             adapter: AdapterArg,
         },
@@ -467,7 +467,7 @@ mod gpu_cli {
                     let name = file.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
                     rows.extend(scene_rows(&device, &name, &scene, &gtao_resolutions, &scene_settings, &mut |line| eprintln!("{line}"))?);
                 }
-                for path in ao_timing_table(&rows, &device).write(&paths.out, "ao_timing", false)? {
+                for path in ao_timing_table(&rows, &device.line).write(&paths.out, "ao_timing", false)? {
                     eprintln!("  wrote {}", path.display());
                 }
                 return Ok(());

@@ -320,8 +320,10 @@ fn the_wgsl_gtao_matches_its_cpu_twin_on_a_frame() {
 }
 
 /// `ao_timing`'s scene rows: an AO scene's surfel pass (1–2 passes, brute force and tree)
-/// and GTAO at each resolution, timed in one run; GTAO's rows count the pixels that see a
-/// surface (as many as the coverage has), its parameters, and take one dispatch.
+/// and GTAO of each configuration at each resolution (square and not), timed in one run;
+/// GTAO's rows count the pixels that see a surface (as many as the coverage has), carry the
+/// configuration, time one frame's dispatch, and state the frames to convergence (1 for
+/// Algorithm 1, the frames the scene names for XeGTAO High) and that time × the frames.
 #[test]
 fn ao_timing_times_the_scene_surfels_beside_gtao_at_each_resolution() {
     use nklut::effects::ao::experiment::{AoSettings, SurfelScene};
@@ -330,29 +332,151 @@ fn ao_timing_times_the_scene_surfels_beside_gtao_at_each_resolution() {
     use nklut::scene::Scene;
     use std::path::Path;
     let Some(gpu) = device() else { return };
-    let text = "camera: { axis: [0.3, 1, 0.2], distance: 3, frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: { radius: 0.5, slices: 2, steps: 4 } } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n";
+    let text = "camera: { axis: [0.3, 1, 0.2], distance: 3, frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1, gtao: [{ radius: 0.5, slices: 2, steps: 4 }, { preset: xe-high, radius: 0.5, frames: 8 }] } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n";
     let scene = Scene::parse(text, Path::new("t.yaml")).unwrap();
     let settings = SweepSettings { passes: 2, repeats: 2, ..SweepSettings::default() };
-    let rows = scene_rows(&gpu, "t", &scene, &[16, 32], &settings, &mut |_| {}).unwrap();
+    let sizes = [[16u32, 16], [32, 24]];
+    let rows = scene_rows(&gpu, "t", &scene, &sizes, &settings, &mut |_| {}).unwrap();
     let names: Vec<(&str, u32)> = rows.iter().map(|r| (r.gather.name(), r.passes)).collect();
-    assert_eq!(names, [("brute_force", 1), ("brute_force", 2), ("hierarchy", 1), ("hierarchy", 2), ("gtao", 1), ("gtao", 1)]);
+    assert_eq!(
+        names,
+        [("brute_force", 1), ("brute_force", 2), ("hierarchy", 1), ("hierarchy", 2), ("gtao", 1), ("gtao", 1), ("gtao", 1), ("gtao", 1)]
+    );
     let stage = SurfelScene::new(&scene, &AoSettings::default().budget).unwrap();
-    for (row, size) in rows[4..].iter().zip([16u32, 32]) {
-        let covered = stage.coverage(&Camera::new(&scene.camera, 0, size, size)).iter().flatten().count();
+    let configurations = &scene.effects.as_ref().unwrap().ambient_occlusion.as_ref().unwrap().gtao;
+    for (pair, [width, height]) in rows[4..].chunks(2).zip(sizes) {
+        let covered = stage.coverage(&Camera::new(&scene.camera, 0, width, height)).iter().flatten().count();
         assert!(covered > 0);
-        assert_eq!(
-            row.gather,
-            Timed::Gtao {
-                gtao: scene.effects.as_ref().unwrap().ambient_occlusion.as_ref().unwrap().gtao[0],
-                resolution: [size, size],
-                covered
-            }
-        );
-        assert_eq!((row.dispatches, row.surfels), (1, 6 * 9));
+        for (row, (g, frames)) in pair.iter().zip(configurations.iter().zip([1, 8])) {
+            assert_eq!(row.gather, Timed::Gtao { gtao: *g, resolution: [width, height], covered });
+            assert_eq!((row.dispatches, row.surfels, row.frames()), (1, 6 * 9, frames));
+            assert_eq!(row.convergence_ms(), Some(row.median_ms * frames as f64));
+        }
     }
+    assert!(rows[..4].iter().all(|r| r.frames() == 0 && r.convergence_ms().is_none()));
     assert!(rows.iter().all(|r| r.median_ms.is_finite() && r.median_ms > 0.0 && r.spread_ms >= 0.0));
-    let table = ao_timing_table(&rows, &gpu);
-    for column in ["emitters", "width", "height", "covered_pixels", "slices", "steps", "median_ms"] {
+    let table = ao_timing_table(&rows, &gpu.line);
+    for column in
+        ["emitters", "width", "height", "covered_pixels", "slices", "steps", "preset", "radius", "frames", "median_ms", "convergence_ms"]
+    {
         assert!(table.column(column).is_some(), "{column}");
+    }
+}
+
+/// Every GTAO configuration the scenes name runs on the GPU as its f32 CPU twin runs it
+/// (`effects::ao::gtao::pixel_visibility`, one body for f64 and f32): each preset (bare,
+/// XeGTAO Low, Medium, High, Ultra) in one frame and accumulated over frames of per-pixel
+/// Hilbert-R2 noise, and XeGTAO High with the heuristics the presets leave at their
+/// defaults set (thin-occluder compensation 0.7, the screen radius clamped to [6, 14] px)
+/// and with the hard cut instead of the falloff, over the frame of a cube on a slab, 96×64.
+///
+/// Bound, per covered pixel. Both run the same f32 operations in the same order; they part
+/// by the GPU's acos, cos, sin, exp2 and log2 (a few ulp; acos near ±1 magnifies them) and
+/// any multiply-add the GPU fuses: |Δ| ≤ 2e-4, as the bare pass (measured there 2e-5).
+/// Except where such a difference moves a sample across a texel edge: that sample then
+/// reads another texel, and at most one slice of one frame changes, by at most its share
+/// of the mean (eq. 10 of one slice is at most 1, so 1/slices), raised through the final
+/// power (|x^p − y^p| ≤ p |x − y| on [0, 1] for p ≥ 1): |Δ| ≤ p/slices. At most 1 % of the
+/// pixels may do so (measured below).
+#[test]
+fn the_wgsl_gtao_matches_its_cpu_twin_for_every_preset_one_frame_and_accumulated() {
+    use nklut::budget::MemoryBudget;
+    use nklut::effects::ao::experiment::SurfelScene;
+    use nklut::effects::ao::gtao::{gtao, GBuffer, Parameters, Preset};
+    use nklut::effects::trace::Camera;
+    use nklut::gpu::passes::gtao::GtaoPass;
+    use nklut::scene::Scene;
+    use std::path::Path;
+    let Some(gpu) = device() else { return };
+    let text = "camera: { axis: [0.3, 1, 0.2], distance: 3, frames: 1 }\nmeasurements: [image_error]\neffects: { ambient_occlusion: { passes: 1 } }\nobjects:\n  - { mesh: cube, diffuse: [0.8, 0.8, 0.8], subdivide: 1 }\n  - { mesh: cube, scale: [2, 0.05, 2], position: [0, -0.55, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2 }\n";
+    let scene = Scene::parse(text, Path::new("gtao.yaml")).unwrap();
+    let stage = SurfelScene::new(&scene, &MemoryBudget::of_machine()).unwrap();
+    let camera = Camera::new(&scene.camera, 0, 96, 64);
+    let g = GBuffer::from_coverage(&camera, &stage.coverage(&camera), &stage.surfels).narrowed();
+    let mut configurations = Vec::new();
+    for preset in Preset::ALL {
+        let [slices, steps] = preset.slices_steps();
+        let p = Parameters { radius: 0.5, slices, steps, heuristics: preset.heuristics() };
+        let mut one = p;
+        one.heuristics.frames = 1;
+        configurations.push((format!("{}, 1 frame", preset.name()), one));
+        if p.heuristics.noise {
+            configurations.push((format!("{}, {} frames", preset.name(), p.heuristics.frames), p));
+        }
+    }
+    let [slices, steps] = Preset::XeHigh.slices_steps();
+    let mut clamped = Parameters { radius: 0.5, slices, steps, heuristics: Preset::XeHigh.heuristics() };
+    clamped.heuristics.thin_occluder = 0.7;
+    clamped.heuristics.min_radius_pixels = 6.0;
+    clamped.heuristics.max_radius_pixels = 14.0;
+    clamped.heuristics.frames = 16;
+    configurations.push(("xe-high, thin occluder 0.7, radius clamped to [6, 14] px, 16 frames".into(), clamped));
+    let mut hard = clamped;
+    hard.heuristics.falloff_range = 0.0;
+    configurations.push(("xe-high, hard cut, thin occluder 0.7, clamped, 16 frames".into(), hard));
+    let mut previous: Option<Vec<Option<f32>>> = None;
+    for (name, p) in configurations {
+        let pass = GtaoPass::new(&gpu, &g, p.narrowed()).unwrap();
+        let expected_frames = if p.heuristics.noise { p.heuristics.frames } else { 1 };
+        assert_eq!(pass.frames(), expected_frames, "{name}");
+        let got = pass.run(&gpu).unwrap();
+        let twin = gtao(&g, p.narrowed());
+        let (mut covered, mut over, mut largest, mut sum) = (0usize, 0usize, 0.0f64, 0.0f64);
+        for (a, b) in got.iter().zip(&twin) {
+            assert_eq!(a.is_some(), b.is_some(), "{name}");
+            if let (Some(a), Some(b)) = (a, b) {
+                let d = (a - b).abs() as f64;
+                assert!((0.0..=1.0).contains(a), "{name}: {a}");
+                covered += 1;
+                over += (d > 2e-4) as usize;
+                largest = largest.max(d);
+                sum += d;
+            }
+        }
+        let crossing = p.heuristics.final_power as f64 / p.slices as f64;
+        eprintln!(
+            "{name}: {covered} pixels, |GPU − f32 twin| mean {:.2e}, largest {largest:.2e}, {over} over 2e-4 (bound for those {crossing:.2})",
+            sum / covered as f64
+        );
+        assert!(covered > 800, "{covered}");
+        assert!(over * 100 <= covered, "{name}: {over} of {covered} pixels over 2e-4");
+        assert!(largest <= crossing, "{name}: {largest}");
+        // Each configuration gives another image (the comparison tells them apart).
+        if let Some(previous) = &previous {
+            let differing = previous.iter().zip(&got).filter(|(a, b)| matches!((a, b), (Some(a), Some(b)) if (a - b).abs() > 1e-3)).count();
+            assert!(differing * 10 > covered, "{name}: only {differing} pixels differ from the configuration before");
+        }
+        previous = Some(got);
+    }
+}
+
+/// Parameters the pass cannot run are named errors, not panics or garbage.
+#[test]
+fn the_gtao_pass_names_the_parameters_it_refuses() {
+    use nklut::effects::ao::gtao::{GBuffer, Parameters, ViewSample};
+    use nklut::gpu::passes::gtao::GtaoPass;
+    let Some(gpu) = device() else { return };
+    let sample = Some(ViewSample { position: [0.0f32, 0.0, -2.0], normal: [0.0, 0.0, 1.0] });
+    let g = GBuffer { width: 2, height: 2, focal: 2.0f32, samples: vec![sample; 4] };
+    let bare = Parameters::bare(1.0, 2, 2).narrowed();
+    let mut nan = bare;
+    nan.heuristics.final_power = f32::NAN;
+    let error = GtaoPass::new(&gpu, &g, nan).err().expect("NaN final power");
+    assert!(error.to_string().contains("final_power"), "{error}");
+    let mut many = Parameters::bare(1.0, 2, 2).narrowed();
+    many.heuristics.noise = true;
+    many.heuristics.frames = 100_000;
+    let error = GtaoPass::new(&gpu, &g, many).err().expect("too many frames");
+    assert!(error.to_string().contains("100000 frames"), "{error}");
+    let short = GBuffer { samples: vec![sample; 3], ..g.clone() };
+    assert!(GtaoPass::new(&gpu, &short, bare).is_err());
+    // An open plane facing the eye: every pixel 1 (eq. 10 with γ = 0, h± = ±π/2), with and
+    // without noise.
+    let mut noisy = bare;
+    noisy.heuristics.noise = true;
+    noisy.heuristics.frames = 3;
+    for p in [bare, noisy] {
+        let got = GtaoPass::new(&gpu, &g, p).unwrap().run(&gpu).unwrap();
+        assert!(got.iter().all(|a| a.is_some_and(|a| (a - 1.0).abs() < 1e-6)), "{got:?}");
     }
 }

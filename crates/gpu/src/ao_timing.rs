@@ -3,9 +3,11 @@
 //! by vertex clustering and subdivided), with the fitted exponent p of time ∝ nᵖ
 //! (least squares on log t over log n) per way of gathering; and, for the AO scenes that
 //! name GTAO, on the same run, the scene's surfel pass (1–3 passes, tree and brute force)
-//! beside the screen-space GTAO pass over the scene's frame at each resolution asked for
-//! (the G-buffer from the same coverage as `ao_errors`' per-pixel figures), so that error
-//! (`ao_errors`) and time sit side by side. Time is GPU timestamps around the compute
+//! beside the screen-space GTAO pass of each configuration the scene names (every preset,
+//! bare and XeGTAO's, with its heuristics) over the scene's frame at each resolution asked
+//! for (the G-buffer from the same coverage as `ao_errors`' per-pixel figures): the time of
+//! one frame and, for the presets that accumulate frames of noise, the time to convergence
+//! (frames × one frame), so that error (`ao_errors`) and time sit side by side. Time is GPU timestamps around the compute
 //! pass where the adapter has them, else wall time from submit until the device is idle;
 //! the table says which. On a CPU rasteriser (lavapipe) the figures are only meaningful
 //! as ratios.
@@ -216,14 +218,16 @@ fn timed(settings: &SweepSettings, mut sample: impl FnMut() -> Result<f64>) -> R
 
 /// An AO scene's surfel pass (passes 1..=`settings.passes`, through the tree and, up to
 /// `settings.max_brute` surfels, by brute force) and, where the scene names GTAO, the GTAO
-/// pass of each configuration over its frame at each of `resolutions` (square), all timed
-/// in this run. A scene
-/// naming no surfel effect gives no rows.
+/// pass of each configuration (every preset and heuristic) over its frame at each of
+/// `resolutions` ([width, height]), all timed in this run. A GTAO row times one frame's
+/// dispatch (of an accumulating configuration: a frame after the first, which reads the
+/// running sum and adds to it); its time to convergence is that × the frames accumulated
+/// ([`AoTimingRow::convergence_ms`]). A scene naming no surfel effect gives no rows.
 pub fn scene_rows(
     gpu: &Gpu,
     name: &str,
     scene: &nklut_effects::scene::Scene,
-    resolutions: &[u32],
+    resolutions: &[[u32; 2]],
     settings: &SweepSettings,
     log: &mut dyn FnMut(&str),
 ) -> Result<Vec<AoTimingRow>> {
@@ -240,14 +244,18 @@ pub fn scene_rows(
     let timer = stopwatch.timer();
     let mut rows = surfel_rows(gpu, name, &stage.surfels, 1..=settings.passes, settings, &mut stopwatch, log)?;
     let configurations = effects.ambient_occlusion.as_ref().map(|a| a.gtao.clone()).unwrap_or_default();
-    for &size in resolutions {
-        let camera = Camera::new(&scene.camera, 0, size, size);
+    if configurations.is_empty() {
+        return Ok(rows);
+    }
+    for &[width, height] in resolutions {
+        let camera = Camera::new(&scene.camera, 0, width, height);
         let coverage = stage.coverage(&camera);
         let covered = coverage.iter().flatten().count();
         let gbuffer = GBuffer::from_coverage(&camera, &coverage, &stage.surfels).narrowed();
-        // The WGSL pass runs the bare preset only.
-        for &g in configurations.iter().filter(|g| g.heuristics.is_bare()) {
+        for &g in &configurations {
             let pass = GtaoPass::new(gpu, &gbuffer, Parameters::of(g).narrowed())?;
+            let frames = pass.frames();
+            let frame = frames.min(2) - 1;
             let (median_ms, spread_ms) = timed(settings, || {
                 stopwatch.time_pass(gpu, |encoder, timestamps| {
                     let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites {
@@ -255,17 +263,18 @@ pub fn scene_rows(
                         beginning_of_pass_write_index: Some(0),
                         end_of_pass_write_index: Some(1),
                     });
-                    pass.encode(encoder, writes);
+                    pass.encode_frames(encoder, frame..frame + 1, writes);
                 })
             })?;
             log(&format!(
-                "  {name} gtao {size}×{size} ({covered} covered pixels, radius {}, {} slices × {} steps): median {median_ms:.3} ms, IQR {spread_ms:.3} ms",
-                g.radius, g.slices, g.steps
+                "  {name} gtao {width}×{height} ({covered} covered pixels, {}): one frame median {median_ms:.3} ms, IQR {spread_ms:.3} ms; {frames} frames {:.1} ms",
+                g.label(),
+                median_ms * frames as f64
             ));
             rows.push(AoTimingRow {
                 mesh: name.into(),
                 surfels: n,
-                gather: Timed::Gtao { gtao: g, resolution: [size, size], covered },
+                gather: Timed::Gtao { gtao: g, resolution: [width, height], covered },
                 tree_nodes: 0,
                 passes: 1,
                 dispatches: 1,
@@ -280,9 +289,44 @@ pub fn scene_rows(
     Ok(rows)
 }
 
+impl AoTimingRow {
+    /// GTAO's frames to convergence (the frames accumulated; 1 without noise); 0 for the
+    /// surfel pass.
+    pub fn frames(&self) -> u32 {
+        match self.gather {
+            Timed::Gtao { gtao, .. } => super::passes::gtao::accumulated_frames(nklut_effects::ao::gtao::Parameters::of(gtao).narrowed()),
+            Timed::Surfels(_) => 0,
+        }
+    }
+
+    /// GTAO's time to convergence: one frame's median × [`AoTimingRow::frames`] (`None` for
+    /// the surfel pass, whose row is already its whole cost).
+    pub fn convergence_ms(&self) -> Option<f64> {
+        matches!(self.gather, Timed::Gtao { .. }).then(|| self.median_ms * self.frames() as f64)
+    }
+}
+
+/// The largest frame edge GTAO is timed at (the G-buffer of 16384² is 8 GiB).
+pub const MAX_GTAO_EDGE: u32 = 16_384;
+
+/// A frame size as the command line gives it: `N` (N × N) or `WxH` (e.g. `1920x1080`), each
+/// edge 1 to [`MAX_GTAO_EDGE`]; anything else is an error naming the text.
+pub fn frame_size(text: &str) -> Result<[u32; 2], String> {
+    let edge = |part: &str| -> Result<u32, String> {
+        match part.trim().parse::<u32>() {
+            Ok(n) if (1..=MAX_GTAO_EDGE).contains(&n) => Ok(n),
+            _ => Err(format!("frame size {text:?}: each edge must be a whole number of pixels from 1 to {MAX_GTAO_EDGE} (N or WxH)")),
+        }
+    };
+    match text.split_once(['x', '×']) {
+        Some((w, h)) => Ok([edge(w)?, edge(h)?]),
+        None => edge(text).map(|n| [n, n]),
+    }
+}
+
 /// `ao_timing.*`: one row per (mesh, way of gathering), and per scene's GTAO resolution.
-pub fn ao_timing_table(rows: &[AoTimingRow], gpu: &Gpu) -> Table {
-    let a = &gpu.line;
+pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Table {
+    let a = adapter;
     let text = |f: &dyn Fn(&AoTimingRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
     let gtao = |f: &dyn Fn(nklut_effects::scene::surfels::Gtao, [u32; 2], usize) -> i64| {
         rows.iter()
@@ -311,10 +355,39 @@ pub fn ao_timing_table(rows: &[AoTimingRow], gpu: &Gpu) -> Table {
         .integer("covered_pixels", "gtao: pixels that see a surface (0 for the surfel pass)", gtao(&|_, _, c| c as i64))
         .integer("slices", "gtao: slices per pixel (0 for the surfel pass)", gtao(&|g, _, _| g.slices as i64))
         .integer("steps", "gtao: G-buffer samples per side of a slice (0 for the surfel pass)", gtao(&|g, _, _| g.steps as i64))
+        .text(
+            "preset",
+            "gtao: the configuration's preset (bare: Algorithm 1; xe-low, xe-medium, xe-high, xe-ultra: XeGTAO's), with (modified) where the scene overrode a heuristic; empty for the surfel pass",
+            text(&|r| match r.gather {
+                Timed::Gtao { gtao, .. } if gtao.heuristics != gtao.preset.heuristics() => format!("{} (modified)", gtao.preset.name()),
+                Timed::Gtao { gtao, .. } => gtao.preset.name().to_string(),
+                Timed::Surfels(_) => String::new(),
+            }),
+        )
+        .optional_float(
+            "radius",
+            "gtao: search radius in scene units, before the preset's radius multiplier; empty for the surfel pass",
+            rows.iter()
+                .map(|r| match r.gather {
+                    Timed::Gtao { gtao, .. } => Some(gtao.radius),
+                    Timed::Surfels(_) => None,
+                })
+                .collect(),
+        )
+        .integer(
+            "frames",
+            "gtao: frames accumulated to convergence (per-pixel noise; 1 without noise); 0 for the surfel pass",
+            rows.iter().map(|r| r.frames() as i64).collect(),
+        )
         .text("timer", "timestamp (GPU timestamp queries around the compute pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
         .integer("repeats", "timed samples (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
-        .float("median_ms", "median time of one sample (ms)", rows.iter().map(|r| r.median_ms).collect())
+        .float("median_ms", "median time of one sample (ms); gtao: one frame's dispatch", rows.iter().map(|r| r.median_ms).collect())
         .float("spread_ms", "interquartile range of the samples (ms)", rows.iter().map(|r| r.spread_ms).collect())
+        .optional_float(
+            "convergence_ms",
+            "gtao: time to convergence, median_ms (one frame) x frames; empty for the surfel pass (its median_ms is its whole cost)",
+            rows.iter().map(AoTimingRow::convergence_ms).collect(),
+        )
         .optional_float(
             "fitted_exponent",
             "p of time = c n^p, least squares of ln median_ms on ln surfels over every row of the same emitters; empty with fewer than two sizes",
@@ -326,6 +399,18 @@ pub fn ao_timing_table(rows: &[AoTimingRow], gpu: &Gpu) -> Table {
 #[cfg(test)]
 mod tests {
     use super::fitted_exponent;
+
+    #[test]
+    fn frame_sizes_read_as_squares_or_width_by_height() {
+        use super::frame_size;
+        assert_eq!(frame_size("256"), Ok([256, 256]));
+        assert_eq!(frame_size("1920x1080"), Ok([1920, 1080]));
+        assert_eq!(frame_size("1920×1080"), Ok([1920, 1080]));
+        for bad in ["0", "x", "1920x", "-4", "20000", "1.5", "12x0"] {
+            let error = frame_size(bad).unwrap_err();
+            assert!(error.contains(&format!("{bad:?}")), "{error}");
+        }
+    }
 
     #[test]
     fn the_fitted_exponent_recovers_a_power_law() {

@@ -4,6 +4,7 @@
 //! sides; nothing is repeated in `shaders/` (the constants of the Fresnel methods, such as
 //! μ̄ = `fresnel::LAZANYI_COS`, come from `nklut_optics` the same way).
 
+use nklut_effects::ao::gtao::{HILBERT_WIDTH, NOISE_FRAME_STRIDE, R1, R2};
 use nklut_effects::scene::effects::MAX_DEPTH;
 use nklut_effects::scene::{LightSource, MAX_LIGHTS};
 use nklut_optics::fresnel::LAZANYI_COS;
@@ -88,6 +89,11 @@ pub const PATH_STACK: usize = MAX_DEPTH as usize + 1;
 /// an error before the pass runs (`passes::ao`).
 pub const SURFEL_STACK: usize = 64;
 
+/// The frames after which GTAO's noise repeats (XeGTAO `vaGTAO.hlsl`: `NoiseIndex =
+/// frameIndex % 64`), as `effects::ao::gtao::noise` takes them; `tests` hold this to that
+/// body (frame f and f + this give the same noise, f + half of it not).
+pub const GTAO_NOISE_PERIOD: u32 = 64;
+
 /// The module `contracts` of the shaders.
 pub fn wgsl() -> String {
     let mut text = String::from("// Generated from crates/gpu/src/contracts.rs: the numbers Rust and WGSL share.\n");
@@ -102,6 +108,14 @@ pub fn wgsl() -> String {
     // μ̄ of `f82_tint` and the cosine where `lazanyi` is exact (`fresnel::LAZANYI_COS`), as
     // the f32 the shader computes in: the shortest decimal that reads back as that f32.
     text.push_str(&format!("const LAZANYI_COS: f32 = {:?};\n", LAZANYI_COS as f32));
+    // GTAO's noise (`effects::ao::gtao::noise`) and angles, as the f32 twin rounds them.
+    text.push_str(&format!(
+        "const GTAO_HILBERT_WIDTH: u32 = {HILBERT_WIDTH}u;\nconst GTAO_NOISE_FRAME_STRIDE: u32 = {NOISE_FRAME_STRIDE}u;\nconst GTAO_NOISE_PERIOD: u32 = {GTAO_NOISE_PERIOD}u;\n"
+    ));
+    text.push_str(&format!("const GTAO_R2: vec2<f32> = vec2<f32>({:?}, {:?});\n", R2[0] as f32, R2[1] as f32));
+    text.push_str(&format!("const GTAO_R1: f32 = {:?};\n", R1 as f32));
+    text.push_str(&format!("const GTAO_PI: f32 = {:?};\n", std::f64::consts::PI as f32));
+    text.push_str(&format!("const GTAO_HALF_PI: f32 = {:?};\n", std::f64::consts::FRAC_PI_2 as f32));
     text
 }
 
@@ -132,6 +146,27 @@ mod tests {
         assert_eq!(deepest_stack(1), 2);
         assert_eq!(deepest_stack(3), 4);
         assert_eq!(deepest_stack(MAX_DEPTH), PATH_STACK);
+    }
+
+    /// GTAO's noise repeats after [`GTAO_NOISE_PERIOD`] frames in the CPU body, and not
+    /// after half as many; the module's constants read back as the f32 the twin computes in.
+    #[test]
+    fn the_gtao_constants_are_the_cpu_body_s() {
+        use nklut_effects::ao::gtao::noise;
+        for (x, y) in [(0, 0), (5, 9), (63, 17)] {
+            for frame in [0, 3, 40] {
+                assert_eq!(noise::<f32>(x, y, frame), noise::<f32>(x, y, frame + GTAO_NOISE_PERIOD));
+                assert_ne!(noise::<f32>(x, y, frame), noise::<f32>(x, y, frame + GTAO_NOISE_PERIOD / 2));
+            }
+        }
+        let text = wgsl();
+        let value = |name: &str| {
+            text.lines().find_map(|l| l.strip_prefix(&format!("const {name}: f32 = "))).unwrap().trim_end_matches(';').to_string()
+        };
+        assert_eq!(value("GTAO_R1").parse::<f32>().unwrap(), R1 as f32);
+        assert_eq!(value("GTAO_HALF_PI").parse::<f32>().unwrap(), std::f32::consts::FRAC_PI_2);
+        assert!(text.contains(&format!("const GTAO_R2: vec2<f32> = vec2<f32>({:?}, {:?});", R2[0] as f32, R2[1] as f32)));
+        assert!(text.contains("const GTAO_HILBERT_WIDTH: u32 = 64u;") && text.contains("const GTAO_NOISE_FRAME_STRIDE: u32 = 288u;"));
     }
 
     #[test]

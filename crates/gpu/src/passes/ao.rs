@@ -435,8 +435,8 @@ pub fn run_scene(
         }
         None => None,
     };
-    // The WGSL pass runs the bare preset only: the first bare configuration.
-    let gtao = match effects.ambient_occlusion.as_ref().and_then(|a| a.gtao.iter().find(|g| g.heuristics.is_bare()).copied()) {
+    // The scene's first configuration (the one pictured), every heuristic and frame of it.
+    let gtao = match effects.ambient_occlusion.as_ref().and_then(|a| a.gtao.first().copied()) {
         Some(g) => {
             use nklut_effects::ao::gtao::{gtao, GBuffer, Parameters};
             let [width, height] = scene.resolution;
@@ -447,10 +447,7 @@ pub fn run_scene(
             let twin = gtao(&gbuffer, parameters);
             let twin_difference =
                 accessibility.iter().zip(&twin).filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs() as f64)).fold(0.0, f64::max);
-            log(&format!(
-                "gtao on the GPU: {width}×{height}, radius {}, {} slices × {} steps; max |GPU − CPU twin| {twin_difference:.2e}",
-                g.radius, g.slices, g.steps
-            ));
+            log(&format!("gtao on the GPU: {width}×{height}, {}; max |GPU − CPU twin| {twin_difference:.2e}", g.label()));
             Some(SceneGtao { accessibility, twin_difference })
         }
         None => None,

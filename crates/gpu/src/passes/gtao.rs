@@ -1,14 +1,18 @@
 //! The screen-space GTAO pass (`shaders/gtao.wgsl`): per pixel of a G-buffer of view-space
-//! points and normals, the accessibility of Jimenez et al. 2016 (the derivation and the
-//! f64/f32 CPU twin are `effects::ao::gtao`).
+//! points and normals, the accessibility of Jimenez et al. 2016 with the heuristics
+//! engines add (XeGTAO; the derivation and the f64/f32 CPU twin are `effects::ao::gtao`,
+//! whose every heuristic the kernel runs: radius multiplier, falloff, sample distribution
+//! power and start offset, thin-occluder compensation, final power, the |n_φ| lerp, the
+//! screen-radius clamp, and per-pixel Hilbert-R2 noise with N-frame accumulation).
 //!
 //! Inputs: the G-buffer (per pixel a point, w = 1 where a surface is, and a unit normal),
-//! the focal length in pixels, and GTAO's parameters (radius, slices, steps). Output: per
-//! pixel the accessibility, `None` where no surface is ([`GtaoPass::run`]). One dispatch
-//! of 8×8 workgroups; sizes are checked against the device's limits before any
-//! allocation; wgpu errors come back as `Result`s. The kernel runs Algorithm 1 without the
-//! heuristics of `effects::ao::gtao::Heuristics` (the bare preset); other parameters are
-//! refused with an error.
+//! the focal length in pixels, and GTAO's parameters ([`Parameters`]), in the uniform
+//! `GtaoParams` (one copy per frame, each with its frame index, bound at its own offset).
+//! Output: per pixel the accessibility, `None` where no surface is ([`GtaoPass::run`]),
+//! the mean of the accumulated frames. One dispatch of 8×8 workgroups per frame, every frame
+//! adding to the running sum in the output buffer and the last dividing by the frame count
+//! (the CPU body's order). Sizes are checked against the device's limits before any
+//! allocation; wgpu errors come back as `Result`s.
 
 use anyhow::{bail, Result};
 use bytemuck::{Pod, Zeroable};
@@ -19,11 +23,13 @@ use crate::compose::compute_pipelines;
 use crate::context::Gpu;
 use crate::render::{check_buffer_size, readback_buffer};
 use nklut_effects::ao::gtao::{GBuffer, Parameters};
+use nklut_effects::scene::surfels::MAX_GTAO_FRAMES;
 
 /// The workgroup's edge in pixels (`@workgroup_size(8, 8)`).
 const TILE: u32 = 8;
 
-/// The shader's uniform `GtaoParams`.
+/// The shader's uniform `GtaoParams`: the frame's size, the parameters and heuristics of
+/// [`Parameters`] as the f32 twin holds them, and which frame of how many this dispatch is.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 struct GtaoParams {
@@ -31,9 +37,94 @@ struct GtaoParams {
     height: u32,
     slices: u32,
     steps: u32,
+    frame: u32,
+    frames: u32,
+    noise: u32,
+    pad0: u32,
     focal: f32,
     radius: f32,
-    pad: [f32; 2],
+    radius_multiplier: f32,
+    falloff_range: f32,
+    distribution_power: f32,
+    start_pixels: f32,
+    thin_occluder: f32,
+    final_power: f32,
+    normal_lerp: f32,
+    min_radius_pixels: f32,
+    max_radius_pixels: f32,
+    pad1: f32,
+}
+
+impl GtaoParams {
+    /// Frame `frame`'s uniform for a `width` × `height` G-buffer of focal length `focal`.
+    /// An unclamped screen radius (∞) is the largest f32: `min` with it leaves every finite
+    /// radius as it is, as `min` with ∞ does on the CPU, without an ∞ in the shader.
+    fn new(width: u32, height: u32, focal: f32, p: Parameters<f32>, frame: u32) -> GtaoParams {
+        let h = p.heuristics;
+        GtaoParams {
+            width,
+            height,
+            slices: p.slices,
+            steps: p.steps,
+            frame,
+            frames: accumulated_frames(p),
+            noise: u32::from(h.noise),
+            pad0: 0,
+            focal,
+            radius: p.radius,
+            radius_multiplier: h.radius_multiplier,
+            falloff_range: h.falloff_range,
+            distribution_power: h.distribution_power,
+            start_pixels: h.start_pixels,
+            thin_occluder: h.thin_occluder,
+            final_power: h.final_power,
+            normal_lerp: h.normal_lerp,
+            min_radius_pixels: h.min_radius_pixels,
+            max_radius_pixels: h.max_radius_pixels.min(f32::MAX),
+            pad1: 0.0,
+        }
+    }
+}
+
+/// The frames `effects::ao::gtao::pixel_visibility` accumulates: `frames` (at least 1)
+/// with noise, one without (every frame the same).
+pub fn accumulated_frames(p: Parameters<f32>) -> u32 {
+    if p.heuristics.noise {
+        p.heuristics.frames.max(1)
+    } else {
+        1
+    }
+}
+
+/// Why the pass refuses `p`: a number that is not finite (or ∞ where only the screen-radius
+/// maximum may be), or more frames than a scene may accumulate.
+fn check_parameters(p: &Parameters<f32>, focal: f32) -> Result<()> {
+    let h = &p.heuristics;
+    let finite = [
+        ("focal length", focal),
+        ("radius", p.radius),
+        ("radius_multiplier", h.radius_multiplier),
+        ("falloff_range", h.falloff_range),
+        ("distribution_power", h.distribution_power),
+        ("start_pixels", h.start_pixels),
+        ("thin_occluder", h.thin_occluder),
+        ("final_power", h.final_power),
+        ("normal_lerp", h.normal_lerp),
+        ("min_radius_pixels", h.min_radius_pixels),
+    ];
+    for (name, value) in finite {
+        if !value.is_finite() {
+            bail!("GTAO's {name} is {value}: the GPU pass takes finite numbers");
+        }
+    }
+    if h.max_radius_pixels.is_nan() {
+        bail!("GTAO's max_radius_pixels is NaN");
+    }
+    let frames = accumulated_frames(*p);
+    if frames > MAX_GTAO_FRAMES {
+        bail!("GTAO accumulates {frames} frames; at most {MAX_GTAO_FRAMES}");
+    }
+    Ok(())
 }
 
 /// A G-buffer pixel as the shader reads it (`GSample`).
@@ -49,7 +140,8 @@ pub struct GtaoPass {
     width: u32,
     height: u32,
     pipeline: wgpu::ComputePipeline,
-    bind_group: wgpu::BindGroup,
+    /// One per accumulated frame: the uniform at that frame's offset.
+    bind_groups: Vec<wgpu::BindGroup>,
     output: wgpu::Buffer,
 }
 
@@ -70,11 +162,7 @@ impl Pass for GtaoPass {
 impl GtaoPass {
     /// Upload `gbuffer` and compile the kernel for `parameters`.
     pub fn new(gpu: &Gpu, gbuffer: &GBuffer<f32>, parameters: Parameters<f32>) -> Result<GtaoPass> {
-        if parameters.heuristics != nklut_effects::ao::gtao::Heuristics::BARE.narrowed() {
-            bail!(
-                "the WGSL GTAO pass runs Algorithm 1 without heuristics (preset bare); these parameters carry heuristics: {parameters:?}"
-            );
-        }
+        check_parameters(&parameters, gbuffer.focal)?;
         let (width, height) = (gbuffer.width, gbuffer.height);
         let pixels = width as usize * height as usize;
         if pixels == 0 || gbuffer.samples.len() != pixels {
@@ -111,15 +199,16 @@ impl GtaoPass {
                 None => GSample::default(),
             })
             .collect();
-        let params = GtaoParams {
-            width,
-            height,
-            slices: parameters.slices,
-            steps: parameters.steps,
-            focal: gbuffer.focal,
-            radius: parameters.radius,
-            pad: [0.0; 2],
-        };
+        // Each frame's uniform at its own offset, aligned as the device asks.
+        let frames = accumulated_frames(parameters);
+        let size = std::mem::size_of::<GtaoParams>() as u64;
+        let stride = size.next_multiple_of(limits.min_uniform_buffer_offset_alignment.max(1) as u64);
+        let mut uniforms = vec![0u8; (stride * frames as u64) as usize];
+        for frame in 0..frames {
+            let params = GtaoParams::new(width, height, gbuffer.focal, parameters, frame);
+            let at = (stride * frame as u64) as usize;
+            uniforms[at..at + size as usize].copy_from_slice(bytemuck::bytes_of(&params));
+        }
         let device = &gpu.device;
         let interface = Self::INTERFACE;
         let (pipeline_layout, layouts) = interface.pipeline_layout(device);
@@ -128,7 +217,7 @@ impl GtaoPass {
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
-        let uniform = init("gtao params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+        let uniform = init("gtao params", &uniforms, wgpu::BufferUsages::UNIFORM);
         let input = init("gtao g-buffer", bytemuck::cast_slice(&samples), wgpu::BufferUsages::STORAGE);
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gtao accessibility"),
@@ -136,24 +225,55 @@ impl GtaoPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let resources = [(0, uniform.as_entire_binding()), (1, input.as_entire_binding()), (2, output.as_entire_binding())];
-        let bind_group = interface.bind_group(device, &layouts[0], 0, &resources)?;
+        let bind_groups = (0..frames as u64)
+            .map(|frame| {
+                let params = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &uniform,
+                    offset: frame * stride,
+                    size: std::num::NonZeroU64::new(size),
+                });
+                let resources = [(0, params), (1, input.as_entire_binding()), (2, output.as_entire_binding())];
+                interface.bind_group(device, &layouts[0], 0, &resources)
+            })
+            .collect::<Result<Vec<_>>>()?;
         if let Some(error) = pollster::block_on(scope.pop()) {
             bail!("allocating the GTAO pass's buffers: {error}");
         }
         gpu.take_errors()?;
-        Ok(GtaoPass { width, height, pipeline, bind_group, output })
+        Ok(GtaoPass { width, height, pipeline, bind_groups, output })
     }
 
-    /// Record the pass into `encoder`, with `timestamps` written at its start and end.
+    /// The frames accumulated ([`accumulated_frames`]): one dispatch each.
+    pub fn frames(&self) -> u32 {
+        self.bind_groups.len() as u32
+    }
+
+    /// Record every frame (the accumulated result) into `encoder`, in one compute pass with
+    /// `timestamps` written at its start and end.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+        self.encode_frames(encoder, 0..self.frames(), timestamps);
+    }
+
+    /// Record the dispatches of `frames` (clamped to the accumulated ones) into `encoder`, in
+    /// one compute pass: a frame after the first adds to what the output holds, so the
+    /// result is the accumulated one only for `0..frames()`; one frame alone is what a
+    /// frame costs.
+    pub fn encode_frames(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frames: std::ops::Range<u32>,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gtao"), timestamp_writes: timestamps });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.dispatch_workgroups(self.width.div_ceil(TILE), self.height.div_ceil(TILE), 1);
+        for frame in frames.start.min(self.frames())..frames.end.min(self.frames()) {
+            pass.set_bind_group(0, &self.bind_groups[frame as usize], &[]);
+            pass.dispatch_workgroups(self.width.div_ceil(TILE), self.height.div_ceil(TILE), 1);
+        }
     }
 
-    /// Run the pass and read back the accessibility per pixel (`None` where no surface is).
+    /// Run every frame and read back the accumulated accessibility per pixel (`None` where
+    /// no surface is).
     pub fn run(&self, gpu: &Gpu) -> Result<Vec<Option<f32>>> {
         let bytes = self.output.size();
         let readback = readback_buffer(gpu, bytes)?;
@@ -171,7 +291,10 @@ impl GtaoPass {
 pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
     use crate::layout::shared_struct;
     vec![
-        shared_struct!(GtaoParams as "GtaoParams" { width, height, slices, steps, focal, radius, pad }),
+        shared_struct!(GtaoParams as "GtaoParams" {
+            width, height, slices, steps, frame, frames, noise, pad0, focal, radius, radius_multiplier, falloff_range,
+            distribution_power, start_pixels, thin_occluder, final_power, normal_lerp, min_radius_pixels, max_radius_pixels, pad1,
+        }),
         shared_struct!(GSample as "GSample" { position, normal }),
     ]
 }
