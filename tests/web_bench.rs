@@ -704,3 +704,91 @@ fn amplified_samples_survive_a_quantised_timer_and_single_draws_do_not() {
     }
     eprintln!("{}", report.join("\n"));
 }
+
+/// An ambient-occlusion scene: a cube on a slab, the surfel pass through the tree (and by
+/// brute force: 204 surfels), GTAO in every preset over the 40×32 frame.
+const AO_SCENE: &str = "resolution: [40, 32]
+camera: {axis: [0.3, 1, 0.2], distance: 3, frames: 1}
+effects:
+  ambient_occlusion:
+    passes: 1
+    hierarchy: true
+    gtao:
+      - {preset: bare, radius: 0.5}
+      - {preset: xe-low, radius: 0.5}
+      - {preset: xe-medium, radius: 0.5}
+      - {preset: xe-high, radius: 0.5, frames: 16}
+      - {preset: xe-ultra, radius: 0.5}
+objects:
+  - {mesh: cube, material: test/metals/goldish, methods: [schlick], subdivide: 1}
+  - {mesh: cube, scale: [2, 0.05, 2], position: [0, -0.55, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2}
+measurements: [timing]
+timing: {resolution: [32, 8], warmup: 1, repeats: 2}
+";
+
+/// The page of a scene that names ambient occlusion times the surfel pass (brute force and
+/// tree, 1–3 passes) and one frame of every GTAO preset as `ao_timing` rows of the native
+/// schema: every column, the configuration's cells as the native table writes them (preset,
+/// slices × steps of XeGTAO's quality levels, frames to convergence: 1 for Algorithm 1, 64
+/// or the 16 the scene names), finite positive times, the time to convergence = one frame ×
+/// frames; and the result reads through the reader of `nklut report --devices` with its
+/// `ao_timing` rows.
+#[test]
+fn the_page_times_the_surfel_passes_and_every_gtao_preset_as_ao_timing() {
+    use nklut::effects::ao::gtao::Preset;
+    use nklut::report::inputs::browser_result;
+    let plan = web::plan(&scene(AO_SCENE), &materials()).unwrap();
+    let ao = plan.ao.as_ref().expect("an AO plan");
+    // Hand count: 2 cubes subdivided once and twice: 6 × 9 + 6 × 25 = 204 surfels, under the
+    // brute-force limit: brute force and tree at 1, 2, 3 passes, then the five presets.
+    assert_eq!(ao.surfels.count, 204);
+    let kinds: Vec<(&str, u32)> = ao.rows.iter().map(|r| (r.kind, r.passes)).collect();
+    let mut expected =
+        vec![("brute_force", 1), ("brute_force", 2), ("brute_force", 3), ("hierarchy", 1), ("hierarchy", 2), ("hierarchy", 3)];
+    expected.extend([("gtao", 1); 5]);
+    assert_eq!(kinds, expected);
+    let Some(out) = run_page("web-ao", AO_SCENE, &[]).unwrap() else { return };
+    let result = &out["result"];
+    assert_eq!(out["problem"], Value::Null, "{out}");
+    assert_eq!(result["complete"], true);
+    let rows = result["ao_timing"].as_array().unwrap();
+    assert_eq!(rows.len(), 11);
+    for row in rows {
+        eprintln!(
+            "{} {} passes {}: median {} ms, to convergence {} ms ({})",
+            row["emitters"], row["preset"], row["passes"], row["median_ms"], row["convergence_ms"], row["driver"]
+        );
+        for column in &plan.columns.ao_timing {
+            assert!(row.get(column).is_some(), "{column} missing in {row}");
+        }
+        let median = number(&row["median_ms"]);
+        assert!(median.is_finite() && median > 0.0 && median < 60_000.0, "{row}");
+        assert!(number(&row["spread_ms"]) >= 0.0, "{row}");
+        assert_eq!(row["timer"], "timestamp", "SwiftShader grants timestamp-query");
+    }
+    for (row, passes) in rows[..6].iter().zip([1, 2, 3, 1, 2, 3]) {
+        assert_eq!((row["passes"].as_u64(), row["frames"].as_u64()), (Some(passes), Some(0)));
+        assert_eq!(row["convergence_ms"], Value::Null);
+        assert_eq!(row["surfels"].as_u64(), Some(204));
+    }
+    for (row, (preset, frames)) in rows[6..].iter().zip(Preset::ALL.iter().zip([1u64, 64, 64, 16, 64])) {
+        let [slices, steps] = preset.slices_steps();
+        let name = if *preset == Preset::XeHigh { "xe-high (modified)".to_string() } else { preset.name().to_string() };
+        assert_eq!(row["emitters"], "gtao");
+        assert_eq!(row["preset"].as_str(), Some(name.as_str()), "{row}");
+        assert_eq!(
+            (row["slices"].as_u64(), row["steps"].as_u64(), row["frames"].as_u64()),
+            (Some(slices as u64), Some(steps as u64), Some(frames))
+        );
+        assert_eq!((row["width"].as_u64(), row["height"].as_u64()), (Some(40), Some(32)));
+        assert!(row["covered_pixels"].as_u64().is_some_and(|c| c > 0 && c <= 40 * 32), "{row}");
+        let convergence = number(&row["convergence_ms"]);
+        assert!((convergence - number(&row["median_ms"]) * frames as f64).abs() <= 1e-9 * convergence, "{row}");
+    }
+    // The reader `nklut report --devices` uses.
+    let tables = browser_result(result.to_string().as_bytes()).unwrap();
+    tables.check_measurements().unwrap();
+    let read = tables.ao_timing.expect("ao_timing rows read");
+    assert_eq!(read.rows.len(), 11);
+    assert_eq!(read.headers, plan.columns.ao_timing);
+}

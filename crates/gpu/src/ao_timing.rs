@@ -255,7 +255,7 @@ pub fn scene_rows(
         for &g in &configurations {
             let pass = GtaoPass::new(gpu, &gbuffer, Parameters::of(g).narrowed())?;
             let frames = pass.frames();
-            let frame = frames.min(2) - 1;
+            let frame = super::passes::gtao::timed_frame(frames);
             let (median_ms, spread_ms) = timed(settings, || {
                 stopwatch.time_pass(gpu, |encoder, timestamps| {
                     let writes = timestamps.map(|set| wgpu::ComputePassTimestampWrites {

@@ -18,10 +18,13 @@
 //!
 //! For a scene that names reflection or refraction the page, as the native runner, leaves
 //! the F-only passes out and times the map update and the shading pass per configuration
-//! as `effects_timing` ([`effects`]). Not in the page: the surfel passes' measurements and
-//! the effects' image error against the f64 reference (traced on the CPU by the native
-//! runner); the page says so, and compiles their modules and records their messages.
+//! as `effects_timing` ([`effects`]); for a scene that names ambient occlusion it times the
+//! surfel passes and every GTAO configuration as `ao_timing` ([`ao`]). Not in the page:
+//! indirect light and the effects' image error against the f64 reference (traced on the
+//! CPU by the native runner); the page says so, and compiles their modules and records
+//! their messages.
 
+pub mod ao;
 pub mod effects;
 
 use anyhow::{anyhow, Result};
@@ -58,6 +61,9 @@ pub struct Bench {
     /// The specular effects' map update and shading pass per configuration
     /// (`effects_timing`), when the scene names reflection or refraction and `timing`.
     pub effects: Option<effects::EffectsPlan>,
+    /// The surfel passes and GTAO's configurations (`ao_timing`), when the scene names
+    /// `ambient_occlusion`.
+    pub ao: Option<ao::AoPlan>,
     /// Every composed module of every pass, compiled by the page and its messages recorded;
     /// the F-only pass's variants are also the page's pipelines.
     pub checks: Vec<ModulePlan>,
@@ -79,6 +85,7 @@ pub struct Columns {
     pub gpu_timing: Vec<String>,
     pub image_errors: Vec<String>,
     pub effects_timing: Vec<String>,
+    pub ao_timing: Vec<String>,
 }
 
 #[derive(Debug, Serialize)]
@@ -320,10 +327,17 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     }
 
     let effects = effects::plan(scene, materials)?;
+    let ao = ao::plan(scene)?;
     let mut skipped = Vec::new();
     if scene.names_effect(EffectFamily::Surfels) {
         skipped.push(
-            "the scene's surfel AO and indirect light: their modules are compiled, their timing is the native runner's (`nklut gpu run`)"
+            "the scene's indirect light and the surfel AO's error against the ray-traced reference: the native runner's (`nklut gpu run`, `nklut effects`)"
+                .to_string(),
+        );
+    }
+    if ao.as_ref().is_some_and(|a| a.gtao.is_some()) {
+        skipped.push(
+            "GTAO at 1024² and 1920×1080: the page times the scene's resolution only (`nklut gpu ao-timing` times the larger frames)"
                 .to_string(),
         );
     }
@@ -355,6 +369,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
             gpu_timing: names(super::runner::timing_rows_table(&[], &Default::default())),
             image_errors: names(super::runner::image_error_rows_table(&[])),
             effects_timing: names(super::effects::timing_table(&[], &Default::default())),
+            ao_timing: names(super::ao_timing::ao_timing_table(&[], &Default::default())),
         },
         materials: material_plans,
         blank_lut: half_texels(&[[1.0; 4]]),
@@ -362,6 +377,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         image_error,
         meshes: meshes.into_iter().map(|(_, plan)| plan).collect(),
         effects,
+        ao,
         checks,
         skipped,
     })

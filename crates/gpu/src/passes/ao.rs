@@ -32,15 +32,15 @@ const NO_CHILD: u32 = u32::MAX;
 /// The shader's uniform `Params` (shared by the accessibility and indirect passes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub(super) struct Params {
-    pub(super) count: u32,
-    pub(super) nodes: u32,
-    pub(super) gain: f32,
-    pub(super) closeness: f32,
-    pub(super) previous: u32,
-    pub(super) next: u32,
-    pub(super) weights: u32,
-    pub(super) pad: u32,
+pub(crate) struct Params {
+    pub(crate) count: u32,
+    pub(crate) nodes: u32,
+    pub(crate) gain: f32,
+    pub(crate) closeness: f32,
+    pub(crate) previous: u32,
+    pub(crate) next: u32,
+    pub(crate) weights: u32,
+    pub(crate) pad: u32,
 }
 
 /// A disc as the shader reads it: centre and area, unit normal.
@@ -61,7 +61,7 @@ impl GpuDisc {
 /// Per index k: node k's [left, right, first, end) and (order[k], rank[k], 0, 0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-struct GpuLinks {
+pub(crate) struct GpuLinks {
     node: [u32; 4],
     leaf: [u32; 4],
 }
@@ -162,6 +162,66 @@ impl Pass for SurfelAoPass {
     };
 }
 
+/// What the surfel pass uploads, from `surfels` and (for the hierarchy) their `tree`: the
+/// discs (surfels, then the tree's nodes), the links, and the two parameter blocks (the
+/// first reads the previous pass from the first accessibility buffer and writes the
+/// second, the other the other way round). The native pass and the browser bench upload
+/// these same bytes.
+pub struct SurfelUpload {
+    pub discs: Vec<GpuDisc>,
+    pub(crate) links: Vec<GpuLinks>,
+    pub(crate) params: [Params; 2],
+}
+
+impl SurfelUpload {
+    pub fn of(surfels: &[Surfel], tree: Option<&SurfelTree>, form: ShadowForm, closeness: Closeness) -> SurfelUpload {
+        let n = surfels.len();
+        let node_count = tree.map_or(0, |t| t.nodes.len());
+        let mut discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
+        let mut links = vec![GpuLinks::default(); n.max(node_count)];
+        if let Some(tree) = tree {
+            discs.extend(tree.nodes.iter().map(|node| GpuDisc::new(&node.disc)));
+            for (k, node) in tree.nodes.iter().enumerate() {
+                let [l, r] = node.children.unwrap_or([NO_CHILD, NO_CHILD]);
+                links[k].node = [l, r, node.first, node.end];
+            }
+            for (position, &s) in tree.order.iter().enumerate() {
+                links[position].leaf[0] = s;
+                links[s as usize].leaf[1] = position as u32;
+            }
+        }
+        let n32 = n as u32;
+        let params = |previous: u32, next: u32| Params {
+            count: n32,
+            nodes: node_count as u32,
+            gain: form.receiver_gain as f32,
+            closeness: closeness.0 as f32,
+            previous,
+            next,
+            weights: 2 * n32,
+            pad: 0,
+        };
+        SurfelUpload { discs, links, params: [params(0, n32), params(n32, 0)] }
+    }
+
+    /// The bytes of the discs, the links and the two parameter blocks.
+    pub fn bytes(&self) -> [Vec<u8>; 4] {
+        [
+            bytemuck::cast_slice(&self.discs).to_vec(),
+            bytemuck::cast_slice(&self.links).to_vec(),
+            bytemuck::bytes_of(&self.params[0]).to_vec(),
+            bytemuck::bytes_of(&self.params[1]).to_vec(),
+        ]
+    }
+
+    /// Bytes of the accessibility state (two buffers of one value per surfel, then the
+    /// nodes' weights) and of the bent normals.
+    pub fn state_bytes(&self) -> [u64; 2] {
+        let n = self.params[0].count as u64;
+        [(2 * n + (self.params[0].nodes as u64).max(1)) * 4, n * 16]
+    }
+}
+
 impl SurfelAoPass {
     /// Upload `surfels` (and `tree`, for [`Gather::Hierarchy`]) and compile the kernel.
     pub fn new(
@@ -193,30 +253,8 @@ impl SurfelAoPass {
         check_limits(gpu, surfels.len(), node_count)?;
         let device = &gpu.device;
         let n = surfels.len();
-        let mut discs: Vec<GpuDisc> = surfels.iter().map(GpuDisc::new).collect();
-        let mut links = vec![GpuLinks::default(); n.max(node_count)];
-        if let Some(tree) = tree {
-            discs.extend(tree.nodes.iter().map(|node| GpuDisc::new(&node.disc)));
-            for (k, node) in tree.nodes.iter().enumerate() {
-                let [l, r] = node.children.unwrap_or([NO_CHILD, NO_CHILD]);
-                links[k].node = [l, r, node.first, node.end];
-            }
-            for (position, &s) in tree.order.iter().enumerate() {
-                links[position].leaf[0] = s;
-                links[s as usize].leaf[1] = position as u32;
-            }
-        }
         let n32 = n as u32;
-        let params = |previous: u32, next: u32| Params {
-            count: n32,
-            nodes: node_count as u32,
-            gain: form.receiver_gain as f32,
-            closeness: closeness.0 as f32,
-            previous,
-            next,
-            weights: 2 * n32,
-            pad: 0,
-        };
+        let SurfelUpload { discs, links, params } = SurfelUpload::of(surfels, tree, form, closeness);
         let interface = Self::INTERFACE;
         let (pipeline_layout, layouts) = interface.pipeline_layout(device);
         let [brute_force, node_weights, tree_pipeline] = compute_pipelines(
@@ -232,8 +270,7 @@ impl SurfelAoPass {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let writable = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let uniforms =
-            [params(0, n32), params(n32, 0)].map(|p| init("surfel ao params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM));
+        let uniforms = params.map(|p| init("surfel ao params", bytemuck::bytes_of(&p), wgpu::BufferUsages::UNIFORM));
         let disc_buffer = init("surfel and node discs", bytemuck::cast_slice(&discs), wgpu::BufferUsages::STORAGE);
         let link_buffer = init("surfel tree links", bytemuck::cast_slice(&links), wgpu::BufferUsages::STORAGE);
         let state = init("accessibility and node weights", bytemuck::cast_slice(&vec![1.0f32; 2 * n + node_count.max(1)]), writable);

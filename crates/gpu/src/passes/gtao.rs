@@ -135,6 +135,50 @@ struct GSample {
     normal: [f32; 4],
 }
 
+/// The G-buffer as the shader reads it (`GSample` per pixel: w = 1 where a surface is).
+pub fn gbuffer_bytes(gbuffer: &GBuffer<f32>) -> Vec<u8> {
+    let samples: Vec<GSample> = gbuffer
+        .samples
+        .iter()
+        .map(|s| match s {
+            Some(s) => GSample {
+                position: [s.position[0], s.position[1], s.position[2], 1.0],
+                normal: [s.normal[0], s.normal[1], s.normal[2], 0.0],
+            },
+            None => GSample::default(),
+        })
+        .collect();
+    bytemuck::cast_slice(&samples).to_vec()
+}
+
+/// The bytes between two frames' uniforms: `GtaoParams`' size rounded up to the device's
+/// uniform offset alignment.
+pub fn uniform_stride(alignment: u32) -> u64 {
+    (std::mem::size_of::<GtaoParams>() as u64).next_multiple_of(alignment.max(1) as u64)
+}
+
+/// The size of one frame's uniform (`GtaoParams`).
+pub const UNIFORM_SIZE: u64 = std::mem::size_of::<GtaoParams>() as u64;
+
+/// Every accumulated frame's uniform, frame k at byte k × `stride`.
+pub fn uniform_bytes(gbuffer: &GBuffer<f32>, parameters: Parameters<f32>, stride: u64) -> Vec<u8> {
+    let frames = accumulated_frames(parameters);
+    let size = UNIFORM_SIZE as usize;
+    let mut uniforms = vec![0u8; (stride * frames as u64) as usize];
+    for frame in 0..frames {
+        let params = GtaoParams::new(gbuffer.width, gbuffer.height, gbuffer.focal, parameters, frame);
+        let at = (stride * frame as u64) as usize;
+        uniforms[at..at + size].copy_from_slice(bytemuck::bytes_of(&params));
+    }
+    uniforms
+}
+
+/// The frame a timing of one frame dispatches: the second of an accumulating configuration
+/// (it reads the running sum and adds to it, as every frame after the first), else the one.
+pub fn timed_frame(frames: u32) -> u32 {
+    frames.clamp(1, 2) - 1
+}
+
 /// The pass with its G-buffer uploaded and its pipeline compiled.
 pub struct GtaoPass {
     width: u32,
@@ -188,27 +232,11 @@ impl GtaoPass {
             }
             check_buffer_size(gpu, bytes as u64, what, "lower the resolution")?;
         }
-        let samples: Vec<GSample> = gbuffer
-            .samples
-            .iter()
-            .map(|s| match s {
-                Some(s) => GSample {
-                    position: [s.position[0], s.position[1], s.position[2], 1.0],
-                    normal: [s.normal[0], s.normal[1], s.normal[2], 0.0],
-                },
-                None => GSample::default(),
-            })
-            .collect();
-        // Each frame's uniform at its own offset, aligned as the device asks.
-        let frames = accumulated_frames(parameters);
+        let samples = gbuffer_bytes(gbuffer);
+        let stride = uniform_stride(limits.min_uniform_buffer_offset_alignment);
+        let uniforms = uniform_bytes(gbuffer, parameters, stride);
         let size = std::mem::size_of::<GtaoParams>() as u64;
-        let stride = size.next_multiple_of(limits.min_uniform_buffer_offset_alignment.max(1) as u64);
-        let mut uniforms = vec![0u8; (stride * frames as u64) as usize];
-        for frame in 0..frames {
-            let params = GtaoParams::new(width, height, gbuffer.focal, parameters, frame);
-            let at = (stride * frame as u64) as usize;
-            uniforms[at..at + size as usize].copy_from_slice(bytemuck::bytes_of(&params));
-        }
+        let frames = accumulated_frames(parameters);
         let device = &gpu.device;
         let interface = Self::INTERFACE;
         let (pipeline_layout, layouts) = interface.pipeline_layout(device);
@@ -218,7 +246,7 @@ impl GtaoPass {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let uniform = init("gtao params", &uniforms, wgpu::BufferUsages::UNIFORM);
-        let input = init("gtao g-buffer", bytemuck::cast_slice(&samples), wgpu::BufferUsages::STORAGE);
+        let input = init("gtao g-buffer", &samples, wgpu::BufferUsages::STORAGE);
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("gtao accessibility"),
             size: (pixels * 4) as u64,

@@ -41,6 +41,7 @@ const result = {
   gpu_timing: [],
   image_errors: [],
   effects_timing: [],
+  ao_timing: [],
   skipped: plan.skipped,
 };
 
@@ -701,8 +702,8 @@ function ramp(device, gpu) {
 
 // The bind group layouts of a pass's declared bindings (passes/interface.rs, `binding_type`),
 // one per group in group order.
-function bindGroupLayouts(device, bindings) {
-  const visibility = GPUShaderStage.VERTEX | GPUShaderStage.FRAGMENT;
+function bindGroupLayouts(device, bindings, stages) {
+  const visibility = stages || (GPUShaderStage.VERTEX | GPUShaderStage.FRAGMENT);
   const entry = (b) => {
     switch (b.kind) {
       case 'uniform': case 'read-only-storage': case 'storage': return { buffer: { type: b.kind } };
@@ -926,6 +927,129 @@ function effectFrame(device, effects) {
   };
 }
 
+// ---- ambient occlusion ---------------------------------------------------------------------
+
+// Buffers, pipelines and bind groups of the surfel pass (passes/ao.rs SurfelAoPass) and the
+// GTAO pass (passes/gtao.rs GtaoPass), from the plan's bytes; `encodeSurfels` and
+// `encodeGtao` record one timed sample, as ao_timing's `sample` and GTAO's one frame.
+function setupAo(device, named) {
+  const a = plan.ao;
+  const compute = (bindings) => bindGroupLayouts(device, bindings, GPUShaderStage.COMPUTE);
+  const init = (data, usage) => {
+    const buffer = device.createBuffer({ size: Math.max(4, Math.ceil(data.byteLength / 4) * 4), usage: usage | GPUBufferUsage.COPY_DST });
+    device.queue.writeBuffer(buffer, 0, data);
+    return buffer;
+  };
+  const pipeline = (module, layouts, entryPoint) => device.createComputePipeline({
+    layout: device.createPipelineLayout({ bindGroupLayouts: layouts }), compute: { module: named[module], entryPoint },
+  });
+  const s = a.surfels;
+  const surfelLayouts = compute(s.bindings);
+  const discs = init(bytes(s.discs), GPUBufferUsage.STORAGE);
+  const links = init(bytes(s.links), GPUBufferUsage.STORAGE);
+  const state = device.createBuffer({ size: s.state_bytes, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST | GPUBufferUsage.COPY_SRC });
+  const bent = device.createBuffer({ size: s.bent_bytes, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST | GPUBufferUsage.COPY_SRC });
+  const surfelGroups = s.params.map((p) => bindGroup(device, surfelLayouts, s.bindings, 0, { params: init(bytes(p), GPUBufferUsage.UNIFORM), discs, links, state, bent }));
+  const surfelPipelines = {
+    brute_force: pipeline(s.module, surfelLayouts, 'cs_brute_force'),
+    node_weights: pipeline(s.module, surfelLayouts, 'cs_node_weights'),
+    tree: pipeline(s.module, surfelLayouts, 'cs_tree'),
+  };
+  const ones = new Float32Array(s.count).fill(1);
+  const WORKGROUP = 64;
+  // SurfelAoPass::encode: the bent normals cleared, the accessibility set to 1, then per pass
+  // (the bind groups taking turns) the gather, through the tree preceded by the nodes' weights.
+  const encodeSurfels = (encoder, kind, passes, timestampWrites) => {
+    device.queue.writeBuffer(state, 0, ones);
+    encoder.clearBuffer(bent);
+    const pass = encoder.beginComputePass(timestampWrites ? { timestampWrites } : {});
+    for (let k = 0; k < passes; k++) {
+      pass.setBindGroup(0, surfelGroups[k % 2]);
+      if (kind === 'brute_force') {
+        pass.setPipeline(surfelPipelines.brute_force);
+        pass.dispatchWorkgroups(Math.ceil(s.count / WORKGROUP));
+      } else {
+        pass.setPipeline(surfelPipelines.node_weights);
+        pass.dispatchWorkgroups(Math.ceil(s.nodes / WORKGROUP));
+        pass.setPipeline(surfelPipelines.tree);
+        pass.dispatchWorkgroups(Math.ceil(s.count / WORKGROUP));
+      }
+    }
+    pass.end();
+  };
+  let encodeGtao = null;
+  const g = a.gtao;
+  if (g) {
+    const gtaoLayouts = compute(g.bindings);
+    const gbuffer = init(bytes(g.gbuffer), GPUBufferUsage.STORAGE);
+    const output = device.createBuffer({ size: g.width * g.height * 4, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC });
+    const gtaoPipeline = pipeline(g.module, gtaoLayouts, 'cs_gtao');
+    // Per configuration, the bind group of its timed frame: its uniform at frame × stride.
+    const groups = g.configurations.map((c) => {
+      const uniforms = init(bytes(c.uniforms), GPUBufferUsage.UNIFORM);
+      return bindGroup(device, gtaoLayouts, g.bindings, 0, {
+        params: { buffer: uniforms, offset: c.timed_frame * g.stride, size: g.uniform_size }, gbuffer, accessibility: output,
+      });
+    });
+    const TILE = 8;
+    encodeGtao = (encoder, configuration, timestampWrites) => {
+      const pass = encoder.beginComputePass(timestampWrites ? { timestampWrites } : {});
+      pass.setPipeline(gtaoPipeline);
+      pass.setBindGroup(0, groups[configuration]);
+      pass.dispatchWorkgroups(Math.ceil(g.width / TILE), Math.ceil(g.height / TILE));
+      pass.end();
+    };
+  }
+  return { encodeSurfels, encodeGtao };
+}
+
+// ao_timing's `timed`: per row, warm-up samples, then timed ones (timestamps around the
+// compute pass, else the wall clock around submit and onSubmittedWorkDone), one per submit.
+async function runAo(device, timestamps, ao, step) {
+  const a = plan.ao;
+  let query = null;
+  if (timestamps) {
+    query = {
+      set: device.createQuerySet({ type: 'timestamp', count: 2 }),
+      resolve: device.createBuffer({ size: 16, usage: GPUBufferUsage.QUERY_RESOLVE | GPUBufferUsage.COPY_SRC }),
+      read: device.createBuffer({ size: 16, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ }),
+    };
+  }
+  const sample = async (record) => {
+    const encoder = device.createCommandEncoder();
+    record(encoder, query ? { querySet: query.set, beginningOfPassWriteIndex: 0, endOfPassWriteIndex: 1 } : undefined);
+    if (query) {
+      encoder.resolveQuerySet(query.set, 0, 2, query.resolve, 0);
+      encoder.copyBufferToBuffer(query.resolve, 0, query.read, 0, 16);
+    }
+    const start = performance.now();
+    device.queue.submit([encoder.finish()]);
+    await device.queue.onSubmittedWorkDone();
+    const wall = performance.now() - start;
+    if (!query) return wall;
+    const ticks = new BigUint64Array(await readBuffer(query.read));
+    return Number(ticks[1] - ticks[0]) / 1e6;
+  };
+  for (const row of a.rows) {
+    const record = row.kind === 'gtao'
+      ? (encoder, writes) => ao.encodeGtao(encoder, row.configuration, writes)
+      : (encoder, writes) => ao.encodeSurfels(encoder, row.kind, row.passes, writes);
+    const samples = [];
+    for (let round = 0; round < a.warmup + a.repeats; round++) {
+      checkLost();
+      const ms = await sample(record);
+      if (round >= a.warmup) samples.push(ms);
+      step(1, `ambient occlusion: ${row.kind}${row.kind === 'gtao' ? ` ${row.row.preset}` : `, ${row.passes} passes`}, sample ${round + 1} of ${a.warmup + a.repeats}`);
+    }
+    const [median, spread] = medianAndIqr(samples);
+    // Rows so far, so a lost device keeps them.
+    result.ao_timing.push({
+      ...row.row, adapter: result.adapter.name, driver: BROWSER, timer: timestamps ? 'timestamp' : 'wall',
+      median_ms: median, spread_ms: spread, convergence_ms: row.kind === 'gtao' ? median * row.frames : null,
+    });
+  }
+}
+
 // ---- results ------------------------------------------------------------------------------
 
 function cell(row, text) { const td = document.createElement('td'); td.textContent = text; row.appendChild(td); }
@@ -1005,6 +1129,10 @@ function publish() {
   table('effects', ['method', 'effect', 'depths (reflection/refraction)', 'steps (linear/secant)', 'timer', 'map update ms', 'shading ms', 'IQR ms'],
     result.effects_timing.map((r) => [r.method, r.effect, `${r.reflection_depth}/${r.refraction_depth}`, `${r.linear_steps}/${r.secant_steps}`, r.timer, fixed(r.map_update_ms, 4), fixed(r.shading_ms, 4), fixed(r.shading_spread_ms, 4)]));
   $('effects-section').hidden = result.effects_timing.length === 0;
+  table('ao', ['emitters', 'passes', 'preset', 'radius', 'slices × steps', 'frames', 'pixels', 'timer', 'median ms', 'IQR ms', 'to convergence ms'],
+    result.ao_timing.map((r) => [r.emitters, String(r.passes), r.preset || '—', r.radius === null ? '—' : String(r.radius), r.emitters === 'gtao' ? `${r.slices} × ${r.steps}` : '—',
+      String(r.frames), r.emitters === 'gtao' ? `${r.width}x${r.height}` : '—', r.timer, fixed(r.median_ms, 4), fixed(r.spread_ms, 4), r.convergence_ms === null ? '—' : fixed(r.convergence_ms, 4)]));
+  $('ao-section').hidden = result.ao_timing.length === 0;
   table('modules', ['module', 'errors', 'warnings'], result.compile.map((c) => [c.module, String(c.errors.length), String(c.warnings.length)]));
   $('skipped').textContent = '';
   for (const s of result.skipped) { const li = document.createElement('li'); li.textContent = `Not measured here: ${s}`; $('skipped').appendChild(li); }
@@ -1035,20 +1163,24 @@ async function main() {
     effects = await scoped(device, 'creating the effects\' buffers, textures and pipelines', () => setupEffects(device, named));
     window.nklut.effectFrame = effectFrame(device, effects);
   }
+  let ao = null;
+  if (plan.ao) ao = await scoped(device, 'creating the ambient-occlusion buffers and pipelines', () => setupAo(device, named));
   const frames = plan.image_error ? (HOOK.allFrames ? plan.image_error.frames.length : 1) : 0;
   result.image_error_frames = plan.image_error ? (HOOK.allFrames ? 'all' : 'first') : null;
   const total = (plan.timing ? (plan.timing.warmup + plan.timing.repeats) * plan.timing.pairs.length : 0)
     + (plan.image_error ? frames * plan.image_error.objects.length : 0)
-    + (plan.effects ? (plan.effects.warmup + plan.effects.repeats) * (1 + plan.effects.configurations.length) : 0);
+    + (plan.effects ? (plan.effects.warmup + plan.effects.repeats) * (1 + plan.effects.configurations.length) : 0)
+    + (plan.ao ? (plan.ao.warmup + plan.ao.repeats) * plan.ao.rows.length : 0);
   let done = 0;
   const step = (n, text) => { done += n; progress(done, total); status(`${text} (${done} of ${total} steps)`, done / total); };
   if (plan.timing) { enter('timing'); await runTiming(device, timestamps, fresnel, step); }
   if (plan.image_error) { enter('image error'); await runImageError(device, fresnel, step); }
   if (effects) { enter('effects timing'); await runEffects(device, timestamps, effects, step); }
+  if (ao) { enter('ambient-occlusion timing'); await runAo(device, timestamps, ao, step); }
   checkLost();
   result.complete = true;
   enter('done');
-  status(` ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows, ${result.effects_timing.length} effects-timing rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
+  status(` ${result.gpu_timing.length} timing rows, ${result.image_errors.length} image-error rows, ${result.effects_timing.length} effects-timing rows, ${result.ao_timing.length} ambient-occlusion rows on ${result.adapter.name} (timer: ${timestamps ? 'GPU timestamps' : 'wall time'}).`);
 }
 
 main()

@@ -159,7 +159,7 @@ pub struct ConfigurationPlan {
     pub row: serde_json::Map<String, serde_json::Value>,
 }
 
-fn bindings(interface: &Interface) -> Vec<BindingPlan> {
+pub(super) fn bindings(interface: &Interface) -> Vec<BindingPlan> {
     interface
         .bindings
         .iter()

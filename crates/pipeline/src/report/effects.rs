@@ -1735,6 +1735,7 @@ mod device_effects_tests {
             timing: CsvTable::parse(b"method,median_ms\n").unwrap(),
             image_errors: None,
             effects_timing: Some(CsvTable::parse(csv.as_bytes()).unwrap()),
+            ao_timing: None,
             source: source.into(),
         };
         let mut devices = BTreeMap::new();

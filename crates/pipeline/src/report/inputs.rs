@@ -183,6 +183,9 @@ pub struct DeviceTables {
     pub timing: CsvTable,
     pub image_errors: Option<CsvTable>,
     pub effects_timing: Option<CsvTable>,
+    /// `ao_timing` rows (the surfel passes and GTAO's configurations), where the device
+    /// measured them.
+    pub ao_timing: Option<CsvTable>,
     /// Where it came from: `native` (a folder of `nklut gpu run`'s tables) or the browser
     /// bench's result file, with the browser and, when the run stopped early, why.
     pub source: String,
@@ -228,6 +231,7 @@ impl DeviceTables {
             ("gpu_timing", Some(&self.timing)),
             ("image_errors", self.image_errors.as_ref()),
             ("effects_timing", self.effects_timing.as_ref()),
+            ("ao_timing", self.ao_timing.as_ref()),
         ];
         for (name, table) in tables {
             let Some(table) = table else { continue };
@@ -271,7 +275,8 @@ pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
         if let Some(timing) = table("gpu_timing.csv")? {
             let image_errors = table("image_errors.csv")?;
             let effects_timing = table("effects_timing.csv")?;
-            let tables = DeviceTables { timing, image_errors, effects_timing, source: "native".into() };
+            let ao_timing = table("ao_timing.csv")?;
+            let tables = DeviceTables { timing, image_errors, effects_timing, ao_timing, source: "native".into() };
             tables.check_measurements().map_err(|e| anyhow::anyhow!("{}: {e}", folder.join(&device).display()))?;
             devices.insert(device, tables);
         }
@@ -316,6 +321,8 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
     // Rows of the reflection/refraction timing, where the page ran a scene with those effects.
     let effects_timing =
         value["effects_timing"].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table("effects_timing")).transpose()?;
+    // Rows of the ambient-occlusion timing, where the page ran a scene that names it.
+    let ao_timing = value["ao_timing"].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table("ao_timing")).transpose()?;
     // The browser and its version as the rows' `driver` gives it (the whole `user_agent` is
     // in the file).
     let browser = browser_name(&value);
@@ -327,6 +334,7 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
         timing: table("gpu_timing")?,
         image_errors: (!image_errors.rows.is_empty()).then_some(image_errors),
         effects_timing,
+        ao_timing,
         source,
     })
 }
