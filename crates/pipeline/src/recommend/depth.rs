@@ -42,9 +42,11 @@ pub fn effects_tables(out: &Path) -> Result<Vec<(String, CsvTable)>> {
         found.push((EFFECTS_ERRORS.to_string(), table));
     }
     let Ok(entries) = std::fs::read_dir(out) else { return Ok(found) };
+    // Folders, links to folders followed (a published set's entries are links, to files
+    // as well as folders).
     let mut folders: Vec<String> = entries
         .flatten()
-        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir() || t.is_symlink()))
+        .filter(|e| std::fs::metadata(e.path()).is_ok_and(|m| m.is_dir()))
         .filter_map(|e| e.file_name().to_str().map(str::to_string))
         .filter(|name| !name.starts_with('.'))
         .collect();

@@ -247,7 +247,7 @@ const EFFECTS_STYLE: &str = ".wide{overflow-x:auto;max-width:100%}details{margin
 .crops figcaption{font-size:13px;color:#222}.scale img{width:512px;height:16px;display:block}\
 .hero-panels{display:block}.hero-panels figure.panel{margin:0 0 20px}\
 .hero-grid{display:grid;grid-template-columns:repeat(auto-fill,minmax(min(512px,100%),512px));gap:6px 12px;margin-top:6px}\
-.hero-grid img{max-width:100%;height:auto;display:block}.hero-grid .hero-cell:first-child{grid-column:1/-1}.cell-note{font-size:13px;margin:2px 0}\
+.hero-grid img{width:auto;max-width:100%;height:auto;display:block}.hero-grid .hero-cell:first-child{grid-column:1/-1}.cell-note{font-size:13px;margin:2px 0}\
 .legends{display:flex;flex-wrap:wrap;gap:8px 24px}.colour-legend{margin:0;max-width:512px}.colour-legend img{max-width:100%;height:auto;display:block}.colour-legend figcaption{font-size:13px}\
 .spectral-panels{display:flex;flex-wrap:wrap;gap:12px}.spectral-panels figure{margin:0;max-width:100%}.spectral-panels img{display:block;max-width:100%;height:auto;image-rendering:pixelated}\
 .scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}.scale{max-width:100%;overflow-x:auto}\
