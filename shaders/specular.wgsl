@@ -94,18 +94,44 @@ fn add_branch(b: ptr<function, Branches>, origin: vec3<f32>, direction: vec3<f32
     (*b).count = (*b).count + 1u;
 }
 
-// The branches of object `o` hit at `point` with unit shading `normal` (outward) by unit
-// `incoming` carrying `weight` after `bounces` bounces.
-fn scatter(o: SceneObject, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f32>, weight: vec3<f32>, bounces: u32) -> Branches {
+// The side a ray meets a surface from and the normal its bounce uses: the rule of `facing`
+// in crates/effects/src/optics.rs. The surface's own plane decides the side (`from_inside`,
+// found by the caller); the bounce takes the shading `normal` (outward) turned to that side,
+// or `plane` (the plane's unit normal facing the ray) where the turned normal faces away
+// from the ray — a grazing ray on a coarse mesh.
+struct Facing {
+    normal: vec3<f32>,
+    cos_i: f32,
+    from_inside: bool,
+}
+
+fn facing(incoming: vec3<f32>, normal: vec3<f32>, plane: vec3<f32>, from_inside: bool) -> Facing {
+    var turned = normal;
+    if (from_inside) { turned = -normal; }
+    let cos_turned = -dot(incoming, turned);
+    if (cos_turned > 0.0) {
+        return Facing(turned, min(cos_turned, 1.0), from_inside);
+    }
+    return Facing(plane, clamp(-dot(incoming, plane), 0.0, 1.0), from_inside);
+}
+
+// A surface found in a distance map knows only its texel's `normal` (outward), which is its
+// plane as well: the side is that of the normal, as on the CPU twin.
+fn facing_texel(incoming: vec3<f32>, normal: vec3<f32>) -> Facing {
+    let from_inside = dot(incoming, normal) > 0.0;
+    return facing(incoming, normal, select(normal, -normal, from_inside), from_inside);
+}
+
+// The branches of object `o` hit at `point` on the side `side` by unit `incoming` carrying
+// `weight` after `bounces` bounces.
+fn scatter(o: SceneObject, point: vec3<f32>, side: Facing, incoming: vec3<f32>, weight: vec3<f32>, bounces: u32) -> Branches {
     var b: Branches;
     b.count = 0u;
     let dielectric = o.role.x == ROLE_DIELECTRIC;
-    let from_inside = dot(incoming, normal) > 0.0;
-    var facing = normal;
-    if (from_inside) { facing = -normal; }
-    let cos_i = min(-dot(incoming, facing), 1.0);
-    let mirror = mirror_direction(incoming, facing);
-    let f = reflectance(cos_i, 2u * o.role.y + u32(from_inside && dielectric));
+    let from_inside = side.from_inside;
+    let toward = side.normal;
+    let mirror = mirror_direction(incoming, toward);
+    let f = reflectance(side.cos_i, 2u * o.role.y + u32(from_inside && dielectric));
     let can_reflect = bounces < frame.depths.x;
     let can_refract = REFRACTION && bounces < frame.depths.y;
     if (!dielectric) {
@@ -114,7 +140,7 @@ fn scatter(o: SceneObject, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f
     }
     var eta = 1.0 / o.geometric_n.x;
     if (from_inside) { eta = o.geometric_n.x; }
-    let refracted = refracted_direction(incoming, facing, eta);
+    let refracted = refracted_direction(incoming, toward, eta);
     if (refracted.w > 0.0) {
         if (can_reflect) { add_branch(&b, point, mirror, weight * f, bounces + 1u); }
         if (can_refract) { add_branch(&b, point, refracted.xyz, weight * (vec3<f32>(1.0) - f), bounces + 1u); }
@@ -126,15 +152,15 @@ fn scatter(o: SceneObject, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f
     return b;
 }
 
-// Radiance towards −incoming from the specular object `first` seen at `point`: every
-// branch traced through that object's distance map.
-fn path_radiance(first: u32, point: vec3<f32>, normal: vec3<f32>, incoming: vec3<f32>) -> vec3<f32> {
+// Radiance towards −incoming from the specular object `first` seen at `point` from `side`:
+// every branch traced through that object's distance map.
+fn path_radiance(first: u32, point: vec3<f32>, side: Facing, incoming: vec3<f32>) -> vec3<f32> {
     let map = objects[first].map;
     // PATH_STACK holds every pending branch of the deepest path a scene may ask for.
     var stack: array<PathRay, PATH_STACK>;
     var top = 0u;
     var total = vec3<f32>(0.0);
-    var branches = scatter(objects[first], point, normal, incoming, vec3<f32>(1.0), 0u);
+    var branches = scatter(objects[first], point, side, incoming, vec3<f32>(1.0), 0u);
     loop {
         for (var i = 0u; i < branches.count; i = i + 1u) {
             stack[top] = branches.rays[i];
@@ -157,7 +183,8 @@ fn path_radiance(first: u32, point: vec3<f32>, normal: vec3<f32>, incoming: vec3
             continue;
         }
         let next = u32(surface.a);
-        branches = scatter(objects[next], hit.point.xyz + map.centre.xyz, map_texels[slot].yzw, ray.direction, ray.weight, ray.bounces);
+        let side = facing_texel(ray.direction, map_texels[slot].yzw);
+        branches = scatter(objects[next], hit.point.xyz + map.centre.xyz, side, ray.direction, ray.weight, ray.bounces);
     }
     return total;
 }
@@ -174,13 +201,31 @@ fn vs_effect(input: MeshVertexIn, @builtin(instance_index) object: u32) -> MeshV
 }
 
 // rgb = radiance (linear); a = 1 + the specular object shown, 0 for a diffuse surface.
+//
+// The primary hit's side is the triangle's, as on the CPU twin: every triangle is wound
+// counter-clockwise seen from the mesh's outside (`PackedMeshes`), so `front_facing` — the
+// sign of the triangle's area on screen, which under a perspective projection is the sign
+// of (eye − a) · (b − a) × (c − a) — says the camera sees the outside, exactly where the
+// CPU's plane test does (up to the rasteriser's snapping of a triangle seen edge-on). The
+// plane's direction, for the bounce of a grazing ray whose shading normal faces away, is
+// that of the screen derivatives of the interpolated position, which lie in the plane.
 @fragment
-fn fs_effect(input: MeshVertexOut) -> @location(0) vec4<f32> {
+fn fs_effect(input: MeshVertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // Derivatives before any branch (they need uniform control flow).
+    let across = cross(dpdx(input.world), dpdy(input.world));
     let o = objects[input.object];
     let n = normalize(input.normal);
     if (o.role.x == ROLE_DIFFUSE) {
         return vec4<f32>(diffuse_lit(frame.lights, diffuse_albedo(o.surface, input.world, n), input.world, n), 0.0);
     }
     let incoming = normalize(input.world - frame.eye.xyz);
-    return vec4<f32>(path_radiance(input.object, input.world, n, incoming), f32(input.object + 1u));
+    let span = length(across);
+    // The plane's normal facing the ray (the ray's own reverse where the plane is lost).
+    var plane = -incoming;
+    if (span > 0.0) {
+        plane = across / span;
+        if (dot(incoming, plane) > 0.0) { plane = -plane; }
+    }
+    let side = facing(incoming, n, plane, !front);
+    return vec4<f32>(path_radiance(input.object, input.world, side, incoming), f32(input.object + 1u));
 }

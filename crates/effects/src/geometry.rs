@@ -31,31 +31,46 @@ use obvhs::ray::{Ray, RayHit};
 use obvhs::BvhBuildParams;
 
 use super::packet::{Corners, Packet, PacketTree, RayMask, PACKET_RAYS};
-use crate::scene::mesh::{widen, Mesh};
+use crate::scene::mesh::{widen, wound_against_normals, Mesh};
 pub use crate::scene::mesh::{GeometryError, MAX_CORNER};
 use nklut_pipeline::budget::{MemoryBudget, TooLarge};
 
-/// Hits closer than this to the ray's origin (scene units, about a micrometre in a room of
-/// metres) are the surface the ray leaves, not a new one.
-pub const SELF_HIT_DISTANCE: f64 = 1e-7;
+/// Hits closer to the ray's origin than this fraction of the scene's size R (its largest
+/// corner coordinate, [`Geometry::size`]) are the surface the ray leaves, not a new one:
+/// 10⁻⁷R — a tenth of a micrometre in a scene a metre across, a tenth of a nanometre in one
+/// a millimetre across. A placed mesh's f32 corners are rounded to 2⁻²⁴R ≈ 6·10⁻⁸R, so no
+/// surface a scene can hold is nearer to another than about that; a hit point computed in
+/// f64 strays by some 2⁻⁵²R ≈ 2·10⁻¹⁶R, far below it. Relative, so a scene scaled by any
+/// factor in `scene::SCALE_RANGE` (10⁻⁴–10⁴) finds the same hits.
+pub const SELF_HIT_RELATIVE: f64 = 1e-7;
 
-/// How far behind the true origin the traversal's ray starts: more than obvhs's own start
-/// (t = 1e-4), so no box around a crossing near the origin is skipped.
-const TRAVERSAL_BACKOFF: f64 = 2e-4;
+/// obvhs 0.4's node test clamps every ray's start to t = 10⁻⁴ in the traversal ray's units
+/// (`cwbvh::node::EPSILON`): an absolute length, whatever the scene's size.
+const OBVHS_T_MIN: f64 = 1e-4;
+
+/// How far behind the true origin the traversal's ray starts: twice [`OBVHS_T_MIN`], so no
+/// box around a crossing near the origin is skipped. Absolute because obvhs's start is; the
+/// f32 rounding of the moved start (≈ 2⁻²⁴(R + this)) is covered by [`BOX_PADDING`], which
+/// is taken relative to R + this.
+const TRAVERSAL_BACKOFF: f64 = 2.0 * OBVHS_T_MIN;
 
 /// How far each triangle's box is widened for the BVH's f32 node test, relative to the
-/// scene's size R (its largest corner coordinate, at least 1). The node test rounds: the
-/// traversal's ray is the f64 ray rounded to f32 (origin and direction, 2⁻²⁴ relative each)
-/// and each slab distance takes three roundings, so the ray the boxes see strays from the
-/// true one by about 4·2⁻²⁴·(|o| + t) ≈ 2.4·10⁻⁷(|o| + t), at most 1.3·10⁻⁶·R for a ray
-/// from inside the scene's box (|o| ≤ √3R) to a hit in it (t ≤ 2√3R). Unwidened, a ray
-/// through an edge where two flat boxes meet — a room's corner, seen along a diagonal
-/// plane — could enter neither and leave a closed room, the watertight triangle test never
-/// run. 4·10⁻⁶·R is three times the stray.
+/// extent the traversal's rays span, R + [`TRAVERSAL_BACKOFF`] (R the scene's size, its
+/// largest corner coordinate). The node test rounds: the traversal's ray is the f64 ray
+/// rounded to f32 (origin and direction, 2⁻²⁴ relative each) and each slab distance takes
+/// three roundings, so the ray the boxes see strays from the true one by about
+/// 4·2⁻²⁴·(|o| + t) ≈ 2.4·10⁻⁷(|o| + t), at most 1.3·10⁻⁶·(R + backoff) for a ray from
+/// inside the scene's box (|o| ≤ √3R, moved back by the backoff) to a hit in it (t ≤ 2√3R
+/// + backoff). Unwidened, a ray through an edge where two flat boxes meet — a room's
+/// corner, seen along a diagonal plane — could enter neither and leave a closed room, the
+/// watertight triangle test never run. 4·10⁻⁶ is three times the stray.
 const BOX_PADDING: f64 = 4e-6;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the
-/// triangle test).
+/// triangle test). A fraction of a unit direction, so free of the scene's scale: the
+/// traversal's ray turns by under 10⁻⁶ rad, straying by at most 10⁻⁶·t ≤ 3.5·10⁻⁶R from
+/// the true ray inside the scene's box, which the boxes' padding and the quantisation of
+/// obvhs's nodes (outwards) leave inside every box the true ray enters.
 const TINY_DIRECTION: f64 = 1e-6;
 
 /// One triangle in f64 with its vertex normals and the object it belongs to.
@@ -101,13 +116,12 @@ impl Triangle {
     }
 
     /// The triangle's own unit normal (its plane's), turned to the side its vertex normals
-    /// point to (the mesh's outside, whatever the winding); the interpolated normal where
-    /// the plane is degenerate.
+    /// point to (the mesh's outside, whatever the winding: [`wound_against_normals`]); the
+    /// interpolated normal where the plane is degenerate.
     fn geometric(&self, u: f64, v: f64) -> DVec3 {
         let [a, b, c] = self.corners;
-        let [na, nb, nc] = self.normals;
         match (b - a).cross(c - a).try_normalize() {
-            Some(plane) if plane.dot(na + nb + nc) < 0.0 => -plane,
+            Some(plane) if wound_against_normals(self.corners, self.normals) => -plane,
             Some(plane) => plane,
             None => self.normal(u, v),
         }
@@ -244,6 +258,10 @@ pub struct Geometry {
     triangles: Vec<Triangle>,
     bvh: CwBvh,
     packet_tree: OnceLock<PacketTree>,
+    /// The scene's size R: its largest corner coordinate.
+    size: f64,
+    /// [`SELF_HIT_RELATIVE`] × R.
+    self_hit: f64,
 }
 
 pub use crate::scene::mesh::{traced_bytes, BYTES_PER_TRACED_TRIANGLE};
@@ -281,10 +299,11 @@ impl Geometry {
         if triangles.is_empty() {
             return Err(GeometryError::Empty);
         }
-        let size = triangles.iter().flat_map(|t| t.corners).fold(1.0f64, |r, p| r.max(p.abs().max_element()));
-        let boxes: Vec<Aabb> = triangles.iter().map(|t| t.padded_box(BOX_PADDING * size)).collect();
+        // The smallest positive f64 where every corner is at the origin (no triangle has area).
+        let size = triangles.iter().flat_map(|t| t.corners).fold(f64::MIN_POSITIVE, |r, p| r.max(p.abs().max_element()));
+        let boxes: Vec<Aabb> = triangles.iter().map(|t| t.padded_box(BOX_PADDING * (size + TRAVERSAL_BACKOFF))).collect();
         let bvh = build_cwbvh(&boxes, BvhBuildParams::medium_build(), &mut Default::default());
-        Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new() })
+        Ok(Geometry { triangles, bvh, packet_tree: OnceLock::new(), size, self_hit: SELF_HIT_RELATIVE * size })
     }
 
     /// The centre of the bounding box of `object`'s triangles (the origin if it has none).
@@ -302,6 +321,18 @@ impl Geometry {
         self.triangles.len()
     }
 
+    /// The scene's size R: its largest corner coordinate, what f32 positions are rounded
+    /// relative to and the scene-relative lengths ([`SELF_HIT_RELATIVE`]) are fractions of.
+    pub fn size(&self) -> f64 {
+        self.size
+    }
+
+    /// Hits nearer than this to a ray's origin are the surface it leaves:
+    /// [`SELF_HIT_RELATIVE`] × [`Geometry::size`].
+    pub fn self_hit_distance(&self) -> f64 {
+        self.self_hit
+    }
+
     /// The traversal's f32 ray. Direction components below [`TINY_DIRECTION`] in size are
     /// flushed to +0: obvhs 0.4 loses every hit of a ray whose direction has a tiny
     /// negative component (−1e-8, say; see the test `tiny_direction_components_keep_their_hits`).
@@ -315,7 +346,7 @@ impl Geometry {
     }
 
     /// The nearest hit along origin + t·direction (direction of unit length) with
-    /// t > [`SELF_HIT_DISTANCE`], skipping triangle `leaving` (the surface the ray starts on)
+    /// t > [`Geometry::self_hit_distance`], skipping triangle `leaving` (the surface the ray starts on)
     /// and objects for which `include` is false.
     pub fn nearest(&self, origin: DVec3, direction: DVec3, leaving: Option<u32>, include: impl Fn(usize) -> bool) -> Option<Hit> {
         if !(origin.is_finite() && direction.is_finite()) {
@@ -330,7 +361,7 @@ impl Geometry {
                 return f32::INFINITY;
             }
             match triangle.crossing(origin, direction) {
-                Some(c) if c.t > SELF_HIT_DISTANCE && best.is_none_or(|(t, _, _)| c.t < t) => {
+                Some(c) if c.t > self.self_hit && best.is_none_or(|(t, _, _)| c.t < t) => {
                     best = Some((c.t, c, index));
                     ((c.t + TRAVERSAL_BACKOFF) as f32).next_up()
                 }
@@ -340,7 +371,7 @@ impl Geometry {
         best.map(|(t, crossing, index)| self.hit(t, crossing, index, origin, direction))
     }
 
-    /// Whether the ray meets any triangle at t > [`SELF_HIT_DISTANCE`] (an occlusion query
+    /// Whether the ray meets any triangle at t > [`Geometry::self_hit_distance`] (an occlusion query
     /// for ambient occlusion and shadow rays): the traversal stops at the first such crossing
     /// instead of searching for the nearest.
     pub fn occluded(&self, origin: DVec3, direction: DVec3) -> bool {
@@ -355,8 +386,7 @@ impl Geometry {
         }
         let escaped = self.bvh.ray_traverse_miss(Self::bvh_ray(origin, direction), |_, id| {
             let index = self.bvh.primitive_indices[id];
-            let crossed =
-                self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > SELF_HIT_DISTANCE && c.t < reach);
+            let crossed = self.triangles[index as usize].crossing(origin, direction).is_some_and(|c| c.t > self.self_hit && c.t < reach);
             if crossed {
                 0.0
             } else {
@@ -368,7 +398,7 @@ impl Geometry {
 
     /// How many of the rays from `origin` along `directions` (unit vectors, best close to one
     /// another: the rays of one vertex in one direction bin) meet no triangle at
-    /// t > [`SELF_HIT_DISTANCE`] — the count [`Geometry::occluded`] gives ray by ray, found
+    /// t > [`Geometry::self_hit_distance`] — the count [`Geometry::occluded`] gives ray by ray, found
     /// by tracing them as packets of up to [`PACKET_RAYS`] (`super::packet`).
     pub fn open_rays(&self, origin: DVec3, directions: &[DVec3]) -> usize {
         if !origin.is_finite() {
@@ -393,7 +423,7 @@ impl Geometry {
                         while candidates != 0 {
                             let ray = candidates.trailing_zeros() as usize;
                             candidates &= candidates - 1;
-                            if crossing_from(*relative, &shears[ray]).is_some_and(|c| c.t > SELF_HIT_DISTANCE) {
+                            if crossing_from(*relative, &shears[ray]).is_some_and(|c| c.t > self.self_hit) {
                                 blocked |= 1 << ray;
                             }
                         }
@@ -430,7 +460,7 @@ impl Geometry {
                     let ray = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
                     if let Some(c) = crossing_from(*relative, &shears[ray]) {
-                        if c.t > SELF_HIT_DISTANCE && nearest[ray].is_none_or(|(t, _)| c.t < t) {
+                        if c.t > self.self_hit && nearest[ray].is_none_or(|(t, _)| c.t < t) {
                             nearest[ray] = Some((c.t, index));
                             crossings[ray] = Some(c);
                         }
@@ -466,8 +496,8 @@ impl Geometry {
         }
     }
 
-    /// Every hit along the ray (t > [`SELF_HIT_DISTANCE`]) on objects for which `include`
-    /// is true, nearest first; hits within [`SELF_HIT_DISTANCE`] of each other (a ray through
+    /// Every hit along the ray (t > [`Geometry::self_hit_distance`]) on objects for which `include`
+    /// is true, nearest first; hits within [`Geometry::self_hit_distance`] of each other (a ray through
     /// an edge shared by two triangles) count once.
     pub fn all_hits(&self, origin: DVec3, direction: DVec3, include: impl Fn(usize) -> bool) -> Vec<Hit> {
         if !(origin.is_finite() && direction.is_finite()) {
@@ -479,14 +509,14 @@ impl Geometry {
             let triangle = &self.triangles[index as usize];
             if include(triangle.object as usize) {
                 if let Some(c) = triangle.crossing(origin, direction) {
-                    if c.t > SELF_HIT_DISTANCE && !crossings.iter().any(|(_, _, i)| *i == index) {
+                    if c.t > self.self_hit && !crossings.iter().any(|(_, _, i)| *i == index) {
                         crossings.push((c.t, c, index));
                     }
                 }
             }
         });
         crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
-        crossings.dedup_by(|later, earlier| later.0 - earlier.0 < SELF_HIT_DISTANCE);
+        crossings.dedup_by(|later, earlier| later.0 - earlier.0 < self.self_hit);
         crossings.into_iter().map(|(t, c, index)| self.hit(t, c, index, origin, direction)).collect()
     }
 }
@@ -496,6 +526,41 @@ mod tests {
     use super::*;
     use crate::scene::mesh::{plane, room, sphere};
     use crate::scene::Placement;
+
+    /// A ray leaving a floor 10⁻⁵ of the scene's size from the crease where it meets a wall,
+    /// at 45°, hits the wall at t = √2·10⁻⁵ of that size, at every scale of the range of
+    /// scene sizes: the self-hit distance is 10⁻⁷ of the size (an absolute 10⁻⁷ would skip
+    /// the hit at scale 10⁻⁴, where t = 1.4·10⁻⁹).
+    #[test]
+    fn a_hit_near_a_crease_is_found_at_every_scale() {
+        for k in [1e-4, 1.0, 1e4] {
+            let at = |p: [f64; 3]| p.map(|x| (x * k) as f32);
+            // The floor y = 0 (x ∈ [0, 1]) facing +y, the wall x = 0 (y ∈ [0, 1]) facing +x.
+            let mesh = Mesh {
+                positions: [
+                    [0., 0., -1.],
+                    [1., 0., -1.],
+                    [1., 0., 1.],
+                    [0., 0., 1.],
+                    [0., 0., -1.],
+                    [0., 1., -1.],
+                    [0., 1., 1.],
+                    [0., 0., 1.],
+                ]
+                .map(at)
+                .to_vec(),
+                normals: [[0.0, 1.0, 0.0]; 4].into_iter().chain([[1.0, 0.0, 0.0]; 4]).collect(),
+                indices: vec![0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7],
+            };
+            let geometry = Geometry::new(&[mesh]).unwrap();
+            assert_eq!(geometry.size(), k as f32 as f64);
+            let d = 1e-5 * k;
+            let direction = DVec3::new(-1.0, 1.0, 0.0).normalize();
+            let hit = geometry.nearest(DVec3::new(d, 0.0, 0.0), direction, None, |_| true).unwrap_or_else(|| panic!("scale {k}: no hit"));
+            assert!((hit.t / (2f64.sqrt() * d) - 1.0).abs() < 1e-9, "scale {k}: {hit:?}");
+            assert_eq!(hit.normal, DVec3::X, "scale {k}: the wall");
+        }
+    }
 
     #[test]
     fn nearest_hit_on_a_sphere_is_analytic_up_to_tessellation() {

@@ -159,7 +159,11 @@ pub fn refract(incoming: DVec3, normal: DVec3, eta: f64) -> Option<DVec3> {
 /// grazing ray on a coarse mesh whose interpolated `normal` faces the other way is still
 /// seen arriving from where it came; the bounce takes the interpolated normal turned to
 /// that side, or the plane's own where the interpolated one faces away from the ray.
-/// Returns (from inside, the unit normal facing the ray, cosθᵢ ∈ [0, 1]).
+/// Returns (from inside, the unit normal facing the ray, cosθᵢ ∈ [0, 1]). The GPU's twin
+/// (`facing` in shaders/specular.wgsl) takes the side at the camera's hit from the
+/// rasteriser's `front_facing` on meshes wound outwards by the same plane rule
+/// (`scene::mesh::wound_against_normals`), and the plane from the screen derivatives of
+/// the hit point.
 pub fn facing(incoming: DVec3, normal: DVec3, geometric: DVec3) -> (bool, DVec3, f64) {
     let from_inside = incoming.dot(geometric) > 0.0;
     let side = if from_inside { -1.0 } else { 1.0 };

@@ -376,3 +376,106 @@ fn view_space_points_project_back_to_their_pixels() {
         }
     }
 }
+
+/// `stage` with every length times `k`: mesh corners (rounded to f32 as a placed mesh is),
+/// checker sizes and gradient axes (÷ k: a gradient ramps over p·axis), point lights'
+/// positions, and the metres per unit (÷ k, so Beer–Lambert sees the same path in metres);
+/// point lights' intensities times k² (inverse square). The same scene at another size.
+fn scaled(stage: &Stage, k: f64) -> Stage {
+    use super::geometry::Geometry;
+    use super::trace::ObjectOptics;
+    use crate::scene::{Diffuse, LightSource, Pattern};
+    let meshes: Vec<_> = stage
+        .meshes
+        .iter()
+        .map(|m| {
+            let mut m = m.clone();
+            m.positions.iter_mut().for_each(|p| *p = p.map(|x| (x as f64 * k) as f32));
+            m
+        })
+        .collect();
+    let objects = stage
+        .objects
+        .iter()
+        .map(|o| match o {
+            ObjectOptics::Diffuse(d) => ObjectOptics::Diffuse(Diffuse {
+                albedo: d.albedo,
+                pattern: match d.pattern {
+                    Pattern::Plain => Pattern::Plain,
+                    Pattern::Checker { size, albedo } => Pattern::Checker { size: size * k, albedo },
+                    Pattern::Gradient { axis, albedo } => Pattern::Gradient { axis: axis.map(|a| a / k), albedo },
+                },
+            }),
+            specular => specular.clone(),
+        })
+        .collect();
+    let lights = stage
+        .lights
+        .iter()
+        .map(|l| match l {
+            LightSource::Point { position, intensity } => {
+                LightSource::Point { position: position.map(|x| x * k), intensity: intensity.map(|i| i * k * k) }
+            }
+            other => other.clone(),
+        })
+        .collect();
+    Stage {
+        geometry: Geometry::new(&meshes).unwrap(),
+        meshes,
+        objects,
+        lights,
+        channels_nm: stage.channels_nm,
+        metres_per_unit: stage.metres_per_unit / k,
+        spectra: stage.spectra.clone(),
+    }
+}
+
+/// A scene at the ends of the range of scene sizes — 10⁻⁴ and 10⁴ times a scene a few units
+/// across — renders the image of the scene at scale 1 through the f64 reference tracer,
+/// every pixel. The scaled scene is not exactly similar: its corners are rounded to f32 after
+/// scaling, which moves each by up to 2⁻²⁴ of its coordinates (≤ 6·10⁻⁸R, R = 3 the room's
+/// half-width), about 4·10⁻⁶ of a pixel here (a pixel spans 2·1.8·tan 30°/48 ≈ 0.043 units at
+/// the scene's centre). So each pixel is held to the scale-1 image at its centre or at a ray
+/// [`SCALE_STRAY`] pixels from it (a pixel whose centre lies that close to an edge may
+/// show either side), to [`SCALE_BOUND`]: the barycentrics of a hit move by the corner
+/// shift over the edge length (6·10⁻⁸·3/0.05 ≈ 4·10⁻⁶), so do the interpolated normals (by
+/// that times their spread across a triangle, ≲ 0.1 rad) and with them F and the bounce
+/// directions; over three bounces that stays under 10⁻⁴ of the radiance.
+#[test]
+fn a_scene_scaled_to_either_end_of_the_range_renders_the_image_at_scale_one() {
+    use crate::scene::CameraPath;
+    let text = "measurements: [image_error]\ncamera: {axis: [0, 1, 0.2], distance: 1.8}\neffects:\n  reflection: {max_depth: 3}\n  refraction: {max_depth: 3}\n\
+        lights:\n  - {kind: directional, direction: [-0.3, -1, -0.5], colour: [0.5, 0.5, 0.5]}\n  - {kind: point, position: [0.5, 0.8, -0.5], intensity: [0.6, 0.5, 0.4]}\n  - {kind: ambient, colour: [0.2, 0.2, 0.2]}\n\
+        objects:\n  - {mesh: sphere, scale: 0.5, position: [0.2, 0, 0], material: test/glass/crown, method: exact}\n  - {mesh: cube, scale: 0.25, position: [-0.6, -0.2, 0.3], material: test/metals/gold, method: exact}\n\
+        \x20 - {mesh: room, scale: [3, 2, 3], diffuse: [0.8, 0.8, 0.75], pattern: {kind: checker, size: 0.5, albedo: [0.1, 0.3, 0.6]}}\n";
+    let (scene, stage) = stage(text);
+    let depths = Depths { reflection: 3, refraction: 3 };
+    let camera = |k: f64| Camera::new(&CameraPath { distance: scene.camera.distance * k, ..scene.camera.clone() }, 0, 48, 48);
+    let strays = [(0.0, 0.0), (SCALE_STRAY, 0.0), (-SCALE_STRAY, 0.0), (0.0, SCALE_STRAY), (0.0, -SCALE_STRAY)];
+    let base: Vec<TracedFrame> = strays.iter().map(|&(dx, dy)| reference(&stage, &camera(1.0).shifted(dx, dy), depths)).collect();
+    assert!(base[0].seen.iter().filter(|s| s.is_some()).count() > 300, "the glass and the gold fill part of the frame");
+    let distance = |a: [f64; 3], b: [f64; 3]| (0..3).map(|c| (a[c] - b[c]).abs() / (1.0 + b[c].abs())).fold(0.0, f64::max);
+    for k in [1e-4, 1e4] {
+        let big = scaled(&stage, k);
+        assert!((big.geometry.size() / stage.geometry.size() / k - 1.0).abs() < 1e-6);
+        let frame = reference(&big, &camera(k), depths);
+        let (mut centre_worst, mut worst, mut at) = (0.0f64, 0.0f64, 0);
+        for p in 0..frame.radiance.len() {
+            let near =
+                |b: &TracedFrame| if b.seen[p] == frame.seen[p] { distance(frame.radiance[p], b.radiance[p]) } else { f64::INFINITY };
+            centre_worst = centre_worst.max(near(&base[0]));
+            let best = base.iter().map(near).fold(f64::INFINITY, f64::min);
+            if best > worst {
+                (worst, at) = (best, p);
+            }
+        }
+        eprintln!(
+            "scale {k:e}: largest difference at a pixel centre {centre_worst:.3e}; with rays {SCALE_STRAY} px away {worst:.3e} at {:?}",
+            (at % 48, at / 48)
+        );
+        assert!(worst <= SCALE_BOUND, "scale {k}: {worst} at pixel {at}");
+    }
+}
+
+const SCALE_STRAY: f64 = 1e-4;
+const SCALE_BOUND: f64 = 1e-4;

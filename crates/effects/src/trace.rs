@@ -220,6 +220,8 @@ pub struct Camera {
     aspect: f64,
     pub width: u32,
     pub height: u32,
+    /// Where in its pixel each ray passes, from the centre (pixels, x right, y down).
+    shift: [f64; 2],
 }
 
 impl Camera {
@@ -239,7 +241,14 @@ impl Camera {
             aspect: width as f64 / height as f64,
             width,
             height,
+            shift: [0.0; 2],
         }
+    }
+
+    /// The camera whose rays pass `dx`, `dy` pixels (x right, y down) from each pixel's
+    /// centre: the frame seen by samples that stray from the centres by as much.
+    pub fn shifted(&self, dx: f64, dy: f64) -> Camera {
+        Camera { shift: [dx, dy], ..*self }
     }
 
     /// `point` in view space: x right, y up, the camera at the origin looking down −z.
@@ -258,10 +267,11 @@ impl Camera {
         self.height as f64 / (2.0 * self.tan_half_y)
     }
 
-    /// Unit direction through the centre of pixel (x, y), y down.
+    /// Unit direction through the centre of pixel (x, y), y down (moved by
+    /// [`Camera::shifted`]'s offset).
     pub fn ray(&self, x: u32, y: u32) -> DVec3 {
-        let ndc_x = 2.0 * (x as f64 + 0.5) / self.width as f64 - 1.0;
-        let ndc_y = 1.0 - 2.0 * (y as f64 + 0.5) / self.height as f64;
+        let ndc_x = 2.0 * (x as f64 + 0.5 + self.shift[0]) / self.width as f64 - 1.0;
+        let ndc_y = 1.0 - 2.0 * (y as f64 + 0.5 + self.shift[1]) / self.height as f64;
         (self.forward + self.right * (ndc_x * self.tan_half_y * self.aspect) + self.up * (ndc_y * self.tan_half_y)).normalize()
     }
 }

@@ -53,9 +53,9 @@ fn plus(a: Rgb, b: Rgb) -> Rgb {
 }
 
 /// Direct irradiance at `point` with unit `normal` from `lights`, shadowed by `geometry`
-/// (the shadow ray starts `offset` off the surface along the normal).
+/// (the shadow ray starts `offset` × the scene's size off the surface along the normal).
 pub fn direct_irradiance(geometry: &Geometry, point: DVec3, normal: DVec3, lights: &[LightSource], offset: f64) -> Rgb {
-    let origin = point + normal * offset;
+    let origin = point + normal * (offset * geometry.size());
     lights.iter().fold([0.0; 3], |sum, light| {
         let arriving = match light {
             LightSource::Directional { direction, colour } => {
@@ -171,7 +171,7 @@ fn one_bounce(
     settings: RaySettings,
 ) -> (Rgb, Rgb) {
     let mut random = SplitMix64::new(settings.seed ^ 0xb0b, stream);
-    let origin = surfel.centre + surfel.normal * settings.offset;
+    let origin = surfel.centre + surfel.normal * (settings.offset * geometry.size());
     let rays = settings.rays.max(1);
     let (mut sum, mut squares) = ([0.0; 3], [0.0; 3]);
     for _ in 0..rays {

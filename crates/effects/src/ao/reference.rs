@@ -17,7 +17,8 @@ use super::surfel::Surfel;
 use crate::geometry::Geometry;
 
 /// How many rays, from which seed, how far along its normal a ray starts off the surface
-/// (scene units; so a ray leaving a vertex does not meet the faces there), and whether the
+/// (a fraction of the scene's size, `Geometry::size`: 10⁻⁶ of it, ten times the self-hit
+/// distance, at every scale; so a ray leaving a vertex does not meet the faces there), and whether the
 /// rays go in packets (one BVH walk per direction bin) or one by one — the same counts
 /// either way; one by one is the benchmark's anchor.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,7 +184,7 @@ pub fn reference_bent_normals(geometry: &Geometry, surfels: &[Surfel], settings:
     nklut_pipeline::progress::par_map(surfels.len(), "bent normal rays", |i| {
         let surfel = &surfels[i];
         let mut random = SplitMix64::new(settings.seed ^ 0xbe27, i as u64);
-        let origin = surfel.centre + surfel.normal * settings.offset;
+        let origin = surfel.centre + surfel.normal * (settings.offset * geometry.size());
         let hemisphere = Hemisphere::about(surfel.normal);
         let sum = (0..settings.rays.max(1)).fold(DVec3::ZERO, |sum, _| {
             let direction = hemisphere.direction(random.next_f64(), random.next_f64());
@@ -212,7 +213,7 @@ const RAYS_PER_PACKET: u32 = 48;
 /// one packet, which counts what its rays count one by one.
 fn open_fraction(geometry: &Geometry, surfel: &Surfel, stream: u64, settings: RaySettings, reach: f64) -> (f64, f64) {
     let mut random = SplitMix64::new(settings.seed, stream);
-    let origin = surfel.centre + surfel.normal * settings.offset;
+    let origin = surfel.centre + surfel.normal * (settings.offset * geometry.size());
     let rays = settings.rays.max(1);
     let open = if settings.packets && reach == f64::INFINITY {
         open_in_packets(geometry, origin, surfel.normal, rays, &mut random)

@@ -83,6 +83,31 @@ impl Mesh {
     pub fn interleaved(&self) -> Vec<f32> {
         self.positions.iter().zip(&self.normals).flat_map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]]).collect()
     }
+
+    /// The indices with every triangle wound counter-clockwise seen from its outside (the
+    /// side [`wound_against_normals`] names): what a rasteriser's front face is, so the
+    /// GPU's `front_facing` at a pixel is the CPU tracers' side of the triangle's plane.
+    pub fn outward_indices(&self) -> Vec<u32> {
+        let mut indices = self.indices.clone();
+        for triangle in indices.chunks_exact_mut(3) {
+            let at = |i: usize| triangle[i] as usize;
+            let corners = [0, 1, 2].map(|i| widen(self.positions[at(i)]));
+            let normals = [0, 1, 2].map(|i| widen(self.normals[at(i)]));
+            if wound_against_normals(corners, normals) {
+                triangle.swap(1, 2);
+            }
+        }
+        indices
+    }
+}
+
+/// Whether a triangle's winding runs against its vertex normals: (b − a) × (c − a) · (n_a +
+/// n_b + n_c) < 0, in f64 from the mesh's f32 data. The one rule of which side of a
+/// triangle's plane is the mesh's outside, whatever the file's winding: the CPU tracers
+/// turn the plane's normal by it (`geometry`), the GPU's meshes are wound by it
+/// ([`Mesh::outward_indices`]).
+pub fn wound_against_normals([a, b, c]: [DVec3; 3], [na, nb, nc]: [DVec3; 3]) -> bool {
+    (b - a).cross(c - a).dot(na + nb + nc) < 0.0
 }
 
 /// A mesh's point or normal (f32, as meshes store them) in f64, exactly.
@@ -430,6 +455,38 @@ mod tests {
 
     fn radius(mesh: &Mesh) -> f32 {
         mesh.positions.iter().map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()).fold(0.0, f32::max)
+    }
+
+    /// Rewound for the GPU, every triangle runs counter-clockwise seen from where its normals
+    /// point: an octahedron whose file winds half its faces the other way comes out wound
+    /// along its normals, with each triangle's corners kept; the built-in meshes, wound so
+    /// already, come out unchanged.
+    #[test]
+    fn outward_indices_wind_every_triangle_along_its_normals() {
+        let corners = [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+        let mut octahedron = Mesh { positions: corners.to_vec(), normals: corners.to_vec(), indices: Vec::new() };
+        for x in [0, 1] {
+            for y in [2, 3] {
+                for z in [4, 5] {
+                    octahedron.indices.extend([x, y, z]);
+                }
+            }
+        }
+        // Faces (x, y, z) in octants whose signs multiply to −1 run clockwise from outside.
+        assert!(!wound_along_normals(&octahedron));
+        let rewound = Mesh { indices: octahedron.outward_indices(), ..octahedron.clone() };
+        assert!(wound_along_normals(&rewound));
+        let flipped = rewound.indices.chunks_exact(3).zip(octahedron.indices.chunks_exact(3)).filter(|(a, b)| a != b).count();
+        assert_eq!(flipped, 4);
+        for (a, b) in rewound.indices.chunks_exact(3).zip(octahedron.indices.chunks_exact(3)) {
+            let (mut a, mut b) = (a.to_vec(), b.to_vec());
+            a.sort();
+            b.sort();
+            assert_eq!(a, b);
+        }
+        for mesh in [cube(), room(), sphere(64, 32), prism(), plane()] {
+            assert_eq!(mesh.outward_indices(), mesh.indices);
+        }
     }
 
     #[test]

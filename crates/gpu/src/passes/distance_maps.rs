@@ -303,6 +303,9 @@ pub fn layer_steps(stage: &Stage, views: &[MapView], uniforms: &MapUniforms) -> 
 
 /// Every object's placed mesh packed in one vertex and one index array: object o's indices
 /// are `ranges[o]`, its vertices start at `base_vertex[o]` (what [`SceneMeshes`] uploads).
+/// Every triangle is wound counter-clockwise seen from the mesh's outside
+/// ([`nklut_effects::scene::mesh::Mesh::outward_indices`]), so a fragment's `front_facing`
+/// says from which side of the triangle's plane the camera sees it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PackedMeshes {
     /// Position and normal per vertex, 6 f32 ([`MESH_ATTRIBUTES`]).
@@ -318,7 +321,7 @@ impl PackedMeshes {
         for mesh in &stage.meshes {
             packed.base_vertex.push((packed.vertices.len() / 6) as i32);
             let start = packed.indices.len() as u32;
-            packed.indices.extend_from_slice(&mesh.indices);
+            packed.indices.extend(mesh.outward_indices());
             packed.ranges.push(start..packed.indices.len() as u32);
             packed.vertices.extend(mesh.interleaved());
         }
@@ -393,7 +396,9 @@ pub fn mesh_pipeline(
             compilation_options: Default::default(),
             buffers: &[Some(mesh_buffer_layout())],
         },
-        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        // Counter-clockwise is the front ([`PackedMeshes`] winds every triangle so, seen
+        // from outside): `front_facing` is the side of the plane the camera sees.
+        primitive: wgpu::PrimitiveState { cull_mode: None, front_face: wgpu::FrontFace::Ccw, ..Default::default() },
         depth_stencil: Some(depth_test()),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
