@@ -27,8 +27,8 @@ struct MaterialParams {
     constant_colour: vec4<f32>,       // the `constant` baseline (F0)
 }
 
-// Every function below mirrors its f32 twin in src/fresnel (the same generic body the f64
-// reference runs, evaluated in f32) operation by operation: c clamped to [0, 1] first (but in
+// Every function below mirrors its f32 twin in crates/optics/src/fresnel (the same
+// generic body the f64 reference runs, evaluated in f32) operation by operation: c clamped to [0, 1] first (but in
 // fresnel_lut, whose clamp-to-edge sampler does it), integer powers as products (m⁵ = m²·m²·m,
 // m⁶ = m⁵·m), a real power as exp2(p·log2 m).
 
