@@ -28,9 +28,9 @@ struct MaterialParams {
 }
 
 // Every function below mirrors its f32 twin in crates/optics/src/fresnel (the same
-// generic body the f64 reference runs, evaluated in f32) operation by operation: c clamped to [0, 1] first (but in
-// fresnel_lut, whose clamp-to-edge sampler does it), integer powers as products (m⁵ = m²·m²·m,
-// m⁶ = m⁵·m), a real power as exp2(p·log2 m).
+// generic body the f64 reference runs, evaluated in f32) operation by operation: c clamped
+// to [0, 1] first (but in fresnel_lut, whose clamp-to-edge sampler does it), integer powers
+// as products (m⁵ = m²·m²·m, m⁶ = m⁵·m), a real power as exp2(p·log2 m).
 
 fn pow5(m: vec3<f32>) -> vec3<f32> {
     let m2 = m * m;
