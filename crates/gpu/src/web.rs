@@ -276,44 +276,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
     });
 
     let mut meshes: Vec<(nklut_effects::scene::MeshSource, MeshPlan)> = Vec::new();
-    let image_error = (scene.wants(Experiment::ImageError) && !specular_effects).then(|| -> Result<ImagePlan> {
-        let [width, height] = scene.resolution;
-        let frames = (0..scene.camera.frames)
-            .map(|i| base64(bytemuck::bytes_of(&ViewUniform::camera(&camera::frame(&scene.camera, i, width, height), width, height))))
-            .collect();
-        let mut objects = Vec::new();
-        let (budget, mut triangles) = (nklut_pipeline::budget::MemoryBudget::of_machine(), 0u128);
-        for (i, object) in scene.objects.iter().enumerate() {
-            let Some(specular) = object.specular() else { continue };
-            let mesh_index = match meshes.iter().position(|(source, _)| *source == object.mesh) {
-                Some(index) => index,
-                None => {
-                    let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p))
-                        .map_err(|error| SceneError::new(&scene.file, SceneProblem::Mesh { object: i, error }))?;
-                    // The meshes embedded so far, this one included, before its copies.
-                    triangles += mesh.triangles() as u128;
-                    nklut_effects::geometry::check_loaded(&budget, i, triangles, &object.mesh.label())
-                        .map_err(|e| SceneError::new(&scene.file, SceneProblem::Memory(e)))?;
-                    meshes.push((
-                        object.mesh.clone(),
-                        MeshPlan {
-                            label: object.mesh.label(),
-                            vertices: base64(bytemuck::cast_slice(&mesh.interleaved())),
-                            indices: base64(bytemuck::cast_slice(&mesh.indices)),
-                            index_count: mesh.indices.len() as u32,
-                        },
-                    ));
-                    meshes.len() - 1
-                }
-            };
-            objects.push(ObjectPlan {
-                mesh: mesh_index,
-                material: page_index(&specular.material)?,
-                methods: specular.shadings.iter().map(|m| m.name()).collect(),
-            });
-        }
-        Ok(ImagePlan { resolution: scene.resolution, frames, objects })
-    });
+    let image_error = (scene.wants(Experiment::ImageError) && !specular_effects).then(|| image_plan(scene, &mut meshes, page_index));
     let timing = timing.transpose()?;
     let image_error = image_error.transpose()?;
 
@@ -328,31 +291,7 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
 
     let effects = effects::plan(scene, materials)?;
     let ao = ao::plan(scene)?;
-    let mut skipped = Vec::new();
-    if scene.names_effect(EffectFamily::Surfels) {
-        skipped.push(
-            "the scene's indirect light and the surfel AO's error against the ray-traced reference: the native runner's (`nklut gpu run`, `nklut effects`)"
-                .to_string(),
-        );
-    }
-    if ao.as_ref().is_some_and(|a| a.gtao.is_some()) {
-        skipped.push(
-            "GTAO at 1024² and 1920×1080: the page times the scene's resolution only (`nklut gpu ao-timing` times the larger frames)"
-                .to_string(),
-        );
-    }
-    if specular_effects {
-        skipped.push("F-only passes: the scene's reflection and refraction take its measurements, as in the native runner".to_string());
-        if scene.wants(Experiment::ImageError) {
-            skipped.push(
-                "reflection, refraction image error (effects_errors): against the f64 ray-traced reference, which `nklut gpu run` traces on the CPU"
-                    .to_string(),
-            );
-        }
-        if !scene.wants(Experiment::Timing) {
-            skipped.push("reflection, refraction timing: the scene does not ask for it (`measurements: [timing]`)".to_string());
-        }
-    }
+    let skipped = skipped_parts(scene, specular_effects, ao.as_ref().is_some_and(|a| a.gtao.is_some()));
     let format = texture_format;
     let names = |table: nklut_pipeline::output::Table| table.columns.into_iter().map(|c| c.name).collect();
     Ok(Bench {
@@ -381,6 +320,83 @@ pub fn plan(scene: &Scene, materials: &[SceneMaterial]) -> Result<Bench> {
         checks,
         skipped,
     })
+}
+
+/// The F-only image-error passes' plan: the camera's frames and every specular object with
+/// its mesh, each mesh embedded once in `meshes` (held against the memory budget).
+fn image_plan(
+    scene: &Scene,
+    meshes: &mut Vec<(nklut_effects::scene::MeshSource, MeshPlan)>,
+    page_index: impl Fn(&str) -> Result<usize>,
+) -> Result<ImagePlan> {
+    let [width, height] = scene.resolution;
+    let frames = (0..scene.camera.frames)
+        .map(|i| base64(bytemuck::bytes_of(&ViewUniform::camera(&camera::frame(&scene.camera, i, width, height), width, height))))
+        .collect();
+    let mut objects = Vec::new();
+    let (budget, mut triangles) = (nklut_pipeline::budget::MemoryBudget::of_machine(), 0u128);
+    for (i, object) in scene.objects.iter().enumerate() {
+        let Some(specular) = object.specular() else { continue };
+        let mesh_index = match meshes.iter().position(|(source, _)| *source == object.mesh) {
+            Some(index) => index,
+            None => {
+                let mesh = mesh::load(&object.mesh, |p| scene.mesh_path(p))
+                    .map_err(|error| SceneError::new(&scene.file, SceneProblem::Mesh { object: i, error }))?;
+                // The meshes embedded so far, this one included, before its copies.
+                triangles += mesh.triangles() as u128;
+                nklut_effects::geometry::check_loaded(&budget, i, triangles, &object.mesh.label())
+                    .map_err(|e| SceneError::new(&scene.file, SceneProblem::Memory(e)))?;
+                meshes.push((
+                    object.mesh.clone(),
+                    MeshPlan {
+                        label: object.mesh.label(),
+                        vertices: base64(bytemuck::cast_slice(&mesh.interleaved())),
+                        indices: base64(bytemuck::cast_slice(&mesh.indices)),
+                        index_count: mesh.indices.len() as u32,
+                    },
+                ));
+                meshes.len() - 1
+            }
+        };
+        objects.push(ObjectPlan {
+            mesh: mesh_index,
+            material: page_index(&specular.material)?,
+            methods: specular.shadings.iter().map(|m| m.name()).collect(),
+        });
+    }
+    Ok(ImagePlan { resolution: scene.resolution, frames, objects })
+}
+
+/// What the page leaves to the native runner, in words: the surfel passes' errors, GTAO's
+/// larger frames, and the F-only passes or the effects' image error where the scene's
+/// specular effects take the measurements.
+fn skipped_parts(scene: &Scene, specular_effects: bool, gtao: bool) -> Vec<String> {
+    let mut skipped = Vec::new();
+    if scene.names_effect(EffectFamily::Surfels) {
+        skipped.push(
+            "the scene's indirect light and the surfel AO's error against the ray-traced reference: the native runner's (`nklut gpu run`, `nklut effects`)"
+                .to_string(),
+        );
+    }
+    if gtao {
+        skipped.push(
+            "GTAO at 1024² and 1920×1080: the page times the scene's resolution only (`nklut gpu ao-timing` times the larger frames)"
+                .to_string(),
+        );
+    }
+    if specular_effects {
+        skipped.push("F-only passes: the scene's reflection and refraction take its measurements, as in the native runner".to_string());
+        if scene.wants(Experiment::ImageError) {
+            skipped.push(
+                "reflection, refraction image error (effects_errors): against the f64 ray-traced reference, which `nklut gpu run` traces on the CPU"
+                    .to_string(),
+            );
+        }
+        if !scene.wants(Experiment::Timing) {
+            skipped.push("reflection, refraction timing: the scene does not ask for it (`measurements: [timing]`)".to_string());
+        }
+    }
+    skipped
 }
 
 const TEMPLATE: &str = include_str!("web/page.html");

@@ -26,7 +26,9 @@ use super::gtao::{gtao, GBuffer, Parameters};
 use super::hierarchy::{Closeness, SurfelTree};
 use super::histogram::{histogram_rows, HistogramRow};
 use super::indirect::{direct_irradiance, reference_indirect, surfel_direct, surfel_indirect, EmitterWeight, ReferenceIndirect, Rgb};
-use super::reference::{angles_degrees, reference_accessibility, reference_accessibility_within, reference_bent_normals, RaySettings};
+use super::reference::{
+    angles_degrees, reference_accessibility, reference_accessibility_within, reference_bent_normals, RaySettings, ReferenceAccessibility,
+};
 use super::shadow::ShadowForm;
 use super::surfel::{mesh_defects, subdivided_times, surfels, Surfel};
 use crate::experiment::EffectsStats;
@@ -294,6 +296,33 @@ fn indirect_error(one: &[Rgb], chapter: &[Rgb], reference: &ReferenceIndirect, r
     }
 }
 
+/// The log line of one surfel row: per-vertex error figures, area-weighted and per pixel,
+/// defects, and the indirect light's error where measured.
+fn surfel_row_line(name: &str, passes: u32, hierarchy: bool, accessibility: &AccessibilityErrors, measured: Option<IndirectError>) -> String {
+    let v = &accessibility.per_vertex;
+    format!(
+        "  {} {} passes {}: |a − ref| per vertex mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}; area-weighted {:.4}; per pixel {:.4}; {} defect vertices{}",
+        name,
+        passes,
+        if hierarchy { "tree" } else { "brute force" },
+        v.mean,
+        v.signed_mean,
+        v.median,
+        v.p90,
+        v.p99,
+        v.max,
+        accessibility.area_weighted.map_or(0.0, |s| s.mean),
+        accessibility.per_pixel.map_or(0.0, |s| s.mean),
+        accessibility.defect_vertices,
+        measured
+            .map(|m| format!(
+                ", indirect mean |Δ| {:.4} (signed {:+.4}; weighted by accessibility {:.4}, {:+.4}) of {:.4}",
+                m.mean, m.signed, m.accessibility_weighted, m.accessibility_weighted_signed, m.level
+            ))
+            .unwrap_or_default()
+    )
+}
+
 /// Run the experiment for a scene with surfel effects; a scene without them computes
 /// nothing (no surfels, no tree, no pass: `stats` stays as it was).
 pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: &mut dyn FnMut(&str)) -> Result<AoReport> {
@@ -406,28 +435,7 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     indirect_reference_standard_error: measured.map(|m| m.noise),
                     within_radius: None,
                 });
-                let v = &accessibility.per_vertex;
-                log(&format!(
-                    "  {} {} passes {}: |a − ref| per vertex mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}; area-weighted {:.4}; per pixel {:.4}; {} defect vertices{}",
-                    object.name,
-                    result.passes,
-                    if *hierarchy { "tree" } else { "brute force" },
-                    v.mean,
-                    v.signed_mean,
-                    v.median,
-                    v.p90,
-                    v.p99,
-                    v.max,
-                    accessibility.area_weighted.map_or(0.0, |s| s.mean),
-                    accessibility.per_pixel.map_or(0.0, |s| s.mean),
-                    accessibility.defect_vertices,
-                    measured
-                        .map(|m| format!(
-                            ", indirect mean |Δ| {:.4} (signed {:+.4}; weighted by accessibility {:.4}, {:+.4}) of {:.4}",
-                            m.mean, m.signed, m.accessibility_weighted, m.accessibility_weighted_signed, m.level
-                        ))
-                        .unwrap_or_default()
-                ));
+                log(&surfel_row_line(&object.name, result.passes, *hierarchy, &accessibility, measured));
             }
             let all: Vec<f64> =
                 coverage.iter().flatten().map(|p| p.interpolate(&result.values) - p.interpolate(&reference.values)).collect();
@@ -446,15 +454,171 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
         }
     }
 
-    // Screen-space GTAO where the scene names it: per pixel, on the same frame and against
-    // the same interpolated reference as the surfels' per-pixel figures.
-    // One row set per configuration (radius); the first named is the one pictured.
+    // Screen-space GTAO where the scene names it: one row set per configuration (radius);
+    // the first named is the one pictured.
     let gtao_settings: Vec<crate::scene::surfels::Gtao> = wanted.map(|a| a.gtao.clone()).unwrap_or_default();
-    let mut gtao_values = None;
+    let basis = Measured { stage: &stage, camera: &camera, coverage: &coverage, reference: &reference, indirect: indirect.as_ref() };
+    let gtao_values = gtao_rows(&basis, settings, &gtao_settings, &mut report, log);
+
+    let pictured = gtao_settings.first().copied().zip(gtao_values.as_deref());
+    pictures(&basis, scene, settings, &runs, pictured, &mut report, stats);
+    Ok(report)
+}
+
+/// What the surfel and GTAO rows were measured on, which the pictures show: the scene's
+/// surfels, the camera and its pixels' surfels, the ray-traced reference, and per surfel the
+/// direct light with the reference's indirect light where the scene names indirect light.
+#[derive(Clone, Copy)]
+struct Measured<'a> {
+    stage: &'a SurfelScene,
+    camera: &'a Camera,
+    coverage: &'a [Option<PixelSample>],
+    reference: &'a ReferenceAccessibility,
+    indirect: Option<&'a (Vec<Rgb>, ReferenceIndirect)>,
+}
+
+/// The pictures: the scene's own emitters (the tree where it asks for it or brute force was
+/// skipped), no AO, 1, 2, 3 passes, GTAO's first configuration (`gtao`, with its per-pixel
+/// accessibility) and the reference, side by side and as the hero set.
+fn pictures(
+    m: &Measured,
+    scene: &Scene,
+    settings: &AoSettings,
+    runs: &[(bool, Vec<Accessibility>)],
+    gtao: Option<(crate::scene::surfels::Gtao, &[Option<f64>])>,
+    report: &mut AoReport,
+    stats: &mut EffectsStats,
+) {
+    let Measured { stage, camera, coverage, reference, indirect } = *m;
+    let wanted = scene.effects.as_ref().and_then(|e| e.ambient_occlusion.as_ref());
+    let bent = wanted.is_some_and(|a| a.bent_normals);
+    let use_tree = wanted.is_some_and(|a| a.hierarchy) || stage.surfels.len() > settings.max_brute;
+    let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
+    let bounces = scene.effects.as_ref().and_then(|e| e.indirect).map_or(0, |i| i.bounces);
+    let gathered = |a: &Accessibility| {
+        indirect.map(|(direct, _)| {
+            surfel_indirect(&stage.surfels, &stage.albedo, direct, &EmitterWeight::One.weights(&a.values), settings.form, bounces)
+        })
+    };
+    let reference_lighting = Lighting {
+        accessibility: Shown::PerVertex(&reference.values),
+        indirect: indirect.map(|(_, r)| r.values.as_slice()),
+        bent_normals: None,
+    };
+    // Each shown variant's lighting is gathered once and rendered at every size asked for.
+    let shown: Vec<(&Accessibility, Option<Vec<Rgb>>)> = history.iter().take(4).map(|a| (a, gathered(a))).collect();
+    let variants = |[width, height]: [u32; 2]| {
+        let camera = Camera::new(&scene.camera, 0, width, height);
+        let truth = render(stage, &camera, &reference_lighting);
+        let frames: Vec<TracedFrame> = shown
+            .iter()
+            .map(|(a, light)| {
+                let lighting = Lighting {
+                    accessibility: Shown::PerVertex(&a.values),
+                    indirect: light.as_deref(),
+                    bent_normals: bent.then_some(a.bent_normals.as_slice()),
+                };
+                render(stage, &camera, &lighting)
+            })
+            .collect();
+        (truth, frames)
+    };
+    for (a, _) in shown.iter().skip(1) {
+        report.signed_maps.push(SignedMap {
+            stem: format!("ao_passes{}_signed", a.passes),
+            width: settings.resolution[0],
+            height: settings.resolution[1],
+            values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
+        });
+    }
+    // GTAO's picture takes the reference's indirect light, so that it differs from the
+    // reference by accessibility alone.
+    let gtao_picture = |camera: &Camera, values: &[Option<f64>]| {
+        let lighting = Lighting { accessibility: Shown::PerPixel(values), bent_normals: None, ..reference_lighting };
+        render(stage, camera, &lighting)
+    };
+    let (truth, frames) = variants(settings.resolution);
+    for (pass, frame) in frames.iter().enumerate() {
+        let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };
+        report.pictures.push(Picture { stem, frame: frame.clone(), reference: Some(truth.clone()) });
+    }
+    if indirect.is_some() {
+        stats.indirect_bounces += bounces as u64 * frames.len() as u64;
+    }
+    let mut panels = surfel_panels(frames, &shown, use_tree, coverage, &reference.values);
+    if let Some((g, values)) = gtao {
+        let frame = gtao_picture(camera, values);
+        report.pictures.push(Picture { stem: "ao_gtao".into(), frame: frame.clone(), reference: Some(truth.clone()) });
+        let errors: Vec<f64> = coverage
+            .iter()
+            .zip(values)
+            .filter_map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
+            .collect();
+        let label = format!("GTAO {}", g.label());
+        let label = match ErrorSummary::of(&errors) {
+            Some(e) => format!("{label}\nmean |Δ| {:.3}/px", e.mean),
+            None => label,
+        };
+        panels.push(Panel { label, frame });
+    }
+    panels.push(Panel { label: REFERENCE_LABEL.into(), frame: truth.clone() });
+    report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
+    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: labels::side_by_side(&panels), reference: None });
+    if let Some(size) = settings.hero {
+        let (truth, frames) = variants(size);
+        let gather = if use_tree { "tree" } else { "brute force" };
+        let gtao_panel = gtao.map(|(g, _)| {
+            let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
+            let frame = gtao_frame(stage, &camera, &stage.coverage(&camera), g);
+            HeroPanel {
+                stem: "gtao".into(),
+                label: format!("GTAO {}", g.label()),
+                method: "gtao".into(),
+                configuration: None,
+                passes: None,
+                frame: gtao_picture(&camera, &frame.values),
+            }
+        });
+        let panels = frames
+            .into_iter()
+            .enumerate()
+            .map(|(pass, frame)| HeroPanel {
+                stem: if pass == 0 { "none".into() } else { format!("passes{pass}_{}", gather.replace(' ', "_")) },
+                label: if pass == 0 { "no AO".into() } else { format!("surfel AO, {pass} pass(es), {gather}") },
+                method: if pass == 0 { "none".into() } else { gather.to_string() },
+                configuration: None,
+                passes: Some(pass as u32),
+                frame,
+            })
+            .chain(gtao_panel)
+            .collect();
+        report.hero = Some(HeroSet {
+            effect: crate::scene::EffectFamily::Surfels,
+            reference_label: format!("reference: ray-traced accessibility, {} rays per vertex", settings.rays.rays),
+            reference: truth,
+            panels,
+            mask: ErrorMask::Whole,
+        });
+    }
+}
+
+/// GTAO's rows, per configuration and object, per pixel on the same frame and against the
+/// same interpolated reference as the surfels' per-pixel figures (and against occluders
+/// within the search radius); the first configuration's signed map. Returns the first
+/// configuration's per-pixel accessibility, the one pictured.
+fn gtao_rows(
+    m: &Measured,
+    settings: &AoSettings,
+    gtao_settings: &[crate::scene::surfels::Gtao],
+    report: &mut AoReport,
+    log: &mut dyn FnMut(&str),
+) -> Option<Vec<Option<f64>>> {
+    let Measured { stage, camera, coverage, reference, .. } = *m;
+    let mut pictured = None;
     // The range-limited references, one per search radius (radius × multiplier).
     let mut within_references: Vec<(f64, super::reference::ReferenceAccessibility)> = Vec::new();
     for (configuration, &g) in gtao_settings.iter().enumerate() {
-        let frame = gtao_frame(&stage, &camera, &coverage, g);
+        let frame = gtao_frame(stage, camera, coverage, g);
         let search_radius = g.radius * g.heuristics.radius_multiplier;
         if !within_references.iter().any(|(r, _)| *r == search_radius) {
             // Rays one by one (no packets), at most 1024 per vertex.
@@ -554,121 +718,10 @@ pub fn run(scene: &Scene, settings: &AoSettings, stats: &mut EffectsStats, log: 
                     .map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
                     .collect(),
             });
-            gtao_values = Some(frame.values);
+            pictured = Some(frame.values);
         }
     }
-
-    // Pictures: the scene's own emitters (the tree where it asks for it or brute force was
-    // skipped), no AO, 1, 2, 3 passes and the reference.
-    let use_tree = wanted.is_some_and(|a| a.hierarchy) || n > settings.max_brute;
-    let history = &runs.iter().find(|(h, _)| *h == use_tree).unwrap_or(&runs[runs.len() - 1]).1;
-    let bounces = effects.indirect.map_or(0, |i| i.bounces);
-    let gathered = |a: &Accessibility| {
-        indirect.as_ref().map(|(direct, _)| {
-            surfel_indirect(&stage.surfels, &stage.albedo, direct, &EmitterWeight::One.weights(&a.values), settings.form, bounces)
-        })
-    };
-    let reference_lighting = Lighting {
-        accessibility: Shown::PerVertex(&reference.values),
-        indirect: indirect.as_ref().map(|(_, r)| r.values.as_slice()),
-        bent_normals: None,
-    };
-    // Each shown variant's lighting is gathered once and rendered at every size asked for.
-    let shown: Vec<(&Accessibility, Option<Vec<Rgb>>)> = history.iter().take(4).map(|a| (a, gathered(a))).collect();
-    let variants = |[width, height]: [u32; 2]| {
-        let camera = Camera::new(&scene.camera, 0, width, height);
-        let truth = render(&stage, &camera, &reference_lighting);
-        let frames: Vec<TracedFrame> = shown
-            .iter()
-            .map(|(a, light)| {
-                let lighting = Lighting {
-                    accessibility: Shown::PerVertex(&a.values),
-                    indirect: light.as_deref(),
-                    bent_normals: bent.then_some(a.bent_normals.as_slice()),
-                };
-                render(&stage, &camera, &lighting)
-            })
-            .collect();
-        (truth, frames)
-    };
-    for (a, _) in shown.iter().skip(1) {
-        report.signed_maps.push(SignedMap {
-            stem: format!("ao_passes{}_signed", a.passes),
-            width: settings.resolution[0],
-            height: settings.resolution[1],
-            values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
-        });
-    }
-    // GTAO's picture takes the reference's indirect light, so that it differs from the
-    // reference by accessibility alone.
-    let gtao_picture = |camera: &Camera, values: &[Option<f64>]| {
-        let lighting = Lighting { accessibility: Shown::PerPixel(values), bent_normals: None, ..reference_lighting };
-        render(&stage, camera, &lighting)
-    };
-    let (truth, frames) = variants(settings.resolution);
-    for (pass, frame) in frames.iter().enumerate() {
-        let stem = if pass == 0 { "ao_none".to_string() } else { format!("ao_passes{pass}") };
-        report.pictures.push(Picture { stem, frame: frame.clone(), reference: Some(truth.clone()) });
-    }
-    if indirect.is_some() {
-        stats.indirect_bounces += bounces as u64 * frames.len() as u64;
-    }
-    let mut panels = surfel_panels(frames, &shown, use_tree, &coverage, &reference.values);
-    if let (Some(values), Some(g)) = (&gtao_values, gtao_settings.first()) {
-        let frame = gtao_picture(&camera, values);
-        report.pictures.push(Picture { stem: "ao_gtao".into(), frame: frame.clone(), reference: Some(truth.clone()) });
-        let errors: Vec<f64> = coverage
-            .iter()
-            .zip(values)
-            .filter_map(|(p, v)| p.as_ref().zip(*v).map(|(p, v)| v - p.interpolate(&reference.values)))
-            .collect();
-        let label = format!("GTAO {}", g.label());
-        let label = match ErrorSummary::of(&errors) {
-            Some(e) => format!("{label}\nmean |Δ| {:.3}/px", e.mean),
-            None => label,
-        };
-        panels.push(Panel { label, frame });
-    }
-    panels.push(Panel { label: REFERENCE_LABEL.into(), frame: truth.clone() });
-    report.pictures.push(Picture { stem: "ao_reference".into(), frame: truth, reference: None });
-    report.pictures.push(Picture { stem: "ao_side_by_side".into(), frame: labels::side_by_side(&panels), reference: None });
-    if let Some(size) = settings.hero {
-        let (truth, frames) = variants(size);
-        let gather = if use_tree { "tree" } else { "brute force" };
-        let gtao_panel = gtao_settings.first().map(|&g| {
-            let camera = Camera::new(&scene.camera, 0, size[0], size[1]);
-            let frame = gtao_frame(&stage, &camera, &stage.coverage(&camera), g);
-            HeroPanel {
-                stem: "gtao".into(),
-                label: format!("GTAO {}", g.label()),
-                method: "gtao".into(),
-                configuration: None,
-                passes: None,
-                frame: gtao_picture(&camera, &frame.values),
-            }
-        });
-        let panels = frames
-            .into_iter()
-            .enumerate()
-            .map(|(pass, frame)| HeroPanel {
-                stem: if pass == 0 { "none".into() } else { format!("passes{pass}_{}", gather.replace(' ', "_")) },
-                label: if pass == 0 { "no AO".into() } else { format!("surfel AO, {pass} pass(es), {gather}") },
-                method: if pass == 0 { "none".into() } else { gather.to_string() },
-                configuration: None,
-                passes: Some(pass as u32),
-                frame,
-            })
-            .chain(gtao_panel)
-            .collect();
-        report.hero = Some(HeroSet {
-            effect: crate::scene::EffectFamily::Surfels,
-            reference_label: format!("reference: ray-traced accessibility, {} rays per vertex", settings.rays.rays),
-            reference: truth,
-            panels,
-            mask: ErrorMask::Whole,
-        });
-    }
-    Ok(report)
+    pictured
 }
 
 /// GTAO over one frame: per pixel accessibility, the G-buffer reads it took, CPU time.

@@ -747,64 +747,67 @@ fn specular_section(
         html.push_str("<p class=\"absent\">No timing table: <code>effects_cpu_timing.csv</code> (make effects), <code>effects_timing.csv</code> (make gpu) or a device result timing this scene's configurations.</p>");
     }
 
-    // Geometry error against the search's step counts.
-    if let Some(depth) = depth_categories(errors, &all).pop() {
-        let reference_method = methods.first().cloned().unwrap_or_default();
-        let rows: Vec<usize> = all
-            .iter()
-            .copied()
-            .filter(|&r| {
-                let row = &errors.rows[r];
-                depth_label(errors, row) == depth && errors.text(row, "method") == reference_method
-            })
-            .collect();
-        let (linear_steps, secant_steps) = (integers(errors, &rows, "linear_steps"), integers(errors, &rows, "secant_steps"));
-        let categories: Vec<String> = linear_steps.iter().map(u64::to_string).collect();
-        let series: Vec<Series> = secant_steps
-            .iter()
-            .enumerate()
-            .map(|(i, secant)| {
-                let color = PALETTE[(i + 1) % PALETTE.len()];
-                series(
-                    format!("{secant} secant steps"),
-                    color,
-                    linear_steps.len(),
-                    (path, errors),
-                    ("geometry_mean_delta_e2000", "pixels"),
-                    |x| {
-                        let linear = linear_steps[x];
-                        let at = rows
-                            .iter()
-                            .copied()
-                            .filter(|&r| {
-                                let row = &errors.rows[r];
-                                errors.text(row, "linear_steps") == linear.to_string()
-                                    && errors.text(row, "secant_steps") == secant.to_string()
-                            })
-                            .collect();
-                        (at, format!("{linear} linear + {secant} secant steps, depth {depth}"))
-                    },
-                )
-            })
-            .collect();
-        let legend = series_legend(&series);
-        chart_or_sentence(
-            html,
-            &LineChart {
-                categories: &categories,
-                x_name: "linear search steps",
-                y_axis: ErrorAxis::DeltaE,
-                series: &series,
-                caption: Some("Geometry error against the search's steps"),
-                joined: true,
-            },
-            (640, 320),
-            &legend,
-            &format!(
-                "What the distance maps' search costs in accuracy: the error of where rays land (the twin with {reference_method} Fresnel against the reference with it), mean ΔE2000 over the specular objects' pixels at depth {depth}."
-            ),
-        )?;
-    }
+    geometry_section(html, (path, errors), &all, methods.first().map_or("", String::as_str))
+}
+
+/// Geometry error against the search's step counts, at the deepest depth: the twin with
+/// `reference_method` Fresnel against the reference with it, one line per secant count.
+fn geometry_section(html: &mut String, (path, errors): (&str, &CsvTable), all: &[usize], reference_method: &str) -> Result<()> {
+    let Some(depth) = depth_categories(errors, all).pop() else { return Ok(()) };
+    let rows: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&r| {
+            let row = &errors.rows[r];
+            depth_label(errors, row) == depth && errors.text(row, "method") == reference_method
+        })
+        .collect();
+    let (linear_steps, secant_steps) = (integers(errors, &rows, "linear_steps"), integers(errors, &rows, "secant_steps"));
+    let categories: Vec<String> = linear_steps.iter().map(u64::to_string).collect();
+    let series: Vec<Series> = secant_steps
+        .iter()
+        .enumerate()
+        .map(|(i, secant)| {
+            let color = PALETTE[(i + 1) % PALETTE.len()];
+            series(
+                format!("{secant} secant steps"),
+                color,
+                linear_steps.len(),
+                (path, errors),
+                ("geometry_mean_delta_e2000", "pixels"),
+                |x| {
+                    let linear = linear_steps[x];
+                    let at = rows
+                        .iter()
+                        .copied()
+                        .filter(|&r| {
+                            let row = &errors.rows[r];
+                            errors.text(row, "linear_steps") == linear.to_string()
+                                && errors.text(row, "secant_steps") == secant.to_string()
+                        })
+                        .collect();
+                    (at, format!("{linear} linear + {secant} secant steps, depth {depth}"))
+                },
+            )
+        })
+        .collect();
+    let legend = series_legend(&series);
+    chart_or_sentence(
+        html,
+        &LineChart {
+            categories: &categories,
+            x_name: "linear search steps",
+            y_axis: ErrorAxis::DeltaE,
+            series: &series,
+            caption: Some("Geometry error against the search's steps"),
+            joined: true,
+        },
+        (640, 320),
+        &legend,
+        &format!(
+            "What the distance maps' search costs in accuracy: the error of where rays land (the twin with {reference_method} Fresnel against the reference with it), mean ΔE2000 over the specular objects' pixels at depth {depth}."
+        ),
+    )?;
     Ok(())
 }
 

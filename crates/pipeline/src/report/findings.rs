@@ -191,156 +191,16 @@ fn class_name(kind: &str) -> &str {
 pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<Finding> {
     let recs = inputs.extra.get("recommendations.csv");
     let method_errors = inputs.extra.get("method_errors.csv");
-    let engine = inputs.extra.get("engine_params.csv");
     let bound = bound(recs);
     let mut out = Vec::new();
     if let Some(recs) = recs {
-        for kind in ["conductor", "dielectric"] {
-            let pages: Vec<&str> = {
-                let mut p: Vec<&str> = recs.rows.iter().filter(|r| recs.text(r, "kind") == kind).map(|r| recs.text(r, "page")).collect();
-                p.dedup();
-                p
-            };
-            if pages.is_empty() {
-                continue;
-            }
-            let mut s = Sentence::new()
-                .t(format!("{} (", capitalised(class_name(kind))))
-                .f(format!("pages:{kind}"), pages.len() as f64)
-                .t(" pages), cheapest within ΔE2000 ≤ ")
-                .f("bound", bound)
-                .t(" at every angle: ");
-            // Devices grouped by their most frequent pick, in device order.
-            let mut by_group: Vec<(String, Vec<(String, usize)>)> = Vec::new();
-            for device in devices(recs) {
-                let rows: Vec<&Vec<String>> =
-                    recs.rows.iter().filter(|r| recs.text(r, "kind") == kind && recs.text(r, "device") == device).collect();
-                let Some((g, n)) = most_frequent(recs, &rows) else { continue };
-                match by_group.iter_mut().find(|(k, _)| *k == g) {
-                    Some((_, v)) => v.push((device, n)),
-                    None => by_group.push((g, vec![(device, n)])),
-                }
-            }
-            for (i, (g, on)) in by_group.iter().enumerate() {
-                s = s.t(format!("{}{g} for ", if i == 0 { "" } else { "; " }));
-                for (j, (device, n)) in on.iter().enumerate() {
-                    s = s
-                        .t(if j == 0 { "" } else { ", " })
-                        .f(format!("pick-count:{kind}:{device}:{g}"), *n as f64)
-                        .t(format!(" on {}", short_device(device)));
-                }
-            }
-            out.push(Finding {
-                id: format!("ship-{kind}s"),
-                pieces: s.t(".").0,
-                link: ("#answer-picks".into(), "recommendation table; recommendations.csv".into()),
-            });
-        }
+        out.extend(ship_findings(recs, bound));
     }
-    if let Some(engine) = engine {
-        let rows: Vec<(&str, &str, f64)> = engine
-            .rows
-            .iter()
-            .filter_map(|r| Some((engine.text(r, "page"), engine.text(r, "kind"), engine.number(r, "schlick_de2000_max")?)))
-            .collect();
-        if let Some(&(worst_page, _, worst)) = rows.iter().max_by(|a, b| a.2.total_cmp(&b.2)) {
-            let within = rows.iter().filter(|r| r.2 <= bound).count();
-            let mut s = Sentence::new()
-                .t("Schlick on the spectral F0 (glTF, Unreal, Unity) stays within ΔE2000 ")
-                .f("bound", bound)
-                .t(" at every angle on ")
-                .f("schlick-within", within as f64)
-                .t(" of ")
-                .f("schlick-pages", rows.len() as f64)
-                .t(" pages");
-            let mut lead = "; median worst-angle ΔE2000 ";
-            for kind in ["conductor", "dielectric"] {
-                let of: Vec<f64> = rows.iter().filter(|r| r.1 == kind).map(|r| r.2).collect();
-                if let Some(m) = stats::median(&of) {
-                    s = s.t(lead).f(format!("schlick-median:{kind}"), m).t(format!(" ({})", class_name(kind)));
-                    lead = ", ";
-                }
-            }
-            s = s.t(format!(", largest {worst_page}: ")).f("schlick-worst", worst).t(".");
-            out.push(Finding {
-                id: "schlick".into(),
-                pieces: s.0,
-                link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")),
-            });
-        }
-    }
+    out.extend(inputs.extra.get("engine_params.csv").and_then(|engine| schlick_finding(engine, bound, material_href)));
     if let (Some(colors), Some(me)) = (&inputs.colors, method_errors) {
-        let conductors: Vec<f64> = colors
-            .rows
-            .iter()
-            .filter(|r| colors.text(r, "kind") == "conductor")
-            .filter_map(|r| colors.number(r, "delta_e2000_f0"))
-            .collect();
-        let worst = colors
-            .rows
-            .iter()
-            .filter_map(|r| Some((colors.text(r, "page"), colors.number(r, "delta_e2000_f0")?)))
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        let exact: Vec<f64> =
-            me.rows.iter().filter(|r| me.text(r, "method") == "exact").filter_map(|r| me.number(r, "de2000_max")).collect();
-        if let (Some(median), Some((page, value))) = (stats::median(&conductors), worst) {
-            let within = exact.iter().filter(|v| **v <= bound).count();
-            let s = Sentence::new()
-                .t("Three wavelengths against the spectral truth: exact Fresnel of the three-channel (n, k) is off by ΔE2000 ")
-                .f("index-f0-median:conductor", median)
-                .t(" at normal incidence (median over conductors), up to ")
-                .f("index-f0-worst", value)
-                .t(format!(" ({page}); over all angles it stays within ΔE2000 "))
-                .f("bound", bound)
-                .t(" on ")
-                .f("exact-within", within as f64)
-                .t(" of ")
-                .f("exact-pages", exact.len() as f64)
-                .t(" pages.");
-            out.push(Finding {
-                id: "three-wavelengths".into(),
-                pieces: s.0,
-                link: (material_href(page), format!("{page}; colors.csv, method_errors.csv")),
-            });
-        }
+        out.extend(three_wavelengths_finding(colors, me, bound, material_href));
     }
-    if let Some(me) = method_errors {
-        // Per page, the smallest texture of a spectral LUT within the bound.
-        let mut smallest: BTreeMap<&str, (f64, &str)> = BTreeMap::new();
-        let mut pages: Vec<&str> = Vec::new();
-        for r in me.rows.iter().filter(|r| me.text(r, "method") == "lut") {
-            let page = me.text(r, "page");
-            if !pages.contains(&page) {
-                pages.push(page);
-            }
-            let (Some(bytes), Some(de)) = (me.number(r, "texture_bytes"), me.number(r, "de2000_max")) else { continue };
-            if de <= bound && smallest.get(page).is_none_or(|(b, _)| bytes < *b) {
-                smallest.insert(page, (bytes, me.text(r, "variant")));
-            }
-        }
-        let bytes: Vec<f64> = smallest.values().map(|v| v.0).collect();
-        if let (Some(median), Some((page, (max, variant)))) =
-            (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
-        {
-            let s = Sentence::new()
-                .t("A LUT of the spectral curve stays within ΔE2000 ")
-                .f("bound", bound)
-                .t(" on ")
-                .f("lut-within", smallest.len() as f64)
-                .t(" of ")
-                .f("lut-pages", pages.len() as f64)
-                .t(" pages; the smallest such texture is ")
-                .f("lut-bytes-median", median)
-                .t(" bytes per page at the median, ")
-                .f("lut-bytes-max", *max)
-                .t(format!(" bytes at most ({variant}, {page})."));
-            out.push(Finding {
-                id: "lut-size".into(),
-                pieces: s.0,
-                link: ("#answer-methods".into(), "decision table; method_errors.csv".into()),
-            });
-        }
-    }
+    out.extend(method_errors.and_then(|me| lut_size_finding(me, bound)));
     for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/effects_errors.csv")) {
         out.extend(search_finding(path.trim_end_matches("/effects_errors.csv"), path, table));
     }
@@ -352,39 +212,204 @@ pub fn findings(inputs: &Inputs, material_href: &dyn Fn(&str) -> String) -> Vec<
     for (path, table) in inputs.extra.iter().filter(|(k, _)| k.ends_with("/ao_errors.csv")) {
         out.extend(ao_finding(path.trim_end_matches("/ao_errors.csv"), path, table));
     }
-    if let Some(cost) = &inputs.cost {
-        let ns = |method: &str, variant: &str| {
-            cost.rows
-                .iter()
-                .find(|r| cost.text(r, "method") == method && cost.text(r, "variant") == variant)
-                .and_then(|r| cost.number(r, "ns_per_eval"))
+    out.extend(inputs.cost.as_ref().and_then(|cost| cost_finding(cost, inputs)));
+    out
+}
+
+/// Per material class, the pick each device makes most often within the bound.
+fn ship_findings(recs: &CsvTable, bound: f64) -> Vec<Finding> {
+    let mut out = Vec::new();
+    for kind in ["conductor", "dielectric"] {
+        let pages: Vec<&str> = {
+            let mut p: Vec<&str> = recs.rows.iter().filter(|r| recs.text(r, "kind") == kind).map(|r| recs.text(r, "page")).collect();
+            p.dedup();
+            p
         };
-        if let (Some(exact), Some(lut), Some(schlick)) = (ns("exact", "f64"), ns("lut", "N=256,unorm8,f64"), ns("schlick", "f64")) {
-            let mut s = Sentence::new()
-                .t("Cost against exact Fresnel: on the CPU a LUT lookup is ")
-                .f("x-exact:CPU:lut", lut / exact)
-                .t("× and Schlick ")
-                .f("x-exact:CPU:schlick", schlick / exact)
-                .t("×");
-            for (name, device) in &inputs.devices {
-                if let (Some(e), Some(l), Some(sc)) = (device.median_ms("exact"), device.median_ms("lut"), device.median_ms("schlick")) {
-                    s = s
-                        .t(format!("; on {} ", short_device(name)))
-                        .f(format!("x-exact:{name}:lut"), l / e)
-                        .t("× and ")
-                        .f(format!("x-exact:{name}:schlick"), sc / e)
-                        .t("×");
-                }
-            }
-            let link = if inputs.devices.is_empty() {
-                ("#cost".to_string(), "cost.csv".to_string())
-            } else {
-                ("effects.html#devices".to_string(), "across devices; cost.csv".to_string())
-            };
-            out.push(Finding { id: "cost".into(), pieces: s.t(" (median pass time over materials).").0, link });
+        if pages.is_empty() {
+            continue;
         }
+        let mut s = Sentence::new()
+            .t(format!("{} (", capitalised(class_name(kind))))
+            .f(format!("pages:{kind}"), pages.len() as f64)
+            .t(" pages), cheapest within ΔE2000 ≤ ")
+            .f("bound", bound)
+            .t(" at every angle: ");
+        // Devices grouped by their most frequent pick, in device order.
+        let mut by_group: Vec<(String, Vec<(String, usize)>)> = Vec::new();
+        for device in devices(recs) {
+            let rows: Vec<&Vec<String>> =
+                recs.rows.iter().filter(|r| recs.text(r, "kind") == kind && recs.text(r, "device") == device).collect();
+            let Some((g, n)) = most_frequent(recs, &rows) else { continue };
+            match by_group.iter_mut().find(|(k, _)| *k == g) {
+                Some((_, v)) => v.push((device, n)),
+                None => by_group.push((g, vec![(device, n)])),
+            }
+        }
+        for (i, (g, on)) in by_group.iter().enumerate() {
+            s = s.t(format!("{}{g} for ", if i == 0 { "" } else { "; " }));
+            for (j, (device, n)) in on.iter().enumerate() {
+                s = s
+                    .t(if j == 0 { "" } else { ", " })
+                    .f(format!("pick-count:{kind}:{device}:{g}"), *n as f64)
+                    .t(format!(" on {}", short_device(device)));
+            }
+        }
+        out.push(Finding {
+            id: format!("ship-{kind}s"),
+            pieces: s.t(".").0,
+            link: ("#answer-picks".into(), "recommendation table; recommendations.csv".into()),
+        });
     }
     out
+}
+
+/// How far Schlick on the spectral F0 (the engines' model) strays, over the pages.
+fn schlick_finding(engine: &CsvTable, bound: f64, material_href: &dyn Fn(&str) -> String) -> Option<Finding> {
+    let rows: Vec<(&str, &str, f64)> = engine
+        .rows
+        .iter()
+        .filter_map(|r| Some((engine.text(r, "page"), engine.text(r, "kind"), engine.number(r, "schlick_de2000_max")?)))
+        .collect();
+    if let Some(&(worst_page, _, worst)) = rows.iter().max_by(|a, b| a.2.total_cmp(&b.2)) {
+        let within = rows.iter().filter(|r| r.2 <= bound).count();
+        let mut s = Sentence::new()
+            .t("Schlick on the spectral F0 (glTF, Unreal, Unity) stays within ΔE2000 ")
+            .f("bound", bound)
+            .t(" at every angle on ")
+            .f("schlick-within", within as f64)
+            .t(" of ")
+            .f("schlick-pages", rows.len() as f64)
+            .t(" pages");
+        let mut lead = "; median worst-angle ΔE2000 ";
+        for kind in ["conductor", "dielectric"] {
+            let of: Vec<f64> = rows.iter().filter(|r| r.1 == kind).map(|r| r.2).collect();
+            if let Some(m) = stats::median(&of) {
+                s = s.t(lead).f(format!("schlick-median:{kind}"), m).t(format!(" ({})", class_name(kind)));
+                lead = ", ";
+            }
+        }
+        s = s.t(format!(", largest {worst_page}: ")).f("schlick-worst", worst).t(".");
+        return Some(Finding {
+            id: "schlick".into(),
+            pieces: s.0,
+            link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")),
+        });
+    }
+    None
+}
+
+/// What three wavelengths cost against the spectral truth, at normal incidence and over
+/// all angles.
+fn three_wavelengths_finding(colors: &CsvTable, me: &CsvTable, bound: f64, material_href: &dyn Fn(&str) -> String) -> Option<Finding> {
+    let conductors: Vec<f64> = colors
+        .rows
+        .iter()
+        .filter(|r| colors.text(r, "kind") == "conductor")
+        .filter_map(|r| colors.number(r, "delta_e2000_f0"))
+        .collect();
+    let worst = colors
+        .rows
+        .iter()
+        .filter_map(|r| Some((colors.text(r, "page"), colors.number(r, "delta_e2000_f0")?)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let exact: Vec<f64> =
+        me.rows.iter().filter(|r| me.text(r, "method") == "exact").filter_map(|r| me.number(r, "de2000_max")).collect();
+    if let (Some(median), Some((page, value))) = (stats::median(&conductors), worst) {
+        let within = exact.iter().filter(|v| **v <= bound).count();
+        let s = Sentence::new()
+            .t("Three wavelengths against the spectral truth: exact Fresnel of the three-channel (n, k) is off by ΔE2000 ")
+            .f("index-f0-median:conductor", median)
+            .t(" at normal incidence (median over conductors), up to ")
+            .f("index-f0-worst", value)
+            .t(format!(" ({page}); over all angles it stays within ΔE2000 "))
+            .f("bound", bound)
+            .t(" on ")
+            .f("exact-within", within as f64)
+            .t(" of ")
+            .f("exact-pages", exact.len() as f64)
+            .t(" pages.");
+        return Some(Finding {
+            id: "three-wavelengths".into(),
+            pieces: s.0,
+            link: (material_href(page), format!("{page}; colors.csv, method_errors.csv")),
+        });
+    }
+    None
+}
+
+/// Per page, the smallest texture of a spectral LUT within the bound.
+fn lut_size_finding(me: &CsvTable, bound: f64) -> Option<Finding> {
+    // Per page, the smallest texture of a spectral LUT within the bound.
+    let mut smallest: BTreeMap<&str, (f64, &str)> = BTreeMap::new();
+    let mut pages: Vec<&str> = Vec::new();
+    for r in me.rows.iter().filter(|r| me.text(r, "method") == "lut") {
+        let page = me.text(r, "page");
+        if !pages.contains(&page) {
+            pages.push(page);
+        }
+        let (Some(bytes), Some(de)) = (me.number(r, "texture_bytes"), me.number(r, "de2000_max")) else { continue };
+        if de <= bound && smallest.get(page).is_none_or(|(b, _)| bytes < *b) {
+            smallest.insert(page, (bytes, me.text(r, "variant")));
+        }
+    }
+    let bytes: Vec<f64> = smallest.values().map(|v| v.0).collect();
+    if let (Some(median), Some((page, (max, variant)))) =
+        (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
+    {
+        let s = Sentence::new()
+            .t("A LUT of the spectral curve stays within ΔE2000 ")
+            .f("bound", bound)
+            .t(" on ")
+            .f("lut-within", smallest.len() as f64)
+            .t(" of ")
+            .f("lut-pages", pages.len() as f64)
+            .t(" pages; the smallest such texture is ")
+            .f("lut-bytes-median", median)
+            .t(" bytes per page at the median, ")
+            .f("lut-bytes-max", *max)
+            .t(format!(" bytes at most ({variant}, {page})."));
+        return Some(Finding {
+            id: "lut-size".into(),
+            pieces: s.0,
+            link: ("#answer-methods".into(), "decision table; method_errors.csv".into()),
+        });
+    }
+    None
+}
+
+/// What a LUT lookup and Schlick cost against exact Fresnel, on the CPU and each device.
+fn cost_finding(cost: &CsvTable, inputs: &Inputs) -> Option<Finding> {
+    let ns = |method: &str, variant: &str| {
+        cost.rows
+            .iter()
+            .find(|r| cost.text(r, "method") == method && cost.text(r, "variant") == variant)
+            .and_then(|r| cost.number(r, "ns_per_eval"))
+    };
+    if let (Some(exact), Some(lut), Some(schlick)) = (ns("exact", "f64"), ns("lut", "N=256,unorm8,f64"), ns("schlick", "f64")) {
+        let mut s = Sentence::new()
+            .t("Cost against exact Fresnel: on the CPU a LUT lookup is ")
+            .f("x-exact:CPU:lut", lut / exact)
+            .t("× and Schlick ")
+            .f("x-exact:CPU:schlick", schlick / exact)
+            .t("×");
+        for (name, device) in &inputs.devices {
+            if let (Some(e), Some(l), Some(sc)) = (device.median_ms("exact"), device.median_ms("lut"), device.median_ms("schlick")) {
+                s = s
+                    .t(format!("; on {} ", short_device(name)))
+                    .f(format!("x-exact:{name}:lut"), l / e)
+                    .t("× and ")
+                    .f(format!("x-exact:{name}:schlick"), sc / e)
+                    .t("×");
+            }
+        }
+        let link = if inputs.devices.is_empty() {
+            ("#cost".to_string(), "cost.csv".to_string())
+        } else {
+            ("effects.html#devices".to_string(), "across devices; cost.csv".to_string())
+        };
+        return Some(Finding { id: "cost".into(), pieces: s.t(" (median pass time over materials).").0, link });
+    }
+    None
 }
 
 /// How much of an effects scene's total error the Fresnel method makes and how much the
