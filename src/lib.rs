@@ -3,10 +3,12 @@
 //!
 //! The work lives in the workspace's crates, whose boundaries are the layers (Cargo
 //! enforces the direction of every import): `nklut-optics` (the database reader, spectra,
-//! the Fresnel methods, colour science: no polars, no wgpu, no BVH) ← `nklut-pipeline`
-//! (ingest, colours, validate, bake, params, report, recommend; tables and sets) ← `nklut-effects`
-//! (scene files, the CPU tracers, surfel AO) ← `nklut-gpu` (the wgpu runner, feature
-//! `gpu`) ← this package, the `nklut` binary. This library re-exports their modules under
+//! the Fresnel methods, colour science: no polars, no wgpu, no BVH) ← `nklut-tables`
+//! (ingest's reading of pages, tables as CSV and JSON and their publishing as sets, stats,
+//! the memory budget, progress, texel images, the engine models: no polars) ←
+//! `nklut-pipeline` (colours, validate, bake, params, report, recommend; Parquet through
+//! polars) and, beside it, `nklut-effects` (scene files, the CPU tracers, surfel AO) ←
+//! `nklut-gpu` (the wgpu runner, feature `gpu`) ← this package, the `nklut` binary. This library re-exports their modules under
 //! one name, for the binary, the integration tests and the benchmarks.
 
 pub use nklut_effects as effects;

@@ -172,7 +172,9 @@ fn run(cli: Cli) -> Result<()> {
                 config: channels.config(),
                 budget,
             };
-            let outcome = nklut::effects::command::command(&request, &open_db, &cli.paths.out, &mut |line| eprintln!("{line}"))?;
+            let outcome = nklut::effects::command::command(&request, &open_db, nklut::output::parquet, &cli.paths.out, &mut |line| {
+                eprintln!("{line}")
+            })?;
             for path in &outcome.written {
                 eprintln!("  wrote {}", path.display());
             }
@@ -442,6 +444,7 @@ mod gpu_cli {
             }
             GpuCommand::AoTiming { meshes, max_brute, repeats, only, scenes, gtao_resolutions, adapter } => {
                 use nklut::gpu::ao_timing::{ao_timing_table, scene_rows, sweep, sweep_meshes, SweepSettings};
+                use nklut::output::TableFiles;
                 let device = gpu::open(adapter.adapter.as_deref(), adapter.backend.as_deref())?;
                 eprintln!(
                     "adapter: {}{}",

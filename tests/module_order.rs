@@ -1,7 +1,8 @@
 //! The layers hold. Between crates Cargo enforces the direction (a crate cannot name one
 //! above it); inside each crate, every `crate::` import of a module points to a module
 //! before it in the crate's order (its `lib.rs` doc comment), or to a leaf. And the light
-//! crate stays light: `nklut-optics` depends on neither polars, nor wgpu, nor obvhs.
+//! crates stay light: `nklut-optics` depends on neither polars, nor wgpu, nor obvhs;
+//! `nklut-tables` and `nklut-effects` depend on neither polars nor the pipeline.
 
 use std::fs;
 use std::path::Path;
@@ -15,11 +16,17 @@ struct Layers {
     siblings: &'static [&'static str],
 }
 
-const CRATES: [Layers; 3] = [
+const CRATES: [Layers; 4] = [
     Layers {
         krate: "optics",
         order: &["db", "spectrum", "fresnel", "color", "appearance"],
         leaves: &["encoding", "minimise", "atomic", "memo"],
+        siblings: &[],
+    },
+    Layers {
+        krate: "tables",
+        order: &["ingest"],
+        leaves: &["output", "progress", "budget", "stats", "escape", "texel", "image_files", "models"],
         siblings: &[],
     },
     Layers {
@@ -103,21 +110,39 @@ fn imports_point_down_each_crate_s_layers() {
     assert!(wrong.is_empty(), "imports against the layers:\n{}", wrong.join("\n"));
 }
 
+/// The normal dependencies of `krate` (`cargo tree` from the lock file), one per line.
+fn dependency_tree(krate: &str) -> String {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .args(["tree", "--offline", "--locked", "-p", krate, "-e", "normal", "--prefix", "none"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let tree = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(tree.lines().next().is_some_and(|l| l.starts_with(krate)), "{tree}");
+    tree
+}
+
 /// `cargo tree` of the optics crate (its normal dependencies, from the lock file): none of
 /// the heavy crates of the layers above.
 #[test]
 fn the_optics_crate_pulls_neither_polars_nor_wgpu() {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = std::process::Command::new(cargo)
-        .args(["tree", "--offline", "--locked", "-p", "nklut-optics", "-e", "normal", "--prefix", "none"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    let tree = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    assert!(tree.lines().next().is_some_and(|l| l.starts_with("nklut-optics")), "{tree}");
-    for heavy in ["polars", "wgpu", "obvhs", "nklut-pipeline", "plotters", "exr "] {
+    let tree = dependency_tree("nklut-optics");
+    for heavy in ["polars", "wgpu", "obvhs", "nklut-tables", "nklut-pipeline", "plotters", "exr "] {
         assert!(!tree.lines().any(|l| l.starts_with(heavy)), "nklut-optics depends on {heavy}:\n{tree}");
+    }
+}
+
+/// The effects and the crate of tables below them build without polars, the pipeline or
+/// the report's charts: the pipeline hands its Parquet encoder to the effects' command.
+#[test]
+fn the_effects_crate_pulls_neither_polars_nor_the_pipeline() {
+    for krate in ["nklut-tables", "nklut-effects"] {
+        let tree = dependency_tree(krate);
+        for heavy in ["polars", "nklut-pipeline", "plotters", "wgpu"] {
+            assert!(!tree.lines().any(|l| l.starts_with(heavy)), "{krate} depends on {heavy}:\n{tree}");
+        }
     }
 }
 

@@ -18,9 +18,9 @@ use super::hero::{files as hero_files, hero_resolution, hero_table, HeroSet};
 use super::trace::TracedFrame;
 use crate::scene::{EffectFamily, Scene, SceneError};
 use nklut_optics::db::Database;
-use nklut_pipeline::budget::{times, MemoryBudget};
-use nklut_pipeline::ingest::Config;
-use nklut_pipeline::output::{SetContent, SetFile};
+use nklut_tables::budget::{times, MemoryBudget};
+use nklut_tables::ingest::Config;
+use nklut_tables::output::{ParquetEncoder, SetContent, SetFile};
 
 /// The most reference rays per vertex (`--ao-rays`): 2²⁰, a standard error below 0.0005.
 pub const MAX_AO_RAYS: u32 = 1 << 20;
@@ -199,7 +199,7 @@ fn family_needs(family: EffectFamily, scene: &Scene, ao_rays: u32) -> Vec<Memory
 /// pictures.
 #[derive(Default)]
 struct FamilyOutput {
-    tables: Vec<(nklut_pipeline::output::Table, &'static str)>,
+    tables: Vec<(nklut_tables::output::Table, &'static str)>,
     pictures: Vec<SetFile>,
     hero: Option<HeroSet>,
 }
@@ -286,11 +286,13 @@ pub fn check_memory(scene: &Scene, ao_rays: u32, hero: Option<[u32; 2]>, budget:
 }
 
 /// Run the effects of the request's scene and publish their tables and pictures under
-/// `out` as one set. `open_db` is called only when reflections or refractions need the
-/// scene's materials.
+/// `out` as one set, each table's Parquet file encoded by `parquet` (the pipeline's,
+/// `nklut_pipeline::output::parquet`: this crate builds no Parquet writer). `open_db` is
+/// called only when reflections or refractions need the scene's materials.
 pub fn command(
     request: &EffectsRequest,
     open_db: &dyn Fn() -> Result<Database>,
+    parquet: ParquetEncoder,
     out: &Path,
     log: &mut dyn FnMut(&str),
 ) -> Result<EffectsOutcome> {
@@ -327,10 +329,10 @@ pub fn command(
         pictures.extend(files);
     }
     outcome.frames = pictures.len();
-    let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
+    let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files_with(stem, false, parquet)).collect();
     let files: Vec<&dyn SetContent> =
         streamed.iter().map(|f| f as &dyn SetContent).chain(pictures.iter().map(|f| f as &dyn SetContent)).collect();
-    outcome.written = nklut_pipeline::output::publish_contents(out, "effects", &files)?;
+    outcome.written = nklut_tables::output::publish_contents(out, "effects", &files)?;
     Ok(outcome)
 }
 

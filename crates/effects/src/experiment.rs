@@ -24,8 +24,8 @@ use std::time::Instant;
 use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
 use crate::scene::{Depths, Role, Scene, SearchSteps};
 use nklut_optics::fresnel::{Encoding, LutSpec, Method};
-use nklut_pipeline::output::Table;
-use nklut_pipeline::stats::median;
+use nklut_tables::output::Table;
+use nklut_tables::stats::median;
 
 /// How much of the scene's camera path to render and at what size; `lut` is the texture of
 /// the `lut` method (the GPU runner's: `lut.size` texels of half floats).

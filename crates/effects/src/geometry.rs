@@ -33,7 +33,7 @@ use obvhs::BvhBuildParams;
 use super::packet::{Corners, Packet, PacketTree, RayMask, PACKET_RAYS};
 use crate::scene::mesh::{widen, wound_against_normals, Mesh};
 pub use crate::scene::mesh::{GeometryError, MAX_CORNER};
-use nklut_pipeline::budget::{MemoryBudget, TooLarge};
+use nklut_tables::budget::{MemoryBudget, TooLarge};
 
 /// Hits closer to the ray's origin than this fraction of the scene's size R (its largest
 /// corner coordinate, [`Geometry::size`]) are the surface the ray leaves, not a new one:

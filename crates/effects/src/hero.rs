@@ -29,7 +29,7 @@ use super::image_error::{compare, compare_all, FrameError};
 use super::pictures::{error_map, error_png, false_colour, srgb_png, ERROR_SCALE};
 use super::trace::TracedFrame;
 use crate::scene::EffectFamily;
-use nklut_pipeline::output::{SetFile, Table};
+use nklut_tables::output::{SetFile, Table};
 
 /// The folder of the hero files in the effects' set.
 pub const HERO_DIR: &str = "effects_hero";
@@ -467,8 +467,8 @@ mod tests {
     #[test]
     fn the_colour_bar_runs_the_false_colour_scale() {
         let png = error_scale_png().unwrap();
-        let decoded = nklut_pipeline::bake::files::decode(nklut_pipeline::bake::texel::Encoding::Unorm8, &png).unwrap();
-        let nklut_pipeline::bake::texel::Texels::U8(bytes) = decoded.texels else { panic!("8-bit") };
+        let decoded = nklut_tables::image_files::decode(nklut_tables::texel::Encoding::Unorm8, &png).unwrap();
+        let nklut_tables::texel::Texels::U8(bytes) = decoded.texels else { panic!("8-bit") };
         assert_eq!(&bytes[..3], &[0, 0, 0], "black at 0");
         let last = (ERROR_SCALE_WIDTH as usize - 1) * 3;
         assert_eq!(&bytes[last..last + 3], &[255, 255, 255], "white at the scale");

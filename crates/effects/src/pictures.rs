@@ -11,9 +11,9 @@ use anyhow::Result;
 use super::labels;
 use super::trace::TracedFrame;
 use nklut_optics::color::srgb;
-use nklut_pipeline::bake::files::encode;
-use nklut_pipeline::bake::texel::{Encoding, Texels};
-use nklut_pipeline::output::SetFile;
+use nklut_tables::image_files::encode;
+use nklut_tables::output::SetFile;
+use nklut_tables::texel::{Encoding, Texels};
 
 /// One frame to show: a file stem, the frame and, for an error image, its reference.
 #[derive(Clone, Debug)]
@@ -76,7 +76,7 @@ pub struct SignedMap {
 pub fn shared_scale(maps: &[SignedMap]) -> f64 {
     let mut magnitudes: Vec<f64> = maps.iter().flat_map(|m| m.values.iter().flatten()).filter(|e| e.is_finite()).map(|e| e.abs()).collect();
     magnitudes.sort_by(f64::total_cmp);
-    let p99 = if magnitudes.is_empty() { 0.0 } else { nklut_pipeline::stats::quantile(&magnitudes, 0.99) };
+    let p99 = if magnitudes.is_empty() { 0.0 } else { nklut_tables::stats::quantile(&magnitudes, 0.99) };
     SIGNED_SCALES.into_iter().find(|&s| s >= p99).unwrap_or(SIGNED_SCALES[SIGNED_SCALES.len() - 1])
 }
 
@@ -258,7 +258,7 @@ mod tests {
         let written = signed_files("f", &maps).unwrap();
         assert_eq!(written.iter().map(|f| f.name.as_str()).collect::<Vec<_>>(), ["f/a.png", "f/b.png", "f/signed_scale.png"]);
         let decoded = |k: usize| {
-            let image = nklut_pipeline::bake::files::decode(Encoding::Unorm8, &written[k].bytes).unwrap();
+            let image = nklut_tables::image_files::decode(Encoding::Unorm8, &written[k].bytes).unwrap();
             let Texels::U8(bytes) = image.texels else { panic!("8-bit") };
             (image.width as u32, image.height as u32, bytes)
         };
@@ -333,9 +333,9 @@ mod tests {
         let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
         assert_eq!(names, ["f/reference.exr", "f/reference.png", "f/schlick.exr", "f/schlick.png", "f/schlick_error.png"]);
         let bytes = |name: &str| written.iter().find(|f| f.name == name).unwrap().bytes.clone();
-        let decoded = nklut_pipeline::bake::files::decode(Encoding::F32, &bytes("f/schlick.exr")).unwrap();
+        let decoded = nklut_tables::image_files::decode(Encoding::F32, &bytes("f/schlick.exr")).unwrap();
         assert_eq!(decoded.texels, Texels::F32(vec![0.6, 0.25, 1.0, 0.0, 0.0, 0.0]));
-        let error = nklut_pipeline::bake::files::decode(Encoding::Unorm8, &bytes("f/schlick_error.png")).unwrap();
+        let error = nklut_tables::image_files::decode(Encoding::Unorm8, &bytes("f/schlick_error.png")).unwrap();
         // |Δ| = 0.1 at the first pixel: white; none at the second: black.
         assert_eq!(error.texels, Texels::U8(vec![255, 255, 255, 0, 0, 0]));
     }
@@ -370,8 +370,8 @@ mod tests {
         assert_eq!((frame.width, frame.height, frame.radiance.len(), frame.rays), (width, height, (width * height) as usize, 2));
 
         let written = files("f", &[Picture { stem: "s".into(), frame, reference: None }]).unwrap();
-        let png = nklut_pipeline::bake::files::decode(Encoding::Unorm8Srgb, &written.iter().find(|f| f.name == "f/s.png").unwrap().bytes)
-            .unwrap();
+        let png =
+            nklut_tables::image_files::decode(Encoding::Unorm8Srgb, &written.iter().find(|f| f.name == "f/s.png").unwrap().bytes).unwrap();
         let Texels::U8(bytes) = png.texels else { panic!("8-bit PNG") };
         let pixel = |x: u32, y: u32| {
             let i = 3 * (y * width + x) as usize;

@@ -30,8 +30,8 @@ use crate::scene::{Depths, Scene};
 use nklut_optics::color::{angle_quadrature, fit_effective_index, PreparedSpectrum};
 use nklut_optics::fresnel::{LutSpec, Method, Model};
 use nklut_optics::spectrum::{ChannelIndex, Index, Kind};
-use nklut_pipeline::output::{SetFile, Table};
-use nklut_pipeline::stats::quantile;
+use nklut_tables::output::{SetFile, Table};
+use nklut_tables::stats::quantile;
 
 /// Where a three-channel frame's indices come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,7 +45,7 @@ pub enum IndexSource {
     Engine,
     /// MaterialX's `artistic_ior` for a conductor: per channel Gulbrandsen's (r, g), r the
     /// reference colour at normal incidence and g fitted to its curve over angle
-    /// (`nklut_pipeline::params::Gulbrandsen::fit`), shaded with the exact F of the (n, k)
+    /// (`nklut_tables::models::Gulbrandsen::fit`), shaded with the exact F of the (n, k)
     /// they give; a dielectric as three-wavelength (the model is for conductors).
     Gulbrandsen,
 }
@@ -132,7 +132,7 @@ pub fn channel_indices(
             let normal = prepared.curve(&[1.0])[0];
             std::array::from_fn(|c| {
                 let reference: Vec<f64> = curve.iter().map(|rgb| rgb[c]).collect();
-                nklut_pipeline::params::Gulbrandsen::fit(normal[c], &reference, quadrature).index()
+                nklut_tables::models::Gulbrandsen::fit(normal[c], &reference, quadrature).index()
             })
         }
     }

@@ -86,7 +86,7 @@ impl Stage {
         let named = |problem: SceneProblem| SceneError::new(&scene.file, problem);
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
-        let budget = nklut_pipeline::budget::MemoryBudget::of_machine();
+        let budget = nklut_tables::budget::MemoryBudget::of_machine();
         let mut triangles = 0u128;
         for (i, object) in scene.objects.iter().enumerate() {
             let loaded =

@@ -37,7 +37,7 @@ use nklut_optics::db::Database;
 use nklut_optics::fresnel::Method;
 use nklut_optics::spectrum::Kind;
 use nklut_pipeline::ingest;
-use nklut_pipeline::output::Table;
+use nklut_pipeline::output::{Table, TableFiles};
 
 /// What a run created and touched, and what it skipped.
 #[derive(Clone, Debug, Default, PartialEq)]

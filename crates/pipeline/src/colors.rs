@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Result;
 
 use crate::ingest::{self, Config, KeptPage, Selection};
-use crate::output::Table;
+use crate::output::{Table, TableFiles};
 use nklut_optics::color::angle_average::{angle_quadrature, NODES, PANELS};
 use nklut_optics::color::memo::{CurveMemo, EffectiveMemo};
 use nklut_optics::color::page::{page_colors, spectral_reference, PageColors};

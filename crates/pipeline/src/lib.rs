@@ -11,8 +11,10 @@
 //! `output` (tables as CSV, Parquet and JSON; files and folders published as one set),
 //! `progress` (bars on a terminal, quiet in CI), `budget` (the memory a run may take,
 //! checked before large allocations), `escape` (text for a terminal, a CSV cell, Markdown
-//! or XML) and `stats` (medians and quantiles of samples). Stages take plain values; the command line lives in
-//! the `nklut` binary.
+//! or XML) and `stats` (medians and quantiles of samples). All but Parquet (polars) live
+//! in `nklut_tables`, the crate below this one and the effects, with ingest's reading of
+//! pages, the texel images and the engine models; they are re-exported here at their old
+//! paths. Stages take plain values; the command line lives in the `nklut` binary.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
 //! repository.
@@ -21,14 +23,13 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod bake;
-pub mod budget;
 pub mod colors;
-pub mod escape;
 pub mod ingest;
 pub mod output;
 pub mod params;
-pub mod progress;
 pub mod recommend;
 pub mod report;
-pub mod stats;
 pub mod validate;
+
+// The leaves that the effects share, from the crate below both (at their old paths here).
+pub use nklut_tables::{budget, escape, progress, stats};

@@ -34,7 +34,7 @@ use anyhow::{bail, Result};
 use rayon::prelude::*;
 
 use crate::ingest::{self, Selection};
-use crate::output::{RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table};
+use crate::output::{write_parquet_blocks, RowBlocks, SetContent, SetFile, SharedText, StreamedFile, Table, TableFiles};
 use nklut_optics::db::Database;
 use nklut_optics::fresnel::{
     compensation, filter, filter_weights, sanitise, texel_values, Compensation, CompensationFallback, ExactTerms, FitMemo, Lut, LutSpec,
@@ -721,7 +721,7 @@ pub fn run(request: &ValidateRequest, db: Option<&Database>, out: &Path) -> Resu
     let errors = RowBlocks { rows: rows.len(), block: &block };
     let columns = SetFile::new("errors.columns.json", block(0..0).columns_json_of("errors", rows.len())?);
     let csv = StreamedFile::new("errors.csv", |out: &mut dyn std::io::Write| errors.write_csv(out));
-    let parquet = StreamedFile::new("errors.parquet", |out: &mut dyn std::io::Write| errors.write_parquet(out));
+    let parquet = StreamedFile::new("errors.parquet", |out: &mut dyn std::io::Write| write_parquet_blocks(&errors, out));
     let cost = cost_table(&spreads).files("cost", false)?;
     let mut files: Vec<&dyn SetContent> = vec![&columns, &csv, &parquet];
     files.extend(cost.iter().map(|f| f as &dyn SetContent));

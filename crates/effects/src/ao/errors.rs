@@ -1,6 +1,6 @@
 //! The `ao_errors` table: per mesh, receiver gain g, pass count and hierarchy on/off, the
 //! accessibility error e = a − reference (positive: the surfels under-occlude) summarised
-//! three ways by `nklut_pipeline::stats::ErrorSummary` (mean |e|, signed mean, median, p90,
+//! three ways by `nklut_tables::stats::ErrorSummary` (mean |e|, signed mean, median, p90,
 //! p99, max |e|): per vertex, weighted by the vertices' areas (a third of the adjacent
 //! triangles: what the surface holds), and per pixel of the picture the object covers (both
 //! interpolated from the vertices: what the camera sees). Screen-space GTAO
@@ -9,7 +9,7 @@
 //! triangles (`super::surfel::mesh_defects`) are counted and the per-vertex error given
 //! without them too. Beside them the reference's own mean standard error (how far its noise
 //! can move the mean), and where the scene asks for indirect light, its error. Rows are
-//! computed here from plain data; the table is written through `nklut_pipeline::output`
+//! computed here from plain data; the table is written through `nklut_tables::output`
 //! (CSV, Parquet, columns.json).
 
 use super::accessibility::{accessibility_by_pass, BruteForce, Emitters};
@@ -17,8 +17,8 @@ use super::hierarchy::{Closeness, SurfelTree};
 use super::reference::ReferenceAccessibility;
 use super::shadow::ShadowForm;
 use super::surfel::Surfel;
-use nklut_pipeline::output::Table;
-use nklut_pipeline::stats::ErrorSummary;
+use nklut_tables::output::Table;
+use nklut_tables::stats::ErrorSummary;
 
 /// The accessibility error of one object, summarised per vertex, per area and per pixel.
 #[derive(Clone, Debug, PartialEq)]

@@ -39,8 +39,8 @@ use crate::pictures::{Picture, SignedMap};
 use crate::scene::mesh::{self, Mesh};
 use crate::scene::{LightSource, Role, Scene, SceneError, SceneProblem};
 use crate::trace::{Camera, TracedFrame};
-use nklut_pipeline::budget::{times, MemoryBudget};
-use nklut_pipeline::stats::ErrorSummary;
+use nklut_tables::budget::{times, MemoryBudget};
+use nklut_tables::stats::ErrorSummary;
 
 /// One object's surfels: its name in tables and its range in the scene's surfels (the
 /// object's vertices in order) and in the geometry's triangles.

@@ -2,11 +2,11 @@
 //! e = a − reference (positive: the surfels under-occlude) per object, technique and pass
 //! count, three ways as in `ao_errors` — per vertex, weighted by the vertices' areas, and
 //! per pixel of the picture the object covers — binned once here
-//! (`nklut_pipeline::stats::Histogram`: equal bins over [`AO_HISTOGRAM_BINS`], values
+//! (`nklut_tables::stats::Histogram`: equal bins over [`AO_HISTOGRAM_BINS`], values
 //! beyond the range counted in the end bins) for the report to draw. One line per bin.
 
-use nklut_pipeline::output::Table;
-use nklut_pipeline::stats::{Histogram, HistogramBins};
+use nklut_tables::output::Table;
+use nklut_tables::stats::{Histogram, HistogramBins};
 
 /// The bins of every AO histogram: 40 bins of 0.025 over −0.5 … 0.5 (the tails beyond in
 /// the end bins), so histograms of every object, technique and pass compare bin by bin.

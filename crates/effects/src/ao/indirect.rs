@@ -154,7 +154,7 @@ pub fn reference_indirect(
     lights: &[LightSource],
     settings: RaySettings,
 ) -> ReferenceIndirect {
-    let estimates: Vec<(Rgb, Rgb)> = nklut_pipeline::progress::par_map(surfels.len(), "bounce rays", |i| {
+    let estimates: Vec<(Rgb, Rgb)> = nklut_tables::progress::par_map(surfels.len(), "bounce rays", |i| {
         one_bounce(geometry, &surfels[i], i as u64, albedo_of, lights, settings)
     });
     let (values, standard_errors) = estimates.into_iter().unzip();

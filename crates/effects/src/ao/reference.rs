@@ -171,7 +171,7 @@ pub fn reference_accessibility_within(
     reach: f64,
 ) -> ReferenceAccessibility {
     let estimates: Vec<(f64, f64)> =
-        nklut_pipeline::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings, reach));
+        nklut_tables::progress::par_map(surfels.len(), "ao rays", |i| open_fraction(geometry, &surfels[i], i as u64, settings, reach));
     let (values, standard_errors) = estimates.into_iter().unzip();
     ReferenceAccessibility { values, standard_errors, rays: surfels.len() as u64 * settings.rays as u64 }
 }
@@ -181,7 +181,7 @@ pub fn reference_accessibility_within(
 /// every ray is blocked. Rays one by one from the surfel's own stream of a seed apart from
 /// the accessibility's.
 pub fn reference_bent_normals(geometry: &Geometry, surfels: &[Surfel], settings: RaySettings) -> Vec<Option<DVec3>> {
-    nklut_pipeline::progress::par_map(surfels.len(), "bent normal rays", |i| {
+    nklut_tables::progress::par_map(surfels.len(), "bent normal rays", |i| {
         let surfel = &surfels[i];
         let mut random = SplitMix64::new(settings.seed ^ 0xbe27, i as u64);
         let origin = surfel.centre + surfel.normal * (settings.offset * geometry.size());

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 use nklut_optics::db::block_yaml::TooDeep;
 use nklut_optics::db::file::FileProblem;
-use nklut_pipeline::budget::TooLarge;
+use nklut_tables::budget::TooLarge;
 
 use super::effects::EffectFamily;
 use super::mesh::{GeometryError, MeshError};

@@ -7,7 +7,7 @@ use anyhow::{anyhow, Result};
 use super::Scene;
 use nklut_optics::db::Database;
 use nklut_optics::spectrum::{ChannelIndex, Index, Kind};
-use nklut_pipeline::ingest::{self, Selection};
+use nklut_tables::ingest::{self, Selection};
 
 /// A specular object's optical constants: (n, k) per channel and conductor or dielectric.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use nklut_optics::db::file::FileProblem;
-use nklut_pipeline::budget::TooLarge;
+use nklut_tables::budget::TooLarge;
 
 use crate::scene::{MeshSource, Placement};
 
@@ -256,7 +256,7 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     let opened = nklut_optics::db::file::open_regular(file).map_err(|e| error(MeshProblem::Unreadable(e)))?;
     // The parsed mesh takes a few times the text's bytes (tobj's lists, then ours).
     let stated = opened.metadata().map(|m| m.len()).unwrap_or(0);
-    nklut_pipeline::budget::MemoryBudget::of_machine()
+    nklut_tables::budget::MemoryBudget::of_machine()
         .check("mesh", format!("the {stated}-byte OBJ file parsed"), 4 * u128::from(stated))
         .map_err(|e| error(MeshProblem::Memory(e)))?;
     let mut bytes = Vec::new();
@@ -265,7 +265,7 @@ pub fn load_obj(file: &Path) -> Result<Mesh, MeshError> {
     // The triangles its faces make, counted on the text before tobj parses it (its face
     // list alone takes about 100 bytes a face): the scene geometry's estimate per triangle.
     let triangles = obj_triangles(&bytes);
-    nklut_pipeline::budget::MemoryBudget::of_machine()
+    nklut_tables::budget::MemoryBudget::of_machine()
         .check("mesh", format!("its {triangles} triangles (the scene geometry's estimate, BVH included)"), traced_bytes(triangles))
         .map_err(|e| error(MeshProblem::Memory(e)))?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };

@@ -16,10 +16,10 @@
 //! the r-th kept page in catalog order.
 
 pub mod accuracy;
-pub mod files;
+pub use nklut_tables::image_files as files;
 pub mod manifest;
 pub mod publish;
-pub mod texel;
+pub use nklut_tables::texel;
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};

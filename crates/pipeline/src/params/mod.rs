@@ -11,7 +11,7 @@
 
 pub mod caveats;
 pub mod gltf;
-pub mod models;
+pub use nklut_tables::models;
 pub mod mtlx;
 pub mod page;
 pub mod paste;
@@ -25,7 +25,7 @@ use anyhow::Result;
 use rayon::prelude::*;
 
 use crate::ingest::{self, KeptPage, Selection};
-use crate::output::SetFile;
+use crate::output::{SetFile, TableFiles};
 use nklut_optics::appearance::Appearance;
 use nklut_optics::color::{self, CurveMemo, Fingerprint, PreparedSpectrum};
 use nklut_optics::db::Database;

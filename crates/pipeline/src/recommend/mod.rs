@@ -29,7 +29,7 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 
 use crate::ingest::{self, Selection};
-use crate::output::Table;
+use crate::output::{Table, TableFiles};
 use crate::report::csvdata::CsvTable;
 use nklut_optics::color::{self, CurveMemo, PreparedSpectrum};
 use nklut_optics::db::Database;

@@ -12,7 +12,7 @@ use std::io::Cursor;
 use anyhow::{bail, Context, Result};
 use half::f16;
 
-use super::texel::{Encoding, Texels};
+use crate::texel::{Encoding, Texels};
 
 /// The pixels of one image read back from its file.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,28 @@
+//! What the nklut pipeline and the effects both stand on, without the pipeline's heavy
+//! dependencies (polars, plotters): the selected pages of the database read into materials
+//! ([`ingest`]), tables as CSV and JSON and the files of one command published as one set
+//! ([`output`]; the Parquet encoder is passed in by the layer that holds one), order
+//! statistics, error summaries and histograms ([`stats`]), the memory a run may take
+//! ([`budget`]), progress bars ([`progress`]), text escaped for each sink ([`escape`]),
+//! stored texels and their PNG/EXR files ([`texel`], [`image_files`]) and the engine
+//! parameterisations of a Fresnel curve with their fits ([`models`]).
+//!
+//! Leaves: `output`, `progress`, `budget`, `stats`, `escape`, `texel`, `image_files` and
+//! `models` use no module of this crate but `output` → `escape` and `image_files` →
+//! `texel`; `ingest` uses `output`, `progress` and `escape`.
+//!
+//! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
+//! repository.
+
+// `!(a <= b)` is written where a NaN must take the branch that `a > b` would skip.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod budget;
+pub mod escape;
+pub mod image_files;
+pub mod ingest;
+pub mod models;
+pub mod output;
+pub mod progress;
+pub mod stats;
+pub mod texel;
