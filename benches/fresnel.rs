@@ -44,7 +44,7 @@ fn methods(c: &mut Criterion) {
 fn brute_force(c: &mut Criterion) {
     let cos64 = cosines();
     let model = Model::new(GOLD_RED, Method::Exact, LutSpec::default());
-    let terms = model.prepared.exact;
+    let terms = model.prepared().exact;
     let mut group = c.benchmark_group("brute_force");
     group.throughput(Throughput::Elements(BATCH as u64));
     group.sample_size(10);

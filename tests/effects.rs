@@ -191,10 +191,12 @@ fn effects_command_measures_ambient_occlusion_against_the_reference() {
     let mut pictures: Vec<String> =
         std::fs::read_dir(out.join("ao_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     pictures.sort();
-    assert_eq!(pictures.len(), 4 * 3 + 2 + 2 + 3 + 1, "{pictures:?}");
-    assert!(pictures.contains(&"ao_passes2_signed.png".to_string()) && pictures.contains(&"signed_scale.png".to_string()));
+    assert_eq!(pictures.len(), 4 * 4 + 2 + 2 + 3 + 1, "{pictures:?}");
+    assert!(pictures.contains(&"ao_passes2_signed.png".to_string()) && pictures.contains(&"surfels_signed_scale.png".to_string()));
     assert!(
-        pictures.contains(&"ao_passes2_error.png".to_string()) && pictures.contains(&"ao_side_by_side.exr".to_string()),
+        pictures.contains(&"ao_passes2_error.png".to_string())
+            && pictures.contains(&"ao_passes2_error_scale.png".to_string())
+            && pictures.contains(&"ao_side_by_side.exr".to_string()),
         "{pictures:?}"
     );
 }

@@ -318,7 +318,7 @@ fn database_case(catalog: &str, pages: &[Vec<u8>], publish: bool) -> Result<(), 
         fs::write(root.path().join(format!("data/f/p{i}.yml")), page).unwrap();
     }
     let db = Database::open(root.path()).unwrap();
-    let result = std::panic::catch_unwind(|| ingest::ingest(&db, &Selection::default(), &Config::default()));
+    let result = std::panic::catch_unwind(|| ingest::ingest(&db, &Selection::All, &Config::default()));
     let Ok(result) = result else { return Err(TestCaseError::fail(format!("ingest panicked on\n{catalog}"))) };
     let Ok(result) = result else { return Ok(()) }; // a named error: status 1
     if let Some(entries) = entries_in(catalog) {

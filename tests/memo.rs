@@ -27,7 +27,7 @@ use nklut::validate::{Strategy, ValidateRequest};
 const PAGES: [&str; 4] = ["3d/metals/gold", "3d/metals/copper", "3d/glass/BK7", "3d/liquids/water"];
 
 fn selection() -> Selection {
-    Selection { pages: PAGES.iter().map(|p| p.to_string()).collect(), ..Default::default() }
+    Selection::pages(PAGES)
 }
 
 fn colors(out: &Path) {

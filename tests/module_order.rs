@@ -49,6 +49,7 @@ const CRATES: [Layers; 4] = [
             "distance_map",
             "image_error",
             "labels",
+            "colour_bar",
             "pictures",
             "hero",
             "experiment",

@@ -34,7 +34,7 @@ fn root() -> &'static Path {
 /// `nklut params` for `PAGES` into a fresh folder (once per test binary run and name).
 fn run(name: &str) -> Scratch {
     let out = scratch(&format!("params-{name}"));
-    let selection = Selection { pages: PAGES.iter().map(|p| p.to_string()).collect(), ..Default::default() };
+    let selection = Selection::pages(PAGES);
     nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
     out
 }
@@ -227,7 +227,7 @@ fn exports_carry_the_table_values_and_pass_their_validators() {
 fn pages_that_share_a_name_are_told_apart() {
     // The 3d shelf lists mercury under metals and under liquids with one page name.
     let out = scratch("params-mercury");
-    let selection = Selection { pages: vec!["3d/metals/mercury".into(), "3d/liquids/mercury".into()], ..Default::default() };
+    let selection = Selection::pages(["3d/metals/mercury", "3d/liquids/mercury"]);
     nklut::params::command(&database(), &selection, &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
     let rows = read_table(&out);
     let names: Vec<&str> = rows.iter().map(|r| r["display_name"].as_str()).collect();
@@ -243,7 +243,7 @@ fn pages_that_share_a_name_are_told_apart() {
 fn metals_agree_with_the_physically_based_database() {
     let mut reader = csv::Reader::from_path(root().join("data/published/physicallybased-metals.csv")).unwrap();
     let published: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
-    let selection = Selection { pages: published.iter().map(|r| r[1].to_string()).collect(), ..Default::default() };
+    let selection = Selection::pages(published.iter().map(|r| r[1].to_string()));
     let ingested = nklut::ingest::ingest(&database(), &selection, &nklut::ingest::Config::default()).unwrap();
     let params = nklut::params::compute(&ingested.kept, &Default::default(), &mut Default::default(), &Default::default()).unwrap();
     let mut compared = 0;
@@ -274,7 +274,7 @@ fn whole() -> &'static Path {
     static OUT: std::sync::OnceLock<Scratch> = std::sync::OnceLock::new();
     OUT.get_or_init(|| {
         let out = scratch("params-all");
-        nklut::params::command(&database(), &Selection::default(), &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
+        nklut::params::command(&database(), &Selection::All, &nklut::ingest::Config::default(), &Default::default(), &out).unwrap();
         out
     })
 }

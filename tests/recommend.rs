@@ -593,7 +593,9 @@ fn the_search_finding_states_the_effects_tables_figures() {
         nklut(&out, &[&[stage][..], &pages].concat());
     }
     let scene = out.join("specular.yaml");
-    fs::write(&scene, SPECULAR_SCENE).unwrap();
+    // The scene measures what the picks are (on the CPU a 64-texel LUT of the spectral curve
+    // for both pages) beside exact and Schlick.
+    fs::write(&scene, SPECULAR_SCENE.replace("methods: [exact, schlick]", "methods: [exact, schlick, lut]")).unwrap();
     nklut(&out.join("specular"), &["effects", "--hero-size", "0", scene.to_str().unwrap()]);
     // With the scene measured, recommend carries each pick's error growth with depth:
     // recomputed here from effects_errors.csv (pixel-weighted fresnel ΔE2000 per total

@@ -1565,10 +1565,12 @@ fn chart_craft_problems(page: &str, craft: &Craft, seen: &mut BTreeMap<&'static 
 }
 
 /// Reads the page's layout: the window's width, the page's scroll width, the elements
-/// wider than the window outside a box that scrolls sideways, and text under 12 px.
+/// wider than the window outside a box that scrolls sideways, and text under 12 px; what a
+/// closed `<details>` holds (its summary aside) is not on screen and not read (Chromium
+/// lays it out all the same).
 const LAYOUT_SCRIPT: &str = r#"<script>window.addEventListener('load',()=>{const W=document.documentElement.clientWidth;const out={width:W,scroll:document.documentElement.scrollWidth,wide:[],small:[],scrolled:[]};
 const boxed=e=>{for(let p=e.parentElement;p&&p!==document.body;p=p.parentElement){const o=getComputedStyle(p).overflowX;if(o==='auto'||o==='scroll')return true;}return false;};
-for(const e of document.body.querySelectorAll('*')){if(e.closest('#nk-audit'))continue;const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!boxed(e)&&out.wide.length<20)out.wide.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right));
+for(const e of document.body.querySelectorAll('*')){if(e.closest('#nk-audit')||e.parentElement&&e.parentElement.closest('details:not([open])')&&!e.closest('summary'))continue;const r=e.getBoundingClientRect();if(r.width>0&&r.right>W+0.5&&!boxed(e)&&out.wide.length<20)out.wide.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right));
 if(r.width>0&&(r.right>W+0.5||e.scrollWidth>e.clientWidth+1&&['auto','scroll'].includes(getComputedStyle(e).overflowX))&&out.scrolled.length<20)out.scrolled.push(e.tagName.toLowerCase()+'.'+(e.getAttribute('class')||'')+' right '+Math.round(r.right)+' content '+e.scrollWidth);
 const own=[...e.childNodes].some(n=>n.nodeType===3&&n.textContent.trim());if(own&&r.width>0){const f=parseFloat(getComputedStyle(e).fontSize);if(f<12&&out.small.length<20)out.small.push(e.tagName.toLowerCase()+' '+f+' '+e.textContent.trim().slice(0,40));}}
 const p=document.createElement('pre');p.id='nk-audit';p.textContent=JSON.stringify(out);document.body.appendChild(p);});</script>"#;

@@ -725,7 +725,15 @@ fn amplified_samples_survive_a_quantised_timer_and_single_draws_do_not() {
         report.push(format!("{query} single draw: worst |Δ ratio| {worst:.3}, {ratios:?}"));
         eprintln!("{}", report.last().unwrap());
         assert!(worst > QUANTISED_TOLERANCE, "{}", report.join("\n"));
-        assert!(single["result"]["gpu_timing"].as_array().unwrap().iter().any(|r| r["near_resolution"] == "yes"), "{single}");
+        // The flag follows its rule on every row: a median within the span `near_ms` gives
+        // the page's own resolution and floor is flagged, one above it is not (how many
+        // single draws fall within it depends on the machine's load, so no count is held).
+        let sampling = &single["result"]["timing_sampling"];
+        let near = nklut::gpu::sampling::near_ms(number(&sampling["resolution_ns"]), number(&sampling["floor_ms"]));
+        for row in single["result"]["gpu_timing"].as_array().unwrap() {
+            let flagged = number(&row["median_ms"]) <= near;
+            assert_eq!(row["near_resolution"], if flagged { "yes" } else { "no" }, "within {near} ms: {row}");
+        }
     }
     eprintln!("{}", report.join("\n"));
 }

@@ -3,7 +3,7 @@
 //! percentile (linear interpolation, `stats::quantile`) of the values the picture shows,
 //! so at most about one pixel in a hundred saturates and the rest spread over the colours
 //! instead of washing out at one end; [`SMALLEST_STEP`] for no value or all zeros. The
-//! colours are [`crate::pictures::false_colour`]'s (black, blue, red, yellow, white), 0 at
+//! colours are [`false_colour`]'s (black, blue, red, yellow, white), 0 at
 //! black and the scale at white. The legend ([`legend_png`]) is the colour bar with its
 //! values burned in (0, half the scale and the scale under the bar's left, middle and right
 //! ends) and a line saying what the values are, black on white in the 8 × 8 font of
@@ -12,8 +12,28 @@
 use anyhow::Result;
 
 use super::labels;
-use super::pictures::{error_png, false_colour, ERROR_SCALE};
-use nklut_pipeline::stats::quantile;
+use nklut_tables::image_files::encode;
+use nklut_tables::stats::quantile;
+use nklut_tables::texel::{Encoding, Texels};
+
+/// |Δ| summed over channels at which the false colour saturates (white).
+pub const ERROR_SCALE: f64 = 0.1;
+
+/// The false colour of an error e ≥ 0: black at 0, through blue, red and yellow, to white
+/// at [`ERROR_SCALE`] and beyond (piecewise linear between those five stops).
+pub fn false_colour(error: f64) -> [f64; 3] {
+    const STOPS: [[f64; 3]; 5] = [[0.0, 0.0, 0.0], [0.1, 0.1, 0.8], [0.9, 0.1, 0.1], [1.0, 0.9, 0.1], [1.0, 1.0, 1.0]];
+    let x = (error / ERROR_SCALE).clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let w = x - i as f64;
+    std::array::from_fn(|c| STOPS[i][c] + w * (STOPS[i + 1][c] - STOPS[i][c]))
+}
+
+/// A PNG of false colours ([`false_colour`]), stored as they are: they are display-referred.
+pub fn error_png(width: u32, height: u32, colours: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
+    let bytes = colours.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
+    encode(Encoding::Unorm8, width as usize, height as usize, &Texels::U8(bytes))
+}
 
 /// The smallest scale the rule gives (no value, or every value 0).
 pub const SMALLEST_STEP: f64 = 1e-4;
@@ -172,7 +192,7 @@ mod tests {
         text_at((width - labels::MARGIN - 24, VALUES_TOP), "0.2");
         text_at((labels::MARGIN, VALUES_TOP + labels::LINE), "|Δ| over R+G+B");
         let png = legend_png(width, 0.2, "x").unwrap();
-        let decoded = nklut_pipeline::bake::files::decode(nklut_pipeline::bake::texel::Encoding::Unorm8, &png).unwrap();
+        let decoded = nklut_tables::image_files::decode(nklut_tables::texel::Encoding::Unorm8, &png).unwrap();
         assert_eq!((decoded.width, decoded.height), (width as usize, LEGEND_HEIGHT as usize));
     }
 }

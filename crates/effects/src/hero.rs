@@ -564,8 +564,8 @@ mod tests {
         assert!((against.error.max_absolute - 0.9).abs() < 1e-12);
         let decoded = |name: &str| {
             let file = written.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("{name}"));
-            let image = nklut_pipeline::bake::files::decode(nklut_pipeline::bake::texel::Encoding::Unorm8, &file.bytes).unwrap();
-            let nklut_pipeline::bake::texel::Texels::U8(bytes) = image.texels else { panic!("8-bit") };
+            let image = nklut_tables::image_files::decode(nklut_tables::texel::Encoding::Unorm8, &file.bytes).unwrap();
+            let nklut_tables::texel::Texels::U8(bytes) = image.texels else { panic!("8-bit") };
             bytes
         };
         let total = decoded("effects_hero/specular_schlick_error.png");

@@ -1,13 +1,15 @@
 //! Frames a person can look at: the reference beside the distance-map renders, as linear
 //! OpenEXR (float) and sRGB PNG, and a false-colour PNG of each render's error against the
-//! reference; and signed maps (a per-pixel signed error, such as accessibility − reference)
+//! reference on its own scale with that scale's legend (`colour_bar`); and signed maps (a per-pixel signed error, such as accessibility − reference)
 //! in a diverging colour scale shared by every map of a scene, above a legend strip (the
-//! colour bar, its range, which end is over- and which under-occlusion). Encoding through `bake::files` (the textures' encoders); the files join the
+//! colour bar, its range, which end is over- and which under-occlusion). Encoding through `nklut_tables::image_files` (the textures' encoders); the files join the
 //! set of the command that made them (`output::publish_contents`), so frames of a killed
 //! or earlier run never mix with this one's.
 
 use anyhow::Result;
 
+use super::colour_bar::{colour, legend_png, p99_scale};
+pub use super::colour_bar::{error_png, false_colour, ERROR_SCALE};
 use super::labels;
 use super::trace::TracedFrame;
 use nklut_optics::color::srgb;
@@ -23,23 +25,11 @@ pub struct Picture {
     pub reference: Option<TracedFrame>,
 }
 
-/// |Δ| summed over channels at which the false colour saturates (white).
-pub const ERROR_SCALE: f64 = 0.1;
-
-/// The false colour of an error e ≥ 0: black at 0, through blue, red and yellow, to white
-/// at [`ERROR_SCALE`] and beyond (piecewise linear between those five stops).
-pub fn false_colour(error: f64) -> [f64; 3] {
-    const STOPS: [[f64; 3]; 5] = [[0.0, 0.0, 0.0], [0.1, 0.1, 0.8], [0.9, 0.1, 0.1], [1.0, 0.9, 0.1], [1.0, 1.0, 1.0]];
-    let x = (error / ERROR_SCALE).clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
-    let i = (x.floor() as usize).min(STOPS.len() - 2);
-    let w = x - i as f64;
-    std::array::from_fn(|c| STOPS[i][c] + w * (STOPS[i + 1][c] - STOPS[i][c]))
-}
-
 /// The scales a set of signed maps may share (1-2-5 steps, accessibility units): the
 /// smallest at or above the 99th percentile of |e| over every map of the set ([`shared_scale`]).
 pub const SIGNED_SCALES: [f64; 7] = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0];
-/// The colour bar of the signed maps with their shared scale and legend, alone.
+/// The colour bar of one technique's signed maps with their shared scale and legend, alone:
+/// `<technique>_signed_scale.png`.
 pub const SIGNED_SCALE_FILE: &str = "signed_scale.png";
 /// Where a signed map has no value (no surface): mid grey.
 pub const NO_VALUE: [f64; 3] = [0.5, 0.5, 0.5];
@@ -64,6 +54,9 @@ pub fn signed_colour(error: f64, scale: f64) -> [f64; 3] {
 #[derive(Clone, Debug, PartialEq)]
 pub struct SignedMap {
     pub stem: String,
+    /// The technique the map shows (`surfels`, `gtao`): the maps of one technique share a
+    /// scale, so one technique's tail does not wash another's map out.
+    pub technique: &'static str,
     pub width: u32,
     pub height: u32,
     pub values: Vec<Option<f64>>,
@@ -142,17 +135,28 @@ pub fn signed_picture(map: &SignedMap, scale: f64) -> (u32, u32, Vec<[f64; 3]>) 
     (width, map.height + LEGEND_HEIGHT, pixels)
 }
 
-/// `<folder>/<stem>.png` per map ([`signed_picture`]), every map on their [`shared_scale`],
-/// and, with any map, that scale's legend alone, `<folder>/signed_scale.png` (256 wide).
+/// `<folder>/<stem>.png` per map ([`signed_picture`]), the maps of each technique on their
+/// [`shared_scale`] (passes of one technique compare; two techniques each get the scale of
+/// their own errors), and per technique that scale's legend alone,
+/// `<folder>/<technique>_signed_scale.png` (256 wide).
 pub fn signed_files(folder: &str, maps: &[SignedMap]) -> Result<Vec<SetFile>> {
-    let mut written = Vec::new();
-    let scale = shared_scale(maps);
+    let mut techniques: Vec<&str> = Vec::new();
     for map in maps {
-        let (width, height, pixels) = signed_picture(map, scale);
+        if !techniques.contains(&map.technique) {
+            techniques.push(map.technique);
+        }
+    }
+    let scales: Vec<f64> =
+        techniques.iter().map(|t| shared_scale(&maps.iter().filter(|m| m.technique == *t).cloned().collect::<Vec<_>>())).collect();
+    let scale_of = |technique: &str| scales[techniques.iter().position(|t| *t == technique).unwrap_or(0)];
+    let mut written = Vec::new();
+    for map in maps {
+        let (width, height, pixels) = signed_picture(map, scale_of(map.technique));
         written.push(SetFile::new(format!("{folder}/{}.png", map.stem), error_png(width, height, pixels.into_iter())?));
     }
-    if !maps.is_empty() {
-        written.push(SetFile::new(format!("{folder}/{SIGNED_SCALE_FILE}"), error_png(256, LEGEND_HEIGHT, legend(256, scale).into_iter())?));
+    for (technique, scale) in techniques.iter().zip(&scales) {
+        let legend = error_png(256, LEGEND_HEIGHT, legend(256, *scale).into_iter())?;
+        written.push(SetFile::new(format!("{folder}/{technique}_{SIGNED_SCALE_FILE}"), legend));
     }
     Ok(written)
 }
@@ -168,14 +172,13 @@ pub fn srgb_png(width: u32, height: u32, linear: impl Iterator<Item = [f64; 3]>)
     encode(Encoding::Unorm8Srgb, width as usize, height as usize, &Texels::U8(bytes))
 }
 
-/// A PNG of false colours ([`false_colour`]), stored as they are: they are display-referred.
-pub fn error_png(width: u32, height: u32, colours: impl Iterator<Item = [f64; 3]>) -> Result<Vec<u8>> {
-    let bytes = colours.flat_map(|rgb| rgb.map(|v| (v * 255.0).round() as u8)).collect();
-    encode(Encoding::Unorm8, width as usize, height as usize, &Texels::U8(bytes))
-}
-
 /// The files `<folder>/<stem>.exr` (linear) and `<stem>.png` (sRGB) per picture, and for a
-/// picture with a reference `<stem>_error.png` (false colour of |Δ| summed over channels).
+/// picture with a reference `<stem>_error.png` (false colour of |Δ| summed over channels, on
+/// the 1-2-5 step at or above its 99th percentile: `colour_bar`'s rule) with that scale's
+/// legend, `<stem>_error_scale.png` ([`ERROR_LEGEND_WIDTH`] wide).
+/// The width of an error picture's legend in pixels.
+pub const ERROR_LEGEND_WIDTH: u32 = 256;
+
 pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
     let mut written = Vec::new();
     for picture in pictures {
@@ -185,8 +188,11 @@ pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
         let mut files = vec![(format!("{}.exr", picture.stem), encode(Encoding::F32, w as usize, h as usize, &linear)?)];
         files.push((format!("{}.png", picture.stem), srgb_png(w, h, frame.radiance.iter().copied())?));
         if let Some(reference) = &picture.reference {
-            let errors = error_map(frame, reference).into_iter().map(false_colour);
-            files.push((format!("{}_error.png", picture.stem), error_png(w, h, errors)?));
+            let errors = error_map(frame, reference);
+            let scale = p99_scale(errors.iter().copied());
+            files.push((format!("{}_error.png", picture.stem), error_png(w, h, errors.iter().map(|&e| colour(e, scale)))?));
+            let legend = legend_png(ERROR_LEGEND_WIDTH, scale, "|picture - reference| summed over R, G, B")?;
+            files.push((format!("{}_error_scale.png", picture.stem), legend));
         }
         written.extend(files.into_iter().map(|(name, bytes)| SetFile::new(format!("{folder}/{name}"), bytes)));
     }
@@ -228,7 +234,7 @@ mod tests {
     /// the smallest step; everything beyond 1 → 1.
     #[test]
     fn maps_share_the_step_above_their_99th_percentile() {
-        let map = |values: Vec<Option<f64>>| SignedMap { stem: "m".into(), width: values.len() as u32, height: 1, values };
+        let map = |values: Vec<Option<f64>>| SignedMap { stem: "m".into(), technique: "t", width: values.len() as u32, height: 1, values };
         assert_eq!(shared_scale(&[map(vec![Some(0.01), Some(-0.03), None]), map(vec![Some(0.04)])]), 0.05);
         let mut outlier = vec![Some(0.0); 99];
         outlier.push(Some(-0.9));
@@ -249,14 +255,15 @@ mod tests {
         let maps = [
             SignedMap {
                 stem: "a".into(),
+                technique: "surfels",
                 width: 3,
                 height: 2,
                 values: vec![Some(0.05), None, Some(-0.025), Some(0.0), Some(-0.05), Some(0.0125)],
             },
-            SignedMap { stem: "b".into(), width: 1, height: 1, values: vec![Some(-0.02)] },
+            SignedMap { stem: "b".into(), technique: "surfels", width: 1, height: 1, values: vec![Some(-0.02)] },
         ];
         let written = signed_files("f", &maps).unwrap();
-        assert_eq!(written.iter().map(|f| f.name.as_str()).collect::<Vec<_>>(), ["f/a.png", "f/b.png", "f/signed_scale.png"]);
+        assert_eq!(written.iter().map(|f| f.name.as_str()).collect::<Vec<_>>(), ["f/a.png", "f/b.png", "f/surfels_signed_scale.png"]);
         let decoded = |k: usize| {
             let image = nklut_tables::image_files::decode(Encoding::Unorm8, &written[k].bytes).unwrap();
             let Texels::U8(bytes) = image.texels else { panic!("8-bit") };
@@ -331,13 +338,25 @@ mod tests {
         )
         .unwrap();
         let names: Vec<&str> = written.iter().map(|f| f.name.as_str()).collect();
-        assert_eq!(names, ["f/reference.exr", "f/reference.png", "f/schlick.exr", "f/schlick.png", "f/schlick_error.png"]);
+        assert_eq!(
+            names,
+            ["f/reference.exr", "f/reference.png", "f/schlick.exr", "f/schlick.png", "f/schlick_error.png", "f/schlick_error_scale.png"]
+        );
         let bytes = |name: &str| written.iter().find(|f| f.name == name).unwrap().bytes.clone();
         let decoded = nklut_tables::image_files::decode(Encoding::F32, &bytes("f/schlick.exr")).unwrap();
         assert_eq!(decoded.texels, Texels::F32(vec![0.6, 0.25, 1.0, 0.0, 0.0, 0.0]));
         let error = nklut_tables::image_files::decode(Encoding::Unorm8, &bytes("f/schlick_error.png")).unwrap();
-        // |Δ| = 0.1 at the first pixel: white; none at the second: black.
+        // |Δ| = 0.1 at the first pixel, 0 at the second: the 99th percentile 0.099 puts the
+        // scale at the step 0.1, so white, then black.
         assert_eq!(error.texels, Texels::U8(vec![255, 255, 255, 0, 0, 0]));
+        // The legend: 256 wide, the bar's right end white (the scale).
+        let legend = nklut_tables::image_files::decode(Encoding::Unorm8, &bytes("f/schlick_error_scale.png")).unwrap();
+        assert_eq!((legend.width, legend.height), (ERROR_LEGEND_WIDTH as usize, crate::colour_bar::LEGEND_HEIGHT as usize));
+        let Texels::U8(legend) = legend.texels else { panic!("8-bit") };
+        let at = |x: u32, y: u32| &legend[3 * (y * ERROR_LEGEND_WIDTH + x) as usize..][..3];
+        let bar_y = labels::MARGIN + crate::colour_bar::BAR_HEIGHT / 2;
+        assert_eq!(at(ERROR_LEGEND_WIDTH - labels::MARGIN - 1, bar_y), [255, 255, 255]);
+        assert_eq!(at(labels::MARGIN, bar_y), [0, 0, 0]);
     }
 
     /// The labels module's side-by-side picture with two labelled panels (3 × 2 px of one colour, 20 × 3 of another) written as the PNG a

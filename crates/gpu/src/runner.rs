@@ -1,6 +1,6 @@
 //! The scene runner: computes only what the scene names.
 //!
-//! - Pages: only the scene's materials are ingested (`Selection { pages }`).
+//! - Pages: only the scene's materials are ingested (`Selection::pages`).
 //! - Pipelines (one per method and pass, compiled on first use):
 //!   `timing` → one fullscreen pipeline per named method (with `subtract`: blended over
 //!   the expensive `burner`, + the burner's own pipeline);

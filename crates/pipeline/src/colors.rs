@@ -38,7 +38,8 @@ pub fn compute(kept: &[KeptPage], texels: usize, timings: &mut Timings, memo: &C
     let cosines = texel_cosines(texels);
 
     let start = Instant::now();
-    let references = crate::progress::par_map(unique.len(), "spectra", |i| spectral_reference(&unique[i], quadrature, &cosines, memo));
+    let references =
+        crate::progress::par_map(unique.len(), "spectra", |i| spectral_reference(&unique[i], quadrature, &cosines, Some(memo)));
     timings.spectral_s = start.elapsed().as_secs_f64();
 
     let start = Instant::now();

@@ -128,7 +128,7 @@ pub struct Measurement {
 /// Interior breakpoints (θ, radians) of the error integrand of `model`: where it has
 /// kinks or changes on a scale much finer than [0, π/2].
 pub fn breakpoints(model: &Model) -> Vec<f64> {
-    let Index { n, k } = model.prepared.index;
+    let Index { n, k } = model.prepared().index;
     let mut cosines = Vec::new();
     // Critical angle of n < 1 (a kink for k = 0, a steep knee for small k).
     if n < 1.0 {
@@ -140,13 +140,13 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
     for scale in [1.0 / modulus, rise] {
         cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0].map(|j| j * scale));
     }
-    match model.method {
-        Method::SchlickCompensated if model.prepared.compensation.fallback.is_none() => {
-            let lambda = model.prepared.compensation.lambda;
+    match model.method() {
+        Method::SchlickCompensated if model.prepared().compensation.fallback.is_none() => {
+            let lambda = model.prepared().compensation.lambda;
             cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0].map(|j| j / lambda));
         }
         Method::Nvidia => {
-            let fit = model.prepared.nvidia;
+            let fit = model.prepared().nvidia;
             cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0].map(|j| j / fit.power));
             for level in [0.0, 1.0] {
                 let m = ((level - fit.bias) / fit.scale).powf(1.0 / fit.power);
@@ -154,7 +154,7 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
             }
         }
         Method::Lut => {
-            if let Some(lut) = &model.lut {
+            if let Some(lut) = model.lut() {
                 let count = lut.texels.len();
                 // Decreasing cosines: increasing θ, so the sort finds them in order.
                 cosines.extend((0..count).rev().map(|i| nklut_optics::encoding::texel_cos(i, count)));
@@ -204,7 +204,7 @@ impl Family {
 
     /// A family of the given models.
     pub fn of(models: Vec<Model>) -> Self {
-        let sizes: Vec<Option<usize>> = models.iter().map(|m| m.lut.as_ref().map(|l| l.texels.len())).collect();
+        let sizes: Vec<Option<usize>> = models.iter().map(|m| m.lut().map(|l| l.texels.len())).collect();
         let lut_size = match sizes.first() {
             Some(&Some(size)) if size > 0 && sizes.iter().all(|s| *s == Some(size)) => Some(size),
             _ => None,
@@ -220,14 +220,14 @@ impl Family {
         if let Some(texels) = self.lut_size {
             let weights = filter_weights(texels, c);
             let weights_f32 = filter_weights(texels, c as f32);
-            for (lut, sample) in self.models.iter().filter_map(|m| m.lut.as_ref()).zip(out.iter_mut()) {
+            for (lut, sample) in self.models.iter().filter_map(|m| m.lut()).zip(out.iter_mut()) {
                 let approx32 = filter(&lut.texels_f32, weights_f32) as f64;
                 *sample = Sample { exact, approx: PerPrecision { f64: filter(&lut.texels, weights), f32: approx32 } };
             }
             return;
         }
         for (model, sample) in self.models.iter().zip(out.iter_mut()) {
-            let approx64 = if model.method == Method::Exact { exact } else { model.reflectance(c) };
+            let approx64 = if model.method() == Method::Exact { exact } else { model.reflectance(c) };
             let approx32 = model.reflectance_f32(c as f32) as f64;
             *sample = Sample { exact, approx: PerPrecision { f64: approx64, f32: approx32 } };
         }
@@ -244,7 +244,7 @@ impl Family {
                 *c = theta.cos();
             }
             let mut exact = [0.0; LANES];
-            first.prepared.exact.reflectances(&cosines[..block.len()], &mut exact[..block.len()]);
+            first.prepared().exact.reflectances(&cosines[..block.len()], &mut exact[..block.len()]);
             for (j, samples) in out.chunks_mut(members).enumerate() {
                 self.evaluate_at(cosines[j], exact[j], samples);
             }
@@ -867,7 +867,7 @@ mod tests {
     #[test]
     fn quadrature_agrees_with_brute_force_on_real_pages() {
         let db = test_database();
-        let selection = ingest::Selection { shelves: vec![], pages: PAGES.iter().map(|p| p.to_string()).collect() };
+        let selection = ingest::Selection::pages(PAGES);
         let result = ingest::ingest(&db, &selection, &ingest::Config::default()).unwrap();
         assert_eq!(result.kept.len(), PAGES.len(), "excluded: {:?}", result.excluded);
         let sweep = LutSpec::sweep();
@@ -911,7 +911,7 @@ mod tests {
     fn families_agree_with_brute_force() {
         let db = test_database();
         let pages = ["3d/metals/gold", "main/H2O/Hale", "other/air/Ciddor"];
-        let selection = ingest::Selection { shelves: vec![], pages: pages.iter().map(|p| p.to_string()).collect() };
+        let selection = ingest::Selection::pages(pages.iter().copied());
         let result = ingest::ingest(&db, &selection, &ingest::Config::default()).unwrap();
         assert_eq!(result.kept.len(), pages.len());
         let analytic: Vec<Variant> =
@@ -1026,7 +1026,7 @@ mod tests {
                         assert_eq!(bits(a), bits(b), "{index:?} θ = {theta}");
                     }
                     // One angle alone is the scalar form: exact one cosine at a time.
-                    assert_eq!(one[0].exact.to_bits(), family.models[0].prepared.exact.reflectance(theta.cos()).to_bits());
+                    assert_eq!(one[0].exact.to_bits(), family.models[0].prepared().exact.reflectance(theta.cos()).to_bits());
                 }
             }
         }

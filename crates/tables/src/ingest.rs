@@ -23,16 +23,46 @@ pub struct Config {
     pub strict: bool,
 }
 
-/// Which pages to ingest. Empty `shelves` and `pages` mean the whole catalog.
-#[derive(Clone, Debug, Default)]
-pub struct Selection {
-    pub shelves: Vec<String>,
-    pub pages: Vec<String>,
+/// Which pages to ingest: the whole catalog, or the shelves and pages named.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Selection {
+    /// Every page of the catalog.
+    All,
+    /// The pages of these shelves and these pages (ids such as 3d/metals/gold); naming
+    /// nothing selects nothing.
+    Named {
+        /// Catalog shelves, every page of each.
+        shelves: Vec<String>,
+        /// Page ids.
+        pages: Vec<String>,
+    },
 }
 
 impl Selection {
+    /// Every page of one shelf.
     pub fn shelf(name: &str) -> Self {
-        Self { shelves: vec![name.to_string()], pages: vec![] }
+        Self::Named { shelves: vec![name.to_string()], pages: vec![] }
+    }
+
+    /// These pages.
+    pub fn pages(pages: impl IntoIterator<Item = impl Into<String>>) -> Self {
+        Self::Named { shelves: vec![], pages: pages.into_iter().map(Into::into).collect() }
+    }
+
+    /// The page ids named (none for [`Selection::All`]).
+    pub fn named_pages(&self) -> &[String] {
+        match self {
+            Self::All => &[],
+            Self::Named { pages, .. } => pages,
+        }
+    }
+
+    /// The shelves named (none for [`Selection::All`]).
+    pub fn named_shelves(&self) -> &[String] {
+        match self {
+            Self::All => &[],
+            Self::Named { shelves, .. } => shelves,
+        }
     }
 
     /// [`Selection::includes_id`] of a catalog page, without formatting its id.
@@ -45,12 +75,13 @@ impl Selection {
         self.selects(shelf, |named| named == id)
     }
 
-    /// The rule: the whole catalog when nothing is named, else the named shelves and the
-    /// pages for which `is_page` holds of a named id.
+    /// The rule: every page for [`Selection::All`], else the named shelves and the pages
+    /// for which `is_page` holds of a named id.
     fn selects(&self, shelf: &str, is_page: impl Fn(&str) -> bool) -> bool {
-        (self.shelves.is_empty() && self.pages.is_empty())
-            || self.shelves.iter().any(|s| s == shelf)
-            || self.pages.iter().any(|id| is_page(id))
+        match self {
+            Self::All => true,
+            Self::Named { shelves, pages } => shelves.iter().any(|s| s == shelf) || pages.iter().any(|id| is_page(id)),
+        }
     }
 }
 
@@ -225,20 +256,20 @@ pub fn ingest(db: &Database, selection: &Selection, config: &Config) -> Result<I
     // The whole catalog: the files a line scan of its text names are read and evaluated
     // while it is parsed (one core parses, the other reads); the parsed catalog then
     // decides which results are used, and any file the scan missed is read after.
-    let whole = selection.shelves.is_empty() && selection.pages.is_empty();
+    let whole = *selection == Selection::All;
     let (catalog, early) = if whole {
         rayon::join(|| db.parse_catalog(&text), || evaluate_files(db, &nklut_optics::db::catalog::guess_data_paths(&text), config))
     } else {
         (db.parse_catalog(&text), Evaluated::empty())
     };
     let mut catalog = catalog?;
-    for wanted in &selection.pages {
+    for wanted in selection.named_pages() {
         if catalog.find(wanted).is_none() {
             bail!("unknown page {wanted:?} (ids look like main/Au/Johnson or 3d/metals/gold)");
         }
     }
     let known_shelves = catalog.shelves();
-    for shelf in &selection.shelves {
+    for shelf in selection.named_shelves() {
         if !known_shelves.contains(shelf) {
             bail!("unknown shelf {shelf:?}; the catalog has {}", known_shelves.join(", "));
         }

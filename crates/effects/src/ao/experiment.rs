@@ -298,7 +298,13 @@ fn indirect_error(one: &[Rgb], chapter: &[Rgb], reference: &ReferenceIndirect, r
 
 /// The log line of one surfel row: per-vertex error figures, area-weighted and per pixel,
 /// defects, and the indirect light's error where measured.
-fn surfel_row_line(name: &str, passes: u32, hierarchy: bool, accessibility: &AccessibilityErrors, measured: Option<IndirectError>) -> String {
+fn surfel_row_line(
+    name: &str,
+    passes: u32,
+    hierarchy: bool,
+    accessibility: &AccessibilityErrors,
+    measured: Option<IndirectError>,
+) -> String {
     let v = &accessibility.per_vertex;
     format!(
         "  {} {} passes {}: |a − ref| per vertex mean {:.4} (signed {:+.4}), median {:.4}, p90 {:.4}, p99 {:.4}, max {:.4}; area-weighted {:.4}; per pixel {:.4}; {} defect vertices{}",
@@ -526,6 +532,7 @@ fn pictures(
     for (a, _) in shown.iter().skip(1) {
         report.signed_maps.push(SignedMap {
             stem: format!("ao_passes{}_signed", a.passes),
+            technique: "surfels",
             width: settings.resolution[0],
             height: settings.resolution[1],
             values: coverage.iter().map(|p| p.map(|p| p.interpolate(&a.values) - p.interpolate(&reference.values))).collect(),
@@ -710,6 +717,7 @@ fn gtao_rows(
         if configuration == 0 {
             report.signed_maps.push(SignedMap {
                 stem: "ao_gtao_signed".into(),
+                technique: "gtao",
                 width: settings.resolution[0],
                 height: settings.resolution[1],
                 values: coverage

@@ -44,11 +44,10 @@ impl SceneMaterial {
 pub fn read_materials(scene: &Scene, db: &Database, config: &ingest::Config) -> Result<(Vec<SceneMaterial>, usize)> {
     let pages = scene.materials();
     if pages.is_empty() {
-        // A scene of diffuse objects alone (surfel effects) reads no page; an empty
-        // selection would mean the whole catalog.
+        // A scene of diffuse objects alone (surfel effects) reads no page.
         return Ok((Vec::new(), 0));
     }
-    let selection = Selection { shelves: vec![], pages: pages.clone() };
+    let selection = Selection::pages(pages.iter().cloned());
     let result = ingest::ingest(db, &selection, config).map_err(|e| anyhow!("scene {}: {e:#}", scene.file.display()))?;
     result.check_strict()?;
     let materials = pages

@@ -251,7 +251,8 @@ mod tests {
         // Rows: brute force and tree at 1–3 passes (6 × 9 = 54 surfels), then each configuration.
         assert_eq!(plan.rows.len(), 2 * PASSES as usize + 2);
         assert!(plan.rows.iter().all(|r| MEASURED.iter().all(|m| !r.row.contains_key(*m))));
-        assert_eq!(plan.rows[7].row["preset"], "xe-high");
+        // Its frames (16 of the preset's 64) make it a modified preset, as ao_errors names it.
+        assert_eq!(plan.rows[7].row["preset"], "xe-high (modified)");
         assert_eq!(plan.rows[7].frames, 16);
     }
 }

@@ -25,9 +25,22 @@ pub struct SpectralReference {
 }
 
 /// Sample the spectrum of `material` and its reference colour at normal incidence, at
-/// the quadrature nodes and at `texel_cosines` (the curves from `memo` when it holds
-/// them).
-pub fn spectral_reference(material: &Material, quadrature: &AngleQuadrature, texel_cosines: &[f64], memo: &CurveMemo) -> SpectralReference {
+/// the quadrature nodes and at `texel_cosines`: computed, or taken from `memo` where it
+/// holds them (the curves remembered between the commands of one output folder).
+pub fn spectral_reference(
+    material: &Material,
+    quadrature: &AngleQuadrature,
+    texel_cosines: &[f64],
+    memo: Option<&CurveMemo>,
+) -> SpectralReference {
+    let nothing_remembered;
+    let memo = match memo {
+        Some(memo) => memo,
+        None => {
+            nothing_remembered = CurveMemo::default();
+            &nothing_remembered
+        }
+    };
     let (spectrum, extrapolated_share) = sample_spectrum(&material.data);
     let prepared = PreparedSpectrum::new(&spectrum);
     let sampled = Fingerprint::of_spectrum(&spectrum);

@@ -344,17 +344,15 @@ impl ShaderParams {
 }
 
 /// One method ready to evaluate for one channel: the prepared parameters plus, for
-/// `lut`, the texture baked from `exact` with the given [`LutSpec`].
+/// `lut`, the texture baked from `exact` with the given [`LutSpec`]. Built only by its
+/// constructors, so a `lut` model always has its texture and no other has one.
 #[derive(Clone, Debug)]
 pub struct Model {
-    /// The method evaluated.
-    pub method: Method,
-    /// Its channel's parameters in f64.
-    pub prepared: Prepared,
-    /// The same rounded to f32, as a shader receives them.
-    pub shader: ShaderParams,
-    /// The texture, for `lut` only.
-    pub lut: Option<Lut>,
+    method: Method,
+    prepared: Prepared,
+    shader: ShaderParams,
+    /// Some exactly when `method` is [`Method::Lut`].
+    lut: Option<Lut>,
 }
 
 impl Model {
@@ -374,11 +372,32 @@ impl Model {
         Self { method: Method::Lut, shader: prepared.shader_params(), prepared, lut: Some(lut) }
     }
 
+    /// The method evaluated.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// The channel's parameters in f64.
+    pub fn prepared(&self) -> &Prepared {
+        &self.prepared
+    }
+
+    /// The same rounded to f32, as a shader receives them.
+    pub fn shader(&self) -> &ShaderParams {
+        &self.shader
+    }
+
+    /// The texture of a `lut` model (`None` for every analytic method).
+    pub fn lut(&self) -> Option<&Lut> {
+        self.lut.as_ref()
+    }
+
     /// F in f64.
     #[inline]
     pub fn reflectance(&self, cos_theta: f64) -> f64 {
         match &self.lut {
             Some(lut) => lut.sample(cos_theta),
+            // An analytic method (a `lut` model always has its texture).
             None => self.prepared.analytic(self.method, cos_theta).unwrap_or(0.0),
         }
     }

@@ -670,7 +670,7 @@ pub fn run_with_hook(db: &Database, out: &Path, request: &BakeRequest, before_wr
     publish::check_writable(out)?;
     let ingest = ingest::ingest(db, &request.selection, &request.reading)?;
     ingest.check_strict()?;
-    check_named_pages_kept(&ingest, &request.selection.pages)?;
+    check_named_pages_kept(&ingest, request.selection.named_pages())?;
     // The catalog keeps a page id listed twice (same data file) once; ingest names them.
     let pages: Vec<&KeptPage> = ingest.kept.iter().collect();
     let mut duplicates = ingest.listed_twice.clone();

@@ -231,10 +231,11 @@ pub fn clipped_caption(top: f64, clipped: &[Clipped]) -> Option<String> {
 
 /// CIEDE2000 against the reference over θ, with the "just noticeable" level (1) as a
 /// line and the "clearly visible" band (2–3) shaded, named in the right margin; the range
-/// by [`delta_e_range`], a cut said in the caption.
+/// by [`delta_e_range`], a cut said in the chart's caption (which curves reach how far is
+/// the figure's to say, [`clipped_caption`]: a chart's one caption line cannot hold it).
 pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> Result<String> {
     let (top, clipped) = delta_e_range(theta_deg, series);
-    let caption = clipped_caption(top, &clipped);
+    let caption = (!clipped.is_empty()).then(|| format!("ΔE axis cut at {top:.1} (the largest value below {CLIP_BELOW_DEG:.0}°)"));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();

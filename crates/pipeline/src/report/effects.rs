@@ -782,8 +782,7 @@ fn geometry_section(html: &mut String, (path, errors): (&str, &CsvTable), all: &
                         .copied()
                         .filter(|&r| {
                             let row = &errors.rows[r];
-                            errors.text(row, "linear_steps") == linear.to_string()
-                                && errors.text(row, "secant_steps") == secant.to_string()
+                            errors.text(row, "linear_steps") == linear.to_string() && errors.text(row, "secant_steps") == secant.to_string()
                         })
                         .collect();
                     (at, format!("{linear} linear + {secant} secant steps, depth {depth}"))

@@ -301,19 +301,14 @@ fn schlick_finding(engine: &CsvTable, bound: f64, material_href: &dyn Fn(&str) -
 /// What three wavelengths cost against the spectral truth, at normal incidence and over
 /// all angles.
 fn three_wavelengths_finding(colors: &CsvTable, me: &CsvTable, bound: f64, material_href: &dyn Fn(&str) -> String) -> Option<Finding> {
-    let conductors: Vec<f64> = colors
-        .rows
-        .iter()
-        .filter(|r| colors.text(r, "kind") == "conductor")
-        .filter_map(|r| colors.number(r, "delta_e2000_f0"))
-        .collect();
+    let conductors: Vec<f64> =
+        colors.rows.iter().filter(|r| colors.text(r, "kind") == "conductor").filter_map(|r| colors.number(r, "delta_e2000_f0")).collect();
     let worst = colors
         .rows
         .iter()
         .filter_map(|r| Some((colors.text(r, "page"), colors.number(r, "delta_e2000_f0")?)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
-    let exact: Vec<f64> =
-        me.rows.iter().filter(|r| me.text(r, "method") == "exact").filter_map(|r| me.number(r, "de2000_max")).collect();
+    let exact: Vec<f64> = me.rows.iter().filter(|r| me.text(r, "method") == "exact").filter_map(|r| me.number(r, "de2000_max")).collect();
     if let (Some(median), Some((page, value))) = (stats::median(&conductors), worst) {
         let within = exact.iter().filter(|v| **v <= bound).count();
         let s = Sentence::new()
@@ -353,8 +348,7 @@ fn lut_size_finding(me: &CsvTable, bound: f64) -> Option<Finding> {
         }
     }
     let bytes: Vec<f64> = smallest.values().map(|v| v.0).collect();
-    if let (Some(median), Some((page, (max, variant)))) =
-        (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
+    if let (Some(median), Some((page, (max, variant)))) = (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
     {
         let s = Sentence::new()
             .t("A LUT of the spectral curve stays within ΔE2000 ")

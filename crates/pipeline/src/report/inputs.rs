@@ -430,7 +430,7 @@ pub fn select_pages(materials: &CsvTable, excluded: &CsvTable, selection: &Selec
         .map(|r| materials.text(r, "page").to_string())
         .collect();
     let mut missing = Vec::new();
-    for page in &selection.pages {
+    for page in selection.named_pages() {
         if !chosen.contains(page) {
             missing.push(match excluded.rows_where("page", page).next() {
                 Some(row) => format!("{page} (excluded by ingest: {}, {})", excluded.text(row, "reason"), excluded.text(row, "detail")),
@@ -438,7 +438,7 @@ pub fn select_pages(materials: &CsvTable, excluded: &CsvTable, selection: &Selec
             });
         }
     }
-    for shelf in &selection.shelves {
+    for shelf in selection.named_shelves() {
         if !materials.rows.iter().any(|r| materials.text(r, "shelf") == shelf) {
             missing.push(format!("shelf {shelf} (no kept page of it in materials.csv: run `nklut ingest --shelf {shelf}`)"));
         }
@@ -582,10 +582,10 @@ mod tests {
     fn selection_names_every_missing_page() {
         let m = table("page,shelf\n3d/metals/gold,3d\nmain/Au/Johnson,main\n");
         let x = table("page,data_file,reason,line,detail\n3d/plastics/pmma,f,no-visible-coverage,,starts at 437 nm\n");
-        let all = select_pages(&m, &x, &Selection::default()).unwrap();
+        let all = select_pages(&m, &x, &Selection::All).unwrap();
         assert_eq!(all, vec!["3d/metals/gold", "main/Au/Johnson"]);
         assert_eq!(select_pages(&m, &x, &Selection::shelf("3d")).unwrap(), vec!["3d/metals/gold"]);
-        let wanted = Selection { shelves: vec![], pages: vec!["3d/plastics/pmma".into(), "nope/x/y".into(), "3d/metals/gold".into()] };
+        let wanted = Selection::pages(["3d/plastics/pmma", "nope/x/y", "3d/metals/gold"]);
         let error = select_pages(&m, &x, &wanted).unwrap_err().to_string();
         assert!(error.contains("2 of the selected"), "{error}");
         assert!(error.contains("3d/plastics/pmma (excluded by ingest: no-visible-coverage"), "{error}");
