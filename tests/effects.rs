@@ -98,12 +98,13 @@ fn effects_command_splits_geometry_and_fresnel_error() {
     }
     assert!(out.join("effects_errors.parquet").exists() && out.join("effects_errors.columns.json").exists());
     // Frame 0 of each depth configuration at the last search configuration (80/1): the
-    // reference (EXR + PNG) and each method (EXR + PNG + error PNG).
+    // reference (EXR + PNG) and each method (EXR + PNG + error PNG + its scale's legend).
     let mut frames: Vec<String> =
         std::fs::read_dir(out.join("effects_frames")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     frames.sort();
-    assert_eq!(frames.len(), 2 * (2 + 3 + 3), "{frames:?}");
+    assert_eq!(frames.len(), 2 * (2 + 4 + 4), "{frames:?}");
     assert!(frames.contains(&"depth3-3_steps80-1_schlick_error.png".to_string()), "{frames:?}");
+    assert!(frames.contains(&"depth3-3_steps80-1_schlick_error_scale.png".to_string()), "{frames:?}");
 }
 
 /// The shipped AO scenes parse, name only surfel effects, need no specular object, and

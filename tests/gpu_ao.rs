@@ -433,7 +433,7 @@ fn the_wgsl_gtao_matches_its_cpu_twin_for_every_preset_one_frame_and_accumulated
                 sum += d;
             }
         }
-        let crossing = p.heuristics.final_power as f64 / p.slices as f64;
+        let crossing = p.heuristics.final_power / p.slices as f64;
         eprintln!(
             "{name}: {covered} pixels, |GPU − f32 twin| mean {:.2e}, largest {largest:.2e}, {over} over 2e-4 (bound for those {crossing:.2})",
             sum / covered as f64

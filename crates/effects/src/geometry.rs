@@ -60,10 +60,10 @@ const TRAVERSAL_BACKOFF: f64 = 2.0 * OBVHS_T_MIN;
 /// rounded to f32 (origin and direction, 2⁻²⁴ relative each) and each slab distance takes
 /// three roundings, so the ray the boxes see strays from the true one by about
 /// 4·2⁻²⁴·(|o| + t) ≈ 2.4·10⁻⁷(|o| + t), at most 1.3·10⁻⁶·(R + backoff) for a ray from
-/// inside the scene's box (|o| ≤ √3R, moved back by the backoff) to a hit in it (t ≤ 2√3R
-/// + backoff). Unwidened, a ray through an edge where two flat boxes meet — a room's
-/// corner, seen along a diagonal plane — could enter neither and leave a closed room, the
-/// watertight triangle test never run. 4·10⁻⁶ is three times the stray.
+/// inside the scene's box (|o| ≤ √3R, moved back by the backoff) to a hit in it
+/// (t ≤ 2√3R plus the backoff). Unwidened, a ray through an edge where two flat boxes
+/// meet — a room's corner, seen along a diagonal plane — could enter neither and leave a
+/// closed room, the watertight triangle test never run. 4·10⁻⁶ is three times the stray.
 const BOX_PADDING: f64 = 4e-6;
 
 /// Direction components smaller than this are zero for the BVH traversal (not for the

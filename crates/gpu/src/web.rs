@@ -399,6 +399,29 @@ fn skipped_parts(scene: &Scene, specular_effects: bool, gtao: bool) -> Vec<Strin
     skipped
 }
 
+/// The rows of `table` (`name` in errors) as JSON objects without the cells `measured`: the
+/// rows the page completes with what it measures.
+fn rows_without(
+    table: &nklut_pipeline::output::Table,
+    name: &str,
+    measured: &[&str],
+) -> Result<Vec<serde_json::Map<String, serde_json::Value>>> {
+    let json: serde_json::Value = serde_json::from_slice(&table.to_json()?)?;
+    let serde_json::Value::Array(objects) = json else { return Err(anyhow!("{name} as JSON is not an array")) };
+    objects
+        .into_iter()
+        .map(|row| match row {
+            serde_json::Value::Object(mut cells) => {
+                for cell in measured {
+                    cells.remove(*cell);
+                }
+                Ok(cells)
+            }
+            other => Err(anyhow!("a {name} row is not an object: {other}")),
+        })
+        .collect()
+}
+
 const TEMPLATE: &str = include_str!("web/page.html");
 const SCRIPT: &str = include_str!("web/bench.js");
 

@@ -13,7 +13,7 @@
 //! `resolution` only (a 1024² G-buffer would be 32 MiB of page); the native runner times
 //! the larger frames.
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use serde::Serialize;
 
 use super::base64;
@@ -203,20 +203,7 @@ pub fn plan(scene: &Scene) -> Result<Option<AoPlan>> {
 
 /// The rows of `table` as JSON objects without the [`MEASURED`] cells.
 fn row_cells(table: &nklut_pipeline::output::Table) -> Result<Vec<serde_json::Map<String, serde_json::Value>>> {
-    let json: serde_json::Value = serde_json::from_slice(&table.to_json()?)?;
-    let serde_json::Value::Array(objects) = json else { return Err(anyhow!("ao_timing as JSON is not an array")) };
-    objects
-        .into_iter()
-        .map(|row| match row {
-            serde_json::Value::Object(mut cells) => {
-                for measured in MEASURED {
-                    cells.remove(measured);
-                }
-                Ok(cells)
-            }
-            other => Err(anyhow!("an ao_timing row is not an object: {other}")),
-        })
-        .collect()
+    super::rows_without(table, "ao_timing", &MEASURED)
 }
 
 #[cfg(test)]

@@ -339,20 +339,7 @@ fn row_cells(
             shading_spread_ms: 0.0,
         })
         .collect();
-    let json: serde_json::Value = serde_json::from_slice(&timing_table(&rows, &Default::default()).to_json()?)?;
-    let serde_json::Value::Array(objects) = json else { return Err(anyhow!("effects_timing as JSON is not an array")) };
-    objects
-        .into_iter()
-        .map(|row| match row {
-            serde_json::Value::Object(mut cells) => {
-                for measured in MEASURED {
-                    cells.remove(measured);
-                }
-                Ok(cells)
-            }
-            other => Err(anyhow!("an effects_timing row is not an object: {other}")),
-        })
-        .collect()
+    super::rows_without(&timing_table(&rows, &Default::default()), "effects_timing", &MEASURED)
 }
 
 #[cfg(test)]

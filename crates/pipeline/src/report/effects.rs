@@ -351,6 +351,18 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables, bound:
     Ok(())
 }
 
+/// Those of `rows` searched with `linear` + `secant` steps.
+fn rows_at_steps(errors: &CsvTable, rows: &[usize], linear: u64, secant: u64) -> Vec<usize> {
+    let (linear, secant) = (linear.to_string(), secant.to_string());
+    rows.iter()
+        .copied()
+        .filter(|&r| {
+            let row = &errors.rows[r];
+            errors.text(row, "linear_steps") == linear && errors.text(row, "secant_steps") == secant
+        })
+        .collect()
+}
+
 /// The columns that name a configuration of the distance maps, in the tables' order.
 const CONFIGURATION: [&str; 5] = ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps"];
 
@@ -647,14 +659,7 @@ fn specular_section(
         html.push_str("<p class=\"absent\">The table has no step counts.</p>");
         return Ok(());
     };
-    let at_steps: Vec<usize> = all
-        .iter()
-        .copied()
-        .filter(|&r| {
-            let row = &errors.rows[r];
-            errors.text(row, "linear_steps") == linear.to_string() && errors.text(row, "secant_steps") == secant.to_string()
-        })
-        .collect();
+    let at_steps = rows_at_steps(errors, &all, linear, secant);
     let methods: Vec<String> = distinct(&all, |r| errors.text(&errors.rows[r], "method").to_string());
     let color = |method: &str| PALETTE[methods.iter().position(|m| m == method).unwrap_or(0) % PALETTE.len()];
     let legend = charts::legend(methods.iter().map(|m| (m.as_str(), color(m), false)));
@@ -777,15 +782,7 @@ fn geometry_section(html: &mut String, (path, errors): (&str, &CsvTable), all: &
                 ("geometry_mean_delta_e2000", "pixels"),
                 |x| {
                     let linear = linear_steps[x];
-                    let at = rows
-                        .iter()
-                        .copied()
-                        .filter(|&r| {
-                            let row = &errors.rows[r];
-                            errors.text(row, "linear_steps") == linear.to_string() && errors.text(row, "secant_steps") == secant.to_string()
-                        })
-                        .collect();
-                    (at, format!("{linear} linear + {secant} secant steps, depth {depth}"))
+                    (rows_at_steps(errors, &rows, linear, *secant), format!("{linear} linear + {secant} secant steps, depth {depth}"))
                 },
             )
         })
