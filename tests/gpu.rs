@@ -590,15 +590,19 @@ fn gpu_distance_maps_match_the_ray_cast_twin() {
         let gpu_map = texels.unpack(m);
         let cpu_map = DistanceMap::render(&stage, object, 16, 3);
         assert!((gpu_map.centre - cpu_map.centre).length() < 1e-6);
-        // Whether a CPU ray from the map's centre `stray` of a texel from the centre of texel
-        // (`face`, `row`, `column`) meets a wall whose normal is the GPU texel's and whose
-        // albedo there, lit at the texel's own point `at` (the light varies over a texel),
-        // is the GPU texel's colour.
-        let found_near = |g: &Texel, at: glam::DVec3, (face, row, column): (usize, usize, usize), stray: f64| {
-            let d = stray;
-            [(d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d), (d, d), (d, -d), (-d, d), (-d, -d)].iter().any(|(ds, dt)| {
-                let ray = face_direction(face, (column as f64 + 0.5 + ds) / 16.0, (row as f64 + 0.5 + dt) / 16.0);
-                stage.geometry.nearest(cpu_map.centre, ray, None, |o| !stage.is_specular(o)).is_some_and(|hit| {
+        // The CPU's ray from the map's centre through texel `index` (face-major, then row,
+        // then column), moved (`ds`, `dt`) texels from the texel's centre.
+        let texel_ray = |index: usize, ds: f64, dt: f64| {
+            let (face, row, column) = (index / 256, (index % 256) / 16, index % 16);
+            face_direction(face, (column as f64 + 0.5 + ds) / 16.0, (row as f64 + 0.5 + dt) / 16.0)
+        };
+        // Whether a CPU ray [`TEXEL_STRAY`] of a texel from the centre of texel `index` meets a
+        // wall whose normal is the GPU texel's and whose albedo there, lit at the texel's own
+        // point `at` (the light varies over a texel), is the GPU texel's colour.
+        let found_near = |g: &Texel, at: glam::DVec3, index: usize| {
+            let d = TEXEL_STRAY;
+            [(d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d), (d, d), (d, -d), (-d, d), (-d, -d)].iter().any(|&(ds, dt)| {
+                stage.geometry.nearest(cpu_map.centre, texel_ray(index, ds, dt), None, |o| !stage.is_specular(o)).is_some_and(|hit| {
                     let ObjectOptics::Diffuse(wall) = &stage.objects[hit.object] else { return false };
                     let albedo = wall.albedo_at(hit.point.to_array(), hit.normal.to_array());
                     let lit = unshadowed(&stage.lights, albedo, at.to_array(), hit.normal.to_array());
@@ -618,11 +622,9 @@ fn gpu_distance_maps_match_the_ray_cast_twin() {
                         if distance && (g.normal - c.normal).length() <= 1e-3 && same_surface(g.surface, c.surface) {
                             true
                         } else {
-                            let texel = (index / 256, (index % 256) / 16, index % 16);
-                            let ray = face_direction(texel.0, (texel.2 as f64 + 0.5) / 16.0, (texel.1 as f64 + 0.5) / 16.0);
-                            let at = cpu_map.centre + ray * c.distance;
+                            let at = cpu_map.centre + texel_ray(index, 0.0, 0.0) * c.distance;
                             let diffuse = matches!(g.surface, Surface::Diffuse(_));
-                            let found = distance && diffuse && found_near(g, at, texel, TEXEL_STRAY);
+                            let found = distance && diffuse && found_near(g, at, index);
                             strayed += found as usize;
                             found
                         }
@@ -631,11 +633,9 @@ fn gpu_distance_maps_match_the_ray_cast_twin() {
                 };
                 same += agrees as usize;
                 if !agrees && differing.len() < 8 {
-                    let (face, row, column) = (index / 256, (index % 256) / 16, index % 16);
-                    let ray = face_direction(face, (column as f64 + 0.5) / 16.0, (row as f64 + 0.5) / 16.0);
-                    let hit =
-                        stage.geometry.nearest(cpu_map.centre, ray, None, |o| !stage.is_specular(o)).map(|h| (h.point / 0.5, h.object));
-                    differing.push(format!("texel {index}: gpu {g:?}, cpu {c:?}; cpu hit / cell size {hit:?}"));
+                    let hit = stage.geometry.nearest(cpu_map.centre, texel_ray(index, 0.0, 0.0), None, |o| !stage.is_specular(o));
+                    let wall = hit.map(|h| (h.point, h.object));
+                    differing.push(format!("texel {index}: gpu {g:?}, cpu {c:?}; the CPU ray's wall hit (point, object) {wall:?}"));
                 }
             }
             let total = gpu_map.layers[layer].len();

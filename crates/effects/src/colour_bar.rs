@@ -126,6 +126,19 @@ pub fn legend_png(width: u32, scale: f64, meaning: &str) -> Result<Vec<u8>> {
 mod tests {
     use super::*;
 
+    #[test]
+    fn false_colour_runs_from_black_to_white_through_its_stops() {
+        assert_eq!(false_colour(0.0), [0.0; 3]);
+        assert_eq!(false_colour(-1.0), [0.0; 3]);
+        assert_eq!(false_colour(ERROR_SCALE), [1.0; 3]);
+        assert_eq!(false_colour(5.0), [1.0; 3]);
+        // Halfway: the middle stop (red).
+        assert_eq!(false_colour(ERROR_SCALE / 2.0), [0.9, 0.1, 0.1]);
+        // An eighth: halfway between black and blue.
+        let eighth = false_colour(ERROR_SCALE / 8.0);
+        assert!((eighth[2] - 0.4).abs() < 1e-12 && (eighth[0] - 0.05).abs() < 1e-12);
+    }
+
     /// Steps by hand: 0.013 → 0.02, 0.02 → 0.02 (at or above), 0.021 → 0.05, 0.07 → 0.1,
     /// 3 → 5, 7.5 → 10, 120 → 200; nothing, zero and NaN → the smallest step.
     #[test]

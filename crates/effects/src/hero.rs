@@ -5,7 +5,7 @@
 //! window where the error is largest. Written under [`HERO_DIR`] with the `effects_hero`
 //! table (one row per panel: what it shows, its files, its error figures), which the
 //! report lays out; the figures are [`crate::image_error`]'s, the false colour
-//! [`crate::pictures::false_colour`]'s.
+//! [`crate::colour_bar::false_colour`]'s.
 //!
 //! Reflections and refractions carry two error images per method: against the exact
 //! method's panel through the same distance maps (what the Fresnel method itself costs) and
@@ -23,10 +23,10 @@
 
 use anyhow::Result;
 
-use super::colour_bar::{self, p99_scale};
+use super::colour_bar::{self, error_png, false_colour, p99_scale, ERROR_SCALE};
 use super::distance_map::Configuration;
 use super::image_error::{compare, compare_all, FrameError};
-use super::pictures::{error_map, error_png, false_colour, srgb_png, ERROR_SCALE};
+use super::pictures::{error_map, srgb_png};
 use super::trace::TracedFrame;
 use crate::scene::EffectFamily;
 use nklut_tables::output::{SetFile, Table};

@@ -8,8 +8,7 @@
 
 use anyhow::Result;
 
-use super::colour_bar::{colour, legend_png, p99_scale};
-pub use super::colour_bar::{error_png, false_colour, ERROR_SCALE};
+use super::colour_bar::{colour, error_png, legend_png, p99_scale};
 use super::labels;
 use super::trace::TracedFrame;
 use nklut_optics::color::srgb;
@@ -62,15 +61,14 @@ pub struct SignedMap {
     pub values: Vec<Option<f64>>,
 }
 
-/// The scale every map of `maps` is drawn on, so their colours compare: the smallest of
-/// [`SIGNED_SCALES`] at or above the 99th percentile of |e| over all their values together
-/// (the largest step where the percentile exceeds it; the smallest for no value), so a few
-/// extreme pixels saturate rather than wash the rest out.
-pub fn shared_scale(maps: &[SignedMap]) -> f64 {
-    let mut magnitudes: Vec<f64> = maps.iter().flat_map(|m| m.values.iter().flatten()).filter(|e| e.is_finite()).map(|e| e.abs()).collect();
-    magnitudes.sort_by(f64::total_cmp);
-    let p99 = if magnitudes.is_empty() { 0.0 } else { nklut_tables::stats::quantile(&magnitudes, 0.99) };
-    SIGNED_SCALES.into_iter().find(|&s| s >= p99).unwrap_or(SIGNED_SCALES[SIGNED_SCALES.len() - 1])
+/// The scale every map of `maps` is drawn on, so their colours compare: `colour_bar`'s rule
+/// (the 1-2-5 step at or above the 99th percentile of |e| over all their values together)
+/// held within [`SIGNED_SCALES`] (its smallest for no value or tiny errors, its largest
+/// where the percentile exceeds it), so a few extreme pixels saturate rather than wash the
+/// rest out.
+pub fn shared_scale<'a>(maps: impl IntoIterator<Item = &'a SignedMap>) -> f64 {
+    let step = p99_scale(maps.into_iter().flat_map(|m| m.values.iter().flatten().copied()));
+    step.clamp(SIGNED_SCALES[0], SIGNED_SCALES[SIGNED_SCALES.len() - 1])
 }
 
 /// The legend strip's layout: the colour bar's top and height, then two lines of text
@@ -146,8 +144,7 @@ pub fn signed_files(folder: &str, maps: &[SignedMap]) -> Result<Vec<SetFile>> {
             techniques.push(map.technique);
         }
     }
-    let scales: Vec<f64> =
-        techniques.iter().map(|t| shared_scale(&maps.iter().filter(|m| m.technique == *t).cloned().collect::<Vec<_>>())).collect();
+    let scales: Vec<f64> = techniques.iter().map(|t| shared_scale(maps.iter().filter(|m| m.technique == *t))).collect();
     let scale_of = |technique: &str| scales[techniques.iter().position(|t| *t == technique).unwrap_or(0)];
     let mut written = Vec::new();
     for map in maps {
@@ -202,19 +199,6 @@ pub fn files(folder: &str, pictures: &[Picture]) -> Result<Vec<SetFile>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn false_colour_runs_from_black_to_white_through_its_stops() {
-        assert_eq!(false_colour(0.0), [0.0; 3]);
-        assert_eq!(false_colour(-1.0), [0.0; 3]);
-        assert_eq!(false_colour(ERROR_SCALE), [1.0; 3]);
-        assert_eq!(false_colour(5.0), [1.0; 3]);
-        // Halfway: the middle stop (red).
-        assert_eq!(false_colour(ERROR_SCALE / 2.0), [0.9, 0.1, 0.1]);
-        // An eighth: halfway between black and blue.
-        let eighth = false_colour(ERROR_SCALE / 8.0);
-        assert!((eighth[2] - 0.4).abs() < 1e-12 && (eighth[0] - 0.05).abs() < 1e-12);
-    }
 
     /// White at 0, pure red at +scale, pure blue at −scale, half-way between: half-tinted.
     #[test]

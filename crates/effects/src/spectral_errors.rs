@@ -21,9 +21,10 @@ use std::time::Instant;
 use anyhow::Result;
 
 use super::colour_bar;
+use super::colour_bar::error_png;
 use super::image_error::delta_e_map;
 use super::optics::{attenuation_per_unit, inside_index, SpecularOptics, GEOMETRIC_CHANNEL};
-use super::pictures::{error_png, Picture};
+use super::pictures::Picture;
 use super::spectral::{spectral_reference, WavelengthGrid};
 use super::trace::{reference_with, Camera, ObjectOptics, Stage};
 use crate::scene::{Depths, Scene};

@@ -231,9 +231,10 @@ pub fn clipped_caption(top: f64, clipped: &[Clipped]) -> Option<String> {
 
 /// CIEDE2000 against the reference over θ, with the "just noticeable" level (1) as a
 /// line and the "clearly visible" band (2–3) shaded, named in the right margin; the range
-/// by [`delta_e_range`], a cut said in the chart's caption (which curves reach how far is
-/// the figure's to say, [`clipped_caption`]: a chart's one caption line cannot hold it).
-pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> Result<String> {
+/// by [`delta_e_range`], a cut said in the chart's caption. Returns the SVG and, for a cut
+/// chart, the figure's caption naming which curves reach how far ([`clipped_caption`]: a
+/// chart's one caption line cannot hold it).
+pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> Result<(String, Option<String>)> {
     let (top, clipped) = delta_e_range(theta_deg, series);
     let caption = (!clipped.is_empty()).then(|| format!("ΔE axis cut at {top:.1} (the largest value below {CLIP_BELOW_DEG:.0}°)"));
     let mut svg = String::new();
@@ -262,7 +263,7 @@ pub fn delta_e_chart(theta_deg: &[f64], series: &[DeltaE], size: (u32, u32)) -> 
     for s in series.iter().filter(|s| s.curve.dashed) {
         dash(&mut svg, s.curve.color);
     }
-    Ok(svg)
+    Ok((svg, clipped_caption(top, &clipped)))
 }
 
 /// A point of a cost chart.
@@ -979,8 +980,13 @@ mod tests {
         assert!((top - 8.4).abs() < 1e-12 && clipped.is_empty(), "{top} {clipped:?}");
         let small = [DeltaE { curve: &a, values: vec![0.1, 0.2, 0.3, 0.2, 3.0] }];
         assert_eq!(delta_e_range(&theta, &small), (4.0 * 1.05, vec![]));
-        let svg = delta_e_chart(&theta, &series, (760, 320)).unwrap();
+        let (svg, caption) = delta_e_chart(&theta, &series, (760, 320)).unwrap();
         assert!(svg.contains("ΔE axis cut at 6.3"), "the cut is said on the chart");
+        assert_eq!(
+            caption.as_deref(),
+            Some("ΔE axis cut at 6.3 (the largest value below 80°): b reaches 41 at 89°, a reaches 8 at 89°"),
+            "and named in the figure's caption"
+        );
     }
 
     /// Three curves on a range of 1: b equals a, c differs from a by 0.01 at one point (5 ×

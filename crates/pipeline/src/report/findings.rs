@@ -270,32 +270,26 @@ fn schlick_finding(engine: &CsvTable, bound: f64, material_href: &dyn Fn(&str) -
         .iter()
         .filter_map(|r| Some((engine.text(r, "page"), engine.text(r, "kind"), engine.number(r, "schlick_de2000_max")?)))
         .collect();
-    if let Some(&(worst_page, _, worst)) = rows.iter().max_by(|a, b| a.2.total_cmp(&b.2)) {
-        let within = rows.iter().filter(|r| r.2 <= bound).count();
-        let mut s = Sentence::new()
-            .t("Schlick on the spectral F0 (glTF, Unreal, Unity) stays within ΔE2000 ")
-            .f("bound", bound)
-            .t(" at every angle on ")
-            .f("schlick-within", within as f64)
-            .t(" of ")
-            .f("schlick-pages", rows.len() as f64)
-            .t(" pages");
-        let mut lead = "; median worst-angle ΔE2000 ";
-        for kind in ["conductor", "dielectric"] {
-            let of: Vec<f64> = rows.iter().filter(|r| r.1 == kind).map(|r| r.2).collect();
-            if let Some(m) = stats::median(&of) {
-                s = s.t(lead).f(format!("schlick-median:{kind}"), m).t(format!(" ({})", class_name(kind)));
-                lead = ", ";
-            }
+    let &(worst_page, _, worst) = rows.iter().max_by(|a, b| a.2.total_cmp(&b.2))?;
+    let within = rows.iter().filter(|r| r.2 <= bound).count();
+    let mut s = Sentence::new()
+        .t("Schlick on the spectral F0 (glTF, Unreal, Unity) stays within ΔE2000 ")
+        .f("bound", bound)
+        .t(" at every angle on ")
+        .f("schlick-within", within as f64)
+        .t(" of ")
+        .f("schlick-pages", rows.len() as f64)
+        .t(" pages");
+    let mut lead = "; median worst-angle ΔE2000 ";
+    for kind in ["conductor", "dielectric"] {
+        let of: Vec<f64> = rows.iter().filter(|r| r.1 == kind).map(|r| r.2).collect();
+        if let Some(m) = stats::median(&of) {
+            s = s.t(lead).f(format!("schlick-median:{kind}"), m).t(format!(" ({})", class_name(kind)));
+            lead = ", ";
         }
-        s = s.t(format!(", largest {worst_page}: ")).f("schlick-worst", worst).t(".");
-        return Some(Finding {
-            id: "schlick".into(),
-            pieces: s.0,
-            link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")),
-        });
     }
-    None
+    s = s.t(format!(", largest {worst_page}: ")).f("schlick-worst", worst).t(".");
+    Some(Finding { id: "schlick".into(), pieces: s.0, link: (material_href(worst_page), format!("{worst_page}; engine_params.csv")) })
 }
 
 /// What three wavelengths cost against the spectral truth, at normal incidence and over
@@ -309,32 +303,29 @@ fn three_wavelengths_finding(colors: &CsvTable, me: &CsvTable, bound: f64, mater
         .filter_map(|r| Some((colors.text(r, "page"), colors.number(r, "delta_e2000_f0")?)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     let exact: Vec<f64> = me.rows.iter().filter(|r| me.text(r, "method") == "exact").filter_map(|r| me.number(r, "de2000_max")).collect();
-    if let (Some(median), Some((page, value))) = (stats::median(&conductors), worst) {
-        let within = exact.iter().filter(|v| **v <= bound).count();
-        let s = Sentence::new()
-            .t("Three wavelengths against the spectral truth: exact Fresnel of the three-channel (n, k) is off by ΔE2000 ")
-            .f("index-f0-median:conductor", median)
-            .t(" at normal incidence (median over conductors), up to ")
-            .f("index-f0-worst", value)
-            .t(format!(" ({page}); over all angles it stays within ΔE2000 "))
-            .f("bound", bound)
-            .t(" on ")
-            .f("exact-within", within as f64)
-            .t(" of ")
-            .f("exact-pages", exact.len() as f64)
-            .t(" pages.");
-        return Some(Finding {
-            id: "three-wavelengths".into(),
-            pieces: s.0,
-            link: (material_href(page), format!("{page}; colors.csv, method_errors.csv")),
-        });
-    }
-    None
+    let (Some(median), Some((page, value))) = (stats::median(&conductors), worst) else { return None };
+    let within = exact.iter().filter(|v| **v <= bound).count();
+    let s = Sentence::new()
+        .t("Three wavelengths against the spectral truth: exact Fresnel of the three-channel (n, k) is off by ΔE2000 ")
+        .f("index-f0-median:conductor", median)
+        .t(" at normal incidence (median over conductors), up to ")
+        .f("index-f0-worst", value)
+        .t(format!(" ({page}); over all angles it stays within ΔE2000 "))
+        .f("bound", bound)
+        .t(" on ")
+        .f("exact-within", within as f64)
+        .t(" of ")
+        .f("exact-pages", exact.len() as f64)
+        .t(" pages.");
+    Some(Finding {
+        id: "three-wavelengths".into(),
+        pieces: s.0,
+        link: (material_href(page), format!("{page}; colors.csv, method_errors.csv")),
+    })
 }
 
 /// Per page, the smallest texture of a spectral LUT within the bound.
 fn lut_size_finding(me: &CsvTable, bound: f64) -> Option<Finding> {
-    // Per page, the smallest texture of a spectral LUT within the bound.
     let mut smallest: BTreeMap<&str, (f64, &str)> = BTreeMap::new();
     let mut pages: Vec<&str> = Vec::new();
     for r in me.rows.iter().filter(|r| me.text(r, "method") == "lut") {
@@ -348,27 +339,23 @@ fn lut_size_finding(me: &CsvTable, bound: f64) -> Option<Finding> {
         }
     }
     let bytes: Vec<f64> = smallest.values().map(|v| v.0).collect();
-    if let (Some(median), Some((page, (max, variant)))) = (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
-    {
-        let s = Sentence::new()
-            .t("A LUT of the spectral curve stays within ΔE2000 ")
-            .f("bound", bound)
-            .t(" on ")
-            .f("lut-within", smallest.len() as f64)
-            .t(" of ")
-            .f("lut-pages", pages.len() as f64)
-            .t(" pages; the smallest such texture is ")
-            .f("lut-bytes-median", median)
-            .t(" bytes per page at the median, ")
-            .f("lut-bytes-max", *max)
-            .t(format!(" bytes at most ({variant}, {page})."));
-        return Some(Finding {
-            id: "lut-size".into(),
-            pieces: s.0,
-            link: ("#answer-methods".into(), "decision table; method_errors.csv".into()),
-        });
-    }
-    None
+    let (Some(median), Some((page, (max, variant)))) = (stats::median(&bytes), smallest.iter().max_by(|a, b| a.1 .0.total_cmp(&b.1 .0)))
+    else {
+        return None;
+    };
+    let s = Sentence::new()
+        .t("A LUT of the spectral curve stays within ΔE2000 ")
+        .f("bound", bound)
+        .t(" on ")
+        .f("lut-within", smallest.len() as f64)
+        .t(" of ")
+        .f("lut-pages", pages.len() as f64)
+        .t(" pages; the smallest such texture is ")
+        .f("lut-bytes-median", median)
+        .t(" bytes per page at the median, ")
+        .f("lut-bytes-max", *max)
+        .t(format!(" bytes at most ({variant}, {page})."));
+    Some(Finding { id: "lut-size".into(), pieces: s.0, link: ("#answer-methods".into(), "decision table; method_errors.csv".into()) })
 }
 
 /// What a LUT lookup and Schlick cost against exact Fresnel, on the CPU and each device.
@@ -379,31 +366,31 @@ fn cost_finding(cost: &CsvTable, inputs: &Inputs) -> Option<Finding> {
             .find(|r| cost.text(r, "method") == method && cost.text(r, "variant") == variant)
             .and_then(|r| cost.number(r, "ns_per_eval"))
     };
-    if let (Some(exact), Some(lut), Some(schlick)) = (ns("exact", "f64"), ns("lut", "N=256,unorm8,f64"), ns("schlick", "f64")) {
-        let mut s = Sentence::new()
-            .t("Cost against exact Fresnel: on the CPU a LUT lookup is ")
-            .f("x-exact:CPU:lut", lut / exact)
-            .t("× and Schlick ")
-            .f("x-exact:CPU:schlick", schlick / exact)
-            .t("×");
-        for (name, device) in &inputs.devices {
-            if let (Some(e), Some(l), Some(sc)) = (device.median_ms("exact"), device.median_ms("lut"), device.median_ms("schlick")) {
-                s = s
-                    .t(format!("; on {} ", short_device(name)))
-                    .f(format!("x-exact:{name}:lut"), l / e)
-                    .t("× and ")
-                    .f(format!("x-exact:{name}:schlick"), sc / e)
-                    .t("×");
-            }
+    let (Some(exact), Some(lut), Some(schlick)) = (ns("exact", "f64"), ns("lut", "N=256,unorm8,f64"), ns("schlick", "f64")) else {
+        return None;
+    };
+    let mut s = Sentence::new()
+        .t("Cost against exact Fresnel: on the CPU a LUT lookup is ")
+        .f("x-exact:CPU:lut", lut / exact)
+        .t("× and Schlick ")
+        .f("x-exact:CPU:schlick", schlick / exact)
+        .t("×");
+    for (name, device) in &inputs.devices {
+        if let (Some(e), Some(l), Some(sc)) = (device.median_ms("exact"), device.median_ms("lut"), device.median_ms("schlick")) {
+            s = s
+                .t(format!("; on {} ", short_device(name)))
+                .f(format!("x-exact:{name}:lut"), l / e)
+                .t("× and ")
+                .f(format!("x-exact:{name}:schlick"), sc / e)
+                .t("×");
         }
-        let link = if inputs.devices.is_empty() {
-            ("#cost".to_string(), "cost.csv".to_string())
-        } else {
-            ("effects.html#devices".to_string(), "across devices; cost.csv".to_string())
-        };
-        return Some(Finding { id: "cost".into(), pieces: s.t(" (median pass time over materials).").0, link });
     }
-    None
+    let link = if inputs.devices.is_empty() {
+        ("#cost".to_string(), "cost.csv".to_string())
+    } else {
+        ("effects.html#devices".to_string(), "across devices; cost.csv".to_string())
+    };
+    Some(Finding { id: "cost".into(), pieces: s.t(" (median pass time over materials).").0, link })
 }
 
 /// How much of an effects scene's total error the Fresnel method makes and how much the

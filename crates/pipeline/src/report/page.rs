@@ -132,12 +132,11 @@ fn figures(html: &mut String, ctx: &Context, page: &str, curves: &[PlotCurve], p
     }
     html.push_str("<div class=\"strip-row\"><span class=\"strip-name\"></span><span class=\"strip-axis\"><span>0°</span><span>30°</span><span>60°</span><span>90°</span></span></div></div>\n");
     html.push_str("<p class=\"note\">Reflected colour under white light from normal incidence (left) to grazing (right).</p>\n");
-    let (top, clipped) = charts::delta_e_range(&ctx.theta, &series);
-    let cut = charts::clipped_caption(top, &clipped).map_or(String::new(), |c| format!("<figcaption>{}.</figcaption>", escape(&c)));
+    let (chart, cut) = charts::delta_e_chart(&ctx.theta, &series, (760, 320))?;
+    let cut = cut.map_or(String::new(), |c| format!("<figcaption>{}.</figcaption>", escape(&c)));
     let _ = write!(
         html,
-        "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{}{}{cut}</figure>\n",
-        charts::delta_e_chart(&ctx.theta, &series, (760, 320))?,
+        "<h2 id=\"delta-e\">Colour difference from the spectral reference</h2>\n<figure class=\"plot\">{chart}{}{cut}</figure>\n",
         charts::merged_legend_html(
             &series
                 .iter()
