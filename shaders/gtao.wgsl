@@ -2,11 +2,12 @@
 // "Practical Real-Time Strategies for Accurate Indirect Occlusion", SIGGRAPH 2016 course,
 // §3–4, Algorithm 1) with the heuristics engines add (XeGTAO, Intel 2021: radius
 // multiplier, falloff, sample distribution power and start offset, thin-occluder
-// compensation, final power, the 5 % lerp of |n_φ|, Hilbert-R2 noise per pixel and frame;
-// HDRP's screen-radius clamp). The derivation and the f64/f32 CPU twin, one body for both,
-// are in crates/effects/src/ao/gtao.rs (`pixel_visibility`, `frame_visibility`,
-// `slice_visibility`, `texel_plane_point`, `hilbert_index`, `noise`); this file performs
-// the same operations in the same order, function for function, line for line.
+// compensation, final power, the 5 % lerp of |n_φ|, Hilbert-R2 noise per pixel and frame,
+// depth reads clamped to the image's edge; HDRP's screen-radius clamp). The derivation and
+// the f64/f32 CPU twin, one body for both, are in crates/effects/src/ao/gtao.rs
+// (`pixel_visibility`, `frame_visibility`, `slice_visibility`, `texel_plane_point`,
+// `edge_point`, `hilbert_index`, `noise`); this file performs the same operations in the
+// same order, function for function, line for line.
 //
 // Per pixel of a G-buffer of view-space points and unit normals (x right, y up, the camera
 // looking down −z): `slices` slice planes turning evenly about the view vector v; in each,
@@ -15,6 +16,12 @@
 // the horizons they raise (within the radius, or weighted by the falloff) give the slice's
 // open part by the paper's eq. 10, weighted by the projected normal's length; one frame's
 // value is the mean over slices raised to the final power.
+//
+// Denoising (XeGTAO's edge-aware 3 × 3 filter; the derivation and the CPU twin are in
+// crates/effects/src/ao/denoise.rs: `edges`, `denoised`, `centre_weight`): after the frames, one dispatch
+// per pass, `cs_denoise_forward` (accessibility → denoised) and `cs_denoise_back` (denoised →
+// accessibility) taking turns, each with the centre's weight and the last-pass flag in its
+// own uniform.
 //
 // Accumulation: one dispatch per frame (`params.frame` of `params.frames`). Frame 0 writes
 // its value, each later frame adds its own to the running sum in `accessibility`, and the
@@ -33,7 +40,7 @@ struct GtaoParams {
     frame: u32,     // this dispatch's frame, 0 … frames − 1
     frames: u32,    // frames accumulated (1 without noise)
     noise: u32,     // 1: per-pixel Hilbert-R2 noise; 0: Algorithm 1's fixed offsets
-    pad0: u32,
+    clamp_to_edge: u32, // 1: a sample beyond the image's edge reads the edge texel; 0: skipped
     focal: f32,     // focal length in pixels
     radius: f32,    // search radius (view-space units), before the multiplier
     radius_multiplier: f32,
@@ -45,7 +52,11 @@ struct GtaoParams {
     normal_lerp: f32,
     min_radius_pixels: f32,
     max_radius_pixels: f32,   // the largest f32 where unclamped
-    pad1: f32,
+    denoise_centre: f32,      // a denoiser dispatch: the centre pixel's weight (beta, or beta / 5 before the last pass)
+    denoise_last: u32,        // a denoiser dispatch: 1 on the last pass (the result clamped to [0, 1])
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // A pixel of the G-buffer: view-space point (w: 1 where a surface is, 0 where none) and
@@ -58,6 +69,8 @@ struct GSample {
 @group(0) @binding(0) var<uniform> params: GtaoParams;
 @group(0) @binding(1) var<storage, read> gbuffer: array<GSample>;
 @group(0) @binding(2) var<storage, read_write> accessibility: array<f32>;
+// The denoiser's other buffer: its passes take turns reading one and writing the other.
+@group(0) @binding(3) var<storage, read_write> denoised: array<f32>;
 
 // Eq. 10: a slice's open fraction weighted by the projected normal's length, between the
 // horizons h_minus ≤ 0 ≤ h_plus (angles from v), the normal at angle gamma.
@@ -139,6 +152,18 @@ fn gtao_texel(x: f32, y: f32) -> i32 {
     return i32(index);
 }
 
+// Where a sample at pixel coordinates (x, y) beyond the image's edge stands when it reads
+// the edge texel q: on the ray through (x, y) at q's view-space depth.
+fn edge_point(q: GSample, x: f32, y: f32, width: u32, height: u32, focal: f32) -> vec3<f32> {
+    let depth = -q.position.z;
+    return vec3<f32>((x - 0.5 * f32(width)) / focal * depth, -(y - 0.5 * f32(height)) / focal * depth, -depth);
+}
+
+// Whether floored pixel coordinates (x, y) lie beyond the image's edge.
+fn off_image(x: f32, y: f32) -> bool {
+    return x < 0.0 || y < 0.0 || x > f32(params.width) - 1.0 || y > f32(params.height) - 1.0;
+}
+
 // One frame's accessibility at the covered pixel `here_index` = (x, y) with slice rotation
 // offsets.x and step offset offsets.y.
 fn frame_visibility(here_index: i32, x: u32, y: u32, offsets: vec2<f32>) -> f32 {
@@ -164,6 +189,8 @@ fn frame_visibility(here_index: i32, x: u32, y: u32, offsets: vec2<f32>) -> f32 
     let thickness = 1.0 + params.thin_occluder;
     let uniform_steps = params.distribution_power == 1.0;
     let steps = f32(params.steps);
+    let last_x = f32(params.width) - 1.0;
+    let last_y = f32(params.height) - 1.0;
     let e1_raw = vec3<f32>(1.0, 0.0, 0.0) - v.x * v;
     let e1 = e1_raw / sqrt(dot(e1_raw, e1_raw));
     let e2 = cross(v, e1);
@@ -218,12 +245,20 @@ fn frame_visibility(here_index: i32, x: u32, y: u32, offsets: vec2<f32>) -> f32 
                 if sx == px && sy == py {
                     continue;
                 }
+                var point: vec3<f32>;
                 let q_index = gtao_texel(sx, sy);
-                if q_index < 0 {
+                if q_index >= 0 {
+                    point = texel_plane_point(gbuffer[q_index], sample_x, sample_y, params.width, params.height, params.focal);
+                } else if params.clamp_to_edge != 0u && off_image(sx, sy) {
+                    let edge_index = gtao_texel(clamp(sx, 0.0, last_x), clamp(sy, 0.0, last_y));
+                    if edge_index < 0 {
+                        continue;
+                    }
+                    point = edge_point(gbuffer[edge_index], sample_x, sample_y, params.width, params.height, params.focal);
+                } else {
                     continue;
                 }
-                let q = gbuffer[q_index];
-                let delta = texel_plane_point(q, sample_x, sample_y, params.width, params.height, params.focal) - position;
+                let delta = point - position;
                 let d2 = dot(delta, delta);
                 if !(d2 > 0.0) {
                     continue;
@@ -283,4 +318,134 @@ fn cs_gtao(@builtin(global_invocation_id) id: vec3<u32>) {
         total = total / f32(params.frames);
     }
     accessibility[pixel] = total;
+}
+
+// The index of the pixel at (x, y) clamped into the image (the CPU twin's `clamped`).
+fn gtao_clamped_index(x: i32, y: i32) -> u32 {
+    let cx = u32(clamp(x, 0, i32(params.width) - 1));
+    let cy = u32(clamp(y, 0, i32(params.height) - 1));
+    return cy * params.width + cx;
+}
+
+// The view-space depth of the pixel at (x, y) clamped into the image, or −1 where no
+// surface is.
+fn gtao_depth(x: i32, y: i32) -> f32 {
+    let q = gbuffer[gtao_clamped_index(x, y)];
+    if q.position.w == 0.0 {
+        return -1.0;
+    }
+    return -q.position.z;
+}
+
+// An edge weight in [0, 1] as its 2 bits store it.
+fn gtao_quantised(weight: f32) -> f32 {
+    return floor(clamp(weight, 0.0, 1.0) * GTAO_EDGE_LEVELS + 0.5) / 3.0;
+}
+
+// Pixel (x, y)'s edge weights toward its left, right, top and bottom neighbours (all 0 where
+// no surface is), (x, y) clamped into the image.
+fn gtao_edges(px: i32, py: i32) -> vec4<f32> {
+    let x = clamp(px, 0, i32(params.width) - 1);
+    let y = clamp(py, 0, i32(params.height) - 1);
+    let z = gtao_depth(x, y);
+    if z < 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let n = array<f32, 4>(gtao_depth(x - 1, y), gtao_depth(x + 1, y), gtao_depth(x, y - 1), gtao_depth(x, y + 1));
+    var d: array<f32, 4>;
+    var jump: array<f32, 4>;
+    for (var k = 0; k < 4; k++) {
+        d[k] = n[k] - z;
+        jump[k] = abs(d[k]);
+    }
+    for (var axis = 0; axis < 2; axis++) {
+        let low = 2 * axis;
+        let high = low + 1;
+        if n[low] >= 0.0 && n[high] >= 0.0 {
+            let slope = (d[high] - d[low]) * 0.5;
+            jump[low] = min(abs(d[low]), abs(d[low] + slope));
+            jump[high] = min(abs(d[high]), abs(d[high] - slope));
+        }
+    }
+    let scale = z * GTAO_EDGE_DEPTH_FRACTION;
+    var e: array<f32, 4>;
+    for (var k = 0; k < 4; k++) {
+        e[k] = 0.0;
+        if n[k] >= 0.0 {
+            e[k] = gtao_quantised(GTAO_EDGE_OFFSET - jump[k] / scale);
+        }
+    }
+    return vec4<f32>(e[0], e[1], e[2], e[3]);
+}
+
+// The value a denoiser pass reads at the pixel (x, y) clamped into the image: from
+// `denoised` or from `accessibility`; negative where no surface is.
+fn gtao_value(x: i32, y: i32, from_denoised: bool) -> f32 {
+    let index = gtao_clamped_index(x, y);
+    if from_denoised {
+        return denoised[index];
+    }
+    return accessibility[index];
+}
+
+// One denoiser pass at pixel (x, y) (its value `centre` ≥ 0): the weighted mean of the
+// covered pixels among the nine.
+fn denoised_value(x: i32, y: i32, centre: f32, from_denoised: bool) -> f32 {
+    let own = gtao_edges(x, y);
+    let l = gtao_edges(x - 1, y);
+    let r = gtao_edges(x + 1, y);
+    let t = gtao_edges(x, y - 1);
+    let b = gtao_edges(x, y + 1);
+    var e = vec4<f32>(own.x * l.y, own.y * r.x, own.z * t.w, own.w * b.z);
+    let sum = e.x + e.y + e.z + e.w;
+    let open = 4.0 - GTAO_LEAK_THRESHOLD;
+    let leak = clamp(open - sum, 0.0, 1.0) / open * GTAO_LEAK_STRENGTH;
+    e = clamp(e + vec4<f32>(leak), vec4<f32>(0.0), vec4<f32>(1.0));
+    let corner_tl = GTAO_DIAGONAL_WEIGHT * (e.x * l.z + e.z * t.x);
+    let corner_tr = GTAO_DIAGONAL_WEIGHT * (e.z * t.y + e.y * r.z);
+    let corner_bl = GTAO_DIAGONAL_WEIGHT * (e.w * b.x + e.x * l.w);
+    let corner_br = GTAO_DIAGONAL_WEIGHT * (e.y * r.w + e.w * b.y);
+    let offsets = array<vec2<i32>, 8>(
+        vec2<i32>(-1, 0), vec2<i32>(1, 0), vec2<i32>(0, -1), vec2<i32>(0, 1),
+        vec2<i32>(-1, -1), vec2<i32>(1, -1), vec2<i32>(-1, 1), vec2<i32>(1, 1),
+    );
+    let weights = array<f32, 8>(e.x, e.y, e.z, e.w, corner_tl, corner_tr, corner_bl, corner_br);
+    var total = params.denoise_centre * centre;
+    var weight = params.denoise_centre;
+    for (var k = 0; k < 8; k++) {
+        let v = gtao_value(x + offsets[k].x, y + offsets[k].y, from_denoised);
+        if v >= 0.0 {
+            total = total + weights[k] * v;
+            weight = weight + weights[k];
+        }
+    }
+    let mean = total / weight;
+    if params.denoise_last != 0u {
+        return clamp(mean, 0.0, 1.0);
+    }
+    return mean;
+}
+
+// One denoiser pass at the pixel `id`, reading `denoised` or `accessibility`: negative
+// (no surface) stays as it is.
+fn denoised_pixel(id: vec3<u32>, from_denoised: bool) -> f32 {
+    let centre = gtao_value(i32(id.x), i32(id.y), from_denoised);
+    if centre < 0.0 {
+        return centre;
+    }
+    return denoised_value(i32(id.x), i32(id.y), centre, from_denoised);
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_denoise_forward(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x < params.width && id.y < params.height {
+        denoised[id.y * params.width + id.x] = denoised_pixel(id, false);
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_denoise_back(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x < params.width && id.y < params.height {
+        accessibility[id.y * params.width + id.x] = denoised_pixel(id, true);
+    }
 }

@@ -144,7 +144,7 @@ fn the_catalogs_are_read_without_the_yaml_parser_to_its_value() {
     for name in ["catalog-nk.yml", "catalog-n2.yml"] {
         let text = std::fs::read_to_string(db.root.join(name)).unwrap();
         let value = nklut::db::block_yaml::block_value(&text).unwrap_or_else(|| panic!("{name} left the layout"));
-        assert_eq!(value, serde_yaml::from_str::<serde_yaml::Value>(&text).unwrap(), "{name}");
+        assert_eq!(value, serde_norway::from_str::<serde_norway::Value>(&text).unwrap(), "{name}");
     }
 }
 
@@ -166,7 +166,7 @@ fn data_pages_in_the_block_layout_read_to_the_parser_s_value() {
             total += 1;
             if let Some(value) = nklut::db::block_yaml::block_value(&text) {
                 read += 1;
-                assert_eq!(Some(value), serde_yaml::from_str::<serde_yaml::Value>(&text).ok(), "{}", path.display());
+                assert_eq!(Some(value), serde_norway::from_str::<serde_norway::Value>(&text).ok(), "{}", path.display());
             }
         }
     }

@@ -242,8 +242,8 @@ impl Damage {
 /// control character) and whose data is a single value or absent is a page, and a page
 /// listed again under its id with the same data file is the same page, counted once.
 fn entries_in(text: &str) -> Option<usize> {
-    use serde_yaml::Value;
-    let root: Value = serde_yaml::from_str(text).ok()?;
+    use serde_norway::Value;
+    let root: Value = serde_norway::from_str(text).ok()?;
     let content = |v: &Value| v.get("content").and_then(Value::as_sequence).cloned().unwrap_or_default();
     let text_of = |v: Option<&Value>| -> Option<String> {
         match v? {

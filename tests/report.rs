@@ -782,7 +782,7 @@ fn effects_charts_trace_to_their_rows() {
     for row in gtao_rows {
         let mean = report::html::number(ao.text(row, "pixel_mean_error").parse().unwrap());
         let cells = format!(
-            "<td>{}</td><td>GTAO r 0.5, 2×4</td><td>–</td><td>{}</td><td>{mean}</td>",
+            "<td>{}</td><td>GTAO bare r 0.5, 2×4</td><td>–</td><td>{}</td><td>{mean}</td>",
             ao.text(row, "mesh"),
             ao.text(row, "pixels")
         );
@@ -910,20 +910,26 @@ fn effects_page_reads_at_1400_px_and_its_figures_are_its_tables() {
     }
     assert_eq!(audit.figures.len(), hero_figures, "five figures per panel but the references, three more against exact");
     // One legend per kind of error image, each stating its table's scale: against exact and
-    // against the reference for the specular scene, the plain bar at 0.1 for AO; every scale
-    // of the rule a 1-2-5 step.
+    // against the reference for the specular scene, against the reference for AO; every
+    // scale of the rule a 1-2-5 step.
     let specular = CsvTable::load(&out.join("specular/effects_hero.csv")).unwrap().unwrap();
     let schlick = specular.rows.iter().find(|r| specular.text(r, "panel") == "schlick").unwrap();
+    let ao = CsvTable::load(&out.join("ao/effects_hero.csv")).unwrap().unwrap();
+    let ao_scale = ao.number(&ao.rows[0], "error_scale").unwrap();
+    assert!(ao.rows.iter().all(|r| ao.number(r, "error_scale") == Some(ao_scale)), "one scale over the AO set");
     let mut expected: Vec<String> =
         ["exact_error_scale", "error_scale"].iter().map(|c| format!("{}", specular.number(schlick, c).unwrap())).collect();
-    expected.push(report::html::number(0.1));
+    expected.push(format!("{ao_scale}"));
     let mut stated: Vec<String> = audit.legends.iter().map(|l| l.scale.clone()).collect();
     stated.sort();
     expected.sort();
     assert_eq!(stated, expected, "{:?}", audit.legends);
     assert!(audit.legends.iter().all(|l| l.width == 512), "{:?}", audit.legends);
-    for column in ["exact_error_scale", "error_scale"] {
-        let scale = specular.number(schlick, column).unwrap();
+    for (column, scale) in [
+        ("exact_error_scale", specular.number(schlick, "exact_error_scale").unwrap()),
+        ("error_scale", specular.number(schlick, "error_scale").unwrap()),
+        ("AO error_scale", ao_scale),
+    ] {
         let mantissa = scale / 10f64.powf(scale.log10().floor());
         assert!([1.0, 2.0, 5.0].iter().any(|k| (mantissa - k).abs() < 1e-9), "{column} {scale} is not a 1-2-5 step");
     }

@@ -12,9 +12,9 @@
 //! against the ray-traced reference (the total, the maps' search included). Each kind is
 //! drawn on one scale for all the set's panels, chosen by [`crate::colour_bar`]'s rule (the
 //! 1-2-5 step at or above the 99th percentile of the values over the pixels the figures
-//! count), with its legend ([`crate::colour_bar::legend_png`]) beside the pictures; the
-//! ambient-occlusion set keeps the fixed [`ERROR_SCALE`] and its plain bar
-//! ([`ERROR_SCALE_FILE`]).
+//! count), with its legend ([`crate::colour_bar::legend_png`]) beside the pictures. The
+//! ambient-occlusion set (every pixel counted) has one such scale over its panels against
+//! the reference.
 //!
 //! The crop window is the square of a quarter of the frame's long side whose summed error
 //! (|Δ| over R, G and B) is largest in the panel with the largest mean error, searched on a
@@ -23,7 +23,7 @@
 
 use anyhow::Result;
 
-use super::colour_bar::{self, error_png, false_colour, p99_scale, ERROR_SCALE};
+use super::colour_bar::{self, error_png, p99_scale};
 use super::distance_map::Configuration;
 use super::image_error::{compare, compare_all, FrameError};
 use super::pictures::{error_map, srgb_png};
@@ -35,10 +35,6 @@ use nklut_tables::output::{SetFile, Table};
 pub const HERO_DIR: &str = "effects_hero";
 /// The long side of a hero frame in pixels unless asked otherwise (`--hero-size`).
 pub const DEFAULT_HERO_SIZE: u32 = 512;
-/// The colour bar of the ambient-occlusion error images: [`ERROR_SCALE_WIDTH`] × 16
-/// pixels, 0 at the left.
-pub const ERROR_SCALE_FILE: &str = "error_scale.png";
-const ERROR_SCALE_WIDTH: u32 = 512;
 /// The width of a legend of a scaled set (colour bar, values, meaning).
 pub const LEGEND_WIDTH: u32 = 512;
 /// The method whose panel the others are compared with for the Fresnel method's own error.
@@ -187,14 +183,6 @@ fn crop<T: Copy>(values: &[T], width: u32, window: Window) -> Vec<T> {
     (y..y + s).flat_map(|row| values[row * w + x..row * w + x + s].iter().copied()).collect()
 }
 
-/// The colour bar of the error images, left (0) to right ([`ERROR_SCALE`] and beyond).
-pub fn error_scale_png() -> Result<Vec<u8>> {
-    let row: Vec<[f64; 3]> =
-        (0..ERROR_SCALE_WIDTH).map(|i| false_colour(ERROR_SCALE * f64::from(i) / f64::from(ERROR_SCALE_WIDTH - 1))).collect();
-    let height = 16;
-    error_png(ERROR_SCALE_WIDTH, height, (0..height).flat_map(|_| row.iter().copied()))
-}
-
 /// The values a set's error images show over the pixels its figures count: where the
 /// reference shows a specular object, or every pixel.
 fn counted<'a>(set: &'a HeroSet, values: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
@@ -216,7 +204,6 @@ fn figures_against(set: &HeroSet, frame: &TracedFrame, against: &TracedFrame) ->
 pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
     let mut written = Vec::new();
     let mut rows = Vec::new();
-    let mut plain_bar = false;
     for set in sets {
         let (width, height) = (set.reference.width, set.reference.height);
         let errors: Vec<Vec<f64>> = set.panels.iter().map(|p| error_map(&p.frame, &set.reference)).collect();
@@ -233,21 +220,14 @@ pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
             written.push(SetFile::new(path.clone(), bytes));
             path
         };
-        // The scales: the fixed one for ambient occlusion; the rule's for reflections and
-        // refractions, one over every panel against the reference, one over every panel
-        // against exact.
-        let scaled = set.mask == ErrorMask::SpecularObjects;
-        let exact = set.panels.iter().find(|p| p.method == EXACT_METHOD).filter(|_| scaled);
+        // The scales, by the rule: one over every panel against the reference, and for
+        // reflections and refractions one over every panel against exact.
+        let exact = set.panels.iter().find(|p| p.method == EXACT_METHOD).filter(|_| set.mask == ErrorMask::SpecularObjects);
         let exact_errors: Vec<Option<Vec<f64>>> =
             set.panels.iter().map(|p| exact.filter(|_| p.method != EXACT_METHOD).map(|e| error_map(&p.frame, &e.frame))).collect();
-        let (scale, scale_file) = if scaled {
-            let scale = p99_scale(errors.iter().flat_map(|e| counted(set, e)));
-            let legend = colour_bar::legend_png(LEGEND_WIDTH, scale, "|panel - reference| summed over R, G, B")?;
-            (scale, put(format!("{prefix}_error_scale.png"), legend))
-        } else {
-            plain_bar = true;
-            (ERROR_SCALE, format!("{HERO_DIR}/{ERROR_SCALE_FILE}"))
-        };
+        let scale = p99_scale(errors.iter().flat_map(|e| counted(set, e)));
+        let legend = colour_bar::legend_png(LEGEND_WIDTH, scale, "|panel - reference| summed over R, G, B")?;
+        let scale_file = put(format!("{prefix}_error_scale.png"), legend);
         let exact_scale = match exact_errors.iter().flatten().next() {
             Some(_) => {
                 let scale = p99_scale(exact_errors.iter().flatten().flat_map(|e| counted(set, e)));
@@ -315,9 +295,6 @@ pub fn files(sets: &[HeroSet]) -> Result<(Vec<SetFile>, Vec<HeroRow>)> {
                 exact: against_exact,
             });
         }
-    }
-    if plain_bar {
-        written.push(SetFile::new(format!("{HERO_DIR}/{ERROR_SCALE_FILE}"), error_scale_png()?));
     }
     Ok((written, rows))
 }
@@ -465,18 +442,6 @@ mod tests {
     }
 
     #[test]
-    fn the_colour_bar_runs_the_false_colour_scale() {
-        let png = error_scale_png().unwrap();
-        let decoded = nklut_tables::image_files::decode(nklut_tables::texel::Encoding::Unorm8, &png).unwrap();
-        let nklut_tables::texel::Texels::U8(bytes) = decoded.texels else { panic!("8-bit") };
-        assert_eq!(&bytes[..3], &[0, 0, 0], "black at 0");
-        let last = (ERROR_SCALE_WIDTH as usize - 1) * 3;
-        assert_eq!(&bytes[last..last + 3], &[255, 255, 255], "white at the scale");
-        let middle = (ERROR_SCALE_WIDTH as usize / 2) * 3;
-        assert!(bytes[middle] > 200 && bytes[middle + 2] < 60, "red in the middle: {:?}", &bytes[middle..middle + 3]);
-    }
-
-    #[test]
     fn panels_are_cropped_where_the_worst_one_errs() {
         let frame = |value: f64| TracedFrame { width: 8, height: 8, radiance: vec![[value; 3]; 64], seen: vec![Some(0); 64], rays: 64 };
         let reference = frame(0.5);
@@ -516,8 +481,37 @@ mod tests {
             names.contains(&"effects_hero/specular_schlick_crop_error.png") && names.contains(&"effects_hero/specular_error_scale.png"),
             "{names:?}"
         );
-        assert!(!names.contains(&"effects_hero/error_scale.png"), "the plain bar is the AO set's: {names:?}");
         assert_eq!(hero_table(&rows).rows(), 3);
+    }
+
+    /// The ambient-occlusion set takes the same rule over every pixel: two pass counts off
+    /// the reference by 0.03 and 0.02 in red on all 100 pixels (the background counted, no
+    /// pixel specular): the 99th percentile of the 200 values is 0.03 → scale 0.05, with its
+    /// legend beside the pictures.
+    #[test]
+    fn the_ambient_occlusion_set_takes_the_step_above_its_99th_percentile() {
+        let frame =
+            |red: f64| TracedFrame { width: 10, height: 10, radiance: vec![[red, 0.5, 0.5]; 100], seen: vec![None; 100], rays: 100 };
+        let panel = |passes: u32, red: f64| HeroPanel {
+            stem: format!("passes{passes}"),
+            label: format!("{passes} passes"),
+            method: "surfels".into(),
+            configuration: None,
+            passes: Some(passes),
+            frame: frame(red),
+        };
+        let set = HeroSet {
+            effect: EffectFamily::Surfels,
+            reference_label: "reference".into(),
+            reference: frame(0.5),
+            panels: vec![panel(1, 0.53), panel(2, 0.52)],
+            mask: ErrorMask::Whole,
+        };
+        let (written, rows) = files(&[set]).unwrap();
+        assert!(rows.iter().all(|r| r.error_scale == 0.05 && r.error_scale_file == "effects_hero/ao_error_scale.png"), "{rows:?}");
+        assert!(written.iter().any(|f| f.name == "effects_hero/ao_error_scale.png"));
+        // The figures are per channel: 0.03 in one channel of three.
+        assert!((rows[1].error.mean_absolute - 0.01).abs() < 1e-12, "{:?}", rows[1].error);
     }
 
     /// Two methods and the reference on 10 × 10 frames, every pixel specular: exact is off

@@ -221,7 +221,7 @@ fn timed(settings: &SweepSettings, mut sample: impl FnMut() -> Result<f64>) -> R
 /// pass of each configuration (every preset and heuristic) over its frame at each of
 /// `resolutions` ([width, height]), all timed in this run. A GTAO row times one frame's
 /// dispatch (of an accumulating configuration: a frame after the first, which reads the
-/// running sum and adds to it); its time to convergence is that × the frames accumulated
+/// running sum and adds to it) and the denoiser's passes after it; its time to convergence is that × the frames accumulated
 /// ([`AoTimingRow::convergence_ms`]). A scene naming no surfel effect gives no rows.
 pub fn scene_rows(
     gpu: &Gpu,
@@ -359,8 +359,7 @@ pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Ta
             "preset",
             "gtao: the configuration's preset (bare: Algorithm 1; xe-low, xe-medium, xe-high, xe-ultra: XeGTAO's), with (modified) where the scene overrode a heuristic; empty for the surfel pass",
             text(&|r| match r.gather {
-                Timed::Gtao { gtao, .. } if gtao.heuristics != gtao.preset.heuristics() => format!("{} (modified)", gtao.preset.name()),
-                Timed::Gtao { gtao, .. } => gtao.preset.name().to_string(),
+                Timed::Gtao { gtao, .. } => gtao.preset_label(),
                 Timed::Surfels(_) => String::new(),
             }),
         )
@@ -381,7 +380,7 @@ pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Ta
         )
         .text("timer", "timestamp (GPU timestamp queries around the compute pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
         .integer("repeats", "timed samples (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
-        .float("median_ms", "median time of one sample (ms); gtao: one frame's dispatch", rows.iter().map(|r| r.median_ms).collect())
+        .float("median_ms", "median time of one sample (ms); gtao: one frame's dispatch and its denoiser passes", rows.iter().map(|r| r.median_ms).collect())
         .float("spread_ms", "interquartile range of the samples (ms)", rows.iter().map(|r| r.spread_ms).collect())
         .optional_float(
             "convergence_ms",

@@ -116,6 +116,21 @@ pub fn wgsl() -> String {
     text.push_str(&format!("const GTAO_R1: f32 = {:?};\n", R1 as f32));
     text.push_str(&format!("const GTAO_PI: f32 = {:?};\n", std::f64::consts::PI as f32));
     text.push_str(&format!("const GTAO_HALF_PI: f32 = {:?};\n", std::f64::consts::FRAC_PI_2 as f32));
+    // The GTAO denoiser's constants (`effects::ao::denoise`), as the f32 twin rounds them.
+    {
+        use nklut_effects::ao::denoise::{DIAGONAL_WEIGHT, EDGE_DEPTH_FRACTION, EDGE_LEVELS, EDGE_OFFSET, LEAK_STRENGTH, LEAK_THRESHOLD};
+        let constants = [
+            ("GTAO_EDGE_DEPTH_FRACTION", EDGE_DEPTH_FRACTION),
+            ("GTAO_EDGE_OFFSET", EDGE_OFFSET),
+            ("GTAO_EDGE_LEVELS", EDGE_LEVELS),
+            ("GTAO_DIAGONAL_WEIGHT", DIAGONAL_WEIGHT),
+            ("GTAO_LEAK_THRESHOLD", LEAK_THRESHOLD),
+            ("GTAO_LEAK_STRENGTH", LEAK_STRENGTH),
+        ];
+        for (name, value) in constants {
+            text.push_str(&format!("const {name}: f32 = {:?};\n", value as f32));
+        }
+    }
     text
 }
 

@@ -311,22 +311,34 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
             "pixel_p99_error_within_radius",
             "gtao: 99th percentile over the covered pixels of |e| against the range-limited reference",
             rows.iter().map(|r| r.within_radius.map(|s| s.p99)).collect(),
-        )
+        );
+    gtao_heuristic_columns(&mut table, rows);
+    table
+}
+
+/// The GTAO rows' preset and heuristics, a column each (empty for the surfels' rows).
+fn gtao_heuristic_columns(table: &mut Table, rows: &[ErrorRow]) {
+    let gtao = |f: fn(crate::scene::surfels::Gtao) -> f64| rows.iter().map(|r| r.technique.gtao().map(f)).collect::<Vec<_>>();
+    table
         .text(
             "gtao_preset",
             "gtao: the named configuration (bare: Algorithm 1 of Jimenez et al. 2016; xe-low/medium/high/ultra: XeGTAO's quality levels and default heuristics), with (modified) where the scene overrode a heuristic; empty for surfels",
-            rows.iter()
-                .map(|r| r.technique.gtao().map_or(String::new(), |g| {
-                    let modified = if g.heuristics == g.preset.heuristics() { "" } else { " (modified)" };
-                    format!("{}{modified}", g.preset.name())
-                }))
-                .collect(),
+            rows.iter().map(|r| r.technique.gtao().map_or(String::new(), |g| g.preset_label())).collect(),
         )
         .optional_float("gtao_radius_multiplier", "gtao: the search radius is gtao_radius x this (XeGTAO 1.457)", gtao(|g| g.heuristics.radius_multiplier))
         .optional_float("gtao_falloff_range", "gtao: fraction of the search radius over which a sample's weight falls to 0 (0: hard cut; XeGTAO 0.615)", gtao(|g| g.heuristics.falloff_range))
         .optional_float("gtao_distribution_power", "gtao: sample k at ((k + offset)/steps)^power of the screen radius (XeGTAO 2)", gtao(|g| g.heuristics.distribution_power))
         .optional_float("gtao_thin_occluder", "gtao: thin-occluder compensation, depth offsets x (1 + this) for the falloff (XeGTAO default 0)", gtao(|g| g.heuristics.thin_occluder))
         .optional_float("gtao_final_power", "gtao: accessibility raised to this power (XeGTAO 2.2)", gtao(|g| g.heuristics.final_power))
+        .optional_float(
+            "gtao_clamp_to_edge",
+            "gtao: 1 where a sample beyond the image's edge reads the edge texel's depth (XeGTAO's clamping sampler), 0 where it is skipped",
+            gtao(|g| f64::from(u8::from(g.heuristics.clamp_to_edge))),
+        )
+        .optional_float(
+            "gtao_denoise_passes",
+            "gtao: passes of XeGTAO's edge-aware 3x3 denoiser over the image (0: none; XeGTAO 1)",
+            gtao(|g| f64::from(g.heuristics.denoise_passes)),
+        )
         .optional_float("gtao_frames", "gtao: frames of per-pixel noise accumulated (1: no noise)", gtao(|g| if g.heuristics.noise { g.heuristics.frames as f64 } else { 1.0 }));
-    table
 }

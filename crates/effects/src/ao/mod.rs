@@ -15,6 +15,7 @@
 //! - [`experiment`]: a scene's surfel effects: surfels of every placed object, accessibility
 //!   against the reference per object (brute force and tree, 1–3 passes), indirect light's
 //!   error, and pictures with no AO, 1, 2, 3 passes and the reference.
+//! - [`denoise`]: XeGTAO's edge-aware 3 × 3 spatial denoiser over a GTAO image.
 //! - [`gtao`]: screen-space ground-truth AO (Jimenez et al. 2016) over a G-buffer of
 //!   view-space points and normals: the technique engines ship, the surfels' comparison.
 //! - [`hierarchy`]: surfels merged into a binary tree (parents: mean centre and normal,
@@ -29,6 +30,7 @@
 //! The f64 code here is the CPU twin a GPU kernel is held to. Pure computation on plain data.
 
 pub mod accessibility;
+pub mod denoise;
 pub mod errors;
 pub mod experiment;
 pub mod gtao;

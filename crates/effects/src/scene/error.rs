@@ -62,9 +62,9 @@ pub enum SceneProblem {
     #[error("{0}")]
     TooDeep(TooDeep),
     /// The YAML does not parse into a scene (bad syntax, an unknown field or variant, a
-    /// value of the wrong type); serde_yaml's error keeps the line and column.
+    /// value of the wrong type); serde_norway's error keeps the line and column.
     #[error("{0}")]
-    Syntax(serde_yaml::Error),
+    Syntax(serde_norway::Error),
     /// One field's value, at its path in the file.
     #[error("{}", FieldText { field, kind })]
     Field { field: String, kind: FieldProblem },

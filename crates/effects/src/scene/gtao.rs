@@ -43,6 +43,18 @@ pub struct Heuristics<T> {
     /// Frames accumulated (their mean, what temporal accumulation converges to): XeGTAO's
     /// noise repeats every 64 frames (`NoiseIndex = frameIndex % 64`).
     pub frames: u32,
+    /// A sample beyond the image's edge reads the nearest edge texel's view-space depth and
+    /// stands at its own image position at that depth, as XeGTAO's depth reads do (a point
+    /// sampler with clamp addressing, `vaGTAO.hlsl`; `XeGTAO_ComputeViewspacePosition` of
+    /// the unclamped position): the surface at the edge continues off screen at the edge's
+    /// depth. Off: such a sample is skipped (Algorithm 1 here).
+    pub clamp_to_edge: bool,
+    /// Passes of XeGTAO's edge-aware 3 × 3 spatial denoiser over the image (`ao::denoise`):
+    /// 0 off, XeGTAO's default 1 ("sharp"; 2 medium, 3 soft).
+    pub denoise_passes: u32,
+    /// The centre pixel's weight in the denoiser's last pass (each earlier pass: this / 5);
+    /// a neighbour weighs its edge weight, at most 1 (XeGTAO `DenoiseBlurBeta`, 1.2).
+    pub denoise_beta: T,
 }
 
 impl Heuristics<f64> {
@@ -59,12 +71,17 @@ impl Heuristics<f64> {
         max_radius_pixels: f64::INFINITY,
         noise: false,
         frames: 1,
+        clamp_to_edge: false,
+        denoise_passes: 0,
+        denoise_beta: 1.2,
     };
 
     /// XeGTAO's defaults (`XeGTAO.h`, version 1.20): radius multiplier 1.457, falloff range
     /// 0.615, sample distribution power 2, thin-occluder compensation 0, final power 2.2;
     /// `XeGTAO.hlsli`: samples start 1.3 px out, |n_φ| lerped 5 % toward 1; `vaGTAO.hlsl`:
-    /// noise from the Hilbert-R2 sequence, its index advancing each frame (mod 64) under TAA.
+    /// noise from the Hilbert-R2 sequence, its index advancing each frame (mod 64) under TAA,
+    /// depth read through a clamping sampler; `XeGTAO.h` `GTAOSettings`: one denoiser pass,
+    /// blur beta 1.2.
     pub const XE: Heuristics<f64> = Heuristics {
         radius_multiplier: 1.457,
         falloff_range: 0.615,
@@ -77,6 +94,9 @@ impl Heuristics<f64> {
         max_radius_pixels: f64::INFINITY,
         noise: true,
         frames: 64,
+        clamp_to_edge: true,
+        denoise_passes: 1,
+        denoise_beta: 1.2,
     };
 
     pub fn narrowed(self) -> Heuristics<f32> {
@@ -92,6 +112,9 @@ impl Heuristics<f64> {
             max_radius_pixels: self.max_radius_pixels as f32,
             noise: self.noise,
             frames: self.frames,
+            clamp_to_edge: self.clamp_to_edge,
+            denoise_passes: self.denoise_passes,
+            denoise_beta: self.denoise_beta as f32,
         }
     }
 

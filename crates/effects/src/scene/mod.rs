@@ -2,7 +2,7 @@
 //! diffuse colour, the camera path of the image-error measurement (docs/precision.md), which
 //! experiments to run and, optionally, which light-transport effects the scene calls for
 //! (`effects`: multiple reflections and refractions traced in layered distance maps). Plain
-//! serde_yaml and pure data; lives outside the `gpu` feature so scene files can be checked,
+//! serde_norway and pure data; lives outside the `gpu` feature so scene files can be checked,
 //! and the CPU tracers of `crate` run, without wgpu.
 //!
 //! ```yaml
@@ -526,7 +526,7 @@ impl Scene {
         if let Some(deep) = nklut_optics::db::block_yaml::too_deep(text) {
             return Err(error(SceneProblem::TooDeep(deep)));
         }
-        let raw: RawScene = serde_yaml::from_str(text).map_err(|e| error(SceneProblem::Syntax(e)))?;
+        let raw: RawScene = serde_norway::from_str(text).map_err(|e| error(SceneProblem::Syntax(e)))?;
         let with_effects = raw.effects.is_some();
         let mut objects = Vec::new();
         for (i, object) in raw.objects.into_iter().enumerate() {
@@ -859,7 +859,7 @@ mod tests {
         for (text, field, expected) in cases {
             assert_eq!(field_problem(&text), (field.to_string(), expected), "{text:?}");
         }
-        // What serde_yaml refuses is a syntax problem, with its line and column.
+        // What serde_norway refuses is a syntax problem, with its line and column.
         for (text, says, line) in [
             (object.replace("[timing]", "[speed]"), "unknown variant", 2),
             (

@@ -45,6 +45,8 @@ pub const MAX_GTAO_STEPS: u32 = 256;
 pub const MAX_GTAO_RADIUS: f64 = 100.0;
 /// The most frames a scene may accumulate (XeGTAO's noise repeats after 64).
 pub const MAX_GTAO_FRAMES: u32 = 1024;
+/// The most passes of GTAO's denoiser (XeGTAO's UI: 0 off, 1 sharp, 2 medium, 3 soft).
+pub const MAX_DENOISE_PASSES: u32 = 3;
 /// The most G-buffer reads per pixel (2 × slices × steps × frames): the bare maximum,
 /// 64 slices × 256 steps, so that accumulation cannot make a run unbounded.
 pub const MAX_GTAO_READS: u32 = 2 * MAX_GTAO_SLICES * MAX_GTAO_STEPS;
@@ -61,7 +63,7 @@ pub(crate) struct RawAmbientOcclusion {
     /// One GTAO block or a list of them (read in `checked`, so that a block's own unknown
     /// fields are named).
     #[serde(default)]
-    gtao: Option<serde_yaml::Value>,
+    gtao: Option<serde_norway::Value>,
 }
 
 /// One radius or a list of them (each a GTAO configuration, in the order written).
@@ -105,6 +107,12 @@ pub(crate) struct RawGtao {
     min_radius_pixels: Option<f64>,
     #[serde(default)]
     max_radius_pixels: Option<f64>,
+    #[serde(default)]
+    clamp_to_edge: Option<bool>,
+    #[serde(default)]
+    denoise_passes: Option<u32>,
+    #[serde(default)]
+    denoise_beta: Option<f64>,
 }
 
 fn default_gtao_radius() -> Radii {
@@ -157,6 +165,18 @@ impl Gtao {
         Gtao { radius, slices, steps, preset: Preset::Bare, heuristics: Heuristics::BARE }
     }
 
+    /// Whether the scene overrode a heuristic of the preset.
+    pub fn modified(&self) -> bool {
+        self.heuristics != self.preset.heuristics()
+    }
+
+    /// The preset's name, with " (modified)" where the scene overrode one of its heuristics:
+    /// the `gtao_preset` and `preset` cells of `ao_errors` and `ao_timing`.
+    pub fn preset_label(&self) -> String {
+        let modified = if self.modified() { " (modified)" } else { "" };
+        format!("{}{modified}", self.preset.name())
+    }
+
     /// A label for logs and pictures: "bare, radius 1, 4×8" or "xe-high, radius 0.5, 3×3,
     /// 64 frames" (and "(modified)" where the scene overrode a heuristic of the preset).
     pub fn label(&self) -> String {
@@ -164,7 +184,7 @@ impl Gtao {
         if self.heuristics.noise {
             label += &format!(", {} frames", self.heuristics.frames);
         }
-        if self.heuristics != self.preset.heuristics() {
+        if self.modified() {
             label += " (modified)";
         }
         label
@@ -186,13 +206,13 @@ impl RawAmbientOcclusion {
         }
         let gtao = match &self.gtao {
             None => Vec::new(),
-            Some(serde_yaml::Value::Sequence(blocks)) => {
+            Some(serde_norway::Value::Sequence(blocks)) => {
                 if blocks.is_empty() {
                     return Err(SceneProblem::field("ambient_occlusion.gtao", FieldProblem::Empty(super::error::Listing::Values)));
                 }
                 let mut all = Vec::new();
                 for (i, block) in blocks.iter().enumerate() {
-                    let raw: RawGtao = serde_yaml::from_value(block.clone()).map_err(SceneProblem::Syntax)?;
+                    let raw: RawGtao = serde_norway::from_value(block.clone()).map_err(SceneProblem::Syntax)?;
                     for g in raw.checked(&format!("ambient_occlusion.gtao[{i}]"))? {
                         if !all.contains(&g) {
                             all.push(g);
@@ -202,7 +222,7 @@ impl RawAmbientOcclusion {
                 all
             }
             Some(block) => {
-                let raw: RawGtao = serde_yaml::from_value(block.clone()).map_err(SceneProblem::Syntax)?;
+                let raw: RawGtao = serde_norway::from_value(block.clone()).map_err(SceneProblem::Syntax)?;
                 raw.checked("ambient_occlusion.gtao")?
             }
         };
@@ -243,21 +263,25 @@ impl RawGtao {
         });
         let [default_slices, default_steps] = preset.slices_steps();
         let (slices, steps) = (self.slices.unwrap_or(default_slices), self.steps.unwrap_or(default_steps));
-        let integers = |name: &str, value: u32, high: u32| {
-            if (1..=high).contains(&value) {
+        let integers = |name: &str, value: u32, low: u32, high: u32| {
+            if (low..=high).contains(&value) {
                 return Ok(value);
             }
-            let kind =
-                FieldProblem::OutOfRange { value: Value::Integer(value.into()), range: Range::Integers { low: 1, high: high.into() } };
+            let kind = FieldProblem::OutOfRange {
+                value: Value::Integer(value.into()),
+                range: Range::Integers { low: low.into(), high: high.into() },
+            };
             Err(SceneProblem::field(field(name), kind))
         };
-        integers("slices", slices, MAX_GTAO_SLICES)?;
-        integers("steps", steps, MAX_GTAO_STEPS)?;
+        integers("slices", slices, 1, MAX_GTAO_SLICES)?;
+        integers("steps", steps, 1, MAX_GTAO_STEPS)?;
         let mut h = preset.heuristics();
         h.noise = self.noise.unwrap_or(h.noise);
+        h.clamp_to_edge = self.clamp_to_edge.unwrap_or(h.clamp_to_edge);
+        h.denoise_passes = integers("denoise_passes", self.denoise_passes.unwrap_or(h.denoise_passes), 0, MAX_DENOISE_PASSES)?;
         // Frames are accumulated only with noise (without it every frame is the same).
         let most_frames = (MAX_GTAO_READS / (2 * slices * steps)).clamp(1, MAX_GTAO_FRAMES);
-        h.frames = if h.noise { integers("frames", self.frames.unwrap_or(h.frames), most_frames)? } else { 1 };
+        h.frames = if h.noise { integers("frames", self.frames.unwrap_or(h.frames), 1, most_frames)? } else { 1 };
         let numbers = [
             ("radius_multiplier", self.radius_multiplier, &mut h.radius_multiplier, GTAO_RANGES.radius_multiplier),
             ("falloff_range", self.falloff_range, &mut h.falloff_range, GTAO_RANGES.falloff_range),
@@ -268,6 +292,7 @@ impl RawGtao {
             ("normal_lerp", self.normal_lerp, &mut h.normal_lerp, GTAO_RANGES.normal_lerp),
             ("min_radius_pixels", self.min_radius_pixels, &mut h.min_radius_pixels, GTAO_RANGES.radius_pixels),
             ("max_radius_pixels", self.max_radius_pixels, &mut h.max_radius_pixels, GTAO_RANGES.radius_pixels),
+            ("denoise_beta", self.denoise_beta, &mut h.denoise_beta, GTAO_RANGES.denoise_beta),
         ];
         for (name, given, slot, [low, high]) in numbers {
             let Some(value) = given else { continue };
@@ -290,7 +315,7 @@ impl RawGtao {
 /// (`XeGTAO.h`, `GTAOImGuiSettings`) where it gives them — radius multiplier 0.3–3, falloff
 /// range 0–1, sample distribution power 1–3, thin-occluder compensation 0–0.7, final power
 /// 0.5–5 — and for the rest: a start offset up to 16 px, the |n_φ| lerp 0–1, screen radii
-/// up to 4096 px.
+/// up to 4096 px, the denoiser's beta 0.01–10⁴ (XeGTAO sets 10⁴ to turn it off).
 pub struct GtaoRanges {
     pub radius_multiplier: [f64; 2],
     pub falloff_range: [f64; 2],
@@ -300,6 +325,7 @@ pub struct GtaoRanges {
     pub final_power: [f64; 2],
     pub normal_lerp: [f64; 2],
     pub radius_pixels: [f64; 2],
+    pub denoise_beta: [f64; 2],
 }
 
 pub const GTAO_RANGES: GtaoRanges = GtaoRanges {
@@ -311,6 +337,7 @@ pub const GTAO_RANGES: GtaoRanges = GtaoRanges {
     final_power: [0.5, 5.0],
     normal_lerp: [0.0, 1.0],
     radius_pixels: [0.0, 4096.0],
+    denoise_beta: [0.01, 10000.0],
 };
 
 impl RawIndirect {
@@ -487,6 +514,15 @@ mod tests {
         let quiet = configurations("{ ambient_occlusion: { gtao: { preset: xe-medium, noise: false, frames: 64 } } }");
         assert_eq!((quiet[0].heuristics.noise, quiet[0].heuristics.frames), (false, 1));
         assert!(configurations("{ ambient_occlusion: { gtao: { radius: 1 } } }")[0].heuristics.is_bare());
+        // XeGTAO's depth reads clamp to the image's edge; a scene may skip such samples instead.
+        let edge = configurations("{ ambient_occlusion: { gtao: [{ preset: xe-high }, { preset: xe-high, clamp_to_edge: false }] } }");
+        assert!(edge[0].heuristics.clamp_to_edge && !edge[1].heuristics.clamp_to_edge);
+        assert!(!configurations("{ ambient_occlusion: { gtao: { radius: 1 } } }")[0].heuristics.clamp_to_edge);
+        assert!(edge[1].label().ends_with("(modified)"), "{}", edge[1].label());
+        // XeGTAO denoises once with beta 1.2; a scene may turn it off or soften it.
+        let denoised = configurations("{ ambient_occlusion: { gtao: [{ preset: xe-high }, { preset: xe-high, denoise_passes: 3, denoise_beta: 2 }, { radius: 1 }] } }");
+        let passes: Vec<(u32, f64)> = denoised.iter().map(|g| (g.heuristics.denoise_passes, g.heuristics.denoise_beta)).collect();
+        assert_eq!(passes, [(1, 1.2), (3, 2.0), (0, 1.2)]);
     }
 
     #[test]
@@ -540,6 +576,8 @@ mod tests {
                 closed(30.0, 0.0, 20.0),
             ),
             ("{ preset: xe-high, frames: 0 }", "effects.ambient_occlusion.gtao.frames", integers(0, 1, 1024)),
+            ("{ preset: xe-high, denoise_passes: 4 }", "effects.ambient_occlusion.gtao.denoise_passes", integers(4, 0, 3)),
+            ("{ denoise_beta: 0 }", "effects.ambient_occlusion.gtao.denoise_beta", closed(0.0, 0.01, 10000.0)),
             // 2 × 64 × 256 reads per pixel at most: 64 slices × 256 steps leave one frame.
             ("{ noise: true, slices: 64, steps: 256, frames: 2 }", "effects.ambient_occlusion.gtao.frames", integers(2, 1, 1)),
             ("[{ radius: 1 }, { preset: xe-high, steps: 0 }]", "effects.ambient_occlusion.gtao[1].steps", integers(0, 1, 256)),

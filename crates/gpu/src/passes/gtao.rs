@@ -3,7 +3,8 @@
 //! engines add (XeGTAO; the derivation and the f64/f32 CPU twin are `effects::ao::gtao`,
 //! whose every heuristic the kernel runs: radius multiplier, falloff, sample distribution
 //! power and start offset, thin-occluder compensation, final power, the |n_φ| lerp, the
-//! screen-radius clamp, and per-pixel Hilbert-R2 noise with N-frame accumulation).
+//! screen-radius clamp, depth reads clamped to the image's edge, per-pixel Hilbert-R2 noise
+//! with N-frame accumulation, and XeGTAO's edge-aware denoiser, `effects::ao::denoise`).
 //!
 //! Inputs: the G-buffer (per pixel a point, w = 1 where a surface is, and a unit normal),
 //! the focal length in pixels, and GTAO's parameters ([`Parameters`]), in the uniform
@@ -11,7 +12,8 @@
 //! Output: per pixel the accessibility, `None` where no surface is ([`GtaoPass::run`]),
 //! the mean of the accumulated frames. One dispatch of 8×8 workgroups per frame, every frame
 //! adding to the running sum in the output buffer and the last dividing by the frame count
-//! (the CPU body's order). Sizes are checked against the device's limits before any
+//! (the CPU body's order); then one dispatch per denoiser pass, reading one of two image
+//! buffers and writing the other. Sizes are checked against the device's limits before any
 //! allocation; wgpu errors come back as `Result`s.
 
 use anyhow::{bail, Result};
@@ -22,8 +24,9 @@ use super::interface::{Binding, Interface, Pass, Resource};
 use crate::compose::compute_pipelines;
 use crate::context::Gpu;
 use crate::render::{check_buffer_size, readback_buffer};
+use nklut_effects::ao::denoise::centre_weight;
 use nklut_effects::ao::gtao::{GBuffer, Parameters};
-use nklut_effects::scene::surfels::MAX_GTAO_FRAMES;
+use nklut_effects::scene::surfels::{MAX_DENOISE_PASSES, MAX_GTAO_FRAMES};
 
 /// The workgroup's edge in pixels (`@workgroup_size(8, 8)`).
 const TILE: u32 = 8;
@@ -40,7 +43,7 @@ struct GtaoParams {
     frame: u32,
     frames: u32,
     noise: u32,
-    pad0: u32,
+    clamp_to_edge: u32,
     focal: f32,
     radius: f32,
     radius_multiplier: f32,
@@ -52,7 +55,11 @@ struct GtaoParams {
     normal_lerp: f32,
     min_radius_pixels: f32,
     max_radius_pixels: f32,
-    pad1: f32,
+    denoise_centre: f32,
+    denoise_last: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 impl GtaoParams {
@@ -69,7 +76,7 @@ impl GtaoParams {
             frame,
             frames: accumulated_frames(p),
             noise: u32::from(h.noise),
-            pad0: 0,
+            clamp_to_edge: u32::from(h.clamp_to_edge),
             focal,
             radius: p.radius,
             radius_multiplier: h.radius_multiplier,
@@ -81,8 +88,19 @@ impl GtaoParams {
             normal_lerp: h.normal_lerp,
             min_radius_pixels: h.min_radius_pixels,
             max_radius_pixels: h.max_radius_pixels.min(f32::MAX),
-            pad1: 0.0,
+            denoise_centre: 0.0,
+            denoise_last: 0,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         }
+    }
+
+    /// Denoiser pass `pass`'s uniform: the frame's, with the centre pixel's weight
+    /// (`effects::ao::denoise::centre_weight` in f32) and the last-pass flag.
+    fn denoising(self, p: Parameters<f32>, pass: u32) -> GtaoParams {
+        let last = pass + 1 == p.heuristics.denoise_passes;
+        GtaoParams { denoise_centre: centre_weight(p.heuristics.denoise_beta, last), denoise_last: u32::from(last), ..self }
     }
 }
 
@@ -111,11 +129,18 @@ fn check_parameters(p: &Parameters<f32>, focal: f32) -> Result<()> {
         ("final_power", h.final_power),
         ("normal_lerp", h.normal_lerp),
         ("min_radius_pixels", h.min_radius_pixels),
+        ("denoise_beta", h.denoise_beta),
     ];
     for (name, value) in finite {
         if !value.is_finite() {
             bail!("GTAO's {name} is {value}: the GPU pass takes finite numbers");
         }
+    }
+    if h.denoise_passes > 0 && h.denoise_beta <= 0.0 {
+        bail!("GTAO's denoise_beta is {}: the denoiser's centre weight must be positive", h.denoise_beta);
+    }
+    if h.denoise_passes > MAX_DENOISE_PASSES {
+        bail!("GTAO's denoiser runs {} passes; at most {MAX_DENOISE_PASSES}", h.denoise_passes);
     }
     if h.max_radius_pixels.is_nan() {
         bail!("GTAO's max_radius_pixels is NaN");
@@ -160,17 +185,25 @@ pub fn uniform_stride(alignment: u32) -> u64 {
 /// The size of one frame's uniform (`GtaoParams`).
 pub const UNIFORM_SIZE: u64 = std::mem::size_of::<GtaoParams>() as u64;
 
-/// Every accumulated frame's uniform, frame k at byte k × `stride`.
+/// Every accumulated frame's uniform, frame k at byte k × `stride`, then each denoiser
+/// pass's: pass j at byte (frames + j) × `stride` ([`uniform_slots`] in all).
 pub fn uniform_bytes(gbuffer: &GBuffer<f32>, parameters: Parameters<f32>, stride: u64) -> Vec<u8> {
     let frames = accumulated_frames(parameters);
     let size = UNIFORM_SIZE as usize;
-    let mut uniforms = vec![0u8; (stride * frames as u64) as usize];
-    for frame in 0..frames {
-        let params = GtaoParams::new(gbuffer.width, gbuffer.height, gbuffer.focal, parameters, frame);
-        let at = (stride * frame as u64) as usize;
+    let mut uniforms = vec![0u8; (stride * uniform_slots(parameters) as u64) as usize];
+    let frame_params = |frame| GtaoParams::new(gbuffer.width, gbuffer.height, gbuffer.focal, parameters, frame);
+    let denoise = (0..parameters.heuristics.denoise_passes).map(|pass| frame_params(frames - 1).denoising(parameters, pass));
+    for (slot, params) in (0..frames).map(frame_params).chain(denoise).enumerate() {
+        let at = stride as usize * slot;
         uniforms[at..at + size].copy_from_slice(bytemuck::bytes_of(&params));
     }
     uniforms
+}
+
+/// The uniforms one configuration needs: one per accumulated frame and one per denoiser
+/// pass.
+pub fn uniform_slots(parameters: Parameters<f32>) -> u32 {
+    accumulated_frames(parameters) + parameters.heuristics.denoise_passes
 }
 
 /// The frame a timing of one frame dispatches: the second of an accumulating configuration
@@ -179,26 +212,30 @@ pub fn timed_frame(frames: u32) -> u32 {
     frames.clamp(1, 2) - 1
 }
 
-/// The pass with its G-buffer uploaded and its pipeline compiled.
+/// The pass with its G-buffer uploaded and its pipelines compiled.
 pub struct GtaoPass {
     width: u32,
     height: u32,
-    pipeline: wgpu::ComputePipeline,
-    /// One per accumulated frame: the uniform at that frame's offset.
+    frames: u32,
+    /// The frame kernel and the denoiser's two (accessibility → denoised, and back).
+    pipelines: [wgpu::ComputePipeline; 3],
+    /// One per accumulated frame, then one per denoiser pass: the uniform at its offset.
     bind_groups: Vec<wgpu::BindGroup>,
     output: wgpu::Buffer,
+    denoised: wgpu::Buffer,
 }
 
 impl Pass for GtaoPass {
     const INTERFACE: Interface = Interface {
         name: "gtao",
         shader: "gtao",
-        entry_points: &["cs_gtao"],
+        entry_points: &["cs_gtao", "cs_denoise_forward", "cs_denoise_back"],
         stages: wgpu::ShaderStages::COMPUTE,
         bindings: &[
             Binding::new(0, 0, "params", Resource::Uniform),
             Binding::new(0, 1, "gbuffer", Resource::Read),
             Binding::new(0, 2, "accessibility", Resource::ReadWrite),
+            Binding::new(0, 3, "denoised", Resource::ReadWrite),
         ],
     };
 }
@@ -222,7 +259,11 @@ impl GtaoPass {
                 limits.max_compute_workgroups_per_dimension
             );
         }
-        let sizes = [("G-buffer", pixels * std::mem::size_of::<GSample>()), ("GTAO accessibility", pixels * 4)];
+        let sizes = [
+            ("G-buffer", pixels * std::mem::size_of::<GSample>()),
+            ("GTAO accessibility", pixels * 4),
+            ("GTAO denoiser's buffer", pixels * 4),
+        ];
         for (what, bytes) in sizes {
             if bytes as u64 > limits.max_storage_buffer_binding_size {
                 bail!(
@@ -237,30 +278,41 @@ impl GtaoPass {
         let uniforms = uniform_bytes(gbuffer, parameters, stride);
         let size = std::mem::size_of::<GtaoParams>() as u64;
         let frames = accumulated_frames(parameters);
+        let slots = uniform_slots(parameters);
         let device = &gpu.device;
         let interface = Self::INTERFACE;
         let (pipeline_layout, layouts) = interface.pipeline_layout(device);
-        let [pipeline] = compute_pipelines(device, interface.shader, Some(&pipeline_layout), ["cs_gtao"], "the GTAO kernel")?;
+        let pipelines = compute_pipelines(
+            device,
+            interface.shader,
+            Some(&pipeline_layout),
+            ["cs_gtao", "cs_denoise_forward", "cs_denoise_back"],
+            "the GTAO kernels",
+        )?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let uniform = init("gtao params", &uniforms, wgpu::BufferUsages::UNIFORM);
         let input = init("gtao g-buffer", &samples, wgpu::BufferUsages::STORAGE);
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("gtao accessibility"),
-            size: (pixels * 4) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let bind_groups = (0..frames as u64)
-            .map(|frame| {
+        let image = |label: &str| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (pixels * 4) as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let (output, denoised) = (image("gtao accessibility"), image("gtao denoised"));
+        let bind_groups = (0..slots as u64)
+            .map(|slot| {
                 let params = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                     buffer: &uniform,
-                    offset: frame * stride,
+                    offset: slot * stride,
                     size: std::num::NonZeroU64::new(size),
                 });
-                let resources = [(0, params), (1, input.as_entire_binding()), (2, output.as_entire_binding())];
+                let resources =
+                    [(0, params), (1, input.as_entire_binding()), (2, output.as_entire_binding()), (3, denoised.as_entire_binding())];
                 interface.bind_group(device, &layouts[0], 0, &resources)
             })
             .collect::<Result<Vec<_>>>()?;
@@ -268,24 +320,30 @@ impl GtaoPass {
             bail!("allocating the GTAO pass's buffers: {error}");
         }
         gpu.take_errors()?;
-        Ok(GtaoPass { width, height, pipeline, bind_groups, output })
+        Ok(GtaoPass { width, height, frames, pipelines, bind_groups, output, denoised })
     }
 
     /// The frames accumulated ([`accumulated_frames`]): one dispatch each.
     pub fn frames(&self) -> u32 {
-        self.bind_groups.len() as u32
+        self.frames
     }
 
-    /// Record every frame (the accumulated result) into `encoder`, in one compute pass with
-    /// `timestamps` written at its start and end.
+    /// The denoiser's passes: one dispatch each, after the frames.
+    pub fn denoise_passes(&self) -> u32 {
+        self.bind_groups.len() as u32 - self.frames
+    }
+
+    /// Record every frame (the accumulated result) and the denoiser's passes over it into
+    /// `encoder`, in one compute pass with `timestamps` written at its start and end.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, timestamps: Option<wgpu::ComputePassTimestampWrites>) {
         self.encode_frames(encoder, 0..self.frames(), timestamps);
     }
 
-    /// Record the dispatches of `frames` (clamped to the accumulated ones) into `encoder`, in
-    /// one compute pass: a frame after the first adds to what the output holds, so the
-    /// result is the accumulated one only for `0..frames()`; one frame alone is what a
-    /// frame costs.
+    /// Record the dispatches of `frames` (clamped to the accumulated ones) and then the
+    /// denoiser's passes into `encoder`, in one compute pass: a frame after the first adds
+    /// to what the output holds, so the result is the accumulated one only for
+    /// `0..frames()`; one frame alone with the denoiser is what a frame costs (an engine
+    /// denoises every frame before its temporal accumulation).
     pub fn encode_frames(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -293,21 +351,29 @@ impl GtaoPass {
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gtao"), timestamp_writes: timestamps });
-        pass.set_pipeline(&self.pipeline);
+        let groups = (self.width.div_ceil(TILE), self.height.div_ceil(TILE));
+        pass.set_pipeline(&self.pipelines[0]);
         for frame in frames.start.min(self.frames())..frames.end.min(self.frames()) {
             pass.set_bind_group(0, &self.bind_groups[frame as usize], &[]);
-            pass.dispatch_workgroups(self.width.div_ceil(TILE), self.height.div_ceil(TILE), 1);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        }
+        for denoise in 0..self.denoise_passes() {
+            pass.set_pipeline(&self.pipelines[1 + denoise as usize % 2]);
+            pass.set_bind_group(0, &self.bind_groups[(self.frames + denoise) as usize], &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
         }
     }
 
-    /// Run every frame and read back the accumulated accessibility per pixel (`None` where
-    /// no surface is).
+    /// Run every frame and the denoiser, and read back the accumulated, denoised
+    /// accessibility per pixel (`None` where no surface is).
     pub fn run(&self, gpu: &Gpu) -> Result<Vec<Option<f32>>> {
-        let bytes = self.output.size();
+        // An odd number of denoiser passes leaves the result in the denoiser's buffer.
+        let result = if self.denoise_passes() % 2 == 1 { &self.denoised } else { &self.output };
+        let bytes = result.size();
         let readback = readback_buffer(gpu, bytes)?;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.encode(&mut encoder, None);
-        encoder.copy_buffer_to_buffer(&self.output, 0, &readback, 0, bytes);
+        encoder.copy_buffer_to_buffer(result, 0, &readback, 0, bytes);
         gpu.queue.submit([encoder.finish()]);
         let data = gpu.read_buffer(&readback)?;
         gpu.take_errors()?;
@@ -320,8 +386,9 @@ pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
     use crate::layout::shared_struct;
     vec![
         shared_struct!(GtaoParams as "GtaoParams" {
-            width, height, slices, steps, frame, frames, noise, pad0, focal, radius, radius_multiplier, falloff_range,
-            distribution_power, start_pixels, thin_occluder, final_power, normal_lerp, min_radius_pixels, max_radius_pixels, pad1,
+            width, height, slices, steps, frame, frames, noise, clamp_to_edge, focal, radius, radius_multiplier, falloff_range,
+            distribution_power, start_pixels, thin_occluder, final_power, normal_lerp, min_radius_pixels, max_radius_pixels,
+            denoise_centre, denoise_last, pad0, pad1, pad2,
         }),
         shared_struct!(GSample as "GSample" { position, normal }),
     ]

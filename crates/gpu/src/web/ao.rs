@@ -84,9 +84,12 @@ pub struct GtaoPlan {
 
 #[derive(Debug, Serialize)]
 pub struct GtaoConfigurationPlan {
-    /// Every accumulated frame's `GtaoParams`, frame k at k × stride, base64.
+    /// Every accumulated frame's `GtaoParams`, frame k at k × stride, then each denoiser
+    /// pass's, pass j at (frames + j) × stride, base64.
     pub uniforms: String,
     pub frames: u32,
+    /// Denoiser passes, dispatched after every timed frame (as an engine denoises each).
+    pub denoise_passes: u32,
     /// The frame one timed sample dispatches ([`timed_frame`]).
     pub timed_frame: u32,
 }
@@ -174,6 +177,7 @@ pub fn plan(scene: &Scene) -> Result<Option<AoPlan>> {
             configurations.push(GtaoConfigurationPlan {
                 uniforms: base64(&uniform_bytes(&gbuffer, parameters, stride)),
                 frames,
+                denoise_passes: parameters.heuristics.denoise_passes,
                 timed_frame: timed_frame(frames),
             });
             rows.push(blank(Timed::Gtao { gtao: g, resolution: [width, height], covered }, 0, 1, 1));
@@ -213,24 +217,30 @@ mod tests {
 
     /// The uniforms the page binds: frame k's `GtaoParams` at k × 256 bytes, its `frame`
     /// (the fifth u32, byte 16) k, `frames` (byte 20) the frames accumulated, `noise` (byte
-    /// 24) on for XeGTAO; Algorithm 1 one frame without noise. The timed frame is the second
-    /// of an accumulating configuration.
+    /// 24) on for XeGTAO, then its denoiser pass's; Algorithm 1 one frame without noise or
+    /// denoiser. The timed frame is the second of an accumulating configuration.
     #[test]
     fn each_frame_s_uniform_sits_at_its_offset_with_its_index() {
         let text = "resolution: [16, 12]\ncamera: {axis: [0.3, 1, 0.2], distance: 3, frames: 1}\neffects: {ambient_occlusion: {passes: 1, gtao: [{radius: 0.5}, {preset: xe-high, radius: 0.5, frames: 16}]}}\nobjects:\n  - {mesh: cube, diffuse: [0.8, 0.8, 0.8]}\nmeasurements: [image_error]\n";
         let scene = Scene::parse(text, std::path::Path::new("ao.yaml")).unwrap();
         let plan = plan(&scene).unwrap().expect("an AO plan");
         let gtao = plan.gtao.as_ref().unwrap();
-        assert_eq!((gtao.stride, gtao.uniform_size), (256, 80));
+        assert_eq!((gtao.stride, gtao.uniform_size), (256, 96));
         let word = |bytes: &[u8], at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
-        for (configuration, (frames, noise)) in gtao.configurations.iter().zip([(1u32, 0u32), (16, 1)]) {
+        for (configuration, (frames, noise, denoise)) in gtao.configurations.iter().zip([(1u32, 0u32, 0u32), (16, 1, 1)]) {
             let bytes = base64::engine::general_purpose::STANDARD.decode(&configuration.uniforms).unwrap();
-            assert_eq!(bytes.len(), 256 * frames as usize);
+            assert_eq!(bytes.len(), 256 * (frames + denoise) as usize);
             for k in 0..frames as usize {
                 assert_eq!([word(&bytes, 256 * k), word(&bytes, 256 * k + 4)], [16, 12]);
                 assert_eq!([word(&bytes, 256 * k + 16), word(&bytes, 256 * k + 20), word(&bytes, 256 * k + 24)], [k as u32, frames, noise]);
             }
-            assert_eq!(configuration.frames, frames);
+            // XeGTAO's one denoiser pass: the last, its centre weighing beta 1.2 (byte 76),
+            // the last-pass flag (byte 80) set.
+            for j in 0..denoise as usize {
+                let at = 256 * (frames as usize + j);
+                assert_eq!((f32::from_bits(word(&bytes, at + 76)), word(&bytes, at + 80)), (1.2, 1));
+            }
+            assert_eq!((configuration.frames, configuration.denoise_passes), (frames, denoise));
             assert_eq!(configuration.timed_frame, if frames > 1 { 1 } else { 0 });
         }
         // G-buffer: 32 bytes a pixel.

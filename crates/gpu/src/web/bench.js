@@ -931,7 +931,8 @@ function effectFrame(device, effects) {
 
 // Buffers, pipelines and bind groups of the surfel pass (passes/ao.rs SurfelAoPass) and the
 // GTAO pass (passes/gtao.rs GtaoPass), from the plan's bytes; `encodeSurfels` and
-// `encodeGtao` record one timed sample, as ao_timing's `sample` and GTAO's one frame.
+// `encodeGtao` record one timed sample, as ao_timing's `sample` and GTAO's one frame with its
+// denoiser passes.
 function setupAo(device, named) {
   const a = plan.ao;
   const compute = (bindings) => bindGroupLayouts(device, bindings, GPUShaderStage.COMPUTE);
@@ -982,21 +983,32 @@ function setupAo(device, named) {
   if (g) {
     const gtaoLayouts = compute(g.bindings);
     const gbuffer = init(bytes(g.gbuffer), GPUBufferUsage.STORAGE);
-    const output = device.createBuffer({ size: g.width * g.height * 4, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC });
+    const image = () => device.createBuffer({ size: g.width * g.height * 4, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC });
+    const output = image();
+    const denoised = image();
     const gtaoPipeline = pipeline(g.module, gtaoLayouts, 'cs_gtao');
-    // Per configuration, the bind group of its timed frame: its uniform at frame × stride.
+    const denoisePipelines = ['cs_denoise_forward', 'cs_denoise_back'].map((entry) => pipeline(g.module, gtaoLayouts, entry));
+    // Per configuration, the bind groups of its timed frame and of each denoiser pass: their
+    // uniforms at slot × stride (GtaoPass::encode_frames).
     const groups = g.configurations.map((c) => {
       const uniforms = init(bytes(c.uniforms), GPUBufferUsage.UNIFORM);
-      return bindGroup(device, gtaoLayouts, g.bindings, 0, {
-        params: { buffer: uniforms, offset: c.timed_frame * g.stride, size: g.uniform_size }, gbuffer, accessibility: output,
+      const at = (slot) => bindGroup(device, gtaoLayouts, g.bindings, 0, {
+        params: { buffer: uniforms, offset: slot * g.stride, size: g.uniform_size }, gbuffer, accessibility: output, denoised,
       });
+      return { frame: at(c.timed_frame), denoise: Array.from({ length: c.denoise_passes }, (_, j) => at(c.frames + j)) };
     });
     const TILE = 8;
     encodeGtao = (encoder, configuration, timestampWrites) => {
       const pass = encoder.beginComputePass(timestampWrites ? { timestampWrites } : {});
+      const size = [Math.ceil(g.width / TILE), Math.ceil(g.height / TILE)];
       pass.setPipeline(gtaoPipeline);
-      pass.setBindGroup(0, groups[configuration]);
-      pass.dispatchWorkgroups(Math.ceil(g.width / TILE), Math.ceil(g.height / TILE));
+      pass.setBindGroup(0, groups[configuration].frame);
+      pass.dispatchWorkgroups(...size);
+      groups[configuration].denoise.forEach((group, j) => {
+        pass.setPipeline(denoisePipelines[j % 2]);
+        pass.setBindGroup(0, group);
+        pass.dispatchWorkgroups(...size);
+      });
       pass.end();
     };
   }

@@ -1,14 +1,14 @@
 //! The database's YAML read without the YAML parser, when the text keeps to the block
 //! layout the database writes (YAML 1.2, chapter 8): block mappings and sequences, one
 //! `key: value` or `- entry` per line; scalars plain, quoted without escapes, or literal
-//! blocks (`|`, `|-`); comments on lines of their own. The result is the `Value` serde_yaml
+//! blocks (`|`, `|-`); comments on lines of their own. The result is the `Value` serde_norway
 //! builds from the same text, plain scalars resolved as it resolves them (null, booleans,
-//! integers, floats, else text). Any line outside that layout gives `None`, and serde_yaml
+//! integers, floats, else text). Any line outside that layout gives `None`, and serde_norway
 //! reads the text, with its own errors. libyaml spends about 330 instructions a byte of
 //! metadata; the catalog is read at every command's start, the pages' metadata is a third
 //! of the ingest's instructions.
 
-use serde_yaml::{Mapping, Value};
+use serde_norway::{Mapping, Value};
 
 /// The value of `text`, when every line keeps to the block layout; `None` otherwise.
 pub fn block_value(text: &str) -> Option<Value> {
@@ -23,23 +23,23 @@ pub fn block_value(text: &str) -> Option<Value> {
     lines.peek().is_none().then_some(value)
 }
 
-/// A `T` from `text` as serde_yaml's `from_str` gives it: the block layout read directly,
-/// anything else — and a value `T` does not take — by serde_yaml, with its errors. Text
-/// nesting deeper than [`MAX_NESTING`] is an error before serde_yaml sees it.
-pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_yaml::Error> {
-    match block_value(text).and_then(|value| serde_yaml::from_value(value).ok()) {
+/// A `T` from `text` as serde_norway's `from_str` gives it: the block layout read directly,
+/// anything else — and a value `T` does not take — by serde_norway, with its errors. Text
+/// nesting deeper than [`MAX_NESTING`] is an error before serde_norway sees it.
+pub fn from_str<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_norway::Error> {
+    match block_value(text).and_then(|value| serde_norway::from_value(value).ok()) {
         Some(read) => Ok(read),
         None => {
             if let Some(deep) = too_deep(text) {
                 return Err(serde::de::Error::custom(deep.to_string()));
             }
-            serde_yaml::from_str(text)
+            serde_norway::from_str(text)
         }
     }
 }
 
 /// The deepest nesting of collections read from any YAML file (the database nests four
-/// deep, scene files three): libyaml and serde_yaml take time that grows with the square
+/// deep, scene files three): libyaml and serde_norway take time that grows with the square
 /// of the depth (a catalog of 100 000 levels ran for minutes), so deeper text is refused
 /// before they see it.
 pub const MAX_NESTING: usize = 64;
@@ -152,7 +152,7 @@ struct Lines<'a> {
 }
 
 /// The deepest nesting read here (the database nests four deep); deeper text is left to
-/// serde_yaml, whose own limit then reports it, instead of recursing without bound.
+/// serde_norway, whose own limit then reports it, instead of recursing without bound.
 const MAX_DEPTH: usize = 32;
 
 impl<'a> Lines<'a> {
@@ -273,7 +273,7 @@ fn key_of(text: &str) -> Option<(&str, &str)> {
 }
 
 /// One `key: value` of a mapping at `column`, added to `map` (a repeated key is left to
-/// serde_yaml). A key without a value on its line owns the block node below it, more
+/// serde_norway). A key without a value on its line owns the block node below it, more
 /// indented, or is null; `key: |` and `key: |-` own the literal block below.
 fn entry(lines: &mut Lines, column: usize, text: &str, map: &mut Mapping) -> Option<()> {
     let (key, rest) = key_of(text)?;
@@ -296,7 +296,7 @@ fn entry(lines: &mut Lines, column: usize, text: &str, map: &mut Mapping) -> Opt
 /// content, deeper than the key (blank lines among them are empty lines of the text); the
 /// final line feed kept (clip) or not (strip), blank lines after the text dropped either
 /// way. Blank lines holding more spaces than the block's indentation, and a first text line
-/// indented less than a blank line before it, are left to serde_yaml.
+/// indented less than a blank line before it, are left to serde_norway.
 fn literal(lines: &mut Lines, column: usize, clip: bool) -> Option<Value> {
     let mut indent: Option<usize> = None;
     let mut widest_blank = 0;
@@ -337,9 +337,9 @@ fn literal(lines: &mut Lines, column: usize, clip: bool) -> Option<Value> {
 }
 
 /// A scalar alone on the rest of its line: double- or single-quoted without escapes, or
-/// plain, resolved as serde_yaml resolves it (null, a boolean, an integer, a float, else
+/// plain, resolved as serde_norway resolves it (null, a boolean, an integer, a float, else
 /// text); quoted scalars with escapes and plain ones starting with punctuation are left to
-/// serde_yaml.
+/// serde_norway.
 fn scalar(text: &str) -> Option<Value> {
     let text = text.trim_end_matches(' ');
     // Double quotes escape with a backslash, single quotes by doubling the quote.
@@ -365,13 +365,13 @@ fn scalar(text: &str) -> Option<Value> {
         return None;
     }
     number_or_text(text)
-        .or_else(|| serde_yaml::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_))))
+        .or_else(|| serde_norway::from_str::<Value>(text).ok().filter(|value| matches!(value, Value::String(_) | Value::Number(_))))
 }
 
-/// serde_yaml's resolution of a plain scalar that starts as a number does (a digit, or `-`
+/// serde_norway's resolution of a plain scalar that starts as a number does (a digit, or `-`
 /// or `.` before one), for the forms it is sure of: text with a space (no integer or
 /// float has one), digits with a leading zero (text, YAML 1.2), decimal integers, and
-/// decimal floats (Rust's parser, as serde_yaml's); `None` for the rest.
+/// decimal floats (Rust's parser, as serde_norway's); `None` for the rest.
 fn number_or_text(text: &str) -> Option<Value> {
     if text.contains(' ') {
         return Some(Value::String(text.to_string()));
@@ -399,7 +399,7 @@ fn number_or_text(text: &str) -> Option<Value> {
     text.parse::<f64>().ok().filter(|x| x.is_finite()).map(Value::from)
 }
 
-/// The plain scalars serde_yaml reads as null or a boolean, as that value.
+/// The plain scalars serde_norway reads as null or a boolean, as that value.
 fn reserved(text: &str) -> Option<Value> {
     match text {
         "null" | "Null" | "NULL" | "~" => Some(Value::Null),
@@ -414,7 +414,7 @@ mod tests {
     use super::*;
 
     fn parser(text: &str) -> Option<Value> {
-        serde_yaml::from_str(text).ok()
+        serde_norway::from_str(text).ok()
     }
 
     #[test]
@@ -690,9 +690,9 @@ mod tests {
         // Brackets inside a literal block or a comment are text.
         let literal = format!("a: |\n  {}\n# {}\nb: 1\n", "[".repeat(1000), "[".repeat(1000));
         assert_eq!(too_deep(&literal), None);
-        // What serde_yaml refuses as too deep is refused here first.
+        // What serde_norway refuses as too deep is refused here first.
         let deep = format!("{}{}", "[".repeat(200), "]".repeat(200));
-        assert!(serde_yaml::from_str::<Value>(&deep).is_err() && too_deep(&deep).is_some());
+        assert!(serde_norway::from_str::<Value>(&deep).is_err() && too_deep(&deep).is_some());
         let message = from_str::<Value>(&deep).unwrap_err().to_string();
         assert!(message.contains("line 1: the YAML nests 201 levels deep, deeper than the 64 read"), "{message}");
     }

@@ -6,7 +6,7 @@
 //! (`bad-catalog-entry`; every page below a bad shelf or book is rejected). The entries
 //! are the items of the books' content: a shelf or book without content holds none.
 
-use serde_yaml::Value;
+use serde_norway::Value;
 
 use super::error::{DataError, Reason};
 
@@ -149,7 +149,7 @@ fn items(map: &Value) -> &[Value] {
 pub enum CatalogError {
     /// The text is not YAML.
     #[error(transparent)]
-    Yaml(#[from] serde_yaml::Error),
+    Yaml(#[from] serde_norway::Error),
     /// The YAML nests too deep.
     #[error("{0} (nesting-too-deep)")]
     TooDeep(#[from] super::block_yaml::TooDeep),
@@ -197,7 +197,7 @@ impl Catalog {
                 if let Some(deep) = super::block_yaml::too_deep(yaml) {
                     return Err(deep.into());
                 }
-                serde_yaml::from_str(yaml)?
+                serde_norway::from_str(yaml)?
             }
         };
         let shelves = root.as_sequence().ok_or(CatalogError::NotAList)?;

@@ -143,7 +143,7 @@ impl Database {
         #[derive(Deserialize)]
         struct About {
             #[serde(rename = "NAMES", default)]
-            names: Vec<serde_yaml::Value>,
+            names: Vec<serde_norway::Value>,
         }
         let mut buffer = Vec::new();
         let length = self.read_data_file(&book.join("about.yml").to_string_lossy(), MAX_DATA_FILE_BYTES, &mut buffer).ok()?;

@@ -163,11 +163,11 @@ pub struct PageData {
 #[derive(Deserialize)]
 struct RawPage {
     #[serde(rename = "REFERENCES", default)]
-    references: Option<serde_yaml::Value>,
+    references: Option<serde_norway::Value>,
     #[serde(rename = "DATA", default)]
     data: Option<Vec<RawBlock>>,
     #[serde(rename = "PROPERTIES", default)]
-    properties: Option<serde_yaml::Value>,
+    properties: Option<serde_norway::Value>,
 }
 
 #[derive(Deserialize)]
@@ -175,18 +175,18 @@ struct RawBlock {
     #[serde(rename = "type")]
     kind: String,
     #[serde(default)]
-    data: Option<serde_yaml::Value>,
+    data: Option<serde_norway::Value>,
     #[serde(default)]
-    coefficients: Option<serde_yaml::Value>,
+    coefficients: Option<serde_norway::Value>,
     #[serde(default)]
-    wavelength_range: Option<serde_yaml::Value>,
+    wavelength_range: Option<serde_norway::Value>,
 }
 
 /// A YAML scalar as text (numbers and strings alike).
-fn scalar_text(value: &serde_yaml::Value) -> Option<String> {
+fn scalar_text(value: &serde_norway::Value) -> Option<String> {
     match value {
-        serde_yaml::Value::String(s) => Some(s.clone()),
-        serde_yaml::Value::Number(n) => Some(n.to_string()),
+        serde_norway::Value::String(s) => Some(s.clone()),
+        serde_norway::Value::Number(n) => Some(n.to_string()),
         _ => None,
     }
 }
@@ -370,7 +370,7 @@ impl<'a> CutTables<'a> {
     }
 
     /// The table a DATA block's parsed `data` value names, if it is a marker: its number.
-    fn marked(value: &serde_yaml::Value) -> Option<usize> {
+    fn marked(value: &serde_norway::Value) -> Option<usize> {
         value.as_str()?.trim().strip_prefix(TABLE_MARKER)?.parse().ok()
     }
 
@@ -1031,7 +1031,7 @@ struct Unclaimed;
 fn parse_cut(file: &str, original: &str, cut: Option<CutTables>) -> Result<Result<PageData, DataError>, Unclaimed> {
     // The text without its tables has the same keys: the line scans below read it.
     let text = cut.as_ref().map_or(original, |c| c.compact.as_str());
-    let yaml_error = |e: serde_yaml::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
+    let yaml_error = |e: serde_norway::Error| DataError::new(Reason::ParseError, file, e.location().map(|l| l.line()), e.to_string());
     let too_deep = |text: &str| {
         super::block_yaml::too_deep(text).map(|deep| {
             let line = cut.as_ref().map_or(deep.line, |c| c.file_line(deep.line));
@@ -1046,7 +1046,7 @@ fn parse_cut(file: &str, original: &str, cut: Option<CutTables>) -> Result<Resul
                 return Ok(Err(deep));
             }
             match cut {
-                Some(cut) => match serde_yaml::from_str(&cut.blanked()) {
+                Some(cut) => match serde_norway::from_str(&cut.blanked()) {
                     Ok(raw) => raw,
                     Err(e) => return Ok(Err(yaml_error(e))),
                 },
@@ -1080,8 +1080,8 @@ fn page_of_blocks(
     file: &str,
     text: &str,
     cut: &Option<CutTables>,
-    references: Option<serde_yaml::Value>,
-    properties: Option<serde_yaml::Value>,
+    references: Option<serde_norway::Value>,
+    properties: Option<serde_norway::Value>,
     blocks: &[RawBlock],
 ) -> Result<PageData, DataError> {
     let keys = TextKeys::scan(text);
@@ -1171,10 +1171,10 @@ fn page_of_blocks(
 /// A property as the line scan printed it, where the parser read the same number there;
 /// else the parser's number, its decimals those of its shortest form (a scan fooled by
 /// the text's layout never decides a value).
-fn confirmed(scanned: Option<Printed>, parsed: Option<&serde_yaml::Value>) -> Option<Printed> {
+fn confirmed(scanned: Option<Printed>, parsed: Option<&serde_norway::Value>) -> Option<Printed> {
     let value = match parsed? {
-        serde_yaml::Value::Number(number) => number.as_f64(),
-        serde_yaml::Value::String(text) => text.trim().parse().ok(),
+        serde_norway::Value::Number(number) => number.as_f64(),
+        serde_norway::Value::String(text) => text.trim().parse().ok(),
         _ => None,
     }
     .filter(|v: &f64| v.is_finite())?;
@@ -1260,14 +1260,14 @@ mod tests {
         // and the lines after each table are numbered as in the file.
         assert_eq!(cut.compact.lines().count(), text.lines().count() - 3);
         assert_eq!([4, 5, 6, 7, 8, 10].map(|line| cut.file_line(line)), [4, 7, 8, 9, 11, 13]);
-        let raw: RawPage = serde_yaml::from_str(text).unwrap();
+        let raw: RawPage = serde_norway::from_str(text).unwrap();
         let words = |t: &str| t.split_whitespace().map(String::from).collect::<Vec<_>>();
         let blocks = raw.data.unwrap();
         assert_eq!((cut.tables[0].0, cut.tables[1].0), (4, 9));
         assert_eq!(words(cut.tables[0].1), words(&scalar_text(blocks[0].data.as_ref().unwrap()).unwrap()));
         assert_eq!(words(cut.tables[1].1), words(&scalar_text(blocks[1].data.as_ref().unwrap()).unwrap()));
         // The parser reads each table's place as its marker.
-        let compact: RawPage = serde_yaml::from_str(&cut.compact).unwrap();
+        let compact: RawPage = serde_norway::from_str(&cut.compact).unwrap();
         let marked: Vec<Option<usize>> = compact.data.unwrap().iter().map(|b| b.data.as_ref().and_then(CutTables::marked)).collect();
         assert_eq!(marked, [Some(0), Some(1)]);
         assert_eq!(parse_page("crlf.yml", text).unwrap().nd, Some(Printed { value: 1.5, decimals: 1 }));
@@ -1544,8 +1544,8 @@ mod tests {
     /// emptied: a table's block reads as its marker in the compact text and as empty in
     /// the blanked one, where with keep chomping (`|+`) it keeps as many line ends as each
     /// has, which nothing reads.
-    fn line_ends_emptied(value: serde_yaml::Value) -> serde_yaml::Value {
-        use serde_yaml::Value;
+    fn line_ends_emptied(value: serde_norway::Value) -> serde_norway::Value {
+        use serde_norway::Value;
         match value {
             Value::String(s) if s.chars().all(|c| c == '\n') || s.trim().starts_with(TABLE_MARKER) => Value::String(String::new()),
             Value::Sequence(items) => Value::Sequence(items.into_iter().map(line_ends_emptied).collect()),
@@ -1557,8 +1557,8 @@ mod tests {
     /// Whether a marker sits inside a longer string of the parsed value: a "table" the line
     /// scan cut out of another block's text (`data: |` inside a block scalar), which no DATA
     /// block can claim, so [`parse_page`] reads the whole text instead (`Unclaimed`).
-    fn marker_inside_text(value: &serde_yaml::Value) -> bool {
-        use serde_yaml::Value;
+    fn marker_inside_text(value: &serde_norway::Value) -> bool {
+        use serde_norway::Value;
         match value {
             Value::String(s) => s.contains(TABLE_MARKER) && !s.trim().starts_with(TABLE_MARKER),
             Value::Sequence(items) => items.iter().any(marker_inside_text),
@@ -1572,11 +1572,11 @@ mod tests {
     /// (elsewhere the reader does not use the cut: [`marker_inside_text`]).
     fn compact_is_blanked(text: &str) -> Result<(), proptest::test_runner::TestCaseError> {
         if let Some(cut) = CutTables::cut(text) {
-            if serde_yaml::from_str::<serde_yaml::Value>(&cut.compact).is_ok_and(|v| marker_inside_text(&v)) {
+            if serde_norway::from_str::<serde_norway::Value>(&cut.compact).is_ok_and(|v| marker_inside_text(&v)) {
                 return Ok(());
             }
             let blanked = cut.blanked();
-            let value = |t: &str| serde_yaml::from_str::<serde_yaml::Value>(t).ok().map(line_ends_emptied);
+            let value = |t: &str| serde_norway::from_str::<serde_norway::Value>(t).ok().map(line_ends_emptied);
             proptest::prop_assert_eq!(value(&cut.compact), value(&blanked), "{:?}", text);
             let lines: Vec<usize> = TextKeys::scan(&cut.compact).data_lines.iter().map(|&line| cut.file_line(line)).collect();
             proptest::prop_assert_eq!(lines, TextKeys::scan(&blanked).data_lines, "{:?}", text);

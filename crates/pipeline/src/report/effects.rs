@@ -250,7 +250,6 @@ const EFFECTS_STYLE: &str = ".wide{overflow-x:auto;max-width:100%}details{margin
 .hero-grid img{width:auto;max-width:100%;height:auto;display:block}.hero-grid .hero-cell:first-child{grid-column:1/-1}.cell-note{font-size:13px;margin:2px 0}\
 .legends{display:flex;flex-wrap:wrap;gap:8px 24px}.colour-legend{margin:0;max-width:512px}.colour-legend img{max-width:100%;height:auto;display:block}.colour-legend figcaption{font-size:13px}\
 .spectral-panels{display:flex;flex-wrap:wrap;gap:12px}.spectral-panels figure{margin:0;max-width:100%}.spectral-panels img{display:block;max-width:100%;height:auto;image-rendering:pixelated}\
-.scale-axis{display:flex;justify-content:space-between;width:512px;font-size:13px}.scale{max-width:100%;overflow-x:auto}\
 .charts figure{max-width:100%}p.finding{font-size:16px;border-left:4px solid #d55e00;padding-left:8px}.no-chart{font-size:14px;color:#333}";
 
 /// The effects page, or `None` when the output folder holds no effects table.
@@ -1047,10 +1046,16 @@ fn is_gtao(ao: &CsvTable, row: &[String]) -> bool {
 }
 
 /// How a row of `ao_errors.csv` was computed, in words: `tree`, `brute force`, or GTAO
-/// with its radius, slices and steps.
+/// with its preset (where the table names it), radius, slices and steps, and the frames it
+/// accumulates where more than one.
 fn technique_label(ao: &CsvTable, row: &[String]) -> String {
     if is_gtao(ao, row) {
-        format!("GTAO r {}, {}×{}", ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"))
+        let preset = if ao.has("gtao_preset") { format!(" {}", ao.text(row, "gtao_preset")) } else { String::new() };
+        let frames = match ao.number(row, "gtao_frames") {
+            Some(frames) if frames > 1.0 => format!(", {frames} frames"),
+            _ => String::new(),
+        };
+        format!("GTAO{preset} r {}, {}×{}{frames}", ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"))
     } else if ao.text(row, "hierarchy") == "true" {
         "tree".into()
     } else {
@@ -1285,8 +1290,7 @@ pub fn step_text(step: f64) -> String {
 }
 
 /// The legends of a hero frame's error images: per kind (against exact, against the
-/// reference) its colour bar with the values burned in and what chose the scale; the plain
-/// bar of tables without a legend file, with its values under it.
+/// reference) its colour bar with the values burned in and what chose the scale.
 fn hero_legends(html: &mut String, (path, hero): (&str, &CsvTable), rows: &[(usize, &Vec<String>)]) {
     let folder = folder_of(path);
     let Some((_, first)) = rows.iter().find(|(_, r)| !hero.text(r, "error_file").is_empty()) else { return };
@@ -1303,18 +1307,7 @@ fn hero_legends(html: &mut String, (path, hero): (&str, &CsvTable), rows: &[(usi
     }
     let scale = hero.number(first, "error_scale").unwrap_or(f64::NAN);
     let file = hero.text(first, "error_scale_file");
-    let plain = file.is_empty() || file.ends_with("/error_scale.png");
-    if plain {
-        let scale_file =
-            if file.is_empty() { format!("{}/error_scale.png", folder_of(hero.text(first, "file"))) } else { file.to_string() };
-        let ticks: String = (0..=4).map(|i| format!("<span>{}</span>", number(scale * f64::from(i) / 4.0))).collect();
-        let _ = write!(
-            html,
-            "<figure class=\"scale\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" height=\"16\" alt=\"error colour bar\"><div class=\"scale-axis\">{ticks}</div><figcaption>Error images: |Δ| summed over R, G and B of linear radiance (white light = 1 per channel), black at 0 through blue, red and yellow to white at {0} and beyond.</figcaption></figure>",
-            number(scale),
-            from_report(folder, &scale_file),
-        );
-    } else {
+    if !file.is_empty() {
         let _ = write!(
             html,
             "<figure class=\"colour-legend\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" alt=\"colour bar of the errors against the reference, 0 to {0}\"><figcaption>Error against the reference: |Δ| summed over R, G and B of linear radiance, black at 0 through blue, red and yellow to white at {0} ({rule}).</figcaption></figure>",
