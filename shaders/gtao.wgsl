@@ -48,6 +48,7 @@ struct GtaoParams {
     distribution_power: f32,  // 1: samples evenly spaced
     start_pixels: f32,
     thin_occluder: f32,
+    thickness_blend: f32,     // 0: the horizon is the highest sample
     final_power: f32,
     normal_lerp: f32,
     min_radius_pixels: f32,
@@ -56,7 +57,6 @@ struct GtaoParams {
     denoise_last: u32,        // a denoiser dispatch: 1 on the last pass (the result clamped to [0, 1])
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 // A pixel of the G-buffer: view-space point (w: 1 where a surface is, 0 where none) and
@@ -80,6 +80,16 @@ fn slice_visibility(h_minus: f32, h_plus: f32, gamma: f32, projected_length: f32
     let side_minus = -cos(2.0 * h_minus - gamma) + cos_g + 2.0 * h_minus * sin_g;
     let side_plus = -cos(2.0 * h_plus - gamma) + cos_g + 2.0 * h_plus * sin_g;
     return projected_length * 0.25 * (side_minus + side_plus);
+}
+
+// A slice side's horizon cosine after a sample of cosine `sample`: a higher sample raises it
+// to the sample, a lower one pulls it toward the sample by blend² (Unreal's thickness blend;
+// 0: the larger of the two). The twin of `effects::ao::gtao::raised_horizon`.
+fn raised_horizon(horizon: f32, sample: f32, blend: f32) -> f32 {
+    if sample > horizon {
+        return sample;
+    }
+    return horizon - blend * blend * (horizon - sample);
 }
 
 // The position of pixel (x, y) mod GTAO_HILBERT_WIDTH along the Hilbert curve that fills the
@@ -277,9 +287,9 @@ fn frame_visibility(here_index: i32, x: u32, y: u32, offsets: vec2<f32>) -> f32 
                     cos_h = low + weight * (cos_h - low);
                 }
                 if side > 0.0 {
-                    cos_plus = max(cos_plus, cos_h);
+                    cos_plus = raised_horizon(cos_plus, cos_h, params.thickness_blend);
                 } else {
-                    cos_minus = max(cos_minus, cos_h);
+                    cos_minus = raised_horizon(cos_minus, cos_h, params.thickness_blend);
                 }
             }
         }

@@ -752,6 +752,7 @@ effects:
       - {preset: xe-medium, radius: 0.5}
       - {preset: xe-high, radius: 0.5, frames: 16}
       - {preset: xe-ultra, radius: 0.5}
+      - {preset: unreal, radius: 0.5}
 objects:
   - {mesh: cube, material: test/metals/goldish, methods: [schlick], subdivide: 1}
   - {mesh: cube, scale: [2, 0.05, 2], position: [0, -0.55, 0], diffuse: [0.7, 0.7, 0.7], subdivide: 2}
@@ -773,19 +774,19 @@ fn the_page_times_the_surfel_passes_and_every_gtao_preset_as_ao_timing() {
     let plan = web::plan(&scene(AO_SCENE), &materials()).unwrap();
     let ao = plan.ao.as_ref().expect("an AO plan");
     // Hand count: 2 cubes subdivided once and twice: 6 × 9 + 6 × 25 = 204 surfels, under the
-    // brute-force limit: brute force and tree at 1, 2, 3 passes, then the five presets.
+    // brute-force limit: brute force and tree at 1, 2, 3 passes, then the six presets.
     assert_eq!(ao.surfels.count, 204);
     let kinds: Vec<(&str, u32)> = ao.rows.iter().map(|r| (r.kind, r.passes)).collect();
     let mut expected =
         vec![("brute_force", 1), ("brute_force", 2), ("brute_force", 3), ("hierarchy", 1), ("hierarchy", 2), ("hierarchy", 3)];
-    expected.extend([("gtao", 1); 5]);
+    expected.extend([("gtao", 1); 6]);
     assert_eq!(kinds, expected);
     let Some(out) = run_page("web-ao", AO_SCENE, &[]).unwrap() else { return };
     let result = &out["result"];
     assert_eq!(out["problem"], Value::Null, "{out}");
     assert_eq!(result["complete"], true);
     let rows = result["ao_timing"].as_array().unwrap();
-    assert_eq!(rows.len(), 11);
+    assert_eq!(rows.len(), 12);
     for row in rows {
         eprintln!(
             "{} {} passes {}: median {} ms, to convergence {} ms ({})",
@@ -804,7 +805,7 @@ fn the_page_times_the_surfel_passes_and_every_gtao_preset_as_ao_timing() {
         assert_eq!(row["convergence_ms"], Value::Null);
         assert_eq!(row["surfels"].as_u64(), Some(204));
     }
-    for (row, (preset, frames)) in rows[6..].iter().zip(Preset::ALL.iter().zip([1u64, 64, 64, 16, 64])) {
+    for (row, (preset, frames)) in rows[6..].iter().zip(Preset::ALL.iter().zip([1u64, 64, 64, 16, 64, 64])) {
         let [slices, steps] = preset.slices_steps();
         let name = if *preset == Preset::XeHigh { "xe-high (modified)".to_string() } else { preset.name().to_string() };
         assert_eq!(row["emitters"], "gtao");
@@ -822,6 +823,6 @@ fn the_page_times_the_surfel_passes_and_every_gtao_preset_as_ao_timing() {
     let tables = browser_result(result.to_string().as_bytes()).unwrap();
     tables.check_measurements().unwrap();
     let read = tables.ao_timing.expect("ao_timing rows read");
-    assert_eq!(read.rows.len(), 11);
+    assert_eq!(read.rows.len(), 12);
     assert_eq!(read.headers, plan.columns.ao_timing);
 }

@@ -322,13 +322,18 @@ fn gtao_heuristic_columns(table: &mut Table, rows: &[ErrorRow]) {
     table
         .text(
             "gtao_preset",
-            "gtao: the named configuration (bare: Algorithm 1 of Jimenez et al. 2016; xe-low/medium/high/ultra: XeGTAO's quality levels and default heuristics), with (modified) where the scene overrode a heuristic; empty for surfels",
+            "gtao: the named configuration (bare: Algorithm 1 of Jimenez et al. 2016; xe-low/medium/high/ultra: XeGTAO's quality levels and default heuristics; unreal: Unreal's r.GTAO defaults), with (modified) where the scene overrode a heuristic; empty for surfels",
             rows.iter().map(|r| r.technique.gtao().map_or(String::new(), |g| g.preset_label())).collect(),
         )
         .optional_float("gtao_radius_multiplier", "gtao: the search radius is gtao_radius x this (XeGTAO 1.457)", gtao(|g| g.heuristics.radius_multiplier))
         .optional_float("gtao_falloff_range", "gtao: fraction of the search radius over which a sample's weight falls to 0 (0: hard cut; XeGTAO 0.615)", gtao(|g| g.heuristics.falloff_range))
         .optional_float("gtao_distribution_power", "gtao: sample k at ((k + offset)/steps)^power of the screen radius (XeGTAO 2)", gtao(|g| g.heuristics.distribution_power))
         .optional_float("gtao_thin_occluder", "gtao: thin-occluder compensation, depth offsets x (1 + this) for the falloff (XeGTAO default 0)", gtao(|g| g.heuristics.thin_occluder))
+        .optional_float(
+            "gtao_thickness_blend",
+            "gtao: a sample below the horizon pulls it toward itself by this squared (Unreal r.GTAO.ThicknessBlend 0.5; 0: the highest sample)",
+            gtao(|g| g.heuristics.thickness_blend),
+        )
         .optional_float("gtao_final_power", "gtao: accessibility raised to this power (XeGTAO 2.2)", gtao(|g| g.heuristics.final_power))
         .optional_float(
             "gtao_clamp_to_edge",

@@ -384,9 +384,9 @@ fn frame_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T>, o
                     low + weight * (cos_h - low)
                 };
                 if side > T::ZERO {
-                    cos_plus = cos_plus.max(cos_h);
+                    cos_plus = raised_horizon(cos_plus, cos_h, h.thickness_blend);
                 } else {
-                    cos_minus = cos_minus.max(cos_h);
+                    cos_minus = raised_horizon(cos_minus, cos_h, h.thickness_blend);
                 }
             }
         }
@@ -397,6 +397,19 @@ fn frame_visibility<T: Real>(g: &GBuffer<T>, x: u32, y: u32, p: Parameters<T>, o
     }
     let open = (total / T::count(p.slices as usize)).clamp(T::ZERO, T::ONE);
     Some(if h.final_power == T::ONE { open } else { open.power(h.final_power) })
+}
+
+/// A slice side's horizon cosine after a sample of cosine `sample` (the falloff already
+/// applied): a higher sample raises it to the sample; a lower one pulls it toward the sample
+/// by `blend`² (Unreal's thickness heuristic, `r.GTAO.ThicknessBlend`: the horizon c becomes
+/// lerp(sample, c, 1 − b²) = c − b²(c − sample)). With `blend` 0 it is the larger of the two,
+/// Algorithm 1's horizon. The twin of `raised_horizon` in `shaders/gtao.wgsl`.
+pub fn raised_horizon<T: Real>(horizon: T, sample: T, blend: T) -> T {
+    if sample > horizon {
+        sample
+    } else {
+        horizon - blend * blend * (horizon - sample)
+    }
 }
 
 /// Every pixel's GTAO accessibility (row-major; `None` where no surface is): each pixel's
@@ -726,6 +739,51 @@ mod tests {
             assert!((got - expected).abs() < 0.006, "c {c}: {got} against {expected}");
         }
         assert_eq!(closed(0.7), 1.0);
+    }
+
+    /// Unreal's thickness blend b pulls the horizon toward a lower sample by b². By hand,
+    /// after samples of cosine 0.8, 0.2, 0.2: b = 0.5 gives 0.8, 0.8 − ¼ · 0.6 = 0.65,
+    /// 0.65 − ¼ · 0.45 = 0.5375; b = 1 the last sample, 0.2; b = 0 the highest, 0.8; and a
+    /// higher sample always takes over.
+    #[test]
+    fn thickness_blend_pulls_the_horizon_toward_lower_samples() {
+        let after = |blend: f64| [0.8, 0.2, 0.2].into_iter().fold(-1.0, |c, s| raised_horizon(c, s, blend));
+        assert_eq!(after(0.5), 0.5375);
+        assert_eq!(after(1.0), 0.2);
+        assert_eq!(after(0.0), 0.8);
+        assert_eq!(raised_horizon(0.3f32, 0.9, 0.5), 0.9);
+        assert_eq!(raised_horizon(0.3f64, 0.9, 1.0), 0.9);
+    }
+
+    /// A square patch (0.2 ≤ x ≤ 0.5, |y| ≤ 0.15) 0.6 in front of a wall facing the eye, seen
+    /// from the wall's pixel straight ahead (n = v), hard cut R = 1, 16 steps (sample k at
+    /// (k + 1)/16 of the radius). The patch lies within R of the pixel (its far corner
+    /// √(0.5² + 0.15² + 0.6²) = 0.79 away), so with b = 0 it darkens the slices that cross
+    /// it. A ray to a wall sample ρ out crosses the patch's plane 0.8ρ from the axis, beyond
+    /// the patch (0.52 at most) once ρ > 0.65: the samples from 11/16 on lie on the open wall,
+    /// horizon cosine 0, the outermost counted one (15/16) among them. With b = 1 the horizon
+    /// is that last sample, so every slice is open and A = 1; in between, the patch's horizon
+    /// decays by (1 − b²) per wall sample after it (five of them: × 0.72 at b = ¼, × 0.24 at
+    /// b = ½), and A rises with b.
+    #[test]
+    fn thickness_blend_forgets_a_patch_the_outer_samples_pass() {
+        let (big_r, h) = (1.0f64, 0.6f64);
+        let camera = Pinhole::new(DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO, 201);
+        let g = camera.gbuffer(|o, d| {
+            let wall = (-o.z / d.z, DVec3::Z);
+            let t = (h - o.z) / d.z;
+            let p = o + t * d;
+            let patch = (p.x >= 0.2 && p.x <= 0.5 && p.y.abs() <= 0.15).then_some((t, DVec3::Z));
+            let (t, n) = patch.unwrap_or(wall);
+            (t > 0.0).then(|| (o + t * d, n))
+        });
+        let (x, y) = camera.centre();
+        let at = |b: f64| pixel_visibility(&g, x, y, with(|k| k.thickness_blend = b, big_r, 64, 16)).unwrap();
+        let values: Vec<f64> = [0.0, 0.25, 0.5, 1.0].into_iter().map(at).collect();
+        eprintln!("thickness blend 0, ¼, ½, 1: {values:?}");
+        assert!(values[0] < 0.99, "the patch counts without the blend: {}", values[0]);
+        assert!(values.windows(2).all(|w| w[1] > w[0]), "{values:?}");
+        assert!((values[3] - 1.0).abs() < 1e-9, "{}", values[3]);
     }
 
     /// The final power raises the accessibility: the wall's closed form A becomes A^p,

@@ -25,6 +25,13 @@ pub struct Heuristics<T> {
     /// (1 + this): occluders far in front of or behind the pixel fall off sooner (XeGTAO
     /// `ThinOccluderCompensation`, default 0, range 0–0.7).
     pub thin_occluder: T,
+    /// A sample below the slice side's horizon so far pulls the horizon down toward it by
+    /// this squared (the horizon cosine c becomes c − b²(c − sample)): an occluder seen
+    /// before open ground behind it counts as a thin one, not a wall to infinity. 0: the
+    /// horizon is the highest sample (Algorithm 1). Unreal's `r.GTAO.ThicknessBlend`
+    /// (default 0.5, uploaded as the lerp factor 1 − b²; "bigger values lead to reduced
+    /// occlusion").
+    pub thickness_blend: T,
     /// The accessibility is raised to this power (XeGTAO `FinalValuePower`, 2.2).
     pub final_power: T,
     /// The projected normal's length is lerped toward 1 by this before weighting a slice
@@ -65,6 +72,7 @@ impl Heuristics<f64> {
         distribution_power: 1.0,
         start_pixels: 0.0,
         thin_occluder: 0.0,
+        thickness_blend: 0.0,
         final_power: 1.0,
         normal_lerp: 0.0,
         min_radius_pixels: 0.0,
@@ -88,10 +96,38 @@ impl Heuristics<f64> {
         distribution_power: 2.0,
         start_pixels: 1.3,
         thin_occluder: 0.0,
+        thickness_blend: 0.0,
         final_power: 2.2,
         normal_lerp: 0.05,
         min_radius_pixels: 0.0,
         max_radius_pixels: f64::INFINITY,
+        noise: true,
+        frames: 64,
+        clamp_to_edge: true,
+        denoise_passes: 1,
+        denoise_beta: 1.2,
+    };
+
+    /// Unreal Engine's GTAO where its `r.GTAO.*` defaults differ from XeGTAO's: the search
+    /// radius as given (no multiplier), the falloff over the outer half of it
+    /// (`r.GTAO.FalloffStartRatio` 0.5), samples evenly spaced from one pixel out (its
+    /// taps lie at max(step × (i + offset), i + 1) px), the thickness blend 0.5
+    /// (`r.GTAO.ThicknessBlend`), no final power and no |n_φ| lerp, the screen radius
+    /// clamped to 256 px (`GTAO_MAX_PIXEL_SCREEN_RADIUS`). Unreal's own per-pixel noise
+    /// (interleaved gradient noise turned each frame) and 5 × 5 spatial filter are not
+    /// reproduced: XeGTAO's noise, 64 frames and one pass of its denoiser stand in, so
+    /// the preset measures Unreal's horizon search, not its filters.
+    pub const UNREAL: Heuristics<f64> = Heuristics {
+        radius_multiplier: 1.0,
+        falloff_range: 0.5,
+        distribution_power: 1.0,
+        start_pixels: 1.0,
+        thin_occluder: 0.0,
+        thickness_blend: 0.5,
+        final_power: 1.0,
+        normal_lerp: 0.0,
+        min_radius_pixels: 0.0,
+        max_radius_pixels: 256.0,
         noise: true,
         frames: 64,
         clamp_to_edge: true,
@@ -106,6 +142,7 @@ impl Heuristics<f64> {
             distribution_power: self.distribution_power as f32,
             start_pixels: self.start_pixels as f32,
             thin_occluder: self.thin_occluder as f32,
+            thickness_blend: self.thickness_blend as f32,
             final_power: self.final_power as f32,
             normal_lerp: self.normal_lerp as f32,
             min_radius_pixels: self.min_radius_pixels as f32,
@@ -124,9 +161,11 @@ impl Heuristics<f64> {
     }
 }
 
-/// A named GTAO configuration: Algorithm 1 as the paper gives it, or XeGTAO's quality levels
+/// A named GTAO configuration: Algorithm 1 as the paper gives it, XeGTAO's quality levels
 /// (`vaGTAO.hlsl`: Low 1 slice × 2 steps, Medium 2 × 2, High 3 × 3, Ultra 9 × 3 per side) with
-/// its default heuristics ([`Heuristics::XE`]). A scene names one and may override any number.
+/// its default heuristics ([`Heuristics::XE`]), or Unreal's defaults ([`Heuristics::UNREAL`]:
+/// `r.GTAO.NumAngles` 2 slices, 8 taps per side, the middle of the 4, 6, 8, 12, 20 of its
+/// shader quality levels). A scene names one and may override any number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Preset {
     Bare,
@@ -134,10 +173,11 @@ pub enum Preset {
     XeMedium,
     XeHigh,
     XeUltra,
+    Unreal,
 }
 
 impl Preset {
-    pub const ALL: [Preset; 5] = [Preset::Bare, Preset::XeLow, Preset::XeMedium, Preset::XeHigh, Preset::XeUltra];
+    pub const ALL: [Preset; 6] = [Preset::Bare, Preset::XeLow, Preset::XeMedium, Preset::XeHigh, Preset::XeUltra, Preset::Unreal];
 
     /// The name scenes and tables use.
     pub fn name(self) -> &'static str {
@@ -147,6 +187,7 @@ impl Preset {
             Preset::XeMedium => "xe-medium",
             Preset::XeHigh => "xe-high",
             Preset::XeUltra => "xe-ultra",
+            Preset::Unreal => "unreal",
         }
     }
 
@@ -162,13 +203,15 @@ impl Preset {
             Preset::XeMedium => [2, 2],
             Preset::XeHigh => [3, 3],
             Preset::XeUltra => [9, 3],
+            Preset::Unreal => [2, 8],
         }
     }
 
     pub fn heuristics(self) -> Heuristics<f64> {
         match self {
             Preset::Bare => Heuristics::BARE,
-            _ => Heuristics::XE,
+            Preset::XeLow | Preset::XeMedium | Preset::XeHigh | Preset::XeUltra => Heuristics::XE,
+            Preset::Unreal => Heuristics::UNREAL,
         }
     }
 }

@@ -9,7 +9,7 @@
 //! light). Pure data and checks.
 //!
 //! GTAO names a preset (`crate::scene::gtao::Preset`: `bare`, Algorithm 1, the default; or
-//! XeGTAO's `xe-low`, `xe-medium`, `xe-high`, `xe-ultra`) and may override its slices,
+//! XeGTAO's `xe-low`, `xe-medium`, `xe-high`, `xe-ultra`; or `unreal`) and may override its slices,
 //! steps, frames, noise and any heuristic (`crate::scene::gtao::Heuristics`), each checked
 //! against its range with a named error; `gtao` may be one block or a list of blocks, each
 //! with its radii (every block × radius is one configuration, repeats dropped).
@@ -99,6 +99,8 @@ pub(crate) struct RawGtao {
     start_pixels: Option<f64>,
     #[serde(default)]
     thin_occluder: Option<f64>,
+    #[serde(default)]
+    thickness_blend: Option<f64>,
     #[serde(default)]
     final_power: Option<f64>,
     #[serde(default)]
@@ -288,6 +290,7 @@ impl RawGtao {
             ("distribution_power", self.distribution_power, &mut h.distribution_power, GTAO_RANGES.distribution_power),
             ("start_pixels", self.start_pixels, &mut h.start_pixels, GTAO_RANGES.start_pixels),
             ("thin_occluder", self.thin_occluder, &mut h.thin_occluder, GTAO_RANGES.thin_occluder),
+            ("thickness_blend", self.thickness_blend, &mut h.thickness_blend, GTAO_RANGES.thickness_blend),
             ("final_power", self.final_power, &mut h.final_power, GTAO_RANGES.final_power),
             ("normal_lerp", self.normal_lerp, &mut h.normal_lerp, GTAO_RANGES.normal_lerp),
             ("min_radius_pixels", self.min_radius_pixels, &mut h.min_radius_pixels, GTAO_RANGES.radius_pixels),
@@ -314,7 +317,8 @@ impl RawGtao {
 /// The ranges a scene's GTAO heuristics must lie in, [low, high]: XeGTAO's own UI ranges
 /// (`XeGTAO.h`, `GTAOImGuiSettings`) where it gives them — radius multiplier 0.3–3, falloff
 /// range 0–1, sample distribution power 1–3, thin-occluder compensation 0–0.7, final power
-/// 0.5–5 — and for the rest: a start offset up to 16 px, the |n_φ| lerp 0–1, screen radii
+/// 0.5–5 — Unreal's thickness blend 0–1 (its lerp factor 1 − b² stays in [0, 1]) — and for
+/// the rest: a start offset up to 16 px, the |n_φ| lerp 0–1, screen radii
 /// up to 4096 px, the denoiser's beta 0.01–10⁴ (XeGTAO sets 10⁴ to turn it off).
 pub struct GtaoRanges {
     pub radius_multiplier: [f64; 2],
@@ -322,6 +326,7 @@ pub struct GtaoRanges {
     pub distribution_power: [f64; 2],
     pub start_pixels: [f64; 2],
     pub thin_occluder: [f64; 2],
+    pub thickness_blend: [f64; 2],
     pub final_power: [f64; 2],
     pub normal_lerp: [f64; 2],
     pub radius_pixels: [f64; 2],
@@ -334,6 +339,7 @@ pub const GTAO_RANGES: GtaoRanges = GtaoRanges {
     distribution_power: [1.0, 3.0],
     start_pixels: [0.0, 16.0],
     thin_occluder: [0.0, 0.7],
+    thickness_blend: [0.0, 1.0],
     final_power: [0.5, 5.0],
     normal_lerp: [0.0, 1.0],
     radius_pixels: [0.0, 4096.0],
@@ -535,7 +541,7 @@ mod tests {
         for preset in crate::scene::gtao::Preset::ALL {
             assert!(gtao.iter().any(|g| g.preset == preset), "{preset:?}");
         }
-        assert_eq!(gtao.len(), 9);
+        assert_eq!(gtao.len(), 10);
     }
 
     #[test]
@@ -548,7 +554,7 @@ mod tests {
             value: Value::Integer(value),
             range: Range::Integers { low, high },
         };
-        let known = vec!["bare", "xe-low", "xe-medium", "xe-high", "xe-ultra"];
+        let known = vec!["bare", "xe-low", "xe-medium", "xe-high", "xe-ultra", "unreal"];
         for (gtao, field, expected) in [
             (
                 "{ preset: xe-extreme }",
@@ -557,6 +563,7 @@ mod tests {
             ),
             ("{ preset: xe-high, falloff_range: 1.5 }", "effects.ambient_occlusion.gtao.falloff_range", closed(1.5, 0.0, 1.0)),
             ("{ thin_occluder: -0.1 }", "effects.ambient_occlusion.gtao.thin_occluder", closed(-0.1, 0.0, 0.7)),
+            ("{ preset: unreal, thickness_blend: 1.5 }", "effects.ambient_occlusion.gtao.thickness_blend", closed(1.5, 0.0, 1.0)),
             ("{ final_power: 9 }", "effects.ambient_occlusion.gtao.final_power", closed(9.0, 0.5, 5.0)),
             ("{ distribution_power: 0.5 }", "effects.ambient_occlusion.gtao.distribution_power", closed(0.5, 1.0, 3.0)),
             ("{ radius_multiplier: 10 }", "effects.ambient_occlusion.gtao.radius_multiplier", closed(10.0, 0.3, 3.0)),
@@ -596,7 +603,7 @@ mod tests {
         }
         let message = parse("{ ambient_occlusion: { gtao: { preset: xe-extreme } } }").unwrap_err();
         assert!(
-            message.ends_with("t.yaml: effects.ambient_occlusion.gtao.preset: unknown GTAO preset \"xe-extreme\"; known: bare, xe-low, xe-medium, xe-high, xe-ultra"),
+            message.ends_with("t.yaml: effects.ambient_occlusion.gtao.preset: unknown GTAO preset \"xe-extreme\"; known: bare, xe-low, xe-medium, xe-high, xe-ultra, unreal"),
             "{message}"
         );
         // A block's own unknown field is named.

@@ -51,6 +51,7 @@ struct GtaoParams {
     distribution_power: f32,
     start_pixels: f32,
     thin_occluder: f32,
+    thickness_blend: f32,
     final_power: f32,
     normal_lerp: f32,
     min_radius_pixels: f32,
@@ -59,7 +60,6 @@ struct GtaoParams {
     denoise_last: u32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 impl GtaoParams {
@@ -84,6 +84,7 @@ impl GtaoParams {
             distribution_power: h.distribution_power,
             start_pixels: h.start_pixels,
             thin_occluder: h.thin_occluder,
+            thickness_blend: h.thickness_blend,
             final_power: h.final_power,
             normal_lerp: h.normal_lerp,
             min_radius_pixels: h.min_radius_pixels,
@@ -92,7 +93,6 @@ impl GtaoParams {
             denoise_last: 0,
             pad0: 0,
             pad1: 0,
-            pad2: 0,
         }
     }
 
@@ -126,6 +126,7 @@ fn check_parameters(p: &Parameters<f32>, focal: f32) -> Result<()> {
         ("distribution_power", h.distribution_power),
         ("start_pixels", h.start_pixels),
         ("thin_occluder", h.thin_occluder),
+        ("thickness_blend", h.thickness_blend),
         ("final_power", h.final_power),
         ("normal_lerp", h.normal_lerp),
         ("min_radius_pixels", h.min_radius_pixels),
@@ -387,8 +388,8 @@ pub fn shared_structs() -> Vec<crate::layout::SharedStruct> {
     vec![
         shared_struct!(GtaoParams as "GtaoParams" {
             width, height, slices, steps, frame, frames, noise, clamp_to_edge, focal, radius, radius_multiplier, falloff_range,
-            distribution_power, start_pixels, thin_occluder, final_power, normal_lerp, min_radius_pixels, max_radius_pixels,
-            denoise_centre, denoise_last, pad0, pad1, pad2,
+            distribution_power, start_pixels, thin_occluder, thickness_blend, final_power, normal_lerp, min_radius_pixels,
+            max_radius_pixels, denoise_centre, denoise_last, pad0, pad1,
         }),
         shared_struct!(GSample as "GSample" { position, normal }),
     ]

@@ -234,11 +234,11 @@ mod tests {
                 assert_eq!([word(&bytes, 256 * k), word(&bytes, 256 * k + 4)], [16, 12]);
                 assert_eq!([word(&bytes, 256 * k + 16), word(&bytes, 256 * k + 20), word(&bytes, 256 * k + 24)], [k as u32, frames, noise]);
             }
-            // XeGTAO's one denoiser pass: the last, its centre weighing beta 1.2 (byte 76),
-            // the last-pass flag (byte 80) set.
+            // XeGTAO's one denoiser pass: the last, its centre weighing beta 1.2 (byte 80),
+            // the last-pass flag (byte 84) set.
             for j in 0..denoise as usize {
                 let at = 256 * (frames as usize + j);
-                assert_eq!((f32::from_bits(word(&bytes, at + 76)), word(&bytes, at + 80)), (1.2, 1));
+                assert_eq!((f32::from_bits(word(&bytes, at + 80)), word(&bytes, at + 84)), (1.2, 1));
             }
             assert_eq!((configuration.frames, configuration.denoise_passes), (frames, denoise));
             assert_eq!(configuration.timed_frame, if frames > 1 { 1 } else { 0 });

@@ -9,7 +9,9 @@
 //!   otherwise) with its Pareto front labelled; the geometry error against the search's
 //!   step counts;
 //! - ambient occlusion (`ao_errors.csv`): the error against passes per technique and
-//!   against CPU time, with the rows' statistics; the signed error's histograms
+//!   against CPU time, with the rows' statistics; both techniques and every GTAO preset
+//!   against the GPU time of each device that timed them (`super::ao_cost`); the signed
+//!   error's histograms
 //!   (`ao_histogram.csv`, `super::ao_histogram`);
 //!
 //! then the hero frame (`effects_hero.csv`): the reference, each method and its error
@@ -57,7 +59,7 @@ const TABLES: [(&str, &str); 8] = [
         "spectral_errors.csv",
         "three-channel against spectral reference per object, index source and depth (`nklut effects` on a scene with `effects.spectral`)",
     ),
-    ("ao_timing.csv", "ambient-occlusion GPU time against surfel count (`make gpu`)"),
+    ("ao_timing.csv", "ambient-occlusion GPU time per surfel configuration and GTAO preset (`make gpu`)"),
     ("ao_histogram.csv", "ambient-occlusion signed error per bin, object, technique and passes (`make effects`)"),
 ];
 
@@ -320,6 +322,7 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables, bound:
     }
     if let Some(ao) = scene.table("ao_errors.csv", false) {
         ao_section(html, ao)?;
+        super::ao_cost::section(html, &scene.name, ao, scene.table("ao_timing.csv", true), &inputs.devices)?;
     }
     if let Some(histogram) = scene.table("ao_histogram.csv", false) {
         super::ao_histogram::section(html, histogram)?;

@@ -7,6 +7,7 @@
 //! channel wavelengths are those `materials.csv` records, so a reader can trace each
 //! figure to its CSV. Curves are recomputed from those indices and the page's data.
 
+pub mod ao_cost;
 pub mod ao_histogram;
 pub mod charts;
 pub mod context;
