@@ -139,7 +139,7 @@ web: db
 # ray-traced reference → ao_errors.csv, ao_frames/). The AO scenes run with small
 # reference ray counts (AO_RAYS per vertex, σ ≤ 1/32 per vertex) to keep the target short;
 # raise AO_RAYS for figures.
-EFFECTS_SCENES ?= teapot-in-a-box glass-sphere gold-in-gold prism coloured-glass ao-bunny ao-sculpture ao-colour-bleeding
+EFFECTS_SCENES ?= teapot-in-a-box glass-sphere gold-in-gold prism coloured-glass ao-bunny ao-sculpture ao-colour-bleeding ao-bunny-gtao
 AO_RAYS ?= 256
 effects: db build
 	for scene in $(EFFECTS_SCENES); do \

@@ -1776,3 +1776,77 @@ fn the_3d_shelf_report_is_well_made_self_contained_and_reads_on_a_phone() {
     }
     assert!(problems.is_empty(), "{} problems:\n{}", problems.len(), problems.join("\n"));
 }
+
+/// A device's `ao_timing` rows of the AO scene give one error-against-GPU-time chart with
+/// both techniques on it: the surfels (brute force and tree, 1–3 passes: each its own
+/// point) and the scene's GTAO configuration, timed at two frame sizes (the smaller
+/// counts) — a row of another scene and a GTAO row of other steps count nowhere. Each
+/// point's x is its timing row's median, its y the pixel-weighted per-pixel error of its
+/// rows of `ao_errors.csv`, recomputed here; the table beside it gives GTAO's time to
+/// convergence.
+#[test]
+fn ao_error_against_gpu_time_has_both_techniques_per_device() {
+    let out = effects_report("ao-cost");
+    let ao = CsvTable::load(&out.join("ao/ao_errors.csv")).unwrap().unwrap();
+    let folder = out.join("devices").join("test-ao");
+    fs::create_dir_all(&folder).unwrap();
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("benchmarks/devices/lavapipe-llvmpipe-llvm-15.0.6-vulkan/gpu_timing.csv");
+    fs::copy(committed, folder.join("gpu_timing.csv")).unwrap();
+    let mut csv = String::from("adapter,driver,mesh,surfels,emitters,tree_nodes,passes,dispatches,width,height,covered_pixels,slices,steps,preset,radius,frames,timer,repeats,median_ms,spread_ms,convergence_ms,fitted_exponent\n");
+    let mut expected: Vec<(String, f64)> = Vec::new();
+    for (i, (emitters, passes)) in [("brute_force", 1), ("brute_force", 2), ("brute_force", 3), ("hierarchy", 1), ("hierarchy", 2), ("hierarchy", 3)].into_iter().enumerate() {
+        let ms = 10.0 * (i + 1) as f64;
+        csv.push_str(&format!("test,t,ao,0,{emitters},0,{passes},1,0,0,0,0,0,,,0,timestamp,3,{ms},0.1,,\n"));
+        expected.push((format!("{emitters} {passes}"), ms));
+    }
+    csv.push_str("test,t,ao,0,gtao,0,1,1,256,256,900,2,4,bare,0.5,1,timestamp,3,3.5,0.1,3.5,\n");
+    csv.push_str("test,t,ao,0,gtao,0,1,1,1024,1024,9000,2,4,bare,0.5,1,timestamp,3,50,0.1,50,\n");
+    csv.push_str("test,t,ao,0,gtao,0,1,1,256,256,900,2,5,bare,0.5,1,timestamp,3,4,0.1,4,\n");
+    csv.push_str("test,t,other,0,gtao,0,1,1,64,64,900,2,4,bare,0.5,1,timestamp,3,0.5,0.1,0.5,\n");
+    expected.push(("gtao".into(), 3.5));
+    fs::write(folder.join("ao_timing.csv"), csv).unwrap();
+    let output = nklut(&out, &["report"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let html = fs::read_to_string(out.join("report/effects.html")).unwrap();
+    check_well_formed(&html);
+    let section = &html[html.find("<h4>Error against GPU time on test ao</h4>").expect("the device's AO chart")..];
+    let section = &section[..section.find("</table>").unwrap()];
+    let chart_marks = marks(section);
+    assert_eq!(chart_marks.len(), expected.len(), "a point per timed configuration");
+    let timing = CsvTable::load(&folder.join("ao_timing.csv")).unwrap().unwrap();
+    for mark in &chart_marks {
+        let x = mark.axis("x").unwrap();
+        assert_eq!((x.table.as_str(), x.column.as_str()), ("devices/test-ao/ao_timing.csv", "median_ms"));
+        assert_eq!(x.rows.len(), 1, "{}", mark.label);
+        let row = &timing.rows[x.rows[0]];
+        let key = if timing.text(row, "emitters") == "gtao" {
+            "gtao".to_string()
+        } else {
+            format!("{} {}", timing.text(row, "emitters"), timing.text(row, "passes"))
+        };
+        let ms = expected.iter().find(|(k, _)| *k == key).unwrap_or_else(|| panic!("{key} is not a configuration")).1;
+        assert_eq!(x.value, ms, "{}", mark.label);
+        let y = mark.axis("y").unwrap();
+        assert_eq!((y.table.as_str(), y.column.as_str()), ("ao/ao_errors.csv", "pixel_mean_error"));
+        let rows: Vec<usize> = (0..ao.rows.len())
+            .filter(|&r| {
+                let row = &ao.rows[r];
+                if key == "gtao" {
+                    ao.text(row, "technique") == "gtao"
+                } else {
+                    let emitters = if ao.text(row, "hierarchy") == "true" { "hierarchy" } else { "brute_force" };
+                    ao.text(row, "technique") != "gtao" && format!("{emitters} {}", ao.text(row, "passes")) == key
+                }
+            })
+            .collect();
+        assert_eq!(y.rows, rows, "{}", mark.label);
+        let weight: f64 = rows.iter().map(|&r| ao.number(&ao.rows[r], "pixels").unwrap()).sum();
+        let mean = rows.iter().map(|&r| ao.number(&ao.rows[r], "pixel_mean_error").unwrap() * ao.number(&ao.rows[r], "pixels").unwrap()).sum::<f64>() / weight;
+        assert!((y.value - mean).abs() <= 1e-12 * mean.abs().max(1e-12), "{}: {} against {mean}", mark.label, y.value);
+    }
+    // Two techniques, two colours; GTAO's row in the table with its frame and convergence.
+    let fills: std::collections::BTreeSet<&str> =
+        section.split("class=\"marker\"").skip(1).map(|m| m.split("fill=\"").nth(1).unwrap().split('"').next().unwrap()).collect();
+    assert_eq!(fills.len(), 2, "{fills:?}");
+    assert!(section.contains("<td>GTAO bare r 0.5, 2×4</td><td>256×256</td><td>3.50</td><td>3.50</td>"), "{section}");
+}

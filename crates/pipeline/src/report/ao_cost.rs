@@ -7,7 +7,7 @@
 //! front joined; and a table with the time to convergence and the error against the
 //! range-limited reference beside it. A configuration is matched by what both tables name:
 //! the surfels' emitters and passes, GTAO's preset (as labelled, "(modified)" included),
-//! radius and frames; a timing row counts only for the scene it was measured on (its
+//! radius, slices, steps and frames; a timing row counts only for the scene it was measured on (its
 //! `mesh` cell is the scene's name).
 
 use std::collections::BTreeMap;
@@ -27,8 +27,8 @@ enum Configuration {
     /// Surfel AO: `hierarchy` or `brute_force`, and its passes.
     Surfels { emitters: String, passes: u64 },
     /// GTAO: the preset as labelled (with "(modified)" where the scene overrode a
-    /// heuristic), the radius and the frames accumulated.
-    Gtao { preset: String, radius: f64, frames: u64 },
+    /// heuristic), the radius, slices × steps and the frames accumulated.
+    Gtao { preset: String, radius: f64, slices: u64, steps: u64, frames: u64 },
 }
 
 impl Configuration {
@@ -41,6 +41,8 @@ impl Configuration {
             (!preset.is_empty()).then(|| Configuration::Gtao {
                 preset: preset.to_string(),
                 radius: ao.number(row, "gtao_radius").unwrap_or(f64::NAN),
+                slices: ao.number(row, "gtao_slices").unwrap_or(0.0) as u64,
+                steps: ao.number(row, "gtao_steps").unwrap_or(0.0) as u64,
                 frames: frames as u64,
             })
         } else {
@@ -57,6 +59,8 @@ impl Configuration {
             (!preset.is_empty()).then(|| Configuration::Gtao {
                 preset: preset.to_string(),
                 radius: timing.number(row, "radius").unwrap_or(f64::NAN),
+                slices: timing.number(row, "slices").unwrap_or(0.0) as u64,
+                steps: timing.number(row, "steps").unwrap_or(0.0) as u64,
                 frames: timing.number(row, "frames").unwrap_or(1.0) as u64,
             })
         } else {
@@ -67,23 +71,25 @@ impl Configuration {
     /// Whether two rows name the same configuration (radii equal to 1e-9 relative).
     fn same(&self, other: &Configuration) -> bool {
         match (self, other) {
-            (Configuration::Gtao { preset: p, radius: r, frames: f }, Configuration::Gtao { preset: q, radius: s, frames: g }) => {
-                p == q && f == g && (r - s).abs() <= 1e-9 * r.abs().max(s.abs())
-            }
+            (
+                Configuration::Gtao { preset: p, radius: r, slices: a, steps: b, frames: f },
+                Configuration::Gtao { preset: q, radius: s, slices: c, steps: d, frames: g },
+            ) => p == q && (a, b, f) == (c, d, g) && (r - s).abs() <= 1e-9 * r.abs().max(s.abs()),
             _ => self == other,
         }
     }
 
-    /// The configuration in words: "surfels, tree, 2 passes", "xe-high r 2, 64 frames".
+    /// The configuration in words: "surfels, tree, 2 passes", "GTAO xe-high r 2, 3×3, 64
+    /// frames".
     fn label(&self) -> String {
         match self {
             Configuration::Surfels { emitters, passes } => {
                 let tree = if emitters == "hierarchy" { "tree" } else { "brute force" };
                 format!("surfels, {tree}, {passes} pass{}", if *passes == 1 { "" } else { "es" })
             }
-            Configuration::Gtao { preset, radius, frames } => {
+            Configuration::Gtao { preset, radius, slices, steps, frames } => {
                 let frames = if *frames > 1 { format!(", {frames} frames") } else { String::new() };
-                format!("GTAO {preset} r {radius}{frames}")
+                format!("GTAO {preset} r {radius}, {slices}×{steps}{frames}")
             }
         }
     }
@@ -299,29 +305,30 @@ mod tests {
         CsvTable::parse(text.as_bytes()).unwrap()
     }
 
-    /// Hand-made tables: the surfel tree at 1 and 2 passes and two GTAO presets, one timed
-    /// at two frame sizes, one on another scene. Each configuration takes its own rows; the
-    /// GTAO preset its smallest frame's; the other scene's row and the untimed surfel pass
-    /// count nowhere; the error is the pixel-weighted mean over the objects
+    /// Hand-made tables: the surfel tree at 1 and 2 passes and GTAO presets, one timed at two
+    /// frame sizes, one on another scene, one (3 × 4 steps) not timed. Each configuration
+    /// takes its own rows; the GTAO preset its smallest frame's; the other scene's row, the
+    /// untimed steps and the untimed surfel pass count nowhere; the error is the pixel-weighted mean over the objects
     /// ((0.1·100 + 0.3·300)/400 = 0.25).
     #[test]
     fn configurations_meet_their_timings_on_their_own_scene() {
         let ao = table(
-            "mesh,technique,hierarchy,passes,gtao_preset,gtao_radius,gtao_frames,pixels,pixel_mean_error,pixel_mean_error_within_radius\n\
-             bunny,surfels,true,1,,,,100,0.1,\n\
-             ground,surfels,true,1,,,,300,0.3,\n\
-             bunny,surfels,true,2,,,,100,0.05,\n\
-             bunny,surfels,true,3,,,,100,0.04,\n\
-             bunny,gtao,,,xe-high,2,64,100,0.06,0.01\n\
-             bunny,gtao,,,unreal,2,64,100,0.08,0.02\n",
+            "mesh,technique,hierarchy,passes,gtao_preset,gtao_radius,gtao_slices,gtao_steps,gtao_frames,pixels,pixel_mean_error,pixel_mean_error_within_radius\n\
+             bunny,surfels,true,1,,,,,,100,0.1,\n\
+             ground,surfels,true,1,,,,,,300,0.3,\n\
+             bunny,surfels,true,2,,,,,,100,0.05,\n\
+             bunny,surfels,true,3,,,,,,100,0.04,\n\
+             bunny,gtao,,,xe-high,2,3,3,64,100,0.06,0.01\n\
+             bunny,gtao,,,xe-high,2,3,4,64,100,0.07,0.01\n\
+             bunny,gtao,,,unreal,2,2,8,64,100,0.08,0.02\n",
         );
         let timing = table(
-            "mesh,emitters,passes,width,height,preset,radius,frames,median_ms,convergence_ms\n\
-             scene,hierarchy,1,0,0,,,0,700,\n\
-             scene,hierarchy,2,0,0,,,0,1400,\n\
-             scene,gtao,1,1024,1024,xe-high,2,64,1800,115200\n\
-             scene,gtao,1,256,256,xe-high,2,64,100,6400\n\
-             other,gtao,1,256,256,unreal,2,64,90,5760\n",
+            "mesh,emitters,passes,width,height,slices,steps,preset,radius,frames,median_ms,convergence_ms\n\
+             scene,hierarchy,1,0,0,0,0,,,0,700,\n\
+             scene,hierarchy,2,0,0,0,0,,,0,1400,\n\
+             scene,gtao,1,1024,1024,3,3,xe-high,2,64,1800,115200\n\
+             scene,gtao,1,256,256,3,3,xe-high,2,64,100,6400\n\
+             other,gtao,1,256,256,2,8,unreal,2,64,90,5760\n",
         );
         let measured = measured(&ao, &timing, "scene");
         let found: Vec<(String, Vec<usize>, Vec<usize>, &str)> =
@@ -331,14 +338,14 @@ mod tests {
             [
                 ("surfels, tree, 1 pass".to_string(), vec![0, 1], vec![0], ""),
                 ("surfels, tree, 2 passes".to_string(), vec![2], vec![1], ""),
-                ("GTAO xe-high r 2, 64 frames".to_string(), vec![4], vec![3], "256×256"),
+                ("GTAO xe-high r 2, 3×3, 64 frames".to_string(), vec![4], vec![3], "256×256"),
             ]
         );
         let source = Source { device: "d".into(), path: "t.csv".into(), table: &timing };
         let points = cost_points(&measured, ("a.csv", &ao), &source);
         assert_eq!(points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>(), [(700.0, 0.25), (1400.0, 0.05), (100.0, 0.06)]);
         let text = cost_table(&measured, ("a.csv", &ao), &timing);
-        assert_eq!(text.rows[2], ["GTAO xe-high r 2, 64 frames", "256×256", "100", "6400", "0.0600", "0.0100"]);
+        assert_eq!(text.rows[2], ["GTAO xe-high r 2, 3×3, 64 frames", "256×256", "100", "6400", "0.0600", "0.0100"]);
         assert_eq!(text.rows[0][3], "–");
     }
 }
