@@ -1794,7 +1794,11 @@ fn ao_error_against_gpu_time_has_both_techniques_per_device() {
     fs::copy(committed, folder.join("gpu_timing.csv")).unwrap();
     let mut csv = String::from("adapter,driver,mesh,surfels,emitters,tree_nodes,passes,dispatches,width,height,covered_pixels,slices,steps,preset,radius,frames,timer,repeats,median_ms,spread_ms,convergence_ms,fitted_exponent\n");
     let mut expected: Vec<(String, f64)> = Vec::new();
-    for (i, (emitters, passes)) in [("brute_force", 1), ("brute_force", 2), ("brute_force", 3), ("hierarchy", 1), ("hierarchy", 2), ("hierarchy", 3)].into_iter().enumerate() {
+    for (i, (emitters, passes)) in
+        [("brute_force", 1), ("brute_force", 2), ("brute_force", 3), ("hierarchy", 1), ("hierarchy", 2), ("hierarchy", 3)]
+            .into_iter()
+            .enumerate()
+    {
         let ms = 10.0 * (i + 1) as f64;
         csv.push_str(&format!("test,t,ao,0,{emitters},0,{passes},1,0,0,0,0,0,,,0,timestamp,3,{ms},0.1,,\n"));
         expected.push((format!("{emitters} {passes}"), ms));
@@ -1841,12 +1845,17 @@ fn ao_error_against_gpu_time_has_both_techniques_per_device() {
             .collect();
         assert_eq!(y.rows, rows, "{}", mark.label);
         let weight: f64 = rows.iter().map(|&r| ao.number(&ao.rows[r], "pixels").unwrap()).sum();
-        let mean = rows.iter().map(|&r| ao.number(&ao.rows[r], "pixel_mean_error").unwrap() * ao.number(&ao.rows[r], "pixels").unwrap()).sum::<f64>() / weight;
+        let mean = rows
+            .iter()
+            .map(|&r| ao.number(&ao.rows[r], "pixel_mean_error").unwrap() * ao.number(&ao.rows[r], "pixels").unwrap())
+            .sum::<f64>()
+            / weight;
         assert!((y.value - mean).abs() <= 1e-12 * mean.abs().max(1e-12), "{}: {} against {mean}", mark.label, y.value);
     }
-    // Two techniques, two colours; GTAO's row in the table with its frame and convergence.
-    let fills: std::collections::BTreeSet<&str> =
-        section.split("class=\"marker\"").skip(1).map(|m| m.split("fill=\"").nth(1).unwrap().split('"').next().unwrap()).collect();
-    assert_eq!(fills.len(), 2, "{fills:?}");
+    // Two techniques, two colours (every marker's stroke: a cross has no fill); GTAO's row
+    // in the table with its frame and convergence.
+    let colours: std::collections::BTreeSet<&str> =
+        section.split("class=\"marker\"").skip(1).map(|m| m.split("stroke=\"").nth(1).unwrap().split('"').next().unwrap()).collect();
+    assert_eq!(colours.len(), 2, "{colours:?}");
     assert!(section.contains("<td>GTAO bare r 0.5, 2×4</td><td>256×256</td><td>3.50</td><td>3.50</td>"), "{section}");
 }
