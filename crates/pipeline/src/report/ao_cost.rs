@@ -19,7 +19,7 @@ use super::charts::{self, CostPoint, ErrorAxis, Marker, PointStyle, Trace, PALET
 use super::csvdata::CsvTable;
 use super::findings::short_device;
 use super::html::{escape, number, TableText};
-use super::inputs::{DeviceTables, DEVICES_DIR};
+use super::inputs::DeviceTables;
 
 /// A configuration as both tables name it.
 #[derive(Clone, Debug, PartialEq)]
@@ -191,12 +191,7 @@ fn sources<'a>(gpu: Option<(&'a str, &'a CsvTable)>, devices: &'a BTreeMap<Strin
         gpu.into_iter().map(|(path, table)| Source { device: "this machine (make gpu)".into(), path: path.to_string(), table }).collect();
     for (device, tables) in devices {
         let Some(table) = tables.ao_timing.as_ref() else { continue };
-        let path = if tables.source == "native" {
-            format!("{DEVICES_DIR}/{device}/ao_timing.csv")
-        } else {
-            format!("{DEVICES_DIR}/{device}.json")
-        };
-        out.push(Source { device: short_device(device), path, table });
+        out.push(Source { device: short_device(device), path: tables.table_path(device, "ao_timing.csv"), table });
     }
     out
 }

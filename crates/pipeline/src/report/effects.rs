@@ -597,11 +597,7 @@ fn time_sources<'a>(scene: &SceneTables<'a>, errors: &CsvTable, devices: &'a BTr
     }
     for (device, tables) in devices {
         let Some(table) = tables.effects_timing.as_ref() else { continue };
-        let path = if tables.source == "native" {
-            format!("{DEVICES_DIR}/{device}/effects_timing.csv")
-        } else {
-            format!("{DEVICES_DIR}/{device}.json")
-        };
+        let path = tables.table_path(device, "effects_timing.csv");
         let source = TimeSource {
             title: format!("GPU time on {}", findings::short_device(device)),
             path,

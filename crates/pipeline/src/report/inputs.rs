@@ -252,6 +252,16 @@ impl DeviceTables {
         crate::stats::median(&timing.rows_where("method", method).filter_map(|r| timing.number(r, "median_ms")).collect::<Vec<_>>())
     }
 
+    /// The path a chart's trace names for table `name` (`ao_timing.csv`) of device
+    /// `device`: the file in its folder (native), or its result file (browser).
+    pub fn table_path(&self, device: &str, name: &str) -> String {
+        if self.source == "native" {
+            format!("{DEVICES_DIR}/{device}/{name}")
+        } else {
+            format!("{DEVICES_DIR}/{device}.json")
+        }
+    }
+
     /// The mean over its rows (materials, objects) of `method`'s `mean_rel_error`, where the
     /// device measured image errors.
     pub fn mean_image_error(&self, method: &str) -> Option<f64> {
