@@ -220,9 +220,14 @@ pub fn section(
                 charts::cost_chart(&points, &format!("GPU time of one frame on {} (ms)", source.device), ErrorAxis::Absolute, (640, 360))?;
             let legend = charts::point_legend("technique", families.iter().map(|f| (f.name(), f.color(), Marker::Circle)));
             let frames: Vec<&str> = measured.iter().map(|m| m.frame.as_str()).filter(|f| !f.is_empty()).collect();
-            let frame = frames.first().map_or(String::new(), |f| format!(" at {f}"));
+            let gtao = match frames.first() {
+                Some(frame) => format!(
+                    "GTAO's frame at {frame} with its denoiser passes (a preset that accumulates frames reaches its error after that many: the table's time to convergence), "
+                ),
+                None => "no GTAO configuration of the scene timed there; ".to_string(),
+            };
             let caption = format!(
-                "Accessibility error per covered pixel against the full ray-traced reference (pixel-weighted over the objects) against the median GPU time of one frame on {} ({}): GTAO's frame{frame} with its denoiser passes, the surfels' passes over the scene (object space: the same at any frame size). A GTAO preset that accumulates frames reaches its error after that many frames (the table's time to convergence). Coloured by technique; the Pareto front is joined and labelled.",
+                "Accessibility error per covered pixel against the full ray-traced reference (pixel-weighted over the objects) against the median GPU time of one frame on {} ({}): {gtao}the surfels' passes over the scene (object space: the same at any frame size). Coloured by technique; the Pareto front is joined and labelled.",
                 source.device, source.path
             );
             let _ = write!(html, "<figure class=\"plot\">{}{legend}<figcaption>{}</figcaption></figure>", chart.svg, escape(&caption));
