@@ -266,7 +266,8 @@ fn cost_points(measured: &[Measured], (path, ao): (&str, &CsvTable), source: &So
 }
 
 /// The table beside the chart: per configuration, its time per frame and to convergence,
-/// and its error against both references.
+/// and its mean and signed error against both references (pixel-weighted over the objects;
+/// percentiles, which do not combine so, are in the AO section's per-object tables).
 fn cost_table(measured: &[Measured], (path, ao): (&str, &CsvTable), timing: &CsvTable) -> TableText {
     let mut table = TableText::new(&[
         "configuration",
@@ -274,7 +275,9 @@ fn cost_table(measured: &[Measured], (path, ao): (&str, &CsvTable), timing: &Csv
         "GPU ms per frame",
         "GPU ms to convergence",
         "mean |e| per covered pixel, full reference",
-        "the same, range-limited reference",
+        "signed mean e, full reference",
+        "mean |e|, range-limited reference",
+        "signed mean e, range-limited reference",
     ]);
     let mean = |column: &str, rows: &[usize], weight: Option<&str>, t: &CsvTable| {
         let value = Trace::mean(path, t, column, rows.to_vec(), weight).value;
@@ -291,7 +294,9 @@ fn cost_table(measured: &[Measured], (path, ao): (&str, &CsvTable), timing: &Csv
             mean("median_ms", &m.timings, None, timing),
             mean("convergence_ms", &m.timings, None, timing),
             mean("pixel_mean_error", &m.errors, Some("pixels"), ao),
+            mean("pixel_signed_error", &m.errors, Some("pixels"), ao),
             mean("pixel_mean_error_within_radius", &m.errors, Some("pixels"), ao),
+            mean("pixel_signed_error_within_radius", &m.errors, Some("pixels"), ao),
         ]);
     }
     table
@@ -313,14 +318,14 @@ mod tests {
     #[test]
     fn configurations_meet_their_timings_on_their_own_scene() {
         let ao = table(
-            "mesh,technique,hierarchy,passes,gtao_preset,gtao_radius,gtao_slices,gtao_steps,gtao_frames,pixels,pixel_mean_error,pixel_mean_error_within_radius\n\
-             bunny,surfels,true,1,,,,,,100,0.1,\n\
-             ground,surfels,true,1,,,,,,300,0.3,\n\
-             bunny,surfels,true,2,,,,,,100,0.05,\n\
-             bunny,surfels,true,3,,,,,,100,0.04,\n\
-             bunny,gtao,,,xe-high,2,3,3,64,100,0.06,0.01\n\
-             bunny,gtao,,,xe-high,2,3,4,64,100,0.07,0.01\n\
-             bunny,gtao,,,unreal,2,2,8,64,100,0.08,0.02\n",
+            "mesh,technique,hierarchy,passes,gtao_preset,gtao_radius,gtao_slices,gtao_steps,gtao_frames,pixels,pixel_mean_error,pixel_signed_error,pixel_mean_error_within_radius,pixel_signed_error_within_radius\n\
+             bunny,surfels,true,1,,,,,,100,0.1,-0.1,,\n\
+             ground,surfels,true,1,,,,,,300,0.3,0.1,,\n\
+             bunny,surfels,true,2,,,,,,100,0.05,0.05,,\n\
+             bunny,surfels,true,3,,,,,,100,0.04,0.04,,\n\
+             bunny,gtao,,,xe-high,2,3,3,64,100,0.06,-0.02,0.01,0.005\n\
+             bunny,gtao,,,xe-high,2,3,4,64,100,0.07,0.07,0.01,0.01\n\
+             bunny,gtao,,,unreal,2,2,8,64,100,0.08,0.08,0.02,0.02\n",
         );
         let timing = table(
             "mesh,emitters,passes,width,height,slices,steps,preset,radius,frames,median_ms,convergence_ms\n\
@@ -345,7 +350,9 @@ mod tests {
         let points = cost_points(&measured, ("a.csv", &ao), &source);
         assert_eq!(points.iter().map(|p| (p.cost, p.error)).collect::<Vec<_>>(), [(700.0, 0.25), (1400.0, 0.05), (100.0, 0.06)]);
         let text = cost_table(&measured, ("a.csv", &ao), &timing);
-        assert_eq!(text.rows[2], ["GTAO xe-high r 2, 3×3, 64 frames", "256×256", "100", "6400", "0.0600", "0.0100"]);
+        assert_eq!(text.rows[2], ["GTAO xe-high r 2, 3×3, 64 frames", "256×256", "100", "6400", "0.0600", "-0.0200", "0.0100", "0.00500"]);
         assert_eq!(text.rows[0][3], "–");
+        // The surfels' signed error, pixel-weighted by hand: (−0.1·100 + 0.1·300)/400 = 0.05.
+        assert_eq!(text.rows[0][5], "0.0500");
     }
 }
