@@ -8,9 +8,9 @@
 //! darkens, directional and point light cast ray-traced shadows and feed the indirect
 //! light). Pure data and checks.
 //!
-//! GTAO names a preset (`crate::scene::gtao::Preset`: `bare`, Algorithm 1, the default; or
-//! XeGTAO's `xe-low`, `xe-medium`, `xe-high`, `xe-ultra`; or `unreal`) and may override its slices,
-//! steps, frames, noise and any heuristic (`crate::scene::gtao::Heuristics`), each checked
+//! GTAO names a preset (`crate::scene::gtao::Preset`: `bare`, Algorithm 1, the default;
+//! XeGTAO's `xe-low`, `xe-medium`, `xe-high`, `xe-ultra`; or `unreal`) and may override its
+//! slices, steps, frames, noise and any heuristic (`crate::scene::gtao::Heuristics`), each checked
 //! against its range with a named error; `gtao` may be one block or a list of blocks, each
 //! with its radii (every block × radius is one configuration, repeats dropped).
 //!

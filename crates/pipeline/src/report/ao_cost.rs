@@ -11,7 +11,7 @@
 //! `mesh` cell is the scene's name).
 
 use std::collections::BTreeMap;
-use std::fmt::Write;
+use std::fmt::{Display, Write};
 
 use anyhow::Result;
 
@@ -87,10 +87,7 @@ impl Configuration {
                 let tree = if emitters == "hierarchy" { "tree" } else { "brute force" };
                 format!("surfels, {tree}, {passes} pass{}", if *passes == 1 { "" } else { "es" })
             }
-            Configuration::Gtao { preset, radius, slices, steps, frames } => {
-                let frames = if *frames > 1 { format!(", {frames} frames") } else { String::new() };
-                format!("GTAO {preset} r {radius}, {slices}×{steps}{frames}")
-            }
+            Configuration::Gtao { preset, radius, slices, steps, frames } => gtao_label(Some(preset), radius, slices, steps, *frames),
         }
     }
 
@@ -103,6 +100,15 @@ impl Configuration {
             Configuration::Gtao { .. } => Family::Bare,
         }
     }
+}
+
+/// A GTAO configuration in words, as the report names it in every AO chart and table: "GTAO
+/// xe-high r 2, 3×3, 64 frames" (no preset where a table written before presets names
+/// none; the frames only where more than one).
+pub(super) fn gtao_label(preset: Option<&str>, radius: impl Display, slices: impl Display, steps: impl Display, frames: u64) -> String {
+    let preset = preset.map_or(String::new(), |p| format!(" {p}"));
+    let frames = if frames > 1 { format!(", {frames} frames") } else { String::new() };
+    format!("GTAO{preset} r {radius}, {slices}×{steps}{frames}")
 }
 
 /// The chart's colours: the surfels, and GTAO as the paper gives it, as XeGTAO ships it and

@@ -1049,12 +1049,9 @@ fn is_gtao(ao: &CsvTable, row: &[String]) -> bool {
 /// accumulates where more than one.
 fn technique_label(ao: &CsvTable, row: &[String]) -> String {
     if is_gtao(ao, row) {
-        let preset = if ao.has("gtao_preset") { format!(" {}", ao.text(row, "gtao_preset")) } else { String::new() };
-        let frames = match ao.number(row, "gtao_frames") {
-            Some(frames) if frames > 1.0 => format!(", {frames} frames"),
-            _ => String::new(),
-        };
-        format!("GTAO{preset} r {}, {}×{}{frames}", ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"))
+        let preset = ao.has("gtao_preset").then(|| ao.text(row, "gtao_preset"));
+        let frames = ao.number(row, "gtao_frames").map_or(1, |frames| frames as u64);
+        super::ao_cost::gtao_label(preset, ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"), frames)
     } else if ao.text(row, "hierarchy") == "true" {
         "tree".into()
     } else {
