@@ -1,33 +1,22 @@
-// nklut Fresnel shader library. One pure function per Fresnel method, each mapping
-// c = cosθ ∈ [0, 1] and the per-channel parameters of one index η = n + ik (a value of
-// `MaterialParams`, filled on the CPU by crates/gpu/src/params.rs) to F per colour channel (vec3 =
-// red, green, blue), f32 throughout; the `lut` method takes its texture and sampler. No
-// function reads a global, so the same function evaluates a ray arriving from outside
-// (the page's η) and from inside (the relative index conj(1/η), which has its own curve
-// with total internal reflection): the caller passes the parameters of that index.
+// nklut Fresnel shader library. Each Fresnel method's function maps c = cosθ ∈ [0, 1] and
+// the per-channel parameters of one index η = n + ik (a value of `MaterialParams`) to F per
+// colour channel (vec3 = red, green, blue), f32 throughout; the `lut` method takes its
+// texture and sampler. No function reads a global, so the same function evaluates a ray
+// arriving from outside (the page's η) and from inside (the relative index conj(1/η),
+// which has its own curve with total internal reflection): the caller passes the
+// parameters of that index.
 //
-// Passes import it (`#import fresnel`, resolved by crates/gpu/src/compose.rs); nothing here is
-// copied per method. The numbers it shares with Rust (μ̄ = LAZANYI_COS) come from the generated
-// module `contracts` (crates/gpu/src/contracts.rs).
+// The methods' functions and `MaterialParams` come from the generated module
+// `fresnel_methods` (crates/gpu/src/params.rs writes it from each method's unit under
+// crates/optics/src/fresnel/methods/, where the WGSL sits beside its f32 twin); this file
+// holds what they share and the timing's baselines. Passes import it (`#import fresnel`,
+// resolved by crates/gpu/src/compose.rs). The numbers it shares with Rust
+// (μ̄ = LAZANYI_COS) come from the generated module `contracts` (crates/gpu/src/contracts.rs).
 
 #import contracts
+#import fresnel_methods
 
-struct MaterialParams {
-    n: vec4<f32>,                     // rgb = n per channel
-    k: vec4<f32>,                     // rgb = k per channel
-    f0: vec4<f32>,                    // ((n−1)² + k²)/((n+1)² + k²)
-    compensation_weight: vec4<f32>,   // 2n in front of (1 − c)^λ (SPEC §5.4); 0 on fallback
-    compensation_lambda: vec4<f32>,   // λ of schlick_compensated
-    lazanyi_a: vec4<f32>,             // a of lazanyi (α = 6)
-    nvidia_bias: vec4<f32>,
-    nvidia_scale: vec4<f32>,
-    nvidia_power: vec4<f32>,
-    f82_f0: vec4<f32>,                // f82_tint's F0 and tint as authored colours (linear)
-    f82_tint: vec4<f32>,
-    constant_colour: vec4<f32>,       // the `constant` baseline (F0)
-}
-
-// Every function below mirrors its f32 twin in crates/optics/src/fresnel (the same
+// Every method's function mirrors its f32 twin in crates/optics/src/fresnel (the same
 // generic body the f64 reference runs, evaluated in f32) operation by operation: c clamped
 // to [0, 1] first (but in fresnel_lut, whose clamp-to-edge sampler does it), integer powers
 // as products (m⁵ = m²·m²·m, m⁶ = m⁵·m), a real power as exp2(p·log2 m).
@@ -80,13 +69,6 @@ fn exact_channel(n: f32, k: f32, c_in: f32) -> f32 {
     return clamp(s_num * (p_den + p_num) / denominator, 0.0, 1.0);
 }
 
-// 1. exact (SPEC §5.1).
-fn fresnel_exact(c: f32, p: MaterialParams) -> vec3<f32> {
-    let n = p.n;
-    let k = p.k;
-    return vec3<f32>(exact_channel(n.r, k.r, c), exact_channel(n.g, k.g, c), exact_channel(n.b, k.b, c));
-}
-
 // exact for a dielectric (SPEC §5.1 with k = 0; the real-index form of Cook & Torrance
 // 1982 and Walter et al. 2007, the study's dielectric anchor): g² = n² − 1 + c²;
 // F = ½ ((g − c)/(g + c))² (1 + ((c (g + c) − 1)/(c (g − c) + 1))²), and 1 where g² < 0
@@ -109,71 +91,6 @@ fn exact_dielectric_channel(n: f32, c_in: f32) -> f32 {
 fn fresnel_exact_dielectric(c: f32, p: MaterialParams) -> vec3<f32> {
     let n = p.n;
     return vec3<f32>(exact_dielectric_channel(n.r, c), exact_dielectric_channel(n.g, c), exact_dielectric_channel(n.b, c));
-}
-
-// 2. schlick (SPEC §5.2; Schlick 1994): F0 + (1 − F0)(1 − c)⁵, F0 precomputed.
-fn fresnel_schlick(c: f32, p: MaterialParams) -> vec3<f32> {
-    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
-    let f0 = p.f0.rgb;
-    return f0 + (vec3<f32>(1.0) - f0) * m5;
-}
-
-// 3. schlick_nk (SPEC §5.3; Lazányi & Szirmay-Kalos 2005):
-// ((n − 1)² + 4n(1 − c)⁵ + k²)/((n + 1)² + k²), from n and k.
-fn fresnel_schlick_nk(c: f32, p: MaterialParams) -> vec3<f32> {
-    let m5 = pow5(vec3<f32>(1.0 - clamp(c, 0.0, 1.0)));
-    let n = p.n.rgb;
-    let k = p.k.rgb;
-    let one = vec3<f32>(1.0);
-    return ((n - one) * (n - one) + 4.0 * n * m5 + k * k) / ((n + one) * (n + one) + k * k);
-}
-
-// 4. schlick_compensated (SPEC §5.4): schlick_nk − w (1 − c)^λ, w = 2n and λ per channel
-// exact at θ = 84.26°; where no real λ exists w = 0 (plain schlick_nk).
-fn fresnel_schlick_compensated(c: f32, p: MaterialParams) -> vec3<f32> {
-    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
-    return fresnel_schlick_nk(c, p) - p.compensation_weight.rgb * shader_pow(m, p.compensation_lambda.rgb);
-}
-
-// 5. lazanyi (SPEC §5.5; Lazányi & Szirmay-Kalos 2005, the F82 form):
-// F0 + (1 − F0)(1 − c)⁵ − a c (1 − c)⁶, a exact at c = 1/7.
-fn fresnel_lazanyi(c: f32, p: MaterialParams) -> vec3<f32> {
-    let unit_c = clamp(c, 0.0, 1.0);
-    let m = vec3<f32>(1.0 - unit_c);
-    let m5 = pow5(m);
-    let f0 = p.f0.rgb;
-    return f0 + (vec3<f32>(1.0) - f0) * m5 - p.lazanyi_a.rgb * unit_c * (m5 * m);
-}
-
-// 6. nvidia (SPEC §5.6): max(0, min(1, bias + scale (1 − c)^power)), fitted per material.
-fn fresnel_nvidia(c: f32, p: MaterialParams) -> vec3<f32> {
-    let m = vec3<f32>(1.0 - clamp(c, 0.0, 1.0));
-    let f = p.nvidia_bias.rgb + p.nvidia_scale.rgb * shader_pow(m, p.nvidia_power.rgb);
-    return clamp(f, vec3<f32>(0.0), vec3<f32>(1.0));
-}
-
-// 7. lut (SPEC §5.7): N×1 texture of one index's curve, texel i = F at c = (i + ½)/N,
-// hardware linear filter, clamp-to-edge, u = c, v = ½. A ray from inside samples the
-// texture baked from exact F of the inside index (total reflection past the critical angle).
-fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f32> {
-    return textureSampleLevel(curve, curve_sampler, vec2<f32>(c, 0.5), 0.0).rgb;
-}
-
-// 8. f82_tint (SPEC §5.8; OpenPBR's, Adobe's and Blender's metal Fresnel): from the
-// authored colours F0 and tint, F_S(c) − b c (1 − c)⁶ with F_S(c) = F0 + (1 − F0)(1 − c)⁵,
-// b = F_S(μ̄)(1 − tint)/(μ̄ (1 − μ̄)⁶), μ̄ = 1/7 (LAZANYI_COS), b formed here as an engine's shader does.
-fn fresnel_f82_tint(c: f32, p: MaterialParams) -> vec3<f32> {
-    let unit_c = clamp(c, 0.0, 1.0);
-    let m = vec3<f32>(1.0 - unit_c);
-    let m5 = pow5(m);
-    let f0 = p.f82_f0.rgb;
-    let one = vec3<f32>(1.0);
-    let mu = LAZANYI_COS;
-    let mu_m = vec3<f32>(1.0 - mu);
-    let mu_m5 = pow5(mu_m);
-    let at_mu = f0 + (one - f0) * mu_m5;
-    let b = at_mu * (one - p.f82_tint.rgb) / (mu * (mu_m5 * mu_m));
-    return f0 + (one - f0) * m5 - b * unit_c * (m5 * m);
 }
 
 // Baseline: a constant colour, the floor of any pass.

@@ -1,6 +1,7 @@
 //! Shader modules composed from the WGSL files of `shaders/`. WGSL has no imports, so a
 //! line `#import name` (alone on its line) is replaced by the text of `shaders/name.wgsl`
-//! (or of the module `contracts`, generated from Rust: [`crate::contracts`]), itself
+//! (or of a module generated from Rust: `contracts`, [`crate::contracts`], and
+//! `fresnel_methods`, [`crate::params::wgsl_library`]), itself
 //! composed first; a file imported twice in one module appears once, at its first
 //! import. A name that is not a shader file, or a file that imports itself through others,
 //! is an error naming the chain. The GPU runner keys each composed module by what it
@@ -33,12 +34,15 @@ pub enum ComposeError {
     Cycle { chain: String },
 }
 
-/// `source` with every `#import` resolved against [`SHADERS`] and the generated module
-/// `contracts` ([`crate::contracts::wgsl`]).
+/// `source` with every `#import` resolved against [`SHADERS`] and the generated modules
+/// `contracts` ([`crate::contracts::wgsl`]) and `fresnel_methods`
+/// ([`crate::params::wgsl_library`]).
 pub fn compose(source: &str) -> Result<String, ComposeError> {
     let contracts = crate::contracts::wgsl();
+    let methods = crate::params::wgsl_library();
     let mut files: Vec<(&str, &str)> = SHADERS.to_vec();
     files.push(("contracts", &contracts));
+    files.push(("fresnel_methods", &methods));
     compose_from(&files, source)
 }
 
@@ -164,7 +168,9 @@ mod tests {
     fn the_pass_brings_the_library() {
         let pass = compose("#import fresnel_pass").unwrap();
         let library = SHADERS[0].1;
-        assert!(library.split("#import contracts\n").all(|part| pass.contains(part)), "the pass brings the whole library");
+        let parts = library.split("#import contracts\n").flat_map(|part| part.split("#import fresnel_methods\n"));
+        assert!(parts.into_iter().all(|part| pass.contains(part)), "the pass brings the whole library");
+        assert!(pass.contains(&crate::params::wgsl_library()), "and every method's function");
         assert_eq!(pass.matches("fn fresnel_exact(").count(), 1);
     }
 }

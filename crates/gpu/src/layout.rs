@@ -73,19 +73,34 @@ pub fn merged_padding(members: &[Member]) -> Vec<Member> {
     merged
 }
 
+/// `MaterialUniform` against `MaterialParams`: its fields, with the methods' members
+/// (`methods: [[f32; 4]; N]`) named one vec4 each as the generated WGSL names them.
+fn material_params() -> SharedStruct {
+    use crate::params::{uniform_members, MaterialUniform};
+    let fields = shared_struct!(MaterialUniform as "MaterialParams" { n, k, f0, methods, constant_colour });
+    let vec4 = std::mem::size_of::<[f32; 4]>();
+    let mut members = Vec::new();
+    let mut names = uniform_members().into_iter();
+    for field in fields.members {
+        let count = field.size / vec4;
+        for i in 0..count {
+            let name = names.next().unwrap_or("(a member WGSL lacks)").to_string();
+            members.push(Member { name, offset: field.offset + i * vec4, size: vec4 });
+        }
+    }
+    members.extend(names.map(|name| Member { name: format!("{name} (a member Rust lacks)"), offset: 0, size: 0 }));
+    SharedStruct { members, ..fields }
+}
+
 /// Every struct Rust shares with `shaders/`.
 pub fn shared_structs() -> Vec<SharedStruct> {
     use crate::distance_search::{SearchHit, SearchRay};
-    use crate::params::MaterialUniform;
     use crate::passes::ao::GpuDisc;
     use crate::passes::distance_maps::{DiffuseUniform, FaceUniform, LightItem, LightsUniform, MapObjectUniform, MapView, StepsUniform};
     use crate::passes::specular::{FrameUniform, ObjectUniform};
     use crate::render::ViewUniform;
     let mut structs = vec![
-        shared_struct!(MaterialUniform as "MaterialParams" {
-            n, k, f0, compensation_weight, compensation_lambda, lazanyi_a, nvidia_bias, nvidia_scale, nvidia_power, f82_f0,
-            f82_tint, constant_colour,
-        }),
+        material_params(),
         shared_struct!(ViewUniform as "View" { view_proj, eye, viewport }),
         shared_struct!(MapView as "MapView" { centre, size, layers, base, pad }),
         shared_struct!(StepsUniform as "SearchSteps" { linear, secant, pad }),

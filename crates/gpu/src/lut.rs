@@ -17,7 +17,7 @@ pub const ENCODING: Encoding = Encoding::F16;
 /// The texels of `size` as the GPU stores them (exactly representable as half floats):
 /// red, green, blue, alpha = 1.
 pub fn texels(prepared: &[Prepared; 3], size: usize) -> Vec<[f32; 4]> {
-    let [r, g, b] = prepared.map(|p| Lut::bake(LutSpec::new(size, ENCODING), |c| p.exact.reflectance(c)).texels_f32);
+    let [r, g, b] = [0, 1, 2].map(|c| &prepared[c]).map(|p| Lut::bake(LutSpec::new(size, ENCODING), |c| p.exact.reflectance(c)).texels_f32);
     r.iter().zip(&g).zip(&b).map(|((&r, &g), &b)| [r, g, b, 1.0]).collect()
 }
 

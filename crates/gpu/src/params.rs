@@ -1,13 +1,13 @@
 //! Per-material shader uniforms (SPEC §5): the GPU packing of the fresnel module's
-//! per-channel parameters. Everything numerical — F0, the compensated λ and its fallback
-//! (weight 0), Lazányi's a, the nvidia fit, and the f32 methods the WGSL mirrors — lives in
-//! [`nklut_optics::fresnel`] ([`Prepared`], [`ShaderParams`], `fresnel::*_f32`); this file only
-//! lays the three channels out as the uniform block of `shaders/fresnel.wgsl`.
+//! per-channel parameters. Everything numerical lives in [`nklut_optics::fresnel`]
+//! ([`Prepared`], [`ShaderParams`], each method's unit under `fresnel/methods/`); this file
+//! lays the three channels out as the uniform block `MaterialParams` and writes that
+//! struct's WGSL from the same list ([`wgsl_library`]), so the two cannot differ.
 
 use bytemuck::{Pod, Zeroable};
 
 use nklut_effects::scene::Shading;
-use nklut_optics::fresnel::{Method, Prepared, ShaderParams};
+use nklut_optics::fresnel::{Method, Prepared, ShaderChannel, ShaderParams, METHOD_UNIFORM_MEMBERS};
 use nklut_optics::spectrum::ChannelIndex;
 
 /// The fresnel module's parameters of a material, red, green, blue.
@@ -15,50 +15,48 @@ pub fn prepare(channels: &ChannelIndex) -> [Prepared; 3] {
     channels.map(Prepared::new)
 }
 
-/// The uniform block `MaterialParams` of `shaders/fresnel.wgsl`: one vec4 per
-/// [`ShaderParams`] field, rgb = red, green, blue, w unused (0). Its layout is held to the
-/// shader's by `crate::layout`.
+/// The uniform block `MaterialParams` (written by [`wgsl_library`]): one vec4 per
+/// parameter, rgb = red, green, blue, w unused (0): n, k, F0, then every method's
+/// members ([`Method::uniform`]) in the order of [`Method::ALL`], then the `constant`
+/// baseline's colour. Its layout is held to the shader's by `crate::layout`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct MaterialUniform {
     pub n: [f32; 4],
     pub k: [f32; 4],
     pub f0: [f32; 4],
-    /// 2n, or 0 where `schlick_compensated` falls back (then it is plain `schlick_nk`).
-    pub compensation_weight: [f32; 4],
-    pub compensation_lambda: [f32; 4],
-    pub lazanyi_a: [f32; 4],
-    pub nvidia_bias: [f32; 4],
-    pub nvidia_scale: [f32; 4],
-    pub nvidia_power: [f32; 4],
-    /// `f82_tint`'s authored F0 and tint (linear).
-    pub f82_f0: [f32; 4],
-    pub f82_tint: [f32; 4],
+    /// Every method's members (e.g. `schlick_compensated`'s weight: 2n, or 0 where it
+    /// falls back to plain `schlick_nk`).
+    pub methods: [[f32; 4]; METHOD_UNIFORM_MEMBERS],
     /// The `constant` baseline: F0.
     pub constant_colour: [f32; 4],
 }
 
+impl Default for MaterialUniform {
+    fn default() -> Self {
+        Self::zeroed()
+    }
+}
+
 impl MaterialUniform {
     pub fn new(params: &[ShaderParams; 3]) -> Self {
-        let v = |f: fn(&ShaderParams) -> f32| [f(&params[0]), f(&params[1]), f(&params[2]), 0.0];
+        let v = |f: &dyn Fn(&ShaderParams) -> f32| [f(&params[0]), f(&params[1]), f(&params[2]), 0.0];
+        let members = params.map(|p| p.members());
+        let mut methods = [[0.0; 4]; METHOD_UNIFORM_MEMBERS];
+        for (i, member) in methods.iter_mut().enumerate() {
+            *member = [members[0][i], members[1][i], members[2][i], 0.0];
+        }
         MaterialUniform {
-            n: v(|p| p.n),
-            k: v(|p| p.k),
-            f0: v(|p| p.f0),
-            compensation_weight: v(|p| p.compensation_weight),
-            compensation_lambda: v(|p| p.compensation_lambda),
-            lazanyi_a: v(|p| p.lazanyi_a),
-            nvidia_bias: v(|p| p.nvidia_bias),
-            nvidia_scale: v(|p| p.nvidia_scale),
-            nvidia_power: v(|p| p.nvidia_power),
-            f82_f0: v(|p| p.f82_f0),
-            f82_tint: v(|p| p.f82_tint),
-            constant_colour: v(|p| p.f0),
+            n: v(&|p| p.channel().n),
+            k: v(&|p| p.channel().k),
+            f0: v(&|p| p.channel().f0),
+            methods,
+            constant_colour: v(&|p| p.channel().f0),
         }
     }
 
     pub fn from_prepared(prepared: &[Prepared; 3]) -> Self {
-        Self::new(&prepared.map(|p| p.shader_params()))
+        Self::new(&[0, 1, 2].map(|c| prepared[c].shader_params()))
     }
 
     pub fn from_channels(channels: &ChannelIndex) -> Self {
@@ -68,25 +66,15 @@ impl MaterialUniform {
     /// The shader parameters of `channel` (0 red, 1 green, 2 blue), as the GPU reads them.
     pub fn channel(&self, channel: usize) -> ShaderParams {
         let i = channel;
-        ShaderParams {
-            n: self.n[i],
-            k: self.k[i],
-            f0: self.f0[i],
-            compensation_weight: self.compensation_weight[i],
-            compensation_lambda: self.compensation_lambda[i],
-            lazanyi_a: self.lazanyi_a[i],
-            nvidia_bias: self.nvidia_bias[i],
-            nvidia_scale: self.nvidia_scale[i],
-            nvidia_power: self.nvidia_power[i],
-            f82_f0: self.f82_f0[i],
-            f82_tint: self.f82_tint[i],
-        }
+        let members: Vec<f32> = self.methods.iter().map(|member| member[i]).collect();
+        let base = ShaderChannel { n: self.n[i], k: self.k[i], f0: self.f0[i] };
+        ShaderParams::from_members(base, &members).expect("one value per uniform member")
     }
 
-    /// The f32 CPU reference of `method` for `channel`: the fresnel module's `*_f32`
-    /// function (which `shaders/fresnel.wgsl` mirrors operation by operation; `tests/gpu.rs`
-    /// holds them to 1e-5). `None` for the methods that read a texture (`lut`, `texture`):
-    /// their reference is the CPU LUT model.
+    /// The f32 CPU reference of `method` for `channel`: the method's f32 twin (which its
+    /// WGSL function mirrors operation by operation; `tests/gpu.rs` holds them to 1e-5).
+    /// `None` for the methods that read a texture (`lut`, `texture`): their reference is
+    /// the CPU LUT model.
     pub fn evaluate_f32(&self, method: Shading, channel: usize, c: f32) -> Option<f32> {
         match method {
             Shading::Constant => Some(self.constant_colour[channel]),
@@ -95,21 +83,38 @@ impl MaterialUniform {
     }
 }
 
-/// The function of `shaders/fresnel.wgsl` that shades `shading`: one entry per shading, no
-/// wildcard, so a method added to `fresnel::Method` does not compile until its WGSL
-/// function is named here (and `tests` check the name is a function of the library).
+/// The names of `MaterialParams`' members in order (the Rust struct's fields, with the
+/// methods' members spelled out).
+pub fn uniform_members() -> Vec<&'static str> {
+    let mut names = vec!["n", "k", "f0"];
+    names.extend(Method::ALL.iter().flat_map(|m| m.uniform().iter().copied()));
+    names.push("constant_colour");
+    names
+}
+
+/// The generated shader module `fresnel_methods` (served by `crate::compose`): the struct
+/// `MaterialParams` of [`MaterialUniform`] and every method's WGSL function, from the
+/// methods' units. `shaders/fresnel.wgsl` imports it and holds the helpers they share.
+pub fn wgsl_library() -> String {
+    let mut out = String::from(
+        "// Generated from the Fresnel methods' units (crates/optics/src/fresnel/methods/) by\n\
+         // crates/gpu/src/params.rs: the per-channel parameters (rgb = red, green, blue) and one\n\
+         // function per method.\n\nstruct MaterialParams {\n",
+    );
+    for name in uniform_members() {
+        out.push_str(&format!("    {name}: vec4<f32>,\n"));
+    }
+    out.push_str("}\n");
+    for method in Method::ALL {
+        out.push_str(method.wgsl());
+    }
+    out
+}
+
+/// The function of the Fresnel library that shades `shading`.
 pub fn wgsl_function(shading: Shading) -> &'static str {
     match shading {
-        Shading::Fresnel(method) => match method {
-            Method::Exact => "fresnel_exact",
-            Method::Schlick => "fresnel_schlick",
-            Method::SchlickNk => "fresnel_schlick_nk",
-            Method::SchlickCompensated => "fresnel_schlick_compensated",
-            Method::Lazanyi => "fresnel_lazanyi",
-            Method::Nvidia => "fresnel_nvidia",
-            Method::Lut => "fresnel_lut",
-            Method::F82Tint => "fresnel_f82_tint",
-        },
+        Shading::Fresnel(method) => method.wgsl_function(),
         Shading::Constant => "fresnel_constant",
         Shading::Texture => "fresnel_texture",
     }
@@ -135,6 +140,7 @@ mod tests {
         for (i, p) in prepared.iter().enumerate() {
             assert_eq!(uniform.channel(i), p.shader_params());
             assert_eq!(uniform.constant_colour[i], p.f0 as f32);
+            assert_eq!(uniform.n[i], p.index.n as f32);
         }
         assert_eq!(uniform.n[3], 0.0);
     }

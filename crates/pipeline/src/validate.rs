@@ -140,27 +140,13 @@ pub fn breakpoints(model: &Model) -> Vec<f64> {
     for scale in [1.0 / modulus, rise] {
         cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0].map(|j| j * scale));
     }
-    match model.method() {
-        Method::SchlickCompensated if model.prepared().compensation.fallback.is_none() => {
-            let lambda = model.prepared().compensation.lambda;
-            cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0].map(|j| j / lambda));
+    match model.lut() {
+        Some(lut) => {
+            let count = lut.texels.len();
+            // Decreasing cosines: increasing θ, so the sort finds them in order.
+            cosines.extend((0..count).rev().map(|i| nklut_optics::encoding::texel_cos(i, count)));
         }
-        Method::Nvidia => {
-            let fit = model.prepared().nvidia;
-            cosines.extend([0.25, 0.5, 1.0, 2.0, 4.0, 8.0].map(|j| j / fit.power));
-            for level in [0.0, 1.0] {
-                let m = ((level - fit.bias) / fit.scale).powf(1.0 / fit.power);
-                cosines.push(1.0 - m);
-            }
-        }
-        Method::Lut => {
-            if let Some(lut) = model.lut() {
-                let count = lut.texels.len();
-                // Decreasing cosines: increasing θ, so the sort finds them in order.
-                cosines.extend((0..count).rev().map(|i| nklut_optics::encoding::texel_cos(i, count)));
-            }
-        }
-        _ => {}
+        None => cosines.extend(model.prepared().kinks(model.method())),
     }
     cosines.into_iter().filter(|c| c.is_finite() && *c > 0.0 && *c < 1.0).map(f64::acos).collect()
 }
@@ -194,9 +180,9 @@ impl Family {
             .map(|variant| match variant.lut {
                 Some(spec) if variant.method == Method::Lut => {
                     let values = curves.entry(spec.texels).or_insert_with(|| texel_values(spec.texels, |c| prepared.exact.reflectance(c)));
-                    Model::with_lut(prepared, Lut::from_values(spec, values))
+                    Model::with_lut(prepared.clone(), Lut::from_values(spec, values))
                 }
-                _ => Model::from_prepared(prepared, variant.method, LutSpec::default()),
+                _ => Model::from_prepared(prepared.clone(), variant.method, LutSpec::default()),
             })
             .collect();
         Self::of(models)
@@ -361,7 +347,7 @@ struct Distinct {
 
 impl Distinct {
     fn prepared(&self, d: usize, fits: &FitMemo) -> Prepared {
-        *self.prepared[d].get_or_init(|| fits.prepared(self.indices[d]))
+        self.prepared[d].get_or_init(|| fits.prepared(self.indices[d])).clone()
     }
 }
 
@@ -882,7 +868,7 @@ mod tests {
                 [Method::Schlick, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::Lut].map(|method| {
                     (
                         format!("{} {} {} {}", page.id(), CHANNEL_NAMES[i % 3], method, spec.name()),
-                        Model::from_prepared(prepared, method, spec),
+                        Model::from_prepared(prepared.clone(), method, spec),
                     )
                 })
             })
@@ -928,13 +914,13 @@ mod tests {
             .enumerate()
             .flat_map(|(i, page)| {
                 let prepared = Prepared::new(page.material.channels[(i + 1) % 3]);
-                [analytic.clone(), lut(64), lut(1024)].map(|variants| (page.id(), prepared, variants))
+                [analytic.clone(), lut(64), lut(1024)].map(|variants| (page.id(), prepared.clone(), variants))
             })
             .collect();
         let failures: Vec<String> = jobs
             .par_iter()
             .flat_map_iter(|(page, prepared, variants)| {
-                let family = Family::new(*prepared, variants);
+                let family = Family::new(prepared.clone(), variants);
                 let fast = family.measure(Strategy::Fast);
                 let brute = family.measure(Strategy::Brute(BRUTE_FORCE_SAMPLES));
                 let relative = |a: f64, b: f64| if b == 0.0 { a.abs() } else { (a / b - 1.0).abs() };

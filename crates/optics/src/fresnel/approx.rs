@@ -89,13 +89,13 @@ impl CompensationFallback {
     }
 }
 
-/// Parameters of `schlick_compensated` for one channel.
+/// Parameters of `schlick_compensated` for one channel (f64; f32 as a shader has them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Compensation {
+pub struct Compensation<T = f64> {
     /// The exponent λ (1 on fallback, unused since the weight is 0).
-    pub lambda: f64,
+    pub lambda: T,
     /// The weight of the correction term: 2n, or 0 on fallback.
-    pub weight: f64,
+    pub weight: T,
     /// Why there is no λ, if there is none.
     pub fallback: Option<CompensationFallback>,
 }
@@ -162,11 +162,11 @@ pub fn lazanyi<T: Real>(f0: T, a: T, cos_theta: T) -> T {
 /// no more — and authored as 8-bit sRGB (a colour picker's value; Adobe publishes its
 /// materials' F0 and tint so), read back as the linear values a shader sees.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct F82Colours {
+pub struct F82Colours<T = f64> {
     /// F0, linear, in [0, 1].
-    pub f0: f64,
+    pub f0: T,
     /// The tint F(μ̄)/F_S(μ̄), linear, in [0, 1].
-    pub tint: f64,
+    pub tint: T,
 }
 
 /// [`F82Colours`] of an index: F0 and the tint computed from exact F, then authored.

@@ -6,6 +6,7 @@
 //! back has the bits of the one made.
 
 use super::nvidia::{fit_nvidia, NvidiaFit};
+use super::methods::nvidia::Nvidia;
 use super::{sanitise, Prepared};
 use crate::memo::{Key, Kind, Memo};
 use crate::spectrum::Index;
@@ -43,7 +44,9 @@ impl Memo<NvidiaFits> {
     /// else fitted (and kept, when recording).
     pub fn prepared(&self, index: Index) -> Prepared {
         let key = key(sanitise(index));
-        Prepared::with_nvidia_fit(index, |exact| self.remembered(key, 1, || fit_nvidia(exact)))
+        let prepared = Prepared::new(index);
+        let fit = self.remembered(key, 1, || fit_nvidia(&prepared.exact));
+        prepared.with_params::<Nvidia>(fit)
     }
 }
 
@@ -57,7 +60,7 @@ mod tests {
     use super::*;
 
     fn bits(prepared: &Prepared) -> Vec<u64> {
-        NvidiaFits::encode(&prepared.nvidia)
+        NvidiaFits::encode(prepared.params::<Nvidia>())
     }
 
     #[test]
@@ -66,14 +69,14 @@ mod tests {
         let indices = [Index::new(0.17, 3.75), Index::new(1.5168, 0.0), Index::new(1.000293, 0.0), Index::new(1.4, -0.5)];
         let memo = FitMemo::new("this executable").recording();
         for index in indices {
-            assert_eq!(memo.prepared(index), Prepared::new(index));
+            assert_eq!(memo.prepared(index).params::<Nvidia>(), Prepared::new(index).params::<Nvidia>());
         }
         assert_eq!(memo.recorded(), 4);
         let read = FitMemo::decode(&memo.encode(), "this executable");
         for index in indices {
             let remembered = read.prepared(index);
             assert_eq!(bits(&remembered), bits(&Prepared::new(index)), "{index:?}");
-            assert_eq!(remembered, Prepared::new(index));
+            assert_eq!(remembered.params::<Nvidia>(), Prepared::new(index).params::<Nvidia>());
         }
         // Nothing was fitted again: a memo that only reads records nothing, and a
         // recording one over the same file records nothing new.
@@ -100,7 +103,7 @@ mod tests {
         let memo = FitMemo::new("this executable").recording();
         memo.prepared(Index::new(1.4, -0.5));
         let read = FitMemo::decode(&memo.encode(), "this executable").recording();
-        assert_eq!(read.prepared(Index::new(1.4, 0.0)), Prepared::new(Index::new(1.4, 0.0)));
+        assert_eq!(read.prepared(Index::new(1.4, 0.0)).params::<Nvidia>(), Prepared::new(Index::new(1.4, 0.0)).params::<Nvidia>());
         assert_eq!(read.recorded(), 0);
         read.prepared(Index::new(f64::from_bits(1.4f64.to_bits() + 1), 0.0));
         assert_eq!(read.recorded(), 1);

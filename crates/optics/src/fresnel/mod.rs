@@ -1,19 +1,22 @@
 //! Fresnel reflectance methods (SPEC §5). Every method maps (n, k, cosθ) to F for one
 //! colour channel, outside medium air (a medium of index n₁ ≠ 1 uses n₂/n₁).
 //!
-//! Each method is evaluated twice: in f64 for the CPU (the study's figures) and in f32 with
-//! the operation order a WGSL shader uses, so GPU-precision error can be measured
-//! separately (docs/precision.md). The closed forms are written once over [`Real`];
-//! `exact` has its own f32 body ([`exact_f32`]) because the f64 one precomputes
-//! angle-independent terms and guards overflow with `hypot`, which the shader does not. Parameters that do not depend on the angle are
-//! computed once per material and channel ([`Prepared`]); a [`Model`] adds the texture
-//! of the `lut` method and evaluates any [`Method`].
+//! Each method is one unit ([`FresnelMethod`], a file under `fresnel/methods/` and a line in
+//! the list of `fresnel/methods/mod.rs`): its parameters and their fit, its body in f64 for
+//! the CPU (the study's figures) and in f32 with the operation order of its WGSL twin, so
+//! GPU-precision error can be measured separately (docs/precision.md), and its WGSL
+//! function with the uniform members it reads. The closed forms are written once over
+//! [`Real`]; `exact` has its own f32 body ([`exact_f32`]) because the f64 one precomputes
+//! angle-independent terms and guards overflow with `hypot`, which the shader does not.
+//! Parameters that do not depend on the angle are fitted once per material and channel,
+//! when a method is first asked for ([`Prepared`]); a [`Model`] adds the texture of the
+//! `lut` method and evaluates any [`Method`].
 //!
 //! Public entry points for other stages:
 //! - [`exact`], [`exact_f32`] and the closed forms in [`approx`], generic over [`Real`];
-//! - [`Prepared::new`] (F0, compensated λ with its [`CompensationFallback`], Lazányi a,
-//!   the nvidia fit), [`FitMemo`] (the nvidia fits kept between commands),
-//!   [`ShaderParams`] (the f32 uniforms a shader needs);
+//! - [`Prepared::new`] and [`Prepared::params`] (e.g. the compensated λ with its
+//!   [`CompensationFallback`], the nvidia fit), [`FitMemo`] (the nvidia fits kept between
+//!   commands), [`ShaderParams`] (the f32 uniforms a shader needs);
 //! - for textures: [`Encoding`] (`quantise`, `encode`, `decode`),
 //!   [`sample_lut`], [`Lut::bake`].
 
@@ -21,6 +24,8 @@ pub mod approx;
 mod exact;
 pub mod lut;
 pub mod memo;
+pub mod method;
+pub mod methods;
 pub mod nvidia;
 pub mod real;
 pub mod reference;
@@ -33,103 +38,20 @@ pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
 pub use memo::FitMemo;
 pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
+pub use method::{Channel, FresnelMethod, ShaderChannel};
+pub use methods::{Method, Stored, METHOD_UNIFORM_MEMBERS};
 pub use real::Real;
+
+use methods::{AllParams, LazyParams};
 
 use crate::spectrum::Index;
 
-/// The Fresnel methods of SPEC §5, in the order of the spec.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Method {
-    /// The exact Fresnel reflectance of unpolarised light (SPEC §5.1).
-    Exact,
-    /// Schlick's F0 + (1 − F0)(1 − c)⁵ with F0 from (n, k) (SPEC §5.2).
-    Schlick,
-    /// Schlick's form written with n and k instead of F0 (SPEC §5.3).
-    SchlickNk,
-    /// `schlick_nk` less 2n (1 − c)^λ, λ fitted per channel (SPEC §5.4).
-    SchlickCompensated,
-    /// Lazányi and Szirmay-Kalos' F82 form, exact at c = 1/7 (SPEC §5.5).
-    Lazanyi,
-    /// bias + scale (1 − c)^power, fitted per channel (SPEC §5.6).
-    Nvidia,
-    /// A lookup texture of `exact`, sampled with linear filtering (SPEC §5.7).
-    Lut,
-    /// The F82-tint metal Fresnel of OpenPBR, Adobe and Blender (SPEC §5.8).
-    F82Tint,
-}
-
 impl Method {
-    /// Every method, in the order of the spec and of every table. [`Method::index`] holds
-    /// the list complete: a method left out of it fails the build.
-    pub const ALL: [Method; 8] = [
-        Method::Exact,
-        Method::Schlick,
-        Method::SchlickNk,
-        Method::SchlickCompensated,
-        Method::Lazanyi,
-        Method::Nvidia,
-        Method::Lut,
-        Method::F82Tint,
-    ];
-
-    /// The method's position in [`Method::ALL`]. One arm per method, no wildcard, each a
-    /// constant evaluated when the crate is built: a method added to the enum does not
-    /// compile until it has an arm here, and its arm does not compile until the method is
-    /// in `ALL` (write the new arm as the others: `const { Method::position(Method::New) }`).
-    pub const fn index(self) -> usize {
-        match self {
-            Method::Exact => const { Method::position(Method::Exact) },
-            Method::Schlick => const { Method::position(Method::Schlick) },
-            Method::SchlickNk => const { Method::position(Method::SchlickNk) },
-            Method::SchlickCompensated => const { Method::position(Method::SchlickCompensated) },
-            Method::Lazanyi => const { Method::position(Method::Lazanyi) },
-            Method::Nvidia => const { Method::position(Method::Nvidia) },
-            Method::Lut => const { Method::position(Method::Lut) },
-            Method::F82Tint => const { Method::position(Method::F82Tint) },
-        }
-    }
-
-    /// Where `method` is in [`Method::ALL`]; evaluated at build time by [`Method::index`],
-    /// where a method missing from the list is a compile error.
-    const fn position(method: Method) -> usize {
-        let mut i = 0;
-        while i < Method::ALL.len() {
-            if Method::ALL[i] as u8 == method as u8 {
-                return i;
-            }
-            i += 1;
-        }
-        panic!("a Method is missing from Method::ALL")
-    }
-
-    /// The name used on the command line and in every table.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Exact => "exact",
-            Method::Schlick => "schlick",
-            Method::SchlickNk => "schlick_nk",
-            Method::SchlickCompensated => "schlick_compensated",
-            Method::Lazanyi => "lazanyi",
-            Method::Nvidia => "nvidia",
-            Method::Lut => "lut",
-            Method::F82Tint => "f82_tint",
-        }
-    }
-
     /// The method of [`Method::name`] `name`.
     pub fn from_name(name: &str) -> Option<Method> {
         Method::ALL.into_iter().find(|m| m.name() == name)
     }
 }
-
-// Each method is in `Method::ALL` once: its entry is at its own index.
-const _: () = {
-    let mut i = 0;
-    while i < Method::ALL.len() {
-        assert!(Method::ALL[i].index() == i, "Method::ALL lists a method twice");
-        i += 1;
-    }
-};
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -221,8 +143,10 @@ pub fn unit_cos<T: Real>(cos_theta: T) -> T {
     }
 }
 
-/// Everything the analytic methods need for one channel, computed once: SPEC §5.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One channel ready for every method (SPEC §5): the sanitised index, F0 and the exact
+/// terms computed at once, each method's parameters fitted the first time it is asked for
+/// (the fits are kept, and their f32 rounding beside them).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Prepared {
     /// The sanitised index (see [`sanitise`]).
     pub index: Index,
@@ -230,116 +154,93 @@ pub struct Prepared {
     pub f0: f64,
     /// Angle-independent terms of `exact`.
     pub exact: ExactTerms,
-    /// λ of `schlick_compensated` and whether it fell back (SPEC §5.4).
-    pub compensation: Compensation,
-    /// a of `lazanyi` (SPEC §5.5).
-    pub lazanyi_a: f64,
-    /// bias, scale, power of `nvidia` (SPEC §5.6).
-    pub nvidia: NvidiaFit,
-    /// The authored colours of `f82_tint` (SPEC §5.8).
-    pub f82: F82Colours,
+    /// n, k and F0 rounded to f32.
+    shader: ShaderChannel,
+    fits: LazyParams<f64>,
+    rounded: LazyParams<f32>,
 }
 
 impl Prepared {
-    /// The parameters of `index` (sanitised first), the `nvidia` fit made here.
+    /// The channel of `index` (sanitised first); no method is fitted yet.
     pub fn new(index: Index) -> Self {
-        Self::with_nvidia_fit(index, fit_nvidia)
-    }
-
-    /// [`Prepared::new`] with the `nvidia` fit from `fit` (given the exact terms of the
-    /// sanitised index): [`fit_nvidia`], or a fit it made before ([`FitMemo`]).
-    pub fn with_nvidia_fit(index: Index, fit: impl FnOnce(&ExactTerms) -> NvidiaFit) -> Self {
         let index = sanitise(index);
         let exact = ExactTerms::new(index);
-        Self {
-            index,
-            f0: schlick_f0(index.n, index.k),
-            exact,
-            compensation: compensation(index, &exact),
-            lazanyi_a: lazanyi_a(index, &exact),
-            nvidia: fit(&exact),
-            f82: f82_colours(index, &exact),
-        }
+        let f0 = schlick_f0(index.n, index.k);
+        let channel = Channel { index, f0, exact };
+        Self { index, f0, exact, shader: ShaderChannel::of(&channel), fits: LazyParams::default(), rounded: LazyParams::default() }
+    }
+
+    /// This one with the parameters of `M` given (a fit made before, e.g. by a
+    /// [`FitMemo`]) instead of fitted on first use.
+    pub fn with_params<M: Stored>(self, params: M::Params<f64>) -> Self {
+        let _ = M::cell(&self.fits).set(params);
+        self
+    }
+
+    /// What every method shares.
+    pub fn channel(&self) -> Channel {
+        Channel { index: self.index, f0: self.f0, exact: self.exact }
+    }
+
+    /// The parameters of the method `M`, fitted now if they were not yet.
+    pub fn params<M: Stored>(&self) -> &M::Params<f64> {
+        M::cell(&self.fits).get_or_init(|| M::fit(&self.channel()))
     }
 
     /// F of an analytic method at cosθ; `None` for [`Method::Lut`] (use a [`Model`]).
     #[inline]
     pub fn analytic(&self, method: Method, cos_theta: f64) -> Option<f64> {
-        let Index { n, k } = self.index;
-        Some(match method {
-            Method::Exact => self.exact.reflectance(cos_theta),
-            Method::Schlick => schlick(self.f0, cos_theta),
-            Method::SchlickNk => schlick_nk(n, k, cos_theta),
-            Method::SchlickCompensated => schlick_compensated(n, k, self.compensation.weight, self.compensation.lambda, cos_theta),
-            Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
-            Method::Nvidia => nvidia(self.nvidia.bias, self.nvidia.scale, self.nvidia.power, cos_theta),
-            Method::Lut => return None,
-            Method::F82Tint => f82_tint(self.f82.f0, self.f82.tint, cos_theta),
-        })
+        self.fits.reflectance(method, &self.channel(), cos_theta)
     }
 
-    /// The f32 uniforms of a shader for this channel.
+    /// The same in the shader's f32 arithmetic, with the parameters rounded once to f32.
+    #[inline]
+    pub fn analytic_f32(&self, method: Method, cos_theta: f32) -> Option<f32> {
+        self.rounded.reflectance_f32(method, &self.fits, &self.channel(), &self.shader, cos_theta)
+    }
+
+    /// Cosines where `method`'s F(θ) has kinks or fine structure (see
+    /// [`FresnelMethod::kinks`]).
+    pub fn kinks(&self, method: Method) -> Vec<f64> {
+        self.fits.kinks(method, &self.channel())
+    }
+
+    /// The f32 uniforms of a shader for this channel (every method fitted).
     pub fn shader_params(&self) -> ShaderParams {
-        ShaderParams {
-            n: self.index.n as f32,
-            k: self.index.k as f32,
-            f0: self.f0 as f32,
-            compensation_weight: self.compensation.weight as f32,
-            compensation_lambda: self.compensation.lambda as f32,
-            lazanyi_a: self.lazanyi_a as f32,
-            nvidia_bias: self.nvidia.bias as f32,
-            nvidia_scale: self.nvidia.scale as f32,
-            nvidia_power: self.nvidia.power as f32,
-            f82_f0: self.f82.f0 as f32,
-            f82_tint: self.f82.tint as f32,
-        }
+        ShaderParams { channel: self.shader, methods: self.fits.all_rounded(&self.channel()) }
     }
 }
 
-/// The per-channel f32 parameters a shader receives (computed in f64 on the CPU, then
-/// rounded once). A compensated fallback is encoded as weight 0 (no correction term).
+/// The per-channel f32 parameters a shader receives, every method's (computed in f64 on
+/// the CPU, then rounded once). A compensated fallback is weight 0 (no correction term).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShaderParams {
-    /// n.
-    pub n: f32,
-    /// k.
-    pub k: f32,
-    /// F0 = ((n − 1)² + k²)/((n + 1)² + k²).
-    pub f0: f32,
-    /// 2n in front of (1 − c)^λ of `schlick_compensated`; 0 on its fallback.
-    pub compensation_weight: f32,
-    /// λ of `schlick_compensated`.
-    pub compensation_lambda: f32,
-    /// a of `lazanyi`.
-    pub lazanyi_a: f32,
-    /// bias of `nvidia`.
-    pub nvidia_bias: f32,
-    /// scale of `nvidia`.
-    pub nvidia_scale: f32,
-    /// power of `nvidia`.
-    pub nvidia_power: f32,
-    /// The authored F0 and tint of `f82_tint` (linear).
-    pub f82_f0: f32,
-    /// The tint of `f82_tint` (linear).
-    pub f82_tint: f32,
+    channel: ShaderChannel,
+    methods: AllParams,
 }
 
 impl ShaderParams {
+    /// n, k and F0.
+    pub fn channel(&self) -> ShaderChannel {
+        self.channel
+    }
+
+    /// Every method's uniform members in the order of [`Method::ALL`] and of each method's
+    /// [`Method::uniform`] ([`METHOD_UNIFORM_MEMBERS`] values).
+    pub fn members(&self) -> Vec<f32> {
+        self.methods.members()
+    }
+
+    /// The parameters a shader reads: n, k, F0 and the members of [`ShaderParams::members`]
+    /// (`None` unless there are [`METHOD_UNIFORM_MEMBERS`] of them).
+    pub fn from_members(channel: ShaderChannel, members: &[f32]) -> Option<Self> {
+        (members.len() == METHOD_UNIFORM_MEMBERS).then(|| Self { channel, methods: AllParams::from_members(members) })
+    }
+
     /// F of an analytic method at cosθ in shader arithmetic; `None` for [`Method::Lut`].
     #[inline]
     pub fn analytic(&self, method: Method, cos_theta: f32) -> Option<f32> {
-        Some(match method {
-            Method::Exact => exact_f32(self.n, self.k, cos_theta),
-            Method::Schlick => schlick(self.f0, cos_theta),
-            Method::SchlickNk => schlick_nk(self.n, self.k, cos_theta),
-            Method::SchlickCompensated => {
-                schlick_compensated(self.n, self.k, self.compensation_weight, self.compensation_lambda, cos_theta)
-            }
-            Method::Lazanyi => lazanyi(self.f0, self.lazanyi_a, cos_theta),
-            Method::Nvidia => nvidia(self.nvidia_bias, self.nvidia_scale, self.nvidia_power, cos_theta),
-            Method::Lut => return None,
-            Method::F82Tint => f82_tint(self.f82_f0, self.f82_tint, cos_theta),
-        })
+        self.methods.reflectance_f32(method, &self.channel, cos_theta)
     }
 }
 
@@ -350,7 +251,6 @@ impl ShaderParams {
 pub struct Model {
     method: Method,
     prepared: Prepared,
-    shader: ShaderParams,
     /// Some exactly when `method` is [`Method::Lut`].
     lut: Option<Lut>,
 }
@@ -364,12 +264,12 @@ impl Model {
     /// [`Model::new`] from parameters prepared before (`lut` baked only for [`Method::Lut`]).
     pub fn from_prepared(prepared: Prepared, method: Method, lut: LutSpec) -> Self {
         let lut = (method == Method::Lut).then(|| Lut::bake(lut, |c| prepared.exact.reflectance(c)));
-        Self { method, shader: prepared.shader_params(), prepared, lut }
+        Self { method, prepared, lut }
     }
 
     /// `lut` with a texture baked elsewhere (e.g. one curve quantised per encoding).
     pub fn with_lut(prepared: Prepared, lut: Lut) -> Self {
-        Self { method: Method::Lut, shader: prepared.shader_params(), prepared, lut: Some(lut) }
+        Self { method: Method::Lut, prepared, lut: Some(lut) }
     }
 
     /// The method evaluated.
@@ -377,14 +277,9 @@ impl Model {
         self.method
     }
 
-    /// The channel's parameters in f64.
+    /// The channel's parameters.
     pub fn prepared(&self) -> &Prepared {
         &self.prepared
-    }
-
-    /// The same rounded to f32, as a shader receives them.
-    pub fn shader(&self) -> &ShaderParams {
-        &self.shader
     }
 
     /// The texture of a `lut` model (`None` for every analytic method).
@@ -407,7 +302,7 @@ impl Model {
     pub fn reflectance_f32(&self, cos_theta: f32) -> f32 {
         match &self.lut {
             Some(lut) => lut.sample_f32(cos_theta),
-            None => self.shader.analytic(self.method, cos_theta).unwrap_or(0.0),
+            None => self.prepared.analytic_f32(self.method, cos_theta).unwrap_or(0.0),
         }
     }
 }

@@ -17,17 +17,17 @@ const POWER_GRID: std::ops::RangeInclusive<i32> = -2..=20;
 /// Golden-section steps: the bracket (1 in log₂ power) shrinks to 0.618³² ≈ 2e-7.
 const GOLDEN_STEPS: usize = 32;
 
-/// The fitted parameters of `nvidia` for one channel.
+/// The fitted parameters of `nvidia` for one channel (f64; f32 as a shader has them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NvidiaFit {
+pub struct NvidiaFit<T = f64> {
     /// The bias of bias + scale (1 − c)^power.
-    pub bias: f64,
+    pub bias: T,
     /// The scale.
-    pub scale: f64,
+    pub scale: T,
     /// The power.
-    pub power: f64,
-    /// RMS residual of the (unclamped) fit over the fit samples.
-    pub rms_residual: f64,
+    pub power: T,
+    /// RMS residual of the (unclamped) fit over the fit samples (0 in the shader's).
+    pub rms_residual: T,
 }
 
 /// `nvidia` (SPEC §5.6): max(0, min(1, bias + scale·(1 − c)^power)); in f32 the shader's

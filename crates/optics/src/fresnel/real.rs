@@ -9,7 +9,13 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// f64 or f32, as the methods use them.
 pub trait Real:
-    Copy + PartialOrd + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+    Copy
+    + std::fmt::Debug
+    + Default
+    + Send
+    + Sync
+    + 'static
+    + PartialOrd + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
     /// 0.
     const ZERO: Self;

@@ -3,6 +3,7 @@
 use proptest::prelude::*;
 
 use super::reference::{exact_complex, exact_complex_textbook};
+use super::methods::{f82_tint::F82Tint, lazanyi::Lazanyi, nvidia::Nvidia, schlick_compensated::SchlickCompensated};
 use super::*;
 
 /// n log-uniform in [1e-3, 1e3].
@@ -31,7 +32,7 @@ proptest! {
     fn every_method_is_finite_and_exact_is_a_reflectance(n in any_n(), k in any_k(), c in any_cos()) {
         let prepared = Prepared::new(Index::new(n, k));
         for method in Method::ALL {
-            let model = Model::from_prepared(prepared, method, LutSpec::new(64, Encoding::Unorm8Srgb));
+            let model = Model::from_prepared(prepared.clone(), method, LutSpec::new(64, Encoding::Unorm8Srgb));
             let f = model.reflectance(c);
             let g = model.reflectance_f32(c as f32);
             prop_assert!(f.is_finite(), "{method} f64 ({n}, {k}, {c}) = {f}");
@@ -40,7 +41,7 @@ proptest! {
         let f = exact(n, k, c);
         prop_assert!((0.0..=1.0).contains(&f));
         prop_assert!((0.0..=1.0).contains(&exact_f32(n as f32, k as f32, c as f32)));
-        prop_assert!(prepared.nvidia.power.is_finite() && prepared.nvidia.bias.is_finite() && prepared.nvidia.scale.is_finite());
+        prop_assert!(prepared.params::<Nvidia>().power.is_finite() && prepared.params::<Nvidia>().bias.is_finite() && prepared.params::<Nvidia>().scale.is_finite());
     }
 
     #[test]
@@ -62,7 +63,7 @@ proptest! {
         let p = Prepared::new(Index::new(n, k));
         let anchor = p.exact.reflectance(COMPENSATION_COS);
         let compensated = p.analytic(Method::SchlickCompensated, COMPENSATION_COS).unwrap();
-        if p.compensation.fallback.is_none() {
+        if p.params::<SchlickCompensated>().fallback.is_none() {
             prop_assert!((compensated - anchor).abs() <= 1e-12 * n.max(1.0), "{compensated} vs {anchor}");
         } else {
             prop_assert_eq!(compensated, schlick_nk(n, k, COMPENSATION_COS));
@@ -82,9 +83,9 @@ proptest! {
         if p.f0 <= 1.0 && tint.is_finite() {
             let unauthored = f82_tint(p.f0, tint, c);
             let lazanyi = p.analytic(Method::Lazanyi, c).unwrap();
-            prop_assert!((unauthored - lazanyi).abs() <= 1e-12 * (1.0 + p.lazanyi_a.abs()), "{unauthored} vs {lazanyi}");
+            prop_assert!((unauthored - lazanyi).abs() <= 1e-12 * (1.0 + p.params::<Lazanyi>().abs()), "{unauthored} vs {lazanyi}");
         }
-        let F82Colours { f0, tint: authored } = p.f82;
+        let F82Colours { f0, tint: authored } = *p.params::<F82Tint>();
         let at_mu = p.analytic(Method::F82Tint, LAZANYI_COS).unwrap();
         prop_assert!((at_mu - schlick(f0, LAZANYI_COS) * authored).abs() <= 1e-12, "{at_mu}");
         // Half a code of 8-bit sRGB is at most 0.5/255 in the encoded value; its slope
@@ -195,8 +196,8 @@ fn gold_green_has_no_compensation_exponent() {
     // 3d/metals/gold (main/Au/nk/Rakic-BB.yml) at 535 nm, as ingested: D < 0.
     let gold_green = Index::new(0.5215829479768784, 2.1741294797687862);
     let p = Prepared::new(gold_green);
-    assert_eq!(p.compensation.fallback, Some(CompensationFallback::WrongSign));
-    assert_eq!(p.compensation.weight, 0.0);
+    assert_eq!(p.params::<SchlickCompensated>().fallback, Some(CompensationFallback::WrongSign));
+    assert_eq!(p.params::<SchlickCompensated>().weight, 0.0);
     for i in 0..=100 {
         let c = i as f64 / 100.0;
         let f = p.analytic(Method::SchlickCompensated, c).unwrap();
@@ -205,16 +206,16 @@ fn gold_green_has_no_compensation_exponent() {
     }
     // Gold's red (n = 0.17, k = 3.75) does have one: λ = ln(D/2n)/ln 0.9 ≈ 30.18.
     let red = Prepared::new(Index::new(0.17054450589301903, 3.7487680870353586));
-    assert!(red.compensation.fallback.is_none());
-    assert!((red.compensation.lambda - 30.1827).abs() < 1e-3, "{}", red.compensation.lambda);
+    assert!(red.params::<SchlickCompensated>().fallback.is_none());
+    assert!((red.params::<SchlickCompensated>().lambda - 30.1827).abs() < 1e-3, "{}", red.params::<SchlickCompensated>().lambda);
 }
 
 #[test]
 fn nvidia_fit_is_deterministic_and_beats_the_schlick_shape() {
     for index in [Index::new(1.5, 0.0), Index::new(0.17, 3.75), Index::new(2.05, 3.63), Index::new(1.0003, 0.0)] {
         let p = Prepared::new(index);
-        assert_eq!(p.nvidia, Prepared::new(index).nvidia);
-        let fit = p.nvidia;
+        assert_eq!(p.params::<Nvidia>(), Prepared::new(index).params::<Nvidia>());
+        let fit = *p.params::<Nvidia>();
         assert!((0.5..1024.0).contains(&fit.power), "{fit:?}");
         // RMS over the same θ grid of the Schlick-shaped choice bias = F0, scale = 1 − F0, power = 5.
         let m = nvidia::NVIDIA_FIT_SAMPLES;
@@ -336,10 +337,18 @@ fn encodings_quantise_as_stored() {
 #[test]
 fn method_names() {
     let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-    assert_eq!(names, ["exact", "schlick", "schlick_nk", "schlick_compensated", "lazanyi", "nvidia", "lut", "f82_tint"]);
+    assert_eq!(names, ["exact", "schlick", "schlick_nk", "schlick_compensated", "lazanyi", "nvidia", "lut", "f82_tint", "schlick_fitted"]);
     for m in Method::ALL {
         assert_eq!(Method::from_name(m.name()), Some(m));
+        assert_eq!(Method::ALL[m.index()], m);
     }
+    // The uniform members every method adds, in the order of the list.
+    let members: Vec<&str> = Method::ALL.iter().flat_map(|m| m.uniform().iter().copied()).collect();
+    assert_eq!(
+        members,
+        ["compensation_weight", "compensation_lambda", "lazanyi_a", "nvidia_bias", "nvidia_scale", "nvidia_power", "f82_f0", "f82_tint", "schlick_power"]
+    );
+    assert_eq!(METHOD_UNIFORM_MEMBERS, members.len());
 }
 
 #[test]
@@ -372,4 +381,29 @@ fn f82_tint_by_hand() {
     let expected = 0.5 + 0.5 * (0.7f64).powi(5) - b * c * (0.7f64).powi(6);
     assert!((f82_tint(0.5, 0.5, c) - expected).abs() < 1e-14);
     assert!((f82_tint(0.5_f32, 0.5, 0.3) as f64 - expected).abs() < 1e-6);
+}
+
+/// A method is fitted only when it is asked for, and once: the f32 twin reads the same
+/// fit, and shader parameters round-trip through the uniform members.
+#[test]
+fn fits_are_lazy_and_shared_by_both_precisions() {
+    use super::methods::Stored;
+    let p = Prepared::new(Index::new(0.17, 3.75));
+    assert!(Nvidia::cell(&p.fits).get().is_none(), "nothing fitted before it is asked for");
+    let f = p.analytic(Method::Schlick, 0.5).unwrap();
+    assert_eq!(f, schlick(p.f0, 0.5));
+    assert!(Nvidia::cell(&p.fits).get().is_none(), "schlick fits nothing");
+    let wide = p.analytic(Method::Nvidia, 0.3).unwrap();
+    let fit = *Nvidia::cell(&p.fits).get().expect("fitted on first use");
+    assert_eq!(fit, fit_nvidia(&p.exact));
+    assert_eq!(wide, nvidia(fit.bias, fit.scale, fit.power, 0.3));
+    let narrow = p.analytic_f32(Method::Nvidia, 0.3).unwrap();
+    assert_eq!(narrow, nvidia(fit.bias as f32, fit.scale as f32, fit.power as f32, 0.3));
+    let shader = p.shader_params();
+    let again = ShaderParams::from_members(shader.channel(), &shader.members()).unwrap();
+    assert_eq!(again, shader);
+    for method in Method::ALL {
+        assert_eq!(shader.analytic(method, 0.3), p.analytic_f32(method, 0.3), "{method}");
+    }
+    assert!(ShaderParams::from_members(shader.channel(), &shader.members()[1..]).is_none());
 }

@@ -44,7 +44,7 @@ pub fn method_errors(
     let prepared: [Prepared; 3] = index.map(prepared);
     let mut out = Vec::new();
     for method in THREE_CHANNEL_METHODS {
-        let models = prepared.map(|p| Model::from_prepared(p, method, LutSpec::default()));
+        let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c].clone(), method, LutSpec::default()));
         let curve: Vec<[f64; 3]> = rule.cosines.iter().map(|&mu| [0, 1, 2].map(|c| models[c].reflectance(mu))).collect();
         out.push(MethodError { method, source: "three-channel", lut: None, error: curve_error(&curve, reference, rule) });
     }

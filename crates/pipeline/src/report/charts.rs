@@ -33,20 +33,31 @@ pub const PALETTE: [RGBColor; 8] = [
     RGBColor(120, 120, 120),
 ];
 
-/// The colour of a method's curves. One arm per method, no wildcard: a method added to
-/// `Method` does not compile until it has a colour, and `curves`' tests hold every drawn
-/// method's colour apart from the others' and from [`REFERENCE_COLOR`] and
-/// [`FITTED_COLOR`]. `schlick_nk` is not drawn (it is `schlick` with F0 from (n, k)).
+/// The methods' colours, one per method in the order of [`Method::ALL`] (Okabe–Ito, then
+/// Paul Tol's muted scheme): none is the reference's grey or the fitted curve's wine.
+const METHOD_PALETTE: [RGBColor; 12] = [
+    RGBColor(0, 0, 0),
+    RGBColor(230, 159, 0),
+    RGBColor(240, 228, 66),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 114, 178),
+    RGBColor(68, 170, 153),
+    RGBColor(153, 153, 51),
+    RGBColor(51, 34, 136),
+    RGBColor(136, 204, 238),
+];
+
+// A method beyond the palette does not build: give the palette another colour.
+const _: () = assert!(Method::ALL.len() <= METHOD_PALETTE.len(), "more Fresnel methods than METHOD_PALETTE has colours");
+
+/// The colour of a method's curves: its place in [`Method::ALL`] in [`METHOD_PALETTE`];
+/// `curves`' tests hold every method's colour apart from the others' and from
+/// [`REFERENCE_COLOR`] and [`FITTED_COLOR`].
 pub const fn method_color(method: Method) -> RGBColor {
-    match method {
-        Method::Exact => PALETTE[0],
-        Method::Schlick | Method::SchlickNk => PALETTE[1],
-        Method::SchlickCompensated => PALETTE[2],
-        Method::Lazanyi => PALETTE[3],
-        Method::Nvidia => PALETTE[4],
-        Method::Lut => PALETTE[5],
-        Method::F82Tint => PALETTE[6],
-    }
+    METHOD_PALETTE[method.index()]
 }
 
 /// The spectral reference's curve (and the F = 1 line of the reflectance plots).

@@ -53,7 +53,7 @@ pub fn method_curves(index: &ChannelIndex, theta_deg: &[f64], fits: &FitMemo) ->
         .into_iter()
         .filter(|&m| drawn(m))
         .map(|method| {
-            let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c], method, PLOTTED_LUT));
+            let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c].clone(), method, PLOTTED_LUT));
             let rgb = cosines.iter().map(|&cos| [0, 1, 2].map(|c| models[c].reflectance(cos))).collect();
             let name = if method == Method::Lut { format!("lut {}", PLOTTED_LUT.name()) } else { method.name().to_string() };
             PlotCurve { name, color: method_color(method), dashed: method != Method::Exact, rgb }
@@ -140,6 +140,10 @@ mod tests {
                 assert_ne!(a.color, b.color, "{} and {} share a colour", a.name, b.name);
             }
         }
-        assert_eq!(method_color(Method::SchlickNk), method_color(Method::Schlick), "schlick_nk is schlick's curve, not drawn");
+        // The colours of the curves this crate drew before the palette became one entry
+        // per method keep their colour (the reports read the same).
+        let okabe_ito = |m: Method| method_color(m);
+        assert_eq!(okabe_ito(Method::Schlick), plotters::style::RGBColor(230, 159, 0));
+        assert_eq!(okabe_ito(Method::F82Tint), plotters::style::RGBColor(0, 114, 178));
     }
 }
