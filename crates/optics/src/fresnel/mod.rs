@@ -154,6 +154,8 @@ pub struct Prepared {
     pub f0: f64,
     /// Angle-independent terms of `exact`.
     pub exact: ExactTerms,
+    /// The same three as the methods receive them.
+    channel: Channel,
     /// n, k and F0 rounded to f32.
     shader: ShaderChannel,
     fits: LazyParams<f64>,
@@ -167,7 +169,7 @@ impl Prepared {
         let exact = ExactTerms::new(index);
         let f0 = schlick_f0(index.n, index.k);
         let channel = Channel { index, f0, exact };
-        Self { index, f0, exact, shader: ShaderChannel::of(&channel), fits: LazyParams::default(), rounded: LazyParams::default() }
+        Self { index, f0, exact, channel, shader: ShaderChannel::of(&channel), fits: LazyParams::default(), rounded: LazyParams::default() }
     }
 
     /// This one with the parameters of `M` given (a fit made before, e.g. by a
@@ -178,36 +180,36 @@ impl Prepared {
     }
 
     /// What every method shares.
-    pub fn channel(&self) -> Channel {
-        Channel { index: self.index, f0: self.f0, exact: self.exact }
+    pub fn channel(&self) -> &Channel {
+        &self.channel
     }
 
     /// The parameters of the method `M`, fitted now if they were not yet.
     pub fn params<M: Stored>(&self) -> &M::Params<f64> {
-        M::cell(&self.fits).get_or_init(|| M::fit(&self.channel()))
+        M::cell(&self.fits).get_or_init(|| M::fit(&self.channel))
     }
 
     /// F of an analytic method at cosθ; `None` for [`Method::Lut`] (use a [`Model`]).
     #[inline]
     pub fn analytic(&self, method: Method, cos_theta: f64) -> Option<f64> {
-        self.fits.reflectance(method, &self.channel(), cos_theta)
+        self.fits.reflectance(method, &self.channel, cos_theta)
     }
 
     /// The same in the shader's f32 arithmetic, with the parameters rounded once to f32.
     #[inline]
     pub fn analytic_f32(&self, method: Method, cos_theta: f32) -> Option<f32> {
-        self.rounded.reflectance_f32(method, &self.fits, &self.channel(), &self.shader, cos_theta)
+        self.rounded.reflectance_f32(method, &self.fits, &self.channel, &self.shader, cos_theta)
     }
 
     /// Cosines where `method`'s F(θ) has kinks or fine structure (see
     /// [`FresnelMethod::kinks`]).
     pub fn kinks(&self, method: Method) -> Vec<f64> {
-        self.fits.kinks(method, &self.channel())
+        self.fits.kinks(method, &self.channel)
     }
 
     /// The f32 uniforms of a shader for this channel (every method fitted).
     pub fn shader_params(&self) -> ShaderParams {
-        ShaderParams { channel: self.shader, methods: self.fits.all_rounded(&self.channel()) }
+        ShaderParams { channel: self.shader, methods: self.fits.all_rounded(&self.channel) }
     }
 }
 

@@ -107,7 +107,7 @@ mod tests {
     use crate::spectrum::Index;
 
     fn channel(n: f64, k: f64) -> Channel {
-        Prepared::new(Index::new(n, k)).channel()
+        *Prepared::new(Index::new(n, k)).channel()
     }
 
     /// The fitted power against a brute-force scan of log₂ p in steps of 1e-4 over
