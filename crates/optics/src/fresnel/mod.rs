@@ -42,7 +42,7 @@ pub use method::{Channel, FresnelMethod, ShaderChannel};
 pub use methods::{Method, Stored, METHOD_UNIFORM_MEMBERS};
 pub use real::Real;
 
-use methods::{AllParams, LazyParams};
+use methods::{AllParams, LazyParams, Resolved};
 
 use crate::spectrum::Index;
 
@@ -201,6 +201,11 @@ impl Prepared {
         self.rounded.reflectance_f32(method, &self.fits, &self.channel, &self.shader, cos_theta)
     }
 
+    /// `method`'s parameters in both precisions, fitted now if they were not yet.
+    fn resolved(&self, method: Method) -> Resolved {
+        Resolved::of(method, &self.fits, &self.rounded, &self.channel)
+    }
+
     /// Cosines where `method`'s F(θ) has kinks or fine structure (see
     /// [`FresnelMethod::kinks`]).
     pub fn kinks(&self, method: Method) -> Vec<f64> {
@@ -253,6 +258,8 @@ impl ShaderParams {
 pub struct Model {
     method: Method,
     prepared: Prepared,
+    /// The method's parameters in both precisions (fitted when the model is made).
+    resolved: Resolved,
     /// Some exactly when `method` is [`Method::Lut`].
     lut: Option<Lut>,
 }
@@ -266,12 +273,12 @@ impl Model {
     /// [`Model::new`] from parameters prepared before (`lut` baked only for [`Method::Lut`]).
     pub fn from_prepared(prepared: Prepared, method: Method, lut: LutSpec) -> Self {
         let lut = (method == Method::Lut).then(|| Lut::bake(lut, |c| prepared.exact.reflectance(c)));
-        Self { method, prepared, lut }
+        Self { method, resolved: prepared.resolved(method), prepared, lut }
     }
 
     /// `lut` with a texture baked elsewhere (e.g. one curve quantised per encoding).
     pub fn with_lut(prepared: Prepared, lut: Lut) -> Self {
-        Self { method: Method::Lut, prepared, lut: Some(lut) }
+        Self { method: Method::Lut, resolved: prepared.resolved(Method::Lut), prepared, lut: Some(lut) }
     }
 
     /// The method evaluated.
@@ -295,7 +302,7 @@ impl Model {
         match &self.lut {
             Some(lut) => lut.sample(cos_theta),
             // An analytic method (a `lut` model always has its texture).
-            None => self.prepared.analytic(self.method, cos_theta).unwrap_or(0.0),
+            None => self.resolved.reflectance(&self.prepared.channel, cos_theta).unwrap_or(0.0),
         }
     }
 
@@ -304,7 +311,7 @@ impl Model {
     pub fn reflectance_f32(&self, cos_theta: f32) -> f32 {
         match &self.lut {
             Some(lut) => lut.sample_f32(cos_theta),
-            None => self.prepared.analytic_f32(self.method, cos_theta).unwrap_or(0.0),
+            None => self.resolved.reflectance_f32(&self.prepared.shader, cos_theta).unwrap_or(0.0),
         }
     }
 }

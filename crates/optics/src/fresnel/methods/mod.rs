@@ -155,6 +155,41 @@ macro_rules! methods {
             }
         }
 
+        /// One method's parameters in both precisions, resolved once for a
+        /// [`super::Model`], so that its evaluations dispatch on the method alone.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub(crate) enum Resolved {
+            $($unit(<$module::$unit as FresnelMethod>::Params<f64>, <$module::$unit as FresnelMethod>::Params<f32>),)+
+        }
+
+        impl Resolved {
+            /// `method`'s parameters, fitted (or read from `wide`, `narrow`) now.
+            pub(crate) fn of(method: Method, wide: &LazyParams<f64>, narrow: &LazyParams<f32>, channel: &Channel) -> Self {
+                match method {
+                    $(Method::$unit => {
+                        let params = *wide.$module.get_or_init(|| <$module::$unit>::fit(channel));
+                        Resolved::$unit(params, *narrow.$module.get_or_init(|| <$module::$unit>::rounded(&params)))
+                    })+
+                }
+            }
+
+            /// F in f64.
+            #[inline]
+            pub(crate) fn reflectance(&self, channel: &Channel, cos_theta: f64) -> Option<f64> {
+                match self {
+                    $(Resolved::$unit(params, _) => <$module::$unit>::reflectance(channel, params, cos_theta),)+
+                }
+            }
+
+            /// F in f32.
+            #[inline]
+            pub(crate) fn reflectance_f32(&self, shader: &ShaderChannel, cos_theta: f32) -> Option<f32> {
+                match self {
+                    $(Resolved::$unit(_, params) => <$module::$unit>::reflectance_f32(shader, params, cos_theta),)+
+                }
+            }
+        }
+
         impl AllParams {
             /// F of `method` in f32.
             pub(crate) fn reflectance_f32(&self, method: Method, shader: &ShaderChannel, cos_theta: f32) -> Option<f32> {
