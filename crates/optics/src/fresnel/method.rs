@@ -84,10 +84,14 @@ pub trait FresnelMethod: 'static {
     /// The parameters from the values of [`FresnelMethod::UNIFORM`] (as long as it).
     fn from_members<T: Real>(members: &[T]) -> Self::Params<T>;
 
-    /// F at cosθ in f64; `None` for a method that reads a texture (`lut`).
+    /// F at cosθ in f64; `None` for a method that reads a texture (`lut`). Mark it
+    /// `#[inline]`: it is called from other crates' loops, which cannot inline a
+    /// non-generic function of this crate otherwise (without it `schlick` cost 2.2× in
+    /// `cargo bench --bench fresnel`).
     fn reflectance(channel: &Channel, params: &Self::Params<f64>, cos_theta: f64) -> Option<f64>;
 
-    /// F at cosθ in the shader's f32 arithmetic; `None` for a texture method.
+    /// F at cosθ in the shader's f32 arithmetic; `None` for a texture method. `#[inline]`
+    /// as [`FresnelMethod::reflectance`].
     fn reflectance_f32(channel: &ShaderChannel, params: &Self::Params<f32>, cos_theta: f32) -> Option<f32>;
 
     /// Cosines where F(θ) has a kink or changes on a scale much finer than [0, π/2]

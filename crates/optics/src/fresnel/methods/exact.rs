@@ -31,10 +31,12 @@ fn fresnel_exact(c: f32, p: MaterialParams) -> vec3<f32> {
 
     fn from_members<T: Real>(_: &[T]) {}
 
+    #[inline]
     fn reflectance(channel: &Channel, _: &(), cos_theta: f64) -> Option<f64> {
         Some(channel.exact.reflectance(cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, _: &(), cos_theta: f32) -> Option<f32> {
         Some(exact_f32(channel.n, channel.k, cos_theta))
     }

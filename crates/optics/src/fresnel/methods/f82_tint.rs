@@ -47,10 +47,12 @@ fn fresnel_f82_tint(c: f32, p: MaterialParams) -> vec3<f32> {
         F82Colours { f0: members[0], tint: members[1] }
     }
 
+    #[inline]
     fn reflectance(_: &Channel, colours: &F82Colours, cos_theta: f64) -> Option<f64> {
         Some(f82_tint(colours.f0, colours.tint, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(_: &ShaderChannel, colours: &F82Colours<f32>, cos_theta: f32) -> Option<f32> {
         Some(f82_tint(colours.f0, colours.tint, cos_theta))
     }

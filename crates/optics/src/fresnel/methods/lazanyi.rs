@@ -38,10 +38,12 @@ fn fresnel_lazanyi(c: f32, p: MaterialParams) -> vec3<f32> {
         members[0]
     }
 
+    #[inline]
     fn reflectance(channel: &Channel, a: &f64, cos_theta: f64) -> Option<f64> {
         Some(lazanyi(channel.f0, *a, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, a: &f32, cos_theta: f32) -> Option<f32> {
         Some(lazanyi(channel.f0, *a, cos_theta))
     }

@@ -28,10 +28,12 @@ fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f
 
     fn from_members<T: Real>(_: &[T]) {}
 
+    #[inline]
     fn reflectance(_: &Channel, _: &(), _: f64) -> Option<f64> {
         None
     }
 
+    #[inline]
     fn reflectance_f32(_: &ShaderChannel, _: &(), _: f32) -> Option<f32> {
         None
     }

@@ -37,10 +37,12 @@ fn fresnel_nvidia(c: f32, p: MaterialParams) -> vec3<f32> {
         NvidiaFit { bias: members[0], scale: members[1], power: members[2], rms_residual: T::ZERO }
     }
 
+    #[inline]
     fn reflectance(_: &Channel, fit: &NvidiaFit, cos_theta: f64) -> Option<f64> {
         Some(nvidia(fit.bias, fit.scale, fit.power, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(_: &ShaderChannel, fit: &NvidiaFit<f32>, cos_theta: f32) -> Option<f32> {
         Some(nvidia(fit.bias, fit.scale, fit.power, cos_theta))
     }

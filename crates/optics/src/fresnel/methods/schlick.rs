@@ -29,10 +29,12 @@ fn fresnel_schlick(c: f32, p: MaterialParams) -> vec3<f32> {
 
     fn from_members<T: Real>(_: &[T]) {}
 
+    #[inline]
     fn reflectance(channel: &Channel, _: &(), cos_theta: f64) -> Option<f64> {
         Some(schlick(channel.f0, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, _: &(), cos_theta: f32) -> Option<f32> {
         Some(schlick(channel.f0, cos_theta))
     }

@@ -40,11 +40,13 @@ fn fresnel_schlick_compensated(c: f32, p: MaterialParams) -> vec3<f32> {
         Compensation { weight: members[0], lambda: members[1], fallback: None }
     }
 
+    #[inline]
     fn reflectance(channel: &Channel, params: &Compensation, cos_theta: f64) -> Option<f64> {
         let n = channel.index.n;
         Some(schlick_compensated(n, channel.index.k, params.weight, params.lambda, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, params: &Compensation<f32>, cos_theta: f32) -> Option<f32> {
         Some(schlick_compensated(channel.n, channel.k, params.weight, params.lambda, cos_theta))
     }

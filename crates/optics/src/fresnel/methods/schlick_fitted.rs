@@ -93,10 +93,12 @@ fn fresnel_schlick_fitted(c: f32, p: MaterialParams) -> vec3<f32> {
         members[0]
     }
 
+    #[inline]
     fn reflectance(channel: &Channel, power: &f64, cos_theta: f64) -> Option<f64> {
         Some(schlick_power(channel.f0, *power, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, power: &f32, cos_theta: f32) -> Option<f32> {
         Some(schlick_power(channel.f0, *power, cos_theta))
     }

@@ -32,10 +32,12 @@ fn fresnel_schlick_nk(c: f32, p: MaterialParams) -> vec3<f32> {
 
     fn from_members<T: Real>(_: &[T]) {}
 
+    #[inline]
     fn reflectance(channel: &Channel, _: &(), cos_theta: f64) -> Option<f64> {
         Some(schlick_nk(channel.index.n, channel.index.k, cos_theta))
     }
 
+    #[inline]
     fn reflectance_f32(channel: &ShaderChannel, _: &(), cos_theta: f32) -> Option<f32> {
         Some(schlick_nk(channel.n, channel.k, cos_theta))
     }
