@@ -122,7 +122,11 @@ pub fn wgsl_function(shading: Shading) -> &'static str {
 
 /// Methods that read the material's texture.
 pub fn needs_texture(method: Shading) -> bool {
-    matches!(method, Shading::Fresnel(Method::Lut) | Shading::Texture)
+    match method {
+        Shading::Fresnel(method) => method.reads_texture(),
+        Shading::Texture => true,
+        Shading::Constant => false,
+    }
 }
 
 #[cfg(test)]

@@ -70,6 +70,9 @@ pub trait FresnelMethod: 'static {
     /// `shaders/fresnel.wgsl` (`pow5`, `shader_pow`, `exact_channel`) and read the
     /// constants of the generated module `contracts`.
     const WGSL: &'static str;
+    /// Whether F comes from a texture (then [`FresnelMethod::reflectance`] is `None` and
+    /// the GPU binds the material's texture): `lut`.
+    const READS_TEXTURE: bool = false;
     /// The members this method adds to `MaterialParams`, one per parameter, in the order of
     /// [`FresnelMethod::members`] (at most [`MAX_UNIFORM_MEMBERS`]).
     const UNIFORM: &'static [&'static str];

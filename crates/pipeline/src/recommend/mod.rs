@@ -38,7 +38,7 @@ use nklut_optics::spectrum::Kind;
 
 pub use depth::{depth_growth, effects_tables, DepthGrowth};
 pub use pick::{recommend, Bound, Candidate, LutSize, Pick, Recommendation, TimeUnit, Timing};
-pub use spectral::{method_errors, MethodError, THREE_CHANNEL_METHODS};
+pub use spectral::{method_errors, three_channel_methods, MethodError};
 
 /// The device name of `cost.csv`'s CPU figures.
 pub const CPU: &str = "CPU";

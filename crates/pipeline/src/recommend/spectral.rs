@@ -17,9 +17,11 @@ use nklut_optics::spectrum::ChannelIndex;
 
 use crate::params::{curve_error, CurveError, Reference};
 
-/// The closed forms measured on the three-channel index, in SPEC order (`lut` apart).
-pub const THREE_CHANNEL_METHODS: [Method; 7] =
-    [Method::Exact, Method::Schlick, Method::SchlickNk, Method::SchlickCompensated, Method::Lazanyi, Method::Nvidia, Method::F82Tint];
+/// The closed forms measured on the three-channel index: every method but those that read
+/// a texture (`lut`, measured per size and encoding instead), in the order of `Method::ALL`.
+pub fn three_channel_methods() -> Vec<Method> {
+    Method::ALL.into_iter().filter(|m| !m.reads_texture()).collect()
+}
 
 /// One method's error on one page.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,7 +33,7 @@ pub struct MethodError {
     pub error: CurveError,
 }
 
-/// Every method of [`THREE_CHANNEL_METHODS`] on `index`, then a spectral LUT per size ×
+/// Every method of [`three_channel_methods`] on `index`, then a spectral LUT per size ×
 /// encoding of the sweep. `prepared` gives each channel's prepared parameters (the
 /// `nvidia` fit from a memo where the caller has one).
 pub fn method_errors(
@@ -43,7 +45,7 @@ pub fn method_errors(
 ) -> Vec<MethodError> {
     let prepared: [Prepared; 3] = index.map(prepared);
     let mut out = Vec::new();
-    for method in THREE_CHANNEL_METHODS {
+    for method in three_channel_methods() {
         let models = [0, 1, 2].map(|c| Model::from_prepared(prepared[c].clone(), method, LutSpec::default()));
         let curve: Vec<[f64; 3]> = rule.cosines.iter().map(|&mu| [0, 1, 2].map(|c| models[c].reflectance(mu))).collect();
         out.push(MethodError { method, source: "three-channel", lut: None, error: curve_error(&curve, reference, rule) });
@@ -79,7 +81,8 @@ mod tests {
         let prepared = PreparedSpectrum::new(&spectrum);
         let reference = Reference::new(&prepared, rule);
         let errors = method_errors(&material.channels, &Prepared::new, &prepared, &reference, rule);
-        assert_eq!(errors.len(), THREE_CHANNEL_METHODS.len() + LutSpec::sweep().len());
+        assert_eq!(errors.len(), three_channel_methods().len() + LutSpec::sweep().len());
+        assert!(three_channel_methods().contains(&Method::SchlickFitted) && !three_channel_methods().contains(&Method::Lut));
         let exact = &errors[0];
         assert_eq!(exact.method, Method::Exact);
         assert!(exact.error.delta_e_max < 1e-3 && exact.error.relative.iter().all(|r| *r < 1e-9), "{exact:?}");

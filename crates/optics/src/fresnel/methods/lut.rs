@@ -20,6 +20,7 @@ fn fresnel_lut(c: f32, curve: texture_2d<f32>, curve_sampler: sampler) -> vec3<f
     return textureSampleLevel(curve, curve_sampler, vec2<f32>(c, 0.5), 0.0).rgb;
 }
 ";
+    const READS_TEXTURE: bool = true;
     const UNIFORM: &'static [&'static str] = &[];
 
     fn fit(_: &Channel) {}

@@ -58,6 +58,13 @@ macro_rules! methods {
                 }
             }
 
+            /// Whether F comes from a texture (`lut`): no closed form to evaluate.
+            pub const fn reads_texture(self) -> bool {
+                match self {
+                    $(Method::$unit => <$module::$unit as FresnelMethod>::READS_TEXTURE,)+
+                }
+            }
+
             /// The members the method adds to the shader's `MaterialParams`.
             pub const fn uniform(self) -> &'static [&'static str] {
                 match self {
