@@ -115,7 +115,10 @@ fn every_method_matches_its_cpu_reference_on_a_cos_ramp() {
 #[test]
 fn mixed_material_really_falls_back() {
     let prepared = params::prepare(&MIXED);
-    assert!(prepared.iter().any(|p| p.params::<fresnel::methods::schlick_compensated::SchlickCompensated>().fallback.is_some()), "{prepared:?}");
+    assert!(
+        prepared.iter().any(|p| p.params::<fresnel::methods::schlick_compensated::SchlickCompensated>().fallback.is_some()),
+        "{prepared:?}"
+    );
     let uniform = MaterialUniform::from_prepared(&prepared);
     for i in 0..=100 {
         for channel in 0..3 {

@@ -5,8 +5,8 @@
 //! draws the `nvidia` curve of every page, reads them instead of fitting again. A fit read
 //! back has the bits of the one made.
 
-use super::nvidia::{fit_nvidia, NvidiaFit};
 use super::methods::nvidia::Nvidia;
+use super::nvidia::{fit_nvidia, NvidiaFit};
 use super::{sanitise, Prepared};
 use crate::memo::{Key, Kind, Memo};
 use crate::spectrum::Index;

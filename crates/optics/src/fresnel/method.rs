@@ -4,8 +4,8 @@
 //! reads, and where its error integrand has kinks. Every method implements
 //! [`FresnelMethod`] in a file of its own under `fresnel/methods/`, and the list in
 //! `fresnel/methods/mod.rs` (one line per method) makes the [`Method`] enum, its tables'
-//! names, the lazily fitted parameters of [`Prepared`], the shader's parameters
-//! ([`ShaderParams`]) and the GPU's uniform layout from it. docs/extending.md walks
+//! names, the lazily fitted parameters of [`Prepared`](super::Prepared), the shader's parameters
+//! ([`ShaderParams`](super::ShaderParams)) and the GPU's uniform layout from it. docs/extending.md walks
 //! through adding one.
 //!
 //! [`Method`]: super::Method

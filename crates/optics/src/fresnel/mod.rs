@@ -37,9 +37,9 @@ pub use approx::{
 pub use exact::{exact, exact_f32, ExactTerms, LANES};
 pub use lut::{filter, filter_weights, sample_lut, texel_values, Encoding, Filter, Lut, LutSpec, LUT_SIZES};
 pub use memo::FitMemo;
-pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use method::{Channel, FresnelMethod, ShaderChannel};
 pub use methods::{Method, Stored, METHOD_UNIFORM_MEMBERS};
+pub use nvidia::{fit_nvidia, nvidia, NvidiaFit};
 pub use real::Real;
 
 use methods::{AllParams, LazyParams, Resolved};

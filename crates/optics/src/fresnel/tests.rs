@@ -2,8 +2,8 @@
 
 use proptest::prelude::*;
 
-use super::reference::{exact_complex, exact_complex_textbook};
 use super::methods::{f82_tint::F82Tint, lazanyi::Lazanyi, nvidia::Nvidia, schlick_compensated::SchlickCompensated};
+use super::reference::{exact_complex, exact_complex_textbook};
 use super::*;
 
 /// n log-uniform in [1e-3, 1e3].
@@ -346,7 +346,17 @@ fn method_names() {
     let members: Vec<&str> = Method::ALL.iter().flat_map(|m| m.uniform().iter().copied()).collect();
     assert_eq!(
         members,
-        ["compensation_weight", "compensation_lambda", "lazanyi_a", "nvidia_bias", "nvidia_scale", "nvidia_power", "f82_f0", "f82_tint", "schlick_power"]
+        [
+            "compensation_weight",
+            "compensation_lambda",
+            "lazanyi_a",
+            "nvidia_bias",
+            "nvidia_scale",
+            "nvidia_power",
+            "f82_f0",
+            "f82_tint",
+            "schlick_power"
+        ]
     );
     assert_eq!(METHOD_UNIFORM_MEMBERS, members.len());
 }
