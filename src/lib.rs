@@ -15,8 +15,9 @@ pub use nklut_effects as effects;
 pub use nklut_effects::scene;
 #[cfg(feature = "gpu")]
 pub use nklut_gpu as gpu;
-pub use nklut_optics::{appearance, atomic, color, db, encoding, fresnel, memo, minimise, spectrum};
-pub use nklut_pipeline::{bake, budget, colors, escape, ingest, output, params, progress, recommend, report, validate};
+pub use nklut_optics::{appearance, color, db, encoding, fresnel, memo, minimise, spectrum};
+
+pub use nklut_pipeline::{bake, budget, colors, escape, ingest, memo_file, output, params, progress, recommend, report, validate};
 
 use std::path::{Path, PathBuf};
 

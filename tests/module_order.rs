@@ -20,13 +20,13 @@ const CRATES: [Layers; 4] = [
     Layers {
         krate: "optics",
         order: &["db", "spectrum", "fresnel", "color", "appearance"],
-        leaves: &["encoding", "minimise", "atomic", "memo"],
+        leaves: &["encoding", "minimise", "memo"],
         siblings: &[],
     },
     Layers {
         krate: "tables",
         order: &["ingest"],
-        leaves: &["output", "progress", "budget", "stats", "escape", "texel", "image_files", "models"],
+        leaves: &["output", "progress", "budget", "stats", "escape", "texel", "image_files", "models", "atomic", "memo_file"],
         siblings: &[],
     },
     Layers {

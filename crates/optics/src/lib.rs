@@ -62,8 +62,8 @@
 //! before it in this order (the workspace's `tests/module_order.rs` checks it): `db` →
 //! `spectrum` → `fresnel` → `color` → `appearance`. Leaves any module may use: `encoding` (the sRGB
 //! transfer function, texel encodings and centres), `minimise` (Brent's 1D minimiser),
-//! `atomic` (files replaced whole) and `memo` (results remembered between the commands of
-//! one output folder, in plain files).
+//! and `memo` (results remembered between the commands of one output folder, as bytes: the
+//! program that runs the commands keeps the files; this crate writes no file).
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md` in the nklut repository.
 
@@ -73,7 +73,6 @@
 #![deny(missing_docs)]
 
 pub mod appearance;
-pub mod atomic;
 pub mod color;
 pub mod db;
 pub mod encoding;

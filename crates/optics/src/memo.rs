@@ -1,6 +1,7 @@
 //! Results remembered between the commands of one output folder, each a function of its
-//! key alone: a file under `<out>/.cache/` of records, a 256-bit key and a value of
-//! 64-bit words. A record is only ever read by the executable that computed it (its path,
+//! key alone: records of a 256-bit key and a value of 64-bit words, encoded as the bytes of
+//! one file under `<out>/.cache/` ([`Kind::PATH`]; `nklut-tables`' `memo_file` reads and
+//! writes it: this crate touches no file of its own). A record is only ever read by the executable that computed it (its path,
 //! size and modification time), so a rebuilt `nklut` never reads what its predecessor
 //! computed. What is remembered: the spectral curves and the effective fits
 //! (`color::memo`), the error integrals (`validate::memo`), the `nvidia` fits
@@ -18,15 +19,8 @@ use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::marker::PhantomData;
 use std::ops::Range;
-use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard};
-
-use anyhow::Result;
-
-/// The largest memo read back (a whole database's records are a few megabytes); a larger
-/// file is not this program's memo and is ignored.
-pub const MAX_MEMO_BYTES: u64 = 1 << 30;
 
 /// 128 bits of a sequence of words or f64 (two SipHash-1-3 sums with different prefixes,
 /// over the bit patterns): the key of a spectrum, a set of cosines, a family of methods.
@@ -120,6 +114,12 @@ impl Records {
 }
 
 impl<K: Kind> Memo<K> {
+    /// The identity of the executable whose records these are (empty: none, and such a
+    /// memo is neither read nor written).
+    pub fn identity(&self) -> &str {
+        &self.identity
+    }
+
     /// An empty memo for the executable named by `identity` (empty: one that neither
     /// reads nor writes a file).
     pub fn new(identity: &str) -> Self {
@@ -248,53 +248,10 @@ impl<K: Kind> Memo<K> {
         }
         reader.bytes.is_empty().then(|| Self::of(identity, remembered, lookup))
     }
-
-    /// The memo of the output folder `out` for the running executable (empty when there
-    /// is none, it is another executable's, or the executable cannot be identified).
-    pub fn load(out: &Path) -> Self {
-        let identity = executable_identity();
-        if identity.is_empty() {
-            return Self::new("");
-        }
-        // A regular file of at most MAX_MEMO_BYTES (a FIFO or a device there is no memo,
-        // and reading it neither waits nor grows without end).
-        match crate::db::file::read_regular(&out.join(K::PATH), MAX_MEMO_BYTES) {
-            Ok(bytes) => Self::decode(&bytes, &identity),
-            Err(_) => Self::new(&identity),
-        }
-    }
-
-    /// Write the memo under `out` when it grew, atomically but without waiting for the
-    /// disk (see the module doc).
-    pub fn save(&self, out: &Path) -> Result<()> {
-        // Without an identity no later run could tell this memo is its own.
-        if self.identity.is_empty() || !self.grew() {
-            return Ok(());
-        }
-        crate::atomic::write_atomic_unflushed(&out.join(K::PATH), &self.encode())
-    }
-
-    /// [`Memo::save`], a failure reported as a warning: the outputs are written already,
-    /// and the next command computes what was not remembered.
-    pub fn save_or_warn(&self, out: &Path) {
-        if let Err(error) = self.save(out) {
-            eprintln!("warning: the {} were not remembered: {error:#}", K::RECORDS);
-        }
-    }
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
-}
-
-/// The running executable as a memo sees it: its path, size and modification time (a
-/// rebuild changes them). Empty when they cannot be read; such a run neither reads nor
-/// writes a memo.
-fn executable_identity() -> String {
-    let Ok(path) = std::env::current_exe() else { return String::new() };
-    let Ok(metadata) = std::fs::metadata(&path) else { return String::new() };
-    let modified = metadata.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map_or(0, |d| d.as_nanos());
-    format!("{} {} {modified}", path.display(), metadata.len())
 }
 
 /// A SipHash-1-3 sum of the memo's bytes (one pass; it guards against a torn or damaged

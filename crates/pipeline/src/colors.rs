@@ -14,6 +14,7 @@ use nklut_optics::color::srgb::hex_swatch;
 use nklut_optics::db::Database;
 use nklut_optics::encoding::texel_cosines;
 use nklut_optics::spectrum::Channels;
+use nklut_tables::memo_file::MemoFile;
 
 /// Column suffixes of the per-channel columns.
 const SUFFIXES: [&str; 3] = ["r", "g", "b"];

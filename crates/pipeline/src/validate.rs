@@ -41,6 +41,7 @@ use nklut_optics::fresnel::{
     Method, Model, PerPrecision, Precision, Prepared, LANES,
 };
 use nklut_optics::spectrum::{ChannelIndex, Channels, Index, CHANNEL_NAMES};
+use nklut_tables::memo_file::MemoFile;
 
 use memo::{Families, FamilyMeasurement, IntegralMemo};
 use quadrature::{Integral, Integrand, Sample, Tolerance};

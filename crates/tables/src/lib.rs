@@ -5,11 +5,13 @@
 //! statistics, error summaries and histograms ([`stats`]), the memory a run may take
 //! ([`budget`]), progress bars ([`progress`]), text escaped for each sink ([`escape`]),
 //! stored texels and their PNG/EXR files ([`texel`], [`image_files`]) and the engine
-//! parameterisations of a Fresnel curve with their fits ([`models`]).
+//! parameterisations of a Fresnel curve with their fits ([`models`]), files replaced whole
+//! ([`atomic`]) and the memo files of an output folder ([`memo_file`]).
 //!
-//! Leaves: `output`, `progress`, `budget`, `stats`, `escape`, `texel`, `image_files` and
-//! `models` use no module of this crate but `output` → `escape` and `image_files` →
-//! `texel`; `ingest` uses `output`, `progress` and `escape`.
+//! Leaves: `output`, `progress`, `budget`, `stats`, `escape`, `texel`, `image_files`,
+//! `models`, `atomic` and `memo_file` use no module of this crate but `output` → `escape`,
+//! `output` and `memo_file` → `atomic`, and `image_files` → `texel`; `ingest` uses `output`,
+//! `progress` and `escape`.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
 //! repository.
@@ -17,10 +19,12 @@
 // `!(a <= b)` is written where a NaN must take the branch that `a > b` would skip.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod atomic;
 pub mod budget;
 pub mod escape;
 pub mod image_files;
 pub mod ingest;
+pub mod memo_file;
 pub mod models;
 pub mod output;
 pub mod progress;

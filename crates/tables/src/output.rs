@@ -33,7 +33,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 
-pub use nklut_optics::atomic::{temp_path, write_atomic, write_atomic_unflushed};
+pub use crate::atomic::{temp_path, write_atomic, write_atomic_unflushed};
 
 /// A file of a set: its name in the output folder (no folders) and its bytes.
 #[derive(Clone, Debug, PartialEq)]

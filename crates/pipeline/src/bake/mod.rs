@@ -32,6 +32,7 @@ use crate::output::fnv1a;
 use nklut_optics::color;
 use nklut_optics::db::Database;
 use nklut_optics::spectrum::{ChannelIndex, Channels, Kind};
+use nklut_tables::memo_file::MemoFile;
 
 use accuracy::LutError;
 use manifest::{Manifest, RowEntry, TextureSet};

@@ -30,6 +30,7 @@ use nklut_optics::appearance::Appearance;
 use nklut_optics::color::{self, CurveMemo, Fingerprint, PreparedSpectrum};
 use nklut_optics::db::Database;
 use nklut_optics::spectrum::{Channels, Material};
+use nklut_tables::memo_file::MemoFile;
 
 pub use models::{F82Tint, GeneralizedSchlick, Gulbrandsen, EDGE_COS};
 pub use page::{curve_error, engine_params, CurveError, EngineModel, EngineParams, ModelError, Reference};

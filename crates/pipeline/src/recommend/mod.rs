@@ -35,6 +35,7 @@ use nklut_optics::color::{self, CurveMemo, PreparedSpectrum};
 use nklut_optics::db::Database;
 use nklut_optics::fresnel::{FitMemo, LutSpec, Method};
 use nklut_optics::spectrum::Kind;
+use nklut_tables::memo_file::MemoFile;
 
 pub use depth::{depth_growth, effects_tables, DepthGrowth};
 pub use pick::{recommend, Bound, Candidate, LutSize, Pick, Recommendation, TimeUnit, Timing};

@@ -12,6 +12,7 @@ use super::csvdata::{CsvTable, MAX_TABLE_BYTES};
 use crate::ingest::Selection;
 use nklut_optics::fresnel::FitMemo;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
+use nklut_tables::memo_file::MemoFile;
 
 /// Tables written by the effects, ambient-occlusion, engine-parameter and recommend stages: shown
 /// when present, named as absent otherwise.

@@ -1,6 +1,6 @@
 //! Files replaced whole: the bytes go to a temporary name in the same folder, then one
 //! rename puts them in place, so a reader (or a run killed at any moment) sees the old file
-//! or the new one, never a part. The memo files of `memo` and the single files of the
+//! or the new one, never a part. The memo files (`memo_file`) and the single files of the
 //! pipeline's outputs are written this way.
 
 use std::fs;
