@@ -144,36 +144,35 @@ pub fn unit_cos<T: Real>(cos_theta: T) -> T {
 }
 
 /// One channel ready for every method (SPEC §5): the sanitised index, F0 and the exact
-/// terms computed at once, each method's parameters fitted the first time it is asked for
-/// (the fits are kept, and their f32 rounding beside them).
+/// terms computed at once (read through [`Channel`]: `prepared.index`, `prepared.f0`,
+/// `prepared.exact`), each method's parameters fitted the first time it is asked for and
+/// kept.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prepared {
-    /// The sanitised index (see [`sanitise`]).
-    pub index: Index,
-    /// Normal-incidence reflectance F0 = ((n − 1)² + k²)/((n + 1)² + k²) (SPEC §5.2).
-    pub f0: f64,
-    /// Angle-independent terms of `exact`.
-    pub exact: ExactTerms,
-    /// The same three as the methods receive them.
     channel: Channel,
     /// n, k and F0 rounded to f32.
     shader: ShaderChannel,
-    fits: LazyParams<f64>,
-    rounded: LazyParams<f32>,
+    fits: LazyParams,
+}
+
+impl std::ops::Deref for Prepared {
+    type Target = Channel;
+
+    fn deref(&self) -> &Channel {
+        &self.channel
+    }
 }
 
 impl Prepared {
     /// The channel of `index` (sanitised first); no method is fitted yet.
     pub fn new(index: Index) -> Self {
         let index = sanitise(index);
-        let exact = ExactTerms::new(index);
-        let f0 = schlick_f0(index.n, index.k);
-        let channel = Channel { index, f0, exact };
-        Self { index, f0, exact, channel, shader: ShaderChannel::of(&channel), fits: LazyParams::default(), rounded: LazyParams::default() }
+        let channel = Channel { index, f0: schlick_f0(index.n, index.k), exact: ExactTerms::new(index) };
+        Self { channel, shader: ShaderChannel::of(&channel), fits: LazyParams::default() }
     }
 
     /// This one with the parameters of `M` given (a fit made before, e.g. by a
-    /// [`FitMemo`]) instead of fitted on first use.
+    /// [`FitMemo`]) instead of fitted on first use; ignored where `M` was fitted already.
     pub fn with_params<M: Stored>(self, params: M::Params<f64>) -> Self {
         let _ = M::cell(&self.fits).set(params);
         self
@@ -186,7 +185,7 @@ impl Prepared {
 
     /// The parameters of the method `M`, fitted now if they were not yet.
     pub fn params<M: Stored>(&self) -> &M::Params<f64> {
-        M::cell(&self.fits).get_or_init(|| M::fit(&self.channel))
+        self.fits.get::<M>(&self.channel)
     }
 
     /// F of an analytic method at cosθ; `None` for [`Method::Lut`] (use a [`Model`]).
@@ -196,14 +195,13 @@ impl Prepared {
     }
 
     /// The same in the shader's f32 arithmetic, with the parameters rounded once to f32.
-    #[inline]
     pub fn analytic_f32(&self, method: Method, cos_theta: f32) -> Option<f32> {
-        self.rounded.reflectance_f32(method, &self.fits, &self.channel, &self.shader, cos_theta)
+        self.resolved(method).reflectance_f32(&self.shader, cos_theta)
     }
 
     /// `method`'s parameters in both precisions, fitted now if they were not yet.
     fn resolved(&self, method: Method) -> Resolved {
-        Resolved::of(method, &self.fits, &self.rounded, &self.channel)
+        Resolved::of(method, &self.fits, &self.channel)
     }
 
     /// Cosines where `method`'s F(θ) has kinks or fine structure (see

@@ -11,7 +11,6 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 pub trait Real:
     Copy
     + std::fmt::Debug
-    + Default
     + Send
     + Sync
     + 'static

@@ -10,7 +10,6 @@
 use std::sync::OnceLock;
 
 use super::method::{check, Channel, FresnelMethod, ShaderChannel, MAX_UNIFORM_MEMBERS};
-use super::real::Real;
 
 /// Makes the enum and the per-method storage from the list of `module::Type` lines.
 macro_rules! methods {
@@ -90,8 +89,8 @@ macro_rules! methods {
         /// Every method's parameters of one channel, each fitted when first asked for.
         #[doc(hidden)]
         #[derive(Clone, Debug, Default, PartialEq)]
-        pub struct LazyParams<T: Real> {
-            $($module: OnceLock<<$module::$unit as FresnelMethod>::Params<T>>,)+
+        pub struct LazyParams {
+            $($module: OnceLock<<$module::$unit as FresnelMethod>::Params<f64>>,)+
         }
 
         /// Every method's parameters of one channel in f32, as the uniform carries them.
@@ -104,60 +103,41 @@ macro_rules! methods {
         pub trait Stored: FresnelMethod {
             /// Where they are kept.
             #[doc(hidden)]
-            fn cell<T: Real>(params: &LazyParams<T>) -> &OnceLock<Self::Params<T>>;
+            fn cell(params: &LazyParams) -> &OnceLock<Self::Params<f64>>;
         }
 
         $(
             impl Stored for $module::$unit {
-                fn cell<T: Real>(params: &LazyParams<T>) -> &OnceLock<Self::Params<T>> {
+                fn cell(params: &LazyParams) -> &OnceLock<Self::Params<f64>> {
                     &params.$module
                 }
             }
         )+
 
-        impl LazyParams<f64> {
+        impl LazyParams {
+            /// The parameters of `M` for `channel`, fitted now if they were not yet.
+            pub(crate) fn get<M: Stored>(&self, channel: &Channel) -> &M::Params<f64> {
+                M::cell(self).get_or_init(|| M::fit(channel))
+            }
+
             /// F of `method` in f64, its parameters fitted on first use.
             pub(crate) fn reflectance(&self, method: Method, channel: &Channel, cos_theta: f64) -> Option<f64> {
                 match method {
-                    $(Method::$unit => {
-                        let params = self.$module.get_or_init(|| <$module::$unit>::fit(channel));
-                        <$module::$unit>::reflectance(channel, params, cos_theta)
-                    })+
+                    $(Method::$unit => <$module::$unit>::reflectance(channel, self.get::<$module::$unit>(channel), cos_theta),)+
                 }
             }
 
             /// The kinks of `method`'s error integrand.
             pub(crate) fn kinks(&self, method: Method, channel: &Channel) -> Vec<f64> {
                 match method {
-                    $(Method::$unit => <$module::$unit>::kinks(channel, self.$module.get_or_init(|| <$module::$unit>::fit(channel))),)+
+                    $(Method::$unit => <$module::$unit>::kinks(channel, self.get::<$module::$unit>(channel)),)+
                 }
             }
 
             /// Every method's parameters rounded to f32 (every fit made).
             pub(crate) fn all_rounded(&self, channel: &Channel) -> AllParams {
                 AllParams {
-                    $($module: <$module::$unit>::rounded(self.$module.get_or_init(|| <$module::$unit>::fit(channel))),)+
-                }
-            }
-        }
-
-        impl LazyParams<f32> {
-            /// F of `method` in f32, its parameters rounded from `wide` on first use.
-            pub(crate) fn reflectance_f32(
-                &self,
-                method: Method,
-                wide: &LazyParams<f64>,
-                channel: &Channel,
-                shader: &ShaderChannel,
-                cos_theta: f32,
-            ) -> Option<f32> {
-                match method {
-                    $(Method::$unit => {
-                        let params = self.$module.get_or_init(|| {
-                            <$module::$unit>::rounded(wide.$module.get_or_init(|| <$module::$unit>::fit(channel)))
-                        });
-                        <$module::$unit>::reflectance_f32(shader, params, cos_theta)
-                    })+
+                    $($module: <$module::$unit>::rounded(self.get::<$module::$unit>(channel)),)+
                 }
             }
         }
@@ -170,12 +150,13 @@ macro_rules! methods {
         }
 
         impl Resolved {
-            /// `method`'s parameters, fitted (or read from `wide`, `narrow`) now.
-            pub(crate) fn of(method: Method, wide: &LazyParams<f64>, narrow: &LazyParams<f32>, channel: &Channel) -> Self {
+            /// `method`'s parameters from `fits` (fitted now if they were not yet) and their
+            /// rounding to f32.
+            pub(crate) fn of(method: Method, fits: &LazyParams, channel: &Channel) -> Self {
                 match method {
                     $(Method::$unit => {
-                        let params = *wide.$module.get_or_init(|| <$module::$unit>::fit(channel));
-                        Resolved::$unit(params, *narrow.$module.get_or_init(|| <$module::$unit>::rounded(&params)))
+                        let params = *fits.get::<$module::$unit>(channel);
+                        Resolved::$unit(params, <$module::$unit>::rounded(&params))
                     })+
                 }
             }
