@@ -19,6 +19,7 @@ use super::hero::{HeroPanel, HeroSet};
 use super::image_error::{compare_object, FrameError};
 use super::pictures::Picture;
 use anyhow::Result;
+use nklut_tables::effects_tables::{configuration, effects_cpu_timing, effects_errors};
 use std::time::Instant;
 
 use super::trace::{reference, render, Camera, PathRules, Stage, TracedFrame};
@@ -419,23 +420,18 @@ fn hero(scene: &Scene, stage: &Stage, size: [u32; 2], methods: &[Method], render
 pub fn timing_table(rows: &[FrameTimingRow]) -> Table {
     let mut table = Table::new();
     table
-        .text(
-            "renderer",
-            "what traced the distance-map frames (cpu-twin: the f64 CPU twin)",
-            rows.iter().map(|r| r.renderer.to_string()).collect(),
-        )
-        .text("method", "Fresnel method of every bounce", rows.iter().map(|r| r.method.name().to_string()).collect());
+        .put(effects_cpu_timing::RENDERER, rows.iter().map(|r| r.renderer.to_string()).collect())
+        .put(effects_cpu_timing::METHOD, rows.iter().map(|r| r.method.name().to_string()).collect());
     configuration_columns(&mut table, rows.iter().map(|r| r.configuration));
     table
-        .integer("frames", "camera frames timed", rows.iter().map(|r| r.frames as i64).collect())
-        .text("resolution", "frame size WxH in pixels", rows.iter().map(|r| format!("{}x{}", r.resolution[0], r.resolution[1])).collect())
-        .float(
-            "frame_ms",
-            "median wall time of one frame through the distance maps (on the CPU: a ratio to reference_ms carries to another machine, the figure itself does not)",
-            rows.iter().map(|r| r.frame_ms).collect(),
-        )
-        .float("reference_ms", "median wall time of the f64 reference tracer's frame of the same configuration (the anchor)", rows.iter().map(|r| r.reference_ms).collect())
-        .float("ratio_to_reference", "frame_ms / reference_ms", rows.iter().map(|r| if r.reference_ms > 0.0 { r.frame_ms / r.reference_ms } else { 0.0 }).collect());
+        .put(effects_cpu_timing::FRAMES, rows.iter().map(|r| r.frames as i64).collect())
+        .put(effects_cpu_timing::RESOLUTION, rows.iter().map(|r| format!("{}x{}", r.resolution[0], r.resolution[1])).collect())
+        .put(effects_cpu_timing::FRAME_MS, rows.iter().map(|r| r.frame_ms).collect())
+        .put(effects_cpu_timing::REFERENCE_MS, rows.iter().map(|r| r.reference_ms).collect())
+        .put(
+            effects_cpu_timing::RATIO_TO_REFERENCE,
+            rows.iter().map(|r| if r.reference_ms > 0.0 { r.frame_ms / r.reference_ms } else { 0.0 }).collect(),
+        );
     table
 }
 
@@ -444,12 +440,12 @@ pub fn configuration_columns(table: &mut Table, rows: impl Iterator<Item = Confi
     let rows: Vec<Configuration> = rows.collect();
     let integer = |f: &dyn Fn(&Configuration) -> u32| rows.iter().map(|r| f(r) as i64).collect::<Vec<_>>();
     table
-        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection))
-        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction))
-        .integer("linear_steps", "linear search steps per layer", integer(&|r| r.steps.linear))
-        .integer("secant_steps", "secant refinements after the linear search", integer(&|r| r.steps.secant))
-        .integer("map_size", "distance-map texels per cube face edge", integer(&|r| r.map_size))
-        .integer("layers", "distance-map layers (all but the last: peeled specular surfaces; last: diffuse)", integer(&|r| r.layers));
+        .put(configuration::REFLECTION_DEPTH, integer(&|r| r.depths.reflection))
+        .put(configuration::REFRACTION_DEPTH, integer(&|r| r.depths.refraction))
+        .put(configuration::LINEAR_STEPS, integer(&|r| r.steps.linear))
+        .put(configuration::SECANT_STEPS, integer(&|r| r.steps.secant))
+        .put(configuration::MAP_SIZE, integer(&|r| r.map_size))
+        .put(configuration::LAYERS, integer(&|r| r.layers));
 }
 
 /// `effects_errors.*`: one row per (object, material, method, depths, search steps).
@@ -460,56 +456,24 @@ pub fn error_table(rows: &[EffectErrorRow]) -> Table {
     let optional = |f: &dyn Fn(&EffectErrorRow) -> Option<f64>| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
-        .text("material", "page id", text(&|r| r.material.clone()))
-        .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text(
-            "renderer",
-            "what traced the distance maps: cpu-twin (the f64 CPU twin of the GPU algorithm) or gpu (the GPU passes)",
-            text(&|r| r.renderer.into()),
-        );
+        .put(effects_errors::OBJECT, text(&|r| r.object.clone()))
+        .put(effects_errors::MATERIAL, text(&|r| r.material.clone()))
+        .put(effects_errors::METHOD, text(&|r| r.method.name().into()))
+        .put(effects_errors::RENDERER, text(&|r| r.renderer.into()));
     configuration_columns(
         &mut table,
         rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }),
     );
     table
-        .integer("frames", "camera frames rendered", integer(&|r| r.frames as i64))
-        .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
-        .integer("pixels", "pixels showing the object, summed over frames", integer(&|r| r.total.pixels as i64))
-        .optional_float(
-            "geometry_mean_rel_error",
-            "distance maps with exact Fresnel vs the reference: mean |a - r| / r over the object's pixels and channels (r = 0 skipped)",
-            optional(&|r| r.geometry.mean_relative()),
-        )
-        .float(
-            "geometry_mean_delta_e2000",
-            "distance maps with exact Fresnel vs the reference: mean CIEDE2000 of the colours",
-            float(&|r| r.geometry.mean_delta_e2000()),
-        )
-        .optional_float(
-            "fresnel_mean_rel_error",
-            "the method vs exact Fresnel on the same distance-map paths: mean |a - r| / r",
-            optional(&|r| r.fresnel.mean_relative()),
-        )
-        .float(
-            "fresnel_mean_delta_e2000",
-            "the method vs exact Fresnel on the same distance-map paths: mean CIEDE2000",
-            float(&|r| r.fresnel.mean_delta_e2000()),
-        )
-        .optional_float(
-            "total_mean_rel_error",
-            "distance maps with the method vs the reference: mean |a - r| / r",
-            optional(&|r| r.total.mean_relative()),
-        )
-        .float(
-            "total_mean_delta_e2000",
-            "distance maps with the method vs the reference: mean CIEDE2000",
-            float(&|r| r.total.mean_delta_e2000()),
-        )
-        .float(
-            "total_mean_abs_error",
-            "distance maps with the method vs the reference: mean |a - r| (linear radiance)",
-            float(&|r| r.total.mean_absolute()),
-        );
+        .put(effects_errors::FRAMES, integer(&|r| r.frames as i64))
+        .put(effects_errors::RESOLUTION, text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .put(effects_errors::PIXELS, integer(&|r| r.total.pixels as i64))
+        .put(effects_errors::GEOMETRY_MEAN_REL_ERROR, optional(&|r| r.geometry.mean_relative()))
+        .put(effects_errors::GEOMETRY_MEAN_DELTA_E2000, float(&|r| r.geometry.mean_delta_e2000()))
+        .put(effects_errors::FRESNEL_MEAN_REL_ERROR, optional(&|r| r.fresnel.mean_relative()))
+        .put(effects_errors::FRESNEL_MEAN_DELTA_E2000, float(&|r| r.fresnel.mean_delta_e2000()))
+        .put(effects_errors::TOTAL_MEAN_REL_ERROR, optional(&|r| r.total.mean_relative()))
+        .put(effects_errors::TOTAL_MEAN_DELTA_E2000, float(&|r| r.total.mean_delta_e2000()))
+        .put(effects_errors::TOTAL_MEAN_ABS_ERROR, float(&|r| r.total.mean_absolute()));
     table
 }

@@ -22,6 +22,7 @@
 //! the same window, so crops compare like with like.
 
 use anyhow::Result;
+use nklut_tables::effects_tables::effects_hero;
 
 use super::colour_bar::{self, error_png, p99_scale};
 use super::distance_map::Configuration;
@@ -309,101 +310,37 @@ pub fn hero_table(rows: &[HeroRow]) -> Table {
         |f: &dyn Fn(&Configuration) -> u32| rows.iter().map(|r| r.configuration.map(|c| f64::from(f(&c)))).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text(
-            "effect",
-            "the family of effects: reflections and refractions, or ambient occlusion",
-            text(&|r| family_label(r.effect).into()),
-        )
-        .text(
-            "panel",
-            "the panel's stem: reference, a Fresnel method, or an AO variant (none, passesN_tree, passesN_brute_force)",
-            text(&|r| r.panel.clone()),
-        )
-        .text("label", "what the panel shows, in words", text(&|r| r.label.clone()))
-        .text("method", "Fresnel method or AO variant (reference for the reference)", text(&|r| r.method.clone()))
-        .optional_float("reflection_depth", "most reflections along a path (distance-map panels)", configuration(&|c| c.depths.reflection))
-        .optional_float("refraction_depth", "most refractions along a path (distance-map panels)", configuration(&|c| c.depths.refraction))
-        .optional_float("linear_steps", "linear search steps per layer (distance-map panels)", configuration(&|c| c.steps.linear))
-        .optional_float("secant_steps", "secant refinements (distance-map panels)", configuration(&|c| c.steps.secant))
-        .optional_float("passes", "accessibility passes (AO panels; 0: no AO)", rows.iter().map(|r| r.passes.map(f64::from)).collect())
-        .text("resolution", "frame size WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
-        .text("file", "the panel, sRGB PNG, relative to the scene's output folder", text(&|r| r.file.clone()))
-        .text(
-            "error_file",
-            "false colour of |panel - reference| summed over R, G, B (empty for the reference)",
-            optional_text(&|r| r.error_file.clone()),
-        )
-        .integer("crop_x", "left edge of the crop window (pixels)", integer(&|r| r.crop.x as i64))
-        .integer("crop_y", "top edge of the crop window (pixels)", integer(&|r| r.crop.y as i64))
-        .integer("crop_size", "side of the square crop window (pixels): where the largest error sits", integer(&|r| r.crop.size as i64))
-        .text("crop_file", "the panel inside the crop window", text(&|r| r.crop_file.clone()))
-        .text("crop_error_file", "the error image inside the crop window", optional_text(&|r| r.crop_error_file.clone()))
-        .integer(
-            "pixels",
-            "pixels the figures are taken over (reflections and refractions: where the reference shows a specular object; AO: every pixel)",
-            integer(&|r| r.error.pixels as i64),
-        )
-        .float(
-            "mean_abs_error",
-            "mean |panel - reference| over those pixels and the three channels (linear radiance)",
-            rows.iter().map(|r| r.error.mean_absolute).collect(),
-        )
-        .float(
-            "max_abs_error",
-            "largest |panel - reference| over those pixels and channels",
-            rows.iter().map(|r| r.error.max_absolute).collect(),
-        )
-        .float(
-            "mean_delta_e2000",
-            "mean CIEDE2000 of panel against reference over those pixels",
-            rows.iter().map(|r| r.error.mean_delta_e2000).collect(),
-        )
-        .optional_float(
-            "mean_rel_error",
-            "mean |a - r| / r over the channel samples with r > 0",
-            rows.iter().map(|r| r.error.mean_relative).collect(),
-        )
-        .float(
-            "error_scale",
-            "|Δ| summed over R, G, B at which the error image turns white (the colour bar's right end): reflections and refractions the 1-2-5 step at or above the 99th percentile over the set's panels and counted pixels, ambient occlusion fixed",
-            rows.iter().map(|r| r.error_scale).collect(),
-        )
-        .text("error_scale_file", "the error image's legend: colour bar with its values", text(&|r| r.error_scale_file.clone()))
-        .text(
-            "exact_error_file",
-            "false colour of |panel - exact method's panel| summed over R, G, B: the Fresnel method's own error through the same maps (empty where none)",
-            optional_text(&|r| r.exact.as_ref().map(|e| e.error_file.clone())),
-        )
-        .text(
-            "crop_exact_error_file",
-            "that error image inside the crop window",
-            optional_text(&|r| r.exact.as_ref().map(|e| e.crop_error_file.clone())),
-        )
-        .optional_float(
-            "exact_mean_delta_e2000",
-            "mean CIEDE2000 of panel against the exact method's panel over the same pixels",
-            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_delta_e2000)).collect(),
-        )
-        .optional_float(
-            "exact_mean_abs_error",
-            "mean |panel - exact method's panel| over those pixels and channels",
-            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_absolute)).collect(),
-        )
-        .optional_float(
-            "exact_max_abs_error",
-            "largest |panel - exact method's panel| over those pixels and channels",
-            rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.max_absolute)).collect(),
-        )
-        .optional_float(
-            "exact_error_scale",
-            "|Δ| at which the against-exact image turns white (the same rule over the set's against-exact images)",
-            rows.iter().map(|r| r.exact.as_ref().map(|e| e.scale)).collect(),
-        )
-        .text(
-            "exact_error_scale_file",
-            "the against-exact image's legend",
-            optional_text(&|r| r.exact.as_ref().map(|e| e.scale_file.clone())),
-        );
+        .put(effects_hero::EFFECT, text(&|r| family_label(r.effect).into()))
+        .put(effects_hero::PANEL, text(&|r| r.panel.clone()))
+        .put(effects_hero::LABEL, text(&|r| r.label.clone()))
+        .put(effects_hero::METHOD, text(&|r| r.method.clone()))
+        .put(effects_hero::REFLECTION_DEPTH, configuration(&|c| c.depths.reflection))
+        .put(effects_hero::REFRACTION_DEPTH, configuration(&|c| c.depths.refraction))
+        .put(effects_hero::LINEAR_STEPS, configuration(&|c| c.steps.linear))
+        .put(effects_hero::SECANT_STEPS, configuration(&|c| c.steps.secant))
+        .put(effects_hero::PASSES, rows.iter().map(|r| r.passes.map(f64::from)).collect())
+        .put(effects_hero::RESOLUTION, text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .put(effects_hero::FILE, text(&|r| r.file.clone()))
+        .put(effects_hero::ERROR_FILE, optional_text(&|r| r.error_file.clone()))
+        .put(effects_hero::CROP_X, integer(&|r| r.crop.x as i64))
+        .put(effects_hero::CROP_Y, integer(&|r| r.crop.y as i64))
+        .put(effects_hero::CROP_SIZE, integer(&|r| r.crop.size as i64))
+        .put(effects_hero::CROP_FILE, text(&|r| r.crop_file.clone()))
+        .put(effects_hero::CROP_ERROR_FILE, optional_text(&|r| r.crop_error_file.clone()))
+        .put(effects_hero::PIXELS, integer(&|r| r.error.pixels as i64))
+        .put(effects_hero::MEAN_ABS_ERROR, rows.iter().map(|r| r.error.mean_absolute).collect())
+        .put(effects_hero::MAX_ABS_ERROR, rows.iter().map(|r| r.error.max_absolute).collect())
+        .put(effects_hero::MEAN_DELTA_E2000, rows.iter().map(|r| r.error.mean_delta_e2000).collect())
+        .put(effects_hero::MEAN_REL_ERROR, rows.iter().map(|r| r.error.mean_relative).collect())
+        .put(effects_hero::ERROR_SCALE, rows.iter().map(|r| r.error_scale).collect())
+        .put(effects_hero::ERROR_SCALE_FILE, text(&|r| r.error_scale_file.clone()))
+        .put(effects_hero::EXACT_ERROR_FILE, optional_text(&|r| r.exact.as_ref().map(|e| e.error_file.clone())))
+        .put(effects_hero::CROP_EXACT_ERROR_FILE, optional_text(&|r| r.exact.as_ref().map(|e| e.crop_error_file.clone())))
+        .put(effects_hero::EXACT_MEAN_DELTA_E2000, rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_delta_e2000)).collect())
+        .put(effects_hero::EXACT_MEAN_ABS_ERROR, rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.mean_absolute)).collect())
+        .put(effects_hero::EXACT_MAX_ABS_ERROR, rows.iter().map(|r| r.exact.as_ref().map(|e| e.error.max_absolute)).collect())
+        .put(effects_hero::EXACT_ERROR_SCALE, rows.iter().map(|r| r.exact.as_ref().map(|e| e.scale)).collect())
+        .put(effects_hero::EXACT_ERROR_SCALE_FILE, optional_text(&|r| r.exact.as_ref().map(|e| e.scale_file.clone())));
     table
 }
 

@@ -16,6 +16,7 @@
 //! reference colour at normal incidence and the edge tint g fitted to its curve, shaded with
 //! the exact F of the (n, k) they give), a dielectric as three-wavelength.
 
+use nklut_tables::effects_tables::spectral_errors;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -267,35 +268,23 @@ pub fn spectral_error_table(rows: &[SpectralErrorRow]) -> Table {
     let float = |f: &dyn Fn(&SpectralErrorRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("object", "mesh of the specular object: sphere, cube, prism, room, plane or the OBJ file stem", text(&|r| r.object.clone()))
-        .integer("object_index", "the object's position in the scene's objects list, from 0", integer(&|r| r.object_index as i64))
-        .text("material", "page id", text(&|r| r.material.clone()))
-        .text(
-            "index_source",
-            "where the three-channel frame's (n, k) come from: three-wavelength (at the channel wavelengths), effective (colors' fit over angle to the spectral reference; attenuation keeps the three-wavelength k) or engine (conductors as F82-tint curves from the three-wavelength index, dielectrics as one IOR, the green channel's n, absorption kept)",
-            text(&|r| r.source.name().into()),
-        )
-        .integer("reflection_depth", "most reflections along a path (0: not named)", integer(&|r| r.depths.reflection as i64))
-        .integer("refraction_depth", "most refractions along a path (0: not named)", integer(&|r| r.depths.refraction as i64))
-        .integer("wavelengths", "wavelength bins of the spectral frame (421: every 1 nm of 360-780 nm, colors' sum)", integer(&|r| r.wavelengths as i64))
-        .text("resolution", "frame size WxH in pixels (camera frame 0)", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
-        .integer("pixels", "pixels where the spectral frame shows the object", integer(&|r| r.pixels as i64))
-        .float("mean_delta_e2000", "three-channel reference vs spectral reference: mean CIEDE2000 over the object's pixels", float(&|r| r.mean_delta_e2000))
-        .float("p95_delta_e2000", "95th percentile (linear interpolation) of the CIEDE2000 over the object's pixels", float(&|r| r.p95_delta_e2000))
-        .float("max_delta_e2000", "largest CIEDE2000 over the object's pixels", float(&|r| r.max_delta_e2000))
-        .float("spectral_ms", "wall time of the spectral reference's frame (all objects)", float(&|r| r.spectral_ms))
-        .float("three_channel_ms", "wall time of the three-channel reference's frame with this index source", float(&|r| r.three_channel_ms))
-        .float(
-            "spectral_wavelength_rays_per_s",
-            "wavelength-rays (one ray at one wavelength; a ray carrying a bundle counts each) per second of the spectral frame",
-            float(&|r| r.spectral_wavelength_rays_per_s),
-        )
-        .float("three_channel_rays_per_s", "rays per second of the three-channel frame", float(&|r| r.three_channel_rays_per_s))
-        .integer(
-            "total_internal_reflections",
-            "total internal reflections in the spectral frame, counted per wavelength (all objects)",
-            integer(&|r| r.total_internal_reflections as i64),
-        );
+        .put(spectral_errors::OBJECT, text(&|r| r.object.clone()))
+        .put(spectral_errors::OBJECT_INDEX, integer(&|r| r.object_index as i64))
+        .put(spectral_errors::MATERIAL, text(&|r| r.material.clone()))
+        .put(spectral_errors::INDEX_SOURCE, text(&|r| r.source.name().into()))
+        .put(spectral_errors::REFLECTION_DEPTH, integer(&|r| r.depths.reflection as i64))
+        .put(spectral_errors::REFRACTION_DEPTH, integer(&|r| r.depths.refraction as i64))
+        .put(spectral_errors::WAVELENGTHS, integer(&|r| r.wavelengths as i64))
+        .put(spectral_errors::RESOLUTION, text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .put(spectral_errors::PIXELS, integer(&|r| r.pixels as i64))
+        .put(spectral_errors::MEAN_DELTA_E2000, float(&|r| r.mean_delta_e2000))
+        .put(spectral_errors::P95_DELTA_E2000, float(&|r| r.p95_delta_e2000))
+        .put(spectral_errors::MAX_DELTA_E2000, float(&|r| r.max_delta_e2000))
+        .put(spectral_errors::SPECTRAL_MS, float(&|r| r.spectral_ms))
+        .put(spectral_errors::THREE_CHANNEL_MS, float(&|r| r.three_channel_ms))
+        .put(spectral_errors::SPECTRAL_WAVELENGTH_RAYS_PER_S, float(&|r| r.spectral_wavelength_rays_per_s))
+        .put(spectral_errors::THREE_CHANNEL_RAYS_PER_S, float(&|r| r.three_channel_rays_per_s))
+        .put(spectral_errors::TOTAL_INTERNAL_REFLECTIONS, integer(&|r| r.total_internal_reflections as i64));
     table
 }
 

@@ -479,3 +479,17 @@ fn a_scene_scaled_to_either_end_of_the_range_renders_the_image_at_scale_one() {
 
 const SCALE_STRAY: f64 = 1e-4;
 const SCALE_BOUND: f64 = 1e-4;
+
+/// Each table's writer puts the columns `nklut_tables::effects_tables` lists for it, in that
+/// order (the report reads them through the same constants).
+#[test]
+fn every_table_is_written_with_the_columns_its_reader_names() {
+    use nklut_tables::effects_tables::{ao_errors, ao_histogram, effects_cpu_timing, effects_errors, effects_hero, spectral_errors};
+    let names = |table: nklut_tables::output::Table| table.columns.into_iter().map(|c| c.name).collect::<Vec<_>>();
+    assert_eq!(names(super::experiment::error_table(&[])), effects_errors::NAMES);
+    assert_eq!(names(super::experiment::timing_table(&[])), effects_cpu_timing::NAMES);
+    assert_eq!(names(super::hero::hero_table(&[])), effects_hero::NAMES);
+    assert_eq!(names(super::spectral_errors::spectral_error_table(&[])), spectral_errors::NAMES);
+    assert_eq!(names(crate::ao::errors::ao_errors_table(&[])), ao_errors::NAMES);
+    assert_eq!(names(crate::ao::histogram::ao_histogram_table(&[])), ao_histogram::NAMES);
+}

@@ -13,6 +13,7 @@
 //! as ratios.
 
 use anyhow::Result;
+use nklut_tables::effects_tables::ao_timing;
 
 use super::context::Gpu;
 use super::passes::ao::{Gather, SurfelAoPass};
@@ -338,34 +339,28 @@ pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Ta
     };
     let mut table = Table::new();
     table
-        .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
-        .text("driver", "driver name and version", text(&|_| a.driver.clone()))
-        .text("mesh", "mesh of the sweep: name, then decimated (vertex-clustering cell edge) or subdivided (levels)", text(&|r| r.mesh.clone()))
-        .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .text(
-            "emitters",
-            "brute_force (every surfel), hierarchy (the surfel tree's cut, kappa = 16), or gtao (screen-space, per pixel: no emitters)",
-            text(&|r| r.gather.name().into()),
-        )
-        .integer("tree_nodes", "nodes of the surfel tree uploaded (0 for brute force)", rows.iter().map(|r| r.tree_nodes as i64).collect())
-        .integer("passes", "accessibility passes per timed sample", rows.iter().map(|r| r.passes as i64).collect())
-        .integer("dispatches", "compute dispatches per timed sample", rows.iter().map(|r| r.dispatches as i64).collect())
-        .integer("width", "gtao: frame width in pixels (0 for the surfel pass, which is per vertex)", gtao(&|_, [w, _], _| w as i64))
-        .integer("height", "gtao: frame height in pixels (0 for the surfel pass)", gtao(&|_, [_, h], _| h as i64))
-        .integer("covered_pixels", "gtao: pixels that see a surface (0 for the surfel pass)", gtao(&|_, _, c| c as i64))
-        .integer("slices", "gtao: slices per pixel (0 for the surfel pass)", gtao(&|g, _, _| g.slices as i64))
-        .integer("steps", "gtao: G-buffer samples per side of a slice (0 for the surfel pass)", gtao(&|g, _, _| g.steps as i64))
-        .text(
-            "preset",
-            "gtao: the configuration's preset (bare: Algorithm 1; xe-low, xe-medium, xe-high, xe-ultra: XeGTAO's), with (modified) where the scene overrode a heuristic; empty for the surfel pass",
+        .put(ao_timing::ADAPTER, text(&|_| a.name.clone()))
+        .put(ao_timing::DRIVER, text(&|_| a.driver.clone()))
+        .put(ao_timing::MESH, text(&|r| r.mesh.clone()))
+        .put(ao_timing::SURFELS, rows.iter().map(|r| r.surfels as i64).collect())
+        .put(ao_timing::EMITTERS, text(&|r| r.gather.name().into()))
+        .put(ao_timing::TREE_NODES, rows.iter().map(|r| r.tree_nodes as i64).collect())
+        .put(ao_timing::PASSES, rows.iter().map(|r| r.passes as i64).collect())
+        .put(ao_timing::DISPATCHES, rows.iter().map(|r| r.dispatches as i64).collect())
+        .put(ao_timing::WIDTH, gtao(&|_, [w, _], _| w as i64))
+        .put(ao_timing::HEIGHT, gtao(&|_, [_, h], _| h as i64))
+        .put(ao_timing::COVERED_PIXELS, gtao(&|_, _, c| c as i64))
+        .put(ao_timing::SLICES, gtao(&|g, _, _| g.slices as i64))
+        .put(ao_timing::STEPS, gtao(&|g, _, _| g.steps as i64))
+        .put(
+            ao_timing::PRESET,
             text(&|r| match r.gather {
                 Timed::Gtao { gtao, .. } => gtao.preset_label(),
                 Timed::Surfels(_) => String::new(),
             }),
         )
-        .optional_float(
-            "radius",
-            "gtao: search radius in scene units, before the preset's radius multiplier; empty for the surfel pass",
+        .put(
+            ao_timing::RADIUS,
             rows.iter()
                 .map(|r| match r.gather {
                     Timed::Gtao { gtao, .. } => Some(gtao.radius),
@@ -373,31 +368,30 @@ pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Ta
                 })
                 .collect(),
         )
-        .integer(
-            "frames",
-            "gtao: frames accumulated to convergence (per-pixel noise; 1 without noise); 0 for the surfel pass",
-            rows.iter().map(|r| r.frames() as i64).collect(),
-        )
-        .text("timer", "timestamp (GPU timestamp queries around the compute pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
-        .integer("repeats", "timed samples (after warm-up)", rows.iter().map(|r| r.repeats as i64).collect())
-        .float("median_ms", "median time of one sample (ms); gtao: one frame's dispatch and its denoiser passes", rows.iter().map(|r| r.median_ms).collect())
-        .float("spread_ms", "interquartile range of the samples (ms)", rows.iter().map(|r| r.spread_ms).collect())
-        .optional_float(
-            "convergence_ms",
-            "gtao: time to convergence, median_ms (one frame) x frames; empty for the surfel pass (its median_ms is its whole cost)",
-            rows.iter().map(AoTimingRow::convergence_ms).collect(),
-        )
-        .optional_float(
-            "fitted_exponent",
-            "p of time = c n^p, least squares of ln median_ms on ln surfels over every row of the same emitters; empty with fewer than two sizes",
-            rows.iter().map(|r| Some(r.fitted_exponent).filter(|p| p.is_finite())).collect(),
-        );
+        .put(ao_timing::FRAMES, rows.iter().map(|r| r.frames() as i64).collect())
+        .put(ao_timing::TIMER, text(&|r| r.timer.name().into()))
+        .put(ao_timing::REPEATS, rows.iter().map(|r| r.repeats as i64).collect())
+        .put(ao_timing::MEDIAN_MS, rows.iter().map(|r| r.median_ms).collect())
+        .put(ao_timing::SPREAD_MS, rows.iter().map(|r| r.spread_ms).collect())
+        .put(ao_timing::CONVERGENCE_MS, rows.iter().map(AoTimingRow::convergence_ms).collect())
+        .put(ao_timing::FITTED_EXPONENT, rows.iter().map(|r| Some(r.fitted_exponent).filter(|p| p.is_finite())).collect());
     table
 }
 
 #[cfg(test)]
 mod tests {
     use super::fitted_exponent;
+
+    /// Both tables of the effects' GPU timing put the columns `nklut_tables::effects_tables`
+    /// lists for them, in that order (the report reads them through the same constants).
+    #[test]
+    fn the_timing_tables_are_written_with_the_columns_their_reader_names() {
+        use nklut_tables::effects_tables::{ao_timing, effects_timing};
+        let names = |table: nklut_pipeline::output::Table| table.columns.into_iter().map(|c| c.name).collect::<Vec<_>>();
+        let adapter = crate::AdapterLine::default();
+        assert_eq!(names(super::ao_timing_table(&[], &adapter)), ao_timing::NAMES);
+        assert_eq!(names(crate::effects::timing_table(&[], &adapter)), effects_timing::NAMES);
+    }
 
     #[test]
     fn frame_sizes_read_as_squares_or_width_by_height() {

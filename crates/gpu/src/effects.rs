@@ -16,6 +16,7 @@
 //!   for this measurement.
 
 use anyhow::{anyhow, Result};
+use nklut_tables::effects_tables::effects_timing;
 
 use super::context::Gpu;
 use super::passes::distance_maps::{GpuMaps, MapRenderer, SceneMeshes};
@@ -243,30 +244,22 @@ pub fn timing_table(rows: &[EffectTimingRow], adapter: &super::AdapterLine) -> T
     let float = |f: &dyn Fn(&EffectTimingRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("adapter", "adapter name as the driver reports it", text(&|_| adapter.name.clone()))
-        .text("backend", "wgpu backend", text(&|_| adapter.backend.clone()))
-        .text(
-            "timer",
-            "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)",
-            text(&|r| r.timer.name().into()),
-        )
-        .text("method", "Fresnel method of every bounce", text(&|r| r.method.name().into()))
-        .text("effect", "shading pipeline: reflection (refraction compiled out) or refraction (both)", text(&|r| r.effect.name().into()));
+        .put(effects_timing::ADAPTER, text(&|_| adapter.name.clone()))
+        .put(effects_timing::BACKEND, text(&|_| adapter.backend.clone()))
+        .put(effects_timing::TIMER, text(&|r| r.timer.name().into()))
+        .put(effects_timing::METHOD, text(&|r| r.method.name().into()))
+        .put(effects_timing::EFFECT, text(&|r| r.effect.name().into()));
     configuration_columns(
         &mut table,
         rows.iter().map(|r| Configuration { depths: r.depths, steps: r.steps, map_size: r.map_size, layers: r.layers }),
     );
     table
-        .integer("cube_maps", "distance maps updated per frame (one per specular object)", integer(&|r| r.cube_maps as i64))
-        .text("resolution", "shading target WxH in pixels", text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
-        .integer("repeats", "timed passes of each kind (after warm-up)", integer(&|r| r.repeats as i64))
-        .float(
-            "map_update_ms",
-            "median time of one update of every distance map (6 faces × layers render passes per map)",
-            float(&|r| r.map_update_ms),
-        )
-        .float("shading_ms", "median time of the shading pass (rasterise + bounce loop)", float(&|r| r.shading_ms))
-        .float("shading_spread_ms", "interquartile range of the shading pass times", float(&|r| r.shading_spread_ms))
-        .float("frame_ms", "map_update_ms + shading_ms: a frame whose objects move", float(&|r| r.map_update_ms + r.shading_ms));
+        .put(effects_timing::CUBE_MAPS, integer(&|r| r.cube_maps as i64))
+        .put(effects_timing::RESOLUTION, text(&|r| format!("{}x{}", r.resolution[0], r.resolution[1])))
+        .put(effects_timing::REPEATS, integer(&|r| r.repeats as i64))
+        .put(effects_timing::MAP_UPDATE_MS, float(&|r| r.map_update_ms))
+        .put(effects_timing::SHADING_MS, float(&|r| r.shading_ms))
+        .put(effects_timing::SHADING_SPREAD_MS, float(&|r| r.shading_spread_ms))
+        .put(effects_timing::FRAME_MS, float(&|r| r.map_update_ms + r.shading_ms));
     table
 }

@@ -749,7 +749,7 @@ impl Table {
         self.columns.first().map(|c| c.values.len()).unwrap_or(0)
     }
 
-    fn push(&mut self, name: &str, description: &str, values: Values) -> &mut Self {
+    pub(crate) fn push(&mut self, name: &str, description: &str, values: Values) -> &mut Self {
         assert!(
             self.columns.is_empty() || values.len() == self.rows(),
             "column {name} has {} rows, table has {}",

@@ -17,6 +17,7 @@ use super::hierarchy::{Closeness, SurfelTree};
 use super::reference::ReferenceAccessibility;
 use super::shadow::ShadowForm;
 use super::surfel::Surfel;
+use nklut_tables::effects_tables::ao_errors;
 use nklut_tables::output::Table;
 use nklut_tables::stats::ErrorSummary;
 
@@ -196,122 +197,60 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
     let bent = |f: fn(&BentNormalErrors) -> f64| rows.iter().map(|r| r.bent_normals.as_ref().map(f)).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("mesh", "mesh name", rows.iter().map(|r| r.mesh.clone()).collect())
-        .text("technique", "surfels (surfel AO, Bunnell) or gtao (screen-space ground-truth AO, Jimenez et al. 2016: per pixel only)", rows.iter().map(|r| r.technique.name().to_string()).collect())
-        .integer("surfels", "surfels (mesh vertices)", rows.iter().map(|r| r.surfels as i64).collect())
-        .optional_float(
-            "receiver_gain",
-            "g of the shadow form: 1 the disc form factor, 4 its receiver cosine x 4 clamped to 1 (a variant); empty for gtao",
-            rows.iter().map(|r| surfels(r).then_some(r.receiver_gain)).collect(),
-        )
-        .integer("passes", "accessibility passes (gtao: 0, one screen-space pass per frame)", rows.iter().map(|r| r.passes as i64).collect())
-        .boolean("hierarchy", "emitters from the surfel tree (true) or every surfel (false); false for gtao", rows.iter().map(|r| r.hierarchy).collect())
-        .optional_float("gtao_radius", "gtao: occluders within this distance count (scene units)", gtao(|g| g.radius))
-        .optional_float("gtao_slices", "gtao: slice directions per pixel", gtao(|g| g.slices as f64))
-        .optional_float("gtao_steps", "gtao: G-buffer samples per side of a slice", gtao(|g| g.steps as f64))
-        .optional_float("mean_error", "mean over vertices of |e|, e = accessibility - ray-traced reference (empty for gtao: no per-vertex values)", vertex(|s| s.mean))
-        .optional_float("signed_error", "mean over vertices of e (positive: the surfels under-occlude)", vertex(|s| s.signed_mean))
-        .optional_float("median_error", "median over vertices of |e|", vertex(|s| s.median))
-        .optional_float("p90_error", "90th percentile over vertices of |e|", vertex(|s| s.p90))
-        .optional_float("p99_error", "99th percentile over vertices of |e|", vertex(|s| s.p99))
-        .optional_float("max_error", "largest |e| over vertices", vertex(|s| s.max))
-        .optional_float("area_mean_error", "mean of |e| weighted by the vertices' areas (a third of each adjacent triangle)", area(|s| s.mean))
-        .optional_float("area_signed_error", "area-weighted mean of e", area(|s| s.signed_mean))
-        .optional_float("area_median_error", "area-weighted median of |e|", area(|s| s.median))
-        .optional_float("area_p90_error", "area-weighted 90th percentile of |e|", area(|s| s.p90))
-        .optional_float("area_p99_error", "area-weighted 99th percentile of |e|", area(|s| s.p99))
-        .optional_float("area_max_error", "largest |e| over vertices of positive area", area(|s| s.max))
-        .integer(
-            "pixels",
-            "pixels of the picture where the object is the nearest surface (0: no picture measured)",
-            rows.iter().map(|r| r.accessibility.per_pixel.map_or(0, |s| s.count as i64)).collect(),
-        )
-        .optional_float("pixel_mean_error", "mean over those pixels of |e|, accessibility and reference interpolated from the vertices", pixel(|s| s.mean))
-        .optional_float("pixel_signed_error", "mean over those pixels of e", pixel(|s| s.signed_mean))
-        .optional_float("pixel_median_error", "median over those pixels of |e|", pixel(|s| s.median))
-        .optional_float("pixel_p90_error", "90th percentile over those pixels of |e|", pixel(|s| s.p90))
-        .optional_float("pixel_p99_error", "99th percentile over those pixels of |e|", pixel(|s| s.p99))
-        .optional_float("pixel_max_error", "largest |e| over those pixels", pixel(|s| s.max))
-        .integer(
-            "defect_vertices",
-            "vertices of flipped or degenerate triangles (their error is the mesh's; counted in the columns above)",
-            rows.iter().map(|r| r.accessibility.defect_vertices as i64).collect(),
-        )
-        .optional_float(
-            "mean_error_without_defects",
-            "mean over vertices of |e| leaving out the defect vertices",
-            rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.mean)).collect(),
-        )
-        .optional_float(
-            "max_error_without_defects",
-            "largest |e| over vertices leaving out the defect vertices",
-            rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.max)).collect(),
-        )
-        .float(
-            "reference_standard_error",
-            "mean standard error of the reference's per-vertex estimates (bounds its noise's effect on mean_error)",
-            rows.iter().map(|r| r.reference_standard_error).collect(),
-        )
-        .optional_float(
-            "bent_normal_mean_angle",
-            "mean over vertices of the angle (degrees) between the surfel bent normal and the ray-traced one (mean unoccluded direction); empty where the scene asks for no bent normals",
-            bent(|b| b.surfel.mean),
-        )
-        .optional_float("bent_normal_median_angle", "median of that angle (degrees)", bent(|b| b.surfel.median))
-        .optional_float("bent_normal_p90_angle", "90th percentile of that angle (degrees)", bent(|b| b.surfel.p90))
-        .optional_float(
-            "normal_mean_angle",
-            "mean over vertices of the angle (degrees) between the plain normal and the ray-traced bent normal (what bending has to correct)",
-            bent(|b| b.normal.mean),
-        )
-        .integer("interactions", "emitter evaluations of all passes so far, whole scene (gtao: G-buffer reads of the frame, pixels x slices x 2 x steps); the cost in operations, machine-independent", rows.iter().map(|r| r.interactions as i64).collect())
-        .float("cpu_ms", "wall time of all passes so far on the CPU, whole scene (gtao: the frame), in ms (a ratio between rows carries to another machine, the figure does not)", rows.iter().map(|r| r.cpu_ms).collect())
-        .optional_float(
-            "indirect_mean_error",
-            "indirect light, one bounce with emitters weighted 1: mean over vertices and channels of |surfels - ray-traced| (units of the scene's light); empty when the scene asks for no indirect light",
-            rows.iter().map(|r| r.indirect_mean_error).collect(),
-        )
-        .optional_float(
-            "indirect_signed_error",
-            "mean over vertices and channels of surfels - ray-traced, emitters weighted 1 (negative: too little bounce light)",
-            rows.iter().map(|r| r.indirect_signed_error).collect(),
-        )
-        .optional_float(
-            "indirect_accessibility_weighted_mean_error",
-            "as indirect_mean_error with each emitter weighted by this row's accessibility (the chapter's modulation)",
+        .put(ao_errors::MESH, rows.iter().map(|r| r.mesh.clone()).collect())
+        .put(ao_errors::TECHNIQUE, rows.iter().map(|r| r.technique.name().to_string()).collect())
+        .put(ao_errors::SURFELS, rows.iter().map(|r| r.surfels as i64).collect())
+        .put(ao_errors::RECEIVER_GAIN, rows.iter().map(|r| surfels(r).then_some(r.receiver_gain)).collect())
+        .put(ao_errors::PASSES, rows.iter().map(|r| r.passes as i64).collect())
+        .put(ao_errors::HIERARCHY, rows.iter().map(|r| r.hierarchy).collect())
+        .put(ao_errors::GTAO_RADIUS, gtao(|g| g.radius))
+        .put(ao_errors::GTAO_SLICES, gtao(|g| g.slices as f64))
+        .put(ao_errors::GTAO_STEPS, gtao(|g| g.steps as f64))
+        .put(ao_errors::MEAN_ERROR, vertex(|s| s.mean))
+        .put(ao_errors::SIGNED_ERROR, vertex(|s| s.signed_mean))
+        .put(ao_errors::MEDIAN_ERROR, vertex(|s| s.median))
+        .put(ao_errors::P90_ERROR, vertex(|s| s.p90))
+        .put(ao_errors::P99_ERROR, vertex(|s| s.p99))
+        .put(ao_errors::MAX_ERROR, vertex(|s| s.max))
+        .put(ao_errors::AREA_MEAN_ERROR, area(|s| s.mean))
+        .put(ao_errors::AREA_SIGNED_ERROR, area(|s| s.signed_mean))
+        .put(ao_errors::AREA_MEDIAN_ERROR, area(|s| s.median))
+        .put(ao_errors::AREA_P90_ERROR, area(|s| s.p90))
+        .put(ao_errors::AREA_P99_ERROR, area(|s| s.p99))
+        .put(ao_errors::AREA_MAX_ERROR, area(|s| s.max))
+        .put(ao_errors::PIXELS, rows.iter().map(|r| r.accessibility.per_pixel.map_or(0, |s| s.count as i64)).collect())
+        .put(ao_errors::PIXEL_MEAN_ERROR, pixel(|s| s.mean))
+        .put(ao_errors::PIXEL_SIGNED_ERROR, pixel(|s| s.signed_mean))
+        .put(ao_errors::PIXEL_MEDIAN_ERROR, pixel(|s| s.median))
+        .put(ao_errors::PIXEL_P90_ERROR, pixel(|s| s.p90))
+        .put(ao_errors::PIXEL_P99_ERROR, pixel(|s| s.p99))
+        .put(ao_errors::PIXEL_MAX_ERROR, pixel(|s| s.max))
+        .put(ao_errors::DEFECT_VERTICES, rows.iter().map(|r| r.accessibility.defect_vertices as i64).collect())
+        .put(ao_errors::MEAN_ERROR_WITHOUT_DEFECTS, rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.mean)).collect())
+        .put(ao_errors::MAX_ERROR_WITHOUT_DEFECTS, rows.iter().map(|r| r.accessibility.without_defects.map(|s| s.max)).collect())
+        .put(ao_errors::REFERENCE_STANDARD_ERROR, rows.iter().map(|r| r.reference_standard_error).collect())
+        .put(ao_errors::BENT_NORMAL_MEAN_ANGLE, bent(|b| b.surfel.mean))
+        .put(ao_errors::BENT_NORMAL_MEDIAN_ANGLE, bent(|b| b.surfel.median))
+        .put(ao_errors::BENT_NORMAL_P90_ANGLE, bent(|b| b.surfel.p90))
+        .put(ao_errors::NORMAL_MEAN_ANGLE, bent(|b| b.normal.mean))
+        .put(ao_errors::INTERACTIONS, rows.iter().map(|r| r.interactions as i64).collect())
+        .put(ao_errors::CPU_MS, rows.iter().map(|r| r.cpu_ms).collect())
+        .put(ao_errors::INDIRECT_MEAN_ERROR, rows.iter().map(|r| r.indirect_mean_error).collect())
+        .put(ao_errors::INDIRECT_SIGNED_ERROR, rows.iter().map(|r| r.indirect_signed_error).collect())
+        .put(
+            ao_errors::INDIRECT_ACCESSIBILITY_WEIGHTED_MEAN_ERROR,
             rows.iter().map(|r| r.indirect_accessibility_weighted_mean_error).collect(),
         )
-        .optional_float(
-            "indirect_accessibility_weighted_signed_error",
-            "as indirect_signed_error with each emitter weighted by this row's accessibility",
+        .put(
+            ao_errors::INDIRECT_ACCESSIBILITY_WEIGHTED_SIGNED_ERROR,
             rows.iter().map(|r| r.indirect_accessibility_weighted_signed_error).collect(),
         )
-        .optional_float("indirect_reference_mean", "mean of the ray-traced one-bounce irradiance over the same vertices and channels", rows.iter().map(|r| r.indirect_reference_mean).collect())
-        .optional_float(
-            "pixel_mean_error_within_radius",
-            "gtao: mean over the covered pixels of |e| against a reference that counts occluders within the radius only (what the screen space misses, the radius's cut aside)",
-            rows.iter().map(|r| r.within_radius.map(|s| s.mean)).collect(),
-        )
-        .optional_float(
-            "pixel_signed_error_within_radius",
-            "gtao: mean over the covered pixels of e against that range-limited reference",
-            rows.iter().map(|r| r.within_radius.map(|s| s.signed_mean)).collect(),
-        )
-        .optional_float(
-            "indirect_reference_standard_error",
-            "mean standard error of the ray-traced one-bounce irradiance",
-            rows.iter().map(|r| r.indirect_reference_standard_error).collect(),
-        )
-        .optional_float(
-            "pixel_p90_error_within_radius",
-            "gtao: 90th percentile over the covered pixels of |e| against the range-limited reference",
-            rows.iter().map(|r| r.within_radius.map(|s| s.p90)).collect(),
-        )
-        .optional_float(
-            "pixel_p99_error_within_radius",
-            "gtao: 99th percentile over the covered pixels of |e| against the range-limited reference",
-            rows.iter().map(|r| r.within_radius.map(|s| s.p99)).collect(),
-        );
+        .put(ao_errors::INDIRECT_REFERENCE_MEAN, rows.iter().map(|r| r.indirect_reference_mean).collect())
+        .put(ao_errors::PIXEL_MEAN_ERROR_WITHIN_RADIUS, rows.iter().map(|r| r.within_radius.map(|s| s.mean)).collect())
+        .put(ao_errors::PIXEL_SIGNED_ERROR_WITHIN_RADIUS, rows.iter().map(|r| r.within_radius.map(|s| s.signed_mean)).collect())
+        .put(ao_errors::INDIRECT_REFERENCE_STANDARD_ERROR, rows.iter().map(|r| r.indirect_reference_standard_error).collect())
+        .put(ao_errors::PIXEL_P90_ERROR_WITHIN_RADIUS, rows.iter().map(|r| r.within_radius.map(|s| s.p90)).collect())
+        .put(ao_errors::PIXEL_P99_ERROR_WITHIN_RADIUS, rows.iter().map(|r| r.within_radius.map(|s| s.p99)).collect());
     gtao_heuristic_columns(&mut table, rows);
     table
 }
@@ -320,30 +259,14 @@ pub fn ao_errors_table(rows: &[ErrorRow]) -> Table {
 fn gtao_heuristic_columns(table: &mut Table, rows: &[ErrorRow]) {
     let gtao = |f: fn(crate::scene::surfels::Gtao) -> f64| rows.iter().map(|r| r.technique.gtao().map(f)).collect::<Vec<_>>();
     table
-        .text(
-            "gtao_preset",
-            "gtao: the named configuration (bare: Algorithm 1 of Jimenez et al. 2016; xe-low/medium/high/ultra: XeGTAO's quality levels and default heuristics; unreal: Unreal's r.GTAO defaults), with (modified) where the scene overrode a heuristic; empty for surfels",
-            rows.iter().map(|r| r.technique.gtao().map_or(String::new(), |g| g.preset_label())).collect(),
-        )
-        .optional_float("gtao_radius_multiplier", "gtao: the search radius is gtao_radius x this (XeGTAO 1.457)", gtao(|g| g.heuristics.radius_multiplier))
-        .optional_float("gtao_falloff_range", "gtao: fraction of the search radius over which a sample's weight falls to 0 (0: hard cut; XeGTAO 0.615)", gtao(|g| g.heuristics.falloff_range))
-        .optional_float("gtao_distribution_power", "gtao: sample k at ((k + offset)/steps)^power of the screen radius (XeGTAO 2)", gtao(|g| g.heuristics.distribution_power))
-        .optional_float("gtao_thin_occluder", "gtao: thin-occluder compensation, depth offsets x (1 + this) for the falloff (XeGTAO default 0)", gtao(|g| g.heuristics.thin_occluder))
-        .optional_float(
-            "gtao_thickness_blend",
-            "gtao: a sample below the horizon pulls it toward itself by this squared (Unreal r.GTAO.ThicknessBlend 0.5; 0: the highest sample)",
-            gtao(|g| g.heuristics.thickness_blend),
-        )
-        .optional_float("gtao_final_power", "gtao: accessibility raised to this power (XeGTAO 2.2)", gtao(|g| g.heuristics.final_power))
-        .optional_float(
-            "gtao_clamp_to_edge",
-            "gtao: 1 where a sample beyond the image's edge reads the edge texel's depth (XeGTAO's clamping sampler), 0 where it is skipped",
-            gtao(|g| f64::from(u8::from(g.heuristics.clamp_to_edge))),
-        )
-        .optional_float(
-            "gtao_denoise_passes",
-            "gtao: passes of XeGTAO's edge-aware 3x3 denoiser over the image (0: none; XeGTAO 1)",
-            gtao(|g| f64::from(g.heuristics.denoise_passes)),
-        )
-        .optional_float("gtao_frames", "gtao: frames of per-pixel noise accumulated (1: no noise)", gtao(|g| if g.heuristics.noise { g.heuristics.frames as f64 } else { 1.0 }));
+        .put(ao_errors::GTAO_PRESET, rows.iter().map(|r| r.technique.gtao().map_or(String::new(), |g| g.preset_label())).collect())
+        .put(ao_errors::GTAO_RADIUS_MULTIPLIER, gtao(|g| g.heuristics.radius_multiplier))
+        .put(ao_errors::GTAO_FALLOFF_RANGE, gtao(|g| g.heuristics.falloff_range))
+        .put(ao_errors::GTAO_DISTRIBUTION_POWER, gtao(|g| g.heuristics.distribution_power))
+        .put(ao_errors::GTAO_THIN_OCCLUDER, gtao(|g| g.heuristics.thin_occluder))
+        .put(ao_errors::GTAO_THICKNESS_BLEND, gtao(|g| g.heuristics.thickness_blend))
+        .put(ao_errors::GTAO_FINAL_POWER, gtao(|g| g.heuristics.final_power))
+        .put(ao_errors::GTAO_CLAMP_TO_EDGE, gtao(|g| f64::from(u8::from(g.heuristics.clamp_to_edge))))
+        .put(ao_errors::GTAO_DENOISE_PASSES, gtao(|g| f64::from(g.heuristics.denoise_passes)))
+        .put(ao_errors::GTAO_FRAMES, gtao(|g| if g.heuristics.noise { g.heuristics.frames as f64 } else { 1.0 }));
 }

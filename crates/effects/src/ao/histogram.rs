@@ -5,6 +5,7 @@
 //! (`nklut_tables::stats::Histogram`: equal bins over [`AO_HISTOGRAM_BINS`], values
 //! beyond the range counted in the end bins) for the report to draw. One line per bin.
 
+use nklut_tables::effects_tables::ao_histogram;
 use nklut_tables::output::Table;
 use nklut_tables::stats::{Histogram, HistogramBins};
 
@@ -85,20 +86,16 @@ pub fn ao_histogram_table(rows: &[HistogramRow]) -> Table {
     };
     let mut table = Table::new();
     table
-        .text("mesh", "mesh name", lines.iter().map(|(r, _)| r.mesh.clone()).collect())
-        .text("technique", "how accessibility was computed: surfel AO gathering every emitter (brute force) or through the surfel tree (tree)", lines.iter().map(|(r, _)| r.technique.clone()).collect())
-        .integer("passes", "accessibility passes", lines.iter().map(|(r, _)| r.passes as i64).collect())
-        .text(
-            "weighting",
-            "what is counted: vertex (each vertex 1), area (each vertex its area, a third of each adjacent triangle) or pixel (each pixel of the picture where the object is the nearest surface)",
-            lines.iter().map(|(r, _)| r.weighting.name().to_string()).collect(),
-        )
-        .integer("bin", "bin index, 0 at the most negative error", lines.iter().map(|&(_, k)| k as i64).collect())
-        .float("lower", "the bin's lower edge of e = accessibility - ray-traced reference (the first bin also holds every e below it)", lines.iter().map(|(r, k)| r.histogram.edges[*k]).collect())
-        .float("upper", "the bin's upper edge, excluded (the last bin also holds every e at or above it)", lines.iter().map(|(r, k)| r.histogram.edges[k + 1]).collect())
-        .integer("count", "vertices or pixels in the bin", lines.iter().map(|(r, k)| r.histogram.counts[*k] as i64).collect())
-        .float("weight", "their summed weight (the count for vertex and pixel, the summed area for area)", lines.iter().map(|(r, k)| r.histogram.weights[*k]).collect())
-        .float("share", "the bin's weight over the histogram's total weight (0 where the total is 0)", lines.iter().map(|(r, k)| share(r, *k)).collect());
+        .put(ao_histogram::MESH, lines.iter().map(|(r, _)| r.mesh.clone()).collect())
+        .put(ao_histogram::TECHNIQUE, lines.iter().map(|(r, _)| r.technique.clone()).collect())
+        .put(ao_histogram::PASSES, lines.iter().map(|(r, _)| r.passes as i64).collect())
+        .put(ao_histogram::WEIGHTING, lines.iter().map(|(r, _)| r.weighting.name().to_string()).collect())
+        .put(ao_histogram::BIN, lines.iter().map(|&(_, k)| k as i64).collect())
+        .put(ao_histogram::LOWER, lines.iter().map(|(r, k)| r.histogram.edges[*k]).collect())
+        .put(ao_histogram::UPPER, lines.iter().map(|(r, k)| r.histogram.edges[k + 1]).collect())
+        .put(ao_histogram::COUNT, lines.iter().map(|(r, k)| r.histogram.counts[*k] as i64).collect())
+        .put(ao_histogram::WEIGHT, lines.iter().map(|(r, k)| r.histogram.weights[*k]).collect())
+        .put(ao_histogram::SHARE, lines.iter().map(|(r, k)| share(r, *k)).collect());
     table
 }
 
