@@ -470,7 +470,7 @@ mod gpu_cli {
                     let name = file.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
                     rows.extend(scene_rows(&device, &name, &scene, &gtao_resolutions, &scene_settings, &mut |line| eprintln!("{line}"))?);
                 }
-                for path in ao_timing_table(&rows, &device.line).write(&paths.out, "ao_timing", false)? {
+                for path in ao_timing_table(&rows, &device.line).write(&paths.out, nklut::effects_tables::ao_timing::STEM, false)? {
                     eprintln!("  wrote {}", path.display());
                 }
                 return Ok(());

@@ -7,6 +7,7 @@
 //! published as one set (`effects`), so frames of an earlier or killed run never mix with
 //! this run's tables.
 
+use nklut_tables::effects_tables::{ao_errors, ao_histogram, effects_cpu_timing, effects_errors, effects_hero, spectral_errors};
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
@@ -233,14 +234,14 @@ fn run_family(
             let report = experiment::image_errors(scene, &stage, settings, &mut |line| log(line));
             *stats = report.stats;
             let mut tables = vec![
-                (experiment::error_table(&report.rows), "effects_errors"),
-                (experiment::timing_table(&report.timing), "effects_cpu_timing"),
+                (experiment::error_table(&report.rows), effects_errors::STEM),
+                (experiment::timing_table(&report.timing), effects_cpu_timing::STEM),
             ];
             let mut pictures = super::pictures::files("effects_frames", &report.pictures)?;
             if let Some(spectral) = scene.effects.as_ref().and_then(|e| e.spectral) {
                 let compared =
                     super::spectral_errors::spectral_errors(scene, &stage, scene.resolution, spectral.wavelengths, &mut |line| log(line))?;
-                tables.push((super::spectral_errors::spectral_error_table(&compared.rows), "spectral_errors"));
+                tables.push((super::spectral_errors::spectral_error_table(&compared.rows), spectral_errors::STEM));
                 pictures.extend(super::pictures::files(super::spectral_errors::SPECTRAL_DIR, &compared.pictures)?);
                 pictures.extend(
                     compared
@@ -263,8 +264,8 @@ fn run_family(
             let report = super::ao::experiment::run(scene, &settings, stats, &mut |line| log(line))?;
             Ok(FamilyOutput {
                 tables: vec![
-                    (super::ao::errors::ao_errors_table(&report.rows), "ao_errors"),
-                    (super::ao::histogram::ao_histogram_table(&report.histograms), "ao_histogram"),
+                    (super::ao::errors::ao_errors_table(&report.rows), ao_errors::STEM),
+                    (super::ao::histogram::ao_histogram_table(&report.histograms), ao_histogram::STEM),
                 ],
                 pictures: [
                     super::pictures::files("ao_frames", &report.pictures)?,
@@ -325,7 +326,7 @@ pub fn command(
     }
     if !heroes.is_empty() {
         let (files, rows) = hero_files(&heroes)?;
-        tables.push((hero_table(&rows), "effects_hero"));
+        tables.push((hero_table(&rows), effects_hero::STEM));
         pictures.extend(files);
     }
     outcome.frames = pictures.len();

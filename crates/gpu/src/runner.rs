@@ -605,7 +605,7 @@ pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
     let effects = &report.effects;
     let mut tables: Vec<(Table, &str)> = Vec::new();
     if !effects.timing.is_empty() {
-        tables.push((super::effects::timing_table(&effects.timing, &report.adapter), "effects_timing"));
+        tables.push((super::effects::timing_table(&effects.timing, &report.adapter), nklut_tables::effects_tables::effects_timing::STEM));
     } else if report.experiments.contains(&Experiment::Timing) && !report.timing.is_empty() {
         tables.push((timing_table(report), "gpu_timing"));
     }

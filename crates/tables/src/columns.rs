@@ -137,6 +137,14 @@ impl<K: Kind> Column<K> {
     }
 }
 
+impl<K: Numeric> Column<K> {
+    /// This column read as numbers, a float or nothing, as every numeric column can be
+    /// (columns of different numeric kinds in one list: a chart's choice of axis).
+    pub const fn numbers(self) -> Column<OptionalFloat> {
+        Column::new(self.name, self.description)
+    }
+}
+
 impl Table {
     /// Put `column` with `values` (one per row) after the columns put so far.
     pub fn put<K: Kind>(&mut self, column: Column<K>, values: Vec<K::Written>) -> &mut Self {
@@ -152,6 +160,18 @@ macro_rules! columns {
         $($(#[$meta])* pub const $name: $crate::columns::Column<$kind> = $value;)*
         /// Every column's name, in the order the table's writer puts them.
         pub const NAMES: &[&str] = &[$($name.name),*];
+    };
+}
+
+/// A table's file names: `STEM` (without its extension: `<stem>.csv`, `.json`, `.parquet`)
+/// and `CSV`.
+#[macro_export]
+macro_rules! table_files {
+    ($stem:literal) => {
+        /// The table's file name without its extension (`.csv`, `.json`, `.parquet`).
+        pub const STEM: &str = $stem;
+        /// The table's CSV file.
+        pub const CSV: &str = concat!($stem, ".csv");
     };
 }
 

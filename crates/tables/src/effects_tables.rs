@@ -2,7 +2,7 @@
 //! table's columns, written by `nklut-effects` and `nklut-gpu` and read by the pipeline's
 //! effects report through these constants alone, so that writer and reader cannot disagree
 //! on a column's name, description or kind. `STEM` is each table's file name without its
-//! extension (`<stem>.csv`, `.json`, `.parquet`). A table written before a column existed
+//! extension (`<stem>.csv`, `.json`, `.parquet`), `CSV` its CSV file's name. A table written before a column existed
 //! reads that column's cells as absent (`crate::columns::Kind::read`).
 
 /// The columns that name a distance-map configuration, shared by `effects_errors`, `effects_cpu_timing` and `effects_timing`.
@@ -24,8 +24,7 @@ pub mod effects_errors {
     use super::configuration;
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "effects_errors";
+    crate::table_files!("effects_errors");
 
     crate::columns! {
         OBJECT: Text = Column::new("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem");
@@ -56,8 +55,7 @@ pub mod effects_cpu_timing {
     use super::configuration;
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "effects_cpu_timing";
+    crate::table_files!("effects_cpu_timing");
 
     crate::columns! {
         RENDERER: Text = Column::new("renderer", "what traced the distance-map frames (cpu-twin: the f64 CPU twin)");
@@ -81,8 +79,7 @@ pub mod effects_timing {
     use super::configuration;
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "effects_timing";
+    crate::table_files!("effects_timing");
 
     crate::columns! {
         ADAPTER: Text = Column::new("adapter", "adapter name as the driver reports it");
@@ -110,8 +107,7 @@ pub mod effects_timing {
 pub mod effects_hero {
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "effects_hero";
+    crate::table_files!("effects_hero");
 
     crate::columns! {
         EFFECT: Text = Column::new("effect", "the family of effects: reflections and refractions, or ambient occlusion");
@@ -150,18 +146,18 @@ pub mod effects_hero {
 
 /// `spectral_errors.*` (`nklut effects` on a scene with `effects.spectral`): three channels against the spectral reference, one row per (object, material, index source, depths).
 pub mod spectral_errors {
+    use super::configuration;
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "spectral_errors";
+    crate::table_files!("spectral_errors");
 
     crate::columns! {
         OBJECT: Text = Column::new("object", "mesh of the specular object: sphere, cube, prism, room, plane or the OBJ file stem");
         OBJECT_INDEX: Integer = Column::new("object_index", "the object's position in the scene's objects list, from 0");
         MATERIAL: Text = Column::new("material", "page id");
         INDEX_SOURCE: Text = Column::new("index_source", "where the three-channel frame's (n, k) come from: three-wavelength (at the channel wavelengths), effective (colors' fit over angle to the spectral reference; attenuation keeps the three-wavelength k) or engine (conductors as F82-tint curves from the three-wavelength index, dielectrics as one IOR, the green channel's n, absorption kept)");
-        REFLECTION_DEPTH: Integer = Column::new("reflection_depth", "most reflections along a path (0: not named)");
-        REFRACTION_DEPTH: Integer = Column::new("refraction_depth", "most refractions along a path (0: not named)");
+        REFLECTION_DEPTH: Integer = configuration::REFLECTION_DEPTH;
+        REFRACTION_DEPTH: Integer = configuration::REFRACTION_DEPTH;
         WAVELENGTHS: Integer = Column::new("wavelengths", "wavelength bins of the spectral frame (421: every 1 nm of 360-780 nm, colors' sum)");
         RESOLUTION: Text = Column::new("resolution", "frame size WxH in pixels (camera frame 0)");
         PIXELS: Integer = Column::new("pixels", "pixels where the spectral frame shows the object");
@@ -180,8 +176,7 @@ pub mod spectral_errors {
 pub mod ao_errors {
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "ao_errors";
+    crate::table_files!("ao_errors");
 
     crate::columns! {
         MESH: Text = Column::new("mesh", "mesh name");
@@ -249,8 +244,7 @@ pub mod ao_errors {
 pub mod ao_histogram {
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "ao_histogram";
+    crate::table_files!("ao_histogram");
 
     crate::columns! {
         MESH: Text = Column::new("mesh", "mesh name");
@@ -270,8 +264,7 @@ pub mod ao_histogram {
 pub mod ao_timing {
     use crate::columns::*;
 
-    /// The file name without its extension.
-    pub const STEM: &str = "ao_timing";
+    crate::table_files!("ao_timing");
 
     crate::columns! {
         ADAPTER: Text = Column::new("adapter", "adapter name as the driver reports it");

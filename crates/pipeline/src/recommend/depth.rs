@@ -16,9 +16,11 @@ use std::path::Path;
 use anyhow::Result;
 
 use crate::report::csvdata::CsvTable;
+use nklut_tables::columns::{Column, Integer};
+use nklut_tables::effects_tables::effects_errors;
 
 /// The table an effects scene writes its image errors to.
-pub const EFFECTS_ERRORS: &str = "effects_errors.csv";
+pub const EFFECTS_ERRORS: &str = effects_errors::CSV;
 
 /// A page and method's error at the shallowest and deepest depth a scene measured.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,10 +69,17 @@ pub fn depth_growth(tables: &[(String, CsvTable)], page: &str, method: &str) -> 
     let mut sources: Vec<(String, usize)> = Vec::new();
     for (path, t) in tables {
         let mut used = 0;
-        for row in t.rows.iter().filter(|r| t.text(r, "material") == page && t.text(r, "method") == method) {
-            let bounces = |c: &str| t.text(row, c).parse::<u64>().ok();
-            let (Some(reflection), Some(refraction)) = (bounces("reflection_depth"), bounces("refraction_depth")) else { continue };
-            let (Some(pixels), Some(de)) = (t.number(row, "pixels"), t.number(row, "fresnel_mean_delta_e2000")) else { continue };
+        for row in t.rows.iter().filter(|r| t.get(r, effects_errors::MATERIAL) == page && t.get(r, effects_errors::METHOD) == method) {
+            let bounces = |c: Column<Integer>| t.get(row, c).and_then(|b| u64::try_from(b).ok());
+            let (Some(reflection), Some(refraction)) =
+                (bounces(effects_errors::REFLECTION_DEPTH), bounces(effects_errors::REFRACTION_DEPTH))
+            else {
+                continue;
+            };
+            let (Some(pixels), Some(de)) = (t.value(row, effects_errors::PIXELS), t.value(row, effects_errors::FRESNEL_MEAN_DELTA_E2000))
+            else {
+                continue;
+            };
             if !(pixels > 0.0) || !de.is_finite() {
                 continue;
             }

@@ -10,6 +10,8 @@
 //! radius, slices, steps and frames; a timing row counts only for the scene it was measured on (its
 //! `mesh` cell is the scene's name).
 
+use nklut_tables::columns::{Column, Integer, OptionalFloat};
+use nklut_tables::effects_tables::{ao_errors, ao_timing};
 use std::collections::BTreeMap;
 use std::fmt::{Display, Write};
 
@@ -35,36 +37,36 @@ impl Configuration {
     /// The configuration of row `row` of `ao_errors.csv` (`None`: a GTAO row of a table
     /// written before GTAO had presets).
     fn of_error(ao: &CsvTable, row: &[String]) -> Option<Configuration> {
-        if ao.has("technique") && ao.text(row, "technique") == "gtao" {
-            let preset = ao.text(row, "gtao_preset");
-            let frames = ao.number(row, "gtao_frames").unwrap_or(1.0);
+        if ao.holds(ao_errors::TECHNIQUE) && ao.get(row, ao_errors::TECHNIQUE) == "gtao" {
+            let preset = ao.get(row, ao_errors::GTAO_PRESET);
+            let frames = ao.value(row, ao_errors::GTAO_FRAMES).unwrap_or(1.0);
             (!preset.is_empty()).then(|| Configuration::Gtao {
                 preset: preset.to_string(),
-                radius: ao.number(row, "gtao_radius").unwrap_or(f64::NAN),
-                slices: ao.number(row, "gtao_slices").unwrap_or(0.0) as u64,
-                steps: ao.number(row, "gtao_steps").unwrap_or(0.0) as u64,
+                radius: ao.value(row, ao_errors::GTAO_RADIUS).unwrap_or(f64::NAN),
+                slices: ao.value(row, ao_errors::GTAO_SLICES).unwrap_or(0.0) as u64,
+                steps: ao.value(row, ao_errors::GTAO_STEPS).unwrap_or(0.0) as u64,
                 frames: frames as u64,
             })
         } else {
-            let emitters = if ao.text(row, "hierarchy") == "true" { "hierarchy" } else { "brute_force" };
-            Some(Configuration::Surfels { emitters: emitters.into(), passes: ao.number(row, "passes")? as u64 })
+            let emitters = if ao.raw(row, ao_errors::HIERARCHY) == "true" { "hierarchy" } else { "brute_force" };
+            Some(Configuration::Surfels { emitters: emitters.into(), passes: ao.value(row, ao_errors::PASSES)? as u64 })
         }
     }
 
     /// The configuration of row `row` of an `ao_timing` table.
     fn of_timing(timing: &CsvTable, row: &[String]) -> Option<Configuration> {
-        let emitters = timing.text(row, "emitters");
+        let emitters = timing.get(row, ao_timing::EMITTERS);
         if emitters == "gtao" {
-            let preset = timing.text(row, "preset");
+            let preset = timing.get(row, ao_timing::PRESET);
             (!preset.is_empty()).then(|| Configuration::Gtao {
                 preset: preset.to_string(),
-                radius: timing.number(row, "radius").unwrap_or(f64::NAN),
-                slices: timing.number(row, "slices").unwrap_or(0.0) as u64,
-                steps: timing.number(row, "steps").unwrap_or(0.0) as u64,
-                frames: timing.number(row, "frames").unwrap_or(1.0) as u64,
+                radius: timing.value(row, ao_timing::RADIUS).unwrap_or(f64::NAN),
+                slices: timing.value(row, ao_timing::SLICES).unwrap_or(0.0) as u64,
+                steps: timing.value(row, ao_timing::STEPS).unwrap_or(0.0) as u64,
+                frames: timing.value(row, ao_timing::FRAMES).unwrap_or(1.0) as u64,
             })
         } else {
-            Some(Configuration::Surfels { emitters: emitters.to_string(), passes: timing.number(row, "passes")? as u64 })
+            Some(Configuration::Surfels { emitters: emitters.to_string(), passes: timing.value(row, ao_timing::PASSES)? as u64 })
         }
     }
 
@@ -164,8 +166,8 @@ fn measured(ao: &CsvTable, timing: &CsvTable, scene: &str) -> Vec<Measured> {
             None => out.push(Measured { configuration, errors: vec![r], timings: Vec::new(), frame: String::new() }),
         }
     }
-    let of_scene = |row: &[String]| !timing.has("mesh") || timing.text(row, "mesh") == scene;
-    let pixels = |row: &[String]| timing.number(row, "width").unwrap_or(0.0) * timing.number(row, "height").unwrap_or(0.0);
+    let of_scene = |row: &[String]| !timing.holds(ao_timing::MESH) || timing.get(row, ao_timing::MESH) == scene;
+    let pixels = |row: &[String]| timing.value(row, ao_timing::WIDTH).unwrap_or(0.0) * timing.value(row, ao_timing::HEIGHT).unwrap_or(0.0);
     for m in &mut out {
         let timed: Vec<usize> = (0..timing.rows.len())
             .filter(|&r| {
@@ -177,7 +179,7 @@ fn measured(ao: &CsvTable, timing: &CsvTable, scene: &str) -> Vec<Measured> {
         m.timings = timed.into_iter().filter(|&r| pixels(&timing.rows[r]) == smallest).collect();
         if let (Some(&first), Configuration::Gtao { .. }) = (m.timings.first(), &m.configuration) {
             let row = &timing.rows[first];
-            m.frame = format!("{}×{}", timing.text(row, "width"), timing.text(row, "height"));
+            m.frame = format!("{}×{}", timing.raw(row, ao_timing::WIDTH), timing.raw(row, ao_timing::HEIGHT));
         }
     }
     out.retain(|m| !m.timings.is_empty());
@@ -250,8 +252,8 @@ fn cost_points(measured: &[Measured], (path, ao): (&str, &CsvTable), source: &So
     let traced: Vec<(String, Trace, Trace)> = measured
         .iter()
         .map(|m| {
-            let time = Trace::mean(&source.path, source.table, "median_ms", m.timings.clone(), None);
-            let error = Trace::mean(path, ao, "pixel_mean_error", m.errors.clone(), Some("pixels"));
+            let time = Trace::mean_of(&source.path, source.table, ao_timing::MEDIAN_MS, m.timings.clone(), None);
+            let error = Trace::mean_of(path, ao, ao_errors::PIXEL_MEAN_ERROR, m.errors.clone(), Some(ao_errors::PIXELS));
             (m.configuration.label(), time, error)
         })
         .collect();
@@ -285,8 +287,8 @@ fn cost_table(measured: &[Measured], (path, ao): (&str, &CsvTable), timing: &Csv
         "mean |e|, range-limited reference",
         "signed mean e, range-limited reference",
     ]);
-    let mean = |column: &str, rows: &[usize], weight: Option<&str>, t: &CsvTable| {
-        let value = Trace::mean(path, t, column, rows.to_vec(), weight).value;
+    let mean = |column: Column<OptionalFloat>, rows: &[usize], weight: Option<Column<Integer>>, t: &CsvTable| {
+        let value = Trace::mean_of(path, t, column, rows.to_vec(), weight).value;
         if value.is_finite() {
             number(value)
         } else {
@@ -297,12 +299,12 @@ fn cost_table(measured: &[Measured], (path, ao): (&str, &CsvTable), timing: &Csv
         table.row(vec![
             m.configuration.label(),
             if m.frame.is_empty() { "any".into() } else { m.frame.clone() },
-            mean("median_ms", &m.timings, None, timing),
-            mean("convergence_ms", &m.timings, None, timing),
-            mean("pixel_mean_error", &m.errors, Some("pixels"), ao),
-            mean("pixel_signed_error", &m.errors, Some("pixels"), ao),
-            mean("pixel_mean_error_within_radius", &m.errors, Some("pixels"), ao),
-            mean("pixel_signed_error_within_radius", &m.errors, Some("pixels"), ao),
+            mean(ao_timing::MEDIAN_MS.numbers(), &m.timings, None, timing),
+            mean(ao_timing::CONVERGENCE_MS, &m.timings, None, timing),
+            mean(ao_errors::PIXEL_MEAN_ERROR, &m.errors, Some(ao_errors::PIXELS), ao),
+            mean(ao_errors::PIXEL_SIGNED_ERROR, &m.errors, Some(ao_errors::PIXELS), ao),
+            mean(ao_errors::PIXEL_MEAN_ERROR_WITHIN_RADIUS, &m.errors, Some(ao_errors::PIXELS), ao),
+            mean(ao_errors::PIXEL_SIGNED_ERROR_WITHIN_RADIUS, &m.errors, Some(ao_errors::PIXELS), ao),
         ]);
     }
     table

@@ -4,6 +4,7 @@
 //! of the pixels it covers in each bin of the signed error e = accessibility − reference
 //! (positive: the surfels under-occlude). Each bar is one row of the table and says which.
 
+use nklut_tables::effects_tables::ao_histogram;
 use std::fmt::Write;
 
 use anyhow::Result;
@@ -24,17 +25,17 @@ pub fn bars(table: &CsvTable, mesh: &str, technique: &str, passes: &str, weighti
         .iter()
         .enumerate()
         .filter(|(_, row)| {
-            table.text(row, "mesh") == mesh
-                && table.text(row, "technique") == technique
-                && table.text(row, "passes") == passes
-                && table.text(row, "weighting") == weighting
+            table.get(row, ao_histogram::MESH) == mesh
+                && table.get(row, ao_histogram::TECHNIQUE) == technique
+                && table.raw(row, ao_histogram::PASSES) == passes
+                && table.get(row, ao_histogram::WEIGHTING) == weighting
         })
         .filter_map(|(r, row)| {
             Some(Bar {
-                lower: table.number(row, "lower")?,
-                upper: table.number(row, "upper")?,
-                share: table.number(row, "share")?,
-                count: table.text(row, "count").parse().ok()?,
+                lower: table.value(row, ao_histogram::LOWER)?,
+                upper: table.value(row, ao_histogram::UPPER)?,
+                share: table.value(row, ao_histogram::SHARE)?,
+                count: table.raw(row, ao_histogram::COUNT).parse().ok()?,
                 row: r,
             })
         })
@@ -43,7 +44,10 @@ pub fn bars(table: &CsvTable, mesh: &str, technique: &str, passes: &str, weighti
 
 /// The largest pass count of `technique`'s rows (`None`: no row with a pass count).
 pub fn largest_passes(table: &CsvTable, technique: &str) -> Option<u64> {
-    table.rows_where("technique", technique).filter_map(|row| table.text(row, "passes").parse::<u64>().ok()).max()
+    table
+        .rows_where(ao_histogram::TECHNIQUE.name, technique)
+        .filter_map(|row| table.raw(row, ao_histogram::PASSES).parse::<u64>().ok())
+        .max()
 }
 
 /// The histograms' part of the AO section: one chart per object and technique, at the
@@ -57,8 +61,8 @@ pub fn section(html: &mut String, (path, table): (&str, &CsvTable)) -> Result<()
     let legend = charts::legend(DRAWN.iter().map(|&(_, name, color)| (name, PALETTE[color], false)));
     html.push_str("<div class=\"charts\">");
     let mut first = true;
-    for mesh in table.distinct("mesh") {
-        for technique in table.distinct("technique") {
+    for mesh in table.distinct(ao_histogram::MESH.name) {
+        for technique in table.distinct(ao_histogram::TECHNIQUE.name) {
             let Some(passes) = largest_passes(table, technique) else { continue };
             let passes = passes.to_string();
             let series: Vec<BarSeries> = DRAWN

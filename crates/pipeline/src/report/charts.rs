@@ -423,6 +423,17 @@ impl Trace {
         Trace { table: path.to_string(), column: column.to_string(), rows, weight: weight.map(str::to_string), value }
     }
 
+    /// [`mean`](Self::mean) of a typed column, weighted by a whole-number column.
+    pub fn mean_of<K: nklut_tables::columns::Numeric>(
+        path: &str,
+        table: &super::csvdata::CsvTable,
+        column: nklut_tables::columns::Column<K>,
+        rows: Vec<usize>,
+        weight: Option<nklut_tables::columns::Column<nklut_tables::columns::Integer>>,
+    ) -> Trace {
+        Trace::mean(path, table, column.name, rows, weight.map(|w| w.name))
+    }
+
     /// `data-<axis>-table`, `-column`, `-rows` (space-separated), `-weight` and `data-<axis>`
     /// (the value, shortest round-trip form).
     fn attributes(&self, axis: &str) -> String {

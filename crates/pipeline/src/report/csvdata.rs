@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use nklut_tables::columns::{Column, Kind, Numeric};
 use rayon::prelude::*;
 
 /// The most bytes read from a table of the whole database (`errors.csv` of `validate
@@ -153,6 +154,28 @@ impl CsvTable {
     /// The number in `column` of `row`, `None` when empty or not a number.
     pub fn number(&self, row: &[String], column: &str) -> Option<f64> {
         self.text(row, column).parse().ok()
+    }
+
+    /// Whether the file has `column` (a table written before the column existed has not).
+    pub fn holds<K>(&self, column: Column<K>) -> bool {
+        self.has(column.name)
+    }
+
+    /// The cell of `column` in `row`, read as its kind (absent or empty: `None`, or `""`
+    /// for text).
+    pub fn get<'a, K: Kind>(&'a self, row: &'a [String], column: Column<K>) -> K::Read<'a> {
+        column.read(self.text(row, column.name))
+    }
+
+    /// The text of `column` in `row` as the file holds it ("" when the column is absent):
+    /// a key to match rows on, or a cell shown as written.
+    pub fn raw<'a, K>(&'a self, row: &'a [String], column: Column<K>) -> &'a str {
+        self.text(row, column.name)
+    }
+
+    /// The number in `column` of `row`, `None` when empty or not a number.
+    pub fn value<K: Numeric>(&self, row: &[String], column: Column<K>) -> Option<f64> {
+        K::number(self.text(row, column.name))
     }
 
     /// The values of `column` in the order they first appear.

@@ -34,6 +34,11 @@ use std::fmt::Write;
 
 use anyhow::Result;
 
+use nklut_tables::columns::{Column, Float, Integer, Numeric, OptionalFloat, Text};
+use nklut_tables::effects_tables::{
+    ao_errors, ao_histogram, ao_timing, configuration, effects_cpu_timing, effects_errors, effects_hero, effects_timing, spectral_errors,
+};
+
 use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Trace, PALETTE};
 use super::csvdata::CsvTable;
 use super::extras::cell;
@@ -48,19 +53,19 @@ pub const EFFECTS_PAGE: &str = "effects.html";
 /// The tables the effects page reads and the command that writes each.
 const TABLES: [(&str, &str); 8] = [
     (
-        "effects_errors.csv",
+        effects_errors::CSV,
         "image error of multiple reflections and refractions per depth and step counts (`make effects`; `make gpu` for the GPU's)",
     ),
-    ("effects_cpu_timing.csv", "the CPU twin's frame time per configuration (`make effects`)"),
-    ("effects_hero.csv", "the hero frame's panels and their figures (`make effects`)"),
-    ("effects_timing.csv", "GPU time of the map update and the shading pass per configuration (`make gpu`)"),
-    ("ao_errors.csv", "ambient-occlusion error per passes and technique (`make effects`)"),
+    (effects_cpu_timing::CSV, "the CPU twin's frame time per configuration (`make effects`)"),
+    (effects_hero::CSV, "the hero frame's panels and their figures (`make effects`)"),
+    (effects_timing::CSV, "GPU time of the map update and the shading pass per configuration (`make gpu`)"),
+    (ao_errors::CSV, "ambient-occlusion error per passes and technique (`make effects`)"),
     (
-        "spectral_errors.csv",
+        spectral_errors::CSV,
         "three-channel against spectral reference per object, index source and depth (`nklut effects` on a scene with `effects.spectral`)",
     ),
-    ("ao_timing.csv", "ambient-occlusion GPU time per surfel configuration and GTAO preset (`make gpu`)"),
-    ("ao_histogram.csv", "ambient-occlusion signed error per bin, object, technique and passes (`make effects`)"),
+    (ao_timing::CSV, "ambient-occlusion GPU time per surfel configuration and GTAO preset (`make gpu`)"),
+    (ao_histogram::CSV, "ambient-occlusion signed error per bin, object, technique and passes (`make effects`)"),
 ];
 
 /// The tables of one scene: its `make effects` folder and its `make gpu` folder together.
@@ -158,11 +163,11 @@ impl SceneTables<'_> {
     /// occlusion with `ao_errors.csv` or `ao_histogram.csv`.
     pub fn group(&self) -> usize {
         let has = |name: &str| self.table(name, false).or_else(|| self.table(name, true)).is_some();
-        if has("spectral_errors.csv") {
+        if has(spectral_errors::CSV) {
             1
-        } else if has("effects_errors.csv") {
+        } else if has(effects_errors::CSV) {
             0
-        } else if has("ao_errors.csv") || has("ao_histogram.csv") {
+        } else if has(ao_errors::CSV) || has(ao_histogram::CSV) {
             2
         } else {
             3
@@ -172,9 +177,9 @@ impl SceneTables<'_> {
     /// Whether any path of its `effects_errors.csv` refracts (reflection-only scenes come
     /// first in their group).
     fn refracts(&self) -> bool {
-        self.table("effects_errors.csv", false)
-            .or_else(|| self.table("effects_errors.csv", true))
-            .is_some_and(|(_, t)| t.rows.iter().any(|r| t.number(r, "refraction_depth").is_some_and(|d| d > 0.0)))
+        self.table(effects_errors::CSV, false)
+            .or_else(|| self.table(effects_errors::CSV, true))
+            .is_some_and(|(_, t)| t.rows.iter().any(|r| t.value(r, effects_errors::REFRACTION_DEPTH).is_some_and(|d| d > 0.0)))
     }
 }
 
@@ -200,13 +205,13 @@ pub fn scenes(inputs: &Inputs) -> Vec<SceneTables<'_>> {
 pub fn scene_findings(scene: &SceneTables, bound: f64) -> Vec<Finding> {
     let name = if scene.name.is_empty() { "the top folder" } else { scene.name.as_str() };
     let mut found: Vec<(usize, Finding)> = Vec::new();
-    if let Some((path, t)) = scene.table("effects_errors.csv", false).or_else(|| scene.table("effects_errors.csv", true)) {
+    if let Some((path, t)) = scene.table(effects_errors::CSV, false).or_else(|| scene.table(effects_errors::CSV, true)) {
         found.extend(findings::search_finding(name, path, t).map(|f| (0, f)));
     }
-    if let Some((path, t)) = scene.table("spectral_errors.csv", false) {
+    if let Some((path, t)) = scene.table(spectral_errors::CSV, false) {
         found.extend(findings::spectral_finding(name, path, t, bound).map(|f| (1, f)));
     }
-    if let Some((path, t)) = scene.table("ao_errors.csv", false) {
+    if let Some((path, t)) = scene.table(ao_errors::CSV, false) {
         found.extend(findings::ao_finding(name, path, t).map(|f| (2, f)));
     }
     let own = scene.group();
@@ -313,24 +318,24 @@ fn scene_section(html: &mut String, inputs: &Inputs, scene: &SceneTables, bound:
     };
     let provenance: Vec<String> = scene.tables.iter().map(|(path, _)| provenance(inputs, path)).collect();
     let _ = writeln!(html, "<p class=\"note\">From {command}. Tables: {}.</p>", provenance.join("; "));
-    let spectral = scene.table("spectral_errors.csv", false);
+    let spectral = scene.table(spectral_errors::CSV, false);
     if let Some(spectral) = spectral.filter(|_| scene.group() == 1) {
         spectral_section(html, spectral)?;
     }
-    if let Some(errors) = scene.table("effects_errors.csv", false).or_else(|| scene.table("effects_errors.csv", true)) {
+    if let Some(errors) = scene.table(effects_errors::CSV, false).or_else(|| scene.table(effects_errors::CSV, true)) {
         specular_section(html, scene, errors, &inputs.devices)?;
     }
-    if let Some(ao) = scene.table("ao_errors.csv", false) {
+    if let Some(ao) = scene.table(ao_errors::CSV, false) {
         ao_section(html, ao)?;
-        super::ao_cost::section(html, &scene.name, ao, scene.table("ao_timing.csv", true), &inputs.devices)?;
+        super::ao_cost::section(html, &scene.name, ao, scene.table(ao_timing::CSV, true), &inputs.devices)?;
     }
-    if let Some(histogram) = scene.table("ao_histogram.csv", false) {
+    if let Some(histogram) = scene.table(ao_histogram::CSV, false) {
         super::ao_histogram::section(html, histogram)?;
     }
     if let Some(spectral) = spectral.filter(|_| scene.group() != 1) {
         spectral_section(html, spectral)?;
     }
-    if let Some(hero) = scene.table("effects_hero.csv", false) {
+    if let Some(hero) = scene.table(effects_hero::CSV, false) {
         hero_section(html, hero);
     }
     html.push_str("<h3>Tables</h3>\n");
@@ -360,13 +365,19 @@ fn rows_at_steps(errors: &CsvTable, rows: &[usize], linear: u64, secant: u64) ->
         .copied()
         .filter(|&r| {
             let row = &errors.rows[r];
-            errors.text(row, "linear_steps") == linear && errors.text(row, "secant_steps") == secant
+            errors.raw(row, effects_errors::LINEAR_STEPS) == linear && errors.raw(row, effects_errors::SECANT_STEPS) == secant
         })
         .collect()
 }
 
 /// The columns that name a configuration of the distance maps, in the tables' order.
-const CONFIGURATION: [&str; 5] = ["method", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps"];
+const CONFIGURATION: [&str; 5] = [
+    effects_errors::METHOD.name,
+    configuration::REFLECTION_DEPTH.name,
+    configuration::REFRACTION_DEPTH.name,
+    configuration::LINEAR_STEPS.name,
+    configuration::SECANT_STEPS.name,
+];
 
 fn key(table: &CsvTable, row: &[String], columns: &[&str]) -> Vec<String> {
     columns.iter().map(|c| table.text(row, c).to_string()).collect()
@@ -374,8 +385,8 @@ fn key(table: &CsvTable, row: &[String], columns: &[&str]) -> Vec<String> {
 
 /// The distinct values of an integer column over `rows`, ascending (a cell that is not an
 /// integer left out).
-fn integers(table: &CsvTable, rows: &[usize], column: &str) -> Vec<u64> {
-    let mut values: Vec<u64> = rows.iter().filter_map(|&r| table.text(&table.rows[r], column).parse::<u64>().ok()).collect();
+fn integers(table: &CsvTable, rows: &[usize], column: Column<Integer>) -> Vec<u64> {
+    let mut values: Vec<u64> = rows.iter().filter_map(|&r| u64::try_from(table.get(&table.rows[r], column)?).ok()).collect();
     values.sort_unstable();
     values.dedup();
     values
@@ -395,15 +406,15 @@ fn distinct<T: PartialEq + Clone>(rows: &[usize], f: impl Fn(usize) -> T) -> Vec
 
 /// A depth configuration: reflections then refractions, e.g. `3+1`.
 fn depth_label(table: &CsvTable, row: &[String]) -> String {
-    format!("{}+{}", table.text(row, "reflection_depth"), table.text(row, "refraction_depth"))
+    format!("{}+{}", table.raw(row, configuration::REFLECTION_DEPTH), table.raw(row, configuration::REFRACTION_DEPTH))
 }
 
 /// The depth configurations of `rows`, shallowest first (by total bounces, then reflections).
 fn depth_categories(table: &CsvTable, rows: &[usize]) -> Vec<String> {
     let mut depths: Vec<(u64, u64)> = distinct(rows, |r| {
         let row = &table.rows[r];
-        let n = |c| table.text(row, c).parse::<u64>().unwrap_or(0);
-        (n("reflection_depth"), n("refraction_depth"))
+        let n = |c| table.raw(row, c).parse::<u64>().unwrap_or(0);
+        (n(configuration::REFLECTION_DEPTH), n(configuration::REFRACTION_DEPTH))
     });
     depths.sort_by_key(|&(r, t)| (r + t, r));
     depths.into_iter().map(|(r, t)| format!("{r}+{t}")).collect()
@@ -417,37 +428,47 @@ fn series(
     color: plotters::style::RGBColor,
     categories: usize,
     (path, table): (&str, &CsvTable),
-    (column, weight): (&str, &str),
+    (column, weight): (Column<impl Numeric>, Column<Integer>),
     at: impl Fn(usize) -> (Vec<usize>, String),
 ) -> Series {
     let points = (0..categories)
         .filter_map(|x| {
             let (rows, label) = at(x);
-            (!rows.is_empty()).then(|| LinePoint { x, label, y: Trace::mean(path, table, column, rows, Some(weight)) })
+            (!rows.is_empty()).then(|| LinePoint { x, label, y: Trace::mean_of(path, table, column, rows, Some(weight)) })
         })
         .collect();
     Series { name, color, points }
 }
 
+/// A table of objects' errors per depth (`effects_errors`, `spectral_errors`): its path,
+/// the table, and its columns of the material and of the pixels each row is the mean over.
+struct ObjectTable<'a> {
+    path: &'a str,
+    table: &'a CsvTable,
+    material: Column<Text>,
+    pixels: Column<Integer>,
+}
+
 /// One line against depth: at each depth category, the pixel-weighted mean of `column` over
 /// the `rows` of `material` whose `key` column reads `value`; named `value`.
 fn depth_series(
-    (path, table): (&str, &CsvTable),
+    source: &ObjectTable,
     rows: &[usize],
     categories: &[String],
     material: &str,
-    (key, value): (&str, &str),
-    column: &str,
+    (key, value): (Column<Text>, &str),
+    column: Column<impl Numeric>,
     color: plotters::style::RGBColor,
 ) -> Series {
-    series(value.to_string(), color, categories.len(), (path, table), (column, "pixels"), |x| {
+    let ObjectTable { path, table, .. } = *source;
+    series(value.to_string(), color, categories.len(), (path, table), (column, source.pixels), |x| {
         let depth = &categories[x];
         let picked = rows
             .iter()
             .copied()
             .filter(|&r| {
                 let row = &table.rows[r];
-                table.text(row, "material") == material && table.text(row, key) == value && depth_label(table, row) == *depth
+                table.get(row, source.material) == material && table.get(row, key) == value && depth_label(table, row) == *depth
             })
             .collect();
         (picked, format!("{material}, {value}, depth {depth}"))
@@ -544,7 +565,7 @@ struct TimeSource<'a> {
     path: String,
     table: &'a CsvTable,
     /// `shading_ms` (a GPU's) or `frame_ms` (the CPU twin's).
-    column: &'static str,
+    column: Column<Float>,
     /// The x axis's name with its unit.
     axis: String,
     /// What the caption says of the source.
@@ -557,9 +578,9 @@ impl TimeSource<'_> {
     /// another scene's maps do not count).
     fn match_columns(&self, errors: &CsvTable) -> Vec<&'static str> {
         let mut columns = CONFIGURATION.to_vec();
-        for extra in ["map_size", "layers"] {
-            if errors.has(extra) && self.table.has(extra) {
-                columns.push(extra);
+        for extra in [configuration::MAP_SIZE, configuration::LAYERS] {
+            if errors.holds(extra) && self.table.holds(extra) {
+                columns.push(extra.name);
             }
         }
         columns
@@ -570,7 +591,7 @@ impl TimeSource<'_> {
 fn resolutions(table: &CsvTable) -> String {
     let mut seen: Vec<&str> = Vec::new();
     for row in &table.rows {
-        let r = table.text(row, "resolution");
+        let r = table.get(row, effects_timing::RESOLUTION);
         if !r.is_empty() && !seen.contains(&r) {
             seen.push(r);
         }
@@ -585,24 +606,24 @@ fn resolutions(table: &CsvTable) -> String {
 /// timed the scene.
 fn time_sources<'a>(scene: &SceneTables<'a>, errors: &CsvTable, devices: &'a BTreeMap<String, DeviceTables>) -> Vec<TimeSource<'a>> {
     let mut out = Vec::new();
-    if let Some((path, table)) = scene.table("effects_timing.csv", true) {
+    if let Some((path, table)) = scene.table(effects_timing::CSV, true) {
         out.push(TimeSource {
             title: "GPU time on this machine (make gpu)".into(),
             path: path.to_string(),
             table,
-            column: "shading_ms",
+            column: effects_timing::SHADING_MS,
             axis: "GPU time of the shading pass (ms)".into(),
             note: format!("Times: median shading pass of effects_timing.csv at {}.", resolutions(table)),
         });
     }
     for (device, tables) in devices {
         let Some(table) = tables.effects_timing.as_ref() else { continue };
-        let path = tables.table_path(device, "effects_timing.csv");
+        let path = tables.table_path(device, effects_timing::CSV);
         let source = TimeSource {
             title: format!("GPU time on {}", findings::short_device(device)),
             path,
             table,
-            column: "shading_ms",
+            column: effects_timing::SHADING_MS,
             axis: format!("GPU time of the shading pass on {} (ms)", findings::short_device(device)),
             note: format!(
                 "Times: the median shading pass of {device} ({}, effects_timing at {}), matched to this scene's rows by method, depths, search steps, map size and layers.",
@@ -617,12 +638,12 @@ fn time_sources<'a>(scene: &SceneTables<'a>, errors: &CsvTable, devices: &'a BTr
         }
     }
     if out.is_empty() {
-        if let Some((path, table)) = scene.table("effects_cpu_timing.csv", false) {
+        if let Some((path, table)) = scene.table(effects_cpu_timing::CSV, false) {
             out.push(TimeSource {
                 title: "the CPU twin's frame time (fallback: no GPU timed this scene)".into(),
                 path: path.to_string(),
                 table,
-                column: "frame_ms",
+                column: effects_cpu_timing::FRAME_MS,
                 axis: "CPU twin's frame time (ms, effects_cpu_timing.csv; fallback, not GPU time)".into(),
                 note: "Times: the CPU twin's frame (the fallback where no device result times this scene's configurations); CPU-twin times are ratios between configurations on this machine, not GPU cost.".into(),
             });
@@ -652,13 +673,14 @@ fn specular_section(
 ) -> Result<()> {
     html.push_str("<h3>Multiple reflections and refractions</h3>\n");
     let all: Vec<usize> = (0..errors.rows.len()).collect();
-    let (Some(&linear), Some(&secant)) = (integers(errors, &all, "linear_steps").last(), integers(errors, &all, "secant_steps").last())
+    let (Some(&linear), Some(&secant)) =
+        (integers(errors, &all, effects_errors::LINEAR_STEPS).last(), integers(errors, &all, effects_errors::SECANT_STEPS).last())
     else {
         html.push_str("<p class=\"absent\">The table has no step counts.</p>");
         return Ok(());
     };
     let at_steps = rows_at_steps(errors, &all, linear, secant);
-    let methods: Vec<String> = distinct(&all, |r| errors.text(&errors.rows[r], "method").to_string());
+    let methods: Vec<String> = distinct(&all, |r| errors.get(&errors.rows[r], effects_errors::METHOD).to_string());
     let color = |method: &str| PALETTE[methods.iter().position(|m| m == method).unwrap_or(0) % PALETTE.len()];
     let legend = charts::legend(methods.iter().map(|m| (m.as_str(), color(m), false)));
 
@@ -669,16 +691,19 @@ fn specular_section(
     );
     html.push_str(&legend);
     html.push_str("<div class=\"charts\">");
-    let materials: Vec<String> = distinct(&at_steps, |r| errors.text(&errors.rows[r], "material").to_string());
+    let materials: Vec<String> = distinct(&at_steps, |r| errors.get(&errors.rows[r], effects_errors::MATERIAL).to_string());
+    let objects = ObjectTable { path, table: errors, material: effects_errors::MATERIAL, pixels: effects_errors::PIXELS };
     let categories = depth_categories(errors, &at_steps);
     for material in &materials {
         for (column, axis, what) in [
-            ("fresnel_mean_delta_e2000", ErrorAxis::DeltaE, "colour difference"),
-            ("fresnel_mean_rel_error", ErrorAxis::Relative, "relative error"),
+            (effects_errors::FRESNEL_MEAN_DELTA_E2000.numbers(), ErrorAxis::DeltaE, "colour difference"),
+            (effects_errors::FRESNEL_MEAN_REL_ERROR.numbers(), ErrorAxis::Relative, "relative error"),
         ] {
             let series: Vec<Series> = methods
                 .iter()
-                .map(|method| depth_series((path, errors), &at_steps, &categories, material, ("method", method), column, color(method)))
+                .map(|method| {
+                    depth_series(&objects, &at_steps, &categories, material, (effects_errors::METHOD, method), column, color(method))
+                })
                 .collect();
             depth_chart(html, &categories, axis, &series, &format!("{material}: Fresnel {what}"))?;
         }
@@ -716,8 +741,8 @@ fn specular_section(
             styles.push(charts::PointStyle { color: color(&configuration[0]), marker: marker(&depth) });
             traced.push((
                 label,
-                Trace::mean(&source.path, source.table, source.column, timed, None),
-                Trace::mean(path, errors, "total_mean_delta_e2000", rows, Some("pixels")),
+                Trace::mean_of(&source.path, source.table, source.column, timed, None),
+                Trace::mean_of(path, errors, effects_errors::TOTAL_MEAN_DELTA_E2000, rows, Some(effects_errors::PIXELS)),
             ));
         }
         if traced.is_empty() {
@@ -762,10 +787,11 @@ fn geometry_section(html: &mut String, (path, errors): (&str, &CsvTable), all: &
         .copied()
         .filter(|&r| {
             let row = &errors.rows[r];
-            depth_label(errors, row) == depth && errors.text(row, "method") == reference_method
+            depth_label(errors, row) == depth && errors.get(row, effects_errors::METHOD) == reference_method
         })
         .collect();
-    let (linear_steps, secant_steps) = (integers(errors, &rows, "linear_steps"), integers(errors, &rows, "secant_steps"));
+    let (linear_steps, secant_steps) =
+        (integers(errors, &rows, effects_errors::LINEAR_STEPS), integers(errors, &rows, effects_errors::SECANT_STEPS));
     let categories: Vec<String> = linear_steps.iter().map(u64::to_string).collect();
     let series: Vec<Series> = secant_steps
         .iter()
@@ -777,7 +803,7 @@ fn geometry_section(html: &mut String, (path, errors): (&str, &CsvTable), all: &
                 color,
                 linear_steps.len(),
                 (path, errors),
-                ("geometry_mean_delta_e2000", "pixels"),
+                (effects_errors::GEOMETRY_MEAN_DELTA_E2000, effects_errors::PIXELS),
                 |x| {
                     let linear = linear_steps[x];
                     (rows_at_steps(errors, &rows, linear, *secant), format!("{linear} linear + {secant} secant steps, depth {depth}"))
@@ -815,39 +841,43 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
     let _ = writeln!(
         html,
         "<p>The three-channel f64 reference against the spectral one ({} wavelengths): mean ΔE2000 over each object's pixels, per depth (reflections+refractions) and source of the channel indices (<code>{}</code>).</p>",
-        escape(first.map_or("", |row| spectral.text(row, "wavelengths"))),
+        escape(first.map_or("", |row| spectral.raw(row, spectral_errors::WAVELENGTHS))),
         escape(path)
     );
-    let sources: Vec<String> = distinct(&all, |r| spectral.text(&spectral.rows[r], "index_source").to_string());
+    let sources: Vec<String> = distinct(&all, |r| spectral.get(&spectral.rows[r], spectral_errors::INDEX_SOURCE).to_string());
     let color = |source: &str| PALETTE[sources.iter().position(|s| s == source).unwrap_or(0) % PALETTE.len()];
     html.push_str(&charts::legend(sources.iter().map(|s| (s.as_str(), color(s), false))));
     html.push_str("<div class=\"charts\">");
     let categories = depth_categories(spectral, &all);
-    let field = |r: usize, column: &str| spectral.text(&spectral.rows[r], column).to_string();
-    for material in distinct(&all, |r| field(r, "material")) {
-        let of_material: Vec<usize> = all.iter().copied().filter(|&r| field(r, "material") == material).collect();
+    let field = |r: usize, column: Column<Text>| spectral.get(&spectral.rows[r], column).to_string();
+    let source_table = ObjectTable { path, table: spectral, material: spectral_errors::MATERIAL, pixels: spectral_errors::PIXELS };
+    for material in distinct(&all, |r| field(r, spectral_errors::MATERIAL)) {
+        let of_material: Vec<usize> = all.iter().copied().filter(|&r| field(r, spectral_errors::MATERIAL) == material).collect();
         // One chart per object: a material on several objects (two thicknesses of a glass)
         // is charted for each, named by its place in the scene.
-        let objects = distinct(&of_material, |r| field(r, "object_index"));
+        let objects = distinct(&of_material, |r| spectral.raw(&spectral.rows[r], spectral_errors::OBJECT_INDEX).to_string());
         for object in &objects {
-            let rows: Vec<usize> = of_material.iter().copied().filter(|&r| field(r, "object_index") == *object).collect();
+            let rows: Vec<usize> =
+                of_material.iter().copied().filter(|&r| spectral.raw(&spectral.rows[r], spectral_errors::OBJECT_INDEX) == object).collect();
             let series: Vec<Series> = sources
                 .iter()
                 .map(|source| {
                     depth_series(
-                        (path, spectral),
+                        &source_table,
                         &rows,
                         &categories,
                         &material,
-                        ("index_source", source),
-                        "mean_delta_e2000",
+                        (spectral_errors::INDEX_SOURCE, source),
+                        spectral_errors::MEAN_DELTA_E2000,
                         color(source),
                     )
                 })
                 .collect();
             let subject = match objects.len() {
                 1 => material.clone(),
-                _ => format!("{material} (object {object}, {})", rows.first().map_or(String::new(), |&r| field(r, "object"))),
+                _ => {
+                    format!("{material} (object {object}, {})", rows.first().map_or(String::new(), |&r| field(r, spectral_errors::OBJECT)))
+                }
             };
             depth_chart(html, &categories, ErrorAxis::DeltaE, &series, &format!("{subject}: ΔE2000, three channels vs spectrum"))?;
         }
@@ -861,7 +891,7 @@ fn spectral_section(html: &mut String, (path, spectral): (&str, &CsvTable)) -> R
             files.push((format!("{stem}_{source}.png"), source.clone()));
             files.push((format!("{stem}_{source}_delta_e.png"), format!("ΔE2000 of {source} against the spectral frame")));
         }
-        let resolution = first.map_or("", |row| spectral.text(row, "resolution"));
+        let resolution = first.map_or("", |row| spectral.get(row, spectral_errors::RESOLUTION));
         let (width, height) =
             resolution.split_once('x').and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?))).unwrap_or((0, 0));
         let factor = spectral_zoom(width.max(height));
@@ -913,15 +943,15 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
     let all: Vec<usize> = (0..ao.rows.len()).filter(|&r| !is_gtao(ao, &ao.rows[r])).collect();
     let technique = |r: usize| technique_label(ao, &ao.rows[r]);
     let techniques: Vec<String> = distinct(&all, technique);
-    let passes = integers(ao, &all, "passes");
+    let passes = integers(ao, &all, ao_errors::PASSES);
     let categories: Vec<String> = passes.iter().map(u64::to_string).collect();
     let rows_of = |t: &str, p: u64| -> Vec<usize> {
-        all.iter().copied().filter(|&r| technique(r) == t && ao.text(&ao.rows[r], "passes") == p.to_string()).collect()
+        all.iter().copied().filter(|&r| technique(r) == t && ao.raw(&ao.rows[r], ao_errors::PASSES) == p.to_string()).collect()
     };
     let mut charts_html = String::from("<div class=\"charts\">");
-    let mut columns = vec![("mean_error", "accessibility")];
-    if all.iter().any(|&r| ao.number(&ao.rows[r], "indirect_mean_error").is_some()) {
-        columns.push(("indirect_mean_error", "indirect light"));
+    let mut columns = vec![(ao_errors::MEAN_ERROR, "accessibility")];
+    if all.iter().any(|&r| ao.value(&ao.rows[r], ao_errors::INDIRECT_MEAN_ERROR).is_some()) {
+        columns.push((ao_errors::INDIRECT_MEAN_ERROR, "indirect light"));
     }
     let colors: Vec<_> = techniques.iter().enumerate().map(|(i, _)| PALETTE[(i + 1) % PALETTE.len()]).collect();
     let legend = charts::legend(techniques.iter().zip(&colors).map(|(t, c)| (t.as_str(), *c, false)));
@@ -930,7 +960,7 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
             .iter()
             .zip(&colors)
             .map(|(t, color)| {
-                series(t.to_string(), *color, passes.len(), (path, ao), (column, "surfels"), |x| {
+                series(t.to_string(), *color, passes.len(), (path, ao), (*column, ao_errors::SURFELS), |x| {
                     let p = passes[x];
                     (rows_of(t, p), format!("{t}, {p} pass(es)"))
                 })
@@ -952,15 +982,16 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
             "",
         )?;
     }
-    if ao.has("cpu_ms") {
+    if ao.holds(ao_errors::CPU_MS) {
         let mut traced = Vec::new();
         let mut styles = Vec::new();
         for (t, color) in techniques.iter().zip(&colors) {
             for (i, &p) in passes.iter().enumerate() {
                 let rows = rows_of(t, p);
                 if !rows.is_empty() {
-                    let x = Trace::mean(path, ao, "cpu_ms", rows.clone(), None);
-                    traced.push((format!("{t}, {p} pass(es)"), x, Trace::mean(path, ao, "mean_error", rows, Some("surfels"))));
+                    let x = Trace::mean_of(path, ao, ao_errors::CPU_MS, rows.clone(), None);
+                    let y = Trace::mean_of(path, ao, ao_errors::MEAN_ERROR, rows, Some(ao_errors::SURFELS));
+                    traced.push((format!("{t}, {p} pass(es)"), x, y));
                     styles.push(charts::PointStyle { color: *color, marker: charts::Marker::nth(i) });
                 }
             }
@@ -1008,9 +1039,9 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
             if rows.is_empty() {
                 continue;
             }
-            let mean = Trace::mean(path, ao, "mean_error", rows.clone(), Some("surfels")).value;
-            let sigma = Trace::mean(path, ao, "reference_standard_error", rows.clone(), Some("surfels")).value;
-            let max = rows.iter().filter_map(|&r| ao.number(&ao.rows[r], "max_error")).fold(f64::NEG_INFINITY, f64::max);
+            let mean = Trace::mean_of(path, ao, ao_errors::MEAN_ERROR, rows.clone(), Some(ao_errors::SURFELS)).value;
+            let sigma = Trace::mean_of(path, ao, ao_errors::REFERENCE_STANDARD_ERROR, rows.clone(), Some(ao_errors::SURFELS)).value;
+            let max = rows.iter().filter_map(|&r| ao.value(&ao.rows[r], ao_errors::MAX_ERROR)).fold(f64::NEG_INFINITY, f64::max);
             let first = &ao.rows[rows[0]];
             table.row(vec![
                 t.to_string(),
@@ -1018,8 +1049,8 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
                 number(mean),
                 number(max),
                 number(sigma),
-                ao.text(first, "interactions").to_string(),
-                ao.number(first, "cpu_ms").map(number).unwrap_or_else(|| "–".into()),
+                ao.raw(first, ao_errors::INTERACTIONS).to_string(),
+                ao.value(first, ao_errors::CPU_MS).map(number).unwrap_or_else(|| "–".into()),
             ]);
         }
     }
@@ -1041,7 +1072,7 @@ fn ao_section(html: &mut String, (path, ao): (&str, &CsvTable)) -> Result<()> {
 
 /// Whether a row of `ao_errors.csv` is GTAO's (a table written before GTAO has none).
 fn is_gtao(ao: &CsvTable, row: &[String]) -> bool {
-    ao.has("technique") && ao.text(row, "technique") == "gtao"
+    ao.holds(ao_errors::TECHNIQUE) && ao.get(row, ao_errors::TECHNIQUE) == "gtao"
 }
 
 /// How a row of `ao_errors.csv` was computed, in words: `tree`, `brute force`, or GTAO
@@ -1049,10 +1080,16 @@ fn is_gtao(ao: &CsvTable, row: &[String]) -> bool {
 /// accumulates where more than one.
 fn technique_label(ao: &CsvTable, row: &[String]) -> String {
     if is_gtao(ao, row) {
-        let preset = ao.has("gtao_preset").then(|| ao.text(row, "gtao_preset"));
-        let frames = ao.number(row, "gtao_frames").map_or(1, |frames| frames as u64);
-        super::ao_cost::gtao_label(preset, ao.text(row, "gtao_radius"), ao.text(row, "gtao_slices"), ao.text(row, "gtao_steps"), frames)
-    } else if ao.text(row, "hierarchy") == "true" {
+        let preset = ao.holds(ao_errors::GTAO_PRESET).then(|| ao.get(row, ao_errors::GTAO_PRESET));
+        let frames = ao.value(row, ao_errors::GTAO_FRAMES).map_or(1, |frames| frames as u64);
+        super::ao_cost::gtao_label(
+            preset,
+            ao.raw(row, ao_errors::GTAO_RADIUS),
+            ao.raw(row, ao_errors::GTAO_SLICES),
+            ao.raw(row, ao_errors::GTAO_STEPS),
+            frames,
+        )
+    } else if ao.raw(row, ao_errors::HIERARCHY) == "true" {
         "tree".into()
     } else {
         "brute force".into()
@@ -1061,14 +1098,14 @@ fn technique_label(ao: &CsvTable, row: &[String]) -> String {
 
 /// A row of an AO table: the object, the technique in words, the passes ("–" for GTAO),
 /// then `columns` — those in `counts` as written, the others as numbers ("–" where empty).
-fn ao_row_cells(ao: &CsvTable, row: &[String], columns: &[&str], counts: &[&str]) -> Vec<String> {
-    let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.text(row, "passes").to_string() };
-    let mut cells = vec![ao.text(row, "mesh").to_string(), technique_label(ao, row), passes];
-    cells.extend(columns.iter().map(|c| {
-        if counts.contains(c) {
-            ao.text(row, c).to_string()
+fn ao_row_cells(ao: &CsvTable, row: &[String], columns: &[Column<OptionalFloat>], counts: &[Column<Integer>]) -> Vec<String> {
+    let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.raw(row, ao_errors::PASSES).to_string() };
+    let mut cells = vec![ao.get(row, ao_errors::MESH).to_string(), technique_label(ao, row), passes];
+    cells.extend(columns.iter().map(|&c| {
+        if counts.iter().any(|count| count.name == c.name) {
+            ao.raw(row, c).to_string()
         } else {
-            ao.number(row, c).map(number).unwrap_or_else(|| "–".into())
+            ao.value(row, c).map(number).unwrap_or_else(|| "–".into())
         }
     }));
     cells
@@ -1081,15 +1118,15 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
         return None;
     }
     let columns = [
-        "pixels",
-        "pixel_mean_error",
-        "pixel_signed_error",
-        "pixel_median_error",
-        "pixel_p90_error",
-        "pixel_p99_error",
-        "pixel_max_error",
-        "interactions",
-        "cpu_ms",
+        ao_errors::PIXELS.numbers(),
+        ao_errors::PIXEL_MEAN_ERROR,
+        ao_errors::PIXEL_SIGNED_ERROR,
+        ao_errors::PIXEL_MEDIAN_ERROR,
+        ao_errors::PIXEL_P90_ERROR,
+        ao_errors::PIXEL_P99_ERROR,
+        ao_errors::PIXEL_MAX_ERROR,
+        ao_errors::INTERACTIONS.numbers(),
+        ao_errors::CPU_MS.numbers(),
     ];
     let mut table = TableText::new(&[
         "object",
@@ -1106,7 +1143,7 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
         "CPU ms",
     ]);
     for row in &ao.rows {
-        table.row(ao_row_cells(ao, row, &columns, &["pixels", "interactions"]));
+        table.row(ao_row_cells(ao, row, &columns, &[ao_errors::PIXELS, ao_errors::INTERACTIONS]));
     }
     Some(table.html("ao-per-pixel"))
 }
@@ -1114,20 +1151,20 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
 /// The per-object error statistics of `ao_errors.csv` (one row per object, technique and
 /// passes), `None` for a table written before it had them.
 fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
-    if !ao.has("p90_error") {
+    if !ao.holds(ao_errors::P90_ERROR) {
         return None;
     }
     let columns = [
-        "mean_error",
-        "signed_error",
-        "median_error",
-        "p90_error",
-        "p99_error",
-        "max_error",
-        "area_mean_error",
-        "pixel_mean_error",
-        "defect_vertices",
-        "mean_error_without_defects",
+        ao_errors::MEAN_ERROR,
+        ao_errors::SIGNED_ERROR,
+        ao_errors::MEDIAN_ERROR,
+        ao_errors::P90_ERROR,
+        ao_errors::P99_ERROR,
+        ao_errors::MAX_ERROR,
+        ao_errors::AREA_MEAN_ERROR,
+        ao_errors::PIXEL_MEAN_ERROR,
+        ao_errors::DEFECT_VERTICES.numbers(),
+        ao_errors::MEAN_ERROR_WITHOUT_DEFECTS,
     ];
     let mut table = TableText::new(&[
         "object",
@@ -1145,7 +1182,7 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
         "mean without them",
     ]);
     for row in ao.rows.iter().filter(|r| !is_gtao(ao, r)) {
-        table.row(ao_row_cells(ao, row, &columns, &["defect_vertices"]));
+        table.row(ao_row_cells(ao, row, &columns, &[ao_errors::DEFECT_VERTICES]));
     }
     Some(table.html("ao-statistics"))
 }
@@ -1158,17 +1195,19 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
 /// the error is largest, labelled in words.
 fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
     let folder = folder_of(path);
-    let effects: Vec<String> = distinct(&(0..hero.rows.len()).collect::<Vec<_>>(), |r| hero.text(&hero.rows[r], "effect").to_string());
+    let effects: Vec<String> =
+        distinct(&(0..hero.rows.len()).collect::<Vec<_>>(), |r| hero.get(&hero.rows[r], effects_hero::EFFECT).to_string());
     for effect in effects {
-        let rows: Vec<(usize, &Vec<String>)> = hero.rows.iter().enumerate().filter(|(_, r)| hero.text(r, "effect") == effect).collect();
+        let rows: Vec<(usize, &Vec<String>)> =
+            hero.rows.iter().enumerate().filter(|(_, r)| hero.get(r, effects_hero::EFFECT) == effect).collect();
         let Some((_, first)) = rows.first() else { continue };
-        let has_exact = rows.iter().any(|(_, r)| !hero.text(r, "exact_error_file").is_empty());
+        let has_exact = rows.iter().any(|(_, r)| !hero.get(r, effects_hero::EXACT_ERROR_FILE).is_empty());
         let _ = writeln!(
             html,
             "<h3>Hero frame: {} ({})</h3>\n<p class=\"note\">Frame 0 at {} with every variant{} (<code>{}</code>). Pictures at their natural size; click one for the file.</p>",
             escape(&effect),
-            escape(hero.text(first, "resolution")),
-            escape(hero.text(first, "resolution")),
+            escape(hero.get(first, effects_hero::RESOLUTION)),
+            escape(hero.get(first, effects_hero::RESOLUTION)),
             if has_exact {
                 ", each beside its error against the exact method's panel (what the Fresnel method itself costs, through the same distance maps) and against the ray-traced reference (the total, the maps' search included)"
             } else {
@@ -1179,18 +1218,18 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
         hero_legends(html, (path, hero), &rows);
         html.push_str("<div class=\"panels hero-panels\">");
         for (index, row) in &rows {
-            let image = |column: &str, what: &str| -> String {
-                let file = hero.text(row, column);
+            let image = |column: Column<Text>, what: &str| -> String {
+                let file = hero.get(row, column);
                 if file.is_empty() {
                     return String::new();
                 }
                 let src = from_report(folder, file);
-                let (w, h) = hero.text(row, "resolution").split_once('x').unwrap_or(("", ""));
+                let (w, h) = hero.get(row, effects_hero::RESOLUTION).split_once('x').unwrap_or(("", ""));
                 format!(
                     "<div class=\"hero-cell\"><a href=\"{src}\"><img class=\"hero\" loading=\"lazy\" src=\"{src}\" width=\"{}\" height=\"{}\" alt=\"{}\"></a><p class=\"cell-note\">{}</p></div>",
                     escape(w),
                     escape(h),
-                    escape(&format!("{}: {what}", hero.text(row, "label"))),
+                    escape(&format!("{}: {what}", hero.get(row, effects_hero::LABEL))),
                     escape(what)
                 )
             };
@@ -1200,40 +1239,43 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
                     escape(path)
                 )
             };
-            let value = |column: &str| hero.number(row, column).unwrap_or(f64::NAN);
-            let mut figures = if hero.text(row, "error_file").is_empty() {
+            let figure = |column: Column<OptionalFloat>, shown: fn(f64) -> String| {
+                span(column.name, shown(hero.value(row, column).unwrap_or(f64::NAN)))
+            };
+            let mut figures = if hero.get(row, effects_hero::ERROR_FILE).is_empty() {
                 "the reference the others are measured against".to_string()
             } else {
                 format!(
                     "against the reference: mean ΔE2000 {}, mean relative error {}, mean |Δ| {}, largest |Δ| {} over {} pixels",
-                    span("mean_delta_e2000", delta_e(value("mean_delta_e2000"))),
-                    span("mean_rel_error", percent(value("mean_rel_error"))),
-                    span("mean_abs_error", number(value("mean_abs_error"))),
-                    span("max_abs_error", number(value("max_abs_error"))),
-                    span("pixels", hero.text(row, "pixels").to_string()),
+                    figure(effects_hero::MEAN_DELTA_E2000.numbers(), delta_e),
+                    figure(effects_hero::MEAN_REL_ERROR.numbers(), percent),
+                    figure(effects_hero::MEAN_ABS_ERROR.numbers(), number),
+                    figure(effects_hero::MAX_ABS_ERROR.numbers(), number),
+                    span(effects_hero::PIXELS.name, hero.raw(row, effects_hero::PIXELS).to_string()),
                 )
             };
-            if !hero.text(row, "exact_error_file").is_empty() {
+            if !hero.get(row, effects_hero::EXACT_ERROR_FILE).is_empty() {
                 let _ = write!(
                     figures,
                     "; against the exact method: mean ΔE2000 {}, mean |Δ| {}, largest |Δ| {}",
-                    span("exact_mean_delta_e2000", delta_e(value("exact_mean_delta_e2000"))),
-                    span("exact_mean_abs_error", number(value("exact_mean_abs_error"))),
-                    span("exact_max_abs_error", number(value("exact_max_abs_error"))),
+                    figure(effects_hero::EXACT_MEAN_DELTA_E2000.numbers(), delta_e),
+                    figure(effects_hero::EXACT_MEAN_ABS_ERROR.numbers(), number),
+                    figure(effects_hero::EXACT_MAX_ABS_ERROR.numbers(), number),
                 );
             }
             let _ = write!(
                 html,
                 "<figure class=\"panel\" data-panel=\"{}\"><figcaption><b>{}</b><br>{figures}</figcaption><div class=\"hero-grid\">{}{}{}</div></figure>",
-                escape(hero.text(row, "panel")),
-                escape(hero.text(row, "label")),
-                image("file", "the frame"),
-                image("exact_error_file", "error against the exact method"),
-                image("error_file", "error against the reference"),
+                escape(hero.get(row, effects_hero::PANEL)),
+                escape(hero.get(row, effects_hero::LABEL)),
+                image(effects_hero::FILE, "the frame"),
+                image(effects_hero::EXACT_ERROR_FILE, "error against the exact method"),
+                image(effects_hero::ERROR_FILE, "error against the reference"),
             );
         }
         html.push_str("</div>\n");
-        let (x, y, size) = (hero.text(first, "crop_x"), hero.text(first, "crop_y"), hero.text(first, "crop_size"));
+        let (x, y, size) =
+            (hero.raw(first, effects_hero::CROP_X), hero.raw(first, effects_hero::CROP_Y), hero.raw(first, effects_hero::CROP_SIZE));
         let _ = write!(
             html,
             "<p class=\"note\">Where the error is largest: the {size} × {size} px window at ({x}, {y}) with the largest summed error over the variants, enlarged.</p><div class=\"crops\">",
@@ -1243,11 +1285,11 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
         );
         for (_, row) in &rows {
             for (column, what) in [
-                ("crop_file", ""),
-                ("crop_exact_error_file", ", error against exact"),
-                ("crop_error_file", ", error against the reference"),
+                (effects_hero::CROP_FILE, ""),
+                (effects_hero::CROP_EXACT_ERROR_FILE, ", error against exact"),
+                (effects_hero::CROP_ERROR_FILE, ", error against the reference"),
             ] {
-                let file = hero.text(row, column);
+                let file = hero.get(row, column);
                 if file.is_empty() {
                     continue;
                 }
@@ -1266,10 +1308,10 @@ fn hero_section(html: &mut String, (path, hero): (&str, &CsvTable)) {
 /// What a crop shows, in words: the panel's label up to its first comma (`schlick`, `no AO`,
 /// `surfel AO`, `reference: ray-traced`), with the passes and gather of an AO panel.
 fn crop_words(hero: &CsvTable, row: &[String]) -> String {
-    let label = hero.text(row, "label");
+    let label = hero.get(row, effects_hero::LABEL);
     let mut parts = label.split(", ");
     let head = parts.next().unwrap_or(label);
-    match hero.text(row, "passes") {
+    match hero.raw(row, effects_hero::PASSES) {
         "" | "0" => head.to_string(),
         _ => std::iter::once(head).chain(parts.take(2)).collect::<Vec<_>>().join(", "),
     }
@@ -1289,20 +1331,20 @@ pub fn step_text(step: f64) -> String {
 /// reference) its colour bar with the values burned in and what chose the scale.
 fn hero_legends(html: &mut String, (path, hero): (&str, &CsvTable), rows: &[(usize, &Vec<String>)]) {
     let folder = folder_of(path);
-    let Some((_, first)) = rows.iter().find(|(_, r)| !hero.text(r, "error_file").is_empty()) else { return };
+    let Some((_, first)) = rows.iter().find(|(_, r)| !hero.get(r, effects_hero::ERROR_FILE).is_empty()) else { return };
     let rule = "the smallest 1-2-5 step at or above the 99th percentile of the values over every panel's counted pixels, so at most about one pixel in a hundred is white";
     html.push_str("<div class=\"legends\">");
-    let exact = rows.iter().find(|(_, r)| !hero.text(r, "exact_error_scale_file").is_empty());
+    let exact = rows.iter().find(|(_, r)| !hero.get(r, effects_hero::EXACT_ERROR_SCALE_FILE).is_empty());
     if let Some((_, row)) = exact {
         let _ = write!(
             html,
             "<figure class=\"colour-legend\" data-scale=\"{0}\"><img src=\"{1}\" width=\"512\" alt=\"colour bar of the errors against exact, 0 to {0}\"><figcaption>Error against the exact method: |Δ| summed over R, G and B of linear radiance, black at 0 through blue, red and yellow to white at {0} ({rule}).</figcaption></figure>",
-            step_text(hero.number(row, "exact_error_scale").unwrap_or(f64::NAN)),
-            from_report(folder, hero.text(row, "exact_error_scale_file")),
+            step_text(hero.value(row, effects_hero::EXACT_ERROR_SCALE).unwrap_or(f64::NAN)),
+            from_report(folder, hero.get(row, effects_hero::EXACT_ERROR_SCALE_FILE)),
         );
     }
-    let scale = hero.number(first, "error_scale").unwrap_or(f64::NAN);
-    let file = hero.text(first, "error_scale_file");
+    let scale = hero.value(first, effects_hero::ERROR_SCALE).unwrap_or(f64::NAN);
+    let file = hero.get(first, effects_hero::ERROR_SCALE_FILE);
     if !file.is_empty() {
         let _ = write!(
             html,
@@ -1463,35 +1505,42 @@ fn effects_across(html: &mut String, devices: &BTreeMap<String, DeviceTables>) {
     let mut table = TableText::new(&headers);
     for (device, tables, rows) in with_effects {
         let configuration = |r: &[String]| -> Vec<String> {
-            ["effect", "reflection_depth", "refraction_depth", "linear_steps", "secant_steps", "resolution"]
-                .iter()
-                .map(|c| rows.text(r, c).to_string())
-                .collect()
+            [
+                effects_timing::EFFECT.name,
+                effects_timing::REFLECTION_DEPTH.name,
+                effects_timing::REFRACTION_DEPTH.name,
+                effects_timing::LINEAR_STEPS.name,
+                effects_timing::SECANT_STEPS.name,
+                effects_timing::RESOLUTION.name,
+            ]
+            .iter()
+            .map(|c| rows.text(r, c).to_string())
+            .collect()
         };
         for row in &rows.rows {
-            let shading = rows.number(row, "shading_ms");
+            let shading = rows.value(row, effects_timing::SHADING_MS);
             let exact = rows
                 .rows
                 .iter()
-                .find(|r| rows.text(r, "method") == "exact" && configuration(r) == configuration(row))
-                .and_then(|r| rows.number(r, "shading_ms"));
+                .find(|r| rows.get(r, effects_timing::METHOD) == "exact" && configuration(r) == configuration(row))
+                .and_then(|r| rows.value(r, effects_timing::SHADING_MS));
             let ratio = match (shading, exact) {
                 (Some(ms), Some(anchor)) if anchor > 0.0 => number(ms / anchor),
                 _ => "–".to_string(),
             };
-            let ms = |column: &str| rows.number(row, column).map_or("–".to_string(), |x| format!("{x:.4}"));
+            let ms = |column: Column<Float>| rows.value(row, column).map_or("–".to_string(), |x| format!("{x:.4}"));
             table.row(vec![
                 device.clone(),
-                format!("{}, {}", tables.source, rows.text(row, "timer")),
-                rows.text(row, "method").to_string(),
+                format!("{}, {}", tables.source, rows.get(row, effects_timing::TIMER)),
+                rows.get(row, effects_timing::METHOD).to_string(),
                 effects_configuration(
-                    rows.text(row, "effect"),
-                    [rows.text(row, "reflection_depth"), rows.text(row, "refraction_depth")],
-                    [rows.text(row, "linear_steps"), rows.text(row, "secant_steps")],
-                    rows.text(row, "resolution"),
+                    rows.get(row, effects_timing::EFFECT),
+                    [rows.raw(row, effects_timing::REFLECTION_DEPTH), rows.raw(row, effects_timing::REFRACTION_DEPTH)],
+                    [rows.raw(row, effects_timing::LINEAR_STEPS), rows.raw(row, effects_timing::SECANT_STEPS)],
+                    rows.get(row, effects_timing::RESOLUTION),
                 ),
-                ms("map_update_ms"),
-                ms("shading_ms"),
+                ms(effects_timing::MAP_UPDATE_MS),
+                ms(effects_timing::SHADING_MS),
                 ratio,
             ]);
         }

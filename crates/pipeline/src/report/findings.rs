@@ -10,6 +10,8 @@
 //! reader (and the tests) can recompute it. Medians are `stats::median`; p95 is
 //! `stats::quantile` (linear between order statistics).
 
+use nklut_tables::columns::{Column, Float, Integer, OptionalFloat};
+use nklut_tables::effects_tables::{ao_errors, configuration, effects_errors, spectral_errors};
 use std::collections::BTreeMap;
 
 use super::csvdata::CsvTable;
@@ -396,12 +398,12 @@ fn cost_finding(cost: &CsvTable, inputs: &Inputs) -> Option<Finding> {
 /// How much of an effects scene's total error the Fresnel method makes and how much the
 /// distance-map search (`effects_errors.csv` of the scene's folder `scene`, at `path`).
 pub fn search_finding(scene: &str, path: &str, table: &CsvTable) -> Option<Finding> {
-    let column = |name: &str, keep: &dyn Fn(&[String]) -> bool| -> Vec<f64> {
-        table.rows.iter().filter(|r| keep(r)).filter_map(|r| table.number(r, name)).collect()
+    let column = |column: Column<Float>, keep: &dyn Fn(&[String]) -> bool| -> Vec<f64> {
+        table.rows.iter().filter(|r| keep(r)).filter_map(|r| table.value(r, column)).collect()
     };
-    let fresnel = column("fresnel_mean_delta_e2000", &|r| table.text(r, "method") != "exact");
-    let total = column("total_mean_delta_e2000", &|_| true);
-    let geometry = column("geometry_mean_delta_e2000", &|_| true);
+    let fresnel = column(effects_errors::FRESNEL_MEAN_DELTA_E2000, &|r| table.get(r, effects_errors::METHOD) != "exact");
+    let total = column(effects_errors::TOTAL_MEAN_DELTA_E2000, &|_| true);
+    let geometry = column(effects_errors::GEOMETRY_MEAN_DELTA_E2000, &|_| true);
     let max = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::max);
     let min = |v: &[f64]| v.iter().copied().fold(f64::NAN, f64::min);
     if fresnel.is_empty() || total.is_empty() || geometry.is_empty() {
@@ -423,7 +425,7 @@ pub fn search_finding(scene: &str, path: &str, table: &CsvTable) -> Option<Findi
 
 /// A depth (reflections, refractions) of an effects row, when both cells are counts.
 fn depth_of(t: &CsvTable, row: &[String]) -> Option<(u64, u64)> {
-    Some((t.text(row, "reflection_depth").parse().ok()?, t.text(row, "refraction_depth").parse().ok()?))
+    Some((t.raw(row, configuration::REFLECTION_DEPTH).parse().ok()?, t.raw(row, configuration::REFRACTION_DEPTH).parse().ok()?))
 }
 
 /// Where three channels stop being enough against the spectral truth in a scene
@@ -439,7 +441,7 @@ pub fn spectral_finding(scene: &str, path: &str, t: &CsvTable, bound: f64) -> Op
                 depths.push(d);
             }
         }
-        let source = t.text(row, "index_source");
+        let source = t.get(row, spectral_errors::INDEX_SOURCE);
         if !sources.contains(&source) {
             sources.push(source);
         }
@@ -452,8 +454,8 @@ pub fn spectral_finding(scene: &str, path: &str, t: &CsvTable, bound: f64) -> Op
         let worst = |d: (u64, u64)| {
             t.rows
                 .iter()
-                .filter(|r| t.text(r, "index_source") == *source && depth_of(t, r) == Some(d))
-                .filter_map(|r| t.number(r, "mean_delta_e2000"))
+                .filter(|r| t.get(r, spectral_errors::INDEX_SOURCE) == *source && depth_of(t, r) == Some(d))
+                .filter_map(|r| t.value(r, spectral_errors::MEAN_DELTA_E2000))
                 .fold(f64::NAN, f64::max)
         };
         let key = |d: (u64, u64)| format!("spectral:{scene}:{source}:{}+{}", d.0, d.1);
@@ -482,12 +484,12 @@ pub fn spectral_finding(scene: &str, path: &str, t: &CsvTable, bound: f64) -> Op
 /// one pass of the same technique, and GTAO's per-pixel mean error (pixel-weighted) beside
 /// those surfels' per-pixel mean.
 pub fn ao_finding(scene: &str, path: &str, t: &CsvTable) -> Option<Finding> {
-    let gtao = |r: &[String]| t.has("technique") && t.text(r, "technique") == "gtao";
-    let technique = |r: &[String]| if t.text(r, "hierarchy") == "true" { "tree" } else { "brute force" };
-    let weighted = |rows: &[&Vec<String>], column: &str, weight: &str| {
+    let gtao = |r: &[String]| t.holds(ao_errors::TECHNIQUE) && t.get(r, ao_errors::TECHNIQUE) == "gtao";
+    let technique = |r: &[String]| if t.raw(r, ao_errors::HIERARCHY) == "true" { "tree" } else { "brute force" };
+    let weighted = |rows: &[&Vec<String>], column: Column<OptionalFloat>, weight: Column<Integer>| {
         let (mut sum, mut total) = (0.0, 0.0);
         for r in rows {
-            if let (Some(v), Some(w)) = (t.number(r, column), t.number(r, weight)) {
+            if let (Some(v), Some(w)) = (t.value(r, column), t.value(r, weight)) {
                 sum += v * w;
                 total += w;
             }
@@ -500,20 +502,20 @@ pub fn ao_finding(scene: &str, path: &str, t: &CsvTable) -> Option<Finding> {
     };
     let mut configurations: Vec<(&str, &str)> = Vec::new();
     for r in t.rows.iter().filter(|r| !gtao(r)) {
-        let c = (technique(r), t.text(r, "passes"));
+        let c = (technique(r), t.raw(r, ao_errors::PASSES));
         if !configurations.contains(&c) {
             configurations.push(c);
         }
     }
     let rows_of = |(tech, passes): (&str, &str)| -> Vec<&Vec<String>> {
-        t.rows.iter().filter(|r| !gtao(r) && technique(r) == tech && t.text(r, "passes") == passes).collect()
+        t.rows.iter().filter(|r| !gtao(r) && technique(r) == tech && t.raw(r, ao_errors::PASSES) == passes).collect()
     };
     let (best, error) = configurations
         .iter()
-        .filter_map(|&c| Some((c, weighted(&rows_of(c), "mean_error", "surfels")?)))
+        .filter_map(|&c| Some((c, weighted(&rows_of(c), ao_errors::MEAN_ERROR, ao_errors::SURFELS)?)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     let best_rows = rows_of(best);
-    let cpu: Vec<f64> = best_rows.iter().filter_map(|r| t.number(r, "cpu_ms")).collect();
+    let cpu: Vec<f64> = best_rows.iter().filter_map(|r| t.value(r, ao_errors::CPU_MS)).collect();
     let mut s = Sentence::new()
         .t(format!("In {scene}, surfel ambient occlusion is closest to the ray-traced reference with the {} and {} pass(es): mean accessibility error ", best.0, best.1))
         .f(format!("ao:{scene}:best"), error);
@@ -521,14 +523,15 @@ pub fn ao_finding(scene: &str, path: &str, t: &CsvTable) -> Option<Finding> {
         s = s.t(" over surfels in ").f(format!("ao:{scene}:best-cpu-ms"), cpu.iter().sum::<f64>() / cpu.len() as f64).t(" ms of CPU");
     }
     if best.1 != "1" {
-        if let Some(one) = weighted(&rows_of((best.0, "1")), "mean_error", "surfels") {
+        if let Some(one) = weighted(&rows_of((best.0, "1")), ao_errors::MEAN_ERROR, ao_errors::SURFELS) {
             s = s.t(" (one pass: ").f(format!("ao:{scene}:one-pass"), one).t(")");
         }
     }
     let gtao_rows: Vec<&Vec<String>> = t.rows.iter().filter(|r| gtao(r)).collect();
-    if let (Some(g), Some(surfels)) =
-        (weighted(&gtao_rows, "pixel_mean_error", "pixels"), weighted(&best_rows, "pixel_mean_error", "pixels"))
-    {
+    if let (Some(g), Some(surfels)) = (
+        weighted(&gtao_rows, ao_errors::PIXEL_MEAN_ERROR, ao_errors::PIXELS),
+        weighted(&best_rows, ao_errors::PIXEL_MEAN_ERROR, ao_errors::PIXELS),
+    ) {
         s = s
             .t("; per covered pixel, GTAO's mean error is ")
             .f(format!("ao:{scene}:gtao-pixel"), g)

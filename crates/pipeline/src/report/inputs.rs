@@ -12,19 +12,22 @@ use super::csvdata::{CsvTable, MAX_TABLE_BYTES};
 use crate::ingest::Selection;
 use nklut_optics::fresnel::FitMemo;
 use nklut_optics::spectrum::{Channels, CHANNEL_NAMES};
+use nklut_tables::effects_tables::{
+    ao_errors, ao_histogram, ao_timing, effects_cpu_timing, effects_errors, effects_hero, effects_timing, spectral_errors,
+};
 use nklut_tables::memo_file::MemoFile;
 
 /// Tables written by the effects, ambient-occlusion, engine-parameter and recommend stages: shown
 /// when present, named as absent otherwise.
 pub const OPTIONAL_TABLES: [&str; 11] = [
-    "effects_errors.csv",
-    "effects_cpu_timing.csv",
-    "effects_hero.csv",
-    "effects_timing.csv",
-    "ao_errors.csv",
-    "ao_timing.csv",
-    "ao_histogram.csv",
-    "spectral_errors.csv",
+    effects_errors::CSV,
+    effects_cpu_timing::CSV,
+    effects_hero::CSV,
+    effects_timing::CSV,
+    ao_errors::CSV,
+    ao_timing::CSV,
+    ao_histogram::CSV,
+    spectral_errors::CSV,
     "engine_params.csv",
     "recommendations.csv",
     "method_errors.csv",
@@ -231,8 +234,8 @@ impl DeviceTables {
         let tables = [
             ("gpu_timing", Some(&self.timing)),
             ("image_errors", self.image_errors.as_ref()),
-            ("effects_timing", self.effects_timing.as_ref()),
-            ("ao_timing", self.ao_timing.as_ref()),
+            (effects_timing::STEM, self.effects_timing.as_ref()),
+            (ao_timing::STEM, self.ao_timing.as_ref()),
         ];
         for (name, table) in tables {
             let Some(table) = table else { continue };
@@ -285,8 +288,8 @@ pub fn read_devices(folder: &Path) -> Result<BTreeMap<String, DeviceTables>> {
         let table = |name: &str| CsvTable::load_bounded(&folder.join(&device).join(name), MAX_SCENE_TABLE_BYTES);
         if let Some(timing) = table("gpu_timing.csv")? {
             let image_errors = table("image_errors.csv")?;
-            let effects_timing = table("effects_timing.csv")?;
-            let ao_timing = table("ao_timing.csv")?;
+            let effects_timing = table(effects_timing::CSV)?;
+            let ao_timing = table(ao_timing::CSV)?;
             let tables = DeviceTables { timing, image_errors, effects_timing, ao_timing, source: "native".into() };
             tables.check_measurements().map_err(|e| anyhow::anyhow!("{}: {e}", folder.join(&device).display()))?;
             devices.insert(device, tables);
@@ -331,9 +334,9 @@ pub fn browser_result(bytes: &[u8]) -> Result<DeviceTables> {
     let image_errors = table("image_errors")?;
     // Rows of the reflection/refraction timing, where the page ran a scene with those effects.
     let effects_timing =
-        value["effects_timing"].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table("effects_timing")).transpose()?;
+        value[effects_timing::STEM].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table(effects_timing::STEM)).transpose()?;
     // Rows of the ambient-occlusion timing, where the page ran a scene that names it.
-    let ao_timing = value["ao_timing"].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table("ao_timing")).transpose()?;
+    let ao_timing = value[ao_timing::STEM].as_array().is_some_and(|rows| !rows.is_empty()).then(|| table(ao_timing::STEM)).transpose()?;
     // The browser and its version as the rows' `driver` gives it (the whole `user_agent` is
     // in the file).
     let browser = browser_name(&value);
