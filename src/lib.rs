@@ -17,7 +17,9 @@ pub use nklut_effects::scene;
 pub use nklut_gpu as gpu;
 pub use nklut_optics::{appearance, color, db, encoding, fresnel, memo, minimise, spectrum};
 
-pub use nklut_pipeline::{bake, budget, colors, columns, effects_tables, escape, ingest, memo_file, output, params, progress, recommend, report, validate};
+pub use nklut_pipeline::{
+    bake, budget, colors, columns, effects_tables, escape, ingest, memo_file, output, params, progress, recommend, report, validate,
+};
 
 use std::path::{Path, PathBuf};
 

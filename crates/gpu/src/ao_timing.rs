@@ -382,15 +382,18 @@ pub fn ao_timing_table(rows: &[AoTimingRow], adapter: &super::AdapterLine) -> Ta
 mod tests {
     use super::fitted_exponent;
 
-    /// Both tables of the effects' GPU timing put the columns `nklut_tables::effects_tables`
-    /// lists for them, in that order (the report reads them through the same constants).
+    /// The tables of the GPU runner put the columns `nklut_tables::effects_tables` and
+    /// `gpu_tables` list for them, in that order (the report reads them through the same
+    /// constants).
     #[test]
-    fn the_timing_tables_are_written_with_the_columns_their_reader_names() {
+    fn the_runners_tables_are_written_with_the_columns_their_reader_names() {
         use nklut_tables::effects_tables::{ao_timing, effects_timing};
         let names = |table: nklut_pipeline::output::Table| table.columns.into_iter().map(|c| c.name).collect::<Vec<_>>();
         let adapter = crate::AdapterLine::default();
         assert_eq!(names(super::ao_timing_table(&[], &adapter)), ao_timing::NAMES);
         assert_eq!(names(crate::effects::timing_table(&[], &adapter)), effects_timing::NAMES);
+        assert_eq!(names(crate::runner::timing_rows_table(&[], &adapter)), nklut_tables::gpu_tables::gpu_timing::NAMES);
+        assert_eq!(names(crate::runner::image_error_rows_table(&[])), nklut_tables::gpu_tables::image_errors::NAMES);
     }
 
     #[test]

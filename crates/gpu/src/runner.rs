@@ -12,6 +12,7 @@
 //!   (`super::effects`); its measurements replace the F-only passes. Surfel ambient
 //!   occlusion and indirect light run only when named (`super::passes::ao`).
 
+use nklut_tables::gpu_tables::{gpu_timing, image_errors};
 use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -537,35 +538,27 @@ pub fn timing_rows_table(rows: &[TimingRow], a: &AdapterLine) -> Table {
     let float = |f: &dyn Fn(&TimingRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("adapter", "adapter name as the driver reports it", text(&|_| a.name.clone()))
-        .text("backend", "wgpu backend", text(&|_| a.backend.clone()))
-        .text("driver", "driver name and version", text(&|_| a.driver.clone()))
-        .text("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)", text(&|r| r.timer.name().into()))
-        .text("method", "Fresnel method (SPEC §5) or baseline (constant, texture)", text(&|r| r.method.name().into()))
-        .text("formula", "for exact: dielectric (k = 0) on a dielectric material, complex on a conductor (the study's anchors); else empty", text(&|r| r.formula.into()))
-        .text("material", "page id", text(&|r| r.material.clone()))
-        .text("resolution", "fullscreen pass size WxH in pixels", text(&|r| resolution_text(r.resolution)))
-        .integer("evaluations", "F evaluations per pixel in each timed pass (chosen at warm-up so a sample spans >= 100 x the timer's resolution)", rows.iter().map(|r| r.evaluations as i64).collect())
-        .float("timer_resolution_ns", "the timer's resolution estimated from its readings (ns)", float(&|r| r.timer_resolution_ns))
-        .text("seed", "seed of the order of the (material, method) pairs in each round", text(&|r| r.seed.to_string()))
-        .integer("repeats", "timed samples kept (after warm-up)", rows.iter().map(|r| r.stats.n as i64).collect())
-        .float("mean_ms", "mean pass time (ms)", float(&|r| r.stats.mean_ms))
-        .float("median_ms", "median pass time (ms)", float(&|r| r.stats.median_ms))
-        .float("spread_ms", "interquartile range of the pass times (ms)", float(&|r| r.stats.spread_ms))
-        .float("ns_per_evaluation", "median pass time per F evaluation per pixel (ns)", float(&|r| r.stats.ns_per_evaluation))
-        .optional_float("relative_to_exact", "median_ms / median_ms of exact on the same material", rows.iter().map(|r| r.relative_to_exact).collect())
-        .optional_float(
-            "relative_to_fetch",
-            "median_ms / median_ms of the bare texture fetch (texture) on the same material",
-            rows.iter().map(|r| r.relative_to_fetch).collect(),
-        )
-        .optional_float(
-            "relative_to_exact_dielectric",
-            "median_ms / median_ms of exact on the first dielectric material timed (the study's normalisation); empty when the scene times none",
-            rows.iter().map(|r| r.relative_to_exact_dielectric).collect(),
-        )
-        .text("near_resolution", "yes when the median is within 10 x the timer's resolution or 2 x the wall timer's floor: not resolved", text(&|r| if r.stats.near_resolution { "yes" } else { "no" }.into()))
-        .text("samples_ms", "every timed sample (ms), space-separated, in the order taken", text(&|r| r.samples.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(" ")));
+        .put(gpu_timing::ADAPTER, text(&|_| a.name.clone()))
+        .put(gpu_timing::BACKEND, text(&|_| a.backend.clone()))
+        .put(gpu_timing::DRIVER, text(&|_| a.driver.clone()))
+        .put(gpu_timing::TIMER, text(&|r| r.timer.name().into()))
+        .put(gpu_timing::METHOD, text(&|r| r.method.name().into()))
+        .put(gpu_timing::FORMULA, text(&|r| r.formula.into()))
+        .put(gpu_timing::MATERIAL, text(&|r| r.material.clone()))
+        .put(gpu_timing::RESOLUTION, text(&|r| resolution_text(r.resolution)))
+        .put(gpu_timing::EVALUATIONS, rows.iter().map(|r| r.evaluations as i64).collect())
+        .put(gpu_timing::TIMER_RESOLUTION_NS, float(&|r| r.timer_resolution_ns))
+        .put(gpu_timing::SEED, text(&|r| r.seed.to_string()))
+        .put(gpu_timing::REPEATS, rows.iter().map(|r| r.stats.n as i64).collect())
+        .put(gpu_timing::MEAN_MS, float(&|r| r.stats.mean_ms))
+        .put(gpu_timing::MEDIAN_MS, float(&|r| r.stats.median_ms))
+        .put(gpu_timing::SPREAD_MS, float(&|r| r.stats.spread_ms))
+        .put(gpu_timing::NS_PER_EVALUATION, float(&|r| r.stats.ns_per_evaluation))
+        .put(gpu_timing::RELATIVE_TO_EXACT, rows.iter().map(|r| r.relative_to_exact).collect())
+        .put(gpu_timing::RELATIVE_TO_FETCH, rows.iter().map(|r| r.relative_to_fetch).collect())
+        .put(gpu_timing::RELATIVE_TO_EXACT_DIELECTRIC, rows.iter().map(|r| r.relative_to_exact_dielectric).collect())
+        .put(gpu_timing::NEAR_RESOLUTION, text(&|r| if r.stats.near_resolution { "yes" } else { "no" }.into()))
+        .put(gpu_timing::SAMPLES_MS, text(&|r| r.samples.iter().map(|x| format!("{x:.6}")).collect::<Vec<_>>().join(" ")));
     table
 }
 
@@ -579,23 +572,15 @@ pub fn image_error_rows_table(rows: &[ImageErrorRow]) -> Table {
     let text = |f: &dyn Fn(&ImageErrorRow) -> String| rows.iter().map(f).collect::<Vec<_>>();
     let mut table = Table::new();
     table
-        .text("material", "page id", text(&|r| r.material.clone()))
-        .text("method", "Fresnel method (SPEC §5) or baseline", text(&|r| r.method.name().into()))
-        .text("object", "mesh: cube, sphere or the OBJ file stem", text(&|r| r.object.clone()))
-        .integer("frames", "frames of the camera orbit", rows.iter().map(|r| r.frames as i64).collect())
-        .text("resolution", "render target WxH in pixels", text(&|r| resolution_text(r.resolution)))
-        .optional_float(
-            "mean_rel_error",
-            "mean over frames of the mean over covered pixels and channels of |a - r| / r (r = exact render; r <= 0 skipped); empty where no sample had r > 0",
-            rows.iter().map(|r| r.mean_rel_error).collect(),
-        )
-        .float("max_rel_error", "largest |a - r| / r of any covered pixel and channel", rows.iter().map(|r| r.max_rel_error).collect())
-        .integer("pixels", "covered pixels summed over frames", rows.iter().map(|r| r.pixels as i64).collect())
-        .integer(
-            "skipped_zero_reference",
-            "covered pixel channels with r = 0, left out of the error",
-            rows.iter().map(|r| r.skipped_zero_reference as i64).collect(),
-        );
+        .put(image_errors::MATERIAL, text(&|r| r.material.clone()))
+        .put(image_errors::METHOD, text(&|r| r.method.name().into()))
+        .put(image_errors::OBJECT, text(&|r| r.object.clone()))
+        .put(image_errors::FRAMES, rows.iter().map(|r| r.frames as i64).collect())
+        .put(image_errors::RESOLUTION, text(&|r| resolution_text(r.resolution)))
+        .put(image_errors::MEAN_REL_ERROR, rows.iter().map(|r| r.mean_rel_error).collect())
+        .put(image_errors::MAX_REL_ERROR, rows.iter().map(|r| r.max_rel_error).collect())
+        .put(image_errors::PIXELS, rows.iter().map(|r| r.pixels as i64).collect())
+        .put(image_errors::SKIPPED_ZERO_REFERENCE, rows.iter().map(|r| r.skipped_zero_reference as i64).collect());
     table
 }
 
@@ -607,14 +592,14 @@ pub fn write_tables(report: &RunReport, out: &Path) -> Result<Vec<PathBuf>> {
     if !effects.timing.is_empty() {
         tables.push((super::effects::timing_table(&effects.timing, &report.adapter), nklut_tables::effects_tables::effects_timing::STEM));
     } else if report.experiments.contains(&Experiment::Timing) && !report.timing.is_empty() {
-        tables.push((timing_table(report), "gpu_timing"));
+        tables.push((timing_table(report), gpu_timing::STEM));
     }
     let mut frames = Vec::new();
     if !effects.errors.is_empty() {
-        tables.push((nklut_effects::experiment::error_table(&effects.errors), "effects_errors"));
+        tables.push((nklut_effects::experiment::error_table(&effects.errors), nklut_tables::effects_tables::effects_errors::STEM));
         frames = nklut_effects::pictures::files("effects_gpu_frames", &effects.pictures)?;
     } else if report.experiments.contains(&Experiment::ImageError) {
-        tables.push((image_error_table(report), "image_errors"));
+        tables.push((image_error_table(report), image_errors::STEM));
     }
     let streamed: Vec<_> = tables.iter().flat_map(|(table, stem)| table.streamed_files(stem, false)).collect();
     let files: Vec<&dyn nklut_pipeline::output::SetContent> = streamed

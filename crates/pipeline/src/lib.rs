@@ -32,4 +32,4 @@ pub mod report;
 pub mod validate;
 
 // The leaves that the effects share, from the crate below both (at their old paths here).
-pub use nklut_tables::{budget, columns, effects_tables, escape, memo_file, progress, stats};
+pub use nklut_tables::{budget, columns, effects_tables, escape, gpu_tables, memo_file, progress, stats};

@@ -7,13 +7,15 @@
 //! stored texels and their PNG/EXR files ([`texel`], [`image_files`]) and the engine
 //! parameterisations of a Fresnel curve with their fits ([`models`]), files replaced whole
 //! ([`atomic`]), the memo files of an output folder ([`memo_file`]), and typed columns
-//! ([`columns`]) with the effects' tables listed in them ([`effects_tables`]), one source for
-//! the crates that write those tables and the report that reads them.
+//! ([`columns`]) with the tables of the effects ([`effects_tables`]) and of the GPU runner
+//! ([`gpu_tables`]) listed in them: one source for the crates that write those tables and
+//! the report that reads them.
 //!
 //! Leaves: `output`, `progress`, `budget`, `stats`, `escape`, `texel`, `image_files`,
 //! `models`, `atomic` and `memo_file` use no module of this crate but `output` → `escape`,
-//! `output` and `memo_file` → `atomic`, `image_files` → `texel`, `columns` → `output`, `effects_tables` → `columns`; `ingest` uses `output`,
-//! `progress` and `escape`.
+//! `output` and `memo_file` → `atomic`, `image_files` → `texel`, `columns` → `output`, and
+//! `effects_tables` and `gpu_tables` → `columns`; `ingest` uses `output`, `progress` and
+//! `escape`.
 //!
 //! "SPEC §n" in comments is section n of `docs/SPEC.md`, the specification in this
 //! repository.
@@ -26,6 +28,7 @@ pub mod budget;
 pub mod columns;
 pub mod effects_tables;
 pub mod escape;
+pub mod gpu_tables;
 pub mod image_files;
 pub mod ingest;
 pub mod memo_file;

@@ -23,6 +23,7 @@ pub mod depth;
 pub mod pick;
 pub mod spectral;
 
+use nklut_tables::gpu_tables::gpu_timing;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -242,10 +243,10 @@ fn pixels(resolution: &str) -> Option<f64> {
 pub fn device_timings(device: &str, tables: &crate::report::inputs::DeviceTables) -> Vec<Timing> {
     let timing = &tables.timing;
     let mut out = Vec::new();
-    for method in timing.distinct("method") {
+    for method in timing.distinct(gpu_timing::METHOD.name) {
         let Some(median) = tables.median_ms(method) else { continue };
-        let rows: Vec<&Vec<String>> = timing.rows_where("method", method).collect();
-        let resolutions: Vec<&str> = rows.iter().map(|r| timing.text(r, "resolution")).collect();
+        let rows: Vec<&Vec<String>> = timing.rows_where(gpu_timing::METHOD.name, method).collect();
+        let resolutions: Vec<&str> = rows.iter().map(|r| timing.get(r, gpu_timing::RESOLUTION)).collect();
         let per_mpixel =
             resolutions.first().filter(|r| resolutions.iter().all(|x| x == *r)).and_then(|r| pixels(r)).map(|px| median / (px / 1e6));
         out.push(Timing {

@@ -38,6 +38,7 @@ use nklut_tables::columns::{Column, Float, Integer, Numeric, OptionalFloat, Text
 use nklut_tables::effects_tables::{
     ao_errors, ao_histogram, ao_timing, configuration, effects_cpu_timing, effects_errors, effects_hero, effects_timing, spectral_errors,
 };
+use nklut_tables::gpu_tables::{gpu_timing, image_errors};
 
 use super::charts::{self, CostPoint, ErrorAxis, LineChart, LinePoint, Series, Trace, PALETTE};
 use super::csvdata::CsvTable;
@@ -1373,7 +1374,7 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
     for (device, tables) in &inputs.devices {
         let table = &tables.timing;
         let Some(exact) = tables.median_ms("exact") else { continue };
-        for method in table.distinct("method") {
+        for method in table.distinct(gpu_timing::METHOD.name) {
             if !methods.iter().any(|m| m == method) {
                 methods.push(method.to_string());
             }
@@ -1383,8 +1384,11 @@ fn devices_section(html: &mut String, inputs: &Inputs) {
                 ratios.insert((method.clone(), device.clone()), ms / exact);
             }
         }
-        let adapter =
-            table.rows.first().map(|r| format!("{} ({} timer)", table.text(r, "adapter"), table.text(r, "timer"))).unwrap_or_default();
+        let adapter = table
+            .rows
+            .first()
+            .map(|r| format!("{} ({} timer)", table.get(r, gpu_timing::ADAPTER), table.get(r, gpu_timing::TIMER)))
+            .unwrap_or_default();
         adapters.push(format!("{device}: {adapter}"));
     }
     let devices: Vec<&String> = inputs.devices.keys().collect();
@@ -1428,8 +1432,8 @@ fn device_methods(html: &mut String, inputs: &Inputs) {
     for (device, tables) in &inputs.devices {
         let timing = &tables.timing;
         let (exact, fetch) = (tables.median_ms("exact"), tables.median_ms("texture"));
-        let timer = timing.rows.first().map(|r| timing.text(r, "timer").to_string()).unwrap_or_default();
-        for method in timing.distinct("method") {
+        let timer = timing.rows.first().map(|r| timing.get(r, gpu_timing::TIMER).to_string()).unwrap_or_default();
+        for method in timing.distinct(gpu_timing::METHOD.name) {
             let Some(ms) = tables.median_ms(method) else { continue };
             let ratio = |anchor: Option<f64>| anchor.filter(|a| *a > 0.0).map_or("–".to_string(), |a| number(ms / a));
             let error = tables.mean_image_error(method);
@@ -1461,7 +1465,7 @@ fn image_errors_across(html: &mut String, inputs: &Inputs) {
     }
     let mut methods: Vec<&str> = Vec::new();
     for errors in with_errors.iter().filter_map(|(_, tables)| tables.image_errors.as_ref()) {
-        for method in errors.distinct("method") {
+        for method in errors.distinct(image_errors::METHOD.name) {
             if !methods.contains(&method) {
                 methods.push(method);
             }
@@ -1656,14 +1660,14 @@ fn study_form(html: &mut String, inputs: &Inputs) {
             .rows
             .iter()
             .filter_map(|r| {
-                let material = timing.text(r, "material");
+                let material = timing.get(r, gpu_timing::MATERIAL);
                 Some(StudyRow {
                     material: material.to_string(),
                     kind: inputs.materials.text(materials.first(material)?, "kind").to_string(),
-                    method: timing.text(r, "method").to_string(),
-                    median_ms: timing.number(r, "median_ms")?,
-                    spread_ms: timing.number(r, "spread_ms").unwrap_or(0.0),
-                    n: timing.number(r, "repeats").unwrap_or(0.0) as u64,
+                    method: timing.get(r, gpu_timing::METHOD).to_string(),
+                    median_ms: timing.value(r, gpu_timing::MEDIAN_MS)?,
+                    spread_ms: timing.value(r, gpu_timing::SPREAD_MS).unwrap_or(0.0),
+                    n: timing.value(r, gpu_timing::REPEATS).unwrap_or(0.0) as u64,
                 })
             })
             .collect();
@@ -1674,16 +1678,23 @@ fn study_form(html: &mut String, inputs: &Inputs) {
                 .rows
                 .iter()
                 .find(|r| {
-                    timing.text(r, "method") == "exact" && rows.iter().any(|x| x.material == timing.text(r, "material") && x.kind == kind)
+                    timing.get(r, gpu_timing::METHOD) == "exact"
+                        && rows.iter().any(|x| x.material == timing.get(r, gpu_timing::MATERIAL) && x.kind == kind)
                 })
-                .map(|r| if timing.has("formula") { timing.text(r, "formula").to_string() } else { "complex (older result)".to_string() })
+                .map(|r| {
+                    if timing.holds(gpu_timing::FORMULA) {
+                        timing.get(r, gpu_timing::FORMULA).to_string()
+                    } else {
+                        "complex (older result)".to_string()
+                    }
+                })
                 .unwrap_or_else(|| "–".to_string())
         };
         let cells = STUDY_COLUMNS.iter().map(|(_, method, kind)| match study_cell(&rows, method, *kind) {
             Some(c) => format!("{:.2} (IQR {:.2}, n {})", c.ratio, c.iqr, c.n),
             None => "–".to_string(),
         });
-        let adapter = timing.rows.first().map(|r| timing.text(r, "adapter").to_string()).unwrap_or_default();
+        let adapter = timing.rows.first().map(|r| timing.get(r, gpu_timing::ADAPTER).to_string()).unwrap_or_default();
         let anchors = format!("{} / {}", formula("dielectric"), formula("conductor"));
         table.row([device.clone(), adapter, "measured here".to_string(), anchors].into_iter().chain(cells).collect());
     }

@@ -2,6 +2,7 @@
 //! and where they went, what accuracy costs, where each approximation is worst, and a
 //! sortable, filterable list of the materials linking to their pages. Light: no curves.
 
+use nklut_tables::gpu_tables::gpu_timing;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -402,8 +403,8 @@ fn gpu_medians(inputs: &inputs::Inputs) -> BTreeMap<String, f64> {
     let mut by_method: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     if let Some(t) = &inputs.gpu_timing {
         for r in &t.rows {
-            if let Some(ms) = t.number(r, "median_ms") {
-                by_method.entry(t.text(r, "method").to_string()).or_default().push(ms);
+            if let Some(ms) = t.value(r, gpu_timing::MEDIAN_MS) {
+                by_method.entry(t.get(r, gpu_timing::METHOD).to_string()).or_default().push(ms);
             }
         }
     }

@@ -2,6 +2,7 @@
 //! channel wavelengths they were computed at, the pages a selection picks from them,
 //! and the counts the report prints (each from the one table it belongs to).
 
+use nklut_tables::gpu_tables::{gpu_timing, image_errors};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::SystemTime;
@@ -253,7 +254,9 @@ impl DeviceTables {
     /// The median over the materials timed of `method`'s pass time (ms).
     pub fn median_ms(&self, method: &str) -> Option<f64> {
         let timing = &self.timing;
-        crate::stats::median(&timing.rows_where("method", method).filter_map(|r| timing.number(r, "median_ms")).collect::<Vec<_>>())
+        crate::stats::median(
+            &timing.rows_where(gpu_timing::METHOD.name, method).filter_map(|r| timing.value(r, gpu_timing::MEDIAN_MS)).collect::<Vec<_>>(),
+        )
     }
 
     /// The path a chart's trace names for table `name` (`ao_timing.csv`) of device
@@ -270,7 +273,8 @@ impl DeviceTables {
     /// device measured image errors.
     pub fn mean_image_error(&self, method: &str) -> Option<f64> {
         let errors = self.image_errors.as_ref()?;
-        let values: Vec<f64> = errors.rows_where("method", method).filter_map(|r| errors.number(r, "mean_rel_error")).collect();
+        let values: Vec<f64> =
+            errors.rows_where(image_errors::METHOD.name, method).filter_map(|r| errors.value(r, image_errors::MEAN_REL_ERROR)).collect();
         (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
     }
 }
