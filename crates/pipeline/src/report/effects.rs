@@ -28,6 +28,12 @@
 //! charts take the GPU time of each device that timed the scene's configurations (one chart
 //! per device) and the CPU twin's only as a labelled fallback; their points are coloured by
 //! method and shaped by depth, the Pareto front joined, labelled and named in the caption.
+//!
+//! Every column is read through its constant in `nklut_tables::effects_tables` (the devices'
+//! Fresnel timings and image errors: `gpu_tables`), the list the writers put them from: its
+//! name, its kind (`CsvTable::get` reads a cell as that kind, `value` as a number) and, in a
+//! chart point's trace, the column it is the mean of. A table written before a column
+//! existed reads it as absent.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
