@@ -155,7 +155,7 @@ impl Table {
 /// The columns of one table, in the order its writer puts them: a constant each and
 /// `NAMES`, every name in that order (a writer's test compares its header with it).
 #[macro_export]
-macro_rules! columns {
+macro_rules! table_columns {
     ($($(#[$meta:meta])* $name:ident: $kind:ty = $value:expr;)*) => {
         $($(#[$meta])* pub const $name: $crate::columns::Column<$kind> = $value;)*
         /// Every column's name, in the order the table's writer puts them.

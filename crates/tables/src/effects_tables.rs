@@ -9,7 +9,7 @@
 pub mod configuration {
     use crate::columns::*;
 
-    crate::columns! {
+    crate::table_columns! {
         REFLECTION_DEPTH: Integer = Column::new("reflection_depth", "most reflections along a path (0: not named)");
         REFRACTION_DEPTH: Integer = Column::new("refraction_depth", "most refractions along a path (0: not named)");
         LINEAR_STEPS: Integer = Column::new("linear_steps", "linear search steps per layer");
@@ -26,7 +26,7 @@ pub mod effects_errors {
 
     crate::table_files!("effects_errors");
 
-    crate::columns! {
+    crate::table_columns! {
         OBJECT: Text = Column::new("object", "mesh of the specular object: sphere, room, plane or the OBJ file stem");
         MATERIAL: Text = Column::new("material", "page id");
         METHOD: Text = Column::new("method", "Fresnel method of every bounce");
@@ -57,7 +57,7 @@ pub mod effects_cpu_timing {
 
     crate::table_files!("effects_cpu_timing");
 
-    crate::columns! {
+    crate::table_columns! {
         RENDERER: Text = Column::new("renderer", "what traced the distance-map frames (cpu-twin: the f64 CPU twin)");
         METHOD: Text = Column::new("method", "Fresnel method of every bounce");
         REFLECTION_DEPTH: Integer = configuration::REFLECTION_DEPTH;
@@ -81,7 +81,7 @@ pub mod effects_timing {
 
     crate::table_files!("effects_timing");
 
-    crate::columns! {
+    crate::table_columns! {
         ADAPTER: Text = Column::new("adapter", "adapter name as the driver reports it");
         BACKEND: Text = Column::new("backend", "wgpu backend");
         TIMER: Text = Column::new("timer", "timestamp (GPU timestamp queries around the pass) or wall (CPU time around submit-and-wait)");
@@ -109,7 +109,7 @@ pub mod effects_hero {
 
     crate::table_files!("effects_hero");
 
-    crate::columns! {
+    crate::table_columns! {
         EFFECT: Text = Column::new("effect", "the family of effects: reflections and refractions, or ambient occlusion");
         PANEL: Text = Column::new("panel", "the panel's stem: reference, a Fresnel method, or an AO variant (none, passesN_tree, passesN_brute_force)");
         LABEL: Text = Column::new("label", "what the panel shows, in words");
@@ -151,7 +151,7 @@ pub mod spectral_errors {
 
     crate::table_files!("spectral_errors");
 
-    crate::columns! {
+    crate::table_columns! {
         OBJECT: Text = Column::new("object", "mesh of the specular object: sphere, cube, prism, room, plane or the OBJ file stem");
         OBJECT_INDEX: Integer = Column::new("object_index", "the object's position in the scene's objects list, from 0");
         MATERIAL: Text = Column::new("material", "page id");
@@ -178,7 +178,7 @@ pub mod ao_errors {
 
     crate::table_files!("ao_errors");
 
-    crate::columns! {
+    crate::table_columns! {
         MESH: Text = Column::new("mesh", "mesh name");
         TECHNIQUE: Text = Column::new("technique", "surfels (surfel AO, Bunnell) or gtao (screen-space ground-truth AO, Jimenez et al. 2016: per pixel only)");
         SURFELS: Integer = Column::new("surfels", "surfels (mesh vertices)");
@@ -246,7 +246,7 @@ pub mod ao_histogram {
 
     crate::table_files!("ao_histogram");
 
-    crate::columns! {
+    crate::table_columns! {
         MESH: Text = Column::new("mesh", "mesh name");
         TECHNIQUE: Text = Column::new("technique", "how accessibility was computed: surfel AO gathering every emitter (brute force) or through the surfel tree (tree)");
         PASSES: Integer = Column::new("passes", "accessibility passes");
@@ -266,7 +266,7 @@ pub mod ao_timing {
 
     crate::table_files!("ao_timing");
 
-    crate::columns! {
+    crate::table_columns! {
         ADAPTER: Text = Column::new("adapter", "adapter name as the driver reports it");
         DRIVER: Text = Column::new("driver", "driver name and version");
         MESH: Text = Column::new("mesh", "mesh of the sweep: name, then decimated (vertex-clustering cell edge) or subdivided (levels)");

@@ -1,5 +1,5 @@
 //! One escaping function per place text from the database (page ids, book and page names,
-//! reasons) is written to: a terminal ([`terminal`]), a CSV cell ([`csv`]), Markdown
+//! reasons) is written to: a terminal ([`terminal`]), a CSV cell ([`csv()`]), Markdown
 //! ([`markdown`]) and XML 1.0 ([`xml`]). Each writes every character its sink shows as
 //! itself unchanged and replaces the rest, so that no id can change a terminal's title or
 //! colours (ESC, BEL, C1 controls), end a CSV record or a Markdown table row (a newline),
@@ -48,7 +48,7 @@ pub fn terminal(text: &str) -> String {
 }
 
 /// The first characters that make a spreadsheet read a cell as a formula (OWASP, "CSV
-/// Injection"). Tab and carriage return never start a cell [`csv`] writes (they are
+/// Injection"). Tab and carriage return never start a cell [`csv()`] writes (they are
 /// written as `\u{…}`); they are listed for the rule's sake.
 pub const FORMULA_STARTS: [char; 6] = ['=', '+', '-', '@', '\t', '\r'];
 
@@ -73,8 +73,8 @@ pub fn csv(text: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
-/// The text of a CSV cell [`csv`] wrote, its formula quote taken away: the inverse of
-/// [`csv`] on every text without control or reordering characters. Borrowed always.
+/// The text of a CSV cell [`csv()`] wrote, its formula quote taken away: the inverse of
+/// [`csv()`] on every text without control or reordering characters. Borrowed always.
 pub fn csv_text(cell: &str) -> &str {
     match cell.strip_prefix('\'') {
         Some(rest) if formula_like(rest) => rest,

@@ -10,7 +10,7 @@ pub mod gpu_timing {
 
     crate::table_files!("gpu_timing");
 
-    crate::columns! {
+    crate::table_columns! {
         ADAPTER: Text = Column::new("adapter", "adapter name as the driver reports it");
         BACKEND: Text = Column::new("backend", "wgpu backend");
         DRIVER: Text = Column::new("driver", "driver name and version");
@@ -41,7 +41,7 @@ pub mod image_errors {
 
     crate::table_files!("image_errors");
 
-    crate::columns! {
+    crate::table_columns! {
         MATERIAL: Text = Column::new("material", "page id");
         METHOD: Text = Column::new("method", "Fresnel method (SPEC §5) or baseline");
         OBJECT: Text = Column::new("object", "mesh: cube, sphere or the OBJ file stem");

@@ -701,7 +701,7 @@ pub struct RowBlocks<'a> {
 }
 
 impl RowBlocks<'_> {
-    /// CSV, [`CSV_BLOCK`] rows per block, one block per thread formatted in parallel at a time
+    /// CSV, `CSV_BLOCK` rows per block, one block per thread formatted in parallel at a time
     /// and written in order.
     pub fn write_csv(&self, out: &mut dyn Write) -> Result<()> {
         let rows = self.rows;

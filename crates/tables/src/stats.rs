@@ -122,13 +122,13 @@ pub struct HistogramBins {
 }
 
 /// A weighted histogram of signed errors over [`HistogramBins`]: per bin how many entries
-/// fall in it and their summed weight; bin k holds edges[k] ≤ e < edges[k + 1], a value
+/// fall in it and their summed weight; bin k holds `edges[k] ≤ e < edges[k + 1]`, a value
 /// below `low` is counted in the first bin and one at or above `high` in the last (none is
 /// lost), and an entry with a non-finite value or a weight that is not positive and finite
 /// is left out (as in [`ErrorSummary`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Histogram {
-    /// bins + 1 edges, `low` to `high`: edges[k] = (low·(bins − k) + high·k)/bins (exact at
+    /// bins + 1 edges, `low` to `high`: `edges[k] = (low·(bins − k) + high·k)/bins` (exact at
     /// both ends, and at every edge a decimal range such as ±0.5 in 40 bins names).
     pub edges: Vec<f64>,
     pub counts: Vec<u64>,
