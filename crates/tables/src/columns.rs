@@ -22,13 +22,9 @@ pub trait Kind {
     fn read(text: &str) -> Self::Read<'_>;
 }
 
-/// A kind whose cells are numbers (for means, sums and charts).
-pub trait Numeric: Kind {
-    /// The cell's number, `None` when it is empty or not a number.
-    fn number(text: &str) -> Option<f64> {
-        text.parse().ok()
-    }
-}
+/// A kind whose cells are numbers (for means, sums and charts): a reader may take any of
+/// them as an `f64`.
+pub trait Numeric: Kind {}
 
 /// Text, written as a CSV cell shows it ([`crate::escape::csv`]); reads as itself.
 pub enum Text {}
@@ -198,6 +194,5 @@ mod tests {
         assert_eq!(ERROR.read("0.25"), Some(0.25));
         assert_eq!(ERROR.read(""), None);
         assert_eq!(NAME.read("c"), "c");
-        assert_eq!(Integer::number("3"), Some(3.0));
     }
 }

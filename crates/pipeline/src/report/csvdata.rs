@@ -175,7 +175,7 @@ impl CsvTable {
 
     /// The number in `column` of `row`, `None` when empty or not a number.
     pub fn value<K: Numeric>(&self, row: &[String], column: Column<K>) -> Option<f64> {
-        K::number(self.text(row, column.name))
+        self.number(row, column.name)
     }
 
     /// The values of `column` in the order they first appear.
@@ -237,6 +237,20 @@ mod tests {
         assert_eq!(table.rows, [["=1+2", "-0.5"], ["'@a", "'-1"]]);
         let some = CsvTable::parse_selected(text.as_bytes(), &["page"], &|r| r.text("page") == "=1+2").unwrap();
         assert_eq!(some.rows, [["=1+2"]]);
+    }
+
+    #[test]
+    fn typed_columns_read_their_cells_as_their_kind() {
+        use nklut_tables::columns::{Integer, OptionalFloat, Text};
+        let table = CsvTable::parse(b"name,depth,error\n\"a,b\",3,\nc,x,0.25\n").unwrap();
+        let (name, depth, error) =
+            (Column::<Text>::new("name", ""), Column::<Integer>::new("depth", ""), Column::<OptionalFloat>::new("error", ""));
+        let absent = Column::<Integer>::new("absent", "");
+        let (first, second) = (&table.rows[0], &table.rows[1]);
+        assert_eq!((table.get(first, name), table.get(first, depth), table.get(first, error)), ("a,b", Some(3), None));
+        assert_eq!((table.get(second, depth), table.get(second, error)), (None, Some(0.25)));
+        assert_eq!((table.value(first, depth), table.value(second, error)), (Some(3.0), Some(0.25)));
+        assert_eq!((table.raw(second, depth), table.get(first, absent), table.holds(absent)), ("x", None, false));
     }
 
     #[test]

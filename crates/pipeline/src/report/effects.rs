@@ -1103,17 +1103,23 @@ fn technique_label(ao: &CsvTable, row: &[String]) -> String {
     }
 }
 
+/// A column of an AO table as the page shows it.
+#[derive(Clone, Copy)]
+enum AoCell {
+    /// A count, as written.
+    Count(Column<Integer>),
+    /// A number in the report's format ("–" where empty).
+    Number(Column<OptionalFloat>),
+}
+
 /// A row of an AO table: the object, the technique in words, the passes ("–" for GTAO),
-/// then `columns` — those in `counts` as written, the others as numbers ("–" where empty).
-fn ao_row_cells(ao: &CsvTable, row: &[String], columns: &[Column<OptionalFloat>], counts: &[Column<Integer>]) -> Vec<String> {
+/// then `columns`.
+fn ao_row_cells(ao: &CsvTable, row: &[String], columns: &[AoCell]) -> Vec<String> {
     let passes = if is_gtao(ao, row) { "–".to_string() } else { ao.raw(row, ao_errors::PASSES).to_string() };
     let mut cells = vec![ao.get(row, ao_errors::MESH).to_string(), technique_label(ao, row), passes];
-    cells.extend(columns.iter().map(|&c| {
-        if counts.iter().any(|count| count.name == c.name) {
-            ao.raw(row, c).to_string()
-        } else {
-            ao.value(row, c).map(number).unwrap_or_else(|| "–".into())
-        }
+    cells.extend(columns.iter().map(|&c| match c {
+        AoCell::Count(column) => ao.raw(row, column).to_string(),
+        AoCell::Number(column) => ao.value(row, column).map(number).unwrap_or_else(|| "–".into()),
     }));
     cells
 }
@@ -1125,15 +1131,15 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
         return None;
     }
     let columns = [
-        ao_errors::PIXELS.numbers(),
-        ao_errors::PIXEL_MEAN_ERROR,
-        ao_errors::PIXEL_SIGNED_ERROR,
-        ao_errors::PIXEL_MEDIAN_ERROR,
-        ao_errors::PIXEL_P90_ERROR,
-        ao_errors::PIXEL_P99_ERROR,
-        ao_errors::PIXEL_MAX_ERROR,
-        ao_errors::INTERACTIONS.numbers(),
-        ao_errors::CPU_MS.numbers(),
+        AoCell::Count(ao_errors::PIXELS),
+        AoCell::Number(ao_errors::PIXEL_MEAN_ERROR),
+        AoCell::Number(ao_errors::PIXEL_SIGNED_ERROR),
+        AoCell::Number(ao_errors::PIXEL_MEDIAN_ERROR),
+        AoCell::Number(ao_errors::PIXEL_P90_ERROR),
+        AoCell::Number(ao_errors::PIXEL_P99_ERROR),
+        AoCell::Number(ao_errors::PIXEL_MAX_ERROR),
+        AoCell::Count(ao_errors::INTERACTIONS),
+        AoCell::Number(ao_errors::CPU_MS.numbers()),
     ];
     let mut table = TableText::new(&[
         "object",
@@ -1150,7 +1156,7 @@ fn ao_per_pixel_table(ao: &CsvTable) -> Option<String> {
         "CPU ms",
     ]);
     for row in &ao.rows {
-        table.row(ao_row_cells(ao, row, &columns, &[ao_errors::PIXELS, ao_errors::INTERACTIONS]));
+        table.row(ao_row_cells(ao, row, &columns));
     }
     Some(table.html("ao-per-pixel"))
 }
@@ -1162,16 +1168,16 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
         return None;
     }
     let columns = [
-        ao_errors::MEAN_ERROR,
-        ao_errors::SIGNED_ERROR,
-        ao_errors::MEDIAN_ERROR,
-        ao_errors::P90_ERROR,
-        ao_errors::P99_ERROR,
-        ao_errors::MAX_ERROR,
-        ao_errors::AREA_MEAN_ERROR,
-        ao_errors::PIXEL_MEAN_ERROR,
-        ao_errors::DEFECT_VERTICES.numbers(),
-        ao_errors::MEAN_ERROR_WITHOUT_DEFECTS,
+        AoCell::Number(ao_errors::MEAN_ERROR),
+        AoCell::Number(ao_errors::SIGNED_ERROR),
+        AoCell::Number(ao_errors::MEDIAN_ERROR),
+        AoCell::Number(ao_errors::P90_ERROR),
+        AoCell::Number(ao_errors::P99_ERROR),
+        AoCell::Number(ao_errors::MAX_ERROR),
+        AoCell::Number(ao_errors::AREA_MEAN_ERROR),
+        AoCell::Number(ao_errors::PIXEL_MEAN_ERROR),
+        AoCell::Count(ao_errors::DEFECT_VERTICES),
+        AoCell::Number(ao_errors::MEAN_ERROR_WITHOUT_DEFECTS),
     ];
     let mut table = TableText::new(&[
         "object",
@@ -1189,7 +1195,7 @@ fn ao_statistics_table(ao: &CsvTable) -> Option<String> {
         "mean without them",
     ]);
     for row in ao.rows.iter().filter(|r| !is_gtao(ao, r)) {
-        table.row(ao_row_cells(ao, row, &columns, &[ao_errors::DEFECT_VERTICES]));
+        table.row(ao_row_cells(ao, row, &columns));
     }
     Some(table.html("ao-statistics"))
 }
